@@ -1,0 +1,368 @@
+//! Binned SAH construction of the binary BVH (Wald 2007; seed DIGEST §3, RTRT core SAH build).
+//!
+//! Top-down: at each node, primitive centroids are binned along all three axes, the split plane
+//! with the lowest surface-area-heuristic cost is chosen, and the primitive references are
+//! partitioned in place. Large nodes bin in parallel and both halves of a split are built as
+//! independent rayon tasks, each into its own node vector that the parent splices in; small
+//! subtrees run sequentially so that no task is smaller than a few thousand primitives.
+
+use glam::{IVec4, Vec4};
+use rayon::prelude::*;
+
+use crate::aabb::Aabb;
+use crate::bvh2::Node2;
+use crate::triangle::TriangleSource;
+
+/// Largest number of triangles in one leaf: a leaf is one SIMD block of eight lanes.
+pub const MAX_LEAF_SIZE: usize = 8;
+
+/// Tuning of the SAH builder. The defaults are what the benchmark scenes measured best with.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BuildOptions {
+    /// Most triangles per leaf, `1..=MAX_LEAF_SIZE`.
+    pub max_leaf_size: usize,
+    /// SAH cost of visiting an inner node, relative to `intersection_cost`.
+    pub traversal_cost: f32,
+    /// SAH cost of testing one leaf.
+    pub intersection_cost: f32,
+    /// Centroid bins per axis, `2..=MAX_BINS`.
+    pub bins: usize,
+}
+
+impl Default for BuildOptions {
+    fn default() -> Self {
+        BuildOptions { max_leaf_size: 4, traversal_cost: 1.0, intersection_cost: 1.0, bins: 32 }
+    }
+}
+
+/// Upper bound for [`BuildOptions::bins`].
+pub const MAX_BINS: usize = 64;
+
+/// Below this depth the builder stops looking for SAH splits and halves nodes at the object
+/// median instead, so the tree depth (and the traversal stack) stays bounded even for inputs on
+/// which the SAH peels off one primitive per level.
+const SAH_DEPTH_LIMIT: u32 = 40;
+/// Nodes with at least this many primitives bin in parallel.
+const PARALLEL_BINNING: usize = 1 << 16;
+/// Nodes with at least this many primitives build their two halves as separate tasks.
+const PARALLEL_SUBTREES: usize = 1 << 12;
+
+/// A primitive reference: its bounds, with the primitive index in the `w` lane of `lo` (as raw
+/// bits; `w` never takes part in any bound computation).
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(16))]
+pub(crate) struct PrimRef {
+    lo: Vec4,
+    hi: Vec4,
+}
+
+impl PrimRef {
+    fn new(bounds: Aabb, prim: u32) -> Self {
+        PrimRef { lo: bounds.min.extend(f32::from_bits(prim)), hi: bounds.max.extend(0.0) }
+    }
+
+    pub(crate) fn prim(&self) -> u32 {
+        self.lo.w.to_bits()
+    }
+
+    /// Twice the centroid (the factor cancels out in binning).
+    #[inline(always)]
+    fn centroid2(&self) -> Vec4 {
+        self.lo + self.hi
+    }
+
+    fn bounds(&self) -> Aabb {
+        Aabb { min: self.lo.truncate(), max: self.hi.truncate() }
+    }
+}
+
+/// Bounds of a set of primitives and of their doubled centroids.
+#[derive(Clone, Copy, Debug)]
+struct SetBounds {
+    geometry: Aabb,
+    centroids: Aabb,
+}
+
+impl SetBounds {
+    const EMPTY: SetBounds = SetBounds { geometry: Aabb::EMPTY, centroids: Aabb::EMPTY };
+
+    fn add(self, r: &PrimRef) -> SetBounds {
+        SetBounds { geometry: self.geometry.union(r.bounds()), centroids: self.centroids.grow(r.centroid2().truncate()) }
+    }
+
+    fn union(self, o: SetBounds) -> SetBounds {
+        SetBounds { geometry: self.geometry.union(o.geometry), centroids: self.centroids.union(o.centroids) }
+    }
+
+    fn of(refs: &[PrimRef]) -> SetBounds {
+        if refs.len() >= PARALLEL_BINNING {
+            refs.par_chunks(4096)
+                .map(|c| c.iter().fold(SetBounds::EMPTY, SetBounds::add))
+                .reduce(|| SetBounds::EMPTY, SetBounds::union)
+        } else {
+            refs.iter().fold(SetBounds::EMPTY, SetBounds::add)
+        }
+    }
+}
+
+/// The output of a build: binary nodes (root at index 0) and the primitive order their leaves
+/// index into.
+pub(crate) struct Built {
+    pub nodes: Vec<Node2>,
+    pub prims: Vec<u32>,
+}
+
+/// Builds a binary BVH over all triangles with finite vertices (others can never be hit and are
+/// left out). Runs on the current rayon pool.
+pub(crate) fn build(tris: &(impl TriangleSource + ?Sized), opts: &BuildOptions) -> Built {
+    let opts = BuildOptions {
+        max_leaf_size: opts.max_leaf_size.clamp(1, MAX_LEAF_SIZE),
+        bins: opts.bins.clamp(2, MAX_BINS),
+        ..*opts
+    };
+    let mut refs: Vec<PrimRef> = (0..tris.triangle_count() as u32)
+        .into_par_iter()
+        .with_min_len(4096)
+        .filter_map(|i| {
+            let b = Aabb::from_points(&tris.triangle(i));
+            (b.min.is_finite() && b.max.is_finite()).then(|| PrimRef::new(b, i))
+        })
+        .collect();
+    if refs.is_empty() {
+        return Built { nodes: Vec::new(), prims: Vec::new() };
+    }
+    let set = SetBounds::of(&refs);
+    let nodes = build_subtree(Task { refs: &mut refs, offset: 0, set, depth: 0 }, &opts);
+    Built { nodes, prims: refs.iter().map(PrimRef::prim).collect() }
+}
+
+/// A node still to be built: its primitive references (a sub-slice of the global array starting
+/// at `offset`), their bounds and its depth.
+struct Task<'a> {
+    refs: &'a mut [PrimRef],
+    offset: u32,
+    set: SetBounds,
+    depth: u32,
+}
+
+fn build_subtree(task: Task<'_>, opts: &BuildOptions) -> Vec<Node2> {
+    let mut nodes = Vec::with_capacity(2 * task.refs.len() / opts.max_leaf_size + 1);
+    build_into(task, opts, &mut nodes);
+    nodes
+}
+
+/// Builds the subtree of `task` into `out` and returns its root index.
+fn build_into(task: Task<'_>, opts: &BuildOptions, out: &mut Vec<Node2>) -> u32 {
+    let index = out.len();
+    let bounds = task.set.geometry;
+    let (offset, count) = (task.offset, task.refs.len() as u32);
+    out.push(Node2::leaf(bounds, offset, count));
+    let Some((left, right)) = split(task, opts) else {
+        return index as u32;
+    };
+    let (l, r) = if count as usize >= PARALLEL_SUBTREES {
+        let (ln, rn) = rayon::join(|| build_subtree(left, opts), || build_subtree(right, opts));
+        (splice(out, ln), splice(out, rn))
+    } else {
+        (build_into(left, opts, out), build_into(right, opts, out))
+    };
+    out[index] = Node2::inner(bounds, l, r);
+    index as u32
+}
+
+/// Appends a subtree built into its own vector, rebasing its child links; returns its root index.
+fn splice(out: &mut Vec<Node2>, sub: Vec<Node2>) -> u32 {
+    let base = out.len() as u32;
+    out.extend(sub.into_iter().map(|n| n.rebased(base)));
+    base
+}
+
+/// One centroid bin: bounds of the primitives that fell into it, and their number.
+#[derive(Clone, Copy)]
+struct Bin {
+    lo: Vec4,
+    hi: Vec4,
+    count: u32,
+}
+
+impl Bin {
+    const EMPTY: Bin = Bin { lo: Vec4::INFINITY, hi: Vec4::NEG_INFINITY, count: 0 };
+
+    fn merge(self, o: Bin) -> Bin {
+        Bin { lo: self.lo.min(o.lo), hi: self.hi.max(o.hi), count: self.count + o.count }
+    }
+
+    fn area(&self) -> f32 {
+        Aabb { min: self.lo.truncate(), max: self.hi.truncate() }.area()
+    }
+}
+
+/// Maps doubled centroids to bin indices along all three axes at once.
+#[derive(Clone, Copy)]
+struct BinMapping {
+    origin: Vec4,
+    scale: Vec4,
+    last: i32,
+}
+
+impl BinMapping {
+    fn new(centroids: &Aabb, bins: usize) -> Self {
+        let extent = centroids.extent();
+        // Slightly below `bins / extent` so that the maximum centroid maps to the last bin.
+        let s = |e: f32| if e > 0.0 { bins as f32 * (1.0 - 1e-5) / e } else { 0.0 };
+        BinMapping {
+            origin: centroids.min.extend(0.0),
+            scale: Vec4::new(s(extent.x), s(extent.y), s(extent.z), 0.0),
+            last: bins as i32 - 1,
+        }
+    }
+
+    #[inline(always)]
+    fn bins_of(&self, r: &PrimRef) -> IVec4 {
+        ((r.centroid2() - self.origin) * self.scale).as_ivec4().clamp(IVec4::ZERO, IVec4::splat(self.last))
+    }
+}
+
+type Bins = [[Bin; MAX_BINS]; 3];
+
+fn bin_refs(refs: &[PrimRef], map: &BinMapping) -> Box<Bins> {
+    let mut bins = Box::new([[Bin::EMPTY; MAX_BINS]; 3]);
+    for r in refs {
+        let b = map.bins_of(r);
+        for axis in 0..3 {
+            let bin = &mut bins[axis][b[axis] as usize];
+            bin.lo = bin.lo.min(r.lo);
+            bin.hi = bin.hi.max(r.hi);
+            bin.count += 1;
+        }
+    }
+    bins
+}
+
+fn bin_all(refs: &[PrimRef], map: &BinMapping) -> Box<Bins> {
+    if refs.len() < PARALLEL_BINNING {
+        return bin_refs(refs, map);
+    }
+    refs.par_chunks(16384).map(|c| bin_refs(c, map)).reduce_with(|mut a, b| {
+        for (ax, bx) in a.iter_mut().zip(b.iter()) {
+            for (x, y) in ax.iter_mut().zip(bx.iter()) {
+                *x = x.merge(*y);
+            }
+        }
+        a
+    })
+    .expect("at least one chunk")
+}
+
+/// The best split found by binning: axis, first bin of the right side, and SAH cost (in units of
+/// `intersection_cost × parent area`, without the traversal term).
+struct BinSplit {
+    axis: usize,
+    pos: usize,
+    cost: f32,
+}
+
+fn best_bin_split(bins: &Bins, n_bins: usize, map: &BinMapping, leaf_cost: impl Fn(u32) -> f32) -> Option<BinSplit> {
+    let mut best: Option<BinSplit> = None;
+    for axis in 0..3 {
+        if map.scale[axis] == 0.0 {
+            continue;
+        }
+        let row = &bins[axis][..n_bins];
+        // Right-to-left accumulation: cost contribution of bins[i..].
+        let mut right_cost = [0.0f32; MAX_BINS];
+        let mut right_count = [0u32; MAX_BINS];
+        let mut acc = Bin::EMPTY;
+        for i in (1..n_bins).rev() {
+            acc = acc.merge(row[i]);
+            right_cost[i] = acc.area() * leaf_cost(acc.count);
+            right_count[i] = acc.count;
+        }
+        let mut left = Bin::EMPTY;
+        for pos in 1..n_bins {
+            left = left.merge(row[pos - 1]);
+            if left.count == 0 || right_count[pos] == 0 {
+                continue;
+            }
+            let cost = left.area() * leaf_cost(left.count) + right_cost[pos];
+            if best.as_ref().is_none_or(|b| cost < b.cost) {
+                best = Some(BinSplit { axis, pos, cost });
+            }
+        }
+    }
+    best
+}
+
+/// Decides how to split `task`: `None` makes it a leaf.
+fn split<'a>(task: Task<'a>, opts: &BuildOptions) -> Option<(Task<'a>, Task<'a>)> {
+    let n = task.refs.len();
+    if n <= 1 {
+        return None;
+    }
+    let fits_leaf = n <= opts.max_leaf_size;
+    let leaf_cost = |count: u32| opts.intersection_cost * count.div_ceil(opts.max_leaf_size as u32) as f32;
+    if task.depth >= SAH_DEPTH_LIMIT {
+        return (!fits_leaf).then(|| median_split(task));
+    }
+    let map = BinMapping::new(&task.set.centroids, opts.bins);
+    let bins = bin_all(task.refs, &map);
+    let Some(best) = best_bin_split(&bins, opts.bins, &map, leaf_cost) else {
+        // All centroids coincide: no plane separates them.
+        return (!fits_leaf).then(|| median_split(task));
+    };
+    let area = task.set.geometry.area();
+    let split_cost = opts.traversal_cost + best.cost / area.max(f32::MIN_POSITIVE);
+    if fits_leaf && leaf_cost(n as u32) <= split_cost {
+        return None;
+    }
+    let axis = best.axis;
+    let mid = partition(task.refs, |r| (map.bins_of(r)[axis] as usize) < best.pos);
+    if mid == 0 || mid == n {
+        return (!fits_leaf).then(|| median_split(task));
+    }
+    Some(halves(task, mid))
+}
+
+/// Splits the task's references at `mid` into two child tasks with freshly computed bounds.
+fn halves(task: Task<'_>, mid: usize) -> (Task<'_>, Task<'_>) {
+    let large = task.refs.len() >= PARALLEL_BINNING;
+    let (l, r) = task.refs.split_at_mut(mid);
+    let (ls, rs) = if large {
+        rayon::join(|| SetBounds::of(l), || SetBounds::of(r))
+    } else {
+        (SetBounds::of(l), SetBounds::of(r))
+    };
+    let depth = task.depth + 1;
+    (
+        Task { refs: l, offset: task.offset, set: ls, depth },
+        Task { refs: r, offset: task.offset + mid as u32, set: rs, depth },
+    )
+}
+
+/// Splits at the object median along the widest centroid axis.
+fn median_split(task: Task<'_>) -> (Task<'_>, Task<'_>) {
+    let e = task.set.centroids.extent();
+    let axis = if e.x >= e.y && e.x >= e.z { 0 } else if e.y >= e.z { 1 } else { 2 };
+    let mid = task.refs.len() / 2;
+    task.refs.select_nth_unstable_by(mid, |a, b| a.centroid2()[axis].total_cmp(&b.centroid2()[axis]));
+    halves(task, mid)
+}
+
+/// In-place partition: elements satisfying `left` first; returns their number.
+fn partition(refs: &mut [PrimRef], left: impl Fn(&PrimRef) -> bool) -> usize {
+    let (mut i, mut j) = (0, refs.len());
+    loop {
+        while i < j && left(&refs[i]) {
+            i += 1;
+        }
+        while i < j && !left(&refs[j - 1]) {
+            j -= 1;
+        }
+        if i >= j {
+            return i;
+        }
+        refs.swap(i, j - 1);
+        i += 1;
+        j -= 1;
+    }
+}

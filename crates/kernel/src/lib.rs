@@ -1,0 +1,42 @@
+//! # raystage-kernel
+//!
+//! The ray-tracing kernel of raystage: rays and hits, robust ray/box and watertight ray/triangle
+//! tests, BVH construction (binned SAH, multithreaded with rayon) and traversal of an 8-wide BVH
+//! with SIMD kernels chosen at run time (AVX2, or a portable fallback with identical results).
+//!
+//! Layouts follow tinybvh's shape: each layout can be built and answers two queries, *intersect*
+//! (closest hit) and *occluded* (any hit). [`Bvh2`] is the binary tree the builder makes;
+//! [`Bvh8`] is collapsed from it and is the one to trace with. [`brute`] is the reference every
+//! layout is tested against.
+//!
+//! Not in here: scenes, instances, shaders, cameras. The kernel knows triangles and rays only.
+//!
+//! ```
+//! use glam::Vec3;
+//! use raystage_kernel::{BuildOptions, Bvh8, Ray};
+//!
+//! let tris = vec![[Vec3::new(-1.0, -1.0, 5.0), Vec3::new(1.0, -1.0, 5.0), Vec3::new(0.0, 1.0, 5.0)]];
+//! let bvh = Bvh8::build(&tris, &BuildOptions::default());
+//! let hit = bvh.intersect(&Ray::new(Vec3::ZERO, Vec3::Z)).unwrap();
+//! assert_eq!((hit.t, hit.prim), (5.0, 0));
+//! assert!(!bvh.occluded(&Ray::segment(Vec3::ZERO, Vec3::Z, 0.0, 4.0)));
+//! ```
+
+mod aabb;
+pub mod brute;
+mod builder;
+mod bvh2;
+mod bvh8;
+mod isa;
+mod prepared;
+mod ray;
+mod traverse;
+mod triangle;
+
+pub use aabb::Aabb;
+pub use builder::{BuildOptions, MAX_BINS, MAX_LEAF_SIZE};
+pub use bvh2::Bvh2;
+pub use bvh8::{Bvh8, Bvh8Stats};
+pub use isa::Isa;
+pub use ray::{Hit, Ray};
+pub use triangle::{IndexedMesh, TriangleSource, geometric_normal};

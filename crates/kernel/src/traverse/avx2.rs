@@ -1,0 +1,308 @@
+//! AVX2 traversal: one instruction tests a plane of all eight children, or one coordinate of all
+//! eight triangles of a leaf block.
+//!
+//! Every function here carries `#[target_feature(enable = "avx2,fma")]` so that the intrinsics
+//! inline into one loop; callers must have checked `Isa::Avx2.is_supported()`.
+//! The arithmetic is the portable kernel's, operation for operation (no FMA contraction in the box
+//! or triangle tests), so results are bit-identical.
+
+use std::arch::x86_64::*;
+use std::mem::MaybeUninit;
+
+use super::Best;
+use crate::bvh8::{Bvh8, EMPTY, LEAF, Node8, STACK_SIZE, TriBlock, WIDTH};
+use crate::prepared::{PreparedRay, ROBUST_FAR};
+use crate::ray::Hit;
+use crate::triangle;
+
+/// The prepared ray broadcast to all eight lanes.
+struct Lanes {
+    org: [__m256; 3],
+    inv: [__m256; 3],
+    tnear: __m256,
+    /// Row of the near and far plane of each axis in `Node8::planes`.
+    near: [usize; 3],
+    far: [usize; 3],
+    /// Origin and shear of the watertight test, in its permuted frame.
+    korg: [__m256; 3],
+    shear: [__m256; 3],
+}
+
+impl Lanes {
+    #[target_feature(enable = "avx2,fma")]
+    #[inline]
+    fn new(ray: &PreparedRay) -> Lanes {
+        let near = std::array::from_fn(|a| 2 * a + ray.neg[a] as usize);
+        let far = std::array::from_fn(|a| 2 * a + 1 - ray.neg[a] as usize);
+        Lanes {
+            org: ray.org.map(|x| _mm256_set1_ps(x)),
+            inv: ray.inv.map(|x| _mm256_set1_ps(x)),
+            tnear: _mm256_set1_ps(ray.tnear),
+            near,
+            far,
+            korg: ray.k.map(|k| _mm256_set1_ps(ray.org[k])),
+            shear: ray.shear.map(|x| _mm256_set1_ps(x)),
+        }
+    }
+}
+
+/// Bit mask of the children the segment `(tnear, tfar]` touches, and their entry distances.
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn child_hits(node: &Node8, r: &Lanes, tfar: f32) -> (u32, __m256) {
+    let plane = |row: usize| unsafe { _mm256_load_ps(node.planes.as_ptr().add(row).cast::<f32>()) };
+    let slab = |row: usize, axis: usize| _mm256_mul_ps(_mm256_sub_ps(plane(row), r.org[axis]), r.inv[axis]);
+    let tn = _mm256_max_ps(
+        _mm256_max_ps(_mm256_max_ps(r.tnear, slab(r.near[0], 0)), slab(r.near[1], 1)),
+        slab(r.near[2], 2),
+    );
+    let tf = _mm256_min_ps(
+        _mm256_min_ps(_mm256_min_ps(_mm256_set1_ps(tfar), slab(r.far[0], 0)), slab(r.far[1], 1)),
+        slab(r.far[2], 2),
+    );
+    let hit = _mm256_cmp_ps::<_CMP_LE_OQ>(tn, _mm256_mul_ps(tf, _mm256_set1_ps(ROBUST_FAR)));
+    (_mm256_movemask_ps(hit) as u32, tn)
+}
+
+/// The watertight test on all eight lanes of a block, up to the edge functions.
+struct BlockEdges {
+    /// Lanes whose three edge values share a sign (or are zero).
+    inside: u32,
+    /// Lanes with an edge value of exactly zero: decided by the scalar test's double fallback.
+    degenerate: u32,
+    u: __m256,
+    v: __m256,
+    w: __m256,
+    /// Permuted z of the three vertices relative to the origin.
+    z: [__m256; 3],
+}
+
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn block_edges(block: &TriBlock, ray: &PreparedRay, r: &Lanes) -> BlockEdges {
+    let [kx, ky, kz] = ray.k;
+    let row = |i: usize| unsafe { _mm256_load_ps(block.v.as_ptr().add(i).cast::<f32>()) };
+    // Vertex `i` relative to the origin, sheared: (x, y, z) in the ray's frame.
+    let vertex = |i: usize| {
+        let x = _mm256_sub_ps(row(3 * i + kx), r.korg[0]);
+        let y = _mm256_sub_ps(row(3 * i + ky), r.korg[1]);
+        let z = _mm256_sub_ps(row(3 * i + kz), r.korg[2]);
+        (_mm256_sub_ps(x, _mm256_mul_ps(r.shear[0], z)), _mm256_sub_ps(y, _mm256_mul_ps(r.shear[1], z)), z)
+    };
+    let (ax, ay, az) = vertex(0);
+    let (bx, by, bz) = vertex(1);
+    let (cx, cy, cz) = vertex(2);
+    let u = _mm256_sub_ps(_mm256_mul_ps(cx, by), _mm256_mul_ps(cy, bx));
+    let v = _mm256_sub_ps(_mm256_mul_ps(ax, cy), _mm256_mul_ps(ay, cx));
+    let w = _mm256_sub_ps(_mm256_mul_ps(bx, ay), _mm256_mul_ps(by, ax));
+    let zero = _mm256_setzero_ps();
+    let any_neg = _mm256_or_ps(
+        _mm256_or_ps(_mm256_cmp_ps::<_CMP_LT_OQ>(u, zero), _mm256_cmp_ps::<_CMP_LT_OQ>(v, zero)),
+        _mm256_cmp_ps::<_CMP_LT_OQ>(w, zero),
+    );
+    let any_pos = _mm256_or_ps(
+        _mm256_or_ps(_mm256_cmp_ps::<_CMP_GT_OQ>(u, zero), _mm256_cmp_ps::<_CMP_GT_OQ>(v, zero)),
+        _mm256_cmp_ps::<_CMP_GT_OQ>(w, zero),
+    );
+    let any_zero = _mm256_or_ps(
+        _mm256_or_ps(_mm256_cmp_ps::<_CMP_EQ_OQ>(u, zero), _mm256_cmp_ps::<_CMP_EQ_OQ>(v, zero)),
+        _mm256_cmp_ps::<_CMP_EQ_OQ>(w, zero),
+    );
+    let mixed = _mm256_movemask_ps(_mm256_and_ps(any_neg, any_pos)) as u32;
+    let degenerate = _mm256_movemask_ps(any_zero) as u32;
+    BlockEdges { inside: !mixed & 0xff & !degenerate, degenerate, u, v, w, z: [az, bz, cz] }
+}
+
+/// Distances `T / det` of all lanes and the mask of those in `(tnear, tfar]` among `lanes`.
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn block_distances(e: &BlockEdges, r: &Lanes, lanes: u32, tfar: f32) -> (u32, __m256, __m256) {
+    let det = _mm256_add_ps(_mm256_add_ps(e.u, e.v), e.w);
+    let sz = r.shear[2];
+    let t_num = _mm256_add_ps(
+        _mm256_add_ps(_mm256_mul_ps(e.u, _mm256_mul_ps(sz, e.z[0])), _mm256_mul_ps(e.v, _mm256_mul_ps(sz, e.z[1]))),
+        _mm256_mul_ps(e.w, _mm256_mul_ps(sz, e.z[2])),
+    );
+    let t = _mm256_div_ps(t_num, det);
+    let ok = _mm256_and_ps(
+        _mm256_and_ps(_mm256_cmp_ps::<_CMP_NEQ_OQ>(det, _mm256_setzero_ps()), _mm256_cmp_ps::<_CMP_GT_OQ>(t, r.tnear)),
+        _mm256_cmp_ps::<_CMP_LE_OQ>(t, _mm256_set1_ps(tfar)),
+    );
+    (_mm256_movemask_ps(ok) as u32 & lanes, t, det)
+}
+
+/// Offers every hit of the block to `best`.
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn block_closest(block: &TriBlock, ray: &PreparedRay, r: &Lanes, best: &mut Best) {
+    let e = block_edges(block, ray, r);
+    if e.inside != 0 {
+        let (mut hits, t, det) = block_distances(&e, r, e.inside, best.t);
+        if hits != 0 {
+            let (mut ts, mut vs, mut ws, mut dets) = ([0f32; WIDTH], [0f32; WIDTH], [0f32; WIDTH], [0f32; WIDTH]);
+            unsafe {
+                _mm256_storeu_ps(ts.as_mut_ptr(), t);
+                _mm256_storeu_ps(vs.as_mut_ptr(), e.v);
+                _mm256_storeu_ps(ws.as_mut_ptr(), e.w);
+                _mm256_storeu_ps(dets.as_mut_ptr(), det);
+            }
+            while hits != 0 {
+                let lane = hits.trailing_zeros() as usize;
+                hits &= hits - 1;
+                best.offer(ts[lane], block.prim[lane], vs[lane] / dets[lane], ws[lane] / dets[lane]);
+            }
+        }
+    }
+    let mut degenerate = e.degenerate;
+    while degenerate != 0 {
+        let lane = degenerate.trailing_zeros() as usize;
+        degenerate &= degenerate - 1;
+        if let Some(h) = triangle::intersect(ray, &block.lane(lane), best.t) {
+            best.offer(h.t, block.prim[lane], h.u, h.v);
+        }
+    }
+}
+
+/// Whether any lane of the block is hit.
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn block_any(block: &TriBlock, ray: &PreparedRay, r: &Lanes) -> bool {
+    let e = block_edges(block, ray, r);
+    if e.inside != 0 && block_distances(&e, r, e.inside, ray.tfar).0 != 0 {
+        return true;
+    }
+    let mut degenerate = e.degenerate;
+    while degenerate != 0 {
+        let lane = degenerate.trailing_zeros() as usize;
+        degenerate &= degenerate - 1;
+        if triangle::intersect(ray, &block.lane(lane), ray.tfar).is_some() {
+            return true;
+        }
+    }
+    false
+}
+
+/// A deferred child: its link and entry distance.
+#[derive(Clone, Copy)]
+struct Entry {
+    link: u32,
+    dist: f32,
+}
+
+/// Closest hit, near-first (the Embree BVH8 single-ray scheme: one hit child is followed
+/// directly, two are ordered by one comparison, more are pushed and sorted by distance).
+///
+/// # Safety
+/// The CPU must support AVX2 and FMA.
+#[target_feature(enable = "avx2,fma")]
+pub(crate) unsafe fn intersect(bvh: &Bvh8, ray: &PreparedRay) -> Option<Hit> {
+    let r = Lanes::new(ray);
+    let mut best = Best::none(ray.tfar);
+    let mut stack = [MaybeUninit::<Entry>::uninit(); STACK_SIZE];
+    let mut sp = 0usize;
+    let mut link = bvh.root;
+    loop {
+        if link & LEAF == 0 {
+            // SAFETY: inner links written by the collapse are valid node indices.
+            let node = unsafe { bvh.nodes.get_unchecked(link as usize) };
+            let (mask, tn) = child_hits(node, &r, best.t);
+            if mask != 0 {
+                let mut dist = [0f32; WIDTH];
+                unsafe { _mm256_storeu_ps(dist.as_mut_ptr(), tn) };
+                let c0 = mask.trailing_zeros() as usize;
+                let rest = mask & (mask - 1);
+                if rest == 0 {
+                    link = node.child[c0];
+                    continue;
+                }
+                let c1 = rest.trailing_zeros() as usize;
+                let mut rest = rest & (rest - 1);
+                if rest == 0 {
+                    let (near, far) = if dist[c0] <= dist[c1] { (c0, c1) } else { (c1, c0) };
+                    stack[sp].write(Entry { link: node.child[far], dist: dist[far] });
+                    sp += 1;
+                    link = node.child[near];
+                    continue;
+                }
+                // Three or more: push all, insertion-sort them farthest-first, take the nearest.
+                let base = sp;
+                for lane in [c0, c1] {
+                    stack[sp].write(Entry { link: node.child[lane], dist: dist[lane] });
+                    sp += 1;
+                }
+                while rest != 0 {
+                    let lane = rest.trailing_zeros() as usize;
+                    rest &= rest - 1;
+                    stack[sp].write(Entry { link: node.child[lane], dist: dist[lane] });
+                    sp += 1;
+                }
+                // SAFETY: entries base..sp were just written.
+                let pushed = unsafe { std::slice::from_raw_parts_mut(stack.as_mut_ptr().add(base).cast::<Entry>(), sp - base) };
+                for i in 1..pushed.len() {
+                    let e = pushed[i];
+                    let mut j = i;
+                    while j > 0 && pushed[j - 1].dist < e.dist {
+                        pushed[j] = pushed[j - 1];
+                        j -= 1;
+                    }
+                    pushed[j] = e;
+                }
+                sp -= 1;
+                link = pushed[pushed.len() - 1].link;
+                continue;
+            }
+        } else if link != EMPTY {
+            // SAFETY: leaf links written by the collapse are valid block indices.
+            let block = unsafe { bvh.blocks.get_unchecked((link & !LEAF) as usize) };
+            block_closest(block, ray, &r, &mut best);
+        }
+        // Pop the nearest deferred child that can still hold a closer hit.
+        loop {
+            if sp == 0 {
+                return best.into_hit();
+            }
+            sp -= 1;
+            // SAFETY: every entry below `sp` was written before.
+            let e = unsafe { stack[sp].assume_init() };
+            if e.dist <= best.t * ROBUST_FAR {
+                link = e.link;
+                break;
+            }
+        }
+    }
+}
+
+/// Any hit; stops at the first one. Children are visited in slot order: ordering buys little
+/// when the query ends at any hit.
+///
+/// # Safety
+/// The CPU must support AVX2 and FMA.
+#[target_feature(enable = "avx2,fma")]
+pub(crate) unsafe fn occluded(bvh: &Bvh8, ray: &PreparedRay) -> bool {
+    let r = Lanes::new(ray);
+    let mut stack = [0u32; STACK_SIZE];
+    stack[0] = bvh.root;
+    let mut sp = 1usize;
+    while sp > 0 {
+        sp -= 1;
+        let link = stack[sp];
+        if link & LEAF == 0 {
+            // SAFETY: as in `intersect`.
+            let node = unsafe { bvh.nodes.get_unchecked(link as usize) };
+            let (mut mask, _) = child_hits(node, &r, ray.tfar);
+            while mask != 0 {
+                let lane = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                stack[sp] = node.child[lane];
+                sp += 1;
+            }
+        } else if link != EMPTY {
+            // SAFETY: as in `intersect`.
+            let block = unsafe { bvh.blocks.get_unchecked((link & !LEAF) as usize) };
+            if block_any(block, ray, &r) {
+                return true;
+            }
+        }
+    }
+    false
+}

@@ -1,0 +1,91 @@
+//! The portable traversal: the same algorithm as the SIMD kernels, one lane at a time. It is the
+//! fallback for CPUs without AVX2 and the readable statement of what the SIMD code computes.
+
+use super::Best;
+use crate::bvh8::{Bvh8, EMPTY, LEAF, Node8, STACK_SIZE, TriBlock, WIDTH};
+use crate::prepared::{PreparedRay, ROBUST_FAR};
+use crate::ray::Hit;
+use crate::triangle;
+
+/// Entry distances of the children the ray segment `(tnear, tfar]` touches, `None` elsewhere.
+#[inline]
+fn child_hits(node: &Node8, ray: &PreparedRay, tfar: f32) -> [Option<f32>; WIDTH] {
+    std::array::from_fn(|lane| {
+        let mut tn = ray.tnear;
+        let mut tf = tfar;
+        for axis in 0..3 {
+            let (near, far) = if ray.neg[axis] { (2 * axis + 1, 2 * axis) } else { (2 * axis, 2 * axis + 1) };
+            tn = tn.max((node.planes[near][lane] - ray.org[axis]) * ray.inv[axis]);
+            tf = tf.min((node.planes[far][lane] - ray.org[axis]) * ray.inv[axis]);
+        }
+        (tn <= tf * ROBUST_FAR).then_some(tn)
+    })
+}
+
+fn block_closest(block: &TriBlock, ray: &PreparedRay, best: &mut Best) {
+    for lane in 0..WIDTH {
+        if let Some(h) = triangle::intersect(ray, &block.lane(lane), best.t) {
+            best.offer(h.t, block.prim[lane], h.u, h.v);
+        }
+    }
+}
+
+fn block_any(block: &TriBlock, ray: &PreparedRay) -> bool {
+    (0..WIDTH).any(|lane| triangle::intersect(ray, &block.lane(lane), ray.tfar).is_some())
+}
+
+/// Closest hit, near-first.
+pub(crate) fn intersect(bvh: &Bvh8, ray: &PreparedRay) -> Option<Hit> {
+    let mut best = Best::none(ray.tfar);
+    let mut stack = [(0u32, 0f32); STACK_SIZE];
+    let mut sp = 0;
+    let mut next = Some(bvh.root);
+    while let Some(link) = next.take() {
+        if link & LEAF == 0 {
+            let node = &bvh.nodes[link as usize];
+            let base = sp;
+            for (lane, d) in child_hits(node, ray, best.t).into_iter().enumerate() {
+                if let Some(d) = d {
+                    stack[sp] = (node.child[lane], d);
+                    sp += 1;
+                }
+            }
+            // Farthest first onto the stack, so that the nearest child comes off next.
+            stack[base..sp].sort_unstable_by(|a, b| b.1.total_cmp(&a.1));
+        } else if link != EMPTY {
+            block_closest(&bvh.blocks[(link & !LEAF) as usize], ray, &mut best);
+        }
+        while sp > 0 {
+            sp -= 1;
+            let (link, dist) = stack[sp];
+            if dist <= best.t * ROBUST_FAR {
+                next = Some(link);
+                break;
+            }
+        }
+    }
+    best.into_hit()
+}
+
+/// Any hit; stops at the first one.
+pub(crate) fn occluded(bvh: &Bvh8, ray: &PreparedRay) -> bool {
+    let mut stack = [0u32; STACK_SIZE];
+    stack[0] = bvh.root;
+    let mut sp = 1;
+    while sp > 0 {
+        sp -= 1;
+        let link = stack[sp];
+        if link & LEAF == 0 {
+            let node = &bvh.nodes[link as usize];
+            for (lane, d) in child_hits(node, ray, ray.tfar).into_iter().enumerate() {
+                if d.is_some() {
+                    stack[sp] = node.child[lane];
+                    sp += 1;
+                }
+            }
+        } else if link != EMPTY && block_any(&bvh.blocks[(link & !LEAF) as usize], ray) {
+            return true;
+        }
+    }
+    false
+}
