@@ -83,8 +83,9 @@ impl Aabb {
         let mut tf = tfar;
         for a in 0..3 {
             let (near, far) = if ray.neg[a] { (hi[a], lo[a]) } else { (lo[a], hi[a]) };
-            tn = tn.max((near - ray.org[a]) * ray.inv[a]);
-            tf = tf.min((far - ray.org[a]) * ray.inv[a]);
+            // `f32::max`/`min` return the other operand for a NaN (ray in the plane).
+            tn = ((near - ray.org[a]) * ray.inv[a]).max(tn);
+            tf = ((far - ray.org[a]) * ray.inv[a]).min(tf);
         }
         (tn <= tf * crate::prepared::ROBUST_FAR).then_some(tn)
     }

@@ -31,7 +31,7 @@ pub struct BuildOptions {
 
 impl Default for BuildOptions {
     fn default() -> Self {
-        BuildOptions { max_leaf_size: 4, traversal_cost: 1.0, intersection_cost: 1.0, bins: 32 }
+        BuildOptions { max_leaf_size: 8, traversal_cost: 1.0, intersection_cost: 1.0, bins: 32 }
     }
 }
 

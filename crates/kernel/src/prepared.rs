@@ -2,14 +2,6 @@
 
 use crate::ray::Ray;
 
-/// Smallest direction magnitude the slab test divides by. Components below it (including ±0.0)
-/// are replaced by `±MIN_RCP_INPUT`, keeping their sign, as Embree does: the reciprocal is then a
-/// huge *finite* number, so `(plane - origin) * inv` is never `0 * ∞ = NaN` for a ray lying in a
-/// box plane, and such a ray yields the interval `[−huge, +huge]` on that axis, i.e. it counts as
-/// inside the slab (Williams et al. 2005, seed DIGEST §3.1, handle ±0 through the sign of the
-/// reciprocal; the clamp makes the in-plane case well defined too).
-const MIN_RCP_INPUT: f32 = 1e-18;
-
 /// Factor applied to the far distance of every box test: `1 + 2·γ(3)` with `γ(n) = n·ε/(1 − n·ε)`,
 /// `ε = 2⁻²⁴`. The slab distances are each computed with three roundings (difference, reciprocal,
 /// product); widening the far end by this factor makes the test conservative, so a triangle
@@ -24,7 +16,11 @@ const GAMMA3: f32 = 3.0 * f32::EPSILON * 0.5 / (1.0 - 3.0 * f32::EPSILON * 0.5);
 pub(crate) struct PreparedRay {
     /// Origin components.
     pub(crate) org: [f32; 3],
-    /// Reciprocal direction with tiny components clamped (see `MIN_RCP_INPUT`).
+    /// Exact IEEE reciprocal of the direction: `±∞` for a `±0` component. The box tests then
+    /// follow Williams et al. 2005 (seed DIGEST §3.1): the sign of the reciprocal picks the near
+    /// plane, so `+0` and `−0` are told apart, and a ray lying exactly in a slab plane produces
+    /// `0 · ∞ = NaN` for that plane, which the tests' NaN-ignoring `min`/`max` skip, leaving the
+    /// axis unconstrained: such a ray counts as inside the slab for every `t`, as it is.
     pub(crate) inv: [f32; 3],
     /// Per axis: does the ray travel towards −∞ (then a box's near plane is its max)?
     pub(crate) neg: [bool; 3],
@@ -45,13 +41,8 @@ impl PreparedRay {
     pub(crate) fn new(ray: &Ray) -> PreparedRay {
         let org = ray.origin.to_array();
         let dir = ray.dir.to_array();
-        let mut inv = [0.0; 3];
-        let mut neg = [false; 3];
-        for a in 0..3 {
-            let d = if dir[a].abs() < MIN_RCP_INPUT { MIN_RCP_INPUT.copysign(dir[a]) } else { dir[a] };
-            inv[a] = 1.0 / d;
-            neg[a] = inv[a] < 0.0;
-        }
+        let inv = dir.map(|d| 1.0 / d);
+        let neg = inv.map(|i| i < 0.0);
         let abs = [dir[0].abs(), dir[1].abs(), dir[2].abs()];
         let kz = if abs[0] >= abs[1] && abs[0] >= abs[2] {
             0

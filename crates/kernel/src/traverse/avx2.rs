@@ -52,14 +52,14 @@ impl Lanes {
 fn child_hits(node: &Node8, r: &Lanes, tfar: f32) -> (u32, __m256) {
     let plane = |row: usize| unsafe { _mm256_load_ps(node.planes.as_ptr().add(row).cast::<f32>()) };
     let slab = |row: usize, axis: usize| _mm256_mul_ps(_mm256_sub_ps(plane(row), r.org[axis]), r.inv[axis]);
-    let tn = _mm256_max_ps(
-        _mm256_max_ps(_mm256_max_ps(r.tnear, slab(r.near[0], 0)), slab(r.near[1], 1)),
-        slab(r.near[2], 2),
-    );
-    let tf = _mm256_min_ps(
-        _mm256_min_ps(_mm256_min_ps(_mm256_set1_ps(tfar), slab(r.far[0], 0)), slab(r.far[1], 1)),
-        slab(r.far[2], 2),
-    );
+    // `maxps`/`minps` return their second operand when either is NaN: the slab goes first, so a
+    // NaN slab (ray lying in that plane) leaves the running bound unchanged.
+    let mut tn = r.tnear;
+    let mut tf = _mm256_set1_ps(tfar);
+    for axis in 0..3 {
+        tn = _mm256_max_ps(slab(r.near[axis], axis), tn);
+        tf = _mm256_min_ps(slab(r.far[axis], axis), tf);
+    }
     let hit = _mm256_cmp_ps::<_CMP_LE_OQ>(tn, _mm256_mul_ps(tf, _mm256_set1_ps(ROBUST_FAR)));
     (_mm256_movemask_ps(hit) as u32, tn)
 }

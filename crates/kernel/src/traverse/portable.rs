@@ -15,8 +15,8 @@ fn child_hits(node: &Node8, ray: &PreparedRay, tfar: f32) -> [Option<f32>; WIDTH
         let mut tf = tfar;
         for axis in 0..3 {
             let (near, far) = if ray.neg[axis] { (2 * axis + 1, 2 * axis) } else { (2 * axis, 2 * axis + 1) };
-            tn = tn.max((node.planes[near][lane] - ray.org[axis]) * ray.inv[axis]);
-            tf = tf.min((node.planes[far][lane] - ray.org[axis]) * ray.inv[axis]);
+            tn = ((node.planes[near][lane] - ray.org[axis]) * ray.inv[axis]).max(tn);
+            tf = ((node.planes[far][lane] - ray.org[axis]) * ray.inv[axis]).min(tf);
         }
         (tn <= tf * ROBUST_FAR).then_some(tn)
     })

@@ -1,0 +1,275 @@
+//! The kernel benchmark: build time and single-ray throughput on the probe's standard scenes,
+//! for raystage and (with the `embree` feature) Embree 3, on identical rays in the same run.
+
+use std::time::Instant;
+
+use raystage_demo::{Mesh, StandardScene};
+use raystage_kernel::{BuildOptions, Bvh8, Ray};
+use serde::Serialize;
+
+use crate::rays::{self, HEIGHT, PrimaryHit, WIDTH};
+
+/// Something that answers closest-hit queries: raystage's BVH or Embree's scene.
+pub trait Tracer: Sync {
+    /// Distance of the closest hit, if any.
+    fn trace(&self, ray: &Ray) -> Option<f32>;
+}
+
+impl Tracer for Bvh8 {
+    #[inline]
+    fn trace(&self, ray: &Ray) -> Option<f32> {
+        self.intersect(ray).map(|h| h.t)
+    }
+}
+
+#[cfg(feature = "embree")]
+impl Tracer for crate::embree::Scene {
+    #[inline]
+    fn trace(&self, ray: &Ray) -> Option<f32> {
+        self.intersect(ray).map(|h| h.t)
+    }
+}
+
+/// One traced ray set: wall time and the probe's checksum (hit count, sum of hit distances).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Traced {
+    /// Seconds for all rays.
+    pub seconds: f64,
+    /// Rays that hit something.
+    pub hits: u64,
+    /// Sum of the hit distances.
+    pub tsum: f64,
+}
+
+/// Traces `rays` on `threads` threads, each taking one contiguous chunk (as the probe splits rows).
+pub fn trace_all(tracer: &dyn Tracer, rays: &[Ray], threads: usize) -> Traced {
+    let chunk = |rays: &[Ray]| {
+        let (mut hits, mut tsum) = (0u64, 0f64);
+        for ray in rays {
+            if let Some(t) = tracer.trace(ray) {
+                hits += 1;
+                tsum += t as f64;
+            }
+        }
+        (hits, tsum)
+    };
+    let start = Instant::now();
+    let parts: Vec<(u64, f64)> = if threads <= 1 {
+        vec![chunk(rays)]
+    } else {
+        let per = rays.len().div_ceil(threads);
+        std::thread::scope(|s| {
+            let handles: Vec<_> = rays.chunks(per.max(1)).map(|c| s.spawn(move || chunk(c))).collect();
+            handles.into_iter().map(|h| h.join().expect("trace thread panicked")).collect()
+        })
+    };
+    let seconds = start.elapsed().as_secs_f64();
+    let (hits, tsum) = parts.iter().fold((0, 0.0), |(h, t), p| (h + p.0, t + p.1));
+    Traced { seconds, hits, tsum }
+}
+
+/// Builds raystage's BVH on a pool of `threads` threads; returns it and the build seconds.
+pub fn build_raystage(mesh: &Mesh, threads: usize) -> (Bvh8, f64) {
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
+    pool.install(|| {
+        let start = Instant::now();
+        let bvh = Bvh8::build(&mesh.as_indexed(), &BuildOptions::default());
+        let seconds = start.elapsed().as_secs_f64();
+        (bvh, seconds)
+    })
+}
+
+/// The probe's primary hits as seen by raystage (distance and unit normal), in pixel order.
+pub fn primary_hits(bvh: &Bvh8, mesh: &Mesh, primary: &[Ray]) -> Vec<Option<PrimaryHit>> {
+    primary
+        .iter()
+        .map(|r| bvh.intersect(r).map(|h| PrimaryHit { t: h.t, normal: rays::probe_normal(&mesh.triangle(h.prim)) }))
+        .collect()
+}
+
+/// The identical ray sets every system traces.
+pub struct RaySets {
+    /// 1920×1080 primary rays.
+    pub primary: Vec<Ray>,
+    /// 1920×1080 random incoherent rays.
+    pub incoherent: Vec<Ray>,
+    /// Bounce rays from raystage's primary hits.
+    pub bounce: Vec<Ray>,
+}
+
+impl RaySets {
+    /// Generates the probe's ray sets for `scene`; bounce rays start at `bvh`'s primary hits.
+    pub fn new(scene: StandardScene, mesh: &Mesh, bvh: &Bvh8) -> RaySets {
+        let primary = rays::primary(scene, WIDTH, HEIGHT);
+        let incoherent = rays::incoherent(scene, (WIDTH * HEIGHT) as usize);
+        let bounce = rays::bounce(&primary, &primary_hits(bvh, mesh, &primary));
+        RaySets { primary, incoherent, bounce }
+    }
+}
+
+/// One line of the JSON report: one system on one scene at one thread count (medians).
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct KernelReport {
+    /// `raystage` or `embree`.
+    pub system: String,
+    /// `sphere` or `soup`.
+    pub scene: String,
+    /// Threads used to build and trace.
+    pub threads: usize,
+    /// BVH build seconds (Embree: `RTC_BUILD_QUALITY_HIGH`).
+    pub build_s: f64,
+    /// Primary rays, million per second.
+    pub primary_mrays: f64,
+    /// Random incoherent rays, million per second.
+    pub incoherent_mrays: f64,
+    /// Diffuse bounce rays, million per second.
+    pub bounce_mrays: f64,
+    /// Primary rays that hit.
+    pub hits: u64,
+    /// Sum of primary hit distances.
+    pub tsum: f64,
+}
+
+/// Per-repetition samples of one system at one thread count.
+#[derive(Clone, Debug, Default)]
+pub struct Samples {
+    /// Build seconds per repetition.
+    pub build: Vec<f64>,
+    /// Primary rays per repetition.
+    pub primary: Vec<Traced>,
+    /// Incoherent rays per repetition.
+    pub incoherent: Vec<Traced>,
+    /// Bounce rays per repetition.
+    pub bounce: Vec<Traced>,
+}
+
+/// Median of a non-empty sample.
+pub fn median(values: &[f64]) -> f64 {
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+impl Samples {
+    /// Traces all three sets once and records them.
+    pub fn trace(&mut self, tracer: &dyn Tracer, sets: &RaySets, threads: usize) {
+        self.primary.push(trace_all(tracer, &sets.primary, threads));
+        self.incoherent.push(trace_all(tracer, &sets.incoherent, threads));
+        self.bounce.push(trace_all(tracer, &sets.bounce, threads));
+    }
+
+    /// Medians as a report line.
+    pub fn report(&self, system: &str, scene: StandardScene, threads: usize, sets: &RaySets) -> KernelReport {
+        let mrays = |runs: &[Traced], n: usize| median(&runs.iter().map(|r| n as f64 / r.seconds / 1e6).collect::<Vec<_>>());
+        let last = self.primary.last().copied().unwrap_or_default();
+        KernelReport {
+            system: system.to_string(),
+            scene: scene.name().to_string(),
+            threads,
+            build_s: median(&self.build),
+            primary_mrays: mrays(&self.primary, sets.primary.len()),
+            incoherent_mrays: mrays(&self.incoherent, sets.incoherent.len()),
+            bounce_mrays: mrays(&self.bounce, sets.bounce.len()),
+            hits: last.hits,
+            tsum: last.tsum,
+        }
+    }
+}
+
+/// Everything measured on one scene.
+pub struct SceneRun {
+    /// The scene.
+    pub scene: StandardScene,
+    /// Its triangle count.
+    pub triangles: usize,
+    /// The identical rays every system traced.
+    pub sets: RaySets,
+    /// `(system, threads, samples)` for every measured combination.
+    pub runs: Vec<(&'static str, usize, Samples)>,
+    /// Embree's `RTC_BUILD_QUALITY_MEDIUM` build seconds per thread count, for reference.
+    pub embree_medium_build: Vec<(usize, f64)>,
+}
+
+impl SceneRun {
+    /// Median report lines, one per system and thread count.
+    pub fn reports(&self) -> Vec<KernelReport> {
+        self.runs.iter().map(|(system, threads, s)| s.report(system, self.scene, *threads, &self.sets)).collect()
+    }
+}
+
+/// Measures `scene` at 1 thread and at `threads` threads (if more than one), `reps` times, every
+/// system on the same rays, alternating systems within each repetition so that drift in machine
+/// speed affects both alike. `progress` receives a line per step.
+pub fn run(scene: StandardScene, threads: usize, reps: usize, mut progress: impl FnMut(&str)) -> SceneRun {
+    let reps = reps.max(1);
+    let mut counts = vec![1];
+    if threads > 1 {
+        counts.push(threads);
+    }
+    progress(&format!("{}: generating triangles", scene.name()));
+    let mesh = scene.mesh();
+    let mut runs: Vec<(&'static str, usize, Samples)> = Vec::new();
+    let mut bvhs = Vec::new();
+    for &t in &counts {
+        let mut samples = Samples::default();
+        let mut bvh = None;
+        for _ in 0..reps {
+            let (b, s) = build_raystage(&mesh, t);
+            progress(&format!("{}: raystage build, {t} thread(s): {s:.3} s", scene.name()));
+            samples.build.push(s);
+            bvh = Some(b);
+        }
+        bvhs.push(bvh.expect("reps >= 1"));
+        runs.push(("raystage", t, samples));
+    }
+    progress(&format!("{}: generating rays", scene.name()));
+    let sets = RaySets::new(scene, &mesh, &bvhs[0]);
+    #[allow(unused_mut)]
+    let mut embree_medium_build = Vec::new();
+    #[cfg(feature = "embree")]
+    let embree_scenes: Vec<crate::embree::Scene> = counts
+        .iter()
+        .map(|&t| {
+            use crate::embree::{Device, Quality, Scene};
+            let device = Device::new(t).expect("Embree device");
+            let mut medium = Vec::new();
+            for _ in 0..reps {
+                medium.push(Scene::build(&device, &mesh, Quality::Medium).1);
+            }
+            embree_medium_build.push((t, median(&medium)));
+            let mut samples = Samples::default();
+            let mut kept = None;
+            for _ in 0..reps {
+                let (s, secs) = Scene::build(&device, &mesh, Quality::High);
+                progress(&format!("{}: embree {} HIGH build, {t} thread(s): {secs:.3} s", scene.name(), device.version()));
+                samples.build.push(secs);
+                kept = Some(s);
+            }
+            runs.push(("embree", t, samples));
+            kept.expect("reps >= 1")
+        })
+        .collect();
+    for rep in 0..reps {
+        for (i, &t) in counts.iter().enumerate() {
+            let tracers: Vec<(&str, &dyn Tracer)> = {
+                #[allow(unused_mut)]
+                let mut v: Vec<(&str, &dyn Tracer)> = vec![("raystage", &bvhs[i])];
+                #[cfg(feature = "embree")]
+                v.push(("embree", &embree_scenes[i]));
+                v
+            };
+            for (name, tracer) in tracers {
+                let entry = runs.iter_mut().find(|(s, th, _)| *s == name && *th == t).expect("run registered");
+                entry.2.trace(tracer, &sets, t);
+                let p = entry.2.primary.last().expect("just traced");
+                progress(&format!(
+                    "{}: rep {}/{reps} {name} {t} thread(s): primary {:.2} Mrays/s",
+                    scene.name(),
+                    rep + 1,
+                    sets.primary.len() as f64 / p.seconds / 1e6
+                ));
+            }
+        }
+    }
+    SceneRun { scene, triangles: mesh.indices.len(), sets, runs, embree_medium_build }
+}

@@ -1,0 +1,81 @@
+//! The probe's three ray sets, generated once so that every system traces the identical rays:
+//! primary rays through the pixel centres, random incoherent rays (seed 777) and diffuse bounce
+//! rays from the primary hits (seed 999). Draw order and arithmetic follow `embree_probe.c`.
+
+use glam::Vec3;
+use raystage_demo::StandardScene;
+use raystage_demo::Xorshift64;
+use raystage_demo::probe_math::{add, cross, dot, mul, norm, sub};
+use raystage_kernel::Ray;
+
+/// Image width of the probe.
+pub const WIDTH: u32 = 1920;
+/// Image height of the probe.
+pub const HEIGHT: u32 = 1080;
+
+/// One primary ray per pixel centre, row-major from the top-left, for a `width × height` image.
+pub fn primary(scene: StandardScene, width: u32, height: u32) -> Vec<Ray> {
+    let cam = scene.camera();
+    (0..height).flat_map(|y| (0..width).map(move |x| Ray::new(cam.origin, cam.dir(x, y, width, height)))).collect()
+}
+
+/// `n` rays with origins uniform in the scene's ray box and directions uniform on the sphere
+/// (origin drawn x, y, z; then z, then the azimuth, as in the probe).
+pub fn incoherent(scene: StandardScene, n: usize) -> Vec<Ray> {
+    let (lo, hi) = scene.ray_box();
+    let ext = sub(hi.to_array(), lo.to_array());
+    let mut rng = Xorshift64::new(777);
+    (0..n)
+        .map(|_| {
+            let ox = lo.x + rng.next_f32() * ext[0];
+            let oy = lo.y + rng.next_f32() * ext[1];
+            let oz = lo.z + rng.next_f32() * ext[2];
+            let z = 1.0 - 2.0 * rng.next_f32();
+            let r = (1.0 - z * z).max(0.0).sqrt();
+            let ph = 2.0 * std::f32::consts::PI * rng.next_f32();
+            Ray::new(Vec3::new(ox, oy, oz), Vec3::new(r * ph.cos(), r * ph.sin(), z))
+        })
+        .collect()
+}
+
+/// What a primary ray hit: distance and the hit triangle's unit geometric normal.
+#[derive(Clone, Copy, Debug)]
+pub struct PrimaryHit {
+    /// Ray parameter of the hit.
+    pub t: f32,
+    /// Unit geometric normal of the hit triangle (either orientation).
+    pub normal: [f32; 3],
+}
+
+/// Cosine-distributed bounce rays from the primary hits, in pixel order, skipping misses: the
+/// origin is the hit point pushed 1e-4 along the normal turned towards the camera.
+pub fn bounce(primary: &[Ray], hits: &[Option<PrimaryHit>]) -> Vec<Ray> {
+    let mut rng = Xorshift64::new(999);
+    primary
+        .iter()
+        .zip(hits)
+        .filter_map(|(ray, hit)| {
+            let hit = (*hit)?;
+            let d0 = ray.dir.to_array();
+            let mut nn = hit.normal;
+            if dot(nn, d0) > 0.0 {
+                nn = mul(nn, -1.0);
+            }
+            let o = add(add(ray.origin.to_array(), mul(d0, hit.t)), mul(nn, 1e-4));
+            let (r1, r2) = (rng.next_f32(), rng.next_f32());
+            let (r, ph) = (r1.sqrt(), 2.0 * std::f32::consts::PI * r2);
+            let a = if nn[0].abs() > 0.5 { [0.0, 1.0, 0.0] } else { [1.0, 0.0, 0.0] };
+            let t = norm(cross(a, nn));
+            let b = cross(nn, t);
+            let d = norm(add(add(mul(t, r * ph.cos()), mul(b, r * ph.sin())), mul(nn, (1.0 - r1).sqrt())));
+            Some(Ray::new(Vec3::from_array(o), Vec3::from_array(d)))
+        })
+        .collect()
+}
+
+/// The unit geometric normal of a triangle as the probe gets it from Embree: `Ng = e2 × e1` with
+/// `e1 = v0 − v1`, `e2 = v2 − v0`, then normalised.
+pub fn probe_normal(tri: &[Vec3; 3]) -> [f32; 3] {
+    let [v0, v1, v2] = tri.map(|v| v.to_array());
+    norm(cross(sub(v2, v0), sub(v0, v1)))
+}

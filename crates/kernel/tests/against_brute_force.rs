@@ -1,0 +1,226 @@
+//! Every layout and every instruction set against the brute-force reference, on random and
+//! adversarial inputs: random soups, grids of axis-aligned triangles hit through their shared
+//! edges and vertices, rays along triangle edges, rays with ±0 direction components and rays
+//! lying in the planes of the boxes. "Equal" means bit-identical: same primitive, same distance,
+//! same barycentrics.
+
+use glam::Vec3;
+use proptest::prelude::*;
+use raystage_kernel::{BuildOptions, Bvh2, Bvh8, Isa, Ray, brute};
+
+/// Checks one ray against every layout and instruction set, closest and any hit.
+fn check_ray(tris: &Vec<[Vec3; 3]>, bvh2: &Bvh2, bvh8s: &[Bvh8], ray: &Ray) -> Result<(), TestCaseError> {
+    let expected = brute::intersect(tris, ray);
+    let expected_any = brute::occluded(tris, ray);
+    prop_assert_eq!(expected.is_some(), expected_any, "brute force disagrees with itself for {:?}", ray);
+    prop_assert_eq!(bvh2.intersect(tris, ray), expected, "Bvh2 closest hit, ray {:?}", ray);
+    prop_assert_eq!(bvh2.occluded(tris, ray), expected_any, "Bvh2 any hit, ray {:?}", ray);
+    for bvh in bvh8s {
+        prop_assert_eq!(bvh.intersect(ray), expected, "Bvh8/{} closest hit, ray {:?}", bvh.isa().name(), ray);
+        prop_assert_eq!(bvh.occluded(ray), expected_any, "Bvh8/{} any hit, ray {:?}", bvh.isa().name(), ray);
+    }
+    Ok(())
+}
+
+/// Builds every layout over `tris` with the given leaf size.
+fn layouts(tris: &Vec<[Vec3; 3]>, max_leaf_size: usize) -> (Bvh2, Vec<Bvh8>) {
+    let opts = BuildOptions { max_leaf_size, ..BuildOptions::default() };
+    let bvh2 = Bvh2::build(tris, &opts);
+    let bvh8 = Bvh8::from_bvh2(&bvh2, tris);
+    let all = Isa::all().filter_map(|isa| bvh8.clone().with_isa(isa)).collect();
+    (bvh2, all)
+}
+
+/// Uniform floats in `[lo, hi)` on a grid of 2²⁴ steps (proptest's own float ranges trip an
+/// internal assertion on some bounds).
+fn uniform(lo: f32, hi: f32) -> impl Strategy<Value = f32> {
+    (0u32..1 << 24).prop_map(move |i| lo + (hi - lo) * (i as f32 / (1u32 << 24) as f32))
+}
+
+fn coord() -> impl Strategy<Value = f32> {
+    uniform(-10.0, 10.0)
+}
+
+fn point() -> impl Strategy<Value = Vec3> {
+    (coord(), coord(), coord()).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
+/// A direction component: mostly random, sometimes exactly +0.0 or −0.0.
+fn component() -> impl Strategy<Value = f32> {
+    prop_oneof![6 => uniform(-1.0, 1.0), 1 => Just(0.0f32), 1 => Just(-0.0f32)]
+}
+
+fn direction() -> impl Strategy<Value = Vec3> {
+    (component(), component(), component())
+        .prop_filter("non-zero direction", |(x, y, z)| *x != 0.0 || *y != 0.0 || *z != 0.0)
+        .prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
+/// A ray with random segment bounds: unbounded, or cut short so that some hits fall outside.
+fn ray() -> impl Strategy<Value = Ray> {
+    (point(), direction(), prop_oneof![Just(f32::INFINITY), uniform(0.1, 30.0)], prop_oneof![Just(0.0f32), uniform(0.0, 2.0)])
+        .prop_map(|(o, d, tfar, tnear)| Ray::segment(o, d, tnear, tfar.max(tnear)))
+}
+
+/// Small random triangles scattered through the volume, plus a few big ones cutting through it.
+fn soup() -> impl Strategy<Value = Vec<[Vec3; 3]>> {
+    let small = (point(), point(), point()).prop_map(|(c, a, b)| [c, c + a * 0.15, c + b * 0.15]);
+    let big = (point(), point(), point()).prop_map(|(a, b, c)| [a, b, c]);
+    (prop::collection::vec(small, 1..300), prop::collection::vec(big, 0..4)).prop_map(|(mut s, b)| {
+        s.extend(b);
+        s
+    })
+}
+
+/// Unit squares (two triangles each) on the integer planes x = i, y = j, z = k of an n³ lattice:
+/// every square shares its edges and corners with neighbours, and many are coplanar with the
+/// planes of their boxes.
+fn lattice(n: i32, keep: &[bool]) -> Vec<[Vec3; 3]> {
+    let mut tris = Vec::new();
+    let mut index = 0;
+    for a in 0..n {
+        for b in 0..n {
+            for c in 0..=n {
+                for axis in 0..3 {
+                    let k = index;
+                    index += 1;
+                    if !keep[k % keep.len()] {
+                        continue;
+                    }
+                    let p = |u: i32, v: i32| {
+                        let q = [(a + u) as f32, (b + v) as f32, c as f32];
+                        match axis {
+                            0 => Vec3::new(q[2], q[0], q[1]),
+                            1 => Vec3::new(q[0], q[2], q[1]),
+                            _ => Vec3::new(q[0], q[1], q[2]),
+                        }
+                    };
+                    tris.push([p(0, 0), p(1, 0), p(1, 1)]);
+                    tris.push([p(0, 0), p(1, 1), p(0, 1)]);
+                }
+            }
+        }
+    }
+    tris
+}
+
+/// Rays that start on lattice points or half-points and travel along lattice lines, face
+/// diagonals or space diagonals, with ±0 components: they run along shared edges, through shared
+/// vertices and inside the planes of node boxes.
+fn lattice_ray() -> impl Strategy<Value = Ray> {
+    let o = (-1i32..9, -1i32..9, -1i32..9, 0u8..4).prop_map(|(x, y, z, half)| {
+        let h = |bit: u8| if half & bit != 0 { 0.5 } else { 0.0 };
+        Vec3::new(x as f32 + h(1), y as f32 + h(2), z as f32 + h(1) * h(2) * 2.0)
+    });
+    let d = (prop::sample::select(vec![-1.0f32, -0.0, 0.0, 1.0, 0.5, -2.0]), prop::sample::select(vec![-1.0f32, -0.0, 0.0, 1.0, 3.0]), prop::sample::select(vec![-1.0f32, -0.0, 0.0, 1.0, -0.25]))
+        .prop_filter("non-zero", |(x, y, z)| *x != 0.0 || *y != 0.0 || *z != 0.0)
+        .prop_map(|(x, y, z)| Vec3::new(x, y, z));
+    (o, d).prop_map(|(o, d)| Ray::new(o, d))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    #[test]
+    fn random_soups(tris in soup(), rays in prop::collection::vec(ray(), 64), leaf in 1usize..=8) {
+        let (bvh2, bvh8s) = layouts(&tris, leaf);
+        for r in &rays {
+            check_ray(&tris, &bvh2, &bvh8s, r)?;
+        }
+    }
+
+    #[test]
+    fn lattices_through_edges_and_vertices(
+        keep in prop::collection::vec(any::<bool>(), 1..16),
+        rays in prop::collection::vec(lattice_ray(), 96),
+        leaf in 1usize..=8,
+    ) {
+        let tris = lattice(4, &keep);
+        prop_assume!(!tris.is_empty());
+        let (bvh2, bvh8s) = layouts(&tris, leaf);
+        for r in &rays {
+            check_ray(&tris, &bvh2, &bvh8s, r)?;
+        }
+    }
+
+    #[test]
+    fn rays_along_triangle_edges(tris in soup(), picks in prop::collection::vec((any::<prop::sample::Index>(), 0usize..3, uniform(-1.0, 2.0)), 48)) {
+        let (bvh2, bvh8s) = layouts(&tris, 4);
+        for (pick, edge, s) in picks {
+            let t = tris[pick.index(tris.len())];
+            let (a, b) = (t[edge], t[(edge + 1) % 3]);
+            prop_assume!(a != b);
+            // Start on the edge's line (before, on or beyond the edge) and run along it.
+            let origin = a + (b - a) * s;
+            check_ray(&tris, &bvh2, &bvh8s, &Ray::new(origin, b - a))?;
+            check_ray(&tris, &bvh2, &bvh8s, &Ray::new(origin, a - b))?;
+            // Aim exactly at the edge's end points from elsewhere.
+            check_ray(&tris, &bvh2, &bvh8s, &Ray::new(Vec3::new(0.3, 11.0, -0.7), b - Vec3::new(0.3, 11.0, -0.7)))?;
+        }
+    }
+
+    #[test]
+    fn flat_boxes_and_parallel_rays(z in uniform(-5.0, 5.0), rays in prop::collection::vec((point(), 0usize..3, any::<bool>()), 64)) {
+        // A wall of triangles in the plane z = const: every box is flat in z.
+        let tris: Vec<[Vec3; 3]> = (0..8).flat_map(|i| (0..8).flat_map(move |j| {
+            let p = |x: i32, y: i32| Vec3::new(x as f32 - 4.0, y as f32 - 4.0, z);
+            [[p(i, j), p(i + 1, j), p(i + 1, j + 1)], [p(i, j), p(i + 1, j + 1), p(i, j + 1)]]
+        })).collect();
+        let (bvh2, bvh8s) = layouts(&tris, 2);
+        for (o, axis, neg) in rays {
+            let s = if neg { -1.0 } else { 1.0 };
+            // Parallel to the wall (in its plane when o.z == z), and perpendicular through it.
+            let along = [Vec3::new(s, 0.0, 0.0), Vec3::new(0.0, s, -0.0), Vec3::new(s, s, 0.0)][axis];
+            check_ray(&tris, &bvh2, &bvh8s, &Ray::new(Vec3::new(o.x, o.y, z), along))?;
+            check_ray(&tris, &bvh2, &bvh8s, &Ray::new(o, along))?;
+            check_ray(&tris, &bvh2, &bvh8s, &Ray::new(o, Vec3::new(0.0, -0.0, s)))?;
+        }
+    }
+}
+
+#[test]
+fn empty_and_degenerate_inputs_never_hit() {
+    let empty: Vec<[Vec3; 3]> = Vec::new();
+    let bvh = Bvh8::build(&empty, &BuildOptions::default());
+    assert_eq!(bvh.intersect(&Ray::new(Vec3::ZERO, Vec3::X)), None);
+    assert!(!bvh.occluded(&Ray::new(Vec3::ZERO, Vec3::X)));
+
+    let p = Vec3::new(1.0, 0.0, 0.0);
+    let degenerate = vec![
+        [p, p, p],                                                         // a point
+        [p, p + Vec3::Y, p + 2.0 * Vec3::Y],                               // collinear
+        [Vec3::NAN, p, p + Vec3::Y],                                       // not finite: left out
+        [p, Vec3::INFINITY, p + Vec3::Y],                                  // not finite: left out
+    ];
+    for bvh in layouts(&degenerate, 4).1 {
+        for d in [Vec3::X, Vec3::new(1.0, 0.5, 0.0), Vec3::new(1.0, 0.0, 1e-9), Vec3::NEG_X] {
+            for o in [Vec3::new(0.0, 0.5, 0.0), Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, -1.0, 0.0)] {
+                let ray = Ray::new(o, d);
+                assert_eq!(bvh.intersect(&ray), None, "{} hit a degenerate triangle with {:?}", bvh.isa().name(), ray);
+                assert!(!bvh.occluded(&ray));
+            }
+        }
+    }
+}
+
+#[test]
+fn coincident_triangles_resolve_to_the_smaller_index() {
+    let t = [Vec3::new(-1.0, -1.0, 3.0), Vec3::new(1.0, -1.0, 3.0), Vec3::new(0.0, 1.0, 3.0)];
+    // Eight copies of the same triangle, plus noise around them, in a shuffled build order.
+    let mut tris: Vec<[Vec3; 3]> = (0..40).map(|i| {
+        let o = Vec3::new(i as f32 * 0.37 % 5.0, 2.0 + i as f32 * 0.11, 4.0 + i as f32);
+        [o, o + Vec3::X, o + Vec3::Y]
+    }).collect();
+    for k in 0..8 {
+        tris.insert(5 * k + 3, t);
+    }
+    let first = tris.iter().position(|x| *x == t).unwrap() as u32;
+    for bvh in layouts(&tris, 3).1 {
+        for x in [-0.5f32, 0.0, 0.25] {
+            let ray = Ray::new(Vec3::new(x, -0.2, 0.0), Vec3::new(0.01, 0.02, 1.0));
+            let hit = bvh.intersect(&ray).expect("hit");
+            assert_eq!(hit.prim, first, "{}", bvh.isa().name());
+            assert_eq!(Some(hit), brute::intersect(&tris, &ray));
+        }
+    }
+}
