@@ -1,1 +1,54 @@
-fn main() {}
+//! The `raystage` command line. Parsing only: the commands live in the library.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+use raystage::RenderJob;
+use raystage_demo::StandardScene;
+
+/// raystage: a ray-tracing rendering server.
+#[derive(Parser)]
+#[command(version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render one eye-light frame of a built-in demo scene to a PNG file.
+    Render {
+        /// The demo scene: spheres (or sphere) or soup.
+        #[arg(long, value_parser = raystage::parse_demo)]
+        demo: StandardScene,
+        /// The PNG file to write.
+        #[arg(long)]
+        out: PathBuf,
+        /// Image width in pixels.
+        #[arg(long, default_value_t = 1920)]
+        width: u32,
+        /// Image height in pixels.
+        #[arg(long, default_value_t = 1080)]
+        height: u32,
+        /// Threads for the BVH build and the render [default: one per core].
+        #[arg(long)]
+        threads: Option<usize>,
+    },
+}
+
+fn main() -> ExitCode {
+    let result = match Cli::parse().command {
+        Command::Render { demo, out, width, height, threads } => {
+            raystage::render_demo(&RenderJob { demo, width, height, threads, out }, &mut std::io::stdout().lock())
+        }
+    };
+    match result {
+        Ok(_) => ExitCode::SUCCESS,
+        Err(err) => {
+            // `{:#}` prints the cause chain on one line, like clap's own errors.
+            eprintln!("error: {err:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,19 @@
+//! The crate's error type.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong in `raystage-render`.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The image encoder rejected the film (for example a zero-sized image).
+    #[error("cannot encode PNG: {0}")]
+    Encode(#[from] image::ImageError),
+    /// Writing the encoded image failed.
+    #[error("cannot write {}: {source}", path.display())]
+    Write {
+        /// The file that could not be written.
+        path: PathBuf,
+        /// The underlying I/O error.
+        source: std::io::Error,
+    },
+}

@@ -1,0 +1,126 @@
+//! The film: the frame's pixels in linear light, and their encoding as sRGB RGBA8 and PNG.
+
+use std::path::Path;
+
+use glam::Vec3;
+use image::ImageEncoder;
+use image::codecs::png::PngEncoder;
+use rayon::prelude::*;
+
+use crate::{Error, srgb};
+
+/// A `width × height` image of linear RGB pixels, stored row by row with row 0 at the top.
+///
+/// Pixels stay linear (and unclamped) until they are encoded, so that later passes can
+/// accumulate samples and tone-map before quantising to 8 bits.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Film {
+    width: u32,
+    height: u32,
+    pixels: Vec<Vec3>,
+}
+
+impl Film {
+    /// A black film of `width × height` pixels.
+    pub fn new(width: u32, height: u32) -> Film {
+        Film { width, height, pixels: vec![Vec3::ZERO; width as usize * height as usize] }
+    }
+
+    /// Width in pixels.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Height in pixels.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// The linear RGB value of pixel `(x, y)`; panics outside the film.
+    pub fn pixel(&self, x: u32, y: u32) -> Vec3 {
+        assert!(x < self.width && y < self.height, "pixel ({x}, {y}) outside a {}×{} film", self.width, self.height);
+        self.pixels[y as usize * self.width as usize + x as usize]
+    }
+
+    /// Row `y` for writing.
+    pub(crate) fn row_mut(&mut self, y: u32) -> &mut [Vec3] {
+        let w = self.width as usize;
+        &mut self.pixels[y as usize * w..(y as usize + 1) * w]
+    }
+
+    /// The pixels as sRGB-encoded RGBA8 (opaque), row by row: the layout of an application's
+    /// frame buffer and of the PNG.
+    pub fn to_rgba8(&self) -> Vec<u8> {
+        let mut bytes = vec![0u8; self.pixels.len() * 4];
+        bytes.par_chunks_mut(4).zip(self.pixels.par_iter()).for_each(|(out, p)| {
+            out.copy_from_slice(&[srgb::encode(p.x), srgb::encode(p.y), srgb::encode(p.z), 255]);
+        });
+        bytes
+    }
+
+    /// The film encoded as an RGBA8 sRGB PNG.
+    pub fn encode_png(&self) -> Result<Vec<u8>, Error> {
+        let mut png = Vec::new();
+        PngEncoder::new(&mut png).write_image(
+            &self.to_rgba8(),
+            self.width,
+            self.height,
+            image::ExtendedColorType::Rgba8,
+        )?;
+        Ok(png)
+    }
+
+    /// Encodes the film as PNG and writes it to `path`, replacing any existing file.
+    pub fn write_png(&self, path: impl AsRef<Path>) -> Result<(), Error> {
+        let path = path.as_ref();
+        std::fs::write(path, self.encode_png()?).map_err(|source| Error::Write { path: path.to_owned(), source })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A film whose pixels all differ: a ramp in red and green, blue by parity.
+    fn ramp(width: u32, height: u32) -> Film {
+        let mut film = Film::new(width, height);
+        for y in 0..height {
+            for (x, p) in film.row_mut(y).iter_mut().enumerate() {
+                *p = Vec3::new(x as f32 / width as f32, y as f32 / height as f32, ((x + y as usize) % 2) as f32);
+            }
+        }
+        film
+    }
+
+    #[test]
+    fn png_round_trip_keeps_size_and_pixels() {
+        let film = ramp(37, 21);
+        let decoded = image::load_from_memory(&film.encode_png().unwrap()).unwrap().to_rgba8();
+        assert_eq!(decoded.dimensions(), (37, 21));
+        assert_eq!(decoded.into_raw(), film.to_rgba8());
+    }
+
+    #[test]
+    fn write_png_writes_a_decodable_file() {
+        let path = std::env::temp_dir().join(format!("raystage-film-{}.png", std::process::id()));
+        let film = ramp(16, 9);
+        film.write_png(&path).unwrap();
+        let decoded = image::open(&path).unwrap().to_rgba8();
+        std::fs::remove_file(&path).unwrap();
+        assert_eq!(decoded.dimensions(), (16, 9));
+        assert_eq!(decoded.into_raw(), film.to_rgba8());
+    }
+
+    #[test]
+    fn write_png_to_a_missing_directory_is_an_error_naming_the_path() {
+        let err = ramp(4, 4).write_png("/nonexistent-raystage-dir/frame.png").unwrap_err();
+        assert!(err.to_string().contains("/nonexistent-raystage-dir/frame.png"), "{err}");
+    }
+
+    #[test]
+    fn rgba8_is_srgb_encoded_and_opaque() {
+        let mut film = Film::new(2, 1);
+        film.row_mut(0).copy_from_slice(&[Vec3::new(0.0, 0.5, 1.0), Vec3::splat(2.0)]);
+        assert_eq!(film.to_rgba8(), [0, 188, 255, 255, 255, 255, 255, 255]);
+    }
+}

@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Runs every test of the workspace. As root on Debian it first installs the system packages the
+# tests need (Embree 3, for the benchmark's side-by-side checks); with Embree's headers present,
+# the benchmark crate is tested with its `embree` feature.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+packages=(libembree-dev)
+
+if [[ $(id -u) -eq 0 ]] && command -v apt-get >/dev/null; then
+    missing=()
+    for package in "${packages[@]}"; do
+        dpkg -s "$package" >/dev/null 2>&1 || missing+=("$package")
+    done
+    if ((${#missing[@]} > 0)); then
+        echo "+ installing ${missing[*]}"
+        apt-get update
+        DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}"
+    fi
+fi
+
+# --no-fail-fast: one run reports every failing test binary, not just the first.
+args=(--workspace --no-fail-fast)
+if [[ -f /usr/include/embree3/rtcore.h ]] && grep -qE '^embree[[:space:]]*=' crates/bench/Cargo.toml 2>/dev/null; then
+    args+=(--features raystage-bench/embree)
+fi
+echo "+ cargo test ${args[*]}"
+cargo test "${args[@]}"

@@ -1,0 +1,100 @@
+//! `raystage render` end to end: run the binary, decode the PNG it writes, look at its pixels.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn raystage(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_raystage")).args(args).output().expect("the raystage binary runs")
+}
+
+/// A fresh path for an output file in Cargo's temporary directory for integration tests.
+fn out_path(name: &str) -> PathBuf {
+    let path = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("cli_render-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_file(&path);
+    path
+}
+
+/// Runs a command that must fail and returns its error output.
+fn failure(args: &[&str]) -> String {
+    let output = raystage(args);
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    assert!(!output.status.success(), "{args:?} succeeded");
+    assert!(!stderr.contains("panicked"), "{args:?} panicked: {stderr}");
+    stderr
+}
+
+#[test]
+fn renders_the_sphere_grid_to_png() {
+    let out = out_path("spheres.png");
+    let output = raystage(&[
+        "render",
+        "--demo",
+        "spheres",
+        "--out",
+        out.to_str().unwrap(),
+        "--width",
+        "160",
+        "--height",
+        "90",
+        "--threads",
+        "2",
+    ]);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "stdout: {stdout}\nstderr: {}", String::from_utf8_lossy(&output.stderr));
+    assert!(stdout.contains("160x90 sphere: build ") && stdout.contains("Mrays/s (2 threads)"), "{stdout}");
+
+    let image = image::open(&out).unwrap().to_rgba8();
+    assert_eq!(image.dimensions(), (160, 90));
+    let rgb = |x, y| {
+        let p = image.get_pixel(x, y).0;
+        [p[0] as i32, p[1] as i32, p[2] as i32]
+    };
+    let saturation = |p: [i32; 3]| p.iter().max().unwrap() - p.iter().min().unwrap();
+
+    let sky = rgb(80, 0);
+    assert!(sky[2] > sky[0], "the top row is blue-ish sky: {sky:?}");
+    // The front-row sphere left of the centre line (purple in the palette).
+    let sphere = rgb(70, 69);
+    assert!(saturation(sphere) > 60, "a coloured sphere at (70, 69): {sphere:?}");
+    // Between the front-row spheres, below them: the grey ground plane.
+    let ground = rgb(80, 88);
+    assert!(saturation(ground) < 8 && ground[0] > 100, "light grey ground at (80, 88): {ground:?}");
+
+    let mut colours: Vec<_> = image.pixels().map(|p| p.0).collect();
+    colours.sort_unstable();
+    colours.dedup();
+    assert!(colours.len() > 100, "only {} distinct colours", colours.len());
+    assert!(image.pixels().all(|p| p.0[3] == 255), "opaque");
+}
+
+#[test]
+fn an_unknown_demo_is_an_error() {
+    let out = out_path("never.png");
+    let stderr = failure(&["render", "--demo", "teapot", "--out", out.to_str().unwrap()]);
+    assert!(stderr.contains("unknown demo scene `teapot`: expected spheres, sphere or soup"), "{stderr}");
+    assert!(!out.exists());
+}
+
+#[test]
+fn zero_and_absurd_resolutions_are_errors() {
+    let out = out_path("never.png");
+    let out = out.to_str().unwrap();
+    let stderr = failure(&["render", "--demo", "soup", "--out", out, "--width", "0"]);
+    assert!(stderr.contains("--width must be between 1 and 16384, got 0"), "{stderr}");
+    let stderr = failure(&["render", "--demo", "soup", "--out", out, "--height", "16385"]);
+    assert!(stderr.contains("--height must be between 1 and 16384, got 16385"), "{stderr}");
+    let stderr = failure(&["render", "--demo", "soup", "--out", out, "--width=-3"]);
+    assert!(stderr.contains("invalid value '-3' for '--width <WIDTH>'"), "{stderr}");
+    let stderr = failure(&["render", "--demo", "soup", "--out", out, "--threads", "0"]);
+    assert!(stderr.contains("--threads must be between 1 and 1024, got 0"), "{stderr}");
+    assert!(!PathBuf::from(out).exists());
+}
+
+#[test]
+fn an_unwritable_output_is_an_error() {
+    let stderr = failure(&["render", "--demo", "soup", "--out", "/nonexistent-raystage-dir/frame.png"]);
+    assert!(stderr.contains("cannot create /nonexistent-raystage-dir/frame.png"), "{stderr}");
+    let dir = env!("CARGO_TARGET_TMPDIR");
+    let stderr = failure(&["render", "--demo", "soup", "--out", dir]);
+    assert!(stderr.contains(&format!("cannot create {dir}")), "{stderr}");
+}
