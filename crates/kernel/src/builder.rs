@@ -112,8 +112,8 @@ pub(crate) struct Built {
     pub prims: Vec<u32>,
 }
 
-/// Builds a binary BVH over all triangles with finite vertices (others can never be hit and are
-/// left out). Runs on the current rayon pool.
+/// Builds a binary BVH over all triangles that can be hit: triangles with a non-finite coordinate
+/// or two equal vertices are left out. Runs on the current rayon pool.
 pub(crate) fn build(tris: &(impl TriangleSource + ?Sized), opts: &BuildOptions) -> Built {
     let opts = BuildOptions {
         max_leaf_size: opts.max_leaf_size.clamp(1, MAX_LEAF_SIZE),
@@ -124,8 +124,9 @@ pub(crate) fn build(tris: &(impl TriangleSource + ?Sized), opts: &BuildOptions) 
         .into_par_iter()
         .with_min_len(4096)
         .filter_map(|i| {
-            let b = Aabb::from_points(&tris.triangle(i));
-            (b.min.is_finite() && b.max.is_finite()).then(|| PrimRef::new(b, i))
+            let t = tris.triangle(i);
+            let b = Aabb::from_points(&t);
+            (b.min.is_finite() && b.max.is_finite() && !has_repeated_vertex(&t)).then(|| PrimRef::new(b, i))
         })
         .collect();
     if refs.is_empty() {
@@ -134,6 +135,15 @@ pub(crate) fn build(tris: &(impl TriangleSource + ?Sized), opts: &BuildOptions) 
     let set = SetBounds::of(&refs);
     let nodes = build_subtree(Task { refs: &mut refs, offset: 0, set, depth: 0 }, &opts);
     Built { nodes, prims: refs.iter().map(PrimRef::prim).collect() }
+}
+
+/// Whether two vertices of the triangle are equal. The watertight test can never hit such a
+/// triangle: the repeated vertex makes one edge value exactly zero and the other two exact
+/// negatives of each other, so the determinant is exactly zero for every ray. Leaving them out
+/// changes no result but saves their test, which would otherwise always take the slow
+/// double-precision path (UV spheres have a row of them at each pole).
+fn has_repeated_vertex(t: &[glam::Vec3; 3]) -> bool {
+    t[0] == t[1] || t[1] == t[2] || t[0] == t[2]
 }
 
 /// A node still to be built: its primitive references (a sub-slice of the global array starting

@@ -9,6 +9,7 @@ use crate::aabb::Aabb;
 use crate::builder::BuildOptions;
 use crate::bvh2::{Bvh2, Node2Kind};
 use crate::isa::Isa;
+use crate::memory::huge_page_vec;
 use crate::prepared::PreparedRay;
 use crate::ray::{Hit, Ray};
 use crate::traverse;
@@ -130,7 +131,11 @@ impl Bvh8 {
     /// with the largest surface area is repeatedly replaced by its own two children until eight
     /// slots are used or only leaves remain (the collapse used by Embree's BVH8 builders).
     pub fn from_bvh2(bvh2: &Bvh2, tris: &(impl TriangleSource + ?Sized)) -> Bvh8 {
-        let mut c = Collapse { bvh2, tris, nodes: Vec::new(), blocks: Vec::new(), depth: 0 };
+        // Every binary leaf becomes one block; every wide node consumes at least one binary inner
+        // node, so the binary counts bound both arrays and they never reallocate.
+        let leaves = bvh2.nodes.iter().filter(|n| matches!(n.kind(), Node2Kind::Leaf { .. })).count();
+        let inner = bvh2.nodes.len() - leaves;
+        let mut c = Collapse { bvh2, tris, nodes: huge_page_vec(inner), blocks: huge_page_vec(leaves), depth: 0 };
         let root = match bvh2.nodes.first().map(|n| n.kind()) {
             None => EMPTY,
             Some(Node2Kind::Leaf { first, count }) => {

@@ -28,6 +28,7 @@ mod builder;
 mod bvh2;
 mod bvh8;
 mod isa;
+mod memory;
 mod prepared;
 mod ray;
 mod traverse;
