@@ -2,7 +2,7 @@
 
 use glam::Vec3;
 
-use crate::prepared::PreparedRay;
+use crate::prepared::{PreparedRay, widen};
 
 /// An axis-aligned box. The empty box has `min = +∞`, `max = −∞`, so growing it by anything
 /// yields that thing and no ray ever hits it.
@@ -80,13 +80,13 @@ impl Aabb {
         let lo = [self.min.x, self.min.y, self.min.z];
         let hi = [self.max.x, self.max.y, self.max.z];
         let mut tn = ray.tnear;
-        let mut tf = tfar;
+        let mut tf = widen(tfar);
         for a in 0..3 {
             let (near, far) = if ray.neg[a] { (hi[a], lo[a]) } else { (lo[a], hi[a]) };
             // `f32::max`/`min` return the other operand for a NaN (ray in the plane).
             tn = ((near - ray.org[a]) * ray.inv[a]).max(tn);
-            tf = ((far - ray.org[a]) * ray.inv[a]).min(tf);
+            tf = ((far - ray.org[a]) * ray.inv_far[a]).min(tf);
         }
-        (tn <= tf * crate::prepared::ROBUST_FAR).then_some(tn)
+        (tn <= tf).then_some(tn)
     }
 }

@@ -3,7 +3,7 @@
 
 use crate::aabb::Aabb;
 use crate::builder::{self, BuildOptions};
-use crate::prepared::{PreparedRay, ROBUST_FAR};
+use crate::prepared::{PreparedRay, widen};
 use crate::ray::{Hit, Ray, closer};
 use crate::triangle::{self, TriangleSource};
 
@@ -107,7 +107,7 @@ impl Bvh2 {
             stack.push((0, t));
         }
         while let Some((index, dist)) = stack.pop() {
-            if dist > tfar * ROBUST_FAR {
+            if dist > widen(tfar) {
                 continue;
             }
             match self.nodes[index as usize].kind() {

@@ -2,13 +2,26 @@
 
 use crate::ray::Ray;
 
-/// Factor applied to the far distance of every box test: `1 + 2·γ(3)` with `γ(n) = n·ε/(1 − n·ε)`,
-/// `ε = 2⁻²⁴`. The slab distances are each computed with three roundings (difference, reciprocal,
-/// product); widening the far end by this factor makes the test conservative, so a triangle
-/// lying exactly on a box face (every triangle touches its leaf's box) is never culled by
-/// rounding (Ize, *Robust BVH Ray Traversal*, JCGT 2013).
-pub(crate) const ROBUST_FAR: f32 = 1.0 + 2.0 * GAMMA3;
-const GAMMA3: f32 = 3.0 * f32::EPSILON * 0.5 / (1.0 - 3.0 * f32::EPSILON * 0.5);
+/// Widening factor of the far end of every box test, `1 + 2·γ(4)` with `γ(n) = n·ε/(1 − n·ε)`
+/// and `ε = 2⁻²⁴` (Ize, *Robust BVH Ray Traversal*, JCGT 2013).
+///
+/// A near distance is computed with three roundings (`plane − origin`, the reciprocal, the
+/// product), so it exceeds the exact value by at most a factor `(1 + ε)³`. A far distance uses the
+/// reciprocal premultiplied by this factor (one more rounding, four in all), so it falls short of
+/// `ROBUST_FAR ×` the exact value by at most `(1 − ε)⁴`. Since `ROBUST_FAR·(1 − ε)⁴ ≥ (1 + ε)³`, a
+/// box the exact segment touches, even in a single point, always passes: a triangle lying on its
+/// box's face (every triangle touches its leaf's box) is never culled by rounding. The ray's own
+/// `tfar` is widened by the same factor, so a triangle at exactly the current closest distance,
+/// which may win the tie on its index, is still reached. Folding the factor into the reciprocal
+/// keeps the multiplication off the traversal's critical path.
+pub(crate) const ROBUST_FAR: f32 = 1.0 + 2.0 * GAMMA4;
+const GAMMA4: f32 = 4.0 * f32::EPSILON * 0.5 / (1.0 - 4.0 * f32::EPSILON * 0.5);
+
+/// `t` widened for comparison with a near distance: see [`ROBUST_FAR`].
+#[inline(always)]
+pub(crate) fn widen(t: f32) -> f32 {
+    t * ROBUST_FAR
+}
 
 /// A ray with its per-query constants: reciprocal direction for the slab test and the shear
 /// transform of the watertight triangle test (Woop, Benthin, Wald 2013).
@@ -22,6 +35,8 @@ pub(crate) struct PreparedRay {
     /// `0 · ∞ = NaN` for that plane, which the tests' NaN-ignoring `min`/`max` skip, leaving the
     /// axis unconstrained: such a ray counts as inside the slab for every `t`, as it is.
     pub(crate) inv: [f32; 3],
+    /// The reciprocal widened by [`ROBUST_FAR`], for far distances.
+    pub(crate) inv_far: [f32; 3],
     /// Per axis: does the ray travel towards −∞ (then a box's near plane is its max)?
     pub(crate) neg: [bool; 3],
     /// Start of the segment.
@@ -42,6 +57,7 @@ impl PreparedRay {
         let org = ray.origin.to_array();
         let dir = ray.dir.to_array();
         let inv = dir.map(|d| 1.0 / d);
+        let inv_far = inv.map(|i| i * ROBUST_FAR);
         let neg = inv.map(|i| i < 0.0);
         let abs = [dir[0].abs(), dir[1].abs(), dir[2].abs()];
         let kz = if abs[0] >= abs[1] && abs[0] >= abs[2] {
@@ -57,6 +73,6 @@ impl PreparedRay {
             std::mem::swap(&mut kx, &mut ky);
         }
         let shear = [dir[kx] / dir[kz], dir[ky] / dir[kz], 1.0 / dir[kz]];
-        PreparedRay { org, inv, neg, tnear: ray.tnear, tfar: ray.tfar, k: [kx, ky, kz], shear }
+        PreparedRay { org, inv, inv_far, neg, tnear: ray.tnear, tfar: ray.tfar, k: [kx, ky, kz], shear }
     }
 }

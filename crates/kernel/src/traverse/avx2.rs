@@ -11,7 +11,7 @@ use std::mem::MaybeUninit;
 
 use super::Best;
 use crate::bvh8::{Bvh8, EMPTY, LEAF, Node8, STACK_SIZE, TriBlock, WIDTH};
-use crate::prepared::{PreparedRay, ROBUST_FAR};
+use crate::prepared::{PreparedRay, widen};
 use crate::ray::Hit;
 use crate::triangle;
 
@@ -19,6 +19,7 @@ use crate::triangle;
 struct Lanes {
     org: [__m256; 3],
     inv: [__m256; 3],
+    inv_far: [__m256; 3],
     tnear: __m256,
     /// Row of the near and far plane of each axis in `Node8::planes`.
     near: [usize; 3],
@@ -37,6 +38,7 @@ impl Lanes {
         Lanes {
             org: ray.org.map(|x| _mm256_set1_ps(x)),
             inv: ray.inv.map(|x| _mm256_set1_ps(x)),
+            inv_far: ray.inv_far.map(|x| _mm256_set1_ps(x)),
             tnear: _mm256_set1_ps(ray.tnear),
             near,
             far,
@@ -46,22 +48,21 @@ impl Lanes {
     }
 }
 
-/// Bit mask of the children the segment `(tnear, tfar]` touches, and their entry distances.
+/// Bit mask of the children the segment `(tnear, tfar]` touches, and their entry distances;
+/// `tfar_wide` is the segment's end already widened (see `prepared::ROBUST_FAR`).
 #[target_feature(enable = "avx2,fma")]
 #[inline]
-fn child_hits(node: &Node8, r: &Lanes, tfar: f32) -> (u32, __m256) {
+fn child_hits(node: &Node8, r: &Lanes, tfar_wide: __m256) -> (u32, __m256) {
     let plane = |row: usize| unsafe { _mm256_load_ps(node.planes.as_ptr().add(row).cast::<f32>()) };
-    let slab = |row: usize, axis: usize| _mm256_mul_ps(_mm256_sub_ps(plane(row), r.org[axis]), r.inv[axis]);
     // `maxps`/`minps` return their second operand when either is NaN: the slab goes first, so a
     // NaN slab (ray lying in that plane) leaves the running bound unchanged.
     let mut tn = r.tnear;
-    let mut tf = _mm256_set1_ps(tfar);
+    let mut tf = tfar_wide;
     for axis in 0..3 {
-        tn = _mm256_max_ps(slab(r.near[axis], axis), tn);
-        tf = _mm256_min_ps(slab(r.far[axis], axis), tf);
+        tn = _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(plane(r.near[axis]), r.org[axis]), r.inv[axis]), tn);
+        tf = _mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(plane(r.far[axis]), r.org[axis]), r.inv_far[axis]), tf);
     }
-    let hit = _mm256_cmp_ps::<_CMP_LE_OQ>(tn, _mm256_mul_ps(tf, _mm256_set1_ps(ROBUST_FAR)));
-    (_mm256_movemask_ps(hit) as u32, tn)
+    (_mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(tn, tf)) as u32, tn)
 }
 
 /// The watertight test on all eight lanes of a block, up to the edge functions.
@@ -182,6 +183,22 @@ fn block_any(block: &TriBlock, ray: &PreparedRay, r: &Lanes) -> bool {
     false
 }
 
+/// Starts loading a deferred child into L1 (Embree prefetches every child it will visit): by the
+/// time it is popped, its lines are usually there.
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn prefetch(bvh: &Bvh8, link: u32) {
+    let (start, bytes) = if link & LEAF == 0 {
+        (bvh.nodes.as_ptr().wrapping_add(link as usize).cast::<i8>(), size_of::<Node8>())
+    } else {
+        (bvh.blocks.as_ptr().wrapping_add((link & !LEAF) as usize).cast::<i8>(), size_of::<TriBlock>())
+    };
+    for line in (0..bytes).step_by(64) {
+        // Prefetching is a hint: an address outside the arrays (the EMPTY link) is harmless.
+        _mm_prefetch::<_MM_HINT_T0>(start.wrapping_add(line));
+    }
+}
+
 /// A deferred child: its link and entry distance.
 #[derive(Clone, Copy)]
 struct Entry {
@@ -198,6 +215,7 @@ struct Entry {
 pub(crate) unsafe fn intersect(bvh: &Bvh8, ray: &PreparedRay) -> Option<Hit> {
     let r = Lanes::new(ray);
     let mut best = Best::none(ray.tfar);
+    let mut tfar_wide = _mm256_set1_ps(widen(best.t));
     let mut stack = [MaybeUninit::<Entry>::uninit(); STACK_SIZE];
     let mut sp = 0usize;
     let mut link = bvh.root;
@@ -205,7 +223,7 @@ pub(crate) unsafe fn intersect(bvh: &Bvh8, ray: &PreparedRay) -> Option<Hit> {
         if link & LEAF == 0 {
             // SAFETY: inner links written by the collapse are valid node indices.
             let node = unsafe { bvh.nodes.get_unchecked(link as usize) };
-            let (mask, tn) = child_hits(node, &r, best.t);
+            let (mask, tn) = child_hits(node, &r, tfar_wide);
             if mask != 0 {
                 let mut dist = [0f32; WIDTH];
                 unsafe { _mm256_storeu_ps(dist.as_mut_ptr(), tn) };
@@ -219,6 +237,7 @@ pub(crate) unsafe fn intersect(bvh: &Bvh8, ray: &PreparedRay) -> Option<Hit> {
                 let mut rest = rest & (rest - 1);
                 if rest == 0 {
                     let (near, far) = if dist[c0] <= dist[c1] { (c0, c1) } else { (c1, c0) };
+                    prefetch(bvh, node.child[far]);
                     stack[sp].write(Entry { link: node.child[far], dist: dist[far] });
                     sp += 1;
                     link = node.child[near];
@@ -227,12 +246,14 @@ pub(crate) unsafe fn intersect(bvh: &Bvh8, ray: &PreparedRay) -> Option<Hit> {
                 // Three or more: push all, insertion-sort them farthest-first, take the nearest.
                 let base = sp;
                 for lane in [c0, c1] {
+                    prefetch(bvh, node.child[lane]);
                     stack[sp].write(Entry { link: node.child[lane], dist: dist[lane] });
                     sp += 1;
                 }
                 while rest != 0 {
                     let lane = rest.trailing_zeros() as usize;
                     rest &= rest - 1;
+                    prefetch(bvh, node.child[lane]);
                     stack[sp].write(Entry { link: node.child[lane], dist: dist[lane] });
                     sp += 1;
                 }
@@ -255,6 +276,7 @@ pub(crate) unsafe fn intersect(bvh: &Bvh8, ray: &PreparedRay) -> Option<Hit> {
             // SAFETY: leaf links written by the collapse are valid block indices.
             let block = unsafe { bvh.blocks.get_unchecked((link & !LEAF) as usize) };
             block_closest(block, ray, &r, &mut best);
+            tfar_wide = _mm256_set1_ps(widen(best.t));
         }
         // Pop the nearest deferred child that can still hold a closer hit.
         loop {
@@ -264,7 +286,7 @@ pub(crate) unsafe fn intersect(bvh: &Bvh8, ray: &PreparedRay) -> Option<Hit> {
             sp -= 1;
             // SAFETY: every entry below `sp` was written before.
             let e = unsafe { stack[sp].assume_init() };
-            if e.dist <= best.t * ROBUST_FAR {
+            if e.dist <= widen(best.t) {
                 link = e.link;
                 break;
             }
@@ -280,6 +302,7 @@ pub(crate) unsafe fn intersect(bvh: &Bvh8, ray: &PreparedRay) -> Option<Hit> {
 #[target_feature(enable = "avx2,fma")]
 pub(crate) unsafe fn occluded(bvh: &Bvh8, ray: &PreparedRay) -> bool {
     let r = Lanes::new(ray);
+    let tfar_wide = _mm256_set1_ps(widen(ray.tfar));
     let mut stack = [0u32; STACK_SIZE];
     stack[0] = bvh.root;
     let mut sp = 1usize;
@@ -289,7 +312,7 @@ pub(crate) unsafe fn occluded(bvh: &Bvh8, ray: &PreparedRay) -> bool {
         if link & LEAF == 0 {
             // SAFETY: as in `intersect`.
             let node = unsafe { bvh.nodes.get_unchecked(link as usize) };
-            let (mut mask, _) = child_hits(node, &r, ray.tfar);
+            let (mut mask, _) = child_hits(node, &r, tfar_wide);
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;
                 mask &= mask - 1;

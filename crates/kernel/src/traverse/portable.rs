@@ -3,7 +3,7 @@
 
 use super::Best;
 use crate::bvh8::{Bvh8, EMPTY, LEAF, Node8, STACK_SIZE, TriBlock, WIDTH};
-use crate::prepared::{PreparedRay, ROBUST_FAR};
+use crate::prepared::{PreparedRay, widen};
 use crate::ray::Hit;
 use crate::triangle;
 
@@ -12,13 +12,13 @@ use crate::triangle;
 fn child_hits(node: &Node8, ray: &PreparedRay, tfar: f32) -> [Option<f32>; WIDTH] {
     std::array::from_fn(|lane| {
         let mut tn = ray.tnear;
-        let mut tf = tfar;
+        let mut tf = widen(tfar);
         for axis in 0..3 {
             let (near, far) = if ray.neg[axis] { (2 * axis + 1, 2 * axis) } else { (2 * axis, 2 * axis + 1) };
             tn = ((node.planes[near][lane] - ray.org[axis]) * ray.inv[axis]).max(tn);
-            tf = ((node.planes[far][lane] - ray.org[axis]) * ray.inv[axis]).min(tf);
+            tf = ((node.planes[far][lane] - ray.org[axis]) * ray.inv_far[axis]).min(tf);
         }
-        (tn <= tf * ROBUST_FAR).then_some(tn)
+        (tn <= tf).then_some(tn)
     })
 }
 
@@ -58,7 +58,7 @@ pub(crate) fn intersect(bvh: &Bvh8, ray: &PreparedRay) -> Option<Hit> {
         while sp > 0 {
             sp -= 1;
             let (link, dist) = stack[sp];
-            if dist <= best.t * ROBUST_FAR {
+            if dist <= widen(best.t) {
                 next = Some(link);
                 break;
             }
