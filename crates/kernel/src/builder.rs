@@ -274,11 +274,11 @@ struct BinSplit {
 
 fn best_bin_split(bins: &Bins, n_bins: usize, map: &BinMapping, leaf_cost: impl Fn(u32) -> f32) -> Option<BinSplit> {
     let mut best: Option<BinSplit> = None;
-    for axis in 0..3 {
+    for (axis, row) in bins.iter().enumerate() {
         if map.scale[axis] == 0.0 {
             continue;
         }
-        let row = &bins[axis][..n_bins];
+        let row = &row[..n_bins];
         // Right-to-left accumulation: cost contribution of bins[i..].
         let mut right_cost = [0.0f32; MAX_BINS];
         let mut right_count = [0u32; MAX_BINS];

@@ -114,12 +114,11 @@ impl Bvh2 {
                 Node2Kind::Leaf { first, count } => {
                     for &prim in &self.prims[first as usize..(first + count) as usize] {
                         let v = tris.triangle(prim).map(|p| p.to_array());
-                        if let Some(h) = triangle::intersect(&pre, &v, tfar) {
-                            if best.is_none_or(|b| closer(h.t, prim, b.t, b.prim)) {
+                        if let Some(h) = triangle::intersect(&pre, &v, tfar)
+                            && best.is_none_or(|b| closer(h.t, prim, b.t, b.prim)) {
                                 best = Some(Hit { t: h.t, prim, u: h.u, v: h.v });
                                 tfar = h.t;
                             }
-                        }
                     }
                 }
                 Node2Kind::Inner { left, right } => {
@@ -127,11 +126,10 @@ impl Bvh2 {
                     let hr = self.nodes[right as usize].bounds.intersect(&pre, tfar);
                     // Push the farther child first so the nearer one is popped next.
                     let mut pair = [(left, hl), (right, hr)];
-                    if let (Some(a), Some(b)) = (hl, hr) {
-                        if a < b {
+                    if let (Some(a), Some(b)) = (hl, hr)
+                        && a < b {
                             pair.swap(0, 1);
                         }
-                    }
                     stack.extend(pair.iter().filter_map(|&(i, h)| h.map(|t| (i, t))));
                 }
             }

@@ -15,6 +15,9 @@ use crate::ray::{Hit, Ray};
 use crate::traverse;
 use crate::triangle::TriangleSource;
 
+/// Rays per packet of [`Bvh8::intersect_packets`].
+pub const PACKET_SIZE: usize = 8;
+
 /// Lanes per node and per triangle block.
 pub(crate) const WIDTH: usize = 8;
 /// Child-link flag: the link names a triangle block, not a node.
@@ -176,6 +179,32 @@ impl Bvh8 {
             #[cfg(target_arch = "x86_64")]
             Isa::Avx2 => unsafe { traverse::avx2::intersect(self, &pre) },
             _ => traverse::portable::intersect(self, &pre),
+        }
+    }
+
+    /// Closest hits of many rays at once, `hits[i]` for `rays[i]`: exactly what
+    /// [`Bvh8::intersect`] returns for each ray. Consecutive groups of [`PACKET_SIZE`] rays that
+    /// share their origin (camera rays of neighbouring pixels, rays traced from a light) and
+    /// travel in the same octant are traced as one packet, whose node tests are shared; other
+    /// rays are traced one by one. Give coherent rays in packet-sized groups: 4×2 pixels, say.
+    ///
+    /// # Panics
+    /// If `rays` and `hits` differ in length.
+    pub fn intersect_packets(&self, rays: &[Ray], hits: &mut [Option<Hit>]) {
+        assert_eq!(rays.len(), hits.len(), "one hit slot per ray");
+        for (rays, hits) in rays.chunks(PACKET_SIZE).zip(hits.chunks_mut(PACKET_SIZE)) {
+            let prepared: [PreparedRay; PACKET_SIZE] = std::array::from_fn(|i| PreparedRay::new(&rays[i.min(rays.len() - 1)]));
+            let prepared = &prepared[..rays.len()];
+            match self.isa {
+                // SAFETY: as in `intersect`.
+                #[cfg(target_arch = "x86_64")]
+                Isa::Avx2 => unsafe { traverse::avx2::intersect_packet(self, prepared, hits) },
+                _ => {
+                    for (ray, hit) in prepared.iter().zip(hits.iter_mut()) {
+                        *hit = traverse::portable::intersect(self, ray);
+                    }
+                }
+            }
         }
     }
 

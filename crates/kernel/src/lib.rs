@@ -37,7 +37,7 @@ mod triangle;
 pub use aabb::Aabb;
 pub use builder::{BuildOptions, MAX_BINS, MAX_LEAF_SIZE};
 pub use bvh2::Bvh2;
-pub use bvh8::{Bvh8, Bvh8Stats};
+pub use bvh8::{Bvh8, Bvh8Stats, PACKET_SIZE};
 pub use isa::Isa;
 pub use ray::{Hit, Ray};
 pub use triangle::{IndexedMesh, TriangleSource, geometric_normal};

@@ -5,18 +5,25 @@
 //! inline into one loop; callers must have checked `Isa::Avx2.is_supported()`.
 //! The arithmetic is the portable kernel's, operation for operation (no FMA contraction in the box
 //! or triangle tests), so results are bit-identical.
+//!
+//! This module holds the node and leaf tests; `single` walks the tree with one ray, `packet` with
+//! a packet of rays that share an origin.
+
+mod packet;
+mod single;
+
+pub(crate) use packet::intersect_packet;
+pub(crate) use single::{intersect, occluded};
 
 use std::arch::x86_64::*;
-use std::mem::MaybeUninit;
 
 use super::Best;
-use crate::bvh8::{Bvh8, EMPTY, LEAF, Node8, STACK_SIZE, TriBlock, WIDTH};
-use crate::prepared::{PreparedRay, widen};
-use crate::ray::Hit;
+use crate::bvh8::{Bvh8, LEAF, Node8, TriBlock, WIDTH};
+use crate::prepared::PreparedRay;
 use crate::triangle;
 
-/// The prepared ray broadcast to all eight lanes.
-struct Lanes {
+/// One ray's box-test constants broadcast to all eight lanes (eight children of a node).
+struct BoxLanes {
     org: [__m256; 3],
     inv: [__m256; 3],
     inv_far: [__m256; 3],
@@ -24,26 +31,44 @@ struct Lanes {
     /// Row of the near and far plane of each axis in `Node8::planes`.
     near: [usize; 3],
     far: [usize; 3],
-    /// Origin and shear of the watertight test, in its permuted frame.
-    korg: [__m256; 3],
-    shear: [__m256; 3],
 }
 
-impl Lanes {
+impl BoxLanes {
     #[target_feature(enable = "avx2,fma")]
     #[inline]
-    fn new(ray: &PreparedRay) -> Lanes {
-        let near = std::array::from_fn(|a| 2 * a + ray.neg[a] as usize);
-        let far = std::array::from_fn(|a| 2 * a + 1 - ray.neg[a] as usize);
-        Lanes {
+    fn new(ray: &PreparedRay) -> BoxLanes {
+        BoxLanes {
             org: ray.org.map(|x| _mm256_set1_ps(x)),
             inv: ray.inv.map(|x| _mm256_set1_ps(x)),
             inv_far: ray.inv_far.map(|x| _mm256_set1_ps(x)),
             tnear: _mm256_set1_ps(ray.tnear),
-            near,
-            far,
+            near: plane_rows(ray.neg, false),
+            far: plane_rows(ray.neg, true),
+        }
+    }
+}
+
+/// Rows of `Node8::planes` holding each axis's near (or far) plane for a ray with these signs.
+fn plane_rows(neg: [bool; 3], far: bool) -> [usize; 3] {
+    std::array::from_fn(|a| 2 * a + (neg[a] != far) as usize)
+}
+
+/// One ray's triangle-test constants broadcast to all eight lanes (eight triangles of a block):
+/// origin and shear of the watertight test, in its permuted frame.
+struct LeafLanes {
+    korg: [__m256; 3],
+    shear: [__m256; 3],
+    tnear: __m256,
+}
+
+impl LeafLanes {
+    #[target_feature(enable = "avx2,fma")]
+    #[inline]
+    fn new(ray: &PreparedRay) -> LeafLanes {
+        LeafLanes {
             korg: ray.k.map(|k| _mm256_set1_ps(ray.org[k])),
             shear: ray.shear.map(|x| _mm256_set1_ps(x)),
+            tnear: _mm256_set1_ps(ray.tnear),
         }
     }
 }
@@ -52,7 +77,7 @@ impl Lanes {
 /// `tfar_wide` is the segment's end already widened (see `prepared::ROBUST_FAR`).
 #[target_feature(enable = "avx2,fma")]
 #[inline]
-fn child_hits(node: &Node8, r: &Lanes, tfar_wide: __m256) -> (u32, __m256) {
+fn child_hits(node: &Node8, r: &BoxLanes, tfar_wide: __m256) -> (u32, __m256) {
     let plane = |row: usize| unsafe { _mm256_load_ps(node.planes.as_ptr().add(row).cast::<f32>()) };
     // `maxps`/`minps` return their second operand when either is NaN: the slab goes first, so a
     // NaN slab (ray lying in that plane) leaves the running bound unchanged.
@@ -80,7 +105,7 @@ struct BlockEdges {
 
 #[target_feature(enable = "avx2,fma")]
 #[inline]
-fn block_edges(block: &TriBlock, ray: &PreparedRay, r: &Lanes) -> BlockEdges {
+fn block_edges(block: &TriBlock, ray: &PreparedRay, r: &LeafLanes) -> BlockEdges {
     let [kx, ky, kz] = ray.k;
     let row = |i: usize| unsafe { _mm256_load_ps(block.v.as_ptr().add(i).cast::<f32>()) };
     // Vertex `i` relative to the origin, sheared: (x, y, z) in the ray's frame.
@@ -117,7 +142,7 @@ fn block_edges(block: &TriBlock, ray: &PreparedRay, r: &Lanes) -> BlockEdges {
 /// Distances `T / det` of all lanes and the mask of those in `(tnear, tfar]` among `lanes`.
 #[target_feature(enable = "avx2,fma")]
 #[inline]
-fn block_distances(e: &BlockEdges, r: &Lanes, lanes: u32, tfar: f32) -> (u32, __m256, __m256) {
+fn block_distances(e: &BlockEdges, r: &LeafLanes, lanes: u32, tfar: f32) -> (u32, __m256, __m256) {
     let det = _mm256_add_ps(_mm256_add_ps(e.u, e.v), e.w);
     let sz = r.shear[2];
     let t_num = _mm256_add_ps(
@@ -135,7 +160,7 @@ fn block_distances(e: &BlockEdges, r: &Lanes, lanes: u32, tfar: f32) -> (u32, __
 /// Offers every hit of the block to `best`.
 #[target_feature(enable = "avx2,fma")]
 #[inline]
-fn block_closest(block: &TriBlock, ray: &PreparedRay, r: &Lanes, best: &mut Best) {
+fn block_closest(block: &TriBlock, ray: &PreparedRay, r: &LeafLanes, best: &mut Best) {
     let e = block_edges(block, ray, r);
     if e.inside != 0 {
         let (mut hits, t, det) = block_distances(&e, r, e.inside, best.t);
@@ -167,7 +192,7 @@ fn block_closest(block: &TriBlock, ray: &PreparedRay, r: &Lanes, best: &mut Best
 /// Whether any lane of the block is hit.
 #[target_feature(enable = "avx2,fma")]
 #[inline]
-fn block_any(block: &TriBlock, ray: &PreparedRay, r: &Lanes) -> bool {
+fn block_any(block: &TriBlock, ray: &PreparedRay, r: &LeafLanes) -> bool {
     let e = block_edges(block, ray, r);
     if e.inside != 0 && block_distances(&e, r, e.inside, ray.tfar).0 != 0 {
         return true;
@@ -199,133 +224,3 @@ fn prefetch(bvh: &Bvh8, link: u32) {
     }
 }
 
-/// A deferred child: its link and entry distance.
-#[derive(Clone, Copy)]
-struct Entry {
-    link: u32,
-    dist: f32,
-}
-
-/// Closest hit, near-first (the Embree BVH8 single-ray scheme: one hit child is followed
-/// directly, two are ordered by one comparison, more are pushed and sorted by distance).
-///
-/// # Safety
-/// The CPU must support AVX2 and FMA.
-#[target_feature(enable = "avx2,fma")]
-pub(crate) unsafe fn intersect(bvh: &Bvh8, ray: &PreparedRay) -> Option<Hit> {
-    let r = Lanes::new(ray);
-    let mut best = Best::none(ray.tfar);
-    let mut tfar_wide = _mm256_set1_ps(widen(best.t));
-    let mut stack = [MaybeUninit::<Entry>::uninit(); STACK_SIZE];
-    let mut sp = 0usize;
-    let mut link = bvh.root;
-    loop {
-        if link & LEAF == 0 {
-            // SAFETY: inner links written by the collapse are valid node indices.
-            let node = unsafe { bvh.nodes.get_unchecked(link as usize) };
-            let (mask, tn) = child_hits(node, &r, tfar_wide);
-            if mask != 0 {
-                let mut dist = [0f32; WIDTH];
-                unsafe { _mm256_storeu_ps(dist.as_mut_ptr(), tn) };
-                let c0 = mask.trailing_zeros() as usize;
-                let rest = mask & (mask - 1);
-                if rest == 0 {
-                    link = node.child[c0];
-                    continue;
-                }
-                let c1 = rest.trailing_zeros() as usize;
-                let mut rest = rest & (rest - 1);
-                if rest == 0 {
-                    let (near, far) = if dist[c0] <= dist[c1] { (c0, c1) } else { (c1, c0) };
-                    prefetch(bvh, node.child[far]);
-                    stack[sp].write(Entry { link: node.child[far], dist: dist[far] });
-                    sp += 1;
-                    link = node.child[near];
-                    continue;
-                }
-                // Three or more: push all, insertion-sort them farthest-first, take the nearest.
-                let base = sp;
-                for lane in [c0, c1] {
-                    prefetch(bvh, node.child[lane]);
-                    stack[sp].write(Entry { link: node.child[lane], dist: dist[lane] });
-                    sp += 1;
-                }
-                while rest != 0 {
-                    let lane = rest.trailing_zeros() as usize;
-                    rest &= rest - 1;
-                    prefetch(bvh, node.child[lane]);
-                    stack[sp].write(Entry { link: node.child[lane], dist: dist[lane] });
-                    sp += 1;
-                }
-                // SAFETY: entries base..sp were just written.
-                let pushed = unsafe { std::slice::from_raw_parts_mut(stack.as_mut_ptr().add(base).cast::<Entry>(), sp - base) };
-                for i in 1..pushed.len() {
-                    let e = pushed[i];
-                    let mut j = i;
-                    while j > 0 && pushed[j - 1].dist < e.dist {
-                        pushed[j] = pushed[j - 1];
-                        j -= 1;
-                    }
-                    pushed[j] = e;
-                }
-                sp -= 1;
-                link = pushed[pushed.len() - 1].link;
-                continue;
-            }
-        } else if link != EMPTY {
-            // SAFETY: leaf links written by the collapse are valid block indices.
-            let block = unsafe { bvh.blocks.get_unchecked((link & !LEAF) as usize) };
-            block_closest(block, ray, &r, &mut best);
-            tfar_wide = _mm256_set1_ps(widen(best.t));
-        }
-        // Pop the nearest deferred child that can still hold a closer hit.
-        loop {
-            if sp == 0 {
-                return best.into_hit();
-            }
-            sp -= 1;
-            // SAFETY: every entry below `sp` was written before.
-            let e = unsafe { stack[sp].assume_init() };
-            if e.dist <= widen(best.t) {
-                link = e.link;
-                break;
-            }
-        }
-    }
-}
-
-/// Any hit; stops at the first one. Children are visited in slot order: ordering buys little
-/// when the query ends at any hit.
-///
-/// # Safety
-/// The CPU must support AVX2 and FMA.
-#[target_feature(enable = "avx2,fma")]
-pub(crate) unsafe fn occluded(bvh: &Bvh8, ray: &PreparedRay) -> bool {
-    let r = Lanes::new(ray);
-    let tfar_wide = _mm256_set1_ps(widen(ray.tfar));
-    let mut stack = [0u32; STACK_SIZE];
-    stack[0] = bvh.root;
-    let mut sp = 1usize;
-    while sp > 0 {
-        sp -= 1;
-        let link = stack[sp];
-        if link & LEAF == 0 {
-            // SAFETY: as in `intersect`.
-            let node = unsafe { bvh.nodes.get_unchecked(link as usize) };
-            let (mut mask, _) = child_hits(node, &r, tfar_wide);
-            while mask != 0 {
-                let lane = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                stack[sp] = node.child[lane];
-                sp += 1;
-            }
-        } else if link != EMPTY {
-            // SAFETY: as in `intersect`.
-            let block = unsafe { bvh.blocks.get_unchecked((link & !LEAF) as usize) };
-            if block_any(block, ray, &r) {
-                return true;
-            }
-        }
-    }
-    false
-}

@@ -1,0 +1,296 @@
+//! Packet traversal: up to eight rays that share an origin (camera rays of neighbouring pixels,
+//! shadow rays traced from a light) walk the tree together.
+//!
+//! Each node is first tested once against the packet's *frustum*: per axis, the interval spanned
+//! by the rays' reciprocal directions (interval arithmetic, in the spirit of the frustum
+//! traversal of the multi-level ray tracing seed, DIGEST §2). Rounding is monotonic, so the
+//! interval bounds enclose every ray's own rounded slab distances and no child any ray would
+//! visit is dropped. Only the children the frustum hits are then tested ray by ray, one ray per
+//! lane, with exactly the single-ray box arithmetic; a child is deferred with the mask of rays
+//! that hit it and their entry distances, so every ray skips whatever its own closest hit has
+//! culled. Triangles are tested per ray with the single-ray block test. Hits are therefore
+//! bit-identical to tracing the rays one by one, while the node tests, the serial part of
+//! single-ray traversal, are shared by the packet. When no more than `FEW` rays need a subtree,
+//! they finish it as single rays (the hybrid scheme of Embree's packet kernels).
+
+use std::arch::x86_64::*;
+use std::mem::MaybeUninit;
+
+use super::single::closest_below;
+use super::{LeafLanes, block_closest, plane_rows, prefetch};
+use crate::bvh8::{Bvh8, EMPTY, LEAF, Node8, STACK_SIZE, WIDTH};
+use crate::prepared::{PreparedRay, widen};
+use crate::ray::Hit;
+use crate::traverse::Best;
+
+/// Rays per packet: one per AVX2 lane.
+const PACKET: usize = crate::bvh8::PACKET_SIZE;
+
+/// A subtree needed by no more than this many rays of a packet is finished by them alone.
+const FEW: u32 = 1;
+
+/// Whether the rays can travel as one packet: a common origin, the same direction sign on every
+/// axis, and no zero direction component (whose infinite reciprocal has no useful interval).
+fn is_packet(rays: &[PreparedRay]) -> bool {
+    let first = &rays[0];
+    (1..=PACKET).contains(&rays.len())
+        && rays.iter().all(|r| {
+            r.org.map(f32::to_bits) == first.org.map(f32::to_bits)
+                && r.neg == first.neg
+                && r.inv.iter().chain(&r.inv_far).all(|i| i.is_finite())
+        })
+}
+
+/// The packet's frustum broadcast to the eight children lanes of a node: the common origin and,
+/// per axis, the smallest and largest reciprocal direction (and its widened twin for far planes).
+struct Frustum {
+    org: [__m256; 3],
+    inv_lo: [__m256; 3],
+    inv_hi: [__m256; 3],
+    far_lo: [__m256; 3],
+    far_hi: [__m256; 3],
+    tnear: __m256,
+    near: [usize; 3],
+    far: [usize; 3],
+}
+
+impl Frustum {
+    #[target_feature(enable = "avx2,fma")]
+    #[inline]
+    fn new(rays: &[PreparedRay]) -> Frustum {
+        let bound = |f: &dyn Fn(&PreparedRay) -> f32, pick: fn(f32, f32) -> f32| {
+            _mm256_set1_ps(rays.iter().map(f).reduce(pick).expect("non-empty packet"))
+        };
+        Frustum {
+            org: rays[0].org.map(|x| _mm256_set1_ps(x)),
+            inv_lo: std::array::from_fn(|a| bound(&|r| r.inv[a], f32::min)),
+            inv_hi: std::array::from_fn(|a| bound(&|r| r.inv[a], f32::max)),
+            far_lo: std::array::from_fn(|a| bound(&|r| r.inv_far[a], f32::min)),
+            far_hi: std::array::from_fn(|a| bound(&|r| r.inv_far[a], f32::max)),
+            tnear: bound(&|r| r.tnear, f32::min),
+            near: plane_rows(rays[0].neg, false),
+            far: plane_rows(rays[0].neg, true),
+        }
+    }
+
+    /// Children of `node` that the frustum's segment `(tnear, tfar]` may touch, and lower bounds
+    /// of their entry distances.
+    #[target_feature(enable = "avx2,fma")]
+    #[inline]
+    fn child_hits(&self, node: &Node8, tfar_wide: __m256) -> (u32, __m256) {
+        let plane = |row: usize| unsafe { _mm256_load_ps(node.planes.as_ptr().add(row).cast::<f32>()) };
+        let mut tn = self.tnear;
+        let mut tf = tfar_wide;
+        for axis in 0..3 {
+            // All reciprocals are finite, so no product is NaN, and every ray's own rounded
+            // product lies between the products with the interval's ends.
+            let d = _mm256_sub_ps(plane(self.near[axis]), self.org[axis]);
+            tn = _mm256_max_ps(_mm256_min_ps(_mm256_mul_ps(d, self.inv_lo[axis]), _mm256_mul_ps(d, self.inv_hi[axis])), tn);
+            let d = _mm256_sub_ps(plane(self.far[axis]), self.org[axis]);
+            tf = _mm256_min_ps(_mm256_max_ps(_mm256_mul_ps(d, self.far_lo[axis]), _mm256_mul_ps(d, self.far_hi[axis])), tf);
+        }
+        (_mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(tn, tf)) as u32, tn)
+    }
+}
+
+/// The rays across the lanes (one ray per lane), for testing one box against all of them.
+struct RayLanes {
+    org: [f32; 3],
+    near: [usize; 3],
+    far: [usize; 3],
+    inv: [__m256; 3],
+    inv_far: [__m256; 3],
+    tnear: __m256,
+}
+
+impl RayLanes {
+    #[target_feature(enable = "avx2,fma")]
+    #[inline]
+    fn new(rays: &[PreparedRay]) -> RayLanes {
+        // Lanes past the last ray repeat the first; they are masked out of every result.
+        let lanes = |f: &dyn Fn(&PreparedRay) -> f32| {
+            let v: [f32; PACKET] = std::array::from_fn(|i| f(rays.get(i).unwrap_or(&rays[0])));
+            unsafe { _mm256_loadu_ps(v.as_ptr()) }
+        };
+        RayLanes {
+            org: rays[0].org,
+            near: plane_rows(rays[0].neg, false),
+            far: plane_rows(rays[0].neg, true),
+            inv: std::array::from_fn(|a| lanes(&|r| r.inv[a])),
+            inv_far: std::array::from_fn(|a| lanes(&|r| r.inv_far[a])),
+            tnear: lanes(&|r| r.tnear),
+        }
+    }
+
+    /// The rays whose own segment `(tnear, tfar]` touches the box in lane `lane` of `node`, and
+    /// their entry distances: the single-ray test's arithmetic, one ray per lane.
+    #[target_feature(enable = "avx2,fma")]
+    #[inline]
+    fn hit_child(&self, node: &Node8, lane: usize, tfar_wide: __m256) -> (u32, __m256) {
+        let mut tn = self.tnear;
+        let mut tf = tfar_wide;
+        for axis in 0..3 {
+            let near = _mm256_set1_ps(node.planes[self.near[axis]][lane] - self.org[axis]);
+            let far = _mm256_set1_ps(node.planes[self.far[axis]][lane] - self.org[axis]);
+            tn = _mm256_max_ps(_mm256_mul_ps(near, self.inv[axis]), tn);
+            tf = _mm256_min_ps(_mm256_mul_ps(far, self.inv_far[axis]), tf);
+        }
+        (_mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(tn, tf)) as u32, tn)
+    }
+}
+
+/// A deferred child: its link, the frustum's lower bound of its entry distance (for ordering),
+/// and the rays that hit its box with their own entry distances.
+#[derive(Clone, Copy)]
+struct Entry {
+    link: u32,
+    dist: f32,
+    rays: u32,
+    entry: __m256,
+}
+
+/// One lane set, the rest clear: selects lane `i` in a blend.
+const LANE: [[u32; PACKET]; PACKET] = {
+    let mut m = [[0; PACKET]; PACKET];
+    let mut i = 0;
+    while i < PACKET {
+        m[i][i] = u32::MAX;
+        i += 1;
+    }
+    m
+};
+
+/// The per-ray state of a packet walk: best hits and, in lanes, their widened distances.
+struct Rays {
+    best: [Best; PACKET],
+    tfar: __m256,
+}
+
+impl Rays {
+    /// The rays of `e` whose own entry distance is still within their own best.
+    #[target_feature(enable = "avx2,fma")]
+    #[inline]
+    fn live(&self, e: &Entry) -> u32 {
+        e.rays & _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(e.entry, self.tfar)) as u32
+    }
+
+    /// Records ray `i`'s new best hit.
+    #[target_feature(enable = "avx2,fma")]
+    #[inline]
+    fn settle(&mut self, i: usize, best: Best) {
+        self.best[i] = best;
+        let lane = unsafe { _mm256_loadu_ps(LANE[i].as_ptr().cast::<f32>()) };
+        self.tfar = _mm256_blendv_ps(self.tfar, _mm256_set1_ps(widen(best.t)), lane);
+    }
+
+    /// The largest widened distance of any ray: the frustum's far bound.
+    #[target_feature(enable = "avx2,fma")]
+    #[inline]
+    fn farthest(&self) -> __m256 {
+        let m = _mm256_max_ps(self.tfar, _mm256_permute2f128_ps::<1>(self.tfar, self.tfar));
+        let m = _mm256_max_ps(m, _mm256_shuffle_ps::<0b01_00_11_10>(m, m));
+        _mm256_max_ps(m, _mm256_shuffle_ps::<0b10_11_00_01>(m, m))
+    }
+}
+
+/// Closest hits of a packet of rays, written to `out` (one per ray). Rays that do not form a
+/// packet (see `is_packet`) are traced one by one.
+///
+/// # Safety
+/// The CPU must support AVX2 and FMA.
+#[target_feature(enable = "avx2,fma")]
+pub(crate) unsafe fn intersect_packet(bvh: &Bvh8, rays: &[PreparedRay], out: &mut [Option<Hit>]) {
+    if !is_packet(rays) {
+        for (ray, hit) in rays.iter().zip(out.iter_mut()) {
+            *hit = unsafe { super::intersect(bvh, ray) };
+        }
+        return;
+    }
+    let frustum = Frustum::new(rays);
+    let lanes = RayLanes::new(rays);
+    let best: [Best; PACKET] = std::array::from_fn(|i| Best::none(rays.get(i).map_or(f32::NEG_INFINITY, |r| r.tfar)));
+    let widened: [f32; PACKET] = std::array::from_fn(|i| widen(best[i].t));
+    let mut state = Rays { best, tfar: unsafe { _mm256_loadu_ps(widened.as_ptr()) } };
+
+    let mut stack = [MaybeUninit::<Entry>::uninit(); STACK_SIZE];
+    let mut sp = 0usize;
+    let mut current = Some(Entry {
+        link: bvh.root,
+        dist: 0.0,
+        rays: (1u32 << rays.len()) - 1,
+        entry: _mm256_set1_ps(f32::NEG_INFINITY),
+    });
+    while let Some(e) = current.take() {
+        let live = state.live(&e);
+        if live.count_ones() <= FEW {
+            // Too few rays left to share the walk: they finish this subtree alone.
+            for i in Lanes(live) {
+                let b = closest_below(bvh, &rays[i], e.link, state.best[i]);
+                state.settle(i, b);
+            }
+        } else if e.link & LEAF == 0 {
+            // SAFETY: inner links written by the collapse are valid node indices.
+            let node = unsafe { bvh.nodes.get_unchecked(e.link as usize) };
+            let (mask, tn) = frustum.child_hits(node, state.farthest());
+            let mut dist = [0f32; WIDTH];
+            unsafe { _mm256_storeu_ps(dist.as_mut_ptr(), tn) };
+            let base = sp;
+            for lane in Lanes(mask) {
+                let (hit, entry) = lanes.hit_child(node, lane, state.tfar);
+                if hit & live != 0 {
+                    prefetch(bvh, node.child[lane]);
+                    stack[sp].write(Entry { link: node.child[lane], dist: dist[lane], rays: hit & live, entry });
+                    sp += 1;
+                }
+            }
+            // Farthest first onto the stack, so that the nearest child comes off next.
+            // SAFETY: entries base..sp were just written.
+            let pushed = unsafe { std::slice::from_raw_parts_mut(stack.as_mut_ptr().add(base).cast::<Entry>(), sp - base) };
+            for i in 1..pushed.len() {
+                let e = pushed[i];
+                let mut j = i;
+                while j > 0 && pushed[j - 1].dist < e.dist {
+                    pushed[j] = pushed[j - 1];
+                    j -= 1;
+                }
+                pushed[j] = e;
+            }
+        } else if e.link != EMPTY {
+            // SAFETY: leaf links written by the collapse are valid block indices.
+            let block = unsafe { bvh.blocks.get_unchecked((e.link & !LEAF) as usize) };
+            for i in Lanes(live) {
+                let mut b = state.best[i];
+                block_closest(block, &rays[i], &LeafLanes::new(&rays[i]), &mut b);
+                state.settle(i, b);
+            }
+        }
+        // Next: the nearest deferred child that some ray still needs.
+        while sp > 0 {
+            sp -= 1;
+            // SAFETY: every entry below `sp` was written before.
+            let next = unsafe { stack[sp].assume_init() };
+            if state.live(&next) != 0 {
+                current = Some(next);
+                break;
+            }
+        }
+    }
+    for (hit, b) in out.iter_mut().zip(state.best) {
+        *hit = b.into_hit();
+    }
+}
+
+/// The set bits of a mask, lowest first.
+struct Lanes(u32);
+
+impl Iterator for Lanes {
+    type Item = usize;
+
+    fn next(&mut self) -> Option<usize> {
+        (self.0 != 0).then(|| {
+            let lane = self.0.trailing_zeros() as usize;
+            self.0 &= self.0 - 1;
+            lane
+        })
+    }
+}
