@@ -47,6 +47,29 @@ struct RtcRayHit {
     hit: RtcHit,
 }
 
+/// Eight rays and their hits, structure of arrays (`RTCRayHit8`).
+#[repr(C, align(32))]
+struct RtcRayHit8 {
+    org: [[f32; 8]; 3],
+    tnear: [f32; 8],
+    dir: [[f32; 8]; 3],
+    time: [f32; 8],
+    tfar: [f32; 8],
+    mask: [u32; 8],
+    id: [u32; 8],
+    flags: [u32; 8],
+    ng: [[f32; 8]; 3],
+    u: [f32; 8],
+    v: [f32; 8],
+    prim_id: [u32; 8],
+    geom_id: [u32; 8],
+    inst_id: [u32; 8],
+}
+
+/// The packet's valid mask (−1 active, 0 inactive), aligned as Embree requires.
+#[repr(C, align(32))]
+struct Valid8([i32; 8]);
+
 #[repr(C)]
 struct RtcIntersectContext {
     flags: u32,
@@ -84,6 +107,7 @@ unsafe extern "C" {
     fn rtcAttachGeometry(scene: RtcScene, geometry: RtcGeometry) -> u32;
     fn rtcReleaseGeometry(geometry: RtcGeometry);
     fn rtcIntersect1(scene: RtcScene, context: *mut RtcIntersectContext, rayhit: *mut RtcRayHit);
+    fn rtcIntersect8(valid: *const i32, scene: RtcScene, context: *mut RtcIntersectContext, rayhit: *mut RtcRayHit8);
 }
 
 /// Embree's BVH build quality.
@@ -195,6 +219,37 @@ impl Scene {
         // SAFETY: committed scene, valid ray/hit and context structs.
         unsafe { rtcIntersect1(self.raw, &mut context, &mut rh) };
         (rh.hit.geom_id != INVALID_GEOMETRY_ID).then_some(EmbreeHit { t: rh.ray.tfar, prim: rh.hit.prim_id })
+    }
+}
+
+impl Scene {
+    /// `rtcIntersect8`: closest-hit distances of up to eight rays traced as one packet.
+    pub fn intersect8(&self, rays: &[Ray], out: &mut [Option<f32>]) {
+        assert!(rays.len() <= 8 && rays.len() == out.len(), "up to eight rays, one result each");
+        let valid = Valid8(std::array::from_fn(|i| if i < rays.len() { -1 } else { 0 }));
+        let lane = |i: usize| &rays[i.min(rays.len() - 1)];
+        let mut rh = RtcRayHit8 {
+            org: std::array::from_fn(|a| std::array::from_fn(|i| lane(i).origin[a])),
+            tnear: std::array::from_fn(|i| lane(i).tnear),
+            dir: std::array::from_fn(|a| std::array::from_fn(|i| lane(i).dir[a])),
+            time: [0.0; 8],
+            tfar: std::array::from_fn(|i| lane(i).tfar),
+            mask: [u32::MAX; 8],
+            id: [0; 8],
+            flags: [0; 8],
+            ng: [[0.0; 8]; 3],
+            u: [0.0; 8],
+            v: [0.0; 8],
+            prim_id: [0; 8],
+            geom_id: [INVALID_GEOMETRY_ID; 8],
+            inst_id: [INVALID_GEOMETRY_ID; 8],
+        };
+        let mut context = RtcIntersectContext::new();
+        // SAFETY: committed scene; `valid` and the packet are 32-byte aligned as Embree requires.
+        unsafe { rtcIntersect8(valid.0.as_ptr(), self.raw, &mut context, &mut rh) };
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = (rh.geom_id[i] != INVALID_GEOMETRY_ID).then_some(rh.tfar[i]);
+        }
     }
 }
 

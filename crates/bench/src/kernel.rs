@@ -4,21 +4,32 @@
 use std::time::Instant;
 
 use raystage_demo::{Mesh, StandardScene};
-use raystage_kernel::{BuildOptions, Bvh8, Ray};
+use raystage_kernel::{BuildOptions, Bvh8, PACKET_SIZE, Ray};
 use serde::Serialize;
 
 use crate::rays::{self, HEIGHT, PrimaryHit, WIDTH};
 
 /// Something that answers closest-hit queries: raystage's BVH or Embree's scene.
 pub trait Tracer: Sync {
-    /// Distance of the closest hit, if any.
+    /// Distance of the closest hit, if any: the single-ray API.
     fn trace(&self, ray: &Ray) -> Option<f32>;
+    /// Closest-hit distances of up to [`PACKET_SIZE`] rays traced as one packet.
+    fn trace_packet(&self, rays: &[Ray], out: &mut [Option<f32>]);
 }
 
 impl Tracer for Bvh8 {
     #[inline]
     fn trace(&self, ray: &Ray) -> Option<f32> {
         self.intersect(ray).map(|h| h.t)
+    }
+
+    #[inline]
+    fn trace_packet(&self, rays: &[Ray], out: &mut [Option<f32>]) {
+        let mut hits = [None; PACKET_SIZE];
+        self.intersect_packets(rays, &mut hits[..rays.len()]);
+        for (o, h) in out.iter_mut().zip(hits) {
+            *o = h.map(|h| h.t);
+        }
     }
 }
 
@@ -27,6 +38,11 @@ impl Tracer for crate::embree::Scene {
     #[inline]
     fn trace(&self, ray: &Ray) -> Option<f32> {
         self.intersect(ray).map(|h| h.t)
+    }
+
+    #[inline]
+    fn trace_packet(&self, rays: &[Ray], out: &mut [Option<f32>]) {
+        self.intersect8(rays, out);
     }
 }
 
@@ -41,14 +57,33 @@ pub struct Traced {
     pub tsum: f64,
 }
 
+/// How a ray set is handed to a tracer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Api {
+    /// One ray per call.
+    Single,
+    /// Consecutive groups of [`PACKET_SIZE`] rays per call.
+    Packets,
+}
+
 /// Traces `rays` on `threads` threads, each taking one contiguous chunk (as the probe splits rows).
-pub fn trace_all(tracer: &dyn Tracer, rays: &[Ray], threads: usize) -> Traced {
+pub fn trace_all(tracer: &dyn Tracer, rays: &[Ray], threads: usize, api: Api) -> Traced {
     let chunk = |rays: &[Ray]| {
         let (mut hits, mut tsum) = (0u64, 0f64);
-        for ray in rays {
-            if let Some(t) = tracer.trace(ray) {
+        let mut count = |t: Option<f32>| {
+            if let Some(t) = t {
                 hits += 1;
                 tsum += t as f64;
+            }
+        };
+        match api {
+            Api::Single => rays.iter().for_each(|ray| count(tracer.trace(ray))),
+            Api::Packets => {
+                let mut out = [None; PACKET_SIZE];
+                for packet in rays.chunks(PACKET_SIZE) {
+                    tracer.trace_packet(packet, &mut out[..packet.len()]);
+                    out[..packet.len()].iter().for_each(|&t| count(t));
+                }
             }
         }
         (hits, tsum)
@@ -57,7 +92,7 @@ pub fn trace_all(tracer: &dyn Tracer, rays: &[Ray], threads: usize) -> Traced {
     let parts: Vec<(u64, f64)> = if threads <= 1 {
         vec![chunk(rays)]
     } else {
-        let per = rays.len().div_ceil(threads);
+        let per = rays.len().div_ceil(threads).next_multiple_of(PACKET_SIZE);
         std::thread::scope(|s| {
             let handles: Vec<_> = rays.chunks(per.max(1)).map(|c| s.spawn(move || chunk(c))).collect();
             handles.into_iter().map(|h| h.join().expect("trace thread panicked")).collect()
@@ -89,8 +124,10 @@ pub fn primary_hits(bvh: &Bvh8, mesh: &Mesh, primary: &[Ray]) -> Vec<Option<Prim
 
 /// The identical ray sets every system traces.
 pub struct RaySets {
-    /// 1920×1080 primary rays.
+    /// 1920×1080 primary rays, row by row.
     pub primary: Vec<Ray>,
+    /// The same primary rays grouped in 4×2-pixel packets (tile rows of 480 packets).
+    pub packets: Vec<Ray>,
     /// 1920×1080 random incoherent rays.
     pub incoherent: Vec<Ray>,
     /// Bounce rays from raystage's primary hits.
@@ -101,9 +138,10 @@ impl RaySets {
     /// Generates the probe's ray sets for `scene`; bounce rays start at `bvh`'s primary hits.
     pub fn new(scene: StandardScene, mesh: &Mesh, bvh: &Bvh8) -> RaySets {
         let primary = rays::primary(scene, WIDTH, HEIGHT);
+        let packets = rays::in_packets(&primary, WIDTH, HEIGHT);
         let incoherent = rays::incoherent(scene, (WIDTH * HEIGHT) as usize);
         let bounce = rays::bounce(&primary, &primary_hits(bvh, mesh, &primary));
-        RaySets { primary, incoherent, bounce }
+        RaySets { primary, packets, incoherent, bounce }
     }
 }
 
@@ -118,8 +156,10 @@ pub struct KernelReport {
     pub threads: usize,
     /// BVH build seconds (Embree: `RTC_BUILD_QUALITY_HIGH`).
     pub build_s: f64,
-    /// Primary rays, million per second.
+    /// Primary rays traced one per call (`rtcIntersect1` for Embree), million per second.
     pub primary_mrays: f64,
+    /// Primary rays traced in packets of eight, 4×2 pixels (`rtcIntersect8` for Embree).
+    pub primary_packet_mrays: f64,
     /// Random incoherent rays, million per second.
     pub incoherent_mrays: f64,
     /// Diffuse bounce rays, million per second.
@@ -137,6 +177,8 @@ pub struct Samples {
     pub build: Vec<f64>,
     /// Primary rays per repetition.
     pub primary: Vec<Traced>,
+    /// Primary rays in packets per repetition.
+    pub packets: Vec<Traced>,
     /// Incoherent rays per repetition.
     pub incoherent: Vec<Traced>,
     /// Bounce rays per repetition.
@@ -150,12 +192,46 @@ pub fn median(values: &[f64]) -> f64 {
     v[v.len() / 2]
 }
 
+impl Traced {
+    /// The two runs together: one run over both ray sets.
+    fn plus(self, o: Traced) -> Traced {
+        Traced { seconds: self.seconds + o.seconds, hits: self.hits + o.hits, tsum: self.tsum + o.tsum }
+    }
+}
+
+/// Rays per slice when systems take turns (see [`trace_interleaved`]).
+const SLICE: usize = 1 << 16;
+
+/// Traces every ray set once with every tracer, the tracers taking turns slice by slice
+/// (65,536 rays), so that the machine's speed drifting during the run (these are shared virtual
+/// machines) affects all systems alike; returns one `Traced` per tracer and set, in
+/// `[primary, packets, incoherent, bounce]` order.
+pub fn trace_interleaved(tracers: &[&dyn Tracer], sets: &RaySets, threads: usize) -> Vec<[Traced; 4]> {
+    let plan = [
+        (&sets.primary, Api::Single),
+        (&sets.packets, Api::Packets),
+        (&sets.incoherent, Api::Single),
+        (&sets.bounce, Api::Single),
+    ];
+    let mut totals = vec![[Traced::default(); 4]; tracers.len()];
+    for (set, (rays, api)) in plan.iter().enumerate() {
+        for slice in rays.chunks(SLICE) {
+            for (k, tracer) in tracers.iter().enumerate() {
+                totals[k][set] = totals[k][set].plus(trace_all(*tracer, slice, threads, *api));
+            }
+        }
+    }
+    totals
+}
+
 impl Samples {
-    /// Traces all three sets once and records them.
-    pub fn trace(&mut self, tracer: &dyn Tracer, sets: &RaySets, threads: usize) {
-        self.primary.push(trace_all(tracer, &sets.primary, threads));
-        self.incoherent.push(trace_all(tracer, &sets.incoherent, threads));
-        self.bounce.push(trace_all(tracer, &sets.bounce, threads));
+    /// Records one repetition, as returned by [`trace_interleaved`] for one tracer.
+    pub fn record(&mut self, traced: [Traced; 4]) {
+        let [primary, packets, incoherent, bounce] = traced;
+        self.primary.push(primary);
+        self.packets.push(packets);
+        self.incoherent.push(incoherent);
+        self.bounce.push(bounce);
     }
 
     /// Medians as a report line.
@@ -168,6 +244,7 @@ impl Samples {
             threads,
             build_s: median(&self.build),
             primary_mrays: mrays(&self.primary, sets.primary.len()),
+            primary_packet_mrays: mrays(&self.packets, sets.packets.len()),
             incoherent_mrays: mrays(&self.incoherent, sets.incoherent.len()),
             bounce_mrays: mrays(&self.bounce, sets.bounce.len()),
             hits: last.hits,
@@ -251,22 +328,19 @@ pub fn run(scene: StandardScene, threads: usize, reps: usize, mut progress: impl
         .collect();
     for rep in 0..reps {
         for (i, &t) in counts.iter().enumerate() {
-            let tracers: Vec<(&str, &dyn Tracer)> = {
-                #[allow(unused_mut)]
-                let mut v: Vec<(&str, &dyn Tracer)> = vec![("raystage", &bvhs[i])];
-                #[cfg(feature = "embree")]
-                v.push(("embree", &embree_scenes[i]));
-                v
-            };
-            for (name, tracer) in tracers {
-                let entry = runs.iter_mut().find(|(s, th, _)| *s == name && *th == t).expect("run registered");
-                entry.2.trace(tracer, &sets, t);
-                let p = entry.2.primary.last().expect("just traced");
+            #[allow(unused_mut)]
+            let mut tracers: Vec<(&str, &dyn Tracer)> = vec![("raystage", &bvhs[i])];
+            #[cfg(feature = "embree")]
+            tracers.push(("embree", &embree_scenes[i]));
+            let only: Vec<&dyn Tracer> = tracers.iter().map(|(_, tr)| *tr).collect();
+            for ((name, _), traced) in tracers.iter().zip(trace_interleaved(&only, &sets, t)) {
+                let entry = runs.iter_mut().find(|(s, th, _)| s == name && *th == t).expect("run registered");
+                entry.2.record(traced);
                 progress(&format!(
                     "{}: rep {}/{reps} {name} {t} thread(s): primary {:.2} Mrays/s",
                     scene.name(),
                     rep + 1,
-                    sets.primary.len() as f64 / p.seconds / 1e6
+                    sets.primary.len() as f64 / traced[0].seconds / 1e6
                 ));
             }
         }

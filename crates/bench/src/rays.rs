@@ -19,6 +19,18 @@ pub fn primary(scene: StandardScene, width: u32, height: u32) -> Vec<Ray> {
     (0..height).flat_map(|y| (0..width).map(move |x| Ray::new(cam.origin, cam.dir(x, y, width, height)))).collect()
 }
 
+/// The same rays reordered into packets of 4×2 pixels, packets row by row; `width` must be a
+/// multiple of 4 and `height` of 2.
+pub fn in_packets(primary: &[Ray], width: u32, height: u32) -> Vec<Ray> {
+    assert!(width % 4 == 0 && height % 2 == 0, "whole 4x2 packets");
+    let (w, h) = (width as usize, height as usize);
+    (0..h / 2)
+        .flat_map(|py| (0..w / 4).map(move |px| (px, py)))
+        .flat_map(|(px, py)| (0..8).map(move |k| (py * 2 + k / 4) * w + px * 4 + k % 4))
+        .map(|i| primary[i])
+        .collect()
+}
+
 /// `n` rays with origins uniform in the scene's ray box and directions uniform on the sphere
 /// (origin drawn x, y, z; then z, then the azimuth, as in the probe).
 pub fn incoherent(scene: StandardScene, n: usize) -> Vec<Ray> {

@@ -2,15 +2,23 @@
 
 use std::fmt::Write;
 
-use crate::kernel::{SceneRun, Traced, median};
+use crate::kernel::{Samples, SceneRun, Traced, median};
 
+/// Median throughput of repeated runs over `n` rays.
 fn mrays(runs: &[Traced], n: usize) -> f64 {
     median(&runs.iter().map(|r| n as f64 / r.seconds / 1e6).collect::<Vec<_>>())
 }
 
-/// The kernel benchmark of one scene as a table: one column per system and thread count, and the
-/// raystage/Embree ratio where both were measured (higher is better for raystage except for build
-/// time, where the ratio is raystage's time over Embree's).
+/// One measured ray set: its name, its samples in a run, and its size.
+struct RaySet {
+    name: &'static str,
+    runs: fn(&Samples) -> &[Traced],
+    rays: usize,
+}
+
+/// The kernel benchmark of one scene as a table: one column per system and the raystage/Embree
+/// ratio of each row (build: raystage's time over Embree's, below 1 is faster; throughput:
+/// raystage's rate over Embree's, above 1 is faster).
 pub fn kernel_table(run: &SceneRun) -> String {
     let mut out = String::new();
     let reps = run.runs.first().map_or(0, |r| r.2.build.len());
@@ -22,44 +30,50 @@ pub fn kernel_table(run: &SceneRun) -> String {
         crate::rays::WIDTH,
         crate::rays::HEIGHT
     );
-    let thread_counts: Vec<usize> = {
-        let mut t: Vec<usize> = run.runs.iter().map(|r| r.1).collect();
-        t.sort_unstable();
-        t.dedup();
-        t
-    };
+    let sets = [
+        RaySet { name: "primary", runs: |s| &s.primary, rays: run.sets.primary.len() },
+        RaySet { name: "primary packets", runs: |s| &s.packets, rays: run.sets.packets.len() },
+        RaySet { name: "incoherent", runs: |s| &s.incoherent, rays: run.sets.incoherent.len() },
+        RaySet { name: "bounce", runs: |s| &s.bounce, rays: run.sets.bounce.len() },
+    ];
+    let mut thread_counts: Vec<usize> = run.runs.iter().map(|r| r.1).collect();
+    thread_counts.sort_unstable();
+    thread_counts.dedup();
     for threads in thread_counts {
-        let ours = run.runs.iter().find(|r| r.0 == "raystage" && r.1 == threads).map(|r| &r.2);
-        let theirs = run.runs.iter().find(|r| r.0 == "embree" && r.1 == threads).map(|r| &r.2);
-        let _ = writeln!(out, "  {threads} thread(s)            raystage        embree   ratio");
+        let find = |system: &str| run.runs.iter().find(|r| r.0 == system && r.1 == threads).map(|r| &r.2);
+        let (ours, theirs) = (find("raystage"), find("embree"));
+        let _ = writeln!(out, "  {threads} thread(s)              raystage      embree   ratio");
         let row = |out: &mut String, name: &str, a: Option<f64>, b: Option<f64>, unit: &str| {
             let fmt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));
             let ratio = match (a, b) {
                 (Some(a), Some(b)) if b > 0.0 => format!("{:.2}x", a / b),
                 _ => "-".to_string(),
             };
-            let _ = writeln!(out, "  {name:<20} {:>9} {:>13} {ratio:>7}  {unit}", fmt(a), fmt(b));
+            let _ = writeln!(out, "  {name:<22} {:>9} {:>11} {ratio:>7}  {unit}", fmt(a), fmt(b));
         };
-        row(&mut out, "build", ours.map(|s| median(&s.build)), theirs.map(|s| median(&s.build)), "s (Embree HIGH)");
+        let build = |s: &Samples| median(&s.build);
+        row(&mut out, "build", ours.map(build), theirs.map(build), "s (Embree HIGH)");
         if let Some((_, m)) = run.embree_medium_build.iter().find(|(t, _)| *t == threads) {
-            row(&mut out, "build vs MEDIUM", ours.map(|s| median(&s.build)), Some(*m), "s (Embree MEDIUM)");
+            row(&mut out, "build", ours.map(build), Some(*m), "s (Embree MEDIUM)");
         }
-        let sets = [
-            ("primary", run.sets.primary.len(), 0),
-            ("incoherent", run.sets.incoherent.len(), 1),
-            ("bounce", run.sets.bounce.len(), 2),
-        ];
-        for (name, n, which) in sets {
-            let pick = |s: &crate::kernel::Samples| match which {
-                0 => s.primary.clone(),
-                1 => s.incoherent.clone(),
-                _ => s.bounce.clone(),
+        for set in &sets {
+            let rate = |s: &Samples| mrays((set.runs)(s), set.rays);
+            let unit = match set.name {
+                "primary packets" => "Mrays/s (8 rays per call: rtcIntersect8)",
+                _ => "Mrays/s (1 ray per call: rtcIntersect1)",
             };
-            row(&mut out, name, ours.map(|s| mrays(&pick(s), n)), theirs.map(|s| mrays(&pick(s), n)), "Mrays/s");
-            let sum = |s: Option<&crate::kernel::Samples>| {
-                s.and_then(|s| pick(s).last().copied()).map_or("-".to_string(), |t| format!("{} hits, sum t {:.1}", t.hits, t.tsum))
+            row(&mut out, set.name, ours.map(rate), theirs.map(rate), unit);
+        }
+        let packets_vs_single = (ours.map(|s| mrays(&s.packets, run.sets.packets.len())), theirs.map(|s| mrays(&s.primary, run.sets.primary.len())));
+        if let (Some(a), Some(b)) = packets_vs_single {
+            row(&mut out, "raystage packets vs", Some(a), Some(b), "Mrays/s (Embree rtcIntersect1)");
+        }
+        for set in &sets {
+            let checksum = |s: Option<&Samples>| {
+                s.and_then(|s| (set.runs)(s).last().copied())
+                    .map_or("-".to_string(), |t| format!("{} hits, sum t {:.1}", t.hits, t.tsum))
             };
-            let _ = writeln!(out, "  {:<20} raystage {} | embree {}", format!("  {name} checksum"), sum(ours), sum(theirs));
+            let _ = writeln!(out, "    {:<20} raystage {} | embree {}", format!("{} checksum", set.name), checksum(ours), checksum(theirs));
         }
     }
     out

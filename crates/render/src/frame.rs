@@ -2,8 +2,9 @@
 
 use std::time::Instant;
 
-use raystage_kernel::{Bvh8, IndexedMesh, TriangleSource};
+use raystage_kernel::{Bvh8, IndexedMesh, PACKET_SIZE, Ray, TriangleSource};
 
+use crate::tiles::Tile;
 use crate::{Camera, EyeLight, Film, render_tiles};
 
 /// The triangles a frame is traced against and the BVH built over them.
@@ -44,21 +45,50 @@ pub fn render_frame(
 ) -> (Film, FrameStats) {
     let mut film = Film::new(width, height);
     let start = Instant::now();
-    render_tiles(&mut film, |x, y| {
-        let ray = camera.primary_ray(x, y, width, height);
-        match geometry.bvh.intersect(&ray) {
-            Some(hit) => shader.shade_hit(ray.dir, &hit, &geometry.triangles.triangle(hit.prim)),
-            None => shader.sky(ray.dir),
+    render_tiles(&mut film, |tile, pixels| {
+        // Neighbouring primary rays travel together as packets (see `Bvh8::intersect_packets`).
+        let order = packet_order(tile);
+        let rays: Vec<Ray> = order
+            .iter()
+            .map(|&i| {
+                let (x, y) = tile.pixel(i);
+                camera.primary_ray(x, y, width, height)
+            })
+            .collect();
+        let mut hits = vec![None; rays.len()];
+        geometry.bvh.intersect_packets(&rays, &mut hits);
+        for ((&i, ray), hit) in order.iter().zip(&rays).zip(&hits) {
+            pixels[i] = match hit {
+                Some(hit) => shader.shade_hit(ray.dir, hit, &geometry.triangles.triangle(hit.prim)),
+                None => shader.sky(ray.dir),
+            };
         }
     });
     let stats = FrameStats { rays: u64::from(width) * u64::from(height), seconds: start.elapsed().as_secs_f64() };
     (film, stats)
 }
 
+/// The tile's pixel indices grouped in blocks of 4×2 pixels (fewer at the tile's edges), so that
+/// every [`PACKET_SIZE`] consecutive rays are neighbours.
+fn packet_order(tile: &Tile) -> Vec<usize> {
+    const BLOCK: (u32, u32) = (4, 2);
+    const _: () = assert!((BLOCK.0 * BLOCK.1) as usize == PACKET_SIZE);
+    let (w, h) = (tile.width, tile.height);
+    let mut order = Vec::with_capacity(tile.len());
+    for by in (0..h).step_by(BLOCK.1 as usize) {
+        for bx in (0..w).step_by(BLOCK.0 as usize) {
+            for y in by..(by + BLOCK.1).min(h) {
+                order.extend((bx..(bx + BLOCK.0).min(w)).map(|x| (y * w + x) as usize));
+            }
+        }
+    }
+    order
+}
+
 #[cfg(test)]
 mod tests {
     use glam::Vec3;
-    use raystage_kernel::{BuildOptions, Ray};
+    use raystage_kernel::BuildOptions;
 
     use super::*;
 
@@ -71,6 +101,19 @@ mod tests {
             let v = 1.0 - (y as f32 + 0.5) / height as f32 * 2.0;
             Ray::new(Vec3::new(u, v, 1.0), Vec3::NEG_Z)
         }
+    }
+
+    #[test]
+    fn packet_order_visits_every_pixel_once_in_4x2_blocks() {
+        for (width, height) in [(16, 16), (5, 3), (1, 1), (7, 16)] {
+            let tile = Tile { x0: 3, y0: 5, width, height };
+            let mut order = packet_order(&tile);
+            order.sort_unstable();
+            assert_eq!(order, (0..tile.len()).collect::<Vec<_>>(), "{width}×{height}");
+        }
+        // A full tile: the first packet is the 4×2 block at the tile's top-left corner.
+        let order = packet_order(&Tile { x0: 0, y0: 0, width: 16, height: 16 });
+        assert_eq!(&order[..8], &[0, 1, 2, 3, 16, 17, 18, 19]);
     }
 
     #[test]

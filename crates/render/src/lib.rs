@@ -23,4 +23,4 @@ pub use error::Error;
 pub use eyelight::EyeLight;
 pub use film::Film;
 pub use frame::{FrameStats, Geometry, render_frame};
-pub use tiles::{TILE_SIZE, render_tiles};
+pub use tiles::{TILE_SIZE, Tile, per_pixel, render_tiles};

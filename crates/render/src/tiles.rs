@@ -14,11 +14,32 @@ pub const TILE_SIZE: u32 = 16;
 
 /// A rectangle of pixels: `x0..x0 + width` × `y0..y0 + height`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct Tile {
-    x0: u32,
-    y0: u32,
-    width: u32,
-    height: u32,
+pub struct Tile {
+    /// Left column.
+    pub x0: u32,
+    /// Top row.
+    pub y0: u32,
+    /// Columns.
+    pub width: u32,
+    /// Rows.
+    pub height: u32,
+}
+
+impl Tile {
+    /// Number of pixels.
+    pub fn len(&self) -> usize {
+        (self.width * self.height) as usize
+    }
+
+    /// Whether the tile has no pixels.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Image coordinates of the pixel at `index` in the tile's row-major order.
+    pub fn pixel(&self, index: usize) -> (u32, u32) {
+        (self.x0 + index as u32 % self.width, self.y0 + index as u32 / self.width)
+    }
 }
 
 /// The tiles covering a `width × height` image, row of tiles by row of tiles.
@@ -29,25 +50,35 @@ fn tiles(width: u32, height: u32) -> Vec<Tile> {
         .collect()
 }
 
-/// Fills every pixel of `film` with `shade(x, y)` (linear RGB), tiles in parallel on the current
-/// rayon pool: run it inside `ThreadPool::install` to choose the number of threads.
+/// Fills every pixel of `film`, tiles in parallel on the current rayon pool: run it inside
+/// `ThreadPool::install` to choose the number of threads. `shade_tile(tile, pixels)` writes the
+/// tile's pixels (linear RGB) into `pixels`, row-major, one per pixel; a whole tile at a time, so
+/// that the shader can trace neighbouring pixels' rays together.
 ///
 /// Each tile is shaded into a buffer of its own and then copied into the film, so threads never
 /// share a pixel and need no locks; the copy is a few milliseconds for a full-HD frame.
-pub fn render_tiles(film: &mut Film, shade: impl Fn(u32, u32) -> Vec3 + Sync) {
+pub fn render_tiles(film: &mut Film, shade_tile: impl Fn(&Tile, &mut [Vec3]) + Sync) {
     let rendered: Vec<(Tile, Vec<Vec3>)> = tiles(film.width(), film.height())
         .into_par_iter()
         .map(|tile| {
-            let pixels = (tile.y0..tile.y0 + tile.height)
-                .flat_map(|y| (tile.x0..tile.x0 + tile.width).map(move |x| (x, y)))
-                .map(|(x, y)| shade(x, y))
-                .collect();
+            let mut pixels = vec![Vec3::ZERO; tile.len()];
+            shade_tile(&tile, &mut pixels);
             (tile, pixels)
         })
         .collect();
     for (tile, pixels) in rendered {
         for (row, y) in pixels.chunks_exact(tile.width as usize).zip(tile.y0..) {
             film.row_mut(y)[tile.x0 as usize..(tile.x0 + tile.width) as usize].copy_from_slice(row);
+        }
+    }
+}
+
+/// Adapts a per-pixel shader `shade(x, y)` to [`render_tiles`].
+pub fn per_pixel(shade: impl Fn(u32, u32) -> Vec3 + Sync) -> impl Fn(&Tile, &mut [Vec3]) + Sync {
+    move |tile, pixels| {
+        for (i, p) in pixels.iter_mut().enumerate() {
+            let (x, y) = tile.pixel(i);
+            *p = shade(x, y);
         }
     }
 }
@@ -65,10 +96,13 @@ mod tests {
         for (width, height) in SIZES {
             let calls: Vec<AtomicU32> = (0..width * height).map(|_| AtomicU32::new(0)).collect();
             let mut film = Film::new(width, height);
-            render_tiles(&mut film, |x, y| {
-                calls[(y * width + x) as usize].fetch_add(1, Ordering::Relaxed);
-                Vec3::ZERO
-            });
+            render_tiles(
+                &mut film,
+                per_pixel(|x, y| {
+                    calls[(y * width + x) as usize].fetch_add(1, Ordering::Relaxed);
+                    Vec3::ZERO
+                }),
+            );
             assert!(calls.iter().all(|c| c.load(Ordering::Relaxed) == 1), "{width}×{height}");
         }
     }
@@ -77,7 +111,7 @@ mod tests {
     fn every_pixel_gets_its_own_value() {
         for (width, height) in SIZES {
             let mut film = Film::new(width, height);
-            render_tiles(&mut film, |x, y| Vec3::new(x as f32, y as f32, 1.0));
+            render_tiles(&mut film, per_pixel(|x, y| Vec3::new(x as f32, y as f32, 1.0)));
             for y in 0..height {
                 for x in 0..width {
                     assert_eq!(film.pixel(x, y), Vec3::new(x as f32, y as f32, 1.0), "{width}×{height} at ({x}, {y})");
@@ -97,14 +131,14 @@ mod tests {
     #[test]
     fn an_empty_film_renders_nothing() {
         let mut film = Film::new(0, 5);
-        render_tiles(&mut film, |_, _| unreachable!("no pixels to shade"));
+        render_tiles(&mut film, |_, _| unreachable!("no tiles to shade"));
     }
 
     #[test]
     fn runs_on_the_callers_pool() {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
         let mut film = Film::new(40, 40);
-        pool.install(|| render_tiles(&mut film, |_, _| Vec3::splat(rayon::current_num_threads() as f32)));
+        pool.install(|| render_tiles(&mut film, per_pixel(|_, _| Vec3::splat(rayon::current_num_threads() as f32))));
         assert_eq!(film.pixel(39, 39), Vec3::ONE);
     }
 }
