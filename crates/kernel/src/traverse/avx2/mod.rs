@@ -16,6 +16,7 @@ pub(crate) use packet::intersect_packet;
 pub(crate) use single::{intersect, occluded};
 
 use std::arch::x86_64::*;
+use std::mem::MaybeUninit;
 
 use super::Best;
 use crate::bvh8::{Bvh8, LEAF, Node8, TriBlock, WIDTH};
@@ -206,6 +207,31 @@ fn block_any(block: &TriBlock, ray: &PreparedRay, r: &LeafLanes) -> bool {
         }
     }
     false
+}
+
+/// Insertion sort, farthest first: the handful of children just pushed, so that the nearest one
+/// is on top of the stack.
+#[inline]
+fn sort_farthest_first<T: Copy>(pushed: &mut [T], dist: impl Fn(&T) -> f32) {
+    for i in 1..pushed.len() {
+        let e = pushed[i];
+        let mut j = i;
+        while j > 0 && dist(&pushed[j - 1]) < dist(&e) {
+            pushed[j] = pushed[j - 1];
+            j -= 1;
+        }
+        pushed[j] = e;
+    }
+}
+
+/// The entries of a stack slice that have all been written.
+///
+/// # Safety
+/// Every element of `entries` must be initialised.
+#[inline]
+unsafe fn written<T>(entries: &mut [MaybeUninit<T>]) -> &mut [T] {
+    // SAFETY: `MaybeUninit<T>` has `T`'s layout, and the caller vouches for initialisation.
+    unsafe { &mut *(entries as *mut [MaybeUninit<T>] as *mut [T]) }
 }
 
 /// Starts loading a deferred child into L1 (Embree prefetches every child it will visit): by the

@@ -17,7 +17,7 @@ use std::arch::x86_64::*;
 use std::mem::MaybeUninit;
 
 use super::single::closest_below;
-use super::{LeafLanes, block_closest, plane_rows, prefetch};
+use super::{LeafLanes, block_closest, plane_rows, prefetch, sort_farthest_first, written};
 use crate::bvh8::{Bvh8, EMPTY, LEAF, Node8, STACK_SIZE, WIDTH};
 use crate::prepared::{PreparedRay, widen};
 use crate::ray::Hit;
@@ -245,16 +245,7 @@ pub(crate) unsafe fn intersect_packet(bvh: &Bvh8, rays: &[PreparedRay], out: &mu
             }
             // Farthest first onto the stack, so that the nearest child comes off next.
             // SAFETY: entries base..sp were just written.
-            let pushed = unsafe { std::slice::from_raw_parts_mut(stack.as_mut_ptr().add(base).cast::<Entry>(), sp - base) };
-            for i in 1..pushed.len() {
-                let e = pushed[i];
-                let mut j = i;
-                while j > 0 && pushed[j - 1].dist < e.dist {
-                    pushed[j] = pushed[j - 1];
-                    j -= 1;
-                }
-                pushed[j] = e;
-            }
+            sort_farthest_first(unsafe { written(&mut stack[base..sp]) }, |e| e.dist);
         } else if e.link != EMPTY {
             // SAFETY: leaf links written by the collapse are valid block indices.
             let block = unsafe { bvh.blocks.get_unchecked((e.link & !LEAF) as usize) };

@@ -3,7 +3,7 @@
 use std::arch::x86_64::*;
 use std::mem::MaybeUninit;
 
-use super::{BoxLanes, LeafLanes, block_any, block_closest, child_hits, prefetch};
+use super::{BoxLanes, LeafLanes, block_any, block_closest, child_hits, prefetch, sort_farthest_first, written};
 use crate::bvh8::{Bvh8, EMPTY, LEAF, STACK_SIZE, WIDTH};
 use crate::prepared::{PreparedRay, widen};
 use crate::ray::Hit;
@@ -76,16 +76,8 @@ pub(super) fn closest_below(bvh: &Bvh8, ray: &PreparedRay, link: u32, best: Best
                     sp += 1;
                 }
                 // SAFETY: entries base..sp were just written.
-                let pushed = unsafe { std::slice::from_raw_parts_mut(stack.as_mut_ptr().add(base).cast::<Entry>(), sp - base) };
-                for i in 1..pushed.len() {
-                    let e = pushed[i];
-                    let mut j = i;
-                    while j > 0 && pushed[j - 1].dist < e.dist {
-                        pushed[j] = pushed[j - 1];
-                        j -= 1;
-                    }
-                    pushed[j] = e;
-                }
+                let pushed = unsafe { written(&mut stack[base..sp]) };
+                sort_farthest_first(pushed, |e| e.dist);
                 sp -= 1;
                 link = pushed[pushed.len() - 1].link;
                 continue;
