@@ -36,12 +36,15 @@ impl Default for BuildOptions {
 }
 
 /// Upper bound for [`BuildOptions::bins`].
-pub const MAX_BINS: usize = 64;
+pub const MAX_BINS: usize = 32;
 
 /// Below this depth the builder stops looking for SAH splits and halves nodes at the object
 /// median instead, so the tree depth (and the traversal stack) stays bounded even for inputs on
 /// which the SAH peels off one primitive per level.
 const SAH_DEPTH_LIMIT: u32 = 40;
+/// Nodes with at most this many primitives are split by a full SAH sweep over their sorted
+/// centroids instead of by binning.
+const SWEEP_BELOW: usize = 32;
 /// Nodes with at least this many primitives bin in parallel.
 const PARALLEL_BINNING: usize = 1 << 16;
 /// Nodes with at least this many primitives build their two halves as separate tasks.
@@ -231,6 +234,12 @@ impl BinMapping {
     fn bins_of(&self, r: &PrimRef) -> IVec4 {
         ((r.centroid2() - self.origin) * self.scale).as_ivec4().clamp(IVec4::ZERO, IVec4::splat(self.last))
     }
+
+    /// The bin of `r` along one axis.
+    #[inline(always)]
+    fn bin_on(&self, r: &PrimRef, axis: usize) -> usize {
+        (((r.lo[axis] + r.hi[axis] - self.origin[axis]) * self.scale[axis]) as i32).clamp(0, self.last) as usize
+    }
 }
 
 type Bins = [[Bin; MAX_BINS]; 3];
@@ -264,8 +273,9 @@ fn bin_all(refs: &[PrimRef], map: &BinMapping) -> Box<Bins> {
     .expect("at least one chunk")
 }
 
-/// The best split found by binning: axis, first bin of the right side, and SAH cost (in units of
-/// `intersection_cost × parent area`, without the traversal term).
+/// The best split found: axis, where the right side starts (a bin for binning, a position in
+/// centroid order for a sweep), and SAH cost (in units of `intersection_cost × parent area`,
+/// without the traversal term).
 struct BinSplit {
     axis: usize,
     pos: usize,
@@ -303,6 +313,38 @@ fn best_bin_split(bins: &Bins, n_bins: usize, map: &BinMapping, leaf_cost: impl 
     best
 }
 
+/// The exact best SAH split of a few primitives: along each axis, sorted by centroid, every
+/// position between two primitives is evaluated. `pos` is the size of the left side.
+fn best_sweep_split(refs: &[PrimRef], leaf_cost: impl Fn(u32) -> f32) -> Option<BinSplit> {
+    let n = refs.len();
+    debug_assert!(n <= SWEEP_BELOW);
+    let mut best: Option<BinSplit> = None;
+    let mut sorted = [refs[0]; SWEEP_BELOW];
+    let sorted = &mut sorted[..n];
+    let mut right_cost = [0.0f32; SWEEP_BELOW];
+    for axis in 0..3 {
+        sorted.copy_from_slice(refs);
+        sorted.sort_unstable_by(|a, b| a.centroid2()[axis].total_cmp(&b.centroid2()[axis]));
+        if sorted[0].centroid2()[axis] == sorted[n - 1].centroid2()[axis] {
+            continue;
+        }
+        let mut acc = Aabb::EMPTY;
+        for i in (1..n).rev() {
+            acc = acc.union(sorted[i].bounds());
+            right_cost[i] = acc.area() * leaf_cost((n - i) as u32);
+        }
+        let mut left = Aabb::EMPTY;
+        for pos in 1..n {
+            left = left.union(sorted[pos - 1].bounds());
+            let cost = left.area() * leaf_cost(pos as u32) + right_cost[pos];
+            if best.as_ref().is_none_or(|b| cost < b.cost) {
+                best = Some(BinSplit { axis, pos, cost });
+            }
+        }
+    }
+    best
+}
+
 /// Decides how to split `task`: `None` makes it a leaf.
 fn split<'a>(task: Task<'a>, opts: &BuildOptions) -> Option<(Task<'a>, Task<'a>)> {
     let n = task.refs.len();
@@ -310,23 +352,37 @@ fn split<'a>(task: Task<'a>, opts: &BuildOptions) -> Option<(Task<'a>, Task<'a>)
         return None;
     }
     let fits_leaf = n <= opts.max_leaf_size;
-    let leaf_cost = |count: u32| opts.intersection_cost * count.div_ceil(opts.max_leaf_size as u32) as f32;
+    // A leaf is tested as one 8-lane block whatever its size, so leaf cost counts blocks.
+    let leaf_cost = |count: u32| opts.intersection_cost * count.div_ceil(MAX_LEAF_SIZE as u32) as f32;
     if task.depth >= SAH_DEPTH_LIMIT {
         return (!fits_leaf).then(|| median_split(task));
     }
-    let map = BinMapping::new(&task.set.centroids, opts.bins);
-    let bins = bin_all(task.refs, &map);
-    let Some(best) = best_bin_split(&bins, opts.bins, &map, leaf_cost) else {
-        // All centroids coincide: no plane separates them.
-        return (!fits_leaf).then(|| median_split(task));
+    let area = task.set.geometry.area().max(f32::MIN_POSITIVE);
+    let worth_splitting = |cost: f32| !fits_leaf || opts.traversal_cost + cost / area < leaf_cost(n as u32);
+    let mid = if n <= SWEEP_BELOW {
+        // Few primitives: sorting them is cheaper than binning and finds the exact best plane.
+        let Some(best) = best_sweep_split(task.refs, leaf_cost) else {
+            return (!fits_leaf).then(|| median_split(task));
+        };
+        if !worth_splitting(best.cost) {
+            return None;
+        }
+        let axis = best.axis;
+        task.refs.sort_unstable_by(|a, b| a.centroid2()[axis].total_cmp(&b.centroid2()[axis]));
+        best.pos
+    } else {
+        let map = BinMapping::new(&task.set.centroids, opts.bins);
+        let bins = bin_all(task.refs, &map);
+        let Some(best) = best_bin_split(&bins, opts.bins, &map, leaf_cost) else {
+            // All centroids coincide: no plane separates them.
+            return (!fits_leaf).then(|| median_split(task));
+        };
+        if !worth_splitting(best.cost) {
+            return None;
+        }
+        let axis = best.axis;
+        partition(task.refs, |r| map.bin_on(r, axis) < best.pos)
     };
-    let area = task.set.geometry.area();
-    let split_cost = opts.traversal_cost + best.cost / area.max(f32::MIN_POSITIVE);
-    if fits_leaf && leaf_cost(n as u32) <= split_cost {
-        return None;
-    }
-    let axis = best.axis;
-    let mid = partition(task.refs, |r| (map.bins_of(r)[axis] as usize) < best.pos);
     if mid == 0 || mid == n {
         return (!fits_leaf).then(|| median_split(task));
     }
