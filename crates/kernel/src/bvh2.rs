@@ -2,7 +2,7 @@
 //! Its scalar traversal is the readable reference for the wide one.
 
 use crate::aabb::Aabb;
-use crate::builder::{self, BuildOptions};
+use crate::build::{self, BuildOptions};
 use crate::prepared::{PreparedRay, widen};
 use crate::ray::{Hit, Ray, closer};
 use crate::triangle::{self, TriangleSource};
@@ -62,7 +62,7 @@ pub struct Bvh2 {
 impl Bvh2 {
     /// Builds with binned SAH on the current rayon pool.
     pub fn build(tris: &(impl TriangleSource + ?Sized), opts: &BuildOptions) -> Bvh2 {
-        let built = builder::build(tris, opts);
+        let built = build::build(tris, opts);
         Bvh2 { nodes: built.nodes, prims: built.prims }
     }
 

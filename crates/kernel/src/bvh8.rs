@@ -1,12 +1,11 @@
-//! The 8-wide BVH layout, collapsed from the binary one, traversed with SIMD box and triangle tests.
-//!
-//! Nodes store their eight child boxes as structure-of-arrays planes, so one AVX2 instruction
-//! tests one plane of all eight children. Leaves are blocks of up to eight triangles, also stored
-//! as structure of arrays, tested against the ray all at once. Both are 64-byte aligned and laid
-//! out in depth-first order, so a traversal step touches few cache lines.
+//! The 8-wide triangle BVH, collapsed from the binary one, traversed with SIMD box and triangle
+//! tests. Its nodes are [`crate::wide`]'s; its leaves are blocks of up to eight triangles stored
+//! as structure of arrays and tested against the ray all at once.
+
+use rayon::prelude::*;
 
 use crate::aabb::Aabb;
-use crate::builder::BuildOptions;
+use crate::build::BuildOptions;
 use crate::bvh2::{Bvh2, Node2Kind};
 use crate::isa::Isa;
 use crate::memory::huge_page_vec;
@@ -14,53 +13,10 @@ use crate::prepared::PreparedRay;
 use crate::ray::{Hit, Ray};
 use crate::traverse;
 use crate::triangle::TriangleSource;
+use crate::wide::{EMPTY, LEAF, Node8, WIDTH, area_ratio, collapse};
 
 /// Rays per packet of [`Bvh8::intersect_packets`].
 pub const PACKET_SIZE: usize = 8;
-
-/// Lanes per node and per triangle block.
-pub(crate) const WIDTH: usize = 8;
-/// Child-link flag: the link names a triangle block, not a node.
-pub(crate) const LEAF: u32 = 1 << 31;
-/// Child link of an unused slot (its box is empty, so no ray ever follows it).
-pub(crate) const EMPTY: u32 = u32::MAX;
-/// Deepest wide tree the traversal stack is sized for (the builder bounds the binary depth to
-/// 40 SAH levels plus at most 32 median levels; collapsing never deepens a tree).
-pub(crate) const MAX_DEPTH: usize = 73;
-/// Traversal stack entries: each level leaves at most seven siblings behind.
-pub(crate) const STACK_SIZE: usize = (WIDTH - 1) * MAX_DEPTH + 1;
-
-/// An 8-wide node: child boxes as planes `[lo_x, hi_x, lo_y, hi_y, lo_z, hi_z][lane]`, then the
-/// child links (node index, `LEAF | block index`, or `EMPTY`).
-#[derive(Clone, Copy, Debug)]
-#[repr(C, align(64))]
-pub(crate) struct Node8 {
-    pub planes: [[f32; WIDTH]; 6],
-    pub child: [u32; WIDTH],
-}
-
-impl Node8 {
-    const UNUSED: Node8 = Node8 {
-        planes: [
-            [f32::INFINITY; WIDTH],
-            [f32::NEG_INFINITY; WIDTH],
-            [f32::INFINITY; WIDTH],
-            [f32::NEG_INFINITY; WIDTH],
-            [f32::INFINITY; WIDTH],
-            [f32::NEG_INFINITY; WIDTH],
-        ],
-        child: [EMPTY; WIDTH],
-    };
-
-    fn set_child(&mut self, lane: usize, bounds: &Aabb, link: u32) {
-        let (lo, hi) = (bounds.min.to_array(), bounds.max.to_array());
-        for axis in 0..3 {
-            self.planes[2 * axis][lane] = lo[axis];
-            self.planes[2 * axis + 1][lane] = hi[axis];
-        }
-        self.child[lane] = link;
-    }
-}
 
 /// Up to eight triangles as structure of arrays: `v[3 * vertex + axis][lane]`, and the index of
 /// each lane's triangle in the source mesh. Unused lanes repeat the last triangle, which can only
@@ -87,6 +43,20 @@ impl TriBlock {
             block.prim[lane] = prim;
         }
         block
+    }
+
+    /// The box around the block's triangles.
+    fn bounds(&self) -> Aabb {
+        let mut lo = [f32::INFINITY; 3];
+        let mut hi = [f32::NEG_INFINITY; 3];
+        for (row, values) in self.v.iter().enumerate() {
+            let axis = row % 3;
+            for &x in values {
+                lo[axis] = lo[axis].min(x);
+                hi[axis] = hi[axis].max(x);
+            }
+        }
+        Aabb { min: glam::Vec3::from_array(lo), max: glam::Vec3::from_array(hi) }
     }
 
     /// The vertices of one lane.
@@ -121,6 +91,8 @@ pub struct Bvh8 {
     pub(crate) root: u32,
     bounds: Aabb,
     depth: usize,
+    /// Per node, its area ratio at build time: the reference refits are measured against.
+    area_ratios: Vec<f32>,
     isa: Isa,
 }
 
@@ -130,25 +102,27 @@ impl Bvh8 {
         Bvh8::from_bvh2(&Bvh2::build(tris, opts), tris)
     }
 
-    /// Collapses a binary BVH: starting from the two children of each binary node, the child
-    /// with the largest surface area is repeatedly replaced by its own two children until eight
-    /// slots are used or only leaves remain (the collapse used by Embree's BVH8 builders).
+    /// Collapses a binary BVH into eight lanes (see [`crate::wide`]'s collapse) and copies the
+    /// triangles into leaf blocks.
     pub fn from_bvh2(bvh2: &Bvh2, tris: &(impl TriangleSource + ?Sized)) -> Bvh8 {
         // Every binary leaf becomes one block; every wide node consumes at least one binary inner
         // node, so the binary counts bound both arrays and they never reallocate.
         let leaves = bvh2.nodes.iter().filter(|n| matches!(n.kind(), Node2Kind::Leaf { .. })).count();
         let inner = bvh2.nodes.len() - leaves;
-        let mut c = Collapse { bvh2, tris, nodes: huge_page_vec(inner), blocks: huge_page_vec(leaves), depth: 0 };
-        let root = match bvh2.nodes.first().map(|n| n.kind()) {
-            None => EMPTY,
-            Some(Node2Kind::Leaf { first, count }) => {
-                c.depth = 1;
-                c.leaf(first, count)
-            }
-            Some(Node2Kind::Inner { .. }) => c.node(0, 1),
-        };
-        assert!(c.depth <= MAX_DEPTH, "BVH depth {} exceeds the traversal stack", c.depth);
-        Bvh8 { nodes: c.nodes, blocks: c.blocks, root, bounds: bvh2.bounds(), depth: c.depth, isa: Isa::best() }
+        let mut blocks = huge_page_vec(leaves);
+        let wide = collapse(&bvh2.nodes, huge_page_vec(inner), |first, count| {
+            blocks.push(TriBlock::new(tris, &bvh2.prims[first as usize..(first + count) as usize]));
+            LEAF | (blocks.len() - 1) as u32
+        });
+        Bvh8 {
+            nodes: wide.nodes,
+            blocks,
+            root: wide.root,
+            bounds: bvh2.bounds(),
+            depth: wide.depth,
+            area_ratios: wide.area_ratios,
+            isa: Isa::best(),
+        }
     }
 
     /// The same tree traversed with the given instruction set, or `None` if this CPU lacks it.
@@ -220,6 +194,46 @@ impl Bvh8 {
         }
     }
 
+    /// Moves the triangles to their current positions in `tris` (the same triangles, by index,
+    /// that the tree was built from, with [`BuildOptions::refittable`]) and refits every box
+    /// bottom-up, keeping the tree's topology. Linear in the size of the tree and far cheaper than
+    /// a rebuild, but the tree degrades as triangles drift apart.
+    ///
+    /// Returns the degradation, RT-DEFORM's measure (seed DIGEST §1.3): over all nodes, the mean
+    /// growth since the build of a node's surface area relative to its children's. It is zero for
+    /// rigid motion and grows as the grouping of triangles stops matching their positions; the
+    /// seed rebuilds past 0.4.
+    pub fn refit(&mut self, tris: &(impl TriangleSource + ?Sized)) -> f32 {
+        self.blocks.par_iter_mut().with_min_len(1024).for_each(|b| *b = TriBlock::new(tris, &b.prim));
+        if self.root == EMPTY {
+            return 0.0;
+        }
+        let mut growth = 0.0f64;
+        self.bounds = self.refit_below(self.root, &mut growth);
+        (growth / self.nodes.len().max(1) as f64) as f32
+    }
+
+    /// Refits the subtree under `link`, adding its nodes' area-ratio growth; returns its box.
+    fn refit_below(&mut self, link: u32, growth: &mut f64) -> Aabb {
+        if link & LEAF != 0 {
+            return self.blocks[(link & !LEAF) as usize].bounds();
+        }
+        let node = link as usize;
+        let mut bounds = Aabb::EMPTY;
+        for lane in 0..WIDTH {
+            let child = self.nodes[node].child[lane];
+            if child != EMPTY {
+                let b = self.refit_below(child, growth);
+                self.nodes[node].set_child(lane, &b, child);
+                bounds = bounds.union(b);
+            }
+        }
+        let n = &self.nodes[node];
+        let children = (0..WIDTH).filter(|&lane| n.child[lane] != EMPTY).map(|lane| n.child_bounds(lane));
+        *growth += f64::from(area_ratio(&bounds, children) - self.area_ratios[node]);
+        bounds
+    }
+
     /// Shape figures of the tree.
     pub fn stats(&self) -> Bvh8Stats {
         let used: usize = self.nodes.iter().map(|n| n.child.iter().filter(|&&c| c != EMPTY).count()).sum();
@@ -240,56 +254,5 @@ impl Bvh8 {
             mean_children: used as f32 / self.nodes.len().max(1) as f32,
             bytes: self.nodes.len() * size_of::<Node8>() + self.blocks.len() * size_of::<TriBlock>(),
         }
-    }
-}
-
-/// State of one collapse: nodes and blocks are appended in depth-first order.
-struct Collapse<'a, T: TriangleSource + ?Sized> {
-    bvh2: &'a Bvh2,
-    tris: &'a T,
-    nodes: Vec<Node8>,
-    blocks: Vec<TriBlock>,
-    depth: usize,
-}
-
-impl<T: TriangleSource + ?Sized> Collapse<'_, T> {
-    fn leaf(&mut self, first: u32, count: u32) -> u32 {
-        let prims = &self.bvh2.prims[first as usize..(first + count) as usize];
-        self.blocks.push(TriBlock::new(self.tris, prims));
-        LEAF | (self.blocks.len() - 1) as u32
-    }
-
-    /// Emits the wide node for binary inner node `index`; returns its link.
-    fn node(&mut self, index: u32, depth: usize) -> u32 {
-        let nodes2 = &self.bvh2.nodes;
-        let Node2Kind::Inner { left, right } = nodes2[index as usize].kind() else {
-            unreachable!("only inner nodes are collapsed")
-        };
-        let mut kids = vec![left, right];
-        while kids.len() < WIDTH {
-            let widest = kids
-                .iter()
-                .enumerate()
-                .filter(|(_, k)| matches!(nodes2[**k as usize].kind(), Node2Kind::Inner { .. }))
-                .max_by(|a, b| nodes2[*a.1 as usize].bounds.area().total_cmp(&nodes2[*b.1 as usize].bounds.area()));
-            let Some((slot, &k)) = widest else { break };
-            let Node2Kind::Inner { left, right } = nodes2[k as usize].kind() else { unreachable!() };
-            kids[slot] = left;
-            kids.push(right);
-        }
-        let at = self.nodes.len();
-        self.nodes.push(Node8::UNUSED);
-        for (lane, &k) in kids.iter().enumerate() {
-            let n = nodes2[k as usize];
-            let link = match n.kind() {
-                Node2Kind::Leaf { first, count } => {
-                    self.depth = self.depth.max(depth + 1);
-                    self.leaf(first, count)
-                }
-                Node2Kind::Inner { .. } => self.node(k, depth + 1),
-            };
-            self.nodes[at].set_child(lane, &n.bounds, link);
-        }
-        at as u32
     }
 }

@@ -5,9 +5,11 @@
 //! with SIMD kernels chosen at run time (AVX2, or a portable fallback with identical results).
 //!
 //! Layouts follow tinybvh's shape: each layout can be built and answers two queries, *intersect*
-//! (closest hit) and *occluded* (any hit). [`Bvh2`] is the binary tree the builder makes;
-//! [`Bvh8`] is collapsed from it and is the one to trace with. [`brute`] is the reference every
-//! layout is tested against.
+//! (closest hit) and *occluded* (any hit). [`Bvh2`] is the binary tree the builders make;
+//! [`Bvh8`] is collapsed from it and is the one to trace with, one ray at a time or in packets of
+//! rays that share an origin, and can be [refit](Bvh8::refit) when its triangles move.
+//! [`BoxTree`] is the same wide layout over boxes whose contents the caller intersects: the top
+//! level of a two-level scene. [`brute`] is the reference every layout is tested against.
 //!
 //! Not in here: scenes, instances, shaders, cameras. The kernel knows triangles and rays only.
 //!
@@ -23,8 +25,9 @@
 //! ```
 
 mod aabb;
+mod boxtree;
 pub mod brute;
-mod builder;
+mod build;
 mod bvh2;
 mod bvh8;
 mod isa;
@@ -33,9 +36,11 @@ mod prepared;
 mod ray;
 mod traverse;
 mod triangle;
+mod wide;
 
 pub use aabb::Aabb;
-pub use builder::{BuildOptions, MAX_BINS, MAX_LEAF_SIZE};
+pub use boxtree::BoxTree;
+pub use build::{BuildOptions, BuildQuality, MAX_BINS, MAX_LEAF_SIZE};
 pub use bvh2::Bvh2;
 pub use bvh8::{Bvh8, Bvh8Stats, PACKET_SIZE};
 pub use isa::Isa;

@@ -6,7 +6,7 @@
 
 use glam::Vec3;
 use proptest::prelude::*;
-use raystage_kernel::{BuildOptions, Bvh2, Bvh8, Hit, Isa, Ray, brute};
+use raystage_kernel::{Aabb, BoxTree, BuildOptions, BuildQuality, Bvh2, Bvh8, Hit, Isa, Ray, brute};
 
 /// Checks one ray against every layout and instruction set, closest and any hit.
 fn check_ray(tris: &Vec<[Vec3; 3]>, bvh2: &Bvh2, bvh8s: &[Bvh8], ray: &Ray) -> Result<(), TestCaseError> {
@@ -22,12 +22,16 @@ fn check_ray(tris: &Vec<[Vec3; 3]>, bvh2: &Bvh2, bvh8s: &[Bvh8], ray: &Ray) -> R
     Ok(())
 }
 
-/// Builds every layout over `tris` with the given leaf size.
+/// Builds every layout over `tris` with the given leaf size: the binary SAH tree, and the wide
+/// tree from both builders in every instruction set.
 fn layouts(tris: &Vec<[Vec3; 3]>, max_leaf_size: usize) -> (Bvh2, Vec<Bvh8>) {
     let opts = BuildOptions { max_leaf_size, ..BuildOptions::default() };
     let bvh2 = Bvh2::build(tris, &opts);
-    let bvh8 = Bvh8::from_bvh2(&bvh2, tris);
-    let all = Isa::all().filter_map(|isa| bvh8.clone().with_isa(isa)).collect();
+    let fast = Bvh8::build(tris, &BuildOptions { quality: BuildQuality::Fast, ..opts });
+    let all = [Bvh8::from_bvh2(&bvh2, tris), fast]
+        .into_iter()
+        .flat_map(|bvh8| Isa::all().filter_map(move |isa| bvh8.clone().with_isa(isa)))
+        .collect();
     (bvh2, all)
 }
 
@@ -144,6 +148,59 @@ proptest! {
     fn packets_equal_single_rays(tris in soup(), rays in coherent_rays(), leaf in 1usize..=8) {
         let (_, bvh8s) = layouts(&tris, leaf);
         check_packets(&tris, &bvh8s, &rays)?;
+    }
+
+    #[test]
+    fn refitted_trees_equal_brute_force_on_the_moved_triangles(
+        tris in soup(),
+        moves in prop::collection::vec(point(), 1..64),
+        rays in prop::collection::vec(ray(), 32),
+        fast in any::<bool>(),
+    ) {
+        let quality = if fast { BuildQuality::Fast } else { BuildQuality::Sah };
+        let opts = BuildOptions { quality, refittable: true, ..BuildOptions::default() };
+        let built = Bvh8::build(&tris, &opts);
+        // Move every triangle by a displacement from the list, some a lot, some not at all.
+        let moved: Vec<[Vec3; 3]> = tris.iter().enumerate().map(|(i, t)| {
+            let d = moves[i % moves.len()] * if i % 3 == 0 { 0.0 } else { 0.3 };
+            t.map(|v| v + d)
+        }).collect();
+        for isa in Isa::all() {
+            let Some(mut bvh) = built.clone().with_isa(isa) else { continue };
+            let degradation = bvh.refit(&moved);
+            prop_assert!(degradation.is_finite());
+            for r in &rays {
+                prop_assert_eq!(bvh.intersect(r), brute::intersect(&moved, r), "refitted {} closest, ray {:?}", isa.name(), r);
+                prop_assert_eq!(bvh.occluded(r), brute::occluded(&moved, r));
+            }
+        }
+    }
+
+    #[test]
+    fn box_trees_reach_every_box_a_ray_needs(tris in soup(), rays in prop::collection::vec(ray(), 32)) {
+        // One box per triangle; the walk intersects the triangle itself at each leaf.
+        let boxes: Vec<Aabb> = tris.iter().map(|t| Aabb::from_points(t)).collect();
+        for isa in Isa::all() {
+            let Some(tree) = BoxTree::build(&boxes).with_isa(isa) else { continue };
+            prop_assert_eq!(tree.len(), tris.len());
+            for r in &rays {
+                let mut best: Option<Hit> = None;
+                tree.closest(r, |item, tfar| {
+                    let one = [tris[item as usize]];
+                    let seg = Ray::segment(r.origin, r.dir, r.tnear, tfar);
+                    match brute::intersect(&one[..], &seg) {
+                        Some(h) if best.is_none_or(|b| h.t < b.t || (h.t == b.t && item < b.prim)) => {
+                            best = Some(Hit { prim: item, ..h });
+                            h.t
+                        }
+                        _ => tfar,
+                    }
+                });
+                prop_assert_eq!(best, brute::intersect(&tris, r), "{} box tree closest, ray {:?}", isa.name(), r);
+                let any = tree.any(r, |item| brute::occluded(&[tris[item as usize]][..], r));
+                prop_assert_eq!(any, brute::occluded(&tris, r));
+            }
+        }
     }
 
     #[test]

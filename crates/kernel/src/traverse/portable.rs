@@ -2,7 +2,9 @@
 //! fallback for CPUs without AVX2 and the readable statement of what the SIMD code computes.
 
 use super::Best;
-use crate::bvh8::{Bvh8, EMPTY, LEAF, Node8, STACK_SIZE, TriBlock, WIDTH};
+use crate::boxtree::BoxTree;
+use crate::bvh8::{Bvh8, TriBlock};
+use crate::wide::{EMPTY, LEAF, Node8, STACK_SIZE, WIDTH};
 use crate::prepared::{PreparedRay, widen};
 use crate::ray::Hit;
 use crate::triangle;
@@ -84,6 +86,62 @@ pub(crate) fn occluded(bvh: &Bvh8, ray: &PreparedRay) -> bool {
                 }
             }
         } else if link != EMPTY && block_any(&bvh.blocks[(link & !LEAF) as usize], ray) {
+            return true;
+        }
+    }
+    false
+}
+
+/// Near-first closest-hit walk of a box tree; see [`BoxTree::closest`].
+pub(crate) fn boxes_closest(tree: &BoxTree, ray: &PreparedRay, mut visit: impl FnMut(u32, f32) -> f32) {
+    let mut tfar = ray.tfar;
+    let mut stack = [(0u32, 0f32); STACK_SIZE];
+    let mut sp = 0;
+    let mut next = Some(tree.root);
+    while let Some(link) = next.take() {
+        if link & LEAF == 0 {
+            let node = &tree.nodes[link as usize];
+            let base = sp;
+            for (lane, d) in child_hits(node, ray, tfar).into_iter().enumerate() {
+                if let Some(d) = d {
+                    stack[sp] = (node.child[lane], d);
+                    sp += 1;
+                }
+            }
+            stack[base..sp].sort_unstable_by(|a, b| b.1.total_cmp(&a.1));
+        } else if link != EMPTY {
+            for &item in tree.leaf_items(link) {
+                tfar = visit(item, tfar);
+            }
+        }
+        while sp > 0 {
+            sp -= 1;
+            let (link, dist) = stack[sp];
+            if dist <= widen(tfar) {
+                next = Some(link);
+                break;
+            }
+        }
+    }
+}
+
+/// Any-hit walk of a box tree; see [`BoxTree::any`].
+pub(crate) fn boxes_any(tree: &BoxTree, ray: &PreparedRay, mut visit: impl FnMut(u32) -> bool) -> bool {
+    let mut stack = [0u32; STACK_SIZE];
+    stack[0] = tree.root;
+    let mut sp = 1;
+    while sp > 0 {
+        sp -= 1;
+        let link = stack[sp];
+        if link & LEAF == 0 {
+            let node = &tree.nodes[link as usize];
+            for (lane, d) in child_hits(node, ray, ray.tfar).into_iter().enumerate() {
+                if d.is_some() {
+                    stack[sp] = node.child[lane];
+                    sp += 1;
+                }
+            }
+        } else if link != EMPTY && tree.leaf_items(link).iter().any(|&item| visit(item)) {
             return true;
         }
     }

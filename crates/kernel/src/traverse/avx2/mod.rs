@@ -7,11 +7,13 @@
 //! or triangle tests), so results are bit-identical.
 //!
 //! This module holds the node and leaf tests; `single` walks the tree with one ray, `packet` with
-//! a packet of rays that share an origin.
+//! a packet of rays that share an origin, `boxes` walks a box tree for a caller's closure.
 
+mod boxes;
 mod packet;
 mod single;
 
+pub(crate) use boxes::{boxes_any, boxes_closest};
 pub(crate) use packet::intersect_packet;
 pub(crate) use single::{intersect, occluded};
 
@@ -19,7 +21,8 @@ use std::arch::x86_64::*;
 use std::mem::MaybeUninit;
 
 use super::Best;
-use crate::bvh8::{Bvh8, LEAF, Node8, TriBlock, WIDTH};
+use crate::bvh8::{Bvh8, TriBlock};
+use crate::wide::{LEAF, Node8, WIDTH};
 use crate::prepared::PreparedRay;
 use crate::triangle;
 

@@ -18,7 +18,8 @@ use std::mem::MaybeUninit;
 
 use super::single::closest_below;
 use super::{LeafLanes, block_closest, plane_rows, prefetch, sort_farthest_first, written};
-use crate::bvh8::{Bvh8, EMPTY, LEAF, Node8, STACK_SIZE, WIDTH};
+use crate::bvh8::Bvh8;
+use crate::wide::{EMPTY, LEAF, Node8, STACK_SIZE, WIDTH};
 use crate::prepared::{PreparedRay, widen};
 use crate::ray::Hit;
 use crate::traverse::Best;

@@ -4,7 +4,8 @@ use std::arch::x86_64::*;
 use std::mem::MaybeUninit;
 
 use super::{BoxLanes, LeafLanes, block_any, block_closest, child_hits, prefetch, sort_farthest_first, written};
-use crate::bvh8::{Bvh8, EMPTY, LEAF, STACK_SIZE, WIDTH};
+use crate::bvh8::Bvh8;
+use crate::wide::{EMPTY, LEAF, STACK_SIZE, WIDTH};
 use crate::prepared::{PreparedRay, widen};
 use crate::ray::Hit;
 use crate::traverse::Best;

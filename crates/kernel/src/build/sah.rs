@@ -1,42 +1,23 @@
-//! Binned SAH construction of the binary BVH (Wald 2007; seed DIGEST §3, RTRT core SAH build).
+//! Binned SAH construction (Wald 2007; seed DIGEST §3, RTRT core SAH build).
 //!
 //! Top-down: at each node, primitive centroids are binned along all three axes, the split plane
 //! with the lowest surface-area-heuristic cost is chosen, and the primitive references are
-//! partitioned in place. Large nodes bin in parallel and both halves of a split are built as
-//! independent rayon tasks, each into its own node vector that the parent splices in; small
-//! subtrees run sequentially so that no task is smaller than a few thousand primitives.
+//! partitioned in place; nodes of a few primitives are split by an exact sweep instead. Large
+//! nodes bin in parallel and both halves of a split are built as independent rayon tasks, each
+//! into its own node vector that the parent splices in; small subtrees run sequentially so that
+//! no task is smaller than a few thousand primitives.
 
 use glam::{IVec4, Vec4};
 use rayon::prelude::*;
 
+use super::{BuildOptions, MAX_BINS, MAX_LEAF_SIZE, PrimRef, SetBounds, partition, splice};
 use crate::aabb::Aabb;
 use crate::bvh2::Node2;
-use crate::triangle::TriangleSource;
 
-/// Largest number of triangles in one leaf: a leaf is one SIMD block of eight lanes.
-pub const MAX_LEAF_SIZE: usize = 8;
-
-/// Tuning of the SAH builder. The defaults are what the benchmark scenes measured best with.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BuildOptions {
-    /// Most triangles per leaf, `1..=MAX_LEAF_SIZE`.
-    pub max_leaf_size: usize,
-    /// SAH cost of visiting an inner node, relative to `intersection_cost`.
-    pub traversal_cost: f32,
-    /// SAH cost of testing one leaf.
-    pub intersection_cost: f32,
-    /// Centroid bins per axis, `2..=MAX_BINS`.
-    pub bins: usize,
+/// Builds the tree over `refs` (reordered in place into leaf order); root at index 0.
+pub(super) fn build(refs: &mut [PrimRef], set: SetBounds, opts: &BuildOptions) -> Vec<Node2> {
+    build_subtree(Task { refs, offset: 0, set, depth: 0 }, opts)
 }
-
-impl Default for BuildOptions {
-    fn default() -> Self {
-        BuildOptions { max_leaf_size: 8, traversal_cost: 1.0, intersection_cost: 1.0, bins: 32 }
-    }
-}
-
-/// Upper bound for [`BuildOptions::bins`].
-pub const MAX_BINS: usize = 32;
 
 /// Below this depth the builder stops looking for SAH splits and halves nodes at the object
 /// median instead, so the tree depth (and the traversal stack) stays bounded even for inputs on
@@ -49,105 +30,6 @@ const SWEEP_BELOW: usize = 32;
 const PARALLEL_BINNING: usize = 1 << 16;
 /// Nodes with at least this many primitives build their two halves as separate tasks.
 const PARALLEL_SUBTREES: usize = 1 << 12;
-
-/// A primitive reference: its bounds, with the primitive index in the `w` lane of `lo` (as raw
-/// bits; `w` never takes part in any bound computation).
-#[derive(Clone, Copy, Debug)]
-#[repr(C, align(16))]
-pub(crate) struct PrimRef {
-    lo: Vec4,
-    hi: Vec4,
-}
-
-impl PrimRef {
-    fn new(bounds: Aabb, prim: u32) -> Self {
-        PrimRef { lo: bounds.min.extend(f32::from_bits(prim)), hi: bounds.max.extend(0.0) }
-    }
-
-    pub(crate) fn prim(&self) -> u32 {
-        self.lo.w.to_bits()
-    }
-
-    /// Twice the centroid (the factor cancels out in binning).
-    #[inline(always)]
-    fn centroid2(&self) -> Vec4 {
-        self.lo + self.hi
-    }
-
-    fn bounds(&self) -> Aabb {
-        Aabb { min: self.lo.truncate(), max: self.hi.truncate() }
-    }
-}
-
-/// Bounds of a set of primitives and of their doubled centroids.
-#[derive(Clone, Copy, Debug)]
-struct SetBounds {
-    geometry: Aabb,
-    centroids: Aabb,
-}
-
-impl SetBounds {
-    const EMPTY: SetBounds = SetBounds { geometry: Aabb::EMPTY, centroids: Aabb::EMPTY };
-
-    fn add(self, r: &PrimRef) -> SetBounds {
-        SetBounds { geometry: self.geometry.union(r.bounds()), centroids: self.centroids.grow(r.centroid2().truncate()) }
-    }
-
-    fn union(self, o: SetBounds) -> SetBounds {
-        SetBounds { geometry: self.geometry.union(o.geometry), centroids: self.centroids.union(o.centroids) }
-    }
-
-    fn of(refs: &[PrimRef]) -> SetBounds {
-        if refs.len() >= PARALLEL_BINNING {
-            refs.par_chunks(4096)
-                .map(|c| c.iter().fold(SetBounds::EMPTY, SetBounds::add))
-                .reduce(|| SetBounds::EMPTY, SetBounds::union)
-        } else {
-            refs.iter().fold(SetBounds::EMPTY, SetBounds::add)
-        }
-    }
-}
-
-/// The output of a build: binary nodes (root at index 0) and the primitive order their leaves
-/// index into.
-pub(crate) struct Built {
-    pub nodes: Vec<Node2>,
-    pub prims: Vec<u32>,
-}
-
-/// Builds a binary BVH over all triangles that can be hit: triangles with a non-finite coordinate
-/// or two equal vertices are left out. Runs on the current rayon pool.
-pub(crate) fn build(tris: &(impl TriangleSource + ?Sized), opts: &BuildOptions) -> Built {
-    let opts = BuildOptions {
-        max_leaf_size: opts.max_leaf_size.clamp(1, MAX_LEAF_SIZE),
-        bins: opts.bins.clamp(2, MAX_BINS),
-        ..*opts
-    };
-    let mut refs: Vec<PrimRef> = (0..tris.triangle_count() as u32)
-        .into_par_iter()
-        .with_min_len(4096)
-        .filter_map(|i| {
-            let t = tris.triangle(i);
-            let b = Aabb::from_points(&t);
-            (b.min.is_finite() && b.max.is_finite() && !has_repeated_vertex(&t)).then(|| PrimRef::new(b, i))
-        })
-        .collect();
-    if refs.is_empty() {
-        return Built { nodes: Vec::new(), prims: Vec::new() };
-    }
-    let set = SetBounds::of(&refs);
-    let nodes = build_subtree(Task { refs: &mut refs, offset: 0, set, depth: 0 }, &opts);
-    Built { nodes, prims: refs.iter().map(PrimRef::prim).collect() }
-}
-
-/// Whether two vertices of the triangle are equal. The watertight test can never hit such a
-/// triangle: the repeated vertex makes one edge value exactly zero and the other two exact
-/// negatives of each other, so the determinant is exactly zero for every ray. Leaving them out
-/// changes no result but saves their test, which would otherwise always take the slow
-/// double-precision path (UV spheres have a row of them at each pole).
-fn has_repeated_vertex(t: &[glam::Vec3; 3]) -> bool {
-    t[0] == t[1] || t[1] == t[2] || t[0] == t[2]
-}
 
 /// A node still to be built: its primitive references (a sub-slice of the global array starting
 /// at `offset`), their bounds and its depth.
@@ -181,13 +63,6 @@ fn build_into(task: Task<'_>, opts: &BuildOptions, out: &mut Vec<Node2>) -> u32 
     };
     out[index] = Node2::inner(bounds, l, r);
     index as u32
-}
-
-/// Appends a subtree built into its own vector, rebasing its child links; returns its root index.
-fn splice(out: &mut Vec<Node2>, sub: Vec<Node2>) -> u32 {
-    let base = out.len() as u32;
-    out.extend(sub.into_iter().map(|n| n.rebased(base)));
-    base
 }
 
 /// One centroid bin: bounds of the primitives that fell into it, and their number.
@@ -412,23 +287,4 @@ fn median_split(task: Task<'_>) -> (Task<'_>, Task<'_>) {
     let mid = task.refs.len() / 2;
     task.refs.select_nth_unstable_by(mid, |a, b| a.centroid2()[axis].total_cmp(&b.centroid2()[axis]));
     halves(task, mid)
-}
-
-/// In-place partition: elements satisfying `left` first; returns their number.
-fn partition(refs: &mut [PrimRef], left: impl Fn(&PrimRef) -> bool) -> usize {
-    let (mut i, mut j) = (0, refs.len());
-    loop {
-        while i < j && left(&refs[i]) {
-            i += 1;
-        }
-        while i < j && !left(&refs[j - 1]) {
-            j -= 1;
-        }
-        if i >= j {
-            return i;
-        }
-        refs.swap(i, j - 1);
-        i += 1;
-        j -= 1;
-    }
 }

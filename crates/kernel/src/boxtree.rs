@@ -1,0 +1,95 @@
+//! A wide BVH over boxes whose leaves the caller intersects: the top level of a two-level scene,
+//! rebuilt every frame over the instances' world boxes.
+
+use crate::aabb::Aabb;
+use crate::build::build_over_boxes;
+use crate::isa::Isa;
+use crate::prepared::PreparedRay;
+use crate::ray::Ray;
+use crate::traverse;
+use crate::wide::{LEAF, Node8, collapse};
+
+/// A tree over boxes, built with the seed's fast top-level heuristic (see `build::top_level`)
+/// and collapsed to eight lanes. Each leaf names one box by its index in the slice it was built
+/// from; what is inside a box (an instance of an object, say) the caller intersects itself.
+#[derive(Clone, Debug)]
+pub struct BoxTree {
+    pub(crate) nodes: Vec<Node8>,
+    /// Per leaf: the first entry in `items` and the number of entries.
+    pub(crate) leaves: Vec<[u32; 2]>,
+    /// Box indices in leaf order.
+    pub(crate) items: Vec<u32>,
+    pub(crate) root: u32,
+    bounds: Aabb,
+    isa: Isa,
+}
+
+impl BoxTree {
+    /// Builds the tree over `boxes`; empty or non-finite boxes are left out (no ray reaches them).
+    pub fn build(boxes: &[Aabb]) -> BoxTree {
+        let built = build_over_boxes(boxes, 1);
+        let mut leaves = Vec::with_capacity(built.prims.len());
+        let wide = collapse(&built.nodes, Vec::new(), |first, count| {
+            leaves.push([first, count]);
+            LEAF | (leaves.len() - 1) as u32
+        });
+        let bounds = built.nodes.first().map_or(Aabb::EMPTY, |n| n.bounds);
+        BoxTree { nodes: wide.nodes, leaves, items: built.prims, root: wide.root, bounds, isa: Isa::best() }
+    }
+
+    /// The same tree traversed with the given instruction set, or `None` if this CPU lacks it.
+    pub fn with_isa(mut self, isa: Isa) -> Option<BoxTree> {
+        isa.is_supported().then(|| {
+            self.isa = isa;
+            self
+        })
+    }
+
+    /// Bounds of all boxes in the tree.
+    pub fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+
+    /// Number of boxes in the tree.
+    pub fn len(&self) -> usize {
+        self.items.len()
+    }
+
+    /// Whether the tree holds no box.
+    pub fn is_empty(&self) -> bool {
+        self.items.is_empty()
+    }
+
+    /// A closest-hit walk, near-first: `visit(item, tfar)` is called for every box the ray's
+    /// segment `(tnear, tfar]` touches, with `tfar` the closest hit found so far, and returns
+    /// the new closest distance (`tfar` itself if it found nothing closer). Boxes that start
+    /// beyond the closest hit are skipped, with the kernel's conservative rounding (a box that
+    /// starts exactly at `tfar` is still visited, so ties can be resolved by the caller).
+    pub fn closest(&self, ray: &Ray, visit: impl FnMut(u32, f32) -> f32) {
+        let pre = PreparedRay::new(ray);
+        match self.isa {
+            // SAFETY: `isa` is only ever set to a flavour `is_supported` confirmed on this CPU.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => unsafe { traverse::avx2::boxes_closest(self, &pre, visit) },
+            _ => traverse::portable::boxes_closest(self, &pre, visit),
+        }
+    }
+
+    /// An any-hit walk: `visit(item)` is called for the boxes the ray's segment touches until it
+    /// returns `true`; returns whether it did.
+    pub fn any(&self, ray: &Ray, visit: impl FnMut(u32) -> bool) -> bool {
+        let pre = PreparedRay::new(ray);
+        match self.isa {
+            // SAFETY: as in `closest`.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => unsafe { traverse::avx2::boxes_any(self, &pre, visit) },
+            _ => traverse::portable::boxes_any(self, &pre, visit),
+        }
+    }
+
+    /// The items of a leaf link.
+    pub(crate) fn leaf_items(&self, link: u32) -> &[u32] {
+        let [first, count] = self.leaves[(link & !LEAF) as usize];
+        &self.items[first as usize..(first + count) as usize]
+    }
+}

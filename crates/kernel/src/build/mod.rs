@@ -1,0 +1,201 @@
+//! BVH construction: primitive references, build options, and the builders that turn them into
+//! a binary tree ([`crate::Bvh2`]'s nodes), which the wide layout is then collapsed from.
+//!
+//! - [`sah`]: binned SAH with exact sweeps near the leaves, for static geometry (best trees);
+//! - [`lbvh`]: Morton-order splits, an order of magnitude faster, for geometry that changes
+//!   every frame;
+//! - [`top_level`]: the seed's cheap heuristic for the per-frame tree over instance boxes.
+
+mod lbvh;
+mod sah;
+mod top_level;
+
+pub(crate) use top_level::build_over_boxes;
+
+use glam::Vec4;
+use rayon::prelude::*;
+
+use crate::aabb::Aabb;
+use crate::bvh2::Node2;
+use crate::triangle::TriangleSource;
+
+/// Largest number of triangles in one leaf: a leaf is one SIMD block of eight lanes.
+pub const MAX_LEAF_SIZE: usize = 8;
+
+/// Which builder makes the tree.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum BuildQuality {
+    /// Binned surface area heuristic: the best trees, for geometry built once.
+    #[default]
+    Sah,
+    /// Morton-order (LBVH) splits: an order of magnitude faster to build and somewhat slower to
+    /// trace, for geometry rebuilt often.
+    Fast,
+}
+
+/// Tuning of the builders. The defaults are what the benchmark scenes measured best with.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BuildOptions {
+    /// Which builder.
+    pub quality: BuildQuality,
+    /// Keep triangles that can never be hit as they are now (two equal vertices) because their
+    /// vertices will move: required for trees that are [refit](crate::Bvh8::refit).
+    pub refittable: bool,
+    /// Most triangles per leaf, `1..=MAX_LEAF_SIZE`.
+    pub max_leaf_size: usize,
+    /// SAH cost of visiting an inner node, relative to `intersection_cost`.
+    pub traversal_cost: f32,
+    /// SAH cost of testing one leaf.
+    pub intersection_cost: f32,
+    /// Centroid bins per axis, `2..=MAX_BINS`.
+    pub bins: usize,
+}
+
+impl Default for BuildOptions {
+    fn default() -> Self {
+        BuildOptions {
+            quality: BuildQuality::Sah,
+            refittable: false,
+            max_leaf_size: 8,
+            traversal_cost: 1.0,
+            intersection_cost: 1.0,
+            bins: 32,
+        }
+    }
+}
+
+/// Upper bound for [`BuildOptions::bins`].
+pub const MAX_BINS: usize = 32;
+
+/// A primitive reference: its bounds, with the primitive index in the `w` lane of `lo` (as raw
+/// bits; `w` never takes part in any bound computation).
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(16))]
+pub(crate) struct PrimRef {
+    pub(crate) lo: Vec4,
+    pub(crate) hi: Vec4,
+}
+
+impl PrimRef {
+    pub(crate) fn new(bounds: Aabb, prim: u32) -> Self {
+        PrimRef { lo: bounds.min.extend(f32::from_bits(prim)), hi: bounds.max.extend(0.0) }
+    }
+
+    pub(crate) fn prim(&self) -> u32 {
+        self.lo.w.to_bits()
+    }
+
+    /// Twice the centroid (the factor cancels out in binning).
+    #[inline(always)]
+    pub(crate) fn centroid2(&self) -> Vec4 {
+        self.lo + self.hi
+    }
+
+    pub(crate) fn bounds(&self) -> Aabb {
+        Aabb { min: self.lo.truncate(), max: self.hi.truncate() }
+    }
+}
+
+/// Bounds of a set of primitives and of their doubled centroids.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SetBounds {
+    pub(crate) geometry: Aabb,
+    pub(crate) centroids: Aabb,
+}
+
+impl SetBounds {
+    pub(crate) const EMPTY: SetBounds = SetBounds { geometry: Aabb::EMPTY, centroids: Aabb::EMPTY };
+
+    pub(crate) fn add(self, r: &PrimRef) -> SetBounds {
+        SetBounds { geometry: self.geometry.union(r.bounds()), centroids: self.centroids.grow(r.centroid2().truncate()) }
+    }
+
+    pub(crate) fn union(self, o: SetBounds) -> SetBounds {
+        SetBounds { geometry: self.geometry.union(o.geometry), centroids: self.centroids.union(o.centroids) }
+    }
+
+    pub(crate) fn of(refs: &[PrimRef]) -> SetBounds {
+        if refs.len() >= PARALLEL_BOUNDS {
+            refs.par_chunks(4096)
+                .map(|c| c.iter().fold(SetBounds::EMPTY, SetBounds::add))
+                .reduce(|| SetBounds::EMPTY, SetBounds::union)
+        } else {
+            refs.iter().fold(SetBounds::EMPTY, SetBounds::add)
+        }
+    }
+}
+
+/// Sets at least this large compute their bounds in parallel.
+const PARALLEL_BOUNDS: usize = 1 << 16;
+
+/// The output of a build: binary nodes (root at index 0) and the primitive order their leaves
+/// index into.
+pub(crate) struct Built {
+    pub nodes: Vec<Node2>,
+    pub prims: Vec<u32>,
+}
+
+/// Builds a binary BVH over all triangles that can be hit: triangles with a non-finite coordinate
+/// are left out, and so are triangles with two equal vertices unless the tree must be refittable.
+/// Runs on the current rayon pool.
+pub(crate) fn build(tris: &(impl TriangleSource + ?Sized), opts: &BuildOptions) -> Built {
+    let opts = BuildOptions {
+        max_leaf_size: opts.max_leaf_size.clamp(1, MAX_LEAF_SIZE),
+        bins: opts.bins.clamp(2, MAX_BINS),
+        ..*opts
+    };
+    let mut refs: Vec<PrimRef> = (0..tris.triangle_count() as u32)
+        .into_par_iter()
+        .with_min_len(4096)
+        .filter_map(|i| {
+            let t = tris.triangle(i);
+            let b = Aabb::from_points(&t);
+            let hittable = opts.refittable || !has_repeated_vertex(&t);
+            (b.min.is_finite() && b.max.is_finite() && hittable).then(|| PrimRef::new(b, i))
+        })
+        .collect();
+    if refs.is_empty() {
+        return Built { nodes: Vec::new(), prims: Vec::new() };
+    }
+    let set = SetBounds::of(&refs);
+    let nodes = match opts.quality {
+        BuildQuality::Sah => sah::build(&mut refs, set, &opts),
+        BuildQuality::Fast => lbvh::build(&mut refs, set, opts.max_leaf_size),
+    };
+    Built { nodes, prims: refs.iter().map(PrimRef::prim).collect() }
+}
+
+/// Whether two vertices of the triangle are equal. The watertight test can never hit such a
+/// triangle: the repeated vertex makes one edge value exactly zero and the other two exact
+/// negatives of each other, so the determinant is exactly zero for every ray. Leaving them out
+/// changes no result but saves their test, which would otherwise always take the slow
+/// double-precision path (UV spheres have a row of them at each pole).
+fn has_repeated_vertex(t: &[glam::Vec3; 3]) -> bool {
+    t[0] == t[1] || t[1] == t[2] || t[0] == t[2]
+}
+
+/// Appends a subtree built into its own vector, rebasing its child links; returns its root index.
+pub(crate) fn splice(out: &mut Vec<Node2>, sub: Vec<Node2>) -> u32 {
+    let base = out.len() as u32;
+    out.extend(sub.into_iter().map(|n| n.rebased(base)));
+    base
+}
+
+/// In-place partition: elements satisfying `left` first; returns their number.
+pub(crate) fn partition(refs: &mut [PrimRef], left: impl Fn(&PrimRef) -> bool) -> usize {
+    let (mut i, mut j) = (0, refs.len());
+    loop {
+        while i < j && left(&refs[i]) {
+            i += 1;
+        }
+        while i < j && !left(&refs[j - 1]) {
+            j -= 1;
+        }
+        if i >= j {
+            return i;
+        }
+        refs.swap(i, j - 1);
+        i += 1;
+        j -= 1;
+    }
+}

@@ -1,0 +1,93 @@
+//! Walks of the box tree: the single-ray node test, with the caller's closure at the leaves.
+
+use std::arch::x86_64::*;
+use std::mem::MaybeUninit;
+
+use super::{BoxLanes, child_hits, sort_farthest_first, written};
+use crate::boxtree::BoxTree;
+use crate::prepared::{PreparedRay, widen};
+use crate::wide::{EMPTY, LEAF, STACK_SIZE, WIDTH};
+
+/// A deferred child: its link and entry distance.
+#[derive(Clone, Copy)]
+struct Entry {
+    link: u32,
+    dist: f32,
+}
+
+/// Near-first closest-hit walk; see [`BoxTree::closest`].
+///
+/// # Safety
+/// The CPU must support AVX2 and FMA.
+#[target_feature(enable = "avx2,fma")]
+pub(crate) unsafe fn boxes_closest(tree: &BoxTree, ray: &PreparedRay, mut visit: impl FnMut(u32, f32) -> f32) {
+    let r = BoxLanes::new(ray);
+    let mut tfar = ray.tfar;
+    let mut stack = [MaybeUninit::<Entry>::uninit(); STACK_SIZE];
+    let mut sp = 0usize;
+    let mut link = tree.root;
+    loop {
+        if link & LEAF == 0 {
+            let node = &tree.nodes[link as usize];
+            let (mask, tn) = child_hits(node, &r, _mm256_set1_ps(widen(tfar)));
+            let mut dist = [0f32; WIDTH];
+            unsafe { _mm256_storeu_ps(dist.as_mut_ptr(), tn) };
+            let base = sp;
+            let mut rest = mask;
+            while rest != 0 {
+                let lane = rest.trailing_zeros() as usize;
+                rest &= rest - 1;
+                stack[sp].write(Entry { link: node.child[lane], dist: dist[lane] });
+                sp += 1;
+            }
+            // SAFETY: entries base..sp were just written.
+            sort_farthest_first(unsafe { written(&mut stack[base..sp]) }, |e| e.dist);
+        } else if link != EMPTY {
+            for &item in tree.leaf_items(link) {
+                tfar = visit(item, tfar);
+            }
+        }
+        loop {
+            if sp == 0 {
+                return;
+            }
+            sp -= 1;
+            // SAFETY: every entry below `sp` was written before.
+            let e = unsafe { stack[sp].assume_init() };
+            if e.dist <= widen(tfar) {
+                link = e.link;
+                break;
+            }
+        }
+    }
+}
+
+/// Any-hit walk; see [`BoxTree::any`].
+///
+/// # Safety
+/// The CPU must support AVX2 and FMA.
+#[target_feature(enable = "avx2,fma")]
+pub(crate) unsafe fn boxes_any(tree: &BoxTree, ray: &PreparedRay, mut visit: impl FnMut(u32) -> bool) -> bool {
+    let r = BoxLanes::new(ray);
+    let tfar_wide = _mm256_set1_ps(widen(ray.tfar));
+    let mut stack = [0u32; STACK_SIZE];
+    stack[0] = tree.root;
+    let mut sp = 1usize;
+    while sp > 0 {
+        sp -= 1;
+        let link = stack[sp];
+        if link & LEAF == 0 {
+            let node = &tree.nodes[link as usize];
+            let (mut mask, _) = child_hits(node, &r, tfar_wide);
+            while mask != 0 {
+                let lane = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                stack[sp] = node.child[lane];
+                sp += 1;
+            }
+        } else if link != EMPTY && tree.leaf_items(link).iter().any(|&item| visit(item)) {
+            return true;
+        }
+    }
+    false
+}
