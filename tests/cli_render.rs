@@ -41,7 +41,8 @@ fn renders_the_sphere_grid_to_png() {
     ]);
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert!(output.status.success(), "stdout: {stdout}\nstderr: {}", String::from_utf8_lossy(&output.stderr));
-    assert!(stdout.contains("160x90 sphere: build ") && stdout.contains("Mrays/s (2 threads)"), "{stdout}");
+    assert!(stdout.contains("160x90 sphere (1000002 triangles): ") && stdout.contains(" on 2 threads "), "{stdout}");
+    assert!(stdout.contains("14400 primary + ") && stdout.contains(" shadow rays traced at "), "{stdout}");
 
     let image = image::open(&out).unwrap().to_rgba8();
     assert_eq!(image.dimensions(), (160, 90));
@@ -56,9 +57,14 @@ fn renders_the_sphere_grid_to_png() {
     // The front-row sphere left of the centre line (purple in the palette).
     let sphere = rgb(70, 69);
     assert!(saturation(sphere) > 60, "a coloured sphere at (70, 69): {sphere:?}");
-    // Between the front-row spheres, below them: the grey ground plane.
-    let ground = rgb(80, 88);
-    assert!(saturation(ground) < 8 && ground[0] > 100, "light grey ground at (80, 88): {ground:?}");
+    // The bottom row is lit grey ground; the spheres cast dark grey shadows on it higher up.
+    let bottom: Vec<[i32; 3]> = (0..160).map(|x| rgb(x, 89)).collect();
+    assert!(bottom.iter().all(|&p| saturation(p) < 8 && p[0] > 150), "lit grey ground along the bottom: {bottom:?}");
+    let shadowed = (40..90).flat_map(|y| (0..160).map(move |x| (x, y))).filter(|&(x, y)| {
+        let p = rgb(x, y);
+        saturation(p) < 8 && p[0] < 90
+    });
+    assert!(shadowed.count() > 50, "shadows on the ground");
 
     let mut colours: Vec<_> = image.pixels().map(|p| p.0).collect();
     colours.sort_unstable();

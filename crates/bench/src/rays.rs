@@ -22,7 +22,7 @@ pub fn primary(scene: StandardScene, width: u32, height: u32) -> Vec<Ray> {
 /// The same rays reordered into packets of 4×2 pixels, packets row by row; `width` must be a
 /// multiple of 4 and `height` of 2.
 pub fn in_packets(primary: &[Ray], width: u32, height: u32) -> Vec<Ray> {
-    assert!(width % 4 == 0 && height % 2 == 0, "whole 4x2 packets");
+    assert!(width.is_multiple_of(4) && height.is_multiple_of(2), "whole 4x2 packets");
     let (w, h) = (width as usize, height as usize);
     (0..h / 2)
         .flat_map(|py| (0..w / 4).map(move |px| (px, py)))

@@ -2,7 +2,7 @@
 //! hit distances against brute force (always) and against Embree 3 (with the `embree` feature,
 //! which the test script turns on whenever Embree is installed, as it is in CI).
 
-use raystage_bench::kernel::{Api, Tracer, build_raystage, trace_all};
+use raystage_bench::kernel::{Api, build_raystage, trace_all};
 use raystage_bench::rays;
 use raystage_demo::StandardScene;
 use raystage_kernel::brute;

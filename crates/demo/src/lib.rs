@@ -5,10 +5,13 @@
 //! `bench/embree_probe.c` (the Embree 3 baseline) operation for operation in single precision, so
 //! raystage and Embree can be compared on bit-identical triangles and rays.
 //!
-//! Not in here: acceleration structures, shading, the retained scene. This crate only makes
-//! geometry and cameras.
+//! Each standard scene also comes as a retained [`raystage_scene::Scene`], coloured and lit
+//! ([`StandardScene::scene`]), which is what `raystage render --demo` draws.
+//!
+//! Not in here: acceleration structures, shading arithmetic, frame loops.
 
 pub mod probe_math;
+mod scenes;
 
 use glam::Vec3;
 use raystage_kernel::IndexedMesh;

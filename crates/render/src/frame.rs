@@ -1,70 +1,71 @@
-//! One frame, end to end: primary rays through every pixel, eye-light shading, statistics.
+//! One frame of the retained scene, end to end: primary rays in 4×2 blocks, preview shading,
+//! statistics.
 
 use std::time::Instant;
 
-use raystage_kernel::{Bvh8, IndexedMesh, PACKET_SIZE, Ray, TriangleSource};
+use raystage_kernel::{PACKET_SIZE, Ray};
+use raystage_scene::{Frame, FrameWork};
 
+use crate::lambert::{self, RayCounts};
 use crate::tiles::Tile;
-use crate::{Camera, EyeLight, Film, render_tiles};
-
-/// The triangles a frame is traced against and the BVH built over them.
-///
-/// A stand-in for the retained scene: when `raystage-scene` exists, it takes this pair's place.
-#[derive(Clone, Copy, Debug)]
-pub struct Geometry<'a> {
-    /// The triangles, for shading: the BVH reports hits by triangle index.
-    pub triangles: IndexedMesh<'a>,
-    /// The BVH built from `triangles`.
-    pub bvh: &'a Bvh8,
-}
+use crate::{Film, render_tiles, sky};
 
 /// What a frame cost.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrameStats {
-    /// Rays traced (primary rays only in an eye-light frame: one per pixel).
-    pub rays: u64,
+    /// Rays traced, by kind.
+    pub rays: RayCounts,
     /// Wall-clock time of tracing and shading, in seconds (excludes encoding).
     pub seconds: f64,
+    /// Seconds spent placing instances and building the top level.
+    pub top_level_seconds: f64,
+    /// Object trees built, refitted or skipped while tracing.
+    pub work: FrameWork,
 }
 
 impl FrameStats {
-    /// Throughput in millions of rays per second.
+    /// Tracing throughput in millions of rays (all kinds) per second, not counting the time the
+    /// frame spent in lazy object builds.
     pub fn mrays_per_second(&self) -> f64 {
-        self.rays as f64 / self.seconds / 1e6
+        let tracing = (self.seconds - self.work.build_seconds).max(self.seconds * 1e-3);
+        (self.rays.primary + self.rays.shadow) as f64 / tracing / 1e6
     }
 }
 
-/// Renders a `width × height` eye-light frame of `geometry` seen by `camera`, in parallel on the
-/// current rayon pool.
-pub fn render_frame(
-    geometry: &Geometry<'_>,
-    camera: &impl Camera,
-    shader: &EyeLight,
-    width: u32,
-    height: u32,
-) -> (Film, FrameStats) {
+/// Renders a `width × height` frame of the scene as `frame` froze it, seen by its camera, in
+/// parallel on the current rayon pool.
+pub fn render_frame(frame: &Frame<'_>, width: u32, height: u32) -> (Film, FrameStats) {
     let mut film = Film::new(width, height);
     let start = Instant::now();
+    let counts = std::sync::Mutex::new(RayCounts::default());
+    let camera = *frame.camera();
     render_tiles(&mut film, |tile, pixels| {
-        // Neighbouring primary rays travel together as packets (see `Bvh8::intersect_packets`).
+        // Neighbouring primary rays go to the scene together, in 4×2 blocks.
         let order = packet_order(tile);
         let rays: Vec<Ray> = order
             .iter()
             .map(|&i| {
                 let (x, y) = tile.pixel(i);
-                camera.primary_ray(x, y, width, height)
+                camera.ray(x as f32 + 0.5, y as f32 + 0.5, width, height)
             })
             .collect();
         let mut hits = vec![None; rays.len()];
-        geometry.bvh.intersect_packets(&rays, &mut hits);
+        frame.intersect_many(&rays, &mut hits, 0.0);
+        let mut tile_counts = RayCounts { primary: rays.len() as u64, shadow: 0 };
         for ((&i, ray), hit) in order.iter().zip(&rays).zip(&hits) {
             pixels[i] = match hit {
-                Some(hit) => shader.shade_hit(ray.dir, hit, &geometry.triangles.triangle(hit.prim)),
-                None => shader.sky(ray.dir),
+                Some(hit) => lambert::shade(frame, ray, hit, &mut tile_counts),
+                None => sky(ray.dir),
             };
         }
+        *counts.lock().unwrap_or_else(|e| e.into_inner()) += tile_counts;
     });
-    let stats = FrameStats { rays: u64::from(width) * u64::from(height), seconds: start.elapsed().as_secs_f64() };
+    let stats = FrameStats {
+        rays: counts.into_inner().unwrap_or_else(|e| e.into_inner()),
+        seconds: start.elapsed().as_secs_f64(),
+        top_level_seconds: frame.top_level_seconds(),
+        work: frame.work(),
+    };
     (film, stats)
 }
 
@@ -87,21 +88,10 @@ fn packet_order(tile: &Tile) -> Vec<usize> {
 
 #[cfg(test)]
 mod tests {
-    use glam::Vec3;
-    use raystage_kernel::BuildOptions;
+    use glam::{Affine3A, Vec3};
+    use raystage_scene::{Camera, Light, Mesh, ObjectKind, ParamValue, Scene};
 
     use super::*;
-
-    /// An orthographic camera looking down −z over `[-1, 1]²`.
-    struct Orthographic;
-
-    impl Camera for Orthographic {
-        fn primary_ray(&self, x: u32, y: u32, width: u32, height: u32) -> Ray {
-            let u = (x as f32 + 0.5) / width as f32 * 2.0 - 1.0;
-            let v = 1.0 - (y as f32 + 0.5) / height as f32 * 2.0;
-            Ray::new(Vec3::new(u, v, 1.0), Vec3::NEG_Z)
-        }
-    }
 
     #[test]
     fn packet_order_visits_every_pixel_once_in_4x2_blocks() {
@@ -111,32 +101,49 @@ mod tests {
             order.sort_unstable();
             assert_eq!(order, (0..tile.len()).collect::<Vec<_>>(), "{width}×{height}");
         }
-        // A full tile: the first packet is the 4×2 block at the tile's top-left corner.
         let order = packet_order(&Tile { x0: 0, y0: 0, width: 16, height: 16 });
         assert_eq!(&order[..8], &[0, 1, 2, 3, 16, 17, 18, 19]);
     }
 
+    /// A unit square at z = 0 facing +z, seen from (0, 0, 3), lit from the camera side.
+    fn square_scene(light: Option<Light>) -> Scene {
+        let mut scene = Scene::new();
+        let red = scene.add_shader("Diffuse").unwrap();
+        scene.set_param(red, "diffuse", ParamValue::Color(Vec3::new(1.0, 0.0, 0.0))).unwrap();
+        let mesh = Mesh::new(
+            vec![Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(-1.0, 1.0, 0.0)],
+            vec![[0, 1, 2], [0, 2, 3]],
+        )
+        .with_shader(red);
+        let square = scene.add_object(ObjectKind::Static, mesh).unwrap();
+        scene.add_instance(square, Affine3A::IDENTITY).unwrap();
+        scene.set_camera(Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, Vec3::Y, 60.0).unwrap()).unwrap();
+        if let Some(light) = light {
+            scene.add_light(light).unwrap();
+        }
+        scene
+    }
+
     #[test]
-    fn a_square_in_front_of_the_sky() {
-        // Two triangles covering [-0.5, 0.5]² at z = 0, each its own colour group.
-        let vertices = [
-            Vec3::new(-0.5, -0.5, 0.0),
-            Vec3::new(0.5, -0.5, 0.0),
-            Vec3::new(0.5, 0.5, 0.0),
-            Vec3::new(-0.5, 0.5, 0.0),
-        ];
-        let indices = [[0, 1, 2], [0, 2, 3]];
-        let triangles = IndexedMesh { vertices: &vertices, indices: &indices };
-        let bvh = Bvh8::build(&triangles, &BuildOptions::default());
-        let shader = EyeLight { group_size: 1, plain_from: u32::MAX };
+    fn a_lit_square_in_front_of_the_sky() {
+        let light = Light::Directional { direction: -Vec3::Z, intensity: Vec3::splat(std::f32::consts::PI) };
+        let scene = square_scene(Some(light));
+        let frame = scene.frame();
+        let (film, stats) = render_frame(&frame, 32, 32);
+        // Facing the light head-on with E = π: radiance = albedo · E · cos / π = albedo.
+        let centre = film.pixel(16, 16);
+        assert!((centre - Vec3::new(1.0, 0.0, 0.0)).abs().max_element() < 1e-4, "{centre}");
+        assert_eq!(film.pixel(0, 0), sky(frame.camera().ray(0.5, 0.5, 32, 32).dir));
+        assert_eq!(stats.rays.primary, 32 * 32);
+        assert!(stats.rays.shadow > 0 && stats.rays.shadow < 32 * 32);
+        assert_eq!(stats.work.built, 1);
+    }
 
-        let (film, stats) = render_frame(&Geometry { triangles, bvh: &bvh }, &Orthographic, &shader, 20, 20);
-
-        assert_eq!(stats.rays, 400);
-        assert!(stats.seconds > 0.0 && stats.mrays_per_second() > 0.0);
-        // Head-on hits get the full base colour; (14, 8) is below the diagonal, in triangle 0.
-        assert_eq!(film.pixel(14, 8), shader.base_colour(0));
-        assert_eq!(film.pixel(6, 12), shader.base_colour(1));
-        assert_eq!(film.pixel(0, 0), shader.sky(Vec3::NEG_Z));
+    #[test]
+    fn no_lights_means_eye_light_and_no_shadow_rays() {
+        let scene = square_scene(None);
+        let (film, stats) = render_frame(&scene.frame(), 16, 16);
+        assert_eq!(stats.rays.shadow, 0);
+        assert!(film.pixel(8, 8).x > 0.9, "seen head-on under the eye light");
     }
 }

@@ -1,0 +1,37 @@
+//! The background: what rays that hit nothing see.
+
+use glam::Vec3;
+
+use crate::srgb;
+
+/// Sky colours (sRGB) at the bottom of the gradient and straight up.
+const HORIZON_SRGB: [f32; 3] = [0.88, 0.92, 0.97];
+const ZENITH_SRGB: [f32; 3] = [0.42, 0.6, 0.88];
+
+/// Elevation (the `y` of the unit direction) where the sky gradient starts: a little below the
+/// horizon, so that the gradient has no kink where a finite ground plane ends.
+const GRADIENT_START: f32 = -0.2;
+
+/// The colour (linear RGB) of a ray that hits nothing: a soft gradient from a pale horizon to a
+/// blue zenith by the elevation of `dir` (any length). The gradient is a smoothstep, so it has
+/// no visible band where it starts.
+pub fn sky(dir: Vec3) -> Vec3 {
+    let s = ((dir.normalize_or_zero().y - GRADIENT_START) / (1.0 - GRADIENT_START)).clamp(0.0, 1.0);
+    let horizon = Vec3::from_array(HORIZON_SRGB).map(srgb::decode);
+    let zenith = Vec3::from_array(ZENITH_SRGB).map(srgb::decode);
+    horizon.lerp(zenith, s * s * (3.0 - 2.0 * s))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_sky_brightens_towards_the_horizon() {
+        let (up, level, down) = (sky(Vec3::Y), sky(Vec3::new(1.0, 0.0, -1.0)), sky(-Vec3::Y));
+        assert!(down.x > level.x && level.x > up.x && up.z > up.x);
+        assert_eq!(up, Vec3::from_array(ZENITH_SRGB).map(srgb::decode));
+        assert_eq!(down, Vec3::from_array(HORIZON_SRGB).map(srgb::decode));
+        assert_eq!(sky(Vec3::new(0.0, -0.9, 0.1)), down, "the gradient stops below the horizon");
+    }
+}

@@ -1,0 +1,99 @@
+//! Triangle meshes as the scene stores them: positions and indices, optional per-vertex normals,
+//! colours and texture coordinates, and a shader per triangle.
+
+use glam::{Vec2, Vec3};
+use raystage_kernel::{Aabb, TriangleSource};
+
+use crate::error::SceneError;
+use crate::ids::ShaderId;
+
+/// An indexed triangle mesh with its attributes.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    /// Vertex positions.
+    pub positions: Vec<Vec3>,
+    /// Three vertex indices per triangle, counter-clockwise seen from the front.
+    pub indices: Vec<[u32; 3]>,
+    /// Per-vertex shading normals (any length); empty for none, then the geometric normal shades.
+    pub normals: Vec<Vec3>,
+    /// Per-vertex colours (linear RGB); empty for none.
+    pub colors: Vec<Vec3>,
+    /// Per-vertex texture coordinates; empty for none.
+    pub uvs: Vec<Vec2>,
+    /// The shader of each triangle; empty to shade every triangle with the scene's default.
+    pub shaders: Vec<ShaderId>,
+}
+
+impl Mesh {
+    /// A mesh of positions and indices only.
+    pub fn new(positions: Vec<Vec3>, indices: Vec<[u32; 3]>) -> Mesh {
+        Mesh { positions, indices, ..Mesh::default() }
+    }
+
+    /// The same mesh with every triangle bound to `shader`.
+    pub fn with_shader(mut self, shader: ShaderId) -> Mesh {
+        self.shaders = vec![shader; self.indices.len()];
+        self
+    }
+
+    /// Checks that the mesh is well formed: at least one triangle, every index in range, every
+    /// number finite, every attribute array of the right length. Shader ids are checked by the
+    /// scene, which knows them.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        if self.indices.is_empty() {
+            return Err(SceneError::EmptyMesh);
+        }
+        let vertices = self.positions.len();
+        for (triangle, tri) in self.indices.iter().enumerate() {
+            if let Some(&index) = tri.iter().find(|&&i| i as usize >= vertices) {
+                return Err(SceneError::IndexOutOfRange { triangle, index, vertices });
+            }
+        }
+        finite("positions", self.positions.iter().map(|p| p.is_finite()))?;
+        for (field, len) in [("normals", self.normals.len()), ("colors", self.colors.len()), ("uvs", self.uvs.len())] {
+            if len != 0 && len != vertices {
+                return Err(SceneError::WrongLength { field, got: len, expected: vertices });
+            }
+        }
+        finite("normals", self.normals.iter().map(|n| n.is_finite()))?;
+        finite("colors", self.colors.iter().map(|c| c.is_finite()))?;
+        finite("uvs", self.uvs.iter().map(|t| t.is_finite()))?;
+        if !self.shaders.is_empty() && self.shaders.len() != self.indices.len() {
+            return Err(SceneError::WrongLength {
+                field: "shaders",
+                got: self.shaders.len(),
+                expected: self.indices.len(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Bounds of the vertices the triangles use.
+    pub fn bounds(&self) -> Aabb {
+        self.indices.iter().flatten().fold(Aabb::EMPTY, |b, &i| b.grow(self.positions[i as usize]))
+    }
+
+    /// The vertices of triangle `prim`.
+    pub fn triangle(&self, prim: u32) -> [Vec3; 3] {
+        self.indices[prim as usize].map(|i| self.positions[i as usize])
+    }
+}
+
+/// The first index at which `ok` is false, as an error about `field`.
+fn finite(field: &'static str, ok: impl Iterator<Item = bool>) -> Result<(), SceneError> {
+    match ok.enumerate().find(|(_, ok)| !ok) {
+        Some((index, _)) => Err(SceneError::NotFinite { field, index }),
+        None => Ok(()),
+    }
+}
+
+impl TriangleSource for Mesh {
+    fn triangle_count(&self) -> usize {
+        self.indices.len()
+    }
+
+    #[inline]
+    fn triangle(&self, index: u32) -> [Vec3; 3] {
+        Mesh::triangle(self, index)
+    }
+}

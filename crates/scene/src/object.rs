@@ -1,0 +1,116 @@
+//! Objects: geometry with its own acceleration structure, built lazily, the first time a ray
+//! reaches the object (seed: Wald, *Handling Dynamic Scenes*, DIGEST §1.3 and §4).
+
+use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
+use std::time::Instant;
+use std::sync::{Mutex, OnceLock};
+
+use raystage_kernel::{Aabb, BuildOptions, BuildQuality, Bvh8};
+
+use crate::mesh::Mesh;
+
+/// How an object's geometry changes over time, which decides how its tree is built.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ObjectKind {
+    /// Never changes: the best (binned SAH) tree, built once.
+    #[default]
+    Static,
+    /// Moves only through its instances' transforms: built once like a static object, never
+    /// rebuilt; rays are transformed into its space instead.
+    Animated,
+    /// Its geometry is redefined through the same id (every instance follows): the tree is
+    /// refitted while RT-DEFORM's degradation stays below [`REBUILD_DEGRADATION`], else rebuilt
+    /// with the fast builder.
+    Unstructured,
+}
+
+/// Degradation (see [`Bvh8::refit`]) past which a refitted tree is rebuilt: RT-DEFORM's threshold.
+pub const REBUILD_DEGRADATION: f32 = 0.4;
+
+/// Counts of the tree work done while tracing a frame; objects no ray reached do none.
+#[derive(Debug, Default)]
+pub struct BuildCounters {
+    /// Trees built from scratch.
+    pub built: AtomicU32,
+    /// Trees refitted to moved geometry.
+    pub refitted: AtomicU32,
+    /// Refits abandoned for a rebuild because the tree had degraded too far.
+    pub rebuilt: AtomicU32,
+    /// Nanoseconds spent building and refitting, summed over threads.
+    pub nanos: AtomicU64,
+}
+
+impl BuildCounters {
+    fn add(counter: &AtomicU32) {
+        counter.fetch_add(1, Ordering::Relaxed);
+    }
+}
+
+/// An object: its mesh, its kind, and its acceleration structure once a ray needed it.
+#[derive(Debug)]
+pub(crate) struct Object {
+    pub mesh: Mesh,
+    pub kind: ObjectKind,
+    pub bounds: Aabb,
+    /// The tree for the current geometry, built by the first ray that needs it.
+    accel: OnceLock<Bvh8>,
+    /// An unstructured object's tree for earlier geometry with the same triangles, waiting to be
+    /// refitted by the first ray that needs the new one.
+    previous: Mutex<Option<Bvh8>>,
+}
+
+impl Object {
+    /// A new object; nothing is built yet.
+    pub fn new(kind: ObjectKind, mesh: Mesh) -> Object {
+        Object { bounds: mesh.bounds(), mesh, kind, accel: OnceLock::new(), previous: Mutex::new(None) }
+    }
+
+    /// Replaces the geometry. An unstructured object with the same number of triangles keeps its
+    /// current tree for a refit; anything else starts over.
+    pub fn redefine(&mut self, mesh: Mesh) {
+        let same_triangles = mesh.indices.len() == self.mesh.indices.len();
+        let previous = self.previous.get_mut().unwrap_or_else(|e| e.into_inner());
+        match (self.kind, same_triangles, self.accel.take()) {
+            (ObjectKind::Unstructured, true, Some(tree)) => *previous = Some(tree),
+            (ObjectKind::Unstructured, true, None) => {}
+            _ => *previous = None,
+        }
+        self.bounds = mesh.bounds();
+        self.mesh = mesh;
+    }
+
+    /// Whether the tree for the current geometry exists.
+    pub fn is_built(&self) -> bool {
+        self.accel.get().is_some()
+    }
+
+    /// The tree for the current geometry, building (or refitting) it now if no ray has needed it
+    /// yet. Exactly one thread builds; the others wait for it.
+    pub fn accel(&self, counters: &BuildCounters) -> &Bvh8 {
+        self.accel.get_or_init(|| {
+            let start = Instant::now();
+            let tree = self.build(counters);
+            counters.nanos.fetch_add(start.elapsed().as_nanos() as u64, Ordering::Relaxed);
+            tree
+        })
+    }
+
+    fn build(&self, counters: &BuildCounters) -> Bvh8 {
+        if self.kind != ObjectKind::Unstructured {
+            BuildCounters::add(&counters.built);
+            return Bvh8::build(&self.mesh, &BuildOptions::default());
+        }
+        let previous = self.previous.lock().unwrap_or_else(|e| e.into_inner()).take();
+        if let Some(mut tree) = previous {
+            if tree.refit(&self.mesh) <= REBUILD_DEGRADATION {
+                BuildCounters::add(&counters.refitted);
+                return tree;
+            }
+            BuildCounters::add(&counters.rebuilt);
+        } else {
+            BuildCounters::add(&counters.built);
+        }
+        let fast = BuildOptions { quality: BuildQuality::Fast, refittable: true, ..BuildOptions::default() };
+        Bvh8::build(&self.mesh, &fast)
+    }
+}

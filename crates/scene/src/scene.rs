@@ -1,0 +1,251 @@
+//! The scene: the retained description every API edits. Objects, instances, shaders and lights
+//! refer to each other by id only; [`Scene::frame`] resolves the ids for rendering.
+
+use glam::Affine3A;
+
+use crate::camera::Camera;
+use crate::error::SceneError;
+use crate::frame::Frame;
+use crate::ids::{InstanceId, LightId, ObjectId, ShaderId, Table};
+use crate::instance::{Instance, validate_transform};
+use crate::light::Light;
+use crate::mesh::Mesh;
+use crate::object::{Object, ObjectKind};
+use crate::shader::{ParamValue, Shader};
+
+/// A retained two-level scene. Every edit is checked first and either happens entirely or
+/// returns an error and changes nothing.
+#[derive(Debug)]
+pub struct Scene {
+    objects: Table<Object>,
+    instances: Table<Instance>,
+    shaders: Table<Shader>,
+    lights: Table<Light>,
+    camera: Camera,
+    /// Shades triangles that have no shader of their own.
+    default_shader: Shader,
+}
+
+impl Default for Scene {
+    fn default() -> Self {
+        Scene::new()
+    }
+}
+
+impl Scene {
+    /// An empty scene with the default camera.
+    pub fn new() -> Scene {
+        Scene {
+            objects: Table::default(),
+            instances: Table::default(),
+            shaders: Table::default(),
+            lights: Table::default(),
+            camera: Camera::default(),
+            default_shader: Shader::new("Diffuse").expect("Diffuse is built in"),
+        }
+    }
+
+    // ----- objects -----
+
+    /// Reserves `n` consecutive object ids (`rtGenObjects`) without defining them; returns the
+    /// first.
+    pub fn reserve_objects(&mut self, n: u32) -> ObjectId {
+        ObjectId(self.objects.reserve(n))
+    }
+
+    /// Adds an object under a new id.
+    pub fn add_object(&mut self, kind: ObjectKind, mesh: Mesh) -> Result<ObjectId, SceneError> {
+        self.check_mesh(&mesh)?;
+        Ok(ObjectId(self.objects.insert(Object::new(kind, mesh))))
+    }
+
+    /// Defines a reserved object id, or redefines an existing object: every instance of it
+    /// follows. For an unstructured object with the same number of triangles, the next frame
+    /// refits its tree instead of rebuilding it. `kind` replaces the object's kind.
+    pub fn define_object(&mut self, id: ObjectId, kind: ObjectKind, mesh: Mesh) -> Result<(), SceneError> {
+        if !self.objects.is_reserved(id.0) {
+            return Err(SceneError::UnknownObject(id));
+        }
+        self.check_mesh(&mesh)?;
+        match self.objects.get_mut(id.0) {
+            Some(object) if object.kind == kind => object.redefine(mesh),
+            _ => {
+                self.objects.set(id.0, Object::new(kind, mesh));
+            }
+        }
+        Ok(())
+    }
+
+    /// Deletes an object and every instance of it.
+    pub fn delete_object(&mut self, id: ObjectId) -> Result<(), SceneError> {
+        self.objects.take(id.0).ok_or(SceneError::UnknownObject(id))?;
+        let doomed: Vec<u32> = self.instances.iter().filter(|(_, i)| i.object == id).map(|(k, _)| k).collect();
+        for k in doomed {
+            self.instances.take(k);
+        }
+        Ok(())
+    }
+
+    /// The object's mesh.
+    pub fn mesh(&self, id: ObjectId) -> Result<&Mesh, SceneError> {
+        Ok(&self.object_record(id).ok_or(SceneError::UnknownObject(id))?.mesh)
+    }
+
+    /// The object's kind.
+    pub fn object_kind(&self, id: ObjectId) -> Result<ObjectKind, SceneError> {
+        Ok(self.object_record(id).ok_or(SceneError::UnknownObject(id))?.kind)
+    }
+
+    /// The defined objects' ids.
+    pub fn object_ids(&self) -> impl Iterator<Item = ObjectId> + '_ {
+        self.objects.iter().map(|(id, _)| ObjectId(id))
+    }
+
+    /// Whether the object's tree for its current geometry exists (built by an earlier frame).
+    pub fn is_built(&self, id: ObjectId) -> Result<bool, SceneError> {
+        Ok(self.object_record(id).ok_or(SceneError::UnknownObject(id))?.is_built())
+    }
+
+    fn check_mesh(&self, mesh: &Mesh) -> Result<(), SceneError> {
+        mesh.validate()?;
+        match mesh.shaders.iter().find(|s| self.shaders.get(s.0).is_none()) {
+            Some(&unknown) => Err(SceneError::UnknownShader(unknown)),
+            None => Ok(()),
+        }
+    }
+
+    // ----- instances -----
+
+    /// Places an instance of `object` with the object-to-world `transform`.
+    pub fn add_instance(&mut self, object: ObjectId, transform: Affine3A) -> Result<InstanceId, SceneError> {
+        self.object_record(object).ok_or(SceneError::UnknownObject(object))?;
+        let start = validate_transform("transform", transform)?;
+        Ok(InstanceId(self.instances.insert(Instance { object, start, end: None })))
+    }
+
+    /// Moves an instance: its transform from now on, with no motion blur.
+    pub fn set_transform(&mut self, id: InstanceId, transform: Affine3A) -> Result<(), SceneError> {
+        self.set_motion(id, transform, None)
+    }
+
+    /// Moves an instance and sets its motion during the shutter: `start` at its opening, `end`
+    /// (if any) at its close.
+    pub fn set_motion(&mut self, id: InstanceId, start: Affine3A, end: Option<Affine3A>) -> Result<(), SceneError> {
+        let start = validate_transform("transform", start)?;
+        let end = end.map(|e| validate_transform("end_transform", e)).transpose()?;
+        let instance = self.instances.get_mut(id.0).ok_or(SceneError::UnknownInstance(id))?;
+        instance.start = start;
+        instance.end = end;
+        Ok(())
+    }
+
+    /// Removes an instance.
+    pub fn remove_instance(&mut self, id: InstanceId) -> Result<(), SceneError> {
+        self.instances.take(id.0).map(|_| ()).ok_or(SceneError::UnknownInstance(id))
+    }
+
+    /// Removes every instance (`rtDeleteAllInstances`); objects stay.
+    pub fn clear_instances(&mut self) {
+        self.instances = Table::default();
+    }
+
+    /// Every instance: id, object, transform.
+    pub fn instances(&self) -> impl Iterator<Item = (InstanceId, ObjectId, Affine3A)> + '_ {
+        self.instances.iter().map(|(id, i)| (InstanceId(id), i.object, i.start))
+    }
+
+    // ----- shaders -----
+
+    /// Reserves `n` consecutive shader ids (`rtGenShaders`); returns the first.
+    pub fn reserve_shaders(&mut self, n: u32) -> ShaderId {
+        ShaderId(self.shaders.reserve(n))
+    }
+
+    /// Adds a shader of class `class` under a new id.
+    pub fn add_shader(&mut self, class: &str) -> Result<ShaderId, SceneError> {
+        Ok(ShaderId(self.shaders.insert(Shader::new(class)?)))
+    }
+
+    /// Defines a reserved shader id as a shader of class `class` (parameters at their defaults),
+    /// or replaces an existing shader: every triangle bound to the id changes with it.
+    pub fn define_shader(&mut self, id: ShaderId, class: &str) -> Result<(), SceneError> {
+        if !self.shaders.is_reserved(id.0) {
+            return Err(SceneError::UnknownShader(id));
+        }
+        self.shaders.set(id.0, Shader::new(class)?);
+        Ok(())
+    }
+
+    /// Writes parameter `name` of a shader. `Ok(false)`: the shader's class does not export it,
+    /// and the write was ignored.
+    pub fn set_param(&mut self, id: ShaderId, name: &str, value: ParamValue) -> Result<bool, SceneError> {
+        self.shaders.get_mut(id.0).ok_or(SceneError::UnknownShader(id))?.set(name, value)
+    }
+
+    /// A shader.
+    pub fn shader(&self, id: ShaderId) -> Result<&Shader, SceneError> {
+        self.shaders.get(id.0).ok_or(SceneError::UnknownShader(id))
+    }
+
+    /// The shader of triangles that have none.
+    pub fn default_shader(&self) -> &Shader {
+        &self.default_shader
+    }
+
+    // ----- lights and camera -----
+
+    /// Adds a light.
+    pub fn add_light(&mut self, light: Light) -> Result<LightId, SceneError> {
+        light.validate()?;
+        Ok(LightId(self.lights.insert(light)))
+    }
+
+    /// Replaces a light.
+    pub fn set_light(&mut self, id: LightId, light: Light) -> Result<(), SceneError> {
+        light.validate()?;
+        *self.lights.get_mut(id.0).ok_or(SceneError::UnknownLight(id))? = light;
+        Ok(())
+    }
+
+    /// Removes a light.
+    pub fn remove_light(&mut self, id: LightId) -> Result<(), SceneError> {
+        self.lights.take(id.0).map(|_| ()).ok_or(SceneError::UnknownLight(id))
+    }
+
+    /// Every light with its id.
+    pub fn lights(&self) -> impl Iterator<Item = (LightId, &Light)> + '_ {
+        self.light_records().map(|(id, l)| (LightId(id), l))
+    }
+
+    /// Sets the camera.
+    pub fn set_camera(&mut self, camera: Camera) -> Result<(), SceneError> {
+        camera.validate()?;
+        self.camera = camera;
+        Ok(())
+    }
+
+    /// The camera.
+    pub fn camera(&self) -> &Camera {
+        &self.camera
+    }
+
+    // ----- frames -----
+
+    /// Freezes the scene for rendering: resolves every id, places the instances and builds the
+    /// top level. Object trees are built (or refitted) lazily, by the first ray that needs them.
+    pub fn frame(&self) -> Frame<'_> {
+        Frame::new(self)
+    }
+
+    pub(crate) fn object_record(&self, id: ObjectId) -> Option<&Object> {
+        self.objects.get(id.0)
+    }
+
+    pub(crate) fn instance_records(&self) -> impl Iterator<Item = (InstanceId, &Instance)> + '_ {
+        self.instances.iter().map(|(id, i)| (InstanceId(id), i))
+    }
+
+    pub(crate) fn light_records(&self) -> impl Iterator<Item = (u32, &Light)> + '_ {
+        self.lights.iter()
+    }
+}
