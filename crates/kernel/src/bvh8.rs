@@ -13,7 +13,7 @@ use crate::prepared::PreparedRay;
 use crate::ray::{Hit, Ray};
 use crate::traverse;
 use crate::triangle::TriangleSource;
-use crate::wide::{EMPTY, LEAF, Node8, WIDTH, area_ratio, collapse};
+use crate::wide::{EMPTY, LEAF, Node8, WIDTH, box_cost, collapse};
 
 /// Rays per packet of [`Bvh8::intersect_packets`].
 pub const PACKET_SIZE: usize = 8;
@@ -91,8 +91,9 @@ pub struct Bvh8 {
     pub(crate) root: u32,
     bounds: Aabb,
     depth: usize,
-    /// Per node, its area ratio at build time: the reference refits are measured against.
-    area_ratios: Vec<f32>,
+    /// The tree's box cost (see `wide::box_cost`) when it was built: what refits are measured
+    /// against.
+    built_cost: f32,
     isa: Isa,
 }
 
@@ -114,13 +115,14 @@ impl Bvh8 {
             blocks.push(TriBlock::new(tris, &bvh2.prims[first as usize..(first + count) as usize]));
             LEAF | (blocks.len() - 1) as u32
         });
+        let bounds = bvh2.bounds();
         Bvh8 {
+            built_cost: box_cost(&wide.nodes, &bounds),
             nodes: wide.nodes,
             blocks,
             root: wide.root,
-            bounds: bvh2.bounds(),
+            bounds,
             depth: wide.depth,
-            area_ratios: wide.area_ratios,
             isa: Isa::best(),
         }
     }
@@ -199,22 +201,25 @@ impl Bvh8 {
     /// bottom-up, keeping the tree's topology. Linear in the size of the tree and far cheaper than
     /// a rebuild, but the tree degrades as triangles drift apart.
     ///
-    /// Returns the degradation, RT-DEFORM's measure (seed DIGEST §1.3): over all nodes, the mean
-    /// growth since the build of a node's surface area relative to its children's. It is zero for
-    /// rigid motion and grows as the grouping of triangles stops matching their positions; the
-    /// seed rebuilds past 0.4.
+    /// Returns the degradation: how much more work a ray does in the refitted tree than in the
+    /// freshly built one, as the relative growth of the tree's surface-area cost (the summed
+    /// area of all child boxes over the tree's own). It is about zero for rigid motion and grows
+    /// as the grouping of triangles stops matching their positions. RT-DEFORM (seed DIGEST §1.3)
+    /// measures the same loosening node by node, by each node's area against its children's; the
+    /// whole-tree cost also catches children that swell together with their parent, as scattered
+    /// triangles make them.
     pub fn refit(&mut self, tris: &(impl TriangleSource + ?Sized)) -> f32 {
         self.blocks.par_iter_mut().with_min_len(1024).for_each(|b| *b = TriBlock::new(tris, &b.prim));
         if self.root == EMPTY {
             return 0.0;
         }
-        let mut growth = 0.0f64;
-        self.bounds = self.refit_below(self.root, &mut growth);
-        (growth / self.nodes.len().max(1) as f64) as f32
+        self.bounds = self.refit_below(self.root);
+        let cost = box_cost(&self.nodes, &self.bounds);
+        if self.built_cost > 0.0 { cost / self.built_cost - 1.0 } else { 0.0 }
     }
 
-    /// Refits the subtree under `link`, adding its nodes' area-ratio growth; returns its box.
-    fn refit_below(&mut self, link: u32, growth: &mut f64) -> Aabb {
+    /// Refits the subtree under `link`; returns its box.
+    fn refit_below(&mut self, link: u32) -> Aabb {
         if link & LEAF != 0 {
             return self.blocks[(link & !LEAF) as usize].bounds();
         }
@@ -223,14 +228,11 @@ impl Bvh8 {
         for lane in 0..WIDTH {
             let child = self.nodes[node].child[lane];
             if child != EMPTY {
-                let b = self.refit_below(child, growth);
+                let b = self.refit_below(child);
                 self.nodes[node].set_child(lane, &b, child);
                 bounds = bounds.union(b);
             }
         }
-        let n = &self.nodes[node];
-        let children = (0..WIDTH).filter(|&lane| n.child[lane] != EMPTY).map(|lane| n.child_bounds(lane));
-        *growth += f64::from(area_ratio(&bounds, children) - self.area_ratios[node]);
         bounds
     }
 

@@ -63,20 +63,28 @@ impl Node8 {
     }
 }
 
-/// The result of collapsing a binary tree: wide nodes in depth-first order, the root's link,
-/// the depth of the deepest leaf and, per node, its area ratio (see [`area_ratio`]).
+/// The result of collapsing a binary tree: wide nodes in depth-first order, the root's link and
+/// the depth of the deepest leaf.
 pub(crate) struct Collapsed {
     pub nodes: Vec<Node8>,
     pub root: u32,
     pub depth: usize,
-    pub area_ratios: Vec<f32>,
 }
 
-/// RT-DEFORM's measure of how well a node's children fill it: the node's surface area over the
-/// sum of its children's (seed DIGEST §1.3). It grows as children drift apart after refits.
-pub(crate) fn area_ratio(bounds: &Aabb, children: impl Iterator<Item = Aabb>) -> f32 {
-    let sum: f32 = children.map(|c| c.area()).sum();
-    if sum > 0.0 { bounds.area() / sum } else { 1.0 }
+/// The surface-area cost of a tree: the summed surface area of every child box, relative to the
+/// area of the whole tree's box. For uniformly distributed rays through the tree's box it is the
+/// expected number of child boxes entered, the SAH's measure of how much work a ray does; refits
+/// raise it as the boxes loosen around moving triangles.
+pub(crate) fn box_cost(nodes: &[Node8], bounds: &Aabb) -> f32 {
+    let area = bounds.area();
+    if area <= 0.0 {
+        return 0.0;
+    }
+    let sum: f64 = nodes
+        .iter()
+        .flat_map(|n| (0..WIDTH).filter(|&lane| n.child[lane] != EMPTY).map(|lane| f64::from(n.child_bounds(lane).area())))
+        .sum();
+    (sum / f64::from(area)) as f32
 }
 
 /// Collapses binary nodes (root at 0): starting from the two children of each binary node, the
@@ -84,7 +92,7 @@ pub(crate) fn area_ratio(bounds: &Aabb, children: impl Iterator<Item = Aabb>) ->
 /// eight slots are used or only leaves remain (the collapse of Embree's BVH8 builders). `leaf`
 /// turns a binary leaf (first, count) into a child link; `nodes` is where the wide nodes go.
 pub(crate) fn collapse(nodes2: &[Node2], mut nodes: Vec<Node8>, mut leaf: impl FnMut(u32, u32) -> u32) -> Collapsed {
-    let mut c = Collapsing { nodes2, nodes: &mut nodes, leaf: &mut leaf, depth: 0, area_ratios: Vec::new() };
+    let mut c = Collapsing { nodes2, nodes: &mut nodes, leaf: &mut leaf, depth: 0 };
     let root = match nodes2.first().map(|n| n.kind()) {
         None => EMPTY,
         Some(Node2Kind::Leaf { first, count }) => {
@@ -94,8 +102,8 @@ pub(crate) fn collapse(nodes2: &[Node2], mut nodes: Vec<Node8>, mut leaf: impl F
         Some(Node2Kind::Inner { .. }) => c.node(0, 1),
     };
     assert!(c.depth <= MAX_DEPTH, "BVH depth {} exceeds the traversal stack", c.depth);
-    let (depth, area_ratios) = (c.depth, c.area_ratios);
-    Collapsed { nodes, root, depth, area_ratios }
+    let depth = c.depth;
+    Collapsed { nodes, root, depth }
 }
 
 struct Collapsing<'a, F: FnMut(u32, u32) -> u32> {
@@ -103,7 +111,6 @@ struct Collapsing<'a, F: FnMut(u32, u32) -> u32> {
     nodes: &'a mut Vec<Node8>,
     leaf: &'a mut F,
     depth: usize,
-    area_ratios: Vec<f32>,
 }
 
 impl<F: FnMut(u32, u32) -> u32> Collapsing<'_, F> {
@@ -127,7 +134,6 @@ impl<F: FnMut(u32, u32) -> u32> Collapsing<'_, F> {
         }
         let at = self.nodes.len();
         self.nodes.push(Node8::UNUSED);
-        self.area_ratios.push(area_ratio(&nodes2[index as usize].bounds, kids.iter().map(|&k| nodes2[k as usize].bounds)));
         for (lane, &k) in kids.iter().enumerate() {
             let n = nodes2[k as usize];
             let link = match n.kind() {
