@@ -268,8 +268,14 @@ proptest! {
             let (Some(a), Some(c)) = (a, c) else { continue };
             let tolerance = 2e-4 * (1.0 + a.t.abs()) / cos;
             if a.prim != c.prim {
-                // Two triangles at the same spot: the distances must agree.
-                prop_assert!((a.t - c.t).abs() <= 5.0 * tolerance, "prims {} vs {}, t {} vs {}", a.prim, c.prim, a.t, c.t);
+                // Either two triangles at the same spot (the distances agree), or the ray passes
+                // within rounding of an edge of the nearer one, which one version then clips.
+                let near = if a.t < c.t { a } else { c };
+                let edge = near.u.min(near.v).min(1.0 - near.u - near.v);
+                prop_assert!(
+                    (a.t - c.t).abs() <= 5.0 * tolerance || edge < 1e-3,
+                    "prims {} vs {}, t {} vs {}, nearest edge at {edge}", a.prim, c.prim, a.t, c.t
+                );
                 continue;
             }
             prop_assert!((a.t - c.t).abs() <= tolerance, "t {} vs {} (cos {cos})", a.t, c.t);
