@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use raystage::RenderJob;
-use raystage_demo::StandardScene;
+use raystage_demo::animated::Demo;
 
 /// raystage: a ray-tracing rendering server.
 #[derive(Parser)]
@@ -17,11 +17,14 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Render one eye-light frame of a built-in demo scene to a PNG file.
+    /// Render one frame of a built-in demo scene to a PNG file.
     Render {
-        /// The demo scene: spheres (or sphere) or soup.
+        /// The demo scene: spheres (or sphere), soup, robots, museum, museum-<triangles>, terrain.
         #[arg(long, value_parser = raystage::parse_demo)]
-        demo: StandardScene,
+        demo: Demo,
+        /// The frame of an animated demo.
+        #[arg(long, default_value_t = 0)]
+        frame: u32,
         /// The PNG file to write.
         #[arg(long)]
         out: PathBuf,
@@ -39,8 +42,8 @@ enum Command {
 
 fn main() -> ExitCode {
     let result = match Cli::parse().command {
-        Command::Render { demo, out, width, height, threads } => {
-            raystage::render_demo(&RenderJob { demo, width, height, threads, out }, &mut std::io::stdout().lock())
+        Command::Render { demo, frame, out, width, height, threads } => {
+            raystage::render_demo(&RenderJob { demo, frame, width, height, threads, out }, &mut std::io::stdout().lock())
         }
     };
     match result {

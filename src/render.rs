@@ -5,7 +5,7 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail, ensure};
-use raystage_demo::StandardScene;
+use raystage_demo::animated::Demo;
 use raystage_render::{FrameStats, render_frame};
 
 /// Largest accepted image width or height in pixels.
@@ -18,7 +18,9 @@ pub const MAX_THREADS: usize = 1024;
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderJob {
     /// The demo scene.
-    pub demo: StandardScene,
+    pub demo: Demo,
+    /// The frame of an animated demo (0 for the first).
+    pub frame: u32,
     /// Image width in pixels, `1..=MAX_DIMENSION`.
     pub width: u32,
     /// Image height in pixels, `1..=MAX_DIMENSION`.
@@ -40,11 +42,11 @@ pub struct RenderReport {
     pub frame: FrameStats,
 }
 
-/// Parses a demo scene name: `spheres` (or `sphere`) or `soup`.
-pub fn parse_demo(name: &str) -> Result<StandardScene> {
-    match StandardScene::from_name(name) {
+/// Parses a demo scene name (see [`Demo::NAMES`]).
+pub fn parse_demo(name: &str) -> Result<Demo> {
+    match Demo::from_name(name) {
         Some(demo) => Ok(demo),
-        None => bail!("unknown demo scene `{name}`: expected spheres, sphere or soup"),
+        None => bail!("unknown demo scene `{name}`: expected {}", Demo::NAMES),
     }
 }
 
@@ -65,7 +67,7 @@ pub fn render_demo(job: &RenderJob, log: &mut impl Write) -> Result<RenderReport
     let pool = pool.build().context("cannot start the render threads")?;
     let mut out = File::create(&job.out).with_context(|| format!("cannot create {}", job.out.display()))?;
 
-    let scene = job.demo.scene().context("cannot build the demo scene")?;
+    let scene = job.demo.scene(job.frame).context("cannot build the demo scene")?;
     let (film, frame) = pool.install(|| render_frame(&scene.frame(), job.width, job.height));
     out.write_all(&film.encode_png()?).with_context(|| format!("cannot write {}", job.out.display()))?;
 

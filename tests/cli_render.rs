@@ -77,7 +77,7 @@ fn renders_the_sphere_grid_to_png() {
 fn an_unknown_demo_is_an_error() {
     let out = out_path("never.png");
     let stderr = failure(&["render", "--demo", "teapot", "--out", out.to_str().unwrap()]);
-    assert!(stderr.contains("unknown demo scene `teapot`: expected spheres, sphere or soup"), "{stderr}");
+    assert!(stderr.contains("unknown demo scene `teapot`: expected spheres, sphere, soup, robots, museum"), "{stderr}");
     assert!(!out.exists());
 }
 

@@ -10,6 +10,7 @@
 //!
 //! Not in here: acceleration structures, shading arithmetic, frame loops.
 
+pub mod animated;
 pub mod probe_math;
 mod scenes;
 

@@ -12,7 +12,7 @@ const TRIANGLES_PER_SPHERE: usize = 10_000;
 /// Triangles per colour group of the soup, which has no objects to colour by.
 const SOUP_GROUP: usize = 1024;
 /// Golden-ratio conjugate: stepping the hue by it keeps consecutive colours far apart.
-const HUE_STEP: f32 = 0.618_034;
+pub(crate) const HUE_STEP: f32 = 0.618_034;
 
 impl StandardScene {
     /// The scene ready to render: one static object holding the whole mesh, one instance.
@@ -51,14 +51,14 @@ impl StandardScene {
 }
 
 /// A Diffuse shader of the given albedo.
-fn diffuse(scene: &mut Scene, albedo: Vec3) -> Result<ShaderId, SceneError> {
+pub(crate) fn diffuse(scene: &mut Scene, albedo: Vec3) -> Result<ShaderId, SceneError> {
     let shader = scene.add_shader("Diffuse")?;
     scene.set_param(shader, "diffuse", ParamValue::Color(albedo))?;
     Ok(shader)
 }
 
 /// A pleasant, fairly saturated colour (linear RGB) for hue `hue` (wrapped to `[0, 1)`).
-fn palette(hue: f32) -> Vec3 {
+pub(crate) fn palette(hue: f32) -> Vec3 {
     let hue = hue.fract();
     let (saturation, value) = (0.55, 0.95);
     let channel = |n: f32| {

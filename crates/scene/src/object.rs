@@ -81,6 +81,14 @@ impl Object {
         self.mesh = mesh;
     }
 
+    /// Moves the vertices (same count), keeping the triangles: a redefinition that keeps the
+    /// topology, so an unstructured object's tree can be refitted.
+    pub fn move_vertices(&mut self, positions: Vec<glam::Vec3>) {
+        let mut mesh = std::mem::take(&mut self.mesh);
+        mesh.positions = positions;
+        self.redefine(mesh);
+    }
+
     /// Whether the tree for the current geometry exists.
     pub fn is_built(&self) -> bool {
         self.accel.get().is_some()

@@ -76,6 +76,23 @@ impl Scene {
         Ok(())
     }
 
+    /// Moves an object's vertices: `positions` replaces the mesh's positions, one per vertex, and
+    /// everything else stays. This is the cheap way to animate an unstructured object: its tree
+    /// is refitted by the next frame that needs it.
+    pub fn set_positions(&mut self, id: ObjectId, positions: Vec<glam::Vec3>) -> Result<(), SceneError> {
+        let object = self.objects.get(id.0).ok_or(SceneError::UnknownObject(id))?;
+        let expected = object.mesh.positions.len();
+        if positions.len() != expected {
+            return Err(SceneError::WrongLength { field: "positions", got: positions.len(), expected });
+        }
+        if let Some(index) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(SceneError::NotFinite { field: "positions", index });
+        }
+        let object = self.objects.get_mut(id.0).expect("checked above");
+        object.move_vertices(positions);
+        Ok(())
+    }
+
     /// Deletes an object and every instance of it.
     pub fn delete_object(&mut self, id: ObjectId) -> Result<(), SceneError> {
         self.objects.take(id.0).ok_or(SceneError::UnknownObject(id))?;

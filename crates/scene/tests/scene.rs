@@ -218,7 +218,7 @@ fn bad_input_names_the_problem_and_changes_nothing() {
 /// far-away tiny objects are the numerical hard cases' business).
 fn transform() -> impl Strategy<Value = Affine3A> {
     let axis = (-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0).prop_filter("axis", |(x, y, z)| x * x + y * y + z * z > 0.01);
-    (axis, 0.0f32..6.28, prop::sample::select(vec![1e-2f32, 0.5, 1.0, 3.0, 100.0]), any::<bool>(), (-50.0f32..50.0, -50.0f32..50.0, -50.0f32..50.0))
+    (axis, 0.0f32..std::f32::consts::TAU, prop::sample::select(vec![1e-2f32, 0.5, 1.0, 3.0, 100.0]), any::<bool>(), (-50.0f32..50.0, -50.0f32..50.0, -50.0f32..50.0))
         .prop_map(|((x, y, z), angle, scale, mirror, (tx, ty, tz))| {
             let scale = Vec3::new(if mirror { -scale } else { scale }, scale, scale);
             let translation = Vec3::new(tx, ty, tz) * scale.y;

@@ -1,0 +1,164 @@
+//! Animated scenes after the BART benchmark (Lext, Assarsson and Möller 2000, described in the
+//! seeds, DIGEST §5): robots walking through a city (hierarchical motion), a museum of triangles
+//! morphing from a cloud into a sphere (unstructured motion), and a terrain covered with hundreds
+//! of instanced trees. Each is procedural, deterministic, and described independently of any
+//! renderer, so that the benchmark can drive raystage and Embree with the same frames.
+
+mod museum;
+mod parts;
+mod robots;
+mod terrain;
+
+use glam::{Affine3A, Vec3};
+use raystage_scene::{Camera, InstanceId, Light, Mesh as SceneMesh, ObjectId, ObjectKind, Scene, SceneError};
+
+pub use museum::Museum;
+pub use robots::Robots;
+pub use terrain::Terrain;
+
+use crate::Mesh;
+
+/// An object of an animated scene: how it changes, and its geometry at frame 0.
+pub struct AnimatedObject {
+    /// Static, animated (moved by instances only) or unstructured (its vertices move).
+    pub kind: ObjectKind,
+    /// The geometry at frame 0.
+    pub mesh: Mesh,
+}
+
+/// The view of an animated scene.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct View {
+    /// Eye position.
+    pub eye: Vec3,
+    /// Point looked at.
+    pub target: Vec3,
+    /// Vertical field of view in degrees.
+    pub fov_y_degrees: f32,
+    /// Direction the sunlight travels in.
+    pub sun: Vec3,
+}
+
+/// An animated scene: objects defined once, instances placed every frame, and for unstructured
+/// objects new vertex positions every frame.
+pub trait Animation: Sync {
+    /// Short name, as on the command line.
+    fn name(&self) -> String;
+    /// The objects (their index is their id in [`Animation::instances`]).
+    fn objects(&self) -> Vec<AnimatedObject>;
+    /// The instances at frame `frame`: object index and object-to-world transform. The same
+    /// number of instances, in the same order, every frame.
+    fn instances(&self, frame: u32) -> Vec<(usize, Affine3A)>;
+    /// New vertex positions of the unstructured objects at frame `frame` (same vertex count).
+    fn deform(&self, frame: u32) -> Vec<(usize, Vec<Vec3>)>;
+    /// Camera and sun.
+    fn view(&self) -> View;
+}
+
+/// An animation loaded into a retained scene, ready to be advanced frame by frame.
+pub struct Staged {
+    /// The scene: objects coloured by index (the first one grey), the view's camera and sun.
+    pub scene: Scene,
+    objects: Vec<ObjectId>,
+    instances: Vec<InstanceId>,
+}
+
+impl Staged {
+    /// Loads `animation` at frame 0.
+    pub fn new(animation: &dyn Animation) -> Result<Staged, SceneError> {
+        let mut scene = Scene::new();
+        let mut objects = Vec::new();
+        for (k, object) in animation.objects().into_iter().enumerate() {
+            let albedo = if k == 0 { Vec3::splat(0.6) } else { crate::scenes::palette(k as f32 * crate::scenes::HUE_STEP) };
+            let shader = crate::scenes::diffuse(&mut scene, albedo)?;
+            let mesh = SceneMesh { positions: object.mesh.vertices, indices: object.mesh.indices, ..SceneMesh::default() };
+            objects.push(scene.add_object(object.kind, mesh.with_shader(shader))?);
+        }
+        let instances = animation
+            .instances(0)
+            .into_iter()
+            .map(|(object, t)| scene.add_instance(objects[object], t))
+            .collect::<Result<Vec<_>, _>>()?;
+        let view = animation.view();
+        scene.set_camera(Camera::look_at(view.eye, view.target, Vec3::Y, view.fov_y_degrees)?)?;
+        scene.add_light(Light::Directional { direction: view.sun, intensity: Vec3::splat(0.9 * std::f32::consts::PI) })?;
+        scene.add_light(Light::Directional { direction: Vec3::new(0.4, -0.5, 1.0), intensity: Vec3::splat(0.25 * std::f32::consts::PI) })?;
+        Ok(Staged { scene, objects, instances })
+    }
+
+    /// Moves the scene to a frame of the animation: `instances` and `deformed` as returned by
+    /// [`Animation::instances`] and [`Animation::deform`] for that frame.
+    pub fn advance(&mut self, instances: &[(usize, Affine3A)], deformed: Vec<(usize, Vec<Vec3>)>) -> Result<(), SceneError> {
+        for (&id, &(_, t)) in self.instances.iter().zip(instances) {
+            self.scene.set_transform(id, t)?;
+        }
+        for (object, positions) in deformed {
+            self.scene.set_positions(self.objects[object], positions)?;
+        }
+        Ok(())
+    }
+}
+
+/// Every built-in demo, by name: the two standard scenes and the three animated ones.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Demo {
+    /// A standard benchmark scene.
+    Standard(crate::StandardScene),
+    /// [`Robots`].
+    Robots,
+    /// [`Museum`] with this many moving triangles.
+    Museum(usize),
+    /// [`Terrain`].
+    Terrain,
+}
+
+impl Demo {
+    /// The names [`Demo::from_name`] accepts.
+    pub const NAMES: &'static str = "spheres, sphere, soup, robots, museum, museum-<triangles>, terrain";
+
+    /// Parses a demo name (see [`Demo::NAMES`]); `museum` has 16,384 triangles.
+    pub fn from_name(name: &str) -> Option<Demo> {
+        if let Some(standard) = crate::StandardScene::from_name(name) {
+            return Some(Demo::Standard(standard));
+        }
+        match name {
+            "robots" => Some(Demo::Robots),
+            "museum" => Some(Demo::Museum(16_384)),
+            "terrain" => Some(Demo::Terrain),
+            _ => name.strip_prefix("museum-").and_then(|n| n.parse().ok()).filter(|&n| (1..=4_000_000).contains(&n)).map(Demo::Museum),
+        }
+    }
+
+    /// The demo's name.
+    pub fn name(&self) -> String {
+        match self {
+            Demo::Standard(s) => s.name().into(),
+            Demo::Robots => "robots".into(),
+            Demo::Museum(n) => format!("museum-{n}"),
+            Demo::Terrain => "terrain".into(),
+        }
+    }
+
+    /// The animation, for the animated demos.
+    pub fn animation(&self) -> Option<Box<dyn Animation>> {
+        match *self {
+            Demo::Standard(_) => None,
+            Demo::Robots => Some(Box::new(Robots)),
+            Demo::Museum(n) => Some(Box::new(Museum::new(n))),
+            Demo::Terrain => Some(Box::new(Terrain)),
+        }
+    }
+
+    /// The demo as a retained scene at frame `frame` (still scenes ignore the frame).
+    pub fn scene(&self, frame: u32) -> Result<Scene, SceneError> {
+        let Some(animation) = self.animation() else {
+            let Demo::Standard(standard) = self else { unreachable!("only standard scenes are still") };
+            return standard.scene();
+        };
+        let mut staged = Staged::new(animation.as_ref())?;
+        if frame > 0 {
+            staged.advance(&animation.instances(frame), animation.deform(frame))?;
+        }
+        Ok(staged.scene)
+    }
+}
