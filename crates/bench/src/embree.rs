@@ -12,6 +12,9 @@ type RtcScene = *mut c_void;
 type RtcGeometry = *mut c_void;
 
 const GEOMETRY_TYPE_TRIANGLE: u32 = 0;
+const GEOMETRY_TYPE_INSTANCE: u32 = 121;
+const FORMAT_FLOAT3X4_COLUMN_MAJOR: u32 = 0x9234;
+const SCENE_FLAG_DYNAMIC: u32 = 1;
 const BUFFER_TYPE_INDEX: u32 = 0;
 const BUFFER_TYPE_VERTEX: u32 = 1;
 const FORMAT_UINT3: u32 = 0x5003;
@@ -107,16 +110,37 @@ unsafe extern "C" {
     fn rtcAttachGeometry(scene: RtcScene, geometry: RtcGeometry) -> u32;
     fn rtcReleaseGeometry(geometry: RtcGeometry);
     fn rtcIntersect1(scene: RtcScene, context: *mut RtcIntersectContext, rayhit: *mut RtcRayHit);
+    fn rtcOccluded1(scene: RtcScene, context: *mut RtcIntersectContext, ray: *mut RtcRay);
+    fn rtcSetSceneFlags(scene: RtcScene, flags: u32);
+    fn rtcSetGeometryInstancedScene(geometry: RtcGeometry, scene: RtcScene);
+    fn rtcSetGeometryTransform(geometry: RtcGeometry, time_step: u32, format: u32, xfm: *const c_void);
+    fn rtcUpdateGeometryBuffer(geometry: RtcGeometry, kind: u32, slot: u32);
     fn rtcIntersect8(valid: *const i32, scene: RtcScene, context: *mut RtcIntersectContext, rayhit: *mut RtcRayHit8);
 }
 
 /// Embree's BVH build quality.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Quality {
+    /// `RTC_BUILD_QUALITY_LOW`: Morton-code build, for geometry rebuilt every frame.
+    Low = 0,
     /// `RTC_BUILD_QUALITY_MEDIUM`: binned SAH.
     Medium = 1,
     /// `RTC_BUILD_QUALITY_HIGH`: SAH with spatial splits.
     High = 2,
+    /// `RTC_BUILD_QUALITY_REFIT`: refit the existing BVH when geometry changes.
+    Refit = 3,
+}
+
+impl Quality {
+    /// Embree's name for it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Quality::Low => "LOW",
+            Quality::Medium => "MEDIUM",
+            Quality::High => "HIGH",
+            Quality::Refit => "REFIT",
+        }
+    }
 }
 
 /// An Embree device with a fixed number of build threads.
@@ -257,5 +281,182 @@ impl Drop for Scene {
     fn drop(&mut self) {
         // SAFETY: created by rtcNewScene, released once.
         unsafe { rtcReleaseScene(self.raw) }
+    }
+}
+
+impl RtcRay {
+    fn from(ray: &Ray) -> RtcRay {
+        RtcRay {
+            org: ray.origin.to_array(),
+            tnear: ray.tnear,
+            dir: ray.dir.to_array(),
+            time: 0.0,
+            tfar: ray.tfar,
+            mask: u32::MAX,
+            id: 0,
+            flags: 0,
+        }
+    }
+}
+
+/// One object of a two-level scene: an Embree scene holding its triangles.
+struct ObjectScene {
+    scene: RtcScene,
+    geometry: RtcGeometry,
+    /// Embree's vertex buffer, for moving the vertices of a dynamic object.
+    vertices: *mut [f32; 3],
+    vertex_count: usize,
+}
+
+/// A two-level Embree scene: one scene per object, committed once, and a top-level scene of
+/// instances (`RTC_GEOMETRY_TYPE_INSTANCE`) whose transforms change every frame.
+pub struct InstancedScene {
+    objects: Vec<ObjectScene>,
+    instances: Vec<RtcGeometry>,
+    top: RtcScene,
+}
+
+// SAFETY: a committed Embree scene may be queried from any number of threads at once; updates
+// take `&mut self`.
+unsafe impl Send for InstancedScene {}
+unsafe impl Sync for InstancedScene {}
+
+/// The first three rows of an affine transform, column-major (Embree's 3×4 format).
+fn columns(t: &glam::Affine3A) -> [f32; 12] {
+    t.to_cols_array()
+}
+
+impl InstancedScene {
+    /// Builds every object with its quality (`dynamic` objects get Embree's dynamic flag) and
+    /// the top level (`top_quality`) over `instances` (object index, object to world); returns
+    /// the scene and the seconds Embree spent committing.
+    pub fn build(
+        device: &Device,
+        objects: &[(&Mesh, Quality, bool)],
+        instances: &[(usize, glam::Affine3A)],
+        top_quality: Quality,
+    ) -> (InstancedScene, f64) {
+        let mut seconds = 0.0;
+        // SAFETY: buffers are sized by Embree for exactly the items written; every handle is
+        // released once, in `drop`.
+        unsafe {
+            let objects: Vec<ObjectScene> = objects
+                .iter()
+                .map(|&(mesh, quality, dynamic)| {
+                    let scene = rtcNewScene(device.raw);
+                    if dynamic {
+                        rtcSetSceneFlags(scene, SCENE_FLAG_DYNAMIC);
+                    }
+                    rtcSetSceneBuildQuality(scene, if quality == Quality::Refit { Quality::Low as u32 } else { quality as u32 });
+                    let geometry = rtcNewGeometry(device.raw, GEOMETRY_TYPE_TRIANGLE);
+                    rtcSetGeometryBuildQuality(geometry, quality as u32);
+                    let vb = rtcSetNewGeometryBuffer(geometry, BUFFER_TYPE_VERTEX, 0, FORMAT_FLOAT3, 12, mesh.vertices.len())
+                        .cast::<[f32; 3]>();
+                    for (i, v) in mesh.vertices.iter().enumerate() {
+                        vb.add(i).write(v.to_array());
+                    }
+                    let ib = rtcSetNewGeometryBuffer(geometry, BUFFER_TYPE_INDEX, 0, FORMAT_UINT3, 12, mesh.indices.len())
+                        .cast::<[u32; 3]>();
+                    for (i, t) in mesh.indices.iter().enumerate() {
+                        ib.add(i).write(*t);
+                    }
+                    let start = Instant::now();
+                    rtcCommitGeometry(geometry);
+                    rtcAttachGeometry(scene, geometry);
+                    rtcCommitScene(scene);
+                    seconds += start.elapsed().as_secs_f64();
+                    ObjectScene { scene, geometry, vertices: vb, vertex_count: mesh.vertices.len() }
+                })
+                .collect();
+            let top = rtcNewScene(device.raw);
+            rtcSetSceneFlags(top, SCENE_FLAG_DYNAMIC);
+            rtcSetSceneBuildQuality(top, top_quality as u32);
+            let start = Instant::now();
+            let instances = instances
+                .iter()
+                .map(|(object, t)| {
+                    let g = rtcNewGeometry(device.raw, GEOMETRY_TYPE_INSTANCE);
+                    rtcSetGeometryInstancedScene(g, objects[*object].scene);
+                    rtcSetGeometryBuildQuality(g, top_quality as u32);
+                    rtcSetGeometryTransform(g, 0, FORMAT_FLOAT3X4_COLUMN_MAJOR, columns(t).as_ptr().cast());
+                    rtcCommitGeometry(g);
+                    rtcAttachGeometry(top, g);
+                    g
+                })
+                .collect();
+            rtcCommitScene(top);
+            seconds += start.elapsed().as_secs_f64();
+            (InstancedScene { objects, instances, top }, seconds)
+        }
+    }
+
+    /// Moves to the next frame: writes the deformed objects' vertices (not timed, like the
+    /// probe's own vertex update), then sets every instance transform, commits the changed
+    /// geometry and the top level; returns the seconds of those Embree calls.
+    pub fn update(&mut self, instances: &[(usize, glam::Affine3A)], deformed: &[(usize, Vec<glam::Vec3>)]) -> f64 {
+        // SAFETY: the vertex buffers hold exactly `vertex_count` vertices and stay alive with the
+        // geometry; the lengths are checked.
+        unsafe {
+            for (object, positions) in deformed {
+                let o = &self.objects[*object];
+                assert_eq!(positions.len(), o.vertex_count, "same vertex count every frame");
+                for (i, p) in positions.iter().enumerate() {
+                    o.vertices.add(i).write(p.to_array());
+                }
+            }
+            let start = Instant::now();
+            for (object, _) in deformed {
+                let o = &self.objects[*object];
+                rtcUpdateGeometryBuffer(o.geometry, BUFFER_TYPE_VERTEX, 0);
+                rtcCommitGeometry(o.geometry);
+                rtcCommitScene(o.scene);
+            }
+            for (g, (_, t)) in self.instances.iter().zip(instances) {
+                rtcSetGeometryTransform(*g, 0, FORMAT_FLOAT3X4_COLUMN_MAJOR, columns(t).as_ptr().cast());
+                rtcCommitGeometry(*g);
+            }
+            rtcCommitScene(self.top);
+            start.elapsed().as_secs_f64()
+        }
+    }
+
+    /// `rtcIntersect1` on the top level: the closest hit distance.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray) -> Option<f32> {
+        let mut rh = RtcRayHit {
+            ray: RtcRay::from(ray),
+            hit: RtcHit { ng: [0.0; 3], u: 0.0, v: 0.0, prim_id: 0, geom_id: INVALID_GEOMETRY_ID, inst_id: [INVALID_GEOMETRY_ID] },
+        };
+        let mut context = RtcIntersectContext::new();
+        // SAFETY: committed scene, valid ray/hit and context structs.
+        unsafe { rtcIntersect1(self.top, &mut context, &mut rh) };
+        (rh.hit.geom_id != INVALID_GEOMETRY_ID).then_some(rh.ray.tfar)
+    }
+
+    /// `rtcOccluded1` on the top level: whether anything blocks the segment.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray) -> bool {
+        let mut r = RtcRay::from(ray);
+        let mut context = RtcIntersectContext::new();
+        // SAFETY: committed scene, valid ray and context structs.
+        unsafe { rtcOccluded1(self.top, &mut context, &mut r) };
+        // Embree marks an occluded ray by setting its tfar to −∞.
+        r.tfar == f32::NEG_INFINITY
+    }
+}
+
+impl Drop for InstancedScene {
+    fn drop(&mut self) {
+        // SAFETY: each handle was created once above and is released once here.
+        unsafe {
+            for g in &self.instances {
+                rtcReleaseGeometry(*g);
+            }
+            rtcReleaseScene(self.top);
+            for o in &self.objects {
+                rtcReleaseGeometry(o.geometry);
+                rtcReleaseScene(o.scene);
+            }
+        }
     }
 }

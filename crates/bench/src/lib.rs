@@ -7,6 +7,7 @@
 
 #[cfg(feature = "embree")]
 pub mod embree;
+pub mod dynamic;
 pub mod kernel;
 pub mod rays;
 pub mod table;

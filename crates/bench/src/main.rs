@@ -1,7 +1,8 @@
 //! `raystage-bench`: command-line front end of the benchmark harness.
 
 use clap::{Parser, Subcommand};
-use raystage_bench::{kernel, table};
+use raystage_bench::{dynamic, kernel, table};
+use raystage_demo::animated::{Animation, Museum, Robots, Still, Terrain};
 use raystage_demo::StandardScene;
 
 #[derive(Parser)]
@@ -28,10 +29,75 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Animated scenes updated and traced frame by frame (robots, museum, terrain).
+    Dynamic {
+        /// `robots`, `museum`, `terrain` or `all`.
+        #[arg(long, default_value = "all")]
+        scene: String,
+        /// Moving triangles of the museum (default: 1024, 4096, 16384 and 65536 in turn).
+        #[arg(long)]
+        triangles: Option<usize>,
+        /// Frames after the first.
+        #[arg(long, default_value_t = 20)]
+        frames: u32,
+        /// Threads tracing (and building).
+        #[arg(long, default_value_t = 1)]
+        threads: usize,
+        /// Print one JSON object per system and scene instead of tables.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 fn main() {
     match Cli::parse().command {
+        Command::Dynamic { scene, triangles, frames, threads, json } => {
+            let museum_sizes = triangles.map_or(vec![1024, 4096, 16384, 65536], |n| vec![n]);
+            let animations: Vec<Box<dyn Animation>> = match scene.as_str() {
+                "robots" => vec![Box::new(Robots)],
+                "museum" => museum_sizes.iter().map(|&n| Box::new(Museum::new(n)) as Box<dyn Animation>).collect(),
+                "terrain" => vec![Box::new(Terrain), Box::new(Still(StandardScene::Spheres))],
+                "all" => {
+                    let mut all: Vec<Box<dyn Animation>> = vec![Box::new(Robots)];
+                    all.extend(museum_sizes.iter().map(|&n| Box::new(Museum::new(n)) as Box<dyn Animation>));
+                    all.push(Box::new(Terrain));
+                    all.push(Box::new(Still(StandardScene::Spheres)));
+                    all
+                }
+                other => {
+                    eprintln!("error: unknown scene `{other}` (expected robots, museum, terrain or all)");
+                    std::process::exit(2);
+                }
+            };
+            if !cfg!(feature = "embree") {
+                eprintln!("note: built without the `embree` feature; only raystage is measured");
+            }
+            for animation in animations {
+                let name = animation.name();
+                eprintln!("{name}: raystage");
+                #[cfg_attr(not(feature = "embree"), allow(unused_mut))]
+                let mut runs = vec![dynamic::run_raystage(animation.as_ref(), frames, threads.max(1))];
+                #[cfg(feature = "embree")]
+                {
+                    use raystage_bench::embree::Quality;
+                    let moving = animation.objects().iter().any(|o| o.kind == raystage_scene::ObjectKind::Unstructured);
+                    let qualities = if moving { vec![Quality::Low, Quality::Refit] } else { vec![Quality::Low] };
+                    for q in qualities {
+                        eprintln!("{name}: embree {}", q.name());
+                        runs.push(dynamic::run_embree(animation.as_ref(), frames, threads.max(1), q));
+                    }
+                }
+                let triangles = dynamic::instanced_triangles(animation.as_ref());
+                let instances = animation.instances(0).len();
+                if json {
+                    for r in &runs {
+                        println!("{}", serde_json::to_string(&r.report(&name, threads, triangles, instances)).expect("report serialises"));
+                    }
+                } else {
+                    print!("{}", table::dynamic_table(&name, triangles, instances, frames as usize, threads, &runs));
+                }
+            }
+        }
         Command::Kernel { scene, threads, reps, json } => {
             let scenes = match scene.as_str() {
                 "all" => StandardScene::ALL.to_vec(),

@@ -78,3 +78,50 @@ pub fn kernel_table(run: &SceneRun) -> String {
     }
     out
 }
+
+/// The dynamic benchmark of one scene as a table: one column per system, medians per frame,
+/// and each other system's frame time relative to raystage's (below 1 means raystage is faster).
+pub fn dynamic_table(scene: &str, triangles: u64, instances: usize, frames: usize, threads: usize, runs: &[crate::dynamic::SystemRun]) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "scene {scene}: {instances} instances, {triangles} triangles after instancing; {}x{} primary + shadow rays; medians over frames 1..={frames}; {threads} thread(s)",
+        crate::dynamic::WIDTH,
+        crate::dynamic::HEIGHT
+    );
+    let reports: Vec<_> = runs.iter().map(|r| r.report(scene, threads, triangles, instances)).collect();
+    let _ = write!(out, "  {:<22}", "");
+    for r in &reports {
+        let _ = write!(out, "{:>16}", r.system);
+    }
+    let _ = writeln!(out);
+    type Column = fn(&crate::dynamic::DynamicReport) -> f64;
+    let rows: [(&str, Column); 6] = [
+        ("first frame ms", |r| r.first_frame_ms),
+        ("update ms / frame", |r| r.update_ms),
+        ("trace ms / frame", |r| r.trace_ms),
+        ("frame ms", |r| r.frame_ms),
+        ("frames / s", |r| r.fps),
+        ("Mrays / s (tracing)", |r| r.mrays),
+    ];
+    for (name, get) in rows {
+        let _ = write!(out, "  {name:<22}");
+        for r in &reports {
+            let _ = write!(out, "{:>16.3}", get(r));
+        }
+        let _ = writeln!(out);
+    }
+    if let Some(ours) = reports.iter().find(|r| r.system == "raystage") {
+        for theirs in reports.iter().filter(|r| r.system != "raystage") {
+            let _ = writeln!(
+                out,
+                "  raystage / {}: frame time {:.2}x, update {:.2}x, trace {:.2}x",
+                theirs.system,
+                ours.frame_ms / theirs.frame_ms,
+                ours.update_ms / theirs.update_ms,
+                ours.trace_ms / theirs.trace_ms
+            );
+        }
+    }
+    out
+}

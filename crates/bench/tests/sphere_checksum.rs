@@ -29,6 +29,7 @@ fn sphere_scene_checksums() {
     #[cfg(feature = "embree")]
     {
         use raystage_bench::embree::{Device, Quality, Scene};
+        use raystage_bench::kernel::Tracer;
         let device = Device::new(2).expect("Embree device");
         let (embree, _) = Scene::build(&device, &mesh, Quality::High);
         let theirs = trace_all(&embree as &dyn Tracer, &primary, 1, Api::Single);

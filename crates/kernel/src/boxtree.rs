@@ -5,7 +5,6 @@ use crate::aabb::Aabb;
 use crate::build::build_over_boxes;
 use crate::isa::Isa;
 use crate::prepared::PreparedRay;
-use crate::ray::Ray;
 use crate::traverse;
 use crate::wide::{LEAF, Node8, collapse};
 
@@ -65,8 +64,8 @@ impl BoxTree {
     /// the new closest distance (`tfar` itself if it found nothing closer). Boxes that start
     /// beyond the closest hit are skipped, with the kernel's conservative rounding (a box that
     /// starts exactly at `tfar` is still visited, so ties can be resolved by the caller).
-    pub fn closest(&self, ray: &Ray, visit: impl FnMut(u32, f32) -> f32) {
-        let pre = PreparedRay::new(ray);
+    pub fn closest(&self, ray: &PreparedRay, visit: impl FnMut(u32, f32) -> f32) {
+        let pre = *ray;
         match self.isa {
             // SAFETY: `isa` is only ever set to a flavour `is_supported` confirmed on this CPU.
             #[cfg(target_arch = "x86_64")]
@@ -77,8 +76,8 @@ impl BoxTree {
 
     /// An any-hit walk: `visit(item)` is called for the boxes the ray's segment touches until it
     /// returns `true`; returns whether it did.
-    pub fn any(&self, ray: &Ray, visit: impl FnMut(u32) -> bool) -> bool {
-        let pre = PreparedRay::new(ray);
+    pub fn any(&self, ray: &PreparedRay, visit: impl FnMut(u32) -> bool) -> bool {
+        let pre = *ray;
         match self.isa {
             // SAFETY: as in `closest`.
             #[cfg(target_arch = "x86_64")]

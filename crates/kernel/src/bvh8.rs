@@ -149,7 +149,13 @@ impl Bvh8 {
     /// triangle index (so results equal [`crate::brute::intersect`] exactly).
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
-        let pre = PreparedRay::new(ray);
+        self.intersect_prepared(&PreparedRay::new(ray))
+    }
+
+    /// [`Bvh8::intersect`] for a ray prepared once for several trees.
+    #[inline]
+    pub fn intersect_prepared(&self, pre: &PreparedRay) -> Option<Hit> {
+        let pre = *pre;
         match self.isa {
             // SAFETY: `isa` is only ever set to a flavour `is_supported` confirmed on this CPU.
             #[cfg(target_arch = "x86_64")]
@@ -187,7 +193,13 @@ impl Bvh8 {
     /// Whether anything is hit in `(tnear, tfar]`; stops at the first hit found.
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
-        let pre = PreparedRay::new(ray);
+        self.occluded_prepared(&PreparedRay::new(ray))
+    }
+
+    /// [`Bvh8::occluded`] for a ray prepared once for several trees.
+    #[inline]
+    pub fn occluded_prepared(&self, pre: &PreparedRay) -> bool {
+        let pre = *pre;
         match self.isa {
             // SAFETY: as in `intersect`.
             #[cfg(target_arch = "x86_64")]

@@ -44,5 +44,6 @@ pub use build::{BuildOptions, BuildQuality, MAX_BINS, MAX_LEAF_SIZE};
 pub use bvh2::Bvh2;
 pub use bvh8::{Bvh8, Bvh8Stats, PACKET_SIZE};
 pub use isa::Isa;
+pub use prepared::PreparedRay;
 pub use ray::{Hit, Ray};
 pub use triangle::{IndexedMesh, TriangleSource, geometric_normal};

@@ -6,7 +6,7 @@
 
 use glam::Vec3;
 use proptest::prelude::*;
-use raystage_kernel::{Aabb, BoxTree, BuildOptions, BuildQuality, Bvh2, Bvh8, Hit, Isa, Ray, brute};
+use raystage_kernel::{Aabb, BoxTree, BuildOptions, BuildQuality, Bvh2, Bvh8, Hit, Isa, PreparedRay, Ray, brute};
 
 /// Checks one ray against every layout and instruction set, closest and any hit.
 fn check_ray(tris: &Vec<[Vec3; 3]>, bvh2: &Bvh2, bvh8s: &[Bvh8], ray: &Ray) -> Result<(), TestCaseError> {
@@ -185,7 +185,7 @@ proptest! {
             prop_assert_eq!(tree.len(), tris.len());
             for r in &rays {
                 let mut best: Option<Hit> = None;
-                tree.closest(r, |item, tfar| {
+                tree.closest(&PreparedRay::new(r), |item, tfar| {
                     let one = [tris[item as usize]];
                     let seg = Ray::segment(r.origin, r.dir, r.tnear, tfar);
                     match brute::intersect(&one[..], &seg) {
@@ -197,7 +197,7 @@ proptest! {
                     }
                 });
                 prop_assert_eq!(best, brute::intersect(&tris, r), "{} box tree closest, ray {:?}", isa.name(), r);
-                let any = tree.any(r, |item| brute::occluded(&[tris[item as usize]][..], r));
+                let any = tree.any(&PreparedRay::new(r), |item| brute::occluded(&[tris[item as usize]][..], r));
                 prop_assert_eq!(any, brute::occluded(&tris, r));
             }
         }

@@ -6,7 +6,7 @@ use std::collections::HashSet;
 use std::time::Instant;
 
 use glam::{Vec2, Vec3};
-use raystage_kernel::{BoxTree, Ray};
+use raystage_kernel::{BoxTree, PreparedRay, Ray};
 
 use crate::camera::Camera;
 use crate::ids::{InstanceId, ObjectId};
@@ -131,11 +131,19 @@ impl<'a> Frame<'a> {
     /// The closest hit of `ray` at shutter time `time` in `[0, 1]` (0 for a still frame). Ties
     /// between instances at exactly the same distance go to the earlier instance.
     pub fn intersect(&self, ray: &Ray, time: f32) -> Option<SceneHit> {
+        // Prepared once: instances placed by the identity trace the world ray as it is.
+        let world = PreparedRay::new(ray);
         let mut best: Option<SceneHit> = None;
-        self.top.closest(ray, |item, tfar| {
+        self.top.closest(&world, |item, tfar| {
             let fi = &self.instances[item as usize];
-            let local = Ray { tfar, ..fi.placed_at(time).ray_to_object(ray) };
-            let Some(h) = fi.object.accel(&self.counters).intersect(&local) else {
+            let placed = fi.placed_at(time);
+            let bvh = fi.object.accel(&self.counters);
+            let found = if placed.identity {
+                bvh.intersect_prepared(&world.with_tfar(tfar))
+            } else {
+                bvh.intersect(&Ray { tfar, ..placed.ray_to_object(ray) })
+            };
+            let Some(h) = found else {
                 return tfar;
             };
             if best.is_none_or(|b| h.t < b.t || (h.t == b.t && item < b.item)) {
@@ -161,9 +169,12 @@ impl<'a> Frame<'a> {
 
     /// Whether anything is hit in `(tnear, tfar]` at shutter time `time`.
     pub fn occluded(&self, ray: &Ray, time: f32) -> bool {
-        self.top.any(ray, |item| {
+        let world = PreparedRay::new(ray);
+        self.top.any(&world, |item| {
             let fi = &self.instances[item as usize];
-            fi.object.accel(&self.counters).occluded(&fi.placed_at(time).ray_to_object(ray))
+            let placed = fi.placed_at(time);
+            let bvh = fi.object.accel(&self.counters);
+            if placed.identity { bvh.occluded_prepared(&world) } else { bvh.occluded(&placed.ray_to_object(ray)) }
         })
     }
 

@@ -59,9 +59,6 @@ impl Placed {
     /// a hit is the same in both spaces.
     #[inline]
     pub fn ray_to_object(&self, ray: &Ray) -> Ray {
-        if self.identity {
-            return *ray;
-        }
         Ray {
             origin: self.to_object.transform_point3(ray.origin),
             dir: self.to_object.transform_vector3(ray.dir),

@@ -199,6 +199,13 @@ impl Scene {
         self.shaders.get_mut(id.0).ok_or(SceneError::UnknownShader(id))?.set(name, value)
     }
 
+    /// Removes a shader (`rtDeleteShaders`). Triangles bound to it are shaded with the default
+    /// shader from the next frame on, since they refer to it by id only; new geometry can no
+    /// longer bind it. The id stays reserved: [`Scene::define_shader`] can define it again.
+    pub fn remove_shader(&mut self, id: ShaderId) -> Result<(), SceneError> {
+        self.shaders.take(id.0).map(|_| ()).ok_or(SceneError::UnknownShader(id))
+    }
+
     /// A shader.
     pub fn shader(&self, id: ShaderId) -> Result<&Shader, SceneError> {
         self.shaders.get(id.0).ok_or(SceneError::UnknownShader(id))

@@ -162,3 +162,34 @@ impl Demo {
         Ok(staged.scene)
     }
 }
+
+/// A standard scene as an animation that never moves: one static object, one instance, the
+/// probe's camera. Lets still and animated scenes be measured by the same harness.
+#[derive(Clone, Copy, Debug)]
+pub struct Still(pub crate::StandardScene);
+
+impl Animation for Still {
+    fn name(&self) -> String {
+        self.0.name().into()
+    }
+
+    fn objects(&self) -> Vec<AnimatedObject> {
+        vec![AnimatedObject { kind: ObjectKind::Static, mesh: self.0.mesh() }]
+    }
+
+    fn instances(&self, _frame: u32) -> Vec<(usize, Affine3A)> {
+        vec![(0, Affine3A::IDENTITY)]
+    }
+
+    fn deform(&self, _frame: u32) -> Vec<(usize, Vec<Vec3>)> {
+        Vec::new()
+    }
+
+    fn view(&self) -> View {
+        let (eye, target) = match self.0 {
+            crate::StandardScene::Spheres => (Vec3::new(0.0, 8.0, 8.0), Vec3::new(0.0, 0.0, -10.0)),
+            crate::StandardScene::Soup => (Vec3::new(0.5, 0.5, 2.5), Vec3::new(0.5, 0.5, 0.5)),
+        };
+        View { eye, target, fov_y_degrees: 60.0, sun: Vec3::new(-0.5, -1.0, -0.4) }
+    }
+}

@@ -10,7 +10,7 @@
 use glam::{IVec4, Vec4};
 use rayon::prelude::*;
 
-use super::{BuildOptions, MAX_BINS, MAX_LEAF_SIZE, PrimRef, SetBounds, partition, splice};
+use super::{BuildOptions, MAX_BINS, PrimRef, SetBounds, partition, splice};
 use crate::aabb::Aabb;
 use crate::bvh2::Node2;
 
@@ -227,8 +227,9 @@ fn split<'a>(task: Task<'a>, opts: &BuildOptions) -> Option<(Task<'a>, Task<'a>)
         return None;
     }
     let fits_leaf = n <= opts.max_leaf_size;
-    // A leaf is tested as one 8-lane block whatever its size, so leaf cost counts blocks.
-    let leaf_cost = |count: u32| opts.intersection_cost * count.div_ceil(MAX_LEAF_SIZE as u32) as f32;
+    // Up to `max_leaf_size` primitives are tested at once (one 8-lane block of triangles, or one
+    // box of a box tree), so the leaf cost counts such groups.
+    let leaf_cost = |count: u32| opts.intersection_cost * count.div_ceil(opts.max_leaf_size as u32) as f32;
     if task.depth >= SAH_DEPTH_LIMIT {
         return (!fits_leaf).then(|| median_split(task));
     }

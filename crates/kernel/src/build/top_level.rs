@@ -6,16 +6,25 @@
 //! 3. take the border closest to the node's centre on the side that holds more boxes, so that the
 //!    plane lies between the spatial centre and the object median.
 //!
-//! No cost function is evaluated, so a thousand instances build in well under a millisecond. The
+//! No cost function is evaluated, so thousands of instances build in about a millisecond. The
 //! seed splits space (a kd-tree); here boxes go to the side their centre is on (a BVH), and when
 //! no border separates the centres the node is halved at the object median instead.
+//!
+//! Up to [`SAH_BELOW`] boxes, binned SAH builds the tree instead, as the seed recommends for few
+//! instances (§5.1): it is still well under a millisecond there, and it isolates boxes that
+//! overlap everything (a city or a ground plane under many small moving parts) near the root,
+//! where the centre heuristic would bury them under nodes as large as the scene.
 
-use super::{Built, PrimRef, partition};
+use super::sah;
+use super::{BuildOptions, Built, PrimRef, SetBounds, partition};
 use crate::aabb::Aabb;
 use crate::bvh2::Node2;
 
 /// Depth past which nodes are halved at the object median, bounding the tree's depth.
 const HEURISTIC_DEPTH_LIMIT: u32 = 40;
+
+/// Box counts below which the top level is built with binned SAH.
+pub const SAH_BELOW: usize = 4096;
 
 /// Builds a binary tree over the non-empty, finite boxes (`prims` are box indices), with at most
 /// `max_leaf_size` boxes per leaf.
@@ -26,10 +35,18 @@ pub(crate) fn build_over_boxes(boxes: &[Aabb], max_leaf_size: usize) -> Built {
         .filter(|(_, b)| !b.is_empty() && b.min.is_finite() && b.max.is_finite())
         .map(|(i, b)| PrimRef::new(*b, i as u32))
         .collect();
-    let mut nodes = Vec::with_capacity(2 * refs.len());
-    if !refs.is_empty() {
-        emit(&mut refs, 0, 0, max_leaf_size.max(1), &mut nodes);
-    }
+    let max_leaf_size = max_leaf_size.max(1);
+    let nodes = if refs.is_empty() {
+        Vec::new()
+    } else if refs.len() < SAH_BELOW {
+        let opts = BuildOptions { max_leaf_size, ..BuildOptions::default() };
+        let set = SetBounds::of(&refs);
+        sah::build(&mut refs, set, &opts)
+    } else {
+        let mut nodes = Vec::with_capacity(2 * refs.len());
+        emit(&mut refs, 0, 0, max_leaf_size, &mut nodes);
+        nodes
+    };
     Built { nodes, prims: refs.iter().map(PrimRef::prim).collect() }
 }
 

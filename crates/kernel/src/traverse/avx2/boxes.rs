@@ -70,19 +70,20 @@ pub(crate) unsafe fn boxes_closest(tree: &BoxTree, ray: &PreparedRay, mut visit:
 pub(crate) unsafe fn boxes_any(tree: &BoxTree, ray: &PreparedRay, mut visit: impl FnMut(u32) -> bool) -> bool {
     let r = BoxLanes::new(ray);
     let tfar_wide = _mm256_set1_ps(widen(ray.tfar));
-    let mut stack = [0u32; STACK_SIZE];
-    stack[0] = tree.root;
+    let mut stack = [MaybeUninit::<u32>::uninit(); STACK_SIZE];
+    stack[0].write(tree.root);
     let mut sp = 1usize;
     while sp > 0 {
         sp -= 1;
-        let link = stack[sp];
+        // SAFETY: every entry below `sp` was written before.
+        let link = unsafe { stack[sp].assume_init() };
         if link & LEAF == 0 {
             let node = &tree.nodes[link as usize];
             let (mut mask, _) = child_hits(node, &r, tfar_wide);
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;
                 mask &= mask - 1;
-                stack[sp] = node.child[lane];
+                stack[sp].write(node.child[lane]);
                 sp += 1;
             }
         } else if link != EMPTY && tree.leaf_items(link).iter().any(|&item| visit(item)) {

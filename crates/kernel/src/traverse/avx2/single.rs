@@ -115,12 +115,13 @@ pub(crate) unsafe fn occluded(bvh: &Bvh8, ray: &PreparedRay) -> bool {
     let r = BoxLanes::new(ray);
     let leaf = LeafLanes::new(ray);
     let tfar_wide = _mm256_set1_ps(widen(ray.tfar));
-    let mut stack = [0u32; STACK_SIZE];
-    stack[0] = bvh.root;
+    let mut stack = [MaybeUninit::<u32>::uninit(); STACK_SIZE];
+    stack[0].write(bvh.root);
     let mut sp = 1usize;
     while sp > 0 {
         sp -= 1;
-        let link = stack[sp];
+        // SAFETY: every entry below `sp` was written before.
+        let link = unsafe { stack[sp].assume_init() };
         if link & LEAF == 0 {
             // SAFETY: as in `intersect`.
             let node = unsafe { bvh.nodes.get_unchecked(link as usize) };
@@ -128,7 +129,7 @@ pub(crate) unsafe fn occluded(bvh: &Bvh8, ray: &PreparedRay) -> bool {
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;
                 mask &= mask - 1;
-                stack[sp] = node.child[lane];
+                stack[sp].write(node.child[lane]);
                 sp += 1;
             }
         } else if link != EMPTY {

@@ -1,0 +1,201 @@
+//! The dynamic benchmark: animated scenes after BART (robots, museum, terrain), updated and
+//! traced frame by frame by raystage and (with the `embree` feature) Embree 3 in the same run.
+//!
+//! Every frame both systems take the same instance transforms and vertex positions, then trace
+//! the same 1280×720 primary rays and, from each primary hit, one shadow ray towards the sun.
+//! *Update* is what a system spends bringing its acceleration structures up to date (raystage:
+//! setting transforms, the top-level build and the lazy object builds and refits; Embree: setting
+//! transforms and committing geometry and scenes). *Trace* is the rest of the frame. Frame 0
+//! (the initial builds) is reported apart; the per-frame figures are medians over frames 1..=N.
+
+use std::time::Instant;
+
+use raystage_demo::animated::{Animation, Staged};
+use raystage_kernel::Ray;
+use raystage_scene::{Camera, Frame};
+use serde::Serialize;
+
+use crate::kernel::median;
+
+/// Image size of the traced frames.
+pub const WIDTH: u32 = 1280;
+/// Image size of the traced frames.
+pub const HEIGHT: u32 = 720;
+
+/// One frame of one system.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrameTime {
+    /// Seconds bringing the acceleration structures up to date.
+    pub update: f64,
+    /// Seconds tracing.
+    pub trace: f64,
+    /// Rays traced (primary + shadow).
+    pub rays: u64,
+    /// Primary rays that hit.
+    pub hits: u64,
+}
+
+/// One system's run over an animation: the first frame and every later one.
+#[derive(Clone, Debug, Default)]
+pub struct SystemRun {
+    /// `raystage`, or `embree` with its quality.
+    pub system: String,
+    /// Frame 0: initial builds and the first trace.
+    pub first: FrameTime,
+    /// Frames 1..=N.
+    pub frames: Vec<FrameTime>,
+}
+
+/// Medians of a run, one JSON object per system and scene.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct DynamicReport {
+    /// `raystage` or `embree-<quality>`.
+    pub system: String,
+    /// Scene name.
+    pub scene: String,
+    /// Threads tracing.
+    pub threads: usize,
+    /// Triangles after instancing.
+    pub triangles: u64,
+    /// Instances.
+    pub instances: usize,
+    /// Frame 0 milliseconds (builds and trace).
+    pub first_frame_ms: f64,
+    /// Median update milliseconds per frame.
+    pub update_ms: f64,
+    /// Median trace milliseconds per frame.
+    pub trace_ms: f64,
+    /// Median frame milliseconds (update + trace).
+    pub frame_ms: f64,
+    /// Frames per second at the median frame time.
+    pub fps: f64,
+    /// Million rays per second while tracing.
+    pub mrays: f64,
+}
+
+impl SystemRun {
+    /// Medians as a report line.
+    pub fn report(&self, scene: &str, threads: usize, triangles: u64, instances: usize) -> DynamicReport {
+        let pick = |f: fn(&FrameTime) -> f64| median(&self.frames.iter().map(f).collect::<Vec<_>>());
+        let frame_ms = pick(|f| f.update + f.trace) * 1e3;
+        DynamicReport {
+            system: self.system.clone(),
+            scene: scene.to_string(),
+            threads,
+            triangles,
+            instances,
+            first_frame_ms: (self.first.update + self.first.trace) * 1e3,
+            update_ms: pick(|f| f.update) * 1e3,
+            trace_ms: pick(|f| f.trace) * 1e3,
+            frame_ms,
+            fps: 1e3 / frame_ms,
+            mrays: pick(|f| f.rays as f64 / f.trace / 1e6),
+        }
+    }
+}
+
+/// The 1280×720 primary rays of an animation's view.
+pub fn primary_rays(camera: &Camera) -> Vec<Ray> {
+    (0..HEIGHT)
+        .flat_map(|y| (0..WIDTH).map(move |x| camera.ray(x as f32 + 0.5, y as f32 + 0.5, WIDTH, HEIGHT)))
+        .collect()
+}
+
+/// The shadow ray from the hit at `t` of `ray` towards the sun: it starts a hair before the hit
+/// point along the ray (so it does not find the surface it leaves) and is unbounded.
+fn shadow_ray(ray: &Ray, t: f32, sun: glam::Vec3) -> Ray {
+    Ray::new(ray.at(t * (1.0 - 1e-4)), -sun.normalize())
+}
+
+/// Traces primary rays and a shadow ray per hit with `closest` and `occluded`, on `threads`
+/// threads; returns (rays traced, primary hits).
+fn trace_frame(
+    rays: &[Ray],
+    sun: glam::Vec3,
+    threads: usize,
+    closest: &(dyn Fn(&Ray) -> Option<f32> + Sync),
+    occluded: &(dyn Fn(&Ray) -> bool + Sync),
+) -> (u64, u64) {
+    let chunk = |rays: &[Ray]| {
+        let (mut traced, mut hits) = (0u64, 0u64);
+        for ray in rays {
+            traced += 1;
+            if let Some(t) = closest(ray) {
+                hits += 1;
+                traced += 1;
+                std::hint::black_box(occluded(&shadow_ray(ray, t, sun)));
+            }
+        }
+        (traced, hits)
+    };
+    if threads <= 1 {
+        return chunk(rays);
+    }
+    std::thread::scope(|s| {
+        let handles: Vec<_> = rays.chunks(rays.len().div_ceil(threads)).map(|c| s.spawn(move || chunk(c))).collect();
+        handles.into_iter().map(|h| h.join().expect("trace thread")).fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+    })
+}
+
+/// Runs raystage over frames 0..=`frames` of `animation`.
+pub fn run_raystage(animation: &dyn Animation, frames: u32, threads: usize) -> SystemRun {
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
+    let mut staged = Staged::new(animation).expect("the animation makes a valid scene");
+    let rays = primary_rays(staged.scene.camera());
+    let sun = animation.view().sun;
+    let mut run = SystemRun { system: "raystage".into(), ..SystemRun::default() };
+    for f in 0..=frames {
+        let (instances, deformed) = (animation.instances(f), animation.deform(f));
+        let start = Instant::now();
+        staged.advance(&instances, deformed).expect("valid frame");
+        let frame: Frame<'_> = staged.scene.frame();
+        let placed = start.elapsed().as_secs_f64();
+        let trace_start = Instant::now();
+        let (traced, hits) = pool.install(|| {
+            trace_frame(&rays, sun, threads, &|r| frame.intersect(r, 0.0).map(|h| h.t), &|r| frame.occluded(r, 0.0))
+        });
+        let traced_seconds = trace_start.elapsed().as_secs_f64();
+        // Lazy builds and refits happened inside the trace; count them as update.
+        let built = frame.work().build_seconds.min(traced_seconds);
+        let time = FrameTime { update: placed + built, trace: traced_seconds - built, rays: traced, hits };
+        if f == 0 { run.first = time } else { run.frames.push(time) }
+    }
+    run
+}
+
+/// Runs Embree over frames 0..=`frames` of `animation`: objects at `object_quality` (static and
+/// animated objects at MEDIUM), unstructured ones at `unstructured_quality`, top level LOW.
+#[cfg(feature = "embree")]
+pub fn run_embree(animation: &dyn Animation, frames: u32, threads: usize, unstructured_quality: crate::embree::Quality) -> SystemRun {
+    use crate::embree::{Device, InstancedScene, Quality};
+    use raystage_scene::ObjectKind;
+
+    let device = Device::new(threads).expect("Embree device");
+    let objects = animation.objects();
+    let specs: Vec<_> = objects
+        .iter()
+        .map(|o| match o.kind {
+            ObjectKind::Unstructured => (&o.mesh, unstructured_quality, true),
+            _ => (&o.mesh, Quality::Medium, false),
+        })
+        .collect();
+    let view = animation.view();
+    let camera = Camera::look_at(view.eye, view.target, glam::Vec3::Y, view.fov_y_degrees).expect("valid view");
+    let rays = primary_rays(&camera);
+    let mut run = SystemRun { system: format!("embree-{}", unstructured_quality.name().to_lowercase()), ..SystemRun::default() };
+    let (mut scene, built) = InstancedScene::build(&device, &specs, &animation.instances(0), Quality::Low);
+    for f in 0..=frames {
+        let update = if f == 0 { built } else { scene.update(&animation.instances(f), &animation.deform(f)) };
+        let start = Instant::now();
+        let (traced, hits) = trace_frame(&rays, view.sun, threads, &|r| scene.intersect(r), &|r| scene.occluded(r));
+        let time = FrameTime { update, trace: start.elapsed().as_secs_f64(), rays: traced, hits };
+        if f == 0 { run.first = time } else { run.frames.push(time) }
+    }
+    run
+}
+
+/// Triangles after instancing.
+pub fn instanced_triangles(animation: &dyn Animation) -> u64 {
+    let per_object: Vec<u64> = animation.objects().iter().map(|o| o.mesh.indices.len() as u64).collect();
+    animation.instances(0).iter().map(|(o, _)| per_object[*o]).sum()
+}
