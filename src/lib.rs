@@ -9,4 +9,4 @@
 
 mod render;
 
-pub use render::{MAX_DIMENSION, MAX_THREADS, RenderJob, RenderReport, parse_demo, render_demo};
+pub use render::{MAX_DIMENSION, MAX_THREADS, RenderJob, RenderReport, parse_demo, parse_integrator, render_demo};

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail, ensure};
 use raystage_demo::animated::Demo;
-use raystage_render::{FrameStats, render_frame};
+use raystage_render::{FrameStats, Integrator, RenderSettings, render};
 
 /// Largest accepted image width or height in pixels.
 pub const MAX_DIMENSION: u32 = 16_384;
@@ -27,6 +27,11 @@ pub struct RenderJob {
     pub height: u32,
     /// Threads for the BVH build and the render, `1..=MAX_THREADS`; `None` for one per core.
     pub threads: Option<usize>,
+    /// How pixels are shaded; `None` for Whitted's ray tracing if the scene has lights and the
+    /// eye-light preview if it has none.
+    pub integrator: Option<Integrator>,
+    /// Samples per pixel.
+    pub samples: u32,
     /// The PNG file to write (created or replaced).
     pub out: PathBuf,
 }
@@ -40,6 +45,14 @@ pub struct RenderReport {
     pub threads: usize,
     /// The frame's statistics, lazy BVH builds included.
     pub frame: FrameStats,
+}
+
+/// Parses an integrator name: eyelight, whitted, distribution or path.
+pub fn parse_integrator(name: &str) -> Result<Integrator> {
+    match Integrator::from_name(name) {
+        Some(integrator) => Ok(integrator),
+        None => bail!("unknown integrator `{name}`: expected eyelight, whitted, distribution or path"),
+    }
 }
 
 /// Parses a demo scene name (see [`Demo::NAMES`]).
@@ -68,22 +81,28 @@ pub fn render_demo(job: &RenderJob, log: &mut impl Write) -> Result<RenderReport
     let mut out = File::create(&job.out).with_context(|| format!("cannot create {}", job.out.display()))?;
 
     let scene = job.demo.scene(job.frame).context("cannot build the demo scene")?;
-    let (film, frame) = pool.install(|| render_frame(&scene.frame(), job.width, job.height));
+    let integrator = job.integrator.unwrap_or(if scene.lights().next().is_some() { Integrator::Whitted } else { Integrator::EyeLight });
+    let settings = RenderSettings { width: job.width, height: job.height, integrator, samples_per_pixel: job.samples, ..RenderSettings::default() };
+    let (film, frame) = pool.install(|| render(&scene.frame(), &settings)).context("bad render settings")?;
     out.write_all(&film.encode_png()?).with_context(|| format!("cannot write {}", job.out.display()))?;
 
     let triangles = scene.object_ids().map(|id| scene.mesh(id).map_or(0, |m| m.indices.len())).sum();
     let report = RenderReport { triangles, threads: pool.current_num_threads(), frame };
     writeln!(
         log,
-        "{}x{} {} ({} triangles): {:.3} s on {} {} (lazy BVH builds {:.3} s of it), {} primary + {} shadow rays traced at {:.1} Mrays/s -> {}",
+        "{}x{} {} ({} triangles), {} at {} spp [{}]: {:.3} s on {} {} (lazy BVH builds {:.3} s of it), {} rays ({} primary, {} shadow) at {:.1} Mrays/s -> {}",
         job.width,
         job.height,
         job.demo.name(),
         triangles,
+        integrator.name(),
+        job.samples,
+        frame.effects.names().join(", "),
         frame.seconds,
         report.threads,
         if report.threads == 1 { "thread" } else { "threads" },
         frame.work.build_seconds,
+        frame.rays.total(),
         frame.rays.primary,
         frame.rays.shadow,
         frame.mrays_per_second(),

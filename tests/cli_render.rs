@@ -41,8 +41,8 @@ fn renders_the_sphere_grid_to_png() {
     ]);
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert!(output.status.success(), "stdout: {stdout}\nstderr: {}", String::from_utf8_lossy(&output.stderr));
-    assert!(stdout.contains("160x90 sphere (1000002 triangles): ") && stdout.contains(" on 2 threads "), "{stdout}");
-    assert!(stdout.contains("14400 primary + ") && stdout.contains(" shadow rays traced at "), "{stdout}");
+    assert!(stdout.contains("160x90 sphere (1000002 triangles), whitted at 1 spp [shadows]: ") && stdout.contains(" on 2 threads "), "{stdout}");
+    assert!(stdout.contains("(14400 primary, ") && stdout.contains(" shadow) at "), "{stdout}");
 
     let image = image::open(&out).unwrap().to_rgba8();
     assert_eq!(image.dimensions(), (160, 90));
@@ -74,10 +74,29 @@ fn renders_the_sphere_grid_to_png() {
 }
 
 #[test]
+fn path_traces_the_cornell_room_with_the_effects_it_needs() {
+    let out = out_path("cornell.png");
+    let output = raystage(&[
+        "render", "--demo", "cornell", "--integrator", "path", "--spp", "4", "--width", "32", "--height", "24", "--out", out.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "stderr: {}", String::from_utf8_lossy(&output.stderr));
+    assert!(
+        stdout.contains("path at 4 spp [shadows, reflection, refraction, transparent-shadows, area-lights, global-illumination, multisampling]"),
+        "{stdout}"
+    );
+    assert_eq!(image::open(&out).unwrap().to_rgba8().dimensions(), (32, 24));
+    let stderr = failure(&["render", "--demo", "cornell", "--integrator", "radiosity", "--out", out.to_str().unwrap()]);
+    assert!(stderr.contains("unknown integrator `radiosity`: expected eyelight, whitted, distribution or path"), "{stderr}");
+    let stderr = failure(&["render", "--demo", "cornell", "--spp", "0", "--out", out.to_str().unwrap()]);
+    assert!(stderr.contains("samples_per_pixel is out of range: 0 is not in 1..=65536"), "{stderr}");
+}
+
+#[test]
 fn an_unknown_demo_is_an_error() {
     let out = out_path("never.png");
     let stderr = failure(&["render", "--demo", "teapot", "--out", out.to_str().unwrap()]);
-    assert!(stderr.contains("unknown demo scene `teapot`: expected spheres, sphere, soup, robots, museum"), "{stderr}");
+    assert!(stderr.contains("unknown demo scene `teapot`: expected spheres, sphere, soup, cornell, materials, robots, museum"), "{stderr}");
     assert!(!out.exists());
 }
 

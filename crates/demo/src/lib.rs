@@ -13,6 +13,7 @@
 pub mod animated;
 pub mod probe_math;
 mod scenes;
+pub mod shading;
 
 use glam::Vec3;
 use raystage_kernel::IndexedMesh;

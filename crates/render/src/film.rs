@@ -26,6 +26,13 @@ impl Film {
         Film { width, height, pixels: vec![Vec3::ZERO; width as usize * height as usize] }
     }
 
+    /// A film of the given linear RGB pixels, row by row from the top; panics if there are not
+    /// `width × height` of them.
+    pub fn from_pixels(width: u32, height: u32, pixels: Vec<Vec3>) -> Film {
+        assert_eq!(pixels.len(), width as usize * height as usize, "one pixel per position");
+        Film { width, height, pixels }
+    }
+
     /// Width in pixels.
     pub fn width(&self) -> u32 {
         self.width

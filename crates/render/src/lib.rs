@@ -1,26 +1,37 @@
 //! # raystage-render
 //!
-//! The renderer of raystage: it turns a frame of the retained scene into a finished image.
-//! Today that is primary rays traced in packets, tile by tile in parallel ([`render_tiles`]),
-//! preview shading (Lambert with hard shadows, [`lambert`]), a sky for rays that miss
-//! ([`sky`]), a linear-light [`Film`] encoded to sRGB PNG, and [`FrameStats`]. [`render_frame`]
-//! runs the whole frame.
+//! The renderer of raystage: it turns a frame of the retained scene into an image. Camera rays
+//! are traced tile by tile in parallel ([`render_tiles`]), neighbouring ones together; an
+//! [`Integrator`] colours them (eye-light preview, Whitted, Cook's distribution ray tracing, or
+//! path tracing), simulating only the effects the frame's [`EffectSet`] calls for. Samples come
+//! from stratified, decorrelated per-pixel sequences and accumulate progressively
+//! ([`Progressive`]) into a linear-light [`Film`] encoded to sRGB PNG; [`FrameStats`] says
+//! what a frame cost.
 //!
 //! Not in here: acceleration structures and ray/triangle tests (`raystage-kernel`), the scene and
 //! its shader parameters (`raystage-scene`), and anything that talks to users (the CLI, the C
-//! ABI, the HTTP server). Integrators beyond preview shading, sampling, accumulation and tone
-//! mapping are planned and will live here.
+//! ABI, the HTTP server).
 
+mod bsdf;
+mod effects;
 mod error;
 mod film;
-mod frame;
-pub mod lambert;
+mod integrator;
+mod lights;
+mod material;
+mod renderer;
+mod sampler;
 mod sky;
 mod srgb;
+mod stats;
+mod texture;
 mod tiles;
+mod warp;
 
+pub use effects::EffectSet;
 pub use error::Error;
 pub use film::Film;
-pub use frame::{FrameStats, render_frame};
+pub use renderer::{Filter, Integrator, MAX_DEPTH, MAX_DIMENSION, MAX_SAMPLES, Progressive, RenderSettings, render, render_frame};
 pub use sky::sky;
+pub use stats::{FrameStats, PhaseTimes, RayCounts};
 pub use tiles::{TILE_SIZE, Tile, per_pixel, render_tiles};

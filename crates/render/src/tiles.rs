@@ -73,6 +73,40 @@ pub fn render_tiles(film: &mut Film, shade_tile: impl Fn(&Tile, &mut [Vec3]) + S
     }
 }
 
+/// Runs `add` over the tiles of a `width × height` image in parallel, giving each a private copy
+/// of its part of two per-pixel accumulation buffers (row-major, one entry per pixel) and
+/// writing the copies back: the progressive renderer's loop.
+pub(crate) fn render_tiles_with(
+    width: u32,
+    height: u32,
+    sum: &mut [Vec3],
+    sum_sq: &mut [f32],
+    add: impl Fn(&Tile, &mut [Vec3], &mut [f32]) + Sync,
+) {
+    let (shared_sum, shared_sq) = (&*sum, &*sum_sq);
+    let done: Vec<(Tile, Vec<Vec3>, Vec<f32>)> = tiles(width, height)
+        .into_par_iter()
+        .map(|tile| {
+            let index = |i: usize| {
+                let (x, y) = tile.pixel(i);
+                (y * width + x) as usize
+            };
+            let mut s: Vec<Vec3> = (0..tile.len()).map(|i| shared_sum[index(i)]).collect();
+            let mut q: Vec<f32> = (0..tile.len()).map(|i| shared_sq[index(i)]).collect();
+            add(&tile, &mut s, &mut q);
+            (tile, s, q)
+        })
+        .collect();
+    for (tile, s, q) in done {
+        for i in 0..tile.len() {
+            let (x, y) = tile.pixel(i);
+            let at = (y * width + x) as usize;
+            sum[at] = s[i];
+            sum_sq[at] = q[i];
+        }
+    }
+}
+
 /// Adapts a per-pixel shader `shade(x, y)` to [`render_tiles`].
 pub fn per_pixel(shade: impl Fn(u32, u32) -> Vec3 + Sync) -> impl Fn(&Tile, &mut [Vec3]) + Sync {
     move |tile, pixels| {

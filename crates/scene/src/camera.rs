@@ -5,11 +5,13 @@ use raystage_kernel::Ray;
 
 use crate::error::SceneError;
 
-/// A perspective pinhole camera (`rtPerspective` + `rtLookAt`). The horizontal field of view
-/// follows from the image's aspect ratio.
+/// A perspective camera (`rtPerspective` + `rtLookAt`): a pinhole, or a thin lens that focuses
+/// at one distance and blurs the rest (depth of field), with a shutter that stays open over part
+/// of the frame's time (motion blur). The horizontal field of view follows from the image's
+/// aspect ratio.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
-    /// Eye position.
+    /// Eye position (the centre of the lens).
     pub eye: Vec3,
     /// The point looked at.
     pub target: Vec3,
@@ -17,21 +19,47 @@ pub struct Camera {
     pub up: Vec3,
     /// Vertical field of view in degrees, in `(0, 180)`.
     pub fov_y_degrees: f32,
+    /// Radius of the lens; 0 for a pinhole (everything sharp).
+    pub aperture_radius: f32,
+    /// Distance from the eye at which the lens focuses; 0 to focus on the target.
+    pub focus_distance: f32,
+    /// The shutter's opening and closing, as times in `[0, 1]` of the frame (instances move from
+    /// their start to their end transform over that range); equal for an instant (no blur).
+    pub shutter: [f32; 2],
 }
 
 impl Default for Camera {
-    /// Looking down −z at the origin from (0, 0, 5), 45° vertical field of view.
+    /// Looking down −z at the origin from (0, 0, 5), 45° vertical field of view, a pinhole with
+    /// an instantaneous shutter.
     fn default() -> Self {
-        Camera { eye: Vec3::new(0.0, 0.0, 5.0), target: Vec3::ZERO, up: Vec3::Y, fov_y_degrees: 45.0 }
+        Camera {
+            eye: Vec3::new(0.0, 0.0, 5.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_y_degrees: 45.0,
+            aperture_radius: 0.0,
+            focus_distance: 0.0,
+            shutter: [0.0, 0.0],
+        }
     }
 }
 
 impl Camera {
-    /// A camera at `eye` looking at `target`, checked.
+    /// A pinhole camera at `eye` looking at `target`, checked.
     pub fn look_at(eye: Vec3, target: Vec3, up: Vec3, fov_y_degrees: f32) -> Result<Camera, SceneError> {
-        let camera = Camera { eye, target, up, fov_y_degrees };
+        let camera = Camera { eye, target, up, fov_y_degrees, ..Camera::default() };
         camera.validate()?;
         Ok(camera)
+    }
+
+    /// Whether the lens blurs (depth of field).
+    pub fn has_depth_of_field(&self) -> bool {
+        self.aperture_radius > 0.0
+    }
+
+    /// Whether the shutter stays open over an interval (motion blur is possible).
+    pub fn has_open_shutter(&self) -> bool {
+        self.shutter[1] > self.shutter[0]
     }
 
     /// Checks every number is finite, the eye is not at the target, `up` is not along the view
@@ -55,6 +83,18 @@ impl Camera {
                 message: format!("{} is not in (0, 180)", self.fov_y_degrees),
             });
         }
+        for (field, v) in [("camera.aperture_radius", self.aperture_radius), ("camera.focus_distance", self.focus_distance)] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(SceneError::OutOfRange { field, message: format!("{v} is not a finite number >= 0") });
+            }
+        }
+        let [open, close] = self.shutter;
+        if !(0.0 <= open && open <= close && close <= 1.0) {
+            return Err(SceneError::OutOfRange {
+                field: "camera.shutter",
+                message: format!("[{open}, {close}] is not an interval within [0, 1]"),
+            });
+        }
         Ok(())
     }
 
@@ -66,13 +106,31 @@ impl Camera {
     }
 
     /// The primary ray through image position `(px, py)` (in pixels, `(0, 0)` the top-left
-    /// corner of the image, so pixel centres are at `x + 0.5`) of a `width × height` image.
+    /// corner of the image, so pixel centres are at `x + 0.5`) of a `width × height` image,
+    /// through the centre of the lens.
     pub fn ray(&self, px: f32, py: f32, width: u32, height: u32) -> Ray {
+        self.ray_through_lens(px, py, width, height, [0.5, 0.5])
+    }
+
+    /// The primary ray through image position `(px, py)` and lens position `lens` (a point of
+    /// `[0, 1)²`, mapped uniformly onto the lens disc). With a pinhole every lens position gives
+    /// the same ray; with an aperture, all rays through one image position meet at the focus
+    /// distance, so only objects there are sharp.
+    pub fn ray_through_lens(&self, px: f32, py: f32, width: u32, height: u32, lens: [f32; 2]) -> Ray {
         let (forward, right, up) = self.frame();
         let tan = (0.5 * self.fov_y_degrees.to_radians()).tan();
         let (w, h) = (width as f32, height as f32);
         let u = (px / w * 2.0 - 1.0) * tan * w / h;
         let v = (1.0 - py / h * 2.0) * tan;
-        Ray::new(self.eye, (forward + right * u + up * v).normalize())
+        let dir = (forward + right * u + up * v).normalize();
+        if !self.has_depth_of_field() {
+            return Ray::new(self.eye, dir);
+        }
+        let focus = if self.focus_distance > 0.0 { self.focus_distance } else { (self.target - self.eye).length() };
+        // The point in focus, at the focus distance along the view axis.
+        let focal_point = self.eye + dir * (focus / dir.dot(forward));
+        let (r, phi) = (self.aperture_radius * lens[0].sqrt(), std::f32::consts::TAU * lens[1]);
+        let origin = self.eye + right * (r * phi.cos()) + up * (r * phi.sin());
+        Ray::new(origin, (focal_point - origin).normalize())
     }
 }

@@ -1,7 +1,7 @@
 //! What can go wrong when editing a scene. Every error names the offending field or id, and an
 //! edit that fails leaves the scene exactly as it was.
 
-use crate::ids::{InstanceId, LightId, ObjectId, ShaderId};
+use crate::ids::{InstanceId, LightId, ObjectId, ShaderId, TextureId};
 
 /// An edit the scene refused.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -18,6 +18,9 @@ pub enum SceneError {
     /// No light has this id.
     #[error("unknown {0}")]
     UnknownLight(LightId),
+    /// No texture has this id.
+    #[error("unknown {0}")]
+    UnknownTexture(TextureId),
     /// No shader class has this name.
     #[error("unknown shader class `{0}`")]
     UnknownShaderClass(String),

@@ -14,7 +14,7 @@ use crate::instance::{Instance, Placed, world_bounds};
 use crate::light::Light;
 use crate::object::{BuildCounters, Object};
 use crate::scene::Scene;
-use crate::shader::Shader;
+use crate::shader::{Shader, ShadingModel};
 
 /// An instance as a frame sees it.
 struct FrameInstance<'a> {
@@ -57,8 +57,14 @@ pub struct SceneHit {
 pub struct SurfacePoint<'a> {
     /// The hit point.
     pub position: Vec3,
+    /// The hit point in the object's own space (where solid textures are evaluated, so that
+    /// they move with the object).
+    pub local_position: Vec3,
     /// Unit geometric normal, facing the side the ray came from.
     pub geometric_normal: Vec3,
+    /// Whether the ray hit the triangle's front (the side its counter-clockwise winding faces,
+    /// the outside of a consistently wound closed mesh).
+    pub front_face: bool,
     /// Unit shading normal (interpolated vertex normals if the mesh has them), on the same side.
     pub shading_normal: Vec3,
     /// Interpolated vertex colour, if the mesh has colours.
@@ -187,8 +193,9 @@ impl<'a> Frame<'a> {
         let w = [1.0 - hit.u - hit.v, hit.u, hit.v];
         let lerp3 = |v: &[Vec3]| v[a] * w[0] + v[b] * w[1] + v[c] * w[2];
         let [p0, p1, p2] = [a, b, c].map(|i| mesh.positions[i]);
-        let facing = |n: Vec3| if n.dot(ray.dir) > 0.0 { -n } else { n };
-        let geometric_normal = facing(placed.normal_to_world((p1 - p0).cross(p2 - p0)).normalize_or_zero());
+        let outward = placed.normal_to_world((p1 - p0).cross(p2 - p0)).normalize_or_zero();
+        let front_face = outward.dot(ray.dir) < 0.0;
+        let geometric_normal = if front_face { outward } else { -outward };
         let shading_normal = if mesh.normals.is_empty() {
             geometric_normal
         } else {
@@ -198,12 +205,44 @@ impl<'a> Frame<'a> {
         let shader = mesh.shaders.get(hit.prim as usize).and_then(|&s| self.scene.shader(s).ok()).unwrap_or(self.scene.default_shader());
         SurfacePoint {
             position: ray.at(hit.t),
+            local_position: p0 * w[0] + p1 * w[1] + p2 * w[2],
             geometric_normal,
+            front_face,
             shading_normal,
             color: (!mesh.colors.is_empty()).then(|| lerp3(&mesh.colors)),
             uv: (!mesh.uvs.is_empty()).then(|| mesh.uvs[a] * w[0] + mesh.uvs[b] * w[1] + mesh.uvs[c] * w[2]),
             shader,
         }
+    }
+
+    /// The shading models of every instanced triangle, resolved through the shaders as they are
+    /// now (the effect set is derived from them).
+    pub fn shading_models(&self) -> Vec<ShadingModel> {
+        let mut models: Vec<ShadingModel> = Vec::new();
+        let mut seen_objects: HashSet<ObjectId> = HashSet::new();
+        for fi in &self.instances {
+            if !seen_objects.insert(fi.object_id) {
+                continue;
+            }
+            let shaders = fi.object.shaders_used.iter().filter_map(|&s| self.scene.shader(s).ok());
+            let default = fi.object.uses_default_shader.then(|| self.scene.default_shader());
+            for shader in shaders.chain(default) {
+                if !models.contains(&shader.class().model) {
+                    models.push(shader.class().model);
+                }
+            }
+        }
+        models
+    }
+
+    /// Whether any instance moves during the shutter (has an end transform unlike its start).
+    pub fn has_motion(&self) -> bool {
+        self.instances.iter().any(|fi| fi.instance.end.is_some_and(|end| end != fi.instance.start))
+    }
+
+    /// A texture of the scene.
+    pub fn texture(&self, id: crate::TextureId) -> Option<&'a crate::Texture> {
+        self.scene.texture(id).ok()
     }
 
     /// The lights, as they were when the frame started.

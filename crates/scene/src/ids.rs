@@ -37,6 +37,11 @@ id_type!(
     LightId,
     "light"
 );
+id_type!(
+    /// A texture.
+    TextureId,
+    "texture"
+);
 
 /// A table of records indexed by id. Ids are handed out in increasing order and never reused, so
 /// an id that outlived its record can never name another one by accident.

@@ -25,13 +25,15 @@ mod mesh;
 mod object;
 mod scene;
 mod shader;
+mod texture;
 
 pub use camera::Camera;
 pub use error::SceneError;
 pub use frame::{Frame, FrameWork, SceneHit, SurfacePoint};
-pub use ids::{InstanceId, LightId, ObjectId, ShaderId};
+pub use ids::{InstanceId, LightId, ObjectId, ShaderId, TextureId};
 pub use light::Light;
 pub use mesh::Mesh;
 pub use object::{ObjectKind, REBUILD_DEGRADATION};
 pub use scene::Scene;
 pub use shader::{ParamDecl, ParamType, ParamValue, SHADER_CLASSES, Shader, ShaderClass, ShadingModel, shader_class};
+pub use texture::{Image, Texture};

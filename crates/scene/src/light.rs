@@ -1,10 +1,14 @@
-//! Light sources.
+//! Light sources: the OpenGL/VRML kinds the OpenRT API ships as default light shaders (point,
+//! spot, directional, ambient; DIGEST §1.1), plus the two a ray tracer adds: a parallelogram
+//! area light for soft shadows and an environment that surrounds the scene. Intensities are
+//! linear RGB.
 
 use glam::Vec3;
 
 use crate::error::SceneError;
+use crate::ids::TextureId;
 
-/// A light source. Intensities are linear RGB.
+/// A light source.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Light {
     /// Light from a point, falling off with the square of the distance.
@@ -14,6 +18,20 @@ pub enum Light {
         /// Radiant intensity: the irradiance at distance 1, facing the light.
         intensity: Vec3,
     },
+    /// A point light that shines into a cone, fading out between two angles.
+    Spot {
+        /// Where.
+        position: Vec3,
+        /// The cone's axis (the way the light shines), any length.
+        direction: Vec3,
+        /// Radiant intensity along the axis.
+        intensity: Vec3,
+        /// Half-angle of the cone, in degrees, in `(0, 90]`: nothing outside it.
+        cone_degrees: f32,
+        /// Half-angle where the fall-off starts, in degrees, at most `cone_degrees`: full
+        /// intensity inside it.
+        falloff_degrees: f32,
+    },
     /// Parallel light from infinitely far away, like the sun.
     Directional {
         /// The direction the light travels in (towards the scene), any length.
@@ -21,42 +39,91 @@ pub enum Light {
         /// Irradiance on a surface facing the light.
         intensity: Vec3,
     },
+    /// Light from everywhere at once, unshadowed (OpenGL's ambient term).
+    Ambient {
+        /// Irradiance it adds to every surface.
+        intensity: Vec3,
+    },
+    /// A one-sided emitting parallelogram: the points `corner + s·edge_u + t·edge_v` for s, t in
+    /// [0, 1], emitting on the side `edge_u × edge_v` points to. Casts soft shadows.
+    Area {
+        /// One corner.
+        corner: Vec3,
+        /// First edge from the corner.
+        edge_u: Vec3,
+        /// Second edge from the corner.
+        edge_v: Vec3,
+        /// Emitted radiance.
+        radiance: Vec3,
+    },
+    /// Light arriving from infinitely far away in every direction: a constant colour, or a
+    /// latitude-longitude image (its top row straight up, +y) scaled by that colour.
+    Environment {
+        /// Radiance, or the scale of the image.
+        radiance: Vec3,
+        /// The image, if any.
+        map: Option<TextureId>,
+    },
 }
 
 impl Light {
-    /// Checks every number is finite, intensities are not negative and a direction is not zero.
+    /// Checks every number is finite, intensities are not negative, directions and edges are
+    /// not zero, and angles are in range.
     pub fn validate(&self) -> Result<(), SceneError> {
-        let (point, intensity) = match *self {
-            Light::Point { position, intensity } => (("light.position", position), intensity),
-            Light::Directional { direction, intensity } => {
-                if direction.length_squared() == 0.0 {
-                    return Err(SceneError::OutOfRange { field: "light.direction", message: "is zero".into() });
-                }
-                (("light.direction", direction), intensity)
-            }
+        let finite = |field: &'static str, v: Vec3| if v.is_finite() { Ok(()) } else { Err(SceneError::NotFinite { field, index: 0 }) };
+        let nonzero = |field: &'static str, v: Vec3| {
+            if v.length_squared() > 0.0 { Ok(()) } else { Err(SceneError::OutOfRange { field, message: "is zero".into() }) }
         };
-        for (field, v) in [point, ("light.intensity", intensity)] {
-            if !v.is_finite() {
-                return Err(SceneError::NotFinite { field, index: 0 });
-            }
-        }
-        if intensity.min_element() < 0.0 {
-            return Err(SceneError::OutOfRange { field: "light.intensity", message: "is negative".into() });
-        }
-        Ok(())
-    }
-
-    /// The light reaching point `p`: unit direction from `p` towards the light, the distance to
-    /// it (infinite for directional light), and the irradiance facing it.
-    pub fn sample(&self, p: Vec3) -> (Vec3, f32, Vec3) {
+        let power = |field: &'static str, v: Vec3| {
+            finite(field, v)?;
+            if v.min_element() >= 0.0 { Ok(()) } else { Err(SceneError::OutOfRange { field, message: "is negative".into() }) }
+        };
         match *self {
             Light::Point { position, intensity } => {
-                let to_light = position - p;
-                let d2 = to_light.length_squared();
-                let d = d2.sqrt();
-                (to_light / d, d, intensity / d2)
+                finite("light.position", position)?;
+                power("light.intensity", intensity)
             }
-            Light::Directional { direction, intensity } => (-direction.normalize(), f32::INFINITY, intensity),
+            Light::Spot { position, direction, intensity, cone_degrees, falloff_degrees } => {
+                finite("light.position", position)?;
+                finite("light.direction", direction)?;
+                nonzero("light.direction", direction)?;
+                power("light.intensity", intensity)?;
+                if !(cone_degrees > 0.0 && cone_degrees <= 90.0) {
+                    return Err(SceneError::OutOfRange { field: "light.cone_degrees", message: format!("{cone_degrees} is not in (0, 90]") });
+                }
+                if !(falloff_degrees >= 0.0 && falloff_degrees <= cone_degrees) {
+                    return Err(SceneError::OutOfRange {
+                        field: "light.falloff_degrees",
+                        message: format!("{falloff_degrees} is not in [0, cone_degrees]"),
+                    });
+                }
+                Ok(())
+            }
+            Light::Directional { direction, intensity } => {
+                finite("light.direction", direction)?;
+                nonzero("light.direction", direction)?;
+                power("light.intensity", intensity)
+            }
+            Light::Ambient { intensity } => power("light.intensity", intensity),
+            Light::Area { corner, edge_u, edge_v, radiance } => {
+                finite("light.corner", corner)?;
+                finite("light.edge_u", edge_u)?;
+                finite("light.edge_v", edge_v)?;
+                nonzero("light.edges", edge_u.cross(edge_v))?;
+                power("light.radiance", radiance)
+            }
+            Light::Environment { radiance, .. } => power("light.radiance", radiance),
         }
+    }
+
+    /// Whether the light casts shadows (every light that comes from somewhere does; the ambient
+    /// term does not).
+    pub fn casts_shadows(&self) -> bool {
+        !matches!(self, Light::Ambient { .. })
+    }
+
+    /// Whether the light has an extent, so soft shadows need it sampled over its area.
+    pub fn has_area(&self) -> bool {
+        matches!(self, Light::Area { .. } | Light::Environment { .. })
     }
 }

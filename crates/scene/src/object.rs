@@ -48,12 +48,23 @@ impl BuildCounters {
     }
 }
 
+/// The distinct shaders a mesh's triangles use, and whether some use none (the default).
+fn shaders_of(mesh: &Mesh) -> (Vec<crate::ShaderId>, bool) {
+    let mut used = mesh.shaders.clone();
+    used.sort_unstable();
+    used.dedup();
+    (used, mesh.shaders.is_empty())
+}
+
 /// An object: its mesh, its kind, and its acceleration structure once a ray needed it.
 #[derive(Debug)]
 pub(crate) struct Object {
     pub mesh: Mesh,
     pub kind: ObjectKind,
     pub bounds: Aabb,
+    /// The distinct shaders its triangles use, and whether some use the scene's default.
+    pub shaders_used: Vec<crate::ShaderId>,
+    pub uses_default_shader: bool,
     /// The tree for the current geometry, built by the first ray that needs it.
     accel: OnceLock<Bvh8>,
     /// An unstructured object's tree for earlier geometry with the same triangles, waiting to be
@@ -64,7 +75,16 @@ pub(crate) struct Object {
 impl Object {
     /// A new object; nothing is built yet.
     pub fn new(kind: ObjectKind, mesh: Mesh) -> Object {
-        Object { bounds: mesh.bounds(), mesh, kind, accel: OnceLock::new(), previous: Mutex::new(None) }
+        let (shaders_used, uses_default_shader) = shaders_of(&mesh);
+        Object {
+            bounds: mesh.bounds(),
+            shaders_used,
+            uses_default_shader,
+            mesh,
+            kind,
+            accel: OnceLock::new(),
+            previous: Mutex::new(None),
+        }
     }
 
     /// Replaces the geometry. An unstructured object with the same number of triangles keeps its
@@ -78,6 +98,7 @@ impl Object {
             _ => *previous = None,
         }
         self.bounds = mesh.bounds();
+        (self.shaders_used, self.uses_default_shader) = shaders_of(&mesh);
         self.mesh = mesh;
     }
 

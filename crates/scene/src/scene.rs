@@ -6,12 +6,13 @@ use glam::Affine3A;
 use crate::camera::Camera;
 use crate::error::SceneError;
 use crate::frame::Frame;
-use crate::ids::{InstanceId, LightId, ObjectId, ShaderId, Table};
+use crate::ids::{InstanceId, LightId, ObjectId, ShaderId, Table, TextureId};
 use crate::instance::{Instance, validate_transform};
 use crate::light::Light;
 use crate::mesh::Mesh;
 use crate::object::{Object, ObjectKind};
 use crate::shader::{ParamValue, Shader};
+use crate::texture::Texture;
 
 /// A retained two-level scene. Every edit is checked first and either happens entirely or
 /// returns an error and changes nothing.
@@ -21,6 +22,7 @@ pub struct Scene {
     instances: Table<Instance>,
     shaders: Table<Shader>,
     lights: Table<Light>,
+    textures: Table<Texture>,
     camera: Camera,
     /// Shades triangles that have no shader of their own.
     default_shader: Shader,
@@ -40,6 +42,7 @@ impl Scene {
             instances: Table::default(),
             shaders: Table::default(),
             lights: Table::default(),
+            textures: Table::default(),
             camera: Camera::default(),
             default_shader: Shader::new("Diffuse").expect("Diffuse is built in"),
         }
@@ -196,7 +199,30 @@ impl Scene {
     /// Writes parameter `name` of a shader. `Ok(false)`: the shader's class does not export it,
     /// and the write was ignored.
     pub fn set_param(&mut self, id: ShaderId, name: &str, value: ParamValue) -> Result<bool, SceneError> {
+        if let ParamValue::Texture(Some(texture)) = value {
+            self.texture(texture)?;
+        }
         self.shaders.get_mut(id.0).ok_or(SceneError::UnknownShader(id))?.set(name, value)
+    }
+
+    // ----- textures -----
+
+    /// Adds a texture.
+    pub fn add_texture(&mut self, texture: Texture) -> Result<TextureId, SceneError> {
+        texture.validate()?;
+        Ok(TextureId(self.textures.insert(texture)))
+    }
+
+    /// Replaces a texture: every shader using it changes with it.
+    pub fn set_texture(&mut self, id: TextureId, texture: Texture) -> Result<(), SceneError> {
+        texture.validate()?;
+        *self.textures.get_mut(id.0).ok_or(SceneError::UnknownTexture(id))? = texture;
+        Ok(())
+    }
+
+    /// A texture.
+    pub fn texture(&self, id: TextureId) -> Result<&Texture, SceneError> {
+        self.textures.get(id.0).ok_or(SceneError::UnknownTexture(id))
     }
 
     /// Removes a shader (`rtDeleteShaders`). Triangles bound to it are shaded with the default
@@ -220,14 +246,22 @@ impl Scene {
 
     /// Adds a light.
     pub fn add_light(&mut self, light: Light) -> Result<LightId, SceneError> {
-        light.validate()?;
+        self.check_light(&light)?;
         Ok(LightId(self.lights.insert(light)))
     }
 
     /// Replaces a light.
     pub fn set_light(&mut self, id: LightId, light: Light) -> Result<(), SceneError> {
-        light.validate()?;
+        self.check_light(&light)?;
         *self.lights.get_mut(id.0).ok_or(SceneError::UnknownLight(id))? = light;
+        Ok(())
+    }
+
+    fn check_light(&self, light: &Light) -> Result<(), SceneError> {
+        light.validate()?;
+        if let Light::Environment { map: Some(texture), .. } = light {
+            self.texture(*texture)?;
+        }
         Ok(())
     }
 

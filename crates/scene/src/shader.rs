@@ -10,6 +10,7 @@
 use glam::Vec3;
 
 use crate::error::SceneError;
+use crate::ids::TextureId;
 
 /// The type of a shader parameter.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -18,6 +19,8 @@ pub enum ParamType {
     Float,
     /// A linear RGB colour, three numbers.
     Color,
+    /// A texture of the scene, or none.
+    Texture,
 }
 
 impl ParamType {
@@ -26,6 +29,7 @@ impl ParamType {
         match self {
             ParamType::Float => "a number",
             ParamType::Color => "a colour (three numbers)",
+            ParamType::Texture => "a texture id (or none)",
         }
     }
 }
@@ -37,6 +41,8 @@ pub enum ParamValue {
     Float(f32),
     /// A linear RGB colour.
     Color(Vec3),
+    /// A texture, looked up by id when a frame starts; `None` for no texture.
+    Texture(Option<TextureId>),
 }
 
 impl ParamValue {
@@ -45,6 +51,7 @@ impl ParamValue {
         match self {
             ParamValue::Float(_) => ParamType::Float,
             ParamValue::Color(_) => ParamType::Color,
+            ParamValue::Texture(_) => ParamType::Texture,
         }
     }
 
@@ -52,6 +59,7 @@ impl ParamValue {
         match self {
             ParamValue::Float(f) => f.is_finite(),
             ParamValue::Color(c) => c.is_finite(),
+            ParamValue::Texture(_) => true,
         }
     }
 }
@@ -63,9 +71,16 @@ pub struct ParamDecl {
     pub name: &'static str,
     /// Its value until written (which also fixes its type).
     pub default: ParamValue,
+    /// The allowed range of a number, or of each channel of a colour.
+    pub range: [f32; 2],
     /// What it does.
     pub doc: &'static str,
 }
+
+/// Any non-negative value.
+const NON_NEGATIVE: [f32; 2] = [0.0, f32::INFINITY];
+/// A reflectance: light out never exceeds light in.
+const FRACTION: [f32; 2] = [0.0, 1.0];
 
 /// What a shader class computes; the renderer dispatches on it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -76,6 +91,31 @@ pub enum ShadingModel {
     VertexColor,
     /// A fixed colour, unlit.
     Constant,
+    /// Lambertian plus a Blinn-Phong highlight.
+    Phong,
+    /// A perfect mirror.
+    Mirror,
+    /// Rough metal: a microfacet (GGX) reflector.
+    Glossy,
+    /// A smooth dielectric: reflects and refracts by Fresnel's equations, absorbs inside by
+    /// Beer's law.
+    Glass,
+    /// A light-emitting surface.
+    Emissive,
+    /// Ambient occlusion: the albedo scaled by how much of the hemisphere is open.
+    AmbientOcclusion,
+}
+
+impl ShadingModel {
+    /// Whether the surface reflects specularly, so that an integrator traces reflection rays.
+    pub fn reflects(self) -> bool {
+        matches!(self, ShadingModel::Mirror | ShadingModel::Glossy | ShadingModel::Glass)
+    }
+
+    /// Whether the surface transmits light, so that an integrator traces refraction rays.
+    pub fn refracts(self) -> bool {
+        self == ShadingModel::Glass
+    }
 }
 
 /// A built-in shader class.
@@ -91,33 +131,88 @@ pub struct ShaderClass {
     pub params: &'static [ParamDecl],
 }
 
+const DIFFUSE: ParamDecl = ParamDecl {
+    name: "diffuse",
+    default: ParamValue::Color(Vec3::splat(0.8)),
+    range: FRACTION,
+    doc: "Diffuse reflectance (albedo), linear RGB in [0, 1].",
+};
+const DIFFUSE_TEXTURE: ParamDecl = ParamDecl {
+    name: "diffuse_texture",
+    default: ParamValue::Texture(None),
+    range: NON_NEGATIVE,
+    doc: "A texture whose colour multiplies `diffuse`; none by default.",
+};
+
 /// Every built-in shader class.
 pub static SHADER_CLASSES: &[ShaderClass] = &[
     ShaderClass {
         name: "Diffuse",
         doc: "Matte surface: Lambertian reflection of every light, with shadows.",
         model: ShadingModel::Diffuse,
-        params: &[ParamDecl {
-            name: "diffuse",
-            default: ParamValue::Color(Vec3::splat(0.8)),
-            doc: "Reflectance (albedo), linear RGB in [0, 1].",
-        }],
+        params: &[DIFFUSE, DIFFUSE_TEXTURE],
     },
     ShaderClass {
         name: "VertexColor",
         doc: "Matte surface coloured by the mesh's per-vertex colours, interpolated across each triangle.",
         model: ShadingModel::VertexColor,
-        params: &[ParamDecl {
-            name: "diffuse",
-            default: ParamValue::Color(Vec3::ONE),
-            doc: "Multiplies the vertex colours.",
-        }],
+        params: &[ParamDecl { name: "diffuse", default: ParamValue::Color(Vec3::ONE), range: FRACTION, doc: "Multiplies the vertex colours." }],
     },
     ShaderClass {
         name: "Constant",
         doc: "A flat colour that ignores the lights.",
         model: ShadingModel::Constant,
-        params: &[ParamDecl { name: "color", default: ParamValue::Color(Vec3::ONE), doc: "The colour, linear RGB." }],
+        params: &[ParamDecl { name: "color", default: ParamValue::Color(Vec3::ONE), range: NON_NEGATIVE, doc: "The colour, linear RGB." }],
+    },
+    ShaderClass {
+        name: "Phong",
+        doc: "Plastic: Lambertian diffuse plus a Blinn-Phong specular highlight of each light.",
+        model: ShadingModel::Phong,
+        params: &[
+            ParamDecl { name: "diffuse", default: ParamValue::Color(Vec3::splat(0.5)), range: FRACTION, doc: "Diffuse reflectance, linear RGB." },
+            DIFFUSE_TEXTURE,
+            ParamDecl { name: "specular", default: ParamValue::Color(Vec3::splat(0.4)), range: FRACTION, doc: "Specular reflectance of the highlight." },
+            ParamDecl { name: "shininess", default: ParamValue::Float(40.0), range: [1.0, 10_000.0], doc: "Blinn-Phong exponent: higher is a tighter highlight (1 to 10,000)." },
+        ],
+    },
+    ShaderClass {
+        name: "Mirror",
+        doc: "A perfect mirror.",
+        model: ShadingModel::Mirror,
+        params: &[ParamDecl { name: "reflectance", default: ParamValue::Color(Vec3::splat(0.9)), range: FRACTION, doc: "Fraction of light reflected, linear RGB." }],
+    },
+    ShaderClass {
+        name: "Glossy",
+        doc: "Rough metal: a GGX microfacet reflector with Schlick's Fresnel term.",
+        model: ShadingModel::Glossy,
+        params: &[
+            ParamDecl { name: "reflectance", default: ParamValue::Color(Vec3::splat(0.9)), range: FRACTION, doc: "Reflectance at normal incidence (the metal's colour)." },
+            ParamDecl { name: "roughness", default: ParamValue::Float(0.2), range: [0.01, 1.0], doc: "Microfacet roughness α in (0, 1]: 0.01 is nearly a mirror, 1 very rough." },
+        ],
+    },
+    ShaderClass {
+        name: "Glass",
+        doc: "A smooth dielectric: reflection and refraction weighted by Fresnel's equations, total internal reflection, and absorption inside by Beer's law. Media nest: a ray leaving a glass object returns to the medium it was in.",
+        model: ShadingModel::Glass,
+        params: &[
+            ParamDecl { name: "ior", default: ParamValue::Float(1.5), range: [1.0, 4.0], doc: "Index of refraction (1 to 4)." },
+            ParamDecl { name: "absorption", default: ParamValue::Color(Vec3::ZERO), range: NON_NEGATIVE, doc: "Absorption coefficient σ per unit distance: light travelling d inside keeps exp(−σd)." },
+        ],
+    },
+    ShaderClass {
+        name: "Emissive",
+        doc: "A surface that glows; it lights the scene through the path tracer's bounces.",
+        model: ShadingModel::Emissive,
+        params: &[ParamDecl { name: "emission", default: ParamValue::Color(Vec3::ONE), range: NON_NEGATIVE, doc: "Emitted radiance, linear RGB." }],
+    },
+    ShaderClass {
+        name: "AmbientOcclusion",
+        doc: "Ambient occlusion: the albedo scaled by the fraction of the (cosine-weighted) hemisphere not blocked within `distance`.",
+        model: ShadingModel::AmbientOcclusion,
+        params: &[
+            DIFFUSE,
+            ParamDecl { name: "distance", default: ParamValue::Float(1.0), range: [1e-6, f32::INFINITY], doc: "How far an occluder may be and still darken the point." },
+        ],
     },
 ];
 
@@ -162,6 +257,18 @@ impl Shader {
         if !value.is_finite() {
             return Err(SceneError::NotFinite { field: "shader parameter", index });
         }
+        let [lo, hi] = self.class.params[index].range;
+        let out_of_range = match value {
+            ParamValue::Float(f) => !(lo..=hi).contains(&f),
+            ParamValue::Color(c) => c.to_array().iter().any(|x| !(lo..=hi).contains(x)),
+            ParamValue::Texture(_) => false,
+        };
+        if out_of_range {
+            return Err(SceneError::OutOfRange {
+                field: "shader parameter",
+                message: format!("`{name}` of shader class `{}` must be within [{lo}, {hi}]", self.class.name),
+            });
+        }
         self.values[index] = value;
         Ok(true)
     }
@@ -176,6 +283,22 @@ impl Shader {
         match self.get(name) {
             Some(ParamValue::Color(c)) => c,
             _ => Vec3::ZERO,
+        }
+    }
+
+    /// The number parameter `name` (0 if the class has no such number).
+    pub fn float(&self, name: &str) -> f32 {
+        match self.get(name) {
+            Some(ParamValue::Float(f)) => f,
+            _ => 0.0,
+        }
+    }
+
+    /// The texture parameter `name`, if set.
+    pub fn texture(&self, name: &str) -> Option<TextureId> {
+        match self.get(name) {
+            Some(ParamValue::Texture(t)) => t,
+            _ => None,
         }
     }
 }

@@ -203,6 +203,7 @@ fn bad_input_names_the_problem_and_changes_nothing() {
         "parameter `diffuse` of shader class `Diffuse` takes a colour (three numbers)"
     );
     assert_eq!(scene.add_shader("Velvet").unwrap_err().to_string(), "unknown shader class `Velvet`");
+    assert_eq!(scene.set_param(shader, "velvetness", ParamValue::Float(0.5)), Ok(false), "an unknown parameter name is ignored");
     assert!(scene.set_camera(Camera::look_at(Vec3::ONE, Vec3::ONE, Vec3::Y, 45.0).unwrap_or_default()).is_ok());
     assert_eq!(
         Camera::look_at(Vec3::ZERO, Vec3::Z, Vec3::Z, 45.0).unwrap_err().to_string(),

@@ -99,11 +99,16 @@ impl Staged {
     }
 }
 
-/// Every built-in demo, by name: the two standard scenes and the three animated ones.
+/// Every built-in demo, by name: the two standard scenes, the three animated ones and the two
+/// shading showcases.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Demo {
     /// A standard benchmark scene.
     Standard(crate::StandardScene),
+    /// [`crate::shading::cornell_room`].
+    Cornell,
+    /// [`crate::shading::materials`].
+    Materials,
     /// [`Robots`].
     Robots,
     /// [`Museum`] with this many moving triangles.
@@ -114,7 +119,7 @@ pub enum Demo {
 
 impl Demo {
     /// The names [`Demo::from_name`] accepts.
-    pub const NAMES: &'static str = "spheres, sphere, soup, robots, museum, museum-<triangles>, terrain";
+    pub const NAMES: &'static str = "spheres, sphere, soup, cornell, materials, robots, museum, museum-<triangles>, terrain";
 
     /// Parses a demo name (see [`Demo::NAMES`]); `museum` has 16,384 triangles.
     pub fn from_name(name: &str) -> Option<Demo> {
@@ -122,6 +127,8 @@ impl Demo {
             return Some(Demo::Standard(standard));
         }
         match name {
+            "cornell" => Some(Demo::Cornell),
+            "materials" => Some(Demo::Materials),
             "robots" => Some(Demo::Robots),
             "museum" => Some(Demo::Museum(16_384)),
             "terrain" => Some(Demo::Terrain),
@@ -133,6 +140,8 @@ impl Demo {
     pub fn name(&self) -> String {
         match self {
             Demo::Standard(s) => s.name().into(),
+            Demo::Cornell => "cornell".into(),
+            Demo::Materials => "materials".into(),
             Demo::Robots => "robots".into(),
             Demo::Museum(n) => format!("museum-{n}"),
             Demo::Terrain => "terrain".into(),
@@ -142,7 +151,7 @@ impl Demo {
     /// The animation, for the animated demos.
     pub fn animation(&self) -> Option<Box<dyn Animation>> {
         match *self {
-            Demo::Standard(_) => None,
+            Demo::Standard(_) | Demo::Cornell | Demo::Materials => None,
             Demo::Robots => Some(Box::new(Robots)),
             Demo::Museum(n) => Some(Box::new(Museum::new(n))),
             Demo::Terrain => Some(Box::new(Terrain)),
@@ -152,8 +161,11 @@ impl Demo {
     /// The demo as a retained scene at frame `frame` (still scenes ignore the frame).
     pub fn scene(&self, frame: u32) -> Result<Scene, SceneError> {
         let Some(animation) = self.animation() else {
-            let Demo::Standard(standard) = self else { unreachable!("only standard scenes are still") };
-            return standard.scene();
+            return match self {
+                Demo::Standard(standard) => standard.scene(),
+                Demo::Cornell => crate::shading::cornell_room(),
+                _ => crate::shading::materials(),
+            };
         };
         let mut staged = Staged::new(animation.as_ref())?;
         if frame > 0 {

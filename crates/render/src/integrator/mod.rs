@@ -1,0 +1,237 @@
+//! Integrators: how a camera ray's colour is computed. Each one is a function of the ray that
+//! uses the [`Tracer`] for everything it asks of the scene, so that rays are counted by kind and
+//! only the effects in the frame's effect set are simulated.
+//!
+//! - [`eyelight`]: the fast preview, a light at the eye, no secondary rays;
+//! - [`recursive`]: Whitted 1980, recursive shadows, reflection and refraction to a fixed depth,
+//!   and Cook, Porter and Carpenter 1984, the same rays distributed over pixel area, lens,
+//!   shutter time, light areas and glossy lobes, sharing each pixel sample;
+//! - [`path`]: unbiased path tracing with next-event estimation, multiple importance sampling
+//!   and Russian roulette.
+
+pub(crate) mod eyelight;
+pub(crate) mod path;
+pub(crate) mod recursive;
+
+use glam::Vec3;
+use raystage_kernel::Ray;
+use raystage_scene::{Frame, SceneHit, ShadingModel, SurfacePoint};
+
+use crate::bsdf::{Bsdf, fresnel_dielectric};
+use crate::effects::EffectSet;
+use crate::lights::{SceneLights, Seen};
+use crate::material::Material;
+use crate::sampler::PixelSampler;
+use crate::stats::RayCounts;
+use crate::warp::{Frame3, cosine_hemisphere, power_heuristic};
+use crate::{RenderSettings, sky};
+
+/// The deepest nesting of transmissive media a path keeps track of.
+const MAX_MEDIA: usize = 4;
+
+/// A hit and what is there.
+pub(crate) struct Hit<'f> {
+    pub hit: SceneHit,
+    pub surface: SurfacePoint<'f>,
+    pub material: Material,
+}
+
+/// The media a ray is inside, innermost last: air, then every transmissive object it entered.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Media {
+    ior: [f32; MAX_MEDIA],
+    absorption: [Vec3; MAX_MEDIA],
+    depth: usize,
+}
+
+impl Media {
+    /// Air only.
+    pub fn air() -> Media {
+        Media { ior: [1.0; MAX_MEDIA], absorption: [Vec3::ZERO; MAX_MEDIA], depth: 1 }
+    }
+
+    /// Index of refraction of the medium the ray is in.
+    pub fn ior(&self) -> f32 {
+        self.ior[self.depth - 1]
+    }
+
+    /// Index of refraction of the medium around the one the ray is in.
+    pub fn outer_ior(&self) -> f32 {
+        self.ior[self.depth.saturating_sub(2)]
+    }
+
+    /// Beer's law: the fraction of light that survives `distance` in the current medium.
+    pub fn attenuation(&self, distance: f32) -> Vec3 {
+        let sigma = self.absorption[self.depth - 1];
+        if sigma == Vec3::ZERO { Vec3::ONE } else { (-sigma * distance).exp() }
+    }
+
+    /// The media after crossing a transmissive boundary at `hit`: entering through its front,
+    /// leaving through its back.
+    pub fn crossed(mut self, hit: &Hit<'_>) -> Media {
+        if hit.surface.front_face {
+            if self.depth < MAX_MEDIA {
+                self.ior[self.depth] = hit.material.ior;
+                self.absorption[self.depth] = hit.material.absorption;
+                self.depth += 1;
+            }
+        } else if self.depth > 1 {
+            self.depth -= 1;
+        }
+        self
+    }
+
+    /// The glass BSDF at `hit`: relative index of the side the ray is on over the other side.
+    pub fn glass(&self, hit: &Hit<'_>) -> Bsdf {
+        let eta = if hit.surface.front_face { self.ior() / hit.material.ior } else { hit.material.ior / self.outer_ior() };
+        Bsdf::Glass { eta }
+    }
+}
+
+/// Access to the scene for the integrators.
+pub(crate) struct Tracer<'a, 'f> {
+    pub frame: &'a Frame<'f>,
+    pub lights: SceneLights<'f>,
+    pub effects: EffectSet,
+    pub settings: &'a RenderSettings,
+}
+
+impl<'f> Tracer<'_, 'f> {
+    /// The closest hit of `ray` at shutter time `time`, counted as a ray of `kind`.
+    pub fn trace(&self, ray: &Ray, time: f32, kind: &mut u64) -> Option<Hit<'f>> {
+        *kind += 1;
+        let hit = self.frame.intersect(ray, time)?;
+        Some(self.resolve(ray, hit, time))
+    }
+
+    /// What is at a hit of `ray` found elsewhere (camera rays are traced in packets).
+    pub fn resolve(&self, ray: &Ray, hit: SceneHit, time: f32) -> Hit<'f> {
+        let surface = self.frame.surface(ray, &hit, time);
+        let material = Material::at(self.frame, &surface);
+        Hit { hit, surface, material }
+    }
+
+    /// What a ray in direction `dir` that hits nothing brings back, as it was `seen`: the
+    /// environment, if the scene has one; otherwise the sky, which is a backdrop and not a
+    /// light, so only camera rays and rays that mirrors and glass bent on their way from the
+    /// camera show it.
+    pub fn background(&self, dir: Vec3, seen: Seen) -> Vec3 {
+        let dir = dir.normalize();
+        if self.lights.has_environment() {
+            self.lights.environment(dir, seen)
+        } else if matches!(seen, Seen::Directly) {
+            sky(dir)
+        } else {
+            Vec3::ZERO
+        }
+    }
+
+    /// Light from area lights that `ray` meets before its hit at `t` (infinitely far if it hits
+    /// nothing), as it was `seen`.
+    pub fn emission(&self, ray: &Ray, t: Option<f32>, seen: Seen) -> Vec3 {
+        if !self.lights.has_area() {
+            return Vec3::ZERO;
+        }
+        let length = ray.dir.length();
+        let tmax = t.map_or(f32::INFINITY, |t| t * length);
+        self.lights.emission_along(ray.origin, ray.dir / length, tmax, seen)
+    }
+
+    /// The fraction of light arriving at `p` (normal `n`, facing `wi`) from `distance` away in
+    /// direction `wi`: 0 or 1 for opaque occluders; with transparent shadows, transmissive
+    /// surfaces on the way let through what Fresnel and Beer's law leave.
+    pub fn transmittance(&self, p: Vec3, n: Vec3, wi: Vec3, distance: f32, time: f32, rays: &mut RayCounts) -> Vec3 {
+        let mut ray = Ray::segment(offset(p, n, wi), wi, 0.0, shorten(distance));
+        if !self.effects.transparent_shadows {
+            rays.shadow += 1;
+            return if self.frame.occluded(&ray, time) { Vec3::ZERO } else { Vec3::ONE };
+        }
+        let mut through = Vec3::ONE;
+        let mut inside_since: Option<(f32, Vec3)> = None;
+        let mut travelled = 0.0;
+        for _ in 0..8 * MAX_MEDIA {
+            rays.shadow += 1;
+            let Some(hit) = self.frame.intersect(&ray, time) else { return through };
+            let surface = self.frame.surface(&ray, &hit, time);
+            let material = Material::at(self.frame, &surface);
+            if material.model != ShadingModel::Glass {
+                return Vec3::ZERO;
+            }
+            let at = travelled + hit.t;
+            through *= 1.0 - fresnel_dielectric(surface.geometric_normal.dot(-wi).abs(), 1.0 / material.ior);
+            match (surface.front_face, inside_since) {
+                (true, _) => inside_since = Some((at, material.absorption)),
+                (false, Some((entered, sigma))) => through *= (-sigma * (at - entered)).exp(),
+                (false, None) => {}
+            }
+            travelled = at;
+            let origin = offset(surface.position, surface.geometric_normal, wi);
+            ray = Ray::segment(origin, wi, 0.0, (shorten(distance) - travelled).max(0.0));
+        }
+        through
+    }
+
+    /// Light from every light source reflected towards `wo` at `hit` (no emission): the ambient
+    /// term, then each light sampled once (extended lights at a random point when the frame
+    /// has soft shadows, else at their centre), tested with a shadow ray if the frame has
+    /// shadows. In the path tracer, samples of extended lights are weighted against the BSDF
+    /// sampling that could also find them (multiple importance sampling).
+    pub fn direct(&self, hit: &Hit<'f>, bsdf: &Bsdf, wo: Vec3, time: f32, sampler: &mut PixelSampler, rays: &mut RayCounts) -> Vec3 {
+        let sp = &hit.surface;
+        let frame3 = Frame3::around(sp.shading_normal);
+        let wo_local = frame3.to_local(wo);
+        let mut sum = self.lights.ambient() * hit.material.albedo;
+        let random = self.effects.area_lights;
+        for index in 0..self.lights.len() {
+            let u = if random && self.lights.is_extended(index) { sampler.next_2d() } else { [0.5, 0.5] };
+            let Some(ls) = self.lights.sample(index, sp.position, sp.shading_normal, u, !random) else { continue };
+            if sp.geometric_normal.dot(ls.wi) <= 0.0 {
+                continue;
+            }
+            let wi_local = frame3.to_local(ls.wi);
+            let f = bsdf.eval(wo_local, wi_local);
+            if f == Vec3::ZERO {
+                continue;
+            }
+            let weight = if ls.pdf > 0.0 && self.effects.global_illumination { power_heuristic(ls.pdf, bsdf.pdf(wo_local, wi_local)) } else { 1.0 };
+            let visible = if self.effects.shadows {
+                self.transmittance(sp.position, sp.geometric_normal, ls.wi, ls.distance, time, rays)
+            } else {
+                Vec3::ONE
+            };
+            sum += f * ls.weighted * visible * weight;
+        }
+        sum
+    }
+
+    /// Ambient occlusion at `hit`: the fraction of `samples` cosine-distributed probes that
+    /// leave without meeting anything within `distance`.
+    pub fn occlusion(&self, hit: &Hit<'f>, time: f32, samples: u32, sampler: &mut PixelSampler, rays: &mut RayCounts) -> f32 {
+        let sp = &hit.surface;
+        let frame3 = Frame3::around(sp.geometric_normal);
+        let open = (0..samples)
+            .filter(|_| {
+                let wi = frame3.to_world(cosine_hemisphere(sampler.next_2d()));
+                rays.diffuse += 1;
+                let probe = Ray::segment(offset(sp.position, sp.geometric_normal, wi), wi, 0.0, hit.material.occlusion_distance);
+                !self.frame.occluded(&probe, time)
+            })
+            .count();
+        open as f32 / samples.max(1) as f32
+    }
+
+}
+
+/// A secondary ray's origin: the hit point pushed off the surface along its geometric normal
+/// `n`, towards the side `dir` leaves on, by an amount that grows with the point's magnitude
+/// (the floating-point spacing there), so the ray does not hit the surface it starts on.
+pub(crate) fn offset(p: Vec3, n: Vec3, dir: Vec3) -> Vec3 {
+    let eps = 1e-4 * p.abs().max_element().max(1.0);
+    if n.dot(dir) >= 0.0 { p + n * eps } else { p - n * eps }
+}
+
+/// A shadow ray's extent: a little short of the light, so it does not hit the light's own
+/// geometry or pass through the point it was aimed at.
+fn shorten(distance: f32) -> f32 {
+    if distance.is_finite() { distance * (1.0 - 1e-4) } else { f32::INFINITY }
+}

@@ -1,0 +1,114 @@
+//! Unbiased path tracing: at every bounce, light sources are sampled directly (next-event
+//! estimation) and the BSDF is sampled to continue the path; where both strategies can find the
+//! same light, their contributions are combined by multiple importance sampling (Veach's power
+//! heuristic). Paths end by Russian roulette, which keeps the estimate unbiased, or at the
+//! maximum depth.
+
+use glam::Vec3;
+use raystage_kernel::Ray;
+use raystage_scene::ShadingModel;
+
+use super::{Hit, Media, Tracer, offset};
+use crate::lights::Seen;
+use crate::sampler::PixelSampler;
+use crate::stats::RayCounts;
+use crate::warp::Frame3;
+
+/// Bounces before Russian roulette may end a path.
+const ROULETTE_AFTER: u32 = 3;
+
+/// The radiance arriving along the camera ray `ray` at shutter time `time`, whose first hit
+/// `first` is known.
+pub(crate) fn shade(t: &Tracer<'_, '_>, ray: &Ray, first: Hit<'_>, time: f32, sampler: &mut PixelSampler, rays: &mut RayCounts) -> Vec3 {
+    let mut first = Some(first);
+    let mut ray = *ray;
+    // Which counter the next ray goes to: set by the bounce that produced it.
+    let mut next = Bounce::Diffuse;
+    let mut throughput = Vec3::ONE;
+    let mut radiance = Vec3::ZERO;
+    let mut media = Media::air();
+    // How the current ray was chosen, which weighs the lights it meets.
+    let mut seen = Seen::Directly;
+    // Whether every bounce so far was specular: the sky backdrop shows only along such paths.
+    let mut specular_chain = true;
+    for depth in 0..t.settings.max_depth {
+        let found = match first.take() {
+            Some(hit) => Some(hit),
+            None => {
+                let counter = match next {
+                    Bounce::Diffuse => &mut rays.diffuse,
+                    Bounce::Reflection => &mut rays.reflection,
+                    Bounce::Refraction => &mut rays.refraction,
+                };
+                t.trace(&ray, time, counter)
+            }
+        };
+        radiance += throughput * t.emission(&ray, found.as_ref().map(|h| h.hit.t), seen);
+        let Some(hit) = found else {
+            if specular_chain || t.lights.has_environment() {
+                radiance += throughput * t.background(ray.dir, seen) * media.attenuation(f32::INFINITY);
+            }
+            break;
+        };
+        throughput *= media.attenuation(hit.hit.t * ray.dir.length());
+        let wo = -ray.dir.normalize();
+        let m = &hit.material;
+        match m.model {
+            // Emitting surfaces are not sampled as lights: paths find them only by scattering,
+            // so their emission counts in full.
+            ShadingModel::Constant | ShadingModel::Emissive => {
+                radiance += throughput * m.emission;
+                break;
+            }
+            ShadingModel::AmbientOcclusion => {
+                let open = t.occlusion(&hit, time, 1, sampler, rays);
+                radiance += throughput * m.albedo * open;
+                break;
+            }
+            _ => {}
+        }
+        let bsdf = if m.model == ShadingModel::Glass { media.glass(&hit) } else { m.bsdf.expect("scattering material") };
+        if !bsdf.is_specular() {
+            radiance += throughput * t.direct(&hit, &bsdf, wo, time, sampler, rays);
+        }
+        let frame3 = Frame3::around(hit.surface.shading_normal);
+        let (u, choose) = (sampler.next_2d(), sampler.next_1d());
+        let Some(s) = bsdf.sample(frame3.to_local(wo), u, choose) else { break };
+        throughput *= s.weight;
+        let specular = s.pdf == 0.0;
+        specular_chain &= specular;
+        seen = if specular { Seen::Directly } else { Seen::Scattered { normal: hit.surface.shading_normal, pdf: s.pdf } };
+        if depth + 1 >= ROULETTE_AFTER {
+            let survive = throughput.max_element().min(0.95);
+            if sampler.next_1d() >= survive {
+                break;
+            }
+            throughput /= survive;
+        }
+        let wi = frame3.to_world(s.wi);
+        next = if s.transmitted {
+            media = media.crossed(&hit);
+            Bounce::Refraction
+        } else if specular {
+            Bounce::Reflection
+        } else {
+            Bounce::Diffuse
+        };
+        ray = continue_from(&hit, wi);
+    }
+    radiance
+}
+
+/// How a path's ray came about, for counting rays by kind.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Bounce {
+    Diffuse,
+    Reflection,
+    Refraction,
+}
+
+/// The next ray of the path, leaving `hit` in direction `wi`.
+fn continue_from(hit: &Hit<'_>, wi: Vec3) -> Ray {
+    let sp = &hit.surface;
+    Ray::new(offset(sp.position, sp.geometric_normal, wi), wi)
+}

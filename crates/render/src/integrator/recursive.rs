@@ -1,0 +1,163 @@
+//! Recursive ray tracing: Whitted's (1980) model and Cook's distribution ray tracing (1984),
+//! which is the same recursion with its choices made at random per pixel sample (seed DIGEST
+//! §1.6, §1.7).
+//!
+//! At each hit: emission, light from every source (a shadow ray each, when the frame has
+//! shadows), then a reflection ray for reflective surfaces and a refraction ray for transmissive
+//! ones, weighted by Fresnel's equations, with Beer's law inside absorbing media, to a fixed
+//! depth. Whitted splits deterministically and reflects glossy surfaces as mirrors; the
+//! distributed variant samples glossy lobes and chooses between reflection and refraction by
+//! their Fresnel weights, so that averaging the pixel's samples gives glossy reflection, soft
+//! shadows (lights sampled over their area), depth of field and motion blur (the camera ray's
+//! lens position and time).
+//!
+//! `REFLECT` and `REFRACT` compile the reflection and refraction code in or out: the renderer
+//! instantiates the variant the frame's effect set calls for, so a purely diffuse scene runs a
+//! kernel with no trace of either (DESIGN.md, "a specialised kernel must not be slower than a
+//! hand-written one").
+
+use glam::Vec3;
+use raystage_kernel::Ray;
+use raystage_scene::ShadingModel;
+
+use super::{Hit, Media, Tracer, offset};
+use crate::bsdf::{Bsdf, fresnel_dielectric, reflect, refract};
+use crate::lights::Seen;
+use crate::sampler::PixelSampler;
+use crate::stats::RayCounts;
+use crate::warp::Frame3;
+
+/// Ambient-occlusion probes per hit for Whitted; the distributed variant takes one per sample.
+const WHITTED_OCCLUSION_PROBES: u32 = 16;
+
+/// A secondary ray of the recursion and what it is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    /// Mirror reflection: the lights it meets are seen.
+    Reflection,
+    /// Refraction: the lights it meets are seen.
+    Refraction,
+    /// Reflection off a glossy surface, whose light from emitters the light samples already
+    /// account for.
+    Glossy,
+}
+
+/// The colour of a camera ray `ray` at shutter time `time` whose first hit `hit` is known.
+pub(crate) fn shade<const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED: bool>(
+    t: &Tracer<'_, '_>,
+    ray: &Ray,
+    hit: Hit<'_>,
+    time: f32,
+    sampler: &mut PixelSampler,
+    rays: &mut RayCounts,
+) -> Vec3 {
+    Recursion::<REFLECT, REFRACT, DISTRIBUTED> { t, time, sampler, rays }.shade(ray, hit, Media::air(), 0)
+}
+
+/// One camera sample's recursion: what stays the same from bounce to bounce.
+struct Recursion<'a, 't, 'f, const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED: bool> {
+    t: &'a Tracer<'t, 'f>,
+    /// The camera ray's shutter time, shared by every ray of the sample.
+    time: f32,
+    sampler: &'a mut PixelSampler,
+    rays: &'a mut RayCounts,
+}
+
+impl<const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED: bool> Recursion<'_, '_, '_, REFLECT, REFRACT, DISTRIBUTED> {
+    /// The radiance arriving along `ray`, traced for `kind`, in the media `media`, `depth`
+    /// bounces from the camera.
+    fn radiance(&mut self, ray: &Ray, kind: Kind, media: Media, depth: u32) -> Vec3 {
+        let (counter, seen) = match kind {
+            Kind::Reflection => (&mut self.rays.reflection, Seen::Directly),
+            Kind::Refraction => (&mut self.rays.refraction, Seen::Directly),
+            Kind::Glossy => (&mut self.rays.reflection, Seen::Not),
+        };
+        let found = self.t.trace(ray, self.time, counter);
+        let emitted = self.t.emission(ray, found.as_ref().map(|h| h.hit.t), seen);
+        let Some(hit) = found else {
+            return emitted + self.t.background(ray.dir, seen) * media.attenuation(f32::INFINITY);
+        };
+        emitted + self.shade(ray, hit, media, depth)
+    }
+
+    /// The colour `ray` carries back from `hit`, `depth` bounces from the camera.
+    fn shade(&mut self, ray: &Ray, hit: Hit<'_>, media: Media, depth: u32) -> Vec3 {
+        let t = self.t;
+        let attenuation = media.attenuation(hit.hit.t * ray.dir.length());
+        let wo = -ray.dir.normalize();
+        let deeper = depth + 1 < t.settings.max_depth;
+        let m = &hit.material;
+        let colour = match m.model {
+            ShadingModel::Constant | ShadingModel::Emissive => m.emission,
+            ShadingModel::AmbientOcclusion => {
+                let probes = if DISTRIBUTED { 1 } else { WHITTED_OCCLUSION_PROBES };
+                let open = if t.effects.ambient_occlusion { t.occlusion(&hit, self.time, probes, self.sampler, self.rays) } else { 1.0 };
+                m.albedo * open
+            }
+            ShadingModel::Glass if (REFLECT || REFRACT) && deeper => self.glass(&hit, wo, media, depth),
+            ShadingModel::Glass => Vec3::ZERO,
+            ShadingModel::Mirror if REFLECT && deeper => {
+                m.albedo * self.trace_on(&hit, reflect(wo, hit.surface.shading_normal), Kind::Reflection, media, depth)
+            }
+            ShadingModel::Mirror => Vec3::ZERO,
+            ShadingModel::Glossy => {
+                let bsdf = m.bsdf.expect("glossy materials scatter");
+                let direct = t.direct(&hit, &bsdf, wo, self.time, self.sampler, self.rays);
+                let reflected = if REFLECT && deeper { self.glossy_reflection(&hit, &bsdf, wo, media, depth) } else { Vec3::ZERO };
+                direct + reflected
+            }
+            ShadingModel::Diffuse | ShadingModel::VertexColor | ShadingModel::Phong => {
+                let bsdf = m.bsdf.expect("matte materials scatter");
+                t.direct(&hit, &bsdf, wo, self.time, self.sampler, self.rays)
+            }
+        };
+        colour * attenuation
+    }
+
+    /// Continues the recursion with a new ray leaving `hit` in direction `dir`.
+    fn trace_on(&mut self, hit: &Hit<'_>, dir: Vec3, kind: Kind, media: Media, depth: u32) -> Vec3 {
+        let sp = &hit.surface;
+        let ray = Ray::new(offset(sp.position, sp.geometric_normal, dir), dir);
+        self.radiance(&ray, kind, media, depth + 1)
+    }
+
+    /// Glossy reflection: Whitted takes the mirror direction scaled by the reflectance; the
+    /// distributed variant samples the lobe.
+    fn glossy_reflection(&mut self, hit: &Hit<'_>, bsdf: &Bsdf, wo: Vec3, media: Media, depth: u32) -> Vec3 {
+        let n = hit.surface.shading_normal;
+        if !DISTRIBUTED {
+            return hit.material.albedo * self.trace_on(hit, reflect(wo, n), Kind::Glossy, media, depth);
+        }
+        let frame3 = Frame3::around(n);
+        let (u, choose) = (self.sampler.next_2d(), self.sampler.next_1d());
+        match bsdf.sample(frame3.to_local(wo), u, choose) {
+            Some(s) => s.weight * self.trace_on(hit, frame3.to_world(s.wi), Kind::Glossy, media, depth),
+            None => Vec3::ZERO,
+        }
+    }
+
+    /// Glass: Fresnel-weighted reflection and refraction (Whitted traces both; the distributed
+    /// variant picks one by its weight), total internal reflection, and the media the refracted
+    /// ray enters or leaves.
+    fn glass(&mut self, hit: &Hit<'_>, wo: Vec3, media: Media, depth: u32) -> Vec3 {
+        let n = hit.surface.shading_normal;
+        let Bsdf::Glass { eta } = media.glass(hit) else { unreachable!("glass has a glass boundary") };
+        let frame3 = Frame3::around(n);
+        let wo_local = frame3.to_local(wo);
+        let f = fresnel_dielectric(wo_local.z, eta);
+        let refracted = refract(wo_local, eta).map(|d| frame3.to_world(d));
+        let reflected = |this: &mut Self, weight: f32| {
+            if REFLECT && weight > 0.0 { weight * this.trace_on(hit, reflect(wo, n), Kind::Reflection, media, depth) } else { Vec3::ZERO }
+        };
+        let transmitted = |this: &mut Self, dir: Vec3, weight: f32| {
+            if REFRACT && weight > 0.0 { weight * this.trace_on(hit, dir, Kind::Refraction, media.crossed(hit), depth) } else { Vec3::ZERO }
+        };
+        match refracted {
+            None => reflected(self, 1.0),
+            Some(dir) if DISTRIBUTED => {
+                if self.sampler.next_1d() < f { reflected(self, 1.0) } else { transmitted(self, dir, 1.0) }
+            }
+            Some(dir) => reflected(self, f) + transmitted(self, dir, 1.0 - f),
+        }
+    }
+}

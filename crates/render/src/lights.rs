@@ -1,0 +1,403 @@
+//! The scene's lights as the integrators use them: sampled from a surface point (next-event
+//! estimation), and met by rays that hit an area light or escape to the environment, with the
+//! densities multiple importance sampling needs to weigh the two ways of finding the same light.
+//!
+//! Delta lights (point, spot, directional) can only be sampled; the ambient term is added
+//! without a shadow ray; area lights are sampled uniformly over their area; environments by
+//! the cosine around the normal, or, for an image, by the image's brightness (a piecewise-
+//! constant 2D distribution over the latitude-longitude map, as in pbrt's image infinite light).
+
+use std::f32::consts::{PI, TAU};
+
+use glam::Vec3;
+use raystage_scene::{Frame, Image, Light, Texture};
+
+use crate::warp::{Frame3, cosine_hemisphere, power_heuristic};
+
+/// Light arriving at a point from one sampled position of a light.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct LightSample {
+    /// Unit direction from the point towards the light.
+    pub wi: Vec3,
+    /// Distance to the sampled position (infinite for directional and environment light).
+    pub distance: f32,
+    /// Incident radiance divided by the sampling density: for a delta light its irradiance
+    /// facing it; for an extended light radiance / pdf.
+    pub weighted: Vec3,
+    /// Solid-angle density of the sample, or 0 for a delta light (which no ray can hit, so it
+    /// takes no part in multiple importance sampling).
+    pub pdf: f32,
+}
+
+/// How a ray that meets an emitter was chosen, which decides how much of the emission it counts.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Seen {
+    /// A camera ray, or a ray that only mirrors and glass bent on its way from the camera: the
+    /// emitter is seen, fully.
+    Directly,
+    /// A ray sampled from the BSDF at a surface with shading normal `normal`, with density
+    /// `pdf`, where lights were also sampled: the emission is weighted against the light's own
+    /// sampling density (multiple importance sampling).
+    Scattered { normal: Vec3, pdf: f32 },
+    /// A ray whose emitters were already accounted for by light sampling: no emission.
+    Not,
+}
+
+/// The frame's lights, prepared for sampling.
+pub(crate) struct SceneLights<'f> {
+    lights: Vec<Prepared<'f>>,
+    ambient: Vec3,
+    environment: bool,
+    area: bool,
+}
+
+/// One light with what sampling needs precomputed.
+enum Prepared<'f> {
+    Point { position: Vec3, intensity: Vec3 },
+    Spot { position: Vec3, axis: Vec3, intensity: Vec3, cos_cone: f32, cos_falloff: f32 },
+    Directional { towards: Vec3, intensity: Vec3 },
+    Area { corner: Vec3, edge_u: Vec3, edge_v: Vec3, normal: Vec3, area: f32, radiance: Vec3 },
+    Environment { radiance: Vec3, map: Option<EnvironmentMap<'f>> },
+}
+
+impl<'f> SceneLights<'f> {
+    /// The lights of `frame`.
+    pub fn of(frame: &Frame<'f>) -> SceneLights<'f> {
+        let mut ambient = Vec3::ZERO;
+        let mut lights = Vec::new();
+        for light in frame.lights() {
+            let prepared = match *light {
+                Light::Ambient { intensity } => {
+                    ambient += intensity;
+                    continue;
+                }
+                Light::Point { position, intensity } => Prepared::Point { position, intensity },
+                Light::Spot { position, direction, intensity, cone_degrees, falloff_degrees } => Prepared::Spot {
+                    position,
+                    axis: direction.normalize(),
+                    intensity,
+                    cos_cone: cone_degrees.to_radians().cos(),
+                    cos_falloff: falloff_degrees.to_radians().cos(),
+                },
+                Light::Directional { direction, intensity } => Prepared::Directional { towards: -direction.normalize(), intensity },
+                Light::Area { corner, edge_u, edge_v, radiance } => {
+                    let cross = edge_u.cross(edge_v);
+                    Prepared::Area { corner, edge_u, edge_v, normal: cross.normalize(), area: cross.length(), radiance }
+                }
+                Light::Environment { radiance, map } => {
+                    let image = map.and_then(|id| frame.texture(id)).and_then(|t| match t {
+                        Texture::Image(image) => Some(&**image),
+                        _ => None,
+                    });
+                    Prepared::Environment { radiance, map: image.and_then(EnvironmentMap::new) }
+                }
+            };
+            lights.push(prepared);
+        }
+        let environment = lights.iter().any(|l| matches!(l, Prepared::Environment { .. }));
+        let area = lights.iter().any(|l| matches!(l, Prepared::Area { .. }));
+        SceneLights { lights, ambient, environment, area }
+    }
+
+    /// How many lights there are to sample (the ambient term is not sampled).
+    pub fn len(&self) -> usize {
+        self.lights.len()
+    }
+
+    /// The sum of the ambient lights' intensities.
+    pub fn ambient(&self) -> Vec3 {
+        self.ambient
+    }
+
+    /// Whether an environment surrounds the scene (which then replaces the sky backdrop).
+    pub fn has_environment(&self) -> bool {
+        self.environment
+    }
+
+    /// Whether there are area lights (which rays can meet).
+    pub fn has_area(&self) -> bool {
+        self.area
+    }
+
+    /// Whether light `index` has an extent (so sampling it takes random numbers).
+    pub fn is_extended(&self, index: usize) -> bool {
+        matches!(self.lights[index], Prepared::Area { .. } | Prepared::Environment { .. })
+    }
+
+    /// Samples light `index` as seen from `p` with shading normal `n`, using the two uniform
+    /// numbers `u`. With `u = [0.5, 0.5]` (Whitted's deterministic rays) an area light is
+    /// sampled at its centre and an environment along the normal.
+    pub fn sample(&self, index: usize, p: Vec3, n: Vec3, u: [f32; 2], deterministic: bool) -> Option<LightSample> {
+        let sample = match &self.lights[index] {
+            Prepared::Point { position, intensity } => {
+                let (wi, distance) = towards(p, *position)?;
+                LightSample { wi, distance, weighted: *intensity / (distance * distance), pdf: 0.0 }
+            }
+            Prepared::Spot { position, axis, intensity, cos_cone, cos_falloff } => {
+                let (wi, distance) = towards(p, *position)?;
+                let cos = (-wi).dot(*axis);
+                let fade = if cos >= *cos_falloff {
+                    1.0
+                } else if cos <= *cos_cone {
+                    0.0
+                } else {
+                    let s = (cos - cos_cone) / (cos_falloff - cos_cone);
+                    s * s * (3.0 - 2.0 * s)
+                };
+                LightSample { wi, distance, weighted: *intensity * fade / (distance * distance), pdf: 0.0 }
+            }
+            Prepared::Directional { towards, intensity } => LightSample { wi: *towards, distance: f32::INFINITY, weighted: *intensity, pdf: 0.0 },
+            Prepared::Area { corner, edge_u, edge_v, normal, area, radiance } => {
+                let q = *corner + *edge_u * u[0] + *edge_v * u[1];
+                let (wi, distance) = towards(p, q)?;
+                let cos_light = normal.dot(-wi);
+                if cos_light <= 0.0 {
+                    return None;
+                }
+                let pdf = distance * distance / (area * cos_light);
+                LightSample { wi, distance, weighted: *radiance / pdf, pdf }
+            }
+            Prepared::Environment { radiance, map } => {
+                let (wi, pdf) = match map {
+                    Some(map) if !deterministic => map.sample(u)?,
+                    _ => {
+                        let wi = Frame3::around(n).to_world(cosine_hemisphere(u));
+                        (wi, wi.dot(n).max(0.0) / PI)
+                    }
+                };
+                if pdf <= 0.0 {
+                    return None;
+                }
+                let emitted = *radiance * map.as_ref().map_or(Vec3::ONE, |m| m.radiance(wi));
+                LightSample { wi, distance: f32::INFINITY, weighted: emitted / pdf, pdf }
+            }
+        };
+        (sample.weighted.max_element() > 0.0).then_some(sample)
+    }
+
+    /// Emission from area lights that a ray from `origin` in unit direction `dir` meets before
+    /// `tmax`, weighted by how it was `seen`.
+    pub fn emission_along(&self, origin: Vec3, dir: Vec3, tmax: f32, seen: Seen) -> Vec3 {
+        if matches!(seen, Seen::Not) {
+            return Vec3::ZERO;
+        }
+        let mut sum = Vec3::ZERO;
+        for light in &self.lights {
+            let Prepared::Area { corner, edge_u, edge_v, normal, area, radiance } = light else { continue };
+            let Some(t) = hit_parallelogram(origin, dir, *corner, *edge_u, *edge_v) else { continue };
+            let cos_light = normal.dot(-dir);
+            if t >= tmax || cos_light <= 0.0 {
+                continue;
+            }
+            let weight = match seen {
+                Seen::Scattered { pdf, .. } => power_heuristic(pdf, t * t / (area * cos_light)),
+                _ => 1.0,
+            };
+            sum += *radiance * weight;
+        }
+        sum
+    }
+
+    /// Radiance from the environment along unit direction `dir`, weighted by how it was `seen`.
+    pub fn environment(&self, dir: Vec3, seen: Seen) -> Vec3 {
+        let mut sum = Vec3::ZERO;
+        for light in &self.lights {
+            let Prepared::Environment { radiance, map } = light else { continue };
+            let emitted = *radiance * map.as_ref().map_or(Vec3::ONE, |m| m.radiance(dir));
+            let weight = match seen {
+                Seen::Directly => 1.0,
+                Seen::Not => 0.0,
+                Seen::Scattered { normal, pdf } => {
+                    let light_pdf = match map {
+                        Some(map) => map.pdf(dir),
+                        None => dir.dot(normal).max(0.0) / PI,
+                    };
+                    power_heuristic(pdf, light_pdf)
+                }
+            };
+            sum += emitted * weight;
+        }
+        sum
+    }
+}
+
+/// The unit direction and distance from `p` to `q`, unless they coincide.
+fn towards(p: Vec3, q: Vec3) -> Option<(Vec3, f32)> {
+    let d = q - p;
+    let distance = d.length();
+    (distance > 0.0 && distance.is_finite()).then(|| (d / distance, distance))
+}
+
+/// Where a ray meets the parallelogram `corner + s·edge_u + t·edge_v`, s, t in [0, 1], from
+/// either side.
+fn hit_parallelogram(origin: Vec3, dir: Vec3, corner: Vec3, edge_u: Vec3, edge_v: Vec3) -> Option<f32> {
+    let p = dir.cross(edge_v);
+    let det = edge_u.dot(p);
+    if det == 0.0 {
+        return None;
+    }
+    let to_origin = origin - corner;
+    let s = to_origin.dot(p) / det;
+    let q = to_origin.cross(edge_u);
+    let t = dir.dot(q) / det;
+    let distance = edge_v.dot(q) / det;
+    ((0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t) && distance > 0.0).then_some(distance)
+}
+
+/// A latitude-longitude environment image with the distribution that samples it by brightness.
+/// Row 0 looks straight up (+y); column `x` looks at azimuth `φ = 2π (x / width − 1/2)`
+/// measured from −z towards +x.
+struct EnvironmentMap<'f> {
+    image: &'f Image,
+    /// Rows by their total brightness.
+    rows: Distribution,
+    /// Within each row, columns by brightness.
+    columns: Vec<Distribution>,
+}
+
+impl<'f> EnvironmentMap<'f> {
+    /// The map of `image`, or `None` if it is black everywhere.
+    fn new(image: &'f Image) -> Option<EnvironmentMap<'f>> {
+        let (w, h) = (image.width() as usize, image.height() as usize);
+        let columns: Vec<Distribution> = (0..h)
+            .map(|y| {
+                // Texels near the poles cover less solid angle.
+                let sin = (PI * (y as f32 + 0.5) / h as f32).sin();
+                Distribution::new((0..w).map(|x| luminance(image.texel(x as i64, y as i64)) * sin).collect())
+            })
+            .collect();
+        let rows = Distribution::new(columns.iter().map(|c| c.total).collect());
+        (rows.total > 0.0).then_some(EnvironmentMap { image, rows, columns })
+    }
+
+    /// The texel `dir` looks at (unfiltered, so that lookup and sampling density agree).
+    fn radiance(&self, dir: Vec3) -> Vec3 {
+        let (x, y) = self.texel_of(dir);
+        self.image.texel(x as i64, y as i64)
+    }
+
+    /// The column and row `dir` looks at.
+    fn texel_of(&self, dir: Vec3) -> (usize, usize) {
+        let (w, h) = (self.image.width() as usize, self.image.height() as usize);
+        let v = dir.y.clamp(-1.0, 1.0).acos() / PI;
+        let u = dir.x.atan2(-dir.z) / TAU + 0.5;
+        (((u * w as f32) as usize).min(w - 1), ((v * h as f32) as usize).min(h - 1))
+    }
+
+    /// A direction by brightness, and its solid-angle density.
+    fn sample(&self, u: [f32; 2]) -> Option<(Vec3, f32)> {
+        let (row, v) = self.rows.sample(u[1]);
+        let (_, uu) = self.columns[row].sample(u[0]);
+        let theta = v * PI;
+        let phi = (uu - 0.5) * TAU;
+        let dir = Vec3::new(theta.sin() * phi.sin(), theta.cos(), -theta.sin() * phi.cos());
+        let pdf = self.pdf(dir);
+        (pdf > 0.0).then_some((dir, pdf))
+    }
+
+    /// The solid-angle density with which [`sample`](Self::sample) picks `dir`.
+    fn pdf(&self, dir: Vec3) -> f32 {
+        let (x, y) = self.texel_of(dir);
+        let (w, h) = (self.image.width() as f32, self.image.height() as f32);
+        let sin = (PI * (y as f32 + 0.5) / h).sin();
+        // Density over the unit square of (u, v), then per solid angle: dω = 2π² sin θ du dv.
+        let unit_square = self.rows.density(y) * h * self.columns[y].density(x) * w;
+        if sin <= 0.0 { 0.0 } else { unit_square / (2.0 * PI * PI * sin) }
+    }
+}
+
+/// A piecewise-constant distribution over [0, 1) with one piece per weight.
+struct Distribution {
+    /// Cumulative weights, normalised: `cdf[i]` is the probability of the pieces before `i`.
+    cdf: Vec<f32>,
+    /// The sum of the weights.
+    total: f32,
+}
+
+impl Distribution {
+    /// The distribution proportional to `weights` (uniform if they are all zero).
+    fn new(weights: Vec<f32>) -> Distribution {
+        let total: f32 = weights.iter().sum();
+        let n = weights.len() as f32;
+        let mut cdf = Vec::with_capacity(weights.len() + 1);
+        let mut running = 0.0;
+        cdf.push(0.0);
+        for (i, w) in weights.iter().enumerate() {
+            running += if total > 0.0 { w / total } else { 1.0 / n };
+            cdf.push(if i + 1 == weights.len() { 1.0 } else { running });
+        }
+        Distribution { cdf, total }
+    }
+
+    /// The probability of piece `i`.
+    fn density(&self, i: usize) -> f32 {
+        self.cdf[i + 1] - self.cdf[i]
+    }
+
+    /// The piece `u` falls in and the point in [0, 1) it maps to.
+    fn sample(&self, u: f32) -> (usize, f32) {
+        let pieces = self.cdf.len() - 1;
+        let i = (self.cdf.partition_point(|&c| c <= u).max(1) - 1).min(pieces - 1);
+        let width = self.density(i);
+        let within = if width > 0.0 { ((u - self.cdf[i]) / width).clamp(0.0, 1.0) } else { 0.5 };
+        let x = ((i as f32 + within) / pieces as f32).min(1.0 - f32::EPSILON);
+        (i, x)
+    }
+}
+
+/// The luminance of a linear-RGB colour (Rec. 709 weights).
+pub(crate) fn luminance(c: Vec3) -> f32 {
+    c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parallelograms_are_hit_inside_only() {
+        let (corner, eu, ev) = (Vec3::new(-1.0, 2.0, -1.0), Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 2.0));
+        assert_eq!(hit_parallelogram(Vec3::ZERO, Vec3::Y, corner, eu, ev), Some(2.0));
+        assert_eq!(hit_parallelogram(Vec3::new(1.5, 0.0, 0.0), Vec3::Y, corner, eu, ev), None);
+        assert_eq!(hit_parallelogram(Vec3::ZERO, -Vec3::Y, corner, eu, ev), None);
+    }
+
+    #[test]
+    fn distributions_sample_in_proportion() {
+        let d = Distribution::new(vec![1.0, 0.0, 3.0]);
+        assert_eq!(d.sample(0.1).0, 0);
+        assert_eq!(d.sample(0.3).0, 2);
+        assert!((d.density(2) - 0.75).abs() < 1e-6 && d.density(1) == 0.0);
+        let (_, x) = d.sample(0.25 + 0.375);
+        assert!((x - (2.5 / 3.0)).abs() < 1e-5, "{x}");
+    }
+
+    /// The environment map's sampling density integrates to one over the sphere and matches
+    /// the direction sampling produces, and sampled directions look at bright texels.
+    #[test]
+    fn environment_sampling_density_is_consistent() {
+        let (w, h) = (16, 8);
+        let texels = (0..w * h).map(|i| if i % w == 3 && i / w == 2 { Vec3::splat(50.0) } else { Vec3::splat(0.5) }).collect();
+        let image = Image::new(w as u32, h as u32, texels).unwrap();
+        let map = EnvironmentMap::new(&image).unwrap();
+        let n = 400;
+        let mut integral = 0.0;
+        for i in 0..n {
+            for j in 0..n {
+                let v = (i as f32 + 0.5) / n as f32;
+                let u = (j as f32 + 0.5) / n as f32;
+                let (theta, phi) = (v * PI, (u - 0.5) * TAU);
+                let dir = Vec3::new(theta.sin() * phi.sin(), theta.cos(), -theta.sin() * phi.cos());
+                integral += map.pdf(dir) * 2.0 * PI * PI * theta.sin() / (n * n) as f32;
+            }
+        }
+        assert!((integral - 1.0).abs() < 0.01, "{integral}");
+        let mut bright = 0;
+        for k in 0..1000 {
+            let (dir, pdf) = map.sample([((k * 7919) % 1000) as f32 / 1000.0, k as f32 / 1000.0]).unwrap();
+            assert!((pdf - map.pdf(dir)).abs() <= 1e-3 * pdf);
+            bright += (map.texel_of(dir) == (3, 2)) as u32;
+        }
+        assert!(bright > 500, "{bright} of 1000 samples in the bright texel");
+    }
+}

@@ -1,0 +1,402 @@
+//! Rendering a frame: settings, the per-pixel sample loop over tiles, and progressive
+//! accumulation of samples with a per-pixel variance estimate.
+
+use std::time::Instant;
+
+use glam::Vec3;
+use raystage_kernel::{PACKET_SIZE, Ray};
+use raystage_scene::{Frame, SceneHit};
+
+use crate::effects::EffectSet;
+use crate::integrator::{Tracer, eyelight, path, recursive};
+use crate::lights::{SceneLights, Seen};
+use crate::sampler::PixelSampler;
+use crate::stats::{FrameStats, PhaseTimes, RayCounts};
+use crate::tiles::{Tile, render_tiles_with};
+use crate::{Error, Film};
+
+/// Largest image width or height.
+pub const MAX_DIMENSION: u32 = 16_384;
+/// Most samples per pixel in one call.
+pub const MAX_SAMPLES: u32 = 65_536;
+/// Deepest recursion or path.
+pub const MAX_DEPTH: u32 = 64;
+
+/// How a camera ray's colour is computed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Integrator {
+    /// Fast preview: a light at the eye, no secondary rays.
+    #[default]
+    EyeLight,
+    /// Whitted 1980: shadows, reflection and refraction, recursively.
+    Whitted,
+    /// Cook 1984: Whitted's rays distributed over pixel, lens, time, lights and glossy lobes.
+    Distribution,
+    /// Unbiased path tracing with next-event estimation and multiple importance sampling.
+    Path,
+}
+
+impl Integrator {
+    /// Every integrator.
+    pub const ALL: [Integrator; 4] = [Integrator::EyeLight, Integrator::Whitted, Integrator::Distribution, Integrator::Path];
+
+    /// Its name: `eyelight`, `whitted`, `distribution`, `path`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Integrator::EyeLight => "eyelight",
+            Integrator::Whitted => "whitted",
+            Integrator::Distribution => "distribution",
+            Integrator::Path => "path",
+        }
+    }
+
+    /// Parses a name as printed by [`Integrator::name`].
+    pub fn from_name(name: &str) -> Option<Integrator> {
+        Integrator::ALL.into_iter().find(|i| i.name() == name)
+    }
+}
+
+/// The pixel reconstruction filter. Samples are placed with the filter's distribution around the
+/// pixel centre and averaged with equal weight (filter importance sampling), which is unbiased
+/// and keeps every sample within its own pixel's accumulator.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Filter {
+    /// Uniform over the pixel.
+    #[default]
+    Box,
+    /// A Gaussian of standard deviation `radius / 3`, cut off at `radius` pixels.
+    Gaussian {
+        /// Cut-off radius in pixels, in `(0, 4]`.
+        radius: f32,
+    },
+}
+
+impl Filter {
+    /// The offset of a sample from the pixel's top-left corner, from two uniform numbers.
+    fn offset(self, u: [f32; 2]) -> [f32; 2] {
+        match self {
+            Filter::Box => u,
+            Filter::Gaussian { radius } => {
+                let sigma = radius / 3.0;
+                let r = (sigma * (-2.0 * (1.0 - u[0]).ln()).sqrt()).min(radius);
+                let phi = std::f32::consts::TAU * u[1];
+                [0.5 + r * phi.cos(), 0.5 + r * phi.sin()]
+            }
+        }
+    }
+}
+
+/// Everything that decides how a frame is rendered.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderSettings {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// How camera rays are coloured.
+    pub integrator: Integrator,
+    /// Samples per pixel.
+    pub samples_per_pixel: u32,
+    /// Deepest recursion (Whitted, distribution) or longest path (path tracer).
+    pub max_depth: u32,
+    /// Pixel reconstruction filter.
+    pub filter: Filter,
+    /// Seed of the sample sequences.
+    pub seed: u32,
+    /// Whether to run the shading kernel compiled for the frame's effect set (the default).
+    /// Off, every frame runs the general kernel with reflection and refraction compiled in, which
+    /// computes the same image: the switch exists to measure what specialisation saves.
+    pub specialize: bool,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            width: 640,
+            height: 360,
+            integrator: Integrator::EyeLight,
+            samples_per_pixel: 1,
+            max_depth: 6,
+            filter: Filter::Box,
+            seed: 0,
+            specialize: true,
+        }
+    }
+}
+
+impl RenderSettings {
+    /// Checks every value is in its range.
+    pub fn validate(&self) -> Result<(), Error> {
+        let check = |ok: bool, field: &'static str, message: String| if ok { Ok(()) } else { Err(Error::Setting { field, message }) };
+        check((1..=MAX_DIMENSION).contains(&self.width), "width", format!("{} is not in 1..={MAX_DIMENSION}", self.width))?;
+        check((1..=MAX_DIMENSION).contains(&self.height), "height", format!("{} is not in 1..={MAX_DIMENSION}", self.height))?;
+        check(
+            (1..=MAX_SAMPLES).contains(&self.samples_per_pixel),
+            "samples_per_pixel",
+            format!("{} is not in 1..={MAX_SAMPLES}", self.samples_per_pixel),
+        )?;
+        check((1..=MAX_DEPTH).contains(&self.max_depth), "max_depth", format!("{} is not in 1..={MAX_DEPTH}", self.max_depth))?;
+        if let Filter::Gaussian { radius } = self.filter {
+            check(radius > 0.0 && radius <= 4.0, "filter.radius", format!("{radius} is not in (0, 4]"))?;
+        }
+        Ok(())
+    }
+}
+
+/// Renders `settings.samples_per_pixel` samples of every pixel of `frame`, on the current rayon
+/// pool.
+pub fn render(frame: &Frame<'_>, settings: &RenderSettings) -> Result<(Film, FrameStats), Error> {
+    let mut progressive = Progressive::new(*settings)?;
+    let stats = progressive.add(frame, settings.samples_per_pixel);
+    Ok((progressive.film(), stats))
+}
+
+/// A quick look at `frame`: one sample per pixel of a `width × height` image, Whitted's
+/// integrator if the scene has lights and the eye-light preview if it has none (so that an
+/// unlit scene is not simply black). Panics if the size is out of range.
+pub fn render_frame(frame: &Frame<'_>, width: u32, height: u32) -> (Film, FrameStats) {
+    let integrator = if frame.lights().is_empty() { Integrator::EyeLight } else { Integrator::Whitted };
+    let settings = RenderSettings { width, height, integrator, ..RenderSettings::default() };
+    render(frame, &settings).expect("image size within range")
+}
+
+/// Progressive accumulation: while the scene and camera stay the same, each call adds samples to
+/// every pixel, continuing the pixels' sample sequences; after a change, [`Progressive::reset`]
+/// starts over. Keeps each pixel's mean and the variance of that mean.
+#[derive(Clone, Debug)]
+pub struct Progressive {
+    settings: RenderSettings,
+    sum: Vec<Vec3>,
+    /// Sum of squared luminances, for the variance estimate.
+    sum_sq: Vec<f32>,
+    samples: u32,
+}
+
+impl Progressive {
+    /// An empty accumulation for images of `settings`' size, integrator and filter.
+    pub fn new(settings: RenderSettings) -> Result<Progressive, Error> {
+        settings.validate()?;
+        let n = settings.width as usize * settings.height as usize;
+        Ok(Progressive { settings, sum: vec![Vec3::ZERO; n], sum_sq: vec![0.0; n], samples: 0 })
+    }
+
+    /// The settings this accumulation renders with.
+    pub fn settings(&self) -> &RenderSettings {
+        &self.settings
+    }
+
+    /// Samples per pixel accumulated so far.
+    pub fn samples(&self) -> u32 {
+        self.samples
+    }
+
+    /// Drops every sample: the next call to [`Progressive::add`] starts a new image.
+    pub fn reset(&mut self) {
+        self.sum.iter_mut().for_each(|s| *s = Vec3::ZERO);
+        self.sum_sq.iter_mut().for_each(|s| *s = 0.0);
+        self.samples = 0;
+    }
+
+    /// Adds `samples` samples per pixel of `frame`.
+    pub fn add(&mut self, frame: &Frame<'_>, samples: u32) -> FrameStats {
+        let start = Instant::now();
+        let s = self.settings;
+        let effects = EffectSet::of(frame, s.integrator, self.samples + samples);
+        let tracer = Tracer { frame, lights: SceneLights::of(frame), effects, settings: &s };
+        let first_index = self.samples;
+        let counts = std::sync::Mutex::new(Counts::default());
+        let (sum, sum_sq) = (&mut self.sum, &mut self.sum_sq);
+        render_tiles_with(s.width, s.height, sum, sum_sq, |tile, sum, sum_sq| {
+            let mut local = Counts::default();
+            for index in first_index..first_index + samples {
+                sample_tile(&tracer, tile, index, sum, sum_sq, &mut local);
+            }
+            counts.lock().unwrap_or_else(|e| e.into_inner()).add(local);
+        });
+        self.samples += samples;
+        let counts = counts.into_inner().unwrap_or_else(|e| e.into_inner());
+        let work = frame.work();
+        let seconds = start.elapsed().as_secs_f64();
+        FrameStats {
+            effects,
+            rays: counts.rays,
+            samples_per_pixel: samples,
+            accumulated_samples: self.samples,
+            time_samples: counts.time_samples,
+            lens_samples: counts.lens_samples,
+            phases: PhaseTimes { top_level: frame.top_level_seconds(), object_builds: work.build_seconds, trace_and_shade: seconds },
+            seconds,
+            work,
+        }
+    }
+
+    /// The image: every pixel's mean so far.
+    pub fn film(&self) -> Film {
+        let n = self.samples.max(1) as f32;
+        Film::from_pixels(self.settings.width, self.settings.height, self.sum.iter().map(|s| *s / n).collect())
+    }
+
+    /// Per pixel, the estimated variance of its mean luminance (zero below two samples).
+    pub fn variance(&self) -> Vec<f32> {
+        let n = self.samples as f32;
+        if self.samples < 2 {
+            return vec![0.0; self.sum.len()];
+        }
+        self.sum
+            .iter()
+            .zip(&self.sum_sq)
+            .map(|(s, sq)| {
+                let mean = luminance(*s) / n;
+                ((sq / n - mean * mean) * n / (n - 1.0)).max(0.0) / n
+            })
+            .collect()
+    }
+}
+
+/// Relative luminance of linear RGB (Rec. 709).
+fn luminance(c: Vec3) -> f32 {
+    c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
+}
+
+/// Counts a tile gathers and the frame sums.
+#[derive(Clone, Copy, Debug, Default)]
+struct Counts {
+    rays: RayCounts,
+    time_samples: u64,
+    lens_samples: u64,
+}
+
+impl Counts {
+    fn add(&mut self, o: Counts) {
+        self.rays += o.rays;
+        self.time_samples += o.time_samples;
+        self.lens_samples += o.lens_samples;
+    }
+}
+
+/// One sample (number `index`) of every pixel of `tile`, added to the tile's sums.
+fn sample_tile(t: &Tracer<'_, '_>, tile: &Tile, index: u32, sum: &mut [Vec3], sum_sq: &mut [f32], counts: &mut Counts) {
+    let s = t.settings;
+    let camera = *t.frame.camera();
+    let order = packet_order(tile);
+    let mut samplers = Vec::with_capacity(order.len());
+    let mut rays = Vec::with_capacity(order.len());
+    let mut times = Vec::with_capacity(order.len());
+    for &i in &order {
+        let (x, y) = tile.pixel(i);
+        let mut sampler = PixelSampler::new(x, y, s.seed, index);
+        let [dx, dy] = s.filter.offset(sampler.next_2d());
+        let lens = if t.effects.depth_of_field {
+            counts.lens_samples += 1;
+            sampler.next_2d()
+        } else {
+            [0.5, 0.5]
+        };
+        let time = if t.effects.motion_blur {
+            counts.time_samples += 1;
+            let [open, close] = camera.shutter;
+            open + (close - open) * sampler.next_1d()
+        } else {
+            camera.shutter[0]
+        };
+        rays.push(camera.ray_through_lens(x as f32 + dx, y as f32 + dy, s.width, s.height, lens));
+        times.push(time);
+        samplers.push(sampler);
+    }
+    // Camera rays of neighbouring pixels go to the scene together; with motion blur each has
+    // its own time, so they go one by one.
+    let mut hits: Vec<Option<SceneHit>> = vec![None; rays.len()];
+    if t.effects.motion_blur {
+        for ((ray, time), hit) in rays.iter().zip(&times).zip(hits.iter_mut()) {
+            *hit = t.frame.intersect(ray, *time);
+        }
+    } else {
+        t.frame.intersect_many(&rays, &mut hits, times.first().copied().unwrap_or(0.0));
+    }
+    counts.rays.primary += rays.len() as u64;
+    for (k, &i) in order.iter().enumerate() {
+        let colour = sample_pixel(t, &rays[k], times[k], hits[k], &mut samplers[k], &mut counts.rays);
+        // A NaN or infinite sample would poison the pixel for good: drop it (it counts as black).
+        let colour = if colour.is_finite() { colour } else { Vec3::ZERO };
+        sum[i] += colour;
+        sum_sq[i] += luminance(colour) * luminance(colour);
+    }
+}
+
+/// The colour of one camera ray whose first hit is already known.
+fn sample_pixel(t: &Tracer<'_, '_>, ray: &Ray, time: f32, first: Option<SceneHit>, sampler: &mut PixelSampler, rays: &mut RayCounts) -> Vec3 {
+    let emitted = t.emission(ray, first.map(|h| h.t), Seen::Directly);
+    let Some(scene_hit) = first else {
+        return emitted + t.background(ray.dir, Seen::Directly);
+    };
+    let hit = t.resolve(ray, scene_hit, time);
+    let e = t.effects;
+    let (reflection, refraction) = if t.settings.specialize { (e.reflection, e.refraction) } else { (true, true) };
+    emitted + match t.settings.integrator {
+        Integrator::EyeLight => eyelight::shade(ray, &hit),
+        Integrator::Whitted => match (reflection, refraction) {
+            (false, false) => recursive::shade::<false, false, false>(t, ray, hit, time, sampler, rays),
+            (true, false) => recursive::shade::<true, false, false>(t, ray, hit, time, sampler, rays),
+            (false, true) => recursive::shade::<false, true, false>(t, ray, hit, time, sampler, rays),
+            (true, true) => recursive::shade::<true, true, false>(t, ray, hit, time, sampler, rays),
+        },
+        Integrator::Distribution => match (reflection, refraction) {
+            (false, false) => recursive::shade::<false, false, true>(t, ray, hit, time, sampler, rays),
+            (true, false) => recursive::shade::<true, false, true>(t, ray, hit, time, sampler, rays),
+            (false, true) => recursive::shade::<false, true, true>(t, ray, hit, time, sampler, rays),
+            (true, true) => recursive::shade::<true, true, true>(t, ray, hit, time, sampler, rays),
+        },
+        Integrator::Path => path::shade(t, ray, hit, time, sampler, rays),
+    }
+}
+
+/// The tile's pixel indices grouped in blocks of 4×2 pixels (fewer at the tile's edges), so that
+/// every [`PACKET_SIZE`] consecutive rays are neighbours.
+fn packet_order(tile: &Tile) -> Vec<usize> {
+    const BLOCK: (u32, u32) = (4, 2);
+    const _: () = assert!((BLOCK.0 * BLOCK.1) as usize == PACKET_SIZE);
+    let (w, h) = (tile.width, tile.height);
+    let mut order = Vec::with_capacity(tile.len());
+    for by in (0..h).step_by(BLOCK.1 as usize) {
+        for bx in (0..w).step_by(BLOCK.0 as usize) {
+            for y in by..(by + BLOCK.1).min(h) {
+                order.extend((bx..(bx + BLOCK.0).min(w)).map(|x| (y * w + x) as usize));
+            }
+        }
+    }
+    order
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn packet_order_visits_every_pixel_once_in_4x2_blocks() {
+        for (width, height) in [(16, 16), (5, 3), (1, 1), (7, 16)] {
+            let tile = Tile { x0: 3, y0: 5, width, height };
+            let mut order = packet_order(&tile);
+            order.sort_unstable();
+            assert_eq!(order, (0..tile.len()).collect::<Vec<_>>(), "{width}×{height}");
+        }
+        let order = packet_order(&Tile { x0: 0, y0: 0, width: 16, height: 16 });
+        assert_eq!(&order[..8], &[0, 1, 2, 3, 16, 17, 18, 19]);
+    }
+
+    #[test]
+    fn gaussian_offsets_stay_within_the_radius() {
+        let f = Filter::Gaussian { radius: 1.5 };
+        for i in 0..100 {
+            let [x, y] = f.offset([i as f32 / 100.0, (i * 37 % 100) as f32 / 100.0]);
+            assert!(((x - 0.5).powi(2) + (y - 0.5).powi(2)).sqrt() <= 1.5 + 1e-5);
+        }
+    }
+
+    #[test]
+    fn settings_are_checked() {
+        let bad = RenderSettings { samples_per_pixel: 0, ..RenderSettings::default() };
+        assert_eq!(bad.validate().unwrap_err().to_string(), "samples_per_pixel is out of range: 0 is not in 1..=65536");
+        assert!(RenderSettings { filter: Filter::Gaussian { radius: 9.0 }, ..RenderSettings::default() }.validate().is_err());
+        assert!(RenderSettings::default().validate().is_ok());
+    }
+}

@@ -1,0 +1,79 @@
+//! What a frame cost: rays by kind, samples, and time by phase.
+
+use raystage_scene::FrameWork;
+
+use crate::effects::EffectSet;
+
+/// Rays traced, by what they were for.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RayCounts {
+    /// Camera rays.
+    pub primary: u64,
+    /// Rays towards lights (visibility only).
+    pub shadow: u64,
+    /// Specular and glossy reflection rays.
+    pub reflection: u64,
+    /// Rays refracted into or out of transmissive surfaces.
+    pub refraction: u64,
+    /// Diffuse rays: path-tracing bounces and ambient-occlusion probes.
+    pub diffuse: u64,
+}
+
+impl RayCounts {
+    /// All rays.
+    pub fn total(&self) -> u64 {
+        self.primary + self.shadow + self.reflection + self.refraction + self.diffuse
+    }
+}
+
+impl std::ops::AddAssign for RayCounts {
+    fn add_assign(&mut self, o: RayCounts) {
+        self.primary += o.primary;
+        self.shadow += o.shadow;
+        self.reflection += o.reflection;
+        self.refraction += o.refraction;
+        self.diffuse += o.diffuse;
+    }
+}
+
+/// Seconds spent in each phase of a frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PhaseTimes {
+    /// Placing instances and building the top level.
+    pub top_level: f64,
+    /// Building and refitting object trees (lazily, while tracing; summed over threads).
+    pub object_builds: f64,
+    /// Tracing and shading.
+    pub trace_and_shade: f64,
+}
+
+/// What a frame (or a progressive pass) cost and what it computed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameStats {
+    /// The effects the frame simulated.
+    pub effects: EffectSet,
+    /// Rays traced, by kind.
+    pub rays: RayCounts,
+    /// Samples per pixel added by this frame.
+    pub samples_per_pixel: u32,
+    /// Samples per pixel accumulated so far (progressive rendering).
+    pub accumulated_samples: u32,
+    /// Shutter times drawn for camera rays (motion blur only).
+    pub time_samples: u64,
+    /// Lens positions drawn for camera rays (depth of field only).
+    pub lens_samples: u64,
+    /// Time by phase.
+    pub phases: PhaseTimes,
+    /// Wall-clock seconds of the whole frame.
+    pub seconds: f64,
+    /// Object trees built, refitted or skipped.
+    pub work: FrameWork,
+}
+
+impl FrameStats {
+    /// Tracing throughput in millions of rays per second, not counting lazy object builds.
+    pub fn mrays_per_second(&self) -> f64 {
+        let tracing = (self.phases.trace_and_shade - self.phases.object_builds).max(self.phases.trace_and_shade * 1e-3);
+        self.rays.total() as f64 / tracing / 1e6
+    }
+}

@@ -1,0 +1,93 @@
+//! White furnace tests: under a uniform white environment, a closed object that neither emits
+//! nor absorbs is invisible, and one that absorbs a fraction of what it receives shows exactly
+//! what it keeps. Any energy gained or lost by an estimator, a sampling density or a
+//! multiple-importance weight shows up as a pixel that is not the expected value.
+
+mod common;
+
+use common::{pixels, render_with, sphere_scene};
+use glam::Vec3;
+use raystage_render::Integrator;
+use raystage_scene::{Light, ParamValue, Scene};
+
+/// `scene` under a uniform environment of radiance 1.
+fn in_furnace(mut scene: Scene) -> Scene {
+    scene.add_light(Light::Environment { radiance: Vec3::ONE, map: None }).unwrap();
+    scene
+}
+
+/// Mean of the pixels of a `size²` image, and the largest deviation of a pixel from `expected`,
+/// over the pixels inside the sphere's outline (whose neighbours see the sphere too, so that no
+/// sample of theirs sees the environment behind it).
+fn furnace_pixels(scene: &Scene, integrator: Integrator, size: u32, spp: u32, expected: f32) -> (f32, f32) {
+    let (film, _) = render_with(scene, integrator, size, size, spp);
+    let frame = scene.frame();
+    let sees_sphere = |x: i64, y: i64| {
+        (0..size as i64).contains(&x) && (0..size as i64).contains(&y) && frame.pick(x as u32, y as u32, size, size).is_some()
+    };
+    let inside = |x: i64, y: i64| (-1..=1).all(|dy| (-1..=1).all(|dx| sees_sphere(x + dx, y + dy)));
+    let on_sphere: Vec<Vec3> = pixels(&film)
+        .into_iter()
+        .enumerate()
+        .filter(|(i, _)| inside((*i as u32 % size) as i64, (*i as u32 / size) as i64))
+        .map(|(_, p)| p)
+        .collect();
+    assert!(on_sphere.len() as u32 > size * size / 4, "the sphere fills the view");
+    let mean = on_sphere.iter().map(|p| p.element_sum() / 3.0).sum::<f32>() / on_sphere.len() as f32;
+    let worst = on_sphere.iter().map(|p| (*p - Vec3::splat(expected)).abs().max_element()).fold(0.0, f32::max);
+    (mean, worst)
+}
+
+#[test]
+fn a_white_diffuse_sphere_disappears() {
+    let scene = in_furnace(sphere_scene("Diffuse", &[("diffuse", ParamValue::Color(Vec3::ONE))]));
+    let (mean, worst) = furnace_pixels(&scene, Integrator::Path, 48, 16, 1.0);
+    assert!((mean - 1.0).abs() < 0.01, "mean {mean}");
+    assert!(worst < 0.05, "a pixel is off by {worst}");
+}
+
+#[test]
+fn a_grey_diffuse_sphere_keeps_half() {
+    let scene = in_furnace(sphere_scene("Diffuse", &[("diffuse", ParamValue::Color(Vec3::splat(0.5)))]));
+    let (mean, worst) = furnace_pixels(&scene, Integrator::Path, 48, 16, 0.5);
+    assert!((mean - 0.5).abs() < 0.005, "mean {mean}");
+    assert!(worst < 0.025, "a pixel is off by {worst}");
+}
+
+#[test]
+fn the_distribution_ray_tracer_agrees_on_a_diffuse_sphere() {
+    // No indirect light is needed on a convex object: direct light from the environment,
+    // sampled over the hemisphere, is all there is.
+    let scene = in_furnace(sphere_scene("Diffuse", &[("diffuse", ParamValue::Color(Vec3::splat(0.5)))]));
+    let (mean, _) = furnace_pixels(&scene, Integrator::Distribution, 32, 16, 0.5);
+    assert!((mean - 0.5).abs() < 0.005, "mean {mean}");
+}
+
+#[test]
+fn glass_never_creates_energy() {
+    let scene = in_furnace(sphere_scene("Glass", &[("ior", ParamValue::Float(1.5))]));
+    // Whitted splits every glass hit into Fresnel-weighted reflection and refraction: the
+    // weights sum to one, so nothing exceeds the environment, and with a deep enough
+    // recursion little is lost.
+    let (mean, worst) = furnace_pixels(&scene, Integrator::Whitted, 32, 1, 1.0);
+    let (film, _) = render_with(&scene, Integrator::Whitted, 32, 32, 1);
+    assert!(pixels(&film).iter().all(|p| p.max_element() <= 1.0 + 1e-4), "a glass pixel is brighter than the light");
+    assert!(mean > 0.97 && mean <= 1.0 + 1e-4, "mean {mean}, worst {worst}");
+    // The path tracer picks one of the two at random: the same on average.
+    let (mean, _) = furnace_pixels(&scene, Integrator::Path, 32, 32, 1.0);
+    assert!(mean > 0.97 && mean <= 1.01, "mean {mean}");
+}
+
+/// A single-scattering microfacet metal loses the light that would bounce between its facets
+/// (Kulla and Conty 2017): little when smooth, much when rough; it never gains any.
+#[test]
+fn rough_metal_loses_energy_but_never_gains_it() {
+    let mut previous = f32::INFINITY;
+    for roughness in [0.02, 0.4, 1.0] {
+        let scene = in_furnace(sphere_scene("Glossy", &[("reflectance", ParamValue::Color(Vec3::ONE)), ("roughness", ParamValue::Float(roughness))]));
+        let (mean, _) = furnace_pixels(&scene, Integrator::Path, 32, 16, 1.0);
+        assert!(mean <= 1.01 && mean < previous, "roughness {roughness}: mean {mean}");
+        assert!(roughness > 0.1 || mean > 0.97, "a nearly smooth metal keeps nearly everything: {mean}");
+        previous = mean;
+    }
+}
