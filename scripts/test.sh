@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # Runs every test of the workspace. As root on Debian it first installs the system packages the
-# tests need (Embree 3, for the benchmark's side-by-side checks); with Embree's headers present,
-# the benchmark crate is tested with its `embree` feature.
+# tests need (Embree 3, for the benchmark's side-by-side checks; gcc, g++, pkg-config and CMake,
+# to build the C and C++ examples against the installed C library); with Embree's headers
+# present, the benchmark crate is tested with its `embree` feature.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
-packages=(libembree-dev)
+packages=(libembree-dev gcc g++ pkg-config cmake)
 
 if [[ $(id -u) -eq 0 ]] && command -v apt-get >/dev/null; then
     missing=()

@@ -1,0 +1,99 @@
+//! The constants of the C ABI. Values that OpenGL also has keep OpenGL's numbers, so a ported
+//! program's constants mean the same; raystage's own values start at 0x9000.
+
+use crate::abi::types::{RTenum, RTsizei};
+
+// ----- error codes (rtGetError) -----
+
+/// No error has been recorded since the last `rtGetError`.
+pub const RT_NO_ERROR: RTenum = 0;
+/// An `RTenum` argument is not one of the values the call accepts.
+pub const RT_INVALID_ENUM: RTenum = 0x0500;
+/// A numeric or pointer argument is out of range: NaN or infinite, an id that names nothing, a
+/// NULL pointer, a size beyond the limits.
+pub const RT_INVALID_VALUE: RTenum = 0x0501;
+/// The call is not allowed in the current state (for example `rtVertex3f` outside
+/// `rtBegin`/`rtEnd`, or `rtEndObject` with no object being defined).
+pub const RT_INVALID_OPERATION: RTenum = 0x0502;
+/// `rtPushMatrix` on a full matrix stack (`RT_MAX_STACK_DEPTH` matrices).
+pub const RT_STACK_OVERFLOW: RTenum = 0x0503;
+/// `rtPopMatrix` on a stack holding one matrix.
+pub const RT_STACK_UNDERFLOW: RTenum = 0x0504;
+/// Memory could not be allocated, or a count exceeds raystage's limits.
+pub const RT_OUT_OF_MEMORY: RTenum = 0x0505;
+/// A file could not be written (`rtWritePNG`).
+pub const RT_IO_ERROR: RTenum = 0x9000;
+/// raystage itself failed (a bug): the call was stopped. Please report the message.
+pub const RT_INTERNAL_ERROR: RTenum = 0x9001;
+
+// ----- objects -----
+
+/// `rtNewObject` mode: record the object (the only mode; OpenGL's `GL_COMPILE`).
+pub const RT_COMPILE: RTenum = 0x1300;
+/// Object kind (`rtObjectKind`): geometry that never changes; it gets the best tree, once.
+pub const RT_STATIC: RTenum = 0x9010;
+/// Object kind: moves only through its instances (`rtMoveInstance`); never rebuilt.
+pub const RT_ANIMATED: RTenum = 0x9011;
+/// Object kind: redefined often with `rtNewObject` on the same id; its tree is refitted while
+/// that stays cheap, else rebuilt fast.
+pub const RT_UNSTRUCTURED: RTenum = 0x9012;
+
+// ----- primitives (rtBegin) -----
+
+/// Independent triangles: vertices 3i, 3i+1, 3i+2.
+pub const RT_TRIANGLES: RTenum = 0x0004;
+/// A triangle strip: each vertex after the second makes a triangle with the two before it.
+pub const RT_TRIANGLE_STRIP: RTenum = 0x0005;
+/// A triangle fan around the first vertex.
+pub const RT_TRIANGLE_FAN: RTenum = 0x0006;
+/// Independent quadrilaterals, four vertices each, split into two triangles.
+pub const RT_QUADS: RTenum = 0x0007;
+/// A strip of quadrilaterals: each pair of vertices after the first pair adds one.
+pub const RT_QUAD_STRIP: RTenum = 0x0008;
+/// One convex polygon, fanned around its first vertex.
+pub const RT_POLYGON: RTenum = 0x0009;
+
+// ----- shade model (rtShadeModel) -----
+
+/// Each triangle takes the normal and colour of one vertex (OpenGL's provoking vertex).
+pub const RT_FLAT: RTenum = 0x1D00;
+/// Normals and colours are interpolated across each triangle (the default).
+pub const RT_SMOOTH: RTenum = 0x1D01;
+
+// ----- matrices (rtMatrixMode) -----
+
+/// The modelview stack: transforms vertices issued inside objects, and places instances.
+pub const RT_MODELVIEW: RTenum = 0x1700;
+/// The texture stack: transforms texture coordinates as they are issued.
+pub const RT_TEXTURE: RTenum = 0x1702;
+/// Matrices each stack holds at most; a push beyond records `RT_STACK_OVERFLOW`.
+pub const RT_MAX_STACK_DEPTH: RTsizei = 32;
+
+// ----- shader parameters (rtParameterScope) -----
+
+/// Parameters are stored in the bound shader (the default, and what every built-in class uses).
+pub const RT_PER_SHADER: RTenum = 0x9020;
+/// Parameters stored per scene. No built-in class declares such parameters: selecting this scope
+/// records `RT_INVALID_ENUM`.
+pub const RT_PER_SCENE: RTenum = 0x9021;
+/// Parameters stored per object. Not supported yet: records `RT_INVALID_ENUM`.
+pub const RT_PER_OBJECT: RTenum = 0x9022;
+/// Parameters stored per triangle. Not supported yet: records `RT_INVALID_ENUM`.
+pub const RT_PER_TRIANGLE: RTenum = 0x9023;
+/// Parameters stored per vertex. Not supported yet (per-vertex data are the colour, normal and
+/// texture coordinates of `rtColor3f`, `rtNormal3f`, `rtTexCoord2f`): records `RT_INVALID_ENUM`.
+pub const RT_PER_VERTEX: RTenum = 0x9024;
+
+// ----- frame buffers (rtFrameBuffer) -----
+
+/// Four bytes per pixel: sRGB-encoded red, green, blue, and alpha 255.
+pub const RT_RGBA8: RTenum = 0x8058;
+/// Four floats per pixel (native byte order): linear red, green, blue, and alpha 1.
+pub const RT_RGBA32F: RTenum = 0x8814;
+/// Largest frame buffer width or height.
+pub const RT_MAX_FRAMEBUFFER_SIZE: RTsizei = 16384;
+
+// ----- limits -----
+
+/// Most ids of each kind (objects, shaders, shader classes) that one context can generate.
+pub const RT_MAX_IDS: RTsizei = 1 << 20;

@@ -1,0 +1,39 @@
+//! # raystage-capi
+//!
+//! The OpenGL-like C ABI of raystage, after the OpenRT API of the seed (Wald, *The OpenRT API*,
+//! DIGEST §1.1–§1.2). A C program builds **objects** between `rtNewObject` and `rtEndObject`
+//! with `rtBegin`/`rtVertex3f`/`rtEnd` (or `rtTriangleMesh`), places **instances** of them with
+//! the current modelview matrix, binds **shaders** and writes their parameters by name, and calls
+//! `rtSwapBuffers` to render a frame into memory it owns.
+//!
+//! This crate is the state machine behind those calls: the current object and primitive, the
+//! matrix stacks, the current vertex attributes, the bound shader class and shader, the frame
+//! buffer and the error log. It records everything into a retained [`raystage_scene::Scene`] and
+//! renders with [`raystage_render::render_frame`]; references resolve when the frame starts, so
+//! a parameter written after the geometry still changes it (frame semantics).
+//!
+//! Layout: [`abi`] holds every `extern "C"` entry point, grouped by topic; each converts its
+//! arguments and calls the context through one boundary (the `boundary` module) that catches
+//! panics and records errors. `unsafe` appears only where C memory is touched: the entry points
+//! that take pointers, the pointer helpers of `boundary`, and the write into the application's
+//! frame buffer (`frames`), each with a SAFETY comment. The C header `api/include/raystage/rt.h`
+//! is generated from [`abi`] by cbindgen (`tests/header.rs`).
+//!
+//! Not in here: the scene and its shader classes (`raystage-scene`), shading and frame loops
+//! (`raystage-render`), the HTTP server.
+
+pub mod abi;
+mod assembly;
+mod boundary;
+mod builder;
+mod camera;
+mod context;
+mod error;
+mod frames;
+mod geometry;
+mod ids;
+mod light_class;
+mod matrix;
+mod objects;
+mod parameters;
+mod shaders;

@@ -1,0 +1,113 @@
+//! Shader parameters by name (seed: *The OpenRT API* §2.3.1, after the Stanford shading API):
+//! `rtParameterHandle("diffuse")` turns a name into a handle once, `rtParameter3f(handle, ...)`
+//! writes the bound shader's parameter of that name. A parameter the shader's class does not
+//! export is ignored silently, so a front end can write the same material fields to any shader.
+//!
+//! Scopes: OpenRT lets a class store a parameter per shader, scene, object, triangle or vertex.
+//! Every built-in class stores its parameters per shader, and the scene has nowhere to keep the
+//! others, so only `RT_PER_SHADER` is accepted; the other scopes are refused with a clear error.
+
+use glam::Vec3;
+use raystage_scene::{ParamType, ParamValue};
+
+use crate::abi::enums::{RT_PER_OBJECT, RT_PER_SCENE, RT_PER_SHADER, RT_PER_TRIANGLE, RT_PER_VERTEX};
+use crate::abi::types::{RTenum, RTint};
+use crate::context::Context;
+use crate::error::{Error, finite};
+use crate::light_class::Setter;
+use crate::shaders::Slot;
+
+/// Longest parameter name, in bytes.
+const MAX_NAME_LEN: usize = 255;
+/// Most distinct parameter names one context can hold handles for.
+const MAX_HANDLES: usize = 1 << 16;
+
+impl Context {
+    /// `rtParameterHandle`: the handle of parameter `name` (the same for the same name).
+    pub fn parameter_handle(&mut self, name: &str) -> Result<RTint, Error> {
+        if name.is_empty() || name.len() > MAX_NAME_LEN {
+            return Err(Error::invalid_value(format!("a parameter name has 1 to {MAX_NAME_LEN} bytes, not {}", name.len())));
+        }
+        let handles = &mut self.shaders.handles;
+        let index = match handles.iter().position(|h| h == name) {
+            Some(i) => i,
+            None if handles.len() < MAX_HANDLES => {
+                handles.push(name.to_string());
+                handles.len() - 1
+            }
+            None => return Err(Error::out_of_memory(format!("a context holds at most {MAX_HANDLES} parameter names"))),
+        };
+        Ok(index as RTint + 1)
+    }
+
+    /// `rtParameterScope`: where the following parameter writes are stored.
+    pub fn parameter_scope(&mut self, scope: RTenum) -> Result<(), Error> {
+        let (unsupported, hint) = match scope {
+            RT_PER_SHADER => return Ok(()),
+            RT_PER_SCENE => ("per-scene", ""),
+            RT_PER_OBJECT => ("per-object", ""),
+            RT_PER_TRIANGLE => ("per-triangle", ""),
+            RT_PER_VERTEX => ("per-vertex", "; per-vertex data are given with rtColor3f, rtNormal3f and rtTexCoord2f"),
+            _ => return Err(Error::invalid_enum(format!("{scope:#x} is not a parameter scope"))),
+        };
+        Err(Error::invalid_enum(format!(
+            "{unsupported} parameters are not supported: every built-in class stores its parameters per shader (RT_PER_SHADER){hint}"
+        )))
+    }
+
+    /// `rtParameter1f` … `rtParameter4f`: writes `values` to parameter `handle` of the bound
+    /// shader. Ignored if the shader's class does not export the name.
+    pub fn parameter(&mut self, handle: RTint, values: &[f32]) -> Result<(), Error> {
+        let name = usize::try_from(handle)
+            .ok()
+            .and_then(|h| self.shaders.handles.get(h.wrapping_sub(1)))
+            .ok_or_else(|| Error::invalid_value(format!("{handle} is not a parameter handle from rtParameterHandle")))?
+            .clone();
+        let (shader, slot) = self
+            .shaders
+            .bound()
+            .ok_or_else(|| Error::invalid_operation("no shader is bound: call rtNewShader or rtBindShader first"))?;
+        finite("the value", values)?;
+        match slot {
+            Slot::Surface => {
+                let class = self.scene.shader(shader)?.class();
+                let Some(decl) = class.params.iter().find(|p| p.name == name) else {
+                    return Ok(());
+                };
+                let value = param_value(decl.default.ty(), values)
+                    .ok_or_else(|| wrong_count(&name, class.name, decl.default.ty().describe(), values.len()))?;
+                self.scene.set_param(shader, &name, value)?;
+            }
+            Slot::Light { light, class } => {
+                let Some(param) = class.params.iter().find(|p| p.name == name) else {
+                    return Ok(());
+                };
+                let (_, &current) = self.scene.lights().find(|(id, _)| *id == light).expect("a light shader's light exists");
+                let mut changed = current;
+                match (param.set, values) {
+                    (Setter::Number(set), &[v]) => set(&mut changed, v),
+                    (Setter::Triple(set), &[x, y, z]) => set(&mut changed, Vec3::new(x, y, z)),
+                    (Setter::Number(_), _) => return Err(wrong_count(&name, class.name, "a number", values.len())),
+                    (Setter::Triple(_), _) => return Err(wrong_count(&name, class.name, "three numbers", values.len())),
+                }
+                self.scene.set_light(light, changed)?;
+            }
+            Slot::Generated | Slot::Fallback => unreachable!("only defined shaders are bound"),
+        }
+        Ok(())
+    }
+}
+
+/// `values` as a value of type `ty`, if the count fits.
+fn param_value(ty: ParamType, values: &[f32]) -> Option<ParamValue> {
+    match (ty, values) {
+        (ParamType::Float, &[v]) => Some(ParamValue::Float(v)),
+        (ParamType::Color, &[r, g, b]) => Some(ParamValue::Color(Vec3::new(r, g, b))),
+        _ => None,
+    }
+}
+
+fn wrong_count(name: &str, class: &str, expected: &str, got: usize) -> Error {
+    let numbers = if got == 1 { "1 number".to_string() } else { format!("{got} numbers") };
+    Error::invalid_operation(format!("parameter `{name}` of shader class `{class}` takes {expected}, not {numbers}"))
+}

@@ -1,0 +1,229 @@
+//! The C and C++ examples, built as a user would: the library is installed into a temporary
+//! prefix with scripts/install-capi.sh, each example is compiled with gcc or g++ against the
+//! installed shared library and again against the static one (flags from pkg-config), run in a
+//! directory of its own, and the PNG frames it writes are decoded and checked.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::OnceLock;
+
+use image::RgbaImage;
+
+/// The workspace root.
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").canonicalize().expect("the workspace root")
+}
+
+/// The shared and static libraries, built for this test run: `cargo test` builds only the
+/// crate's Rust library, so this runs `cargo build -p raystage-capi` once, with the test's own
+/// profile and target directory (this executable is `<target>/<profile>/deps/examples-*`), which
+/// reuses everything the test build compiled.
+fn artifact_dir() -> &'static Path {
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let exe = std::env::current_exe().expect("the test's path");
+        let dir = exe.parent().and_then(Path::parent).expect("<target>/<profile>").to_path_buf();
+        let target = dir.parent().expect("<target>");
+        let profile = match dir.file_name().and_then(|n| n.to_str()) {
+            Some("debug") => "dev",
+            Some(name) => name,
+            None => panic!("no profile directory above {}", exe.display()),
+        };
+        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+        run(Command::new(cargo)
+            .args(["build", "--quiet", "-p", "raystage-capi", "--profile", profile, "--target-dir"])
+            .arg(target)
+            .current_dir(root()));
+        for lib in ["libraystage_capi.so", "libraystage_capi.a"] {
+            assert!(dir.join(lib).is_file(), "cargo build did not write {}", dir.join(lib).display());
+        }
+        dir
+    })
+}
+
+/// A fresh scratch directory for `name`.
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("capi").join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch directory");
+    dir
+}
+
+/// Runs a command, failing the test with its output if it fails; returns its stdout.
+fn run(command: &mut Command) -> String {
+    let output = command.output().unwrap_or_else(|e| panic!("cannot run {command:?}: {e}"));
+    assert!(
+        output.status.success(),
+        "{command:?} failed ({}):\n{}\n{}",
+        output.status,
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8(output.stdout).expect("UTF-8 output")
+}
+
+/// The library installed once for the whole test binary; returns the prefix.
+fn prefix() -> &'static Path {
+    static PREFIX: OnceLock<PathBuf> = OnceLock::new();
+    PREFIX.get_or_init(|| {
+        let prefix = scratch("prefix");
+        run(Command::new("bash").arg(root().join("scripts/install-capi.sh")).arg("--lib-dir").arg(artifact_dir()).arg(&prefix));
+        prefix
+    })
+}
+
+/// `pkg-config` for the installed library.
+fn pkg_config(package: &str) -> Vec<String> {
+    let out = run(Command::new("pkg-config")
+        .env("PKG_CONFIG_PATH", prefix().join("lib/pkgconfig"))
+        .args(["--cflags", "--libs", package]));
+    out.split_whitespace().map(String::from).collect()
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Linking {
+    Shared,
+    Static,
+}
+
+/// Compiles example `source` (under examples/) against the installed library, runs it with
+/// `args` in a directory of its own, and returns that directory.
+fn build_and_run(source: &str, linking: Linking, args: &[&str]) -> PathBuf {
+    let source = root().join("examples").join(source);
+    let stem = source.file_stem().unwrap().to_string_lossy().into_owned();
+    let dir = scratch(&format!("{stem}-{linking:?}"));
+    let exe = dir.join(&stem);
+    let cpp = source.extension().is_some_and(|e| e == "cpp");
+    let mut compile = Command::new(if cpp { "g++" } else { "gcc" });
+    compile.args(["-Wall", "-Wextra", "-Werror", "-O1"]);
+    if !cpp {
+        compile.arg("-std=c99");
+    }
+    compile.arg(&source).arg("-o").arg(&exe);
+    compile.args(pkg_config(match linking {
+        Linking::Shared => "raystage",
+        Linking::Static => "raystage-static",
+    }));
+    compile.arg("-lm");
+    run(&mut compile);
+    run(Command::new(&exe).args(args).current_dir(&dir).env("LD_LIBRARY_PATH", prefix().join("lib")));
+    if let Linking::Static = linking {
+        let ldd = run(Command::new("ldd").arg(&exe));
+        assert!(!ldd.contains("libraystage"), "statically linked, yet: {ldd}");
+    }
+    dir
+}
+
+fn frame(dir: &Path, name: &str) -> RgbaImage {
+    image::open(dir.join(name)).unwrap_or_else(|e| panic!("{}: {e}", dir.join(name).display())).to_rgba8()
+}
+
+/// Pixels whose channel `c` clearly dominates the other two.
+fn dominated_by(image: &RgbaImage, c: usize) -> usize {
+    image.pixels().filter(|p| (0..3).filter(|&o| o != c).all(|o| p[c] as i32 > p[o] as i32 + 60)).count()
+}
+
+/// The sky: bright and bluish.
+fn is_sky(p: &image::Rgba<u8>) -> bool {
+    p[2] > 200 && p[2] >= p[1] && p[1] >= p[0]
+}
+
+#[test]
+fn late_binding_renders_both_triangles_green() {
+    for linking in [Linking::Shared, Linking::Static] {
+        let image = frame(&build_and_run("c/late_binding.c", linking, &[]), "late_binding.png");
+        assert_eq!(image.dimensions(), (160, 80));
+        for x in [44, 116] {
+            let p = image.get_pixel(x, 45);
+            assert!(p[1] > 200 && p[0] < 30 && p[2] < 30, "{linking:?}: triangle at x = {x} is {p:?}, not green");
+        }
+        assert_eq!(dominated_by(&image, 0), 0, "{linking:?}: nothing is red");
+    }
+}
+
+#[test]
+fn eight_cubes_spin_with_their_vertex_colours() {
+    for linking in [Linking::Shared, Linking::Static] {
+        let dir = build_and_run("c/eight_cubes.c", linking, &["3", "160", "120"]);
+        let (first, last) = (frame(&dir, "eight_cubes_000.png"), frame(&dir, "eight_cubes_002.png"));
+        assert_eq!(first.dimensions(), (160, 120));
+        assert!(is_sky(first.get_pixel(2, 2)), "{linking:?}: the corner sees the sky");
+        // The cube in front, at the centre of the image: its corners' colours are interpolated,
+        // so no channel is at the sky's mix.
+        let centre = first.get_pixel(80, 60);
+        assert!(!is_sky(centre), "{linking:?}: the centre sees a cube, not {centre:?}");
+        let cube_pixels = first.pixels().filter(|p| !is_sky(p)).count();
+        assert!((3000..12000).contains(&cube_pixels), "{linking:?}: cubes cover {cube_pixels} pixels");
+        assert_ne!(first, last, "{linking:?}: the cubes turn");
+    }
+}
+
+#[test]
+fn gears_are_red_green_and_blue() {
+    for linking in [Linking::Shared, Linking::Static] {
+        let dir = build_and_run("c/gears.c", linking, &["2", "200", "200"]);
+        let image = frame(&dir, "gears_000.png");
+        let (red, green, blue) = (dominated_by(&image, 0), dominated_by(&image, 1), dominated_by(&image, 2));
+        assert!(red > 6000 && green > 1200 && blue > 1200, "{linking:?}: red {red}, green {green}, blue {blue} pixels");
+        assert!(red > green && red > blue, "{linking:?}: the big gear is red");
+        assert_ne!(image, frame(&dir, "gears_001.png"), "{linking:?}: the gears turn");
+    }
+}
+
+#[test]
+fn three_kinds_of_objects_move_as_their_kinds_do() {
+    for linking in [Linking::Shared, Linking::Static] {
+        let dir = build_and_run("c/three_kinds.c", linking, &["3", "240", "135"]);
+        let frames: Vec<RgbaImage> = (0..3).map(|i| frame(&dir, &format!("three_kinds_{i:03}.png"))).collect();
+        for image in &frames {
+            assert!(dominated_by(image, 0) > 300, "{linking:?}: the red stripes of the flag and the orange cube");
+            assert!(is_sky(image.get_pixel(120, 5)), "{linking:?}: sky at the top");
+        }
+        // The ground (static) stays; the cube and the flag move.
+        let ground = |image: &RgbaImage| *image.get_pixel(230, 130);
+        assert_eq!(ground(&frames[0]), ground(&frames[2]), "{linking:?}: the ground's corner does not change");
+        assert_ne!(frames[0], frames[2], "{linking:?}: the cube and the flag move");
+    }
+}
+
+#[test]
+fn the_cpp_wrapper_spins_a_torus() {
+    for linking in [Linking::Shared, Linking::Static] {
+        let dir = build_and_run("cpp/spin.cpp", linking, &["2", "160", "120"]);
+        let (first, second) = (frame(&dir, "spin_000.png"), frame(&dir, "spin_001.png"));
+        let teal = |image: &RgbaImage| {
+            image.pixels().filter(|p| !is_sky(p) && p[1].min(p[2]) as i32 > p[0] as i32 + 40).count()
+        };
+        assert!(teal(&first) > 1000, "{linking:?}: the torus covers {} pixels", teal(&first));
+        assert_ne!(first, second, "{linking:?}: the torus spins");
+    }
+}
+
+/// `find_package(raystage)` finds the installed library, for the shared and the static target.
+#[test]
+fn cmake_finds_the_installed_package() {
+    if Command::new("cmake").arg("--version").output().is_err() {
+        eprintln!("cmake is not installed: skipping (scripts/test.sh installs it)");
+        return;
+    }
+    let dir = scratch("cmake");
+    let source = root().join("examples/c/late_binding.c");
+    std::fs::write(
+        dir.join("CMakeLists.txt"),
+        format!(
+            "cmake_minimum_required(VERSION 3.13)\nproject(uses_raystage C)\nfind_package(raystage 0.1 REQUIRED)\n\
+             add_executable(shared_example \"{0}\")\ntarget_link_libraries(shared_example raystage::raystage)\n\
+             add_executable(static_example \"{0}\")\ntarget_link_libraries(static_example raystage::raystage_static m)\n",
+            source.display()
+        ),
+    )
+    .unwrap();
+    let build = dir.join("build");
+    run(Command::new("cmake").arg("-S").arg(&dir).arg("-B").arg(&build).arg(format!("-DCMAKE_PREFIX_PATH={}", prefix().display())));
+    run(Command::new("cmake").arg("--build").arg(&build));
+    for exe in ["shared_example", "static_example"] {
+        run(Command::new(build.join(exe)).current_dir(&build));
+        let image = frame(&build, "late_binding.png");
+        assert!(image.get_pixel(116, 45)[1] > 200, "{exe}: triangle B is green");
+    }
+}

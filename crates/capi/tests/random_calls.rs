@@ -1,0 +1,402 @@
+//! Random sequences of C calls, valid and invalid, through the `extern "C"` functions: no panic
+//! escapes, no call fails inside raystage (`RT_INTERNAL_ERROR`), every call the model can judge
+//! records the error it predicts, and whatever happened, the scene still renders.
+
+use std::ffi::CString;
+
+use proptest::prelude::*;
+use raystage_capi::abi::*;
+use raystage_scene::SHADER_CLASSES;
+
+/// One C call with its arguments.
+#[derive(Clone, Debug)]
+enum Call {
+    GenObjects(usize),
+    NewObject(RTuint, RTenum),
+    EndObject,
+    ObjectKind(RTenum),
+    DeleteObjects(RTuint, usize),
+    Instantiate(RTuint),
+    MoveInstance(RTuint),
+    DeleteInstance(RTuint),
+    DeleteAllInstances,
+    Begin(RTenum),
+    End,
+    Vertex([f32; 3]),
+    Normal([f32; 3]),
+    Color([f32; 3]),
+    TexCoord([f32; 2]),
+    ShadeModel(RTenum),
+    TriangleMesh { positions: Vec<[f32; 3]>, indices: Vec<[u32; 3]>, normals: bool },
+    MatrixMode(RTenum),
+    LoadIdentity,
+    PushMatrix,
+    PopMatrix,
+    Translate([f32; 3]),
+    Rotate(f32, [f32; 3]),
+    Scale([f32; 3]),
+    Perspective(f32),
+    LookAt([f32; 3]),
+    GenShaderClasses(usize),
+    NewShaderClass(RTuint, String),
+    BindShaderClass(RTuint),
+    GenShaders(usize),
+    NewShader(RTuint),
+    BindShader(RTuint),
+    DeleteShaders(RTuint, usize),
+    ParameterHandle(String),
+    Parameter(RTint, Vec<f32>),
+    Swap,
+    Pick(RTuint, RTuint),
+}
+
+/// Mostly ordinary numbers, sometimes NaN or infinite.
+fn number() -> impl Strategy<Value = f32> {
+    prop_oneof![20 => -4.0f32..4.0, 1 => Just(f32::NAN), 1 => Just(f32::INFINITY), 1 => Just(1e30f32)]
+}
+
+fn vec3() -> impl Strategy<Value = [f32; 3]> {
+    [number(), number(), number()]
+}
+
+/// Small ids (0 names nothing), so that calls often hit what exists.
+fn id() -> impl Strategy<Value = RTuint> {
+    0u32..6
+}
+
+/// A valid value of the enum most of the time, else something else.
+fn one_of(valid: &'static [RTenum]) -> impl Strategy<Value = RTenum> {
+    prop_oneof![4 => proptest::sample::select(valid), 1 => 0u32..0x9100]
+}
+
+const PRIMITIVES: &[RTenum] = &[RT_TRIANGLES, RT_TRIANGLE_STRIP, RT_TRIANGLE_FAN, RT_QUADS, RT_QUAD_STRIP, RT_POLYGON];
+const KINDS: &[RTenum] = &[RT_STATIC, RT_ANIMATED, RT_UNSTRUCTURED];
+const MODES: &[RTenum] = &[RT_MODELVIEW, RT_TEXTURE];
+const SHADE: &[RTenum] = &[RT_FLAT, RT_SMOOTH];
+const LIGHTS: &[&str] = &["PointLight", "SpotLight", "DirectionalLight", "AmbientLight", "AreaLight", "EnvironmentLight"];
+const PARAMS: &[&str] = &["diffuse", "color", "position", "intensity", "cone", "specularColor"];
+
+fn class_name() -> impl Strategy<Value = String> {
+    let mut names: Vec<String> = SHADER_CLASSES.iter().map(|c| c.name.to_string()).collect();
+    names.extend(LIGHTS.iter().chain(&["NoSuchClass", ""]).map(|n| n.to_string()));
+    proptest::sample::select(names)
+}
+
+fn call() -> impl Strategy<Value = Call> {
+    let mesh = (proptest::collection::vec(vec3(), 0..6), proptest::collection::vec([0u32..4, 0u32..4, 0u32..4], 0..4), any::<bool>())
+        .prop_map(|(positions, indices, normals)| Call::TriangleMesh { positions, indices, normals });
+    prop_oneof![
+        1 => (0usize..3).prop_map(Call::GenObjects),
+        1 => Just(Call::GenObjects(RT_MAX_IDS + 1)),
+        4 => (id(), one_of(&[RT_COMPILE])).prop_map(|(i, m)| Call::NewObject(i, m)),
+        3 => Just(Call::EndObject),
+        1 => one_of(KINDS).prop_map(Call::ObjectKind),
+        1 => (id(), 0usize..3).prop_map(|(i, n)| Call::DeleteObjects(i, n)),
+        3 => id().prop_map(Call::Instantiate),
+        1 => id().prop_map(Call::MoveInstance),
+        1 => id().prop_map(Call::DeleteInstance),
+        1 => Just(Call::DeleteAllInstances),
+        4 => one_of(PRIMITIVES).prop_map(Call::Begin),
+        4 => Just(Call::End),
+        10 => vec3().prop_map(Call::Vertex),
+        1 => vec3().prop_map(Call::Normal),
+        1 => vec3().prop_map(Call::Color),
+        1 => [number(), number()].prop_map(Call::TexCoord),
+        1 => one_of(SHADE).prop_map(Call::ShadeModel),
+        2 => mesh,
+        1 => one_of(MODES).prop_map(Call::MatrixMode),
+        1 => Just(Call::LoadIdentity),
+        1 => Just(Call::PushMatrix),
+        1 => Just(Call::PopMatrix),
+        1 => vec3().prop_map(Call::Translate),
+        1 => (number(), vec3()).prop_map(|(a, axis)| Call::Rotate(a, axis)),
+        1 => vec3().prop_map(Call::Scale),
+        1 => prop_oneof![1.0f32..179.0, Just(0.0), Just(180.0), Just(f32::NAN)].prop_map(Call::Perspective),
+        1 => vec3().prop_map(Call::LookAt),
+        1 => (0usize..3).prop_map(Call::GenShaderClasses),
+        1 => (id(), class_name()).prop_map(|(i, n)| Call::NewShaderClass(i, n)),
+        1 => id().prop_map(Call::BindShaderClass),
+        1 => (0usize..3).prop_map(Call::GenShaders),
+        3 => id().prop_map(Call::NewShader),
+        3 => id().prop_map(Call::BindShader),
+        1 => (id(), 0usize..3).prop_map(|(i, n)| Call::DeleteShaders(i, n)),
+        1 => proptest::sample::select(PARAMS).prop_map(|n| Call::ParameterHandle(n.to_string())),
+        3 => (-1i32..8, proptest::collection::vec(prop_oneof![6 => 0.0f32..1.0, 1 => number()], 1..5))
+            .prop_map(|(h, v)| Call::Parameter(h, v)),
+        1 => Just(Call::Swap),
+        1 => (0u32..10, 0u32..10).prop_map(|(x, y)| Call::Pick(x, y)),
+    ]
+}
+
+/// Vertices of a primitive: mostly ordinary, rarely not finite.
+fn vertices() -> impl Strategy<Value = Vec<Call>> {
+    proptest::collection::vec(vec3().prop_map(Call::Vertex), 0..7)
+}
+
+/// A primitive: `rtBegin`, vertices, `rtEnd`.
+fn primitive() -> impl Strategy<Value = Vec<Call>> {
+    (one_of(PRIMITIVES), vertices()).prop_map(|(mode, vertices)| {
+        std::iter::once(Call::Begin(mode)).chain(vertices).chain([Call::End]).collect()
+    })
+}
+
+/// A whole object: `rtNewObject`, a shader binding, primitives, `rtEndObject`, and an instance.
+fn definition() -> impl Strategy<Value = Vec<Call>> {
+    (id(), id(), proptest::collection::vec(primitive(), 1..3)).prop_map(|(object, shader, primitives)| {
+        let mut calls = vec![Call::NewObject(object, RT_COMPILE), Call::BindShader(shader)];
+        calls.extend(primitives.into_iter().flatten());
+        calls.extend([Call::EndObject, Call::Instantiate(object)]);
+        calls
+    })
+}
+
+/// A step of a random session: mostly one call, sometimes a primitive or an object.
+fn step() -> impl Strategy<Value = Vec<Call>> {
+    prop_oneof![6 => call().prop_map(|c| vec![c]), 2 => primitive(), 1 => definition()]
+}
+
+/// The side of the frame buffer the test renders into.
+const SIDE: usize = 8;
+
+/// What the model expects a call to record.
+#[derive(Debug)]
+enum Expect {
+    /// Exactly this code.
+    Code(RTenum),
+    /// One of these codes (the model does not track what decides between them).
+    OneOf(&'static [RTenum]),
+}
+
+const OK_OR_VALUE: &[RTenum] = &[RT_NO_ERROR, RT_INVALID_VALUE];
+const OK_OR_OPERATION: &[RTenum] = &[RT_NO_ERROR, RT_INVALID_OPERATION];
+const OK_VALUE_OR_OPERATION: &[RTenum] = &[RT_NO_ERROR, RT_INVALID_VALUE, RT_INVALID_OPERATION];
+
+/// The state of the C ABI that decides most errors.
+#[derive(Debug, Default)]
+struct Model {
+    defining: bool,
+    in_primitive: bool,
+    texture_mode: bool,
+    depth: [usize; 2],
+    objects: usize,
+    classes: usize,
+}
+
+impl Model {
+    fn new() -> Model {
+        Model { depth: [1, 1], ..Model::default() }
+    }
+
+    fn finite(v: &[f32]) -> bool {
+        v.iter().all(|x| x.is_finite())
+    }
+
+    fn valid(e: RTenum, valid: &[RTenum]) -> bool {
+        valid.contains(&e)
+    }
+
+    /// What `call` should record in the current state.
+    fn expect(&self, call: &Call) -> Expect {
+        use Call::*;
+        use Expect::*;
+        let vertex_call = matches!(call, Vertex(_) | Normal(_) | Color(_) | TexCoord(_) | End);
+        if self.in_primitive && !vertex_call {
+            return Code(RT_INVALID_OPERATION);
+        }
+        let value = |ok: bool| Code(if ok { RT_NO_ERROR } else { RT_INVALID_VALUE });
+        let enumerated = |e, valid| Code(if Model::valid(e, valid) { RT_NO_ERROR } else { RT_INVALID_ENUM });
+        let depth = self.depth[self.texture_mode as usize];
+        match call {
+            GenObjects(n) => Code(if self.objects + n > RT_MAX_IDS { RT_OUT_OF_MEMORY } else { RT_NO_ERROR }),
+            NewObject(id, mode) => Code(if self.defining {
+                RT_INVALID_OPERATION
+            } else if *mode != RT_COMPILE {
+                RT_INVALID_ENUM
+            } else if *id == 0 || *id as usize > self.objects {
+                RT_INVALID_VALUE
+            } else {
+                RT_NO_ERROR
+            }),
+            EndObject if !self.defining => Code(RT_INVALID_OPERATION),
+            EndObject => OneOf(OK_OR_OPERATION),
+            ObjectKind(k) => enumerated(*k, KINDS),
+            Instantiate(_) if self.defining => Code(RT_INVALID_OPERATION),
+            Instantiate(_) | MoveInstance(_) | DeleteInstance(_) => OneOf(OK_OR_VALUE),
+            DeleteObjects(..) | DeleteAllInstances | LoadIdentity | GenShaderClasses(_) | GenShaders(_) | DeleteShaders(..) => {
+                Code(RT_NO_ERROR)
+            }
+            ParameterHandle(_) => Code(RT_NO_ERROR),
+            Begin(_) if !self.defining => Code(RT_INVALID_OPERATION),
+            Begin(mode) if !Model::valid(*mode, PRIMITIVES) => Code(RT_INVALID_ENUM),
+            Begin(_) => OneOf(OK_OR_OPERATION),
+            End => Code(if self.in_primitive { RT_NO_ERROR } else { RT_INVALID_OPERATION }),
+            Vertex(_) if !self.in_primitive => Code(RT_INVALID_OPERATION),
+            Vertex(v) if !Model::finite(v) => Code(RT_INVALID_VALUE),
+            Vertex(_) => OneOf(OK_OR_VALUE),
+            Normal(v) | Color(v) => value(Model::finite(v)),
+            TexCoord(v) => value(Model::finite(v)),
+            ShadeModel(m) => enumerated(*m, SHADE),
+            TriangleMesh { .. } if !self.defining => Code(RT_INVALID_OPERATION),
+            TriangleMesh { .. } => OneOf(OK_VALUE_OR_OPERATION),
+            MatrixMode(m) => enumerated(*m, MODES),
+            PushMatrix => Code(if depth == RT_MAX_STACK_DEPTH { RT_STACK_OVERFLOW } else { RT_NO_ERROR }),
+            PopMatrix => Code(if depth == 1 { RT_STACK_UNDERFLOW } else { RT_NO_ERROR }),
+            Translate(v) | Scale(v) if !Model::finite(v) => Code(RT_INVALID_VALUE),
+            Rotate(a, v) if !Model::finite(v) || !a.is_finite() || *v == [0.0; 3] => Code(RT_INVALID_VALUE),
+            Translate(_) | Scale(_) | Rotate(..) | LookAt(_) => OneOf(OK_OR_VALUE),
+            Perspective(fov) => value(*fov > 0.0 && *fov < 180.0),
+            NewShaderClass(id, name) => {
+                let known = SHADER_CLASSES.iter().any(|c| c.name == name) || LIGHTS.contains(&name.as_str());
+                value(*id != 0 && *id as usize <= self.classes && known)
+            }
+            BindShaderClass(0) | BindShader(0) => Code(RT_NO_ERROR),
+            BindShaderClass(_) | BindShader(_) => OneOf(OK_OR_VALUE),
+            NewShader(_) | Parameter(..) => OneOf(OK_VALUE_OR_OPERATION),
+            Swap if self.defining => Code(RT_INVALID_OPERATION),
+            Swap => Code(RT_NO_ERROR),
+            Pick(x, y) => value((*x as usize) < SIDE && (*y as usize) < SIDE),
+        }
+    }
+
+    /// Follows the state change of `call`, which recorded `code`.
+    fn update(&mut self, call: &Call, code: RTenum) {
+        use Call::*;
+        let ok = code == RT_NO_ERROR;
+        match call {
+            EndObject if self.defining && !self.in_primitive => self.defining = false,
+            _ if !ok => {}
+            GenObjects(n) => self.objects += n,
+            GenShaderClasses(n) => self.classes += n,
+            NewObject(..) => self.defining = true,
+            Begin(_) => self.in_primitive = true,
+            End => self.in_primitive = false,
+            MatrixMode(m) => self.texture_mode = *m == RT_TEXTURE,
+            PushMatrix => self.depth[self.texture_mode as usize] += 1,
+            PopMatrix => self.depth[self.texture_mode as usize] -= 1,
+            _ => {}
+        }
+    }
+}
+
+/// Makes the call through the C ABI.
+fn perform(call: &Call) {
+    use Call::*;
+    let null = std::ptr::null();
+    match call {
+        GenObjects(n) => drop(rtGenObjects(*n)),
+        NewObject(id, mode) => rtNewObject(*id, *mode),
+        EndObject => rtEndObject(),
+        ObjectKind(k) => rtObjectKind(*k),
+        DeleteObjects(first, n) => rtDeleteObjects(*first, *n),
+        Instantiate(id) => drop(rtInstantiateObject(*id)),
+        MoveInstance(id) => rtMoveInstance(*id),
+        DeleteInstance(id) => rtDeleteInstance(*id),
+        DeleteAllInstances => rtDeleteAllInstances(),
+        Begin(mode) => rtBegin(*mode),
+        End => rtEnd(),
+        Vertex([x, y, z]) => rtVertex3f(*x, *y, *z),
+        Normal(v) => unsafe { rtNormal3fv(v.as_ptr()) },
+        Color([r, g, b]) => rtColor3f(*r, *g, *b),
+        TexCoord([s, t]) => rtTexCoord2f(*s, *t),
+        ShadeModel(m) => rtShadeModel(*m),
+        TriangleMesh { positions, indices, normals } => {
+            let normal_ptr = if *normals { positions.as_ptr().cast() } else { null };
+            unsafe { rtTriangleMesh(positions.as_ptr().cast(), normal_ptr, null, null, positions.len(), indices.as_ptr().cast(), indices.len()) }
+        }
+        MatrixMode(m) => rtMatrixMode(*m),
+        LoadIdentity => rtLoadIdentity(),
+        PushMatrix => rtPushMatrix(),
+        PopMatrix => rtPopMatrix(),
+        Translate([x, y, z]) => rtTranslatef(*x, *y, *z),
+        Rotate(a, [x, y, z]) => rtRotatef(*a, *x, *y, *z),
+        Scale([x, y, z]) => rtScalef(*x, *y, *z),
+        Perspective(fov) => rtPerspective(*fov, 1.0, 0.1, 100.0),
+        LookAt([x, y, z]) => rtLookAt(*x, *y, *z, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0),
+        GenShaderClasses(n) => drop(rtGenShaderClasses(*n)),
+        NewShaderClass(id, name) => {
+            let name = CString::new(name.as_str()).unwrap();
+            unsafe { rtNewShaderClass(*id, name.as_ptr(), std::ptr::null()) }
+        }
+        BindShaderClass(id) => rtBindShaderClass(*id),
+        GenShaders(n) => drop(rtGenShaders(*n)),
+        NewShader(id) => rtNewShader(*id),
+        BindShader(id) => rtBindShader(*id),
+        DeleteShaders(first, n) => rtDeleteShaders(*first, *n),
+        ParameterHandle(name) => {
+            let name = CString::new(name.as_str()).unwrap();
+            unsafe { rtParameterHandle(name.as_ptr()) };
+        }
+        Parameter(h, v) => match v.as_slice() {
+            [x] => rtParameter1f(*h, *x),
+            [x, y] => rtParameter2f(*h, *x, *y),
+            [x, y, z] => rtParameter3f(*h, *x, *y, *z),
+            [x, y, z, w] => rtParameter4f(*h, *x, *y, *z, *w),
+            _ => unreachable!("one to four values"),
+        },
+        Swap => rtSwapBuffers(),
+        Pick(x, y) => drop(unsafe { rtPick(*x, *y, std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut()) }),
+    }
+}
+
+/// A fresh context where ids 1 to 3 of objects, shader classes and shaders exist, the classes
+/// are defined (a surface class, a light class, another surface class) and handles 1 to 6 name
+/// parameters, so that random calls reach deep states often.
+fn prologue(model: &mut Model) {
+    rtResetContext();
+    rtGenObjects(3);
+    rtGenShaderClasses(3);
+    rtGenShaders(3);
+    for (cid, name) in [(1, c"Diffuse"), (2, c"PointLight"), (3, c"Constant")] {
+        unsafe { rtNewShaderClass(cid, name.as_ptr(), std::ptr::null()) };
+    }
+    for name in PARAMS {
+        let name = CString::new(*name).unwrap();
+        unsafe { rtParameterHandle(name.as_ptr()) };
+    }
+    assert_eq!(rtGetError(), RT_NO_ERROR, "{}", message());
+    model.objects = 3;
+    model.classes = 3;
+}
+
+fn message() -> String {
+    unsafe { std::ffi::CStr::from_ptr(rtGetErrorString()) }.to_string_lossy().into_owned()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 192, ..ProptestConfig::default() })]
+
+    #[test]
+    fn random_calls_keep_the_context_sound(steps in proptest::collection::vec(step(), 1..24)) {
+        let calls: Vec<Call> = steps.into_iter().flatten().collect();
+        let mut model = Model::new();
+        prologue(&mut model);
+        let mut pixels = vec![0u8; SIDE * SIDE * 4];
+        unsafe { rtFrameBuffer(pixels.as_mut_ptr().cast(), SIDE, SIDE, RT_RGBA8) };
+        for call in &calls {
+            let expected = model.expect(call);
+            perform(call);
+            let code = rtGetError();
+            prop_assert_ne!(code, RT_INTERNAL_ERROR, "{:?}: {}", call, message());
+            match expected {
+                Expect::Code(c) => prop_assert_eq!(code, c, "{:?}: {}", call, message()),
+                Expect::OneOf(codes) => prop_assert!(codes.contains(&code), "{:?} recorded {:#x}: {}", call, code, message()),
+            }
+            model.update(call, code);
+        }
+
+        // Whatever happened, finishing the definition leaves a scene that renders.
+        if model.in_primitive {
+            rtEnd();
+        }
+        if model.defining {
+            rtEndObject();
+        }
+        rtGetError();
+        let mut frame = vec![0u8; 16 * 16 * 4];
+        unsafe { rtFrameBuffer(frame.as_mut_ptr().cast(), 16, 16, RT_RGBA8) };
+        rtSwapBuffers();
+        prop_assert_eq!(rtGetError(), RT_NO_ERROR, "{}", message());
+        prop_assert!(frame.chunks_exact(4).all(|p| p[3] == 255), "every pixel written");
+        rtResetContext();
+    }
+}

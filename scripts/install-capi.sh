@@ -1,0 +1,113 @@
+#!/usr/bin/env bash
+# Installs raystage's C library under PREFIX (any writable directory; no root needed):
+#
+#   PREFIX/lib/libraystage.so, PREFIX/lib/libraystage.a
+#   PREFIX/include/raystage/rt.h
+#   PREFIX/lib/pkgconfig/raystage.pc          pkg-config --cflags --libs raystage
+#   PREFIX/lib/pkgconfig/raystage-static.pc   pkg-config --cflags --libs raystage-static
+#   PREFIX/lib/cmake/raystage/raystageConfig.cmake (+ ConfigVersion)   find_package(raystage)
+#
+# Usage: scripts/install-capi.sh [--lib-dir DIR] PREFIX
+#   Without --lib-dir, the library is built first with `cargo build --release -p raystage-capi`.
+#   With --lib-dir, the libraystage_capi.so and .a that cargo left in DIR (for example
+#   target/debug) are installed as they are.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+
+usage() {
+    echo "usage: $0 [--lib-dir DIR] PREFIX" >&2
+    exit 2
+}
+
+lib_dir=""
+while (($# > 0)); do
+    case "$1" in
+        --lib-dir) (($# >= 2)) || usage; lib_dir="$2"; shift 2 ;;
+        -h | --help) usage ;;
+        -*) usage ;;
+        *) break ;;
+    esac
+done
+(($# == 1)) || usage
+mkdir -p "$1"
+prefix="$(cd "$1" && pwd)"
+
+if [[ -z "$lib_dir" ]]; then
+    (cd "$root" && cargo build --release -p raystage-capi)
+    lib_dir="${CARGO_TARGET_DIR:-$root/target}/release"
+fi
+for artifact in libraystage_capi.so libraystage_capi.a; do
+    [[ -f "$lib_dir/$artifact" ]] || { echo "$0: $lib_dir/$artifact not found" >&2; exit 1; }
+done
+
+version="$(sed -n 's/^version = "\(.*\)"/\1/p' "$root/Cargo.toml" | head -n 1)"
+# What Rust's standard library needs from the system when linked statically
+# (rustc --print native-static-libs).
+static_deps=(gcc_s util rt pthread m dl c)
+
+install -d "$prefix/lib/pkgconfig" "$prefix/lib/cmake/raystage" "$prefix/include/raystage"
+install -m 0755 "$lib_dir/libraystage_capi.so" "$prefix/lib/libraystage.so"
+install -m 0644 "$lib_dir/libraystage_capi.a" "$prefix/lib/libraystage.a"
+install -m 0644 "$root/api/include/raystage/rt.h" "$prefix/include/raystage/rt.h"
+
+cat >"$prefix/lib/pkgconfig/raystage.pc" <<EOF
+prefix=$prefix
+libdir=\${prefix}/lib
+includedir=\${prefix}/include
+
+Name: raystage
+Description: Ray tracing through an OpenGL-like C API (OpenRT style)
+Version: $version
+Cflags: -I\${includedir}
+Libs: -L\${libdir} -lraystage
+EOF
+
+cat >"$prefix/lib/pkgconfig/raystage-static.pc" <<EOF
+prefix=$prefix
+libdir=\${prefix}/lib
+includedir=\${prefix}/include
+
+Name: raystage-static
+Description: raystage's C API, linked statically
+Version: $version
+Cflags: -I\${includedir}
+Libs: \${libdir}/libraystage.a ${static_deps[*]/#/-l}
+EOF
+
+cat >"$prefix/lib/cmake/raystage/raystageConfig.cmake" <<EOF
+# raystage's C library. Imported targets:
+#   raystage::raystage         the shared library libraystage.so
+#   raystage::raystage_static  the static library libraystage.a, with the system libraries it needs
+# The paths are found from this file's location, so the installed tree can be moved.
+get_filename_component(_raystage_prefix "\${CMAKE_CURRENT_LIST_DIR}/../../.." ABSOLUTE)
+if(NOT TARGET raystage::raystage)
+  add_library(raystage::raystage SHARED IMPORTED)
+  set_target_properties(raystage::raystage PROPERTIES
+    IMPORTED_LOCATION "\${_raystage_prefix}/lib/libraystage.so"
+    IMPORTED_SONAME "libraystage.so"
+    INTERFACE_INCLUDE_DIRECTORIES "\${_raystage_prefix}/include")
+  add_library(raystage::raystage_static STATIC IMPORTED)
+  set_target_properties(raystage::raystage_static PROPERTIES
+    IMPORTED_LOCATION "\${_raystage_prefix}/lib/libraystage.a"
+    INTERFACE_INCLUDE_DIRECTORIES "\${_raystage_prefix}/include"
+    INTERFACE_LINK_LIBRARIES "$(IFS=';'; echo "${static_deps[*]}")")
+endif()
+set(raystage_INCLUDE_DIRS "\${_raystage_prefix}/include")
+set(raystage_LIBRARIES raystage::raystage)
+unset(_raystage_prefix)
+EOF
+
+cat >"$prefix/lib/cmake/raystage/raystageConfigVersion.cmake" <<EOF
+# Any requested version up to $version is satisfied.
+set(PACKAGE_VERSION "$version")
+if(PACKAGE_FIND_VERSION VERSION_GREATER PACKAGE_VERSION)
+  set(PACKAGE_VERSION_COMPATIBLE FALSE)
+else()
+  set(PACKAGE_VERSION_COMPATIBLE TRUE)
+  if(PACKAGE_FIND_VERSION VERSION_EQUAL PACKAGE_VERSION)
+    set(PACKAGE_VERSION_EXACT TRUE)
+  endif()
+endif()
+EOF
+
+echo "installed raystage $version under $prefix"
