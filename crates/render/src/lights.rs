@@ -49,6 +49,10 @@ pub(crate) struct SceneLights<'f> {
     ambient: Vec3,
     environment: bool,
     area: bool,
+    /// Samples taken of each extended light per shading point: the light-sampling density that
+    /// multiple importance sampling weighs a BSDF sample against is this many times the
+    /// density of one.
+    samples: f32,
 }
 
 /// One light with what sampling needs precomputed.
@@ -61,8 +65,8 @@ enum Prepared<'f> {
 }
 
 impl<'f> SceneLights<'f> {
-    /// The lights of `frame`.
-    pub fn of(frame: &Frame<'f>) -> SceneLights<'f> {
+    /// The lights of `frame`, each extended one sampled `samples` times per shading point.
+    pub fn of(frame: &Frame<'f>, samples: u32) -> SceneLights<'f> {
         let mut ambient = Vec3::ZERO;
         let mut lights = Vec::new();
         for light in frame.lights() {
@@ -96,7 +100,7 @@ impl<'f> SceneLights<'f> {
         }
         let environment = lights.iter().any(|l| matches!(l, Prepared::Environment { .. }));
         let area = lights.iter().any(|l| matches!(l, Prepared::Area { .. }));
-        SceneLights { lights, ambient, environment, area }
+        SceneLights { lights, ambient, environment, area, samples: samples as f32 }
     }
 
     /// How many lights there are to sample (the ambient term is not sampled).
@@ -190,7 +194,7 @@ impl<'f> SceneLights<'f> {
                 continue;
             }
             let weight = match seen {
-                Seen::Scattered { pdf, .. } => power_heuristic(pdf, t * t / (area * cos_light)),
+                Seen::Scattered { pdf, .. } => power_heuristic(pdf, self.samples * t * t / (area * cos_light)),
                 _ => 1.0,
             };
             sum += *radiance * weight;
@@ -212,7 +216,7 @@ impl<'f> SceneLights<'f> {
                         Some(map) => map.pdf(dir),
                         None => dir.dot(normal).max(0.0) / PI,
                     };
-                    power_heuristic(pdf, light_pdf)
+                    power_heuristic(pdf, self.samples * light_pdf)
                 }
             };
             sum += emitted * weight;

@@ -21,6 +21,8 @@ pub const MAX_DIMENSION: u32 = 16_384;
 pub const MAX_SAMPLES: u32 = 65_536;
 /// Deepest recursion or path.
 pub const MAX_DEPTH: u32 = 64;
+/// Most shadow rays per extended light at a shading point.
+pub const MAX_LIGHT_SAMPLES: u32 = 256;
 
 /// How a camera ray's colour is computed.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -99,6 +101,12 @@ pub struct RenderSettings {
     pub samples_per_pixel: u32,
     /// Deepest recursion (Whitted, distribution) or longest path (path tracer).
     pub max_depth: u32,
+    /// Shadow rays per area or environment light at each shading point, when soft shadows
+    /// are simulated (more rays per point, less noise per sample).
+    pub light_samples: u32,
+    /// Whether the path tracer may end paths early by Russian roulette (unbiased, cheaper
+    /// per sample, noisier); off, paths run to `max_depth` unless they escape.
+    pub russian_roulette: bool,
     /// Pixel reconstruction filter.
     pub filter: Filter,
     /// Seed of the sample sequences.
@@ -117,6 +125,8 @@ impl Default for RenderSettings {
             integrator: Integrator::EyeLight,
             samples_per_pixel: 1,
             max_depth: 6,
+            light_samples: 1,
+            russian_roulette: true,
             filter: Filter::Box,
             seed: 0,
             specialize: true,
@@ -136,6 +146,11 @@ impl RenderSettings {
             format!("{} is not in 1..={MAX_SAMPLES}", self.samples_per_pixel),
         )?;
         check((1..=MAX_DEPTH).contains(&self.max_depth), "max_depth", format!("{} is not in 1..={MAX_DEPTH}", self.max_depth))?;
+        check(
+            (1..=MAX_LIGHT_SAMPLES).contains(&self.light_samples),
+            "light_samples",
+            format!("{} is not in 1..={MAX_LIGHT_SAMPLES}", self.light_samples),
+        )?;
         if let Filter::Gaussian { radius } = self.filter {
             check(radius > 0.0 && radius <= 4.0, "filter.radius", format!("{radius} is not in (0, 4]"))?;
         }
@@ -202,7 +217,7 @@ impl Progressive {
         let start = Instant::now();
         let s = self.settings;
         let effects = EffectSet::of(frame, s.integrator, self.samples + samples);
-        let tracer = Tracer { frame, lights: SceneLights::of(frame), effects, settings: &s };
+        let tracer = Tracer { frame, lights: SceneLights::of(frame, s.light_samples), effects, settings: &s };
         let first_index = self.samples;
         let counts = std::sync::Mutex::new(Counts::default());
         let (sum, sum_sq) = (&mut self.sum, &mut self.sum_sq);

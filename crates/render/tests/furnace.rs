@@ -91,3 +91,24 @@ fn rough_metal_loses_energy_but_never_gains_it() {
         previous = mean;
     }
 }
+
+/// More shadow rays per light change the weights of multiple importance sampling, not the
+/// answer; neither does turning Russian roulette off.
+#[test]
+fn light_samples_and_roulette_keep_the_furnace_balanced() {
+    let scene = in_furnace(sphere_scene("Diffuse", &[("diffuse", ParamValue::Color(Vec3::splat(0.5)))]));
+    for (light_samples, russian_roulette) in [(4, true), (1, false), (3, false)] {
+        let settings = raystage_render::RenderSettings {
+            width: 32,
+            height: 32,
+            integrator: Integrator::Path,
+            samples_per_pixel: 8,
+            light_samples,
+            russian_roulette,
+            ..Default::default()
+        };
+        let (film, _) = raystage_render::render(&scene.frame(), &settings).unwrap();
+        let centre = film.pixel(16, 16);
+        assert!((centre - Vec3::splat(0.5)).abs().max_element() < 0.01, "{light_samples} light samples, roulette {russian_roulette}: {centre}");
+    }
+}

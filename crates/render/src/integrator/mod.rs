@@ -172,10 +172,10 @@ impl<'f> Tracer<'_, 'f> {
     }
 
     /// Light from every light source reflected towards `wo` at `hit` (no emission): the ambient
-    /// term, then each light sampled once (extended lights at a random point when the frame
-    /// has soft shadows, else at their centre), tested with a shadow ray if the frame has
-    /// shadows. In the path tracer, samples of extended lights are weighted against the BSDF
-    /// sampling that could also find them (multiple importance sampling).
+    /// term, then each light sampled (extended lights at `light_samples` random points when the
+    /// frame has soft shadows, else once at their centre), each sample tested with a shadow ray
+    /// if the frame has shadows. In the path tracer, samples of extended lights are weighted
+    /// against the BSDF sampling that could also find them (multiple importance sampling).
     pub fn direct(&self, hit: &Hit<'f>, bsdf: &Bsdf, wo: Vec3, time: f32, sampler: &mut PixelSampler, rays: &mut RayCounts) -> Vec3 {
         let sp = &hit.surface;
         let frame3 = Frame3::around(sp.shading_normal);
@@ -183,23 +183,29 @@ impl<'f> Tracer<'_, 'f> {
         let mut sum = self.lights.ambient() * hit.material.albedo;
         let random = self.effects.area_lights;
         for index in 0..self.lights.len() {
-            let u = if random && self.lights.is_extended(index) { sampler.next_2d() } else { [0.5, 0.5] };
-            let Some(ls) = self.lights.sample(index, sp.position, sp.shading_normal, u, !random) else { continue };
-            if sp.geometric_normal.dot(ls.wi) <= 0.0 {
-                continue;
+            let samples = if random && self.lights.is_extended(index) { self.settings.light_samples } else { 1 };
+            let mut light = Vec3::ZERO;
+            for _ in 0..samples {
+                let u = if samples > 1 || (random && self.lights.is_extended(index)) { sampler.next_2d() } else { [0.5, 0.5] };
+                let Some(ls) = self.lights.sample(index, sp.position, sp.shading_normal, u, !random) else { continue };
+                if sp.geometric_normal.dot(ls.wi) <= 0.0 {
+                    continue;
+                }
+                let wi_local = frame3.to_local(ls.wi);
+                let f = bsdf.eval(wo_local, wi_local);
+                if f == Vec3::ZERO {
+                    continue;
+                }
+                let weight =
+                    if ls.pdf > 0.0 && self.effects.global_illumination { power_heuristic(samples as f32 * ls.pdf, bsdf.pdf(wo_local, wi_local)) } else { 1.0 };
+                let visible = if self.effects.shadows {
+                    self.transmittance(sp.position, sp.geometric_normal, ls.wi, ls.distance, time, rays)
+                } else {
+                    Vec3::ONE
+                };
+                light += f * ls.weighted * visible * weight;
             }
-            let wi_local = frame3.to_local(ls.wi);
-            let f = bsdf.eval(wo_local, wi_local);
-            if f == Vec3::ZERO {
-                continue;
-            }
-            let weight = if ls.pdf > 0.0 && self.effects.global_illumination { power_heuristic(ls.pdf, bsdf.pdf(wo_local, wi_local)) } else { 1.0 };
-            let visible = if self.effects.shadows {
-                self.transmittance(sp.position, sp.geometric_normal, ls.wi, ls.distance, time, rays)
-            } else {
-                Vec3::ONE
-            };
-            sum += f * ls.weighted * visible * weight;
+            sum += light / samples as f32;
         }
         sum
     }

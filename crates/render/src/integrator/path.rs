@@ -78,7 +78,7 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, ray: &Ray, first: Hit<'_>, time: f32, sa
         let specular = s.pdf == 0.0;
         specular_chain &= specular;
         seen = if specular { Seen::Directly } else { Seen::Scattered { normal: hit.surface.shading_normal, pdf: s.pdf } };
-        if depth + 1 >= ROULETTE_AFTER {
+        if t.settings.russian_roulette && depth + 1 >= ROULETTE_AFTER {
             let survive = throughput.max_element().min(0.95);
             if sampler.next_1d() >= survive {
                 break;
