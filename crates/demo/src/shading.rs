@@ -1,6 +1,7 @@
 //! Scenes that show the shader classes and lights: a closed Cornell room lit by an area light in
-//! its ceiling, and a showroom of spheres in every material under a sky, a sun-like spot and a
-//! soft area light.
+//! its ceiling, a showroom of spheres in every material under a sky, a sun-like spot and a
+//! soft area light, and the accuracy report's small scenes (spheres under area lights, a glass
+//! sphere over a checkered floor).
 
 use glam::{Vec2, Vec3};
 use raystage_scene::{Camera, Light, Mesh, ObjectKind, ParamValue, Scene, SceneError, ShaderId, Texture};
@@ -87,6 +88,64 @@ pub fn materials() -> Result<Scene, SceneError> {
         radiance: Vec3::splat(2.0),
     })?;
     scene.set_camera(Camera::look_at(Vec3::new(0.0, 2.2, 6.0), Vec3::new(0.0, 0.4, 0.0), Vec3::Y, 45.0)?)?;
+    Ok(scene)
+}
+
+/// Three spheres (white and red diffuse, a rough copper) on a grey floor, lit only by two area
+/// lights of different sizes and colours against a black sky: soft shadows, the light-sampling
+/// knob's scene. Small (about 6,000 triangles).
+pub fn area_lit_spheres() -> Result<Scene, SceneError> {
+    let mut scene = Scene::new();
+    let floor = shader(&mut scene, "Diffuse", &[("diffuse", color(0.5, 0.5, 0.5))])?;
+    let spheres = [
+        shader(&mut scene, "Diffuse", &[("diffuse", color(0.8, 0.8, 0.8))])?,
+        shader(&mut scene, "Diffuse", &[("diffuse", color(0.7, 0.1, 0.08))])?,
+        shader(&mut scene, "Glossy", &[("reflectance", color(0.95, 0.64, 0.54)), ("roughness", ParamValue::Float(0.3))])?,
+    ];
+    let mut mesh = MeshBuilder::default();
+    let r = 8.0;
+    mesh.quad([Vec3::new(-r, 0.0, r), Vec3::new(r, 0.0, r), Vec3::new(r, 0.0, -r), Vec3::new(-r, 0.0, -r)], floor);
+    for (k, &s) in spheres.iter().enumerate() {
+        let x = (k as f32 - 1.0) * 1.3;
+        mesh.sphere(Vec3::new(x, 0.55, -0.3 * k as f32), 0.55, 48, 24, s);
+    }
+    let object = scene.add_object(ObjectKind::Static, mesh.mesh)?;
+    scene.add_instance(object, glam::Affine3A::IDENTITY)?;
+    // A large warm light to the left, a small bright cool one to the right.
+    scene.add_light(Light::Area {
+        corner: Vec3::new(-3.5, 3.0, -0.5),
+        edge_u: Vec3::new(0.0, 0.0, 1.5),
+        edge_v: Vec3::new(1.5, 0.0, 0.0),
+        radiance: Vec3::new(6.0, 4.5, 3.0),
+    })?;
+    scene.add_light(Light::Area {
+        corner: Vec3::new(2.0, 2.5, 0.5),
+        edge_u: Vec3::new(0.0, 0.0, 0.4),
+        edge_v: Vec3::new(0.4, 0.0, 0.0),
+        radiance: Vec3::new(30.0, 36.0, 48.0),
+    })?;
+    scene.add_light(Light::Environment { radiance: Vec3::ZERO, map: None })?;
+    scene.set_camera(Camera::look_at(Vec3::new(0.0, 1.6, 4.5), Vec3::new(0.0, 0.5, -0.2), Vec3::Y, 40.0)?)?;
+    Ok(scene)
+}
+
+/// A glass sphere over a checkered floor under a pale sky: lit by the environment only, so the
+/// light the glass focuses onto the floor is a smooth glow a path tracer resolves, not the sharp
+/// caustic of a small light it cannot. The depth knob's scene: every bounce through the glass
+/// counts. Small (about 4,600 triangles).
+pub fn glass_over_checker() -> Result<Scene, SceneError> {
+    let mut scene = Scene::new();
+    let checker = scene.add_texture(Texture::Checker { a: Vec3::splat(0.8), b: Vec3::splat(0.1), scale: 1.0 })?;
+    let floor = shader(&mut scene, "Diffuse", &[("diffuse_texture", ParamValue::Texture(Some(checker)))])?;
+    let glass = shader(&mut scene, "Glass", &[("ior", ParamValue::Float(1.5))])?;
+    let mut mesh = MeshBuilder::default();
+    let r = 10.0;
+    mesh.quad_uv([Vec3::new(-r, 0.0, r), Vec3::new(r, 0.0, r), Vec3::new(r, 0.0, -r), Vec3::new(-r, 0.0, -r)], floor, 2.0 * r);
+    mesh.sphere(Vec3::new(0.0, 0.9, 0.0), 0.8, 64, 32, glass);
+    let object = scene.add_object(ObjectKind::Static, mesh.mesh)?;
+    scene.add_instance(object, glam::Affine3A::IDENTITY)?;
+    scene.add_light(Light::Environment { radiance: Vec3::new(0.9, 0.95, 1.0), map: None })?;
+    scene.set_camera(Camera::look_at(Vec3::new(0.0, 2.2, 4.0), Vec3::new(0.0, 0.6, 0.0), Vec3::Y, 40.0)?)?;
     Ok(scene)
 }
 
@@ -244,5 +303,7 @@ mod tests {
         assert_eq!(room.lights().count(), 1);
         let showroom = materials().unwrap();
         assert!(showroom.lights().count() >= 3);
+        assert_eq!(area_lit_spheres().unwrap().lights().count(), 3);
+        assert_eq!(glass_over_checker().unwrap().lights().count(), 1);
     }
 }

@@ -76,7 +76,7 @@ impl Aabb {
     /// ray lies in, is never reported as missed. See [`PreparedRay`] for how ±0 directions and
     /// rounding are handled.
     #[inline]
-    pub(crate) fn intersect(&self, ray: &PreparedRay, tfar: f32) -> Option<f32> {
+    pub fn intersect(&self, ray: &PreparedRay, tfar: f32) -> Option<f32> {
         let lo = [self.min.x, self.min.y, self.min.z];
         let hi = [self.max.x, self.max.y, self.max.z];
         let mut tn = ray.tnear;

@@ -116,7 +116,7 @@ impl Bvh2 {
                         let v = tris.triangle(prim).map(|p| p.to_array());
                         if let Some(h) = triangle::intersect(&pre, &v, tfar)
                             && best.is_none_or(|b| closer(h.t, prim, b.t, b.prim)) {
-                                best = Some(Hit { t: h.t, prim, u: h.u, v: h.v });
+                                best = Some(Hit { t: h.t, prim, u: h.u, v: h.v, ng: triangle::geometric_normal(&v.map(glam::Vec3::from_array)) });
                                 tfar = h.t;
                             }
                     }

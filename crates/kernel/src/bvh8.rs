@@ -110,11 +110,15 @@ impl Bvh8 {
         // node, so the binary counts bound both arrays and they never reallocate.
         let leaves = bvh2.nodes.iter().filter(|n| matches!(n.kind(), Node2Kind::Leaf { .. })).count();
         let inner = bvh2.nodes.len() - leaves;
-        let mut blocks = huge_page_vec(leaves);
+        let mut ranges: Vec<(u32, u32)> = Vec::with_capacity(leaves);
         let wide = collapse(&bvh2.nodes, huge_page_vec(inner), |first, count| {
-            blocks.push(TriBlock::new(tris, &bvh2.prims[first as usize..(first + count) as usize]));
-            LEAF | (blocks.len() - 1) as u32
+            ranges.push((first, count));
+            LEAF | (ranges.len() - 1) as u32
         });
+        // Gathering the triangles into blocks reads the vertices in tree order, at random in
+        // memory: done in parallel, it is no longer the slowest part of a fast build.
+        let mut blocks = huge_page_vec(leaves);
+        ranges.par_iter().map(|&(first, count)| TriBlock::new(tris, &bvh2.prims[first as usize..(first + count) as usize])).collect_into_vec(&mut blocks);
         let bounds = bvh2.bounds();
         Bvh8 {
             built_cost: box_cost(&wide.nodes, &bounds),
@@ -176,15 +180,25 @@ impl Bvh8 {
         assert_eq!(rays.len(), hits.len(), "one hit slot per ray");
         for (rays, hits) in rays.chunks(PACKET_SIZE).zip(hits.chunks_mut(PACKET_SIZE)) {
             let prepared: [PreparedRay; PACKET_SIZE] = std::array::from_fn(|i| PreparedRay::new(&rays[i.min(rays.len() - 1)]));
-            let prepared = &prepared[..rays.len()];
-            match self.isa {
-                // SAFETY: as in `intersect`.
-                #[cfg(target_arch = "x86_64")]
-                Isa::Avx2 => unsafe { traverse::avx2::intersect_packet(self, prepared, hits) },
-                _ => {
-                    for (ray, hit) in prepared.iter().zip(hits.iter_mut()) {
-                        *hit = traverse::portable::intersect(self, ray);
-                    }
+            self.intersect_packet_prepared(&prepared[..rays.len()], hits);
+        }
+    }
+
+    /// Closest hits of one packet of up to [`PACKET_SIZE`] prepared rays, `hits[i]` for
+    /// `rays[i]`: [`Bvh8::intersect_packets`] for rays the caller has already prepared (a two-level
+    /// scene prepares them once for its top level and every instance that keeps them as they are).
+    ///
+    /// # Panics
+    /// If `rays` and `hits` differ in length, or hold more than [`PACKET_SIZE`] rays.
+    pub fn intersect_packet_prepared(&self, rays: &[PreparedRay], hits: &mut [Option<Hit>]) {
+        assert!(rays.len() == hits.len() && rays.len() <= PACKET_SIZE, "one hit slot per ray, at most a packet");
+        match self.isa {
+            // SAFETY: as in `intersect`.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => unsafe { traverse::avx2::intersect_packet(self, rays, hits) },
+            _ => {
+                for (ray, hit) in rays.iter().zip(hits.iter_mut()) {
+                    *hit = traverse::portable::intersect(self, ray);
                 }
             }
         }

@@ -46,4 +46,4 @@ pub use bvh8::{Bvh8, Bvh8Stats, PACKET_SIZE};
 pub use isa::Isa;
 pub use prepared::PreparedRay;
 pub use ray::{Hit, Ray};
-pub use triangle::{IndexedMesh, TriangleSource, geometric_normal};
+pub use triangle::{IndexedMesh, TriangleSource, geometric_normal, is_degenerate};

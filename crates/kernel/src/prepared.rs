@@ -48,7 +48,8 @@ pub struct PreparedRay {
     /// Woop's axis permutation: `kz` is the dominant direction axis, `kx`, `ky` the others,
     /// swapped when `dir[kz] < 0` to keep the triangle winding.
     pub(crate) k: [usize; 3],
-    /// Woop's shear constants `Sx = dx/dz`, `Sy = dy/dz`, `Sz = 1/dz` in the permuted frame.
+    /// Woop's shear constants `Sx = dx/dz`, `Sy = dy/dz`, `Sz = 1/dz` in the permuted frame
+    /// (`dx·(1/dz)`, rounded twice).
     pub(crate) shear: [f32; 3],
 }
 
@@ -74,7 +75,9 @@ impl PreparedRay {
         if dir[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
         }
-        let shear = [dir[kx] / dir[kz], dir[ky] / dir[kz], 1.0 / dir[kz]];
+        // Multiplying by the reciprocal rather than dividing twice more: any shear is watertight
+        // as long as every triangle of the query uses the same one.
+        let shear = [dir[kx] * inv[kz], dir[ky] * inv[kz], inv[kz]];
         PreparedRay { org, inv, inv_far, neg, tnear: ray.tnear, tfar: ray.tfar, k: [kx, ky, kz], shear }
     }
 

@@ -53,6 +53,9 @@ pub struct Hit {
     pub u: f32,
     /// Barycentric weight of the third vertex.
     pub v: f32,
+    /// The triangle's unnormalised geometric normal `(v1 − v0) × (v2 − v0)` (Embree's `Ng`),
+    /// from the vertices the traversal already has at hand, so shading need not fetch them.
+    pub ng: Vec3,
 }
 
 /// Whether a hit at `(t, prim)` wins over the current best `(best_t, best_prim)` under the kernel's

@@ -71,6 +71,23 @@ pub fn geometric_normal(tri: &[Vec3; 3]) -> Vec3 {
     (tri[1] - tri[0]).cross(tri[2] - tri[0])
 }
 
+/// Whether the triangle has no area: two equal vertices, or three on one line. The cross
+/// product of its edges is evaluated in double precision, where the differences of single
+/// precision coordinates are exact (for coordinates within 2²⁹ of each other in magnitude) and
+/// equal products round alike, so exactly collinear vertices give exactly zero.
+///
+/// The watertight test cannot be trusted to miss such a triangle: shearing it into the ray's
+/// frame rounds its three points off their line, and a ray that passes within that rounding of
+/// the line "hits" a sliver whose normal is zero. The builders leave these triangles out (unless
+/// the tree is refittable, when they may move apart), and the brute-force reference skips them.
+pub fn is_degenerate(tri: &[Vec3; 3]) -> bool {
+    let d = |p: Vec3| [p.x as f64, p.y as f64, p.z as f64];
+    let (a, b, c) = (d(tri[0]), d(tri[1]), d(tri[2]));
+    let e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let e2 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+    e1[1] * e2[2] == e1[2] * e2[1] && e1[2] * e2[0] == e1[0] * e2[2] && e1[0] * e2[1] == e1[1] * e2[0]
+}
+
 /// A hit of the scalar test: distance and barycentrics of the second and third vertex.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct TriangleHit {

@@ -172,8 +172,12 @@ pub(crate) fn refract(wo: Vec3, eta: f32) -> Option<Vec3> {
 
 /// Fresnel reflectance of a dielectric boundary for unpolarised light arriving at `cos_i`, with
 /// `eta` = index of the side it comes from / index of the other side. 1 under total internal
-/// reflection.
+/// reflection. The cosine's sign is ignored: with interpolated shading normals a direction
+/// seen from the front of the triangle can lie behind its shading normal, and the formulas
+/// below, fed a negative cosine, divide by about zero and return reflectances far above 1 (a
+/// glass sphere nested in glass of the same index then shone brighter than its light).
 pub(crate) fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
+    let cos_i = cos_i.abs().min(1.0);
     let sin2_t = eta * eta * (1.0 - cos_i * cos_i).max(0.0);
     if sin2_t >= 1.0 {
         return 1.0;

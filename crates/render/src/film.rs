@@ -49,12 +49,6 @@ impl Film {
         self.pixels[y as usize * self.width as usize + x as usize]
     }
 
-    /// Row `y` for writing.
-    pub(crate) fn row_mut(&mut self, y: u32) -> &mut [Vec3] {
-        let w = self.width as usize;
-        &mut self.pixels[y as usize * w..(y as usize + 1) * w]
-    }
-
     /// The pixels as sRGB-encoded RGBA8 (opaque), row by row: the layout of an application's
     /// frame buffer and of the PNG.
     pub fn to_rgba8(&self) -> Vec<u8> {
@@ -90,13 +84,10 @@ mod tests {
 
     /// A film whose pixels all differ: a ramp in red and green, blue by parity.
     fn ramp(width: u32, height: u32) -> Film {
-        let mut film = Film::new(width, height);
-        for y in 0..height {
-            for (x, p) in film.row_mut(y).iter_mut().enumerate() {
-                *p = Vec3::new(x as f32 / width as f32, y as f32 / height as f32, ((x + y as usize) % 2) as f32);
-            }
-        }
-        film
+        let pixels = (0..height)
+            .flat_map(|y| (0..width).map(move |x| Vec3::new(x as f32 / width as f32, y as f32 / height as f32, ((x + y) % 2) as f32)))
+            .collect();
+        Film::from_pixels(width, height, pixels)
     }
 
     #[test]
@@ -126,8 +117,7 @@ mod tests {
 
     #[test]
     fn rgba8_is_srgb_encoded_and_opaque() {
-        let mut film = Film::new(2, 1);
-        film.row_mut(0).copy_from_slice(&[Vec3::new(0.0, 0.5, 1.0), Vec3::splat(2.0)]);
+        let film = Film::from_pixels(2, 1, vec![Vec3::new(0.0, 0.5, 1.0), Vec3::splat(2.0)]);
         assert_eq!(film.to_rgba8(), [0, 188, 255, 255, 255, 255, 255, 255]);
     }
 }

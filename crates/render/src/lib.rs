@@ -1,7 +1,7 @@
 //! # raystage-render
 //!
 //! The renderer of raystage: it turns a frame of the retained scene into an image. Camera rays
-//! are traced tile by tile in parallel ([`render_tiles`]), neighbouring ones together; an
+//! are traced tile by tile in parallel, neighbouring ones together; an
 //! [`Integrator`] colours them (eye-light preview, Whitted, Cook's distribution ray tracing, or
 //! path tracing), simulating only the effects the frame's [`EffectSet`] calls for. Samples come
 //! from stratified, decorrelated per-pixel sequences and accumulate progressively
@@ -34,4 +34,4 @@ pub use film::Film;
 pub use renderer::{Filter, Integrator, MAX_DEPTH, MAX_DIMENSION, MAX_LIGHT_SAMPLES, MAX_SAMPLES, Progressive, RenderSettings, render, render_frame};
 pub use sky::sky;
 pub use stats::{FrameStats, PhaseTimes, RayCounts};
-pub use tiles::{TILE_SIZE, Tile, per_pixel, render_tiles};
+pub use tiles::TILE_SIZE;

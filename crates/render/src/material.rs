@@ -1,9 +1,10 @@
-//! Materials: what a shader's parameters mean at a hit point, resolved once per hit from the
-//! shader the triangle refers to (frame semantics: the values are the shader's as the frame
-//! sees them).
+//! Materials: what a shader's parameters mean at a hit point. Every shader is resolved once when
+//! the frame starts (frame semantics: the values are the shader's as the frame sees them, and no
+//! hit looks a parameter up by name); a hit then only applies what varies over the surface, its
+//! texture and its vertex colours.
 
-use glam::Vec3;
-use raystage_scene::{Frame, ShadingModel, SurfacePoint};
+use glam::{Vec2, Vec3};
+use raystage_scene::{Frame, PreviewPoint, Shader, ShadingModel, SurfacePoint, Texture};
 
 use crate::bsdf::Bsdf;
 use crate::texture;
@@ -27,15 +28,53 @@ pub(crate) struct Material {
     pub occlusion_distance: f32,
 }
 
-impl Material {
+/// A shader resolved for a frame: its material before texturing and vertex colours.
+#[derive(Clone, Copy, Debug)]
+struct Resolved<'f> {
+    base: Material,
+    /// The diffuse texture, for the classes that have one and a shader that sets it.
+    texture: Option<&'f Texture>,
+}
+
+/// The frame's shaders, resolved (indexed by shader id), and the default shader.
+pub(crate) struct Materials<'f> {
+    by_id: Vec<Option<Resolved<'f>>>,
+    default: Resolved<'f>,
+}
+
+impl<'f> Materials<'f> {
+    /// Resolves every shader of `frame`.
+    pub fn of(frame: &Frame<'f>) -> Materials<'f> {
+        let mut by_id = Vec::new();
+        for (id, shader) in frame.shaders() {
+            let index = id.0 as usize;
+            if by_id.len() <= index {
+                by_id.resize(index + 1, None);
+            }
+            by_id[index] = Some(Resolved::of(frame, shader));
+        }
+        Materials { by_id, default: Resolved::of(frame, frame.default_shader()) }
+    }
+
     /// The material at `sp`.
-    pub fn at(frame: &Frame<'_>, sp: &SurfacePoint<'_>) -> Material {
-        let shader = sp.shader;
+    pub fn at(&self, sp: &SurfacePoint<'_>) -> Material {
+        self.resolved(sp.shader_id).apply(sp.local_position, sp.uv, sp.color)
+    }
+
+    /// The material at a preview point.
+    pub fn at_preview(&self, pp: &PreviewPoint<'_>) -> Material {
+        self.resolved(pp.shader_id).apply(pp.local_position, pp.uv, pp.color)
+    }
+
+    fn resolved(&self, id: Option<raystage_scene::ShaderId>) -> &Resolved<'f> {
+        id.and_then(|id| self.by_id.get(id.0 as usize)?.as_ref()).unwrap_or(&self.default)
+    }
+}
+
+impl<'f> Resolved<'f> {
+    /// The parameters of `shader` as its class means them.
+    fn of(frame: &Frame<'f>, shader: &Shader) -> Resolved<'f> {
         let model = shader.class().model;
-        let textured = |base: Vec3| match shader.texture("diffuse_texture").and_then(|t| frame.texture(t)) {
-            Some(t) => base * texture::lookup(t, sp.local_position, sp.uv),
-            None => base,
-        };
         let mut m = Material {
             model,
             bsdf: None,
@@ -46,17 +85,13 @@ impl Material {
             occlusion_distance: 0.0,
         };
         match model {
-            ShadingModel::Diffuse => {
-                m.albedo = textured(shader.color("diffuse"));
-                m.bsdf = Some(Bsdf::Lambert { albedo: m.albedo });
-            }
-            ShadingModel::VertexColor => {
-                m.albedo = shader.color("diffuse") * sp.color.unwrap_or(Vec3::ONE);
+            ShadingModel::Diffuse | ShadingModel::VertexColor => {
+                m.albedo = shader.color("diffuse");
                 m.bsdf = Some(Bsdf::Lambert { albedo: m.albedo });
             }
             ShadingModel::Constant => m.emission = shader.color("color"),
             ShadingModel::Phong => {
-                m.albedo = textured(shader.color("diffuse"));
+                m.albedo = shader.color("diffuse");
                 let specular = shader.color("specular");
                 m.bsdf = Some(Bsdf::Phong { diffuse: m.albedo, specular, exponent: shader.float("shininess") });
             }
@@ -79,6 +114,27 @@ impl Material {
                 m.occlusion_distance = shader.float("distance");
             }
         }
+        let textured = matches!(model, ShadingModel::Diffuse | ShadingModel::Phong);
+        let texture = if textured { shader.texture("diffuse_texture").and_then(|t| frame.texture(t)) } else { None };
+        Resolved { base: m, texture }
+    }
+
+    /// The material at a point with object-space position `local_position` and the mesh's
+    /// interpolated texture coordinates and colour, if it has them: the diffuse albedo scaled by
+    /// the texture or the vertex colour.
+    fn apply(&self, local_position: Vec3, uv: Option<Vec2>, color: Option<Vec3>) -> Material {
+        let mut m = self.base;
+        let scale = match (self.texture, m.model) {
+            (Some(t), _) => texture::lookup(t, local_position, uv),
+            (None, ShadingModel::VertexColor) => color.unwrap_or(Vec3::ONE),
+            (None, _) => return m,
+        };
+        m.albedo *= scale;
+        m.bsdf = match m.bsdf {
+            Some(Bsdf::Lambert { .. }) => Some(Bsdf::Lambert { albedo: m.albedo }),
+            Some(Bsdf::Phong { specular, exponent, .. }) => Some(Bsdf::Phong { diffuse: m.albedo, specular, exponent }),
+            other => other,
+        };
         m
     }
 }

@@ -5,14 +5,15 @@ use std::time::Instant;
 
 use glam::Vec3;
 use raystage_kernel::{PACKET_SIZE, Ray};
-use raystage_scene::{Frame, SceneHit};
+use raystage_scene::{CameraRays, Frame, SceneHit};
 
 use crate::effects::EffectSet;
 use crate::integrator::{Tracer, eyelight, path, recursive};
 use crate::lights::{SceneLights, Seen};
+use crate::material::Materials;
 use crate::sampler::PixelSampler;
 use crate::stats::{FrameStats, PhaseTimes, RayCounts};
-use crate::tiles::{Tile, render_tiles_with};
+use crate::tiles::{Band, Tile, render_tiles_with};
 use crate::{Error, Film};
 
 /// Largest image width or height.
@@ -163,7 +164,7 @@ impl RenderSettings {
 pub fn render(frame: &Frame<'_>, settings: &RenderSettings) -> Result<(Film, FrameStats), Error> {
     let mut progressive = Progressive::new(*settings)?;
     let stats = progressive.add(frame, settings.samples_per_pixel);
-    Ok((progressive.film(), stats))
+    Ok((progressive.into_film(), stats))
 }
 
 /// A quick look at `frame`: one sample per pixel of a `width × height` image, Whitted's
@@ -217,16 +218,17 @@ impl Progressive {
         let start = Instant::now();
         let s = self.settings;
         let effects = EffectSet::of(frame, s.integrator, self.samples + samples);
-        let tracer = Tracer { frame, lights: SceneLights::of(frame, s.light_samples), effects, settings: &s };
+        let tracer = Tracer { frame, lights: SceneLights::of(frame, s.light_samples), materials: Materials::of(frame), effects, settings: &s };
+        let camera = frame.camera().rays(s.width, s.height);
         let first_index = self.samples;
         let counts = std::sync::Mutex::new(Counts::default());
         let (sum, sum_sq) = (&mut self.sum, &mut self.sum_sq);
-        render_tiles_with(s.width, s.height, sum, sum_sq, |tile, sum, sum_sq| {
-            let mut local = Counts::default();
+        render_tiles_with(s.width, s.height, sum, sum_sq, |tile, band| {
+            let mut work = TileWork::new(tile);
             for index in first_index..first_index + samples {
-                sample_tile(&tracer, tile, index, sum, sum_sq, &mut local);
+                work.sample(&tracer, &camera, index, band);
             }
-            counts.lock().unwrap_or_else(|e| e.into_inner()).add(local);
+            counts.lock().unwrap_or_else(|e| e.into_inner()).add(work.counts);
         });
         self.samples += samples;
         let counts = counts.into_inner().unwrap_or_else(|e| e.into_inner());
@@ -249,6 +251,16 @@ impl Progressive {
     pub fn film(&self) -> Film {
         let n = self.samples.max(1) as f32;
         Film::from_pixels(self.settings.width, self.settings.height, self.sum.iter().map(|s| *s / n).collect())
+    }
+
+    /// The image, taking the accumulation's memory instead of copying it.
+    pub fn into_film(self) -> Film {
+        let n = self.samples.max(1) as f32;
+        let mut pixels = self.sum;
+        if n != 1.0 {
+            pixels.iter_mut().for_each(|p| *p /= n);
+        }
+        Film::from_pixels(self.settings.width, self.settings.height, pixels)
     }
 
     /// Per pixel, the estimated variance of its mean luminance (zero below two samples).
@@ -289,52 +301,80 @@ impl Counts {
     }
 }
 
-/// One sample (number `index`) of every pixel of `tile`, added to the tile's sums.
-fn sample_tile(t: &Tracer<'_, '_>, tile: &Tile, index: u32, sum: &mut [Vec3], sum_sq: &mut [f32], counts: &mut Counts) {
-    let s = t.settings;
-    let camera = *t.frame.camera();
-    let order = packet_order(tile);
-    let mut samplers = Vec::with_capacity(order.len());
-    let mut rays = Vec::with_capacity(order.len());
-    let mut times = Vec::with_capacity(order.len());
-    for &i in &order {
-        let (x, y) = tile.pixel(i);
-        let mut sampler = PixelSampler::new(x, y, s.seed, index);
-        let [dx, dy] = s.filter.offset(sampler.next_2d());
-        let lens = if t.effects.depth_of_field {
-            counts.lens_samples += 1;
-            sampler.next_2d()
-        } else {
-            [0.5, 0.5]
-        };
-        let time = if t.effects.motion_blur {
-            counts.time_samples += 1;
-            let [open, close] = camera.shutter;
-            open + (close - open) * sampler.next_1d()
-        } else {
-            camera.shutter[0]
-        };
-        rays.push(camera.ray_through_lens(x as f32 + dx, y as f32 + dy, s.width, s.height, lens));
-        times.push(time);
-        samplers.push(sampler);
-    }
-    // Camera rays of neighbouring pixels go to the scene together; with motion blur each has
-    // its own time, so they go one by one.
-    let mut hits: Vec<Option<SceneHit>> = vec![None; rays.len()];
-    if t.effects.motion_blur {
-        for ((ray, time), hit) in rays.iter().zip(&times).zip(hits.iter_mut()) {
-            *hit = t.frame.intersect(ray, *time);
+/// A tile's pixels in packet order and the buffers its samples reuse.
+struct TileWork {
+    /// The tile's pixels, in 4×2 blocks (see [`packet_order`]).
+    order: Vec<(u32, u32)>,
+    samplers: Vec<PixelSampler>,
+    rays: Vec<Ray>,
+    times: Vec<f32>,
+    hits: Vec<Option<SceneHit>>,
+    counts: Counts,
+}
+
+impl TileWork {
+    fn new(tile: &Tile) -> TileWork {
+        let order: Vec<(u32, u32)> = packet_order(tile).into_iter().map(|i| tile.pixel(i)).collect();
+        let n = order.len();
+        TileWork {
+            order,
+            samplers: Vec::with_capacity(n),
+            rays: Vec::with_capacity(n),
+            times: Vec::with_capacity(n),
+            hits: vec![None; n],
+            counts: Counts::default(),
         }
-    } else {
-        t.frame.intersect_many(&rays, &mut hits, times.first().copied().unwrap_or(0.0));
     }
-    counts.rays.primary += rays.len() as u64;
-    for (k, &i) in order.iter().enumerate() {
-        let colour = sample_pixel(t, &rays[k], times[k], hits[k], &mut samplers[k], &mut counts.rays);
-        // A NaN or infinite sample would poison the pixel for good: drop it (it counts as black).
-        let colour = if colour.is_finite() { colour } else { Vec3::ZERO };
-        sum[i] += colour;
-        sum_sq[i] += luminance(colour) * luminance(colour);
+
+    /// One sample (number `index`) of every pixel of the tile, added to the tile's sums. A
+    /// frame of one sample per pixel looks through pixel centres; with more, samples spread
+    /// over the pixel by the filter.
+    fn sample(&mut self, t: &Tracer<'_, '_>, camera: &CameraRays, index: u32, band: &mut Band<'_>) {
+        let s = t.settings;
+        let shutter = t.frame.camera().shutter;
+        let (samplers, rays, times) = (&mut self.samplers, &mut self.rays, &mut self.times);
+        samplers.clear();
+        rays.clear();
+        times.clear();
+        for &(x, y) in &self.order {
+            let mut sampler = PixelSampler::new(x, y, s.seed, index);
+            let [dx, dy] = if t.effects.multisampling { s.filter.offset(sampler.next_2d()) } else { [0.5, 0.5] };
+            let lens = if t.effects.depth_of_field {
+                self.counts.lens_samples += 1;
+                sampler.next_2d()
+            } else {
+                [0.5, 0.5]
+            };
+            let time = if t.effects.motion_blur {
+                self.counts.time_samples += 1;
+                let [open, close] = shutter;
+                open + (close - open) * sampler.next_1d()
+            } else {
+                shutter[0]
+            };
+            rays.push(camera.ray(x as f32 + dx, y as f32 + dy, lens));
+            times.push(time);
+            samplers.push(sampler);
+        }
+        // Camera rays of neighbouring pixels go to the scene together; with motion blur each
+        // has its own time, so they go one by one.
+        if t.effects.motion_blur {
+            for ((ray, time), hit) in rays.iter().zip(times.iter()).zip(self.hits.iter_mut()) {
+                *hit = t.frame.intersect(ray, *time);
+            }
+        } else {
+            t.frame.intersect_many(rays, &mut self.hits, shutter[0]);
+        }
+        self.counts.rays.primary += rays.len() as u64;
+        for (k, &(x, y)) in self.order.iter().enumerate() {
+            let colour = sample_pixel(t, &rays[k], times[k], self.hits[k], &mut samplers[k], &mut self.counts.rays);
+            // A NaN or infinite sample would poison the pixel for good: drop it (it counts as
+            // black).
+            let colour = if colour.is_finite() { colour } else { Vec3::ZERO };
+            let at = band.index(x, y);
+            band.sum[at] += colour;
+            band.sum_sq[at] += luminance(colour) * luminance(colour);
+        }
     }
 }
 
@@ -344,25 +384,27 @@ fn sample_pixel(t: &Tracer<'_, '_>, ray: &Ray, time: f32, first: Option<SceneHit
     let Some(scene_hit) = first else {
         return emitted + t.background(ray.dir, Seen::Directly);
     };
-    let hit = t.resolve(ray, scene_hit, time);
     let e = t.effects;
     let (reflection, refraction) = if t.settings.specialize { (e.reflection, e.refraction) } else { (true, true) };
-    emitted + match t.settings.integrator {
-        Integrator::EyeLight => eyelight::shade(ray, &hit),
-        Integrator::Whitted => match (reflection, refraction) {
-            (false, false) => recursive::shade::<false, false, false>(t, ray, hit, time, sampler, rays),
-            (true, false) => recursive::shade::<true, false, false>(t, ray, hit, time, sampler, rays),
-            (false, true) => recursive::shade::<false, true, false>(t, ray, hit, time, sampler, rays),
-            (true, true) => recursive::shade::<true, true, false>(t, ray, hit, time, sampler, rays),
-        },
-        Integrator::Distribution => match (reflection, refraction) {
-            (false, false) => recursive::shade::<false, false, true>(t, ray, hit, time, sampler, rays),
-            (true, false) => recursive::shade::<true, false, true>(t, ray, hit, time, sampler, rays),
-            (false, true) => recursive::shade::<false, true, true>(t, ray, hit, time, sampler, rays),
-            (true, true) => recursive::shade::<true, true, true>(t, ray, hit, time, sampler, rays),
-        },
-        Integrator::Path => path::shade(t, ray, hit, time, sampler, rays),
-    }
+    let hit = || t.resolve(ray, scene_hit, time);
+    emitted
+        + match t.settings.integrator {
+            // The preview looks up only the normal and the material.
+            Integrator::EyeLight => eyelight::shade(t, ray, &scene_hit),
+            Integrator::Whitted => match (reflection, refraction) {
+                (false, false) => recursive::shade::<false, false, false>(t, ray, hit(), time, sampler, rays),
+                (true, false) => recursive::shade::<true, false, false>(t, ray, hit(), time, sampler, rays),
+                (false, true) => recursive::shade::<false, true, false>(t, ray, hit(), time, sampler, rays),
+                (true, true) => recursive::shade::<true, true, false>(t, ray, hit(), time, sampler, rays),
+            },
+            Integrator::Distribution => match (reflection, refraction) {
+                (false, false) => recursive::shade::<false, false, true>(t, ray, hit(), time, sampler, rays),
+                (true, false) => recursive::shade::<true, false, true>(t, ray, hit(), time, sampler, rays),
+                (false, true) => recursive::shade::<false, true, true>(t, ray, hit(), time, sampler, rays),
+                (true, true) => recursive::shade::<true, true, true>(t, ray, hit(), time, sampler, rays),
+            },
+            Integrator::Path => path::shade(t, ray, hit(), time, sampler, rays),
+        }
 }
 
 /// The tile's pixel indices grouped in blocks of 4×2 pixels (fewer at the tile's edges), so that

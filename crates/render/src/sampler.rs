@@ -15,7 +15,10 @@
 /// uses, in the same order for every sample.
 #[derive(Clone, Debug)]
 pub struct PixelSampler {
-    pixel_seed: u32,
+    /// The pixel and the render's seed, hashed into the pixel's seed when a first sample is
+    /// drawn (a pixel of a frame that needs no random numbers never pays for it).
+    pixel: (u32, u32, u32),
+    pixel_seed: Option<u32>,
     index: u32,
     dimension: u32,
 }
@@ -23,12 +26,14 @@ pub struct PixelSampler {
 impl PixelSampler {
     /// The sampler of pixel `(x, y)` of a render with seed `seed`, positioned at sample `index`.
     pub fn new(x: u32, y: u32, seed: u32, index: u32) -> PixelSampler {
-        PixelSampler { pixel_seed: hash(hash(x ^ hash(seed)) ^ y), index, dimension: 0 }
+        PixelSampler { pixel: (x, y, seed), pixel_seed: None, index, dimension: 0 }
     }
 
     /// The next two dimensions of the current sample, each in `[0, 1)`.
     pub fn next_2d(&mut self) -> [f32; 2] {
-        let seed = hash(self.pixel_seed ^ hash(self.dimension.wrapping_add(0x9e37_79b9)));
+        let (x, y, seed) = self.pixel;
+        let pixel_seed = *self.pixel_seed.get_or_insert_with(|| hash(hash(x ^ hash(seed)) ^ y));
+        let seed = hash(pixel_seed ^ hash(self.dimension.wrapping_add(0x9e37_79b9)));
         self.dimension += 1;
         let shuffled = owen_scramble(self.index, seed);
         let (x, y) = sobol_02(shuffled);

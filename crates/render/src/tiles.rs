@@ -1,20 +1,20 @@
-//! The tiled frame loop: the image is cut into square tiles that rayon renders in parallel.
+//! The tiled frame loop: the image is cut into square tiles, rendered in parallel band by band.
 //!
-//! Tiles rather than rows or single pixels: a 16×16 tile is enough work to amortise scheduling,
-//! there are enough of them (8,160 at 1920×1080) for rayon's work stealing to balance cheap sky
-//! tiles against expensive geometry tiles, and neighbouring rays stay coherent in the BVH.
+//! Tiles rather than rows or single pixels: a 16×16 tile keeps neighbouring rays coherent in the
+//! BVH and is enough work to amortise its setup. The tiles of one band of 16 rows go to one
+//! thread in turn, and the bands (68 at 1080p) are shared out by rayon's work stealing, which
+//! balances cheap sky bands against expensive geometry bands. A band is a contiguous run of the
+//! image's rows, so each thread writes its pixels in place: no copies, no locks.
 
 use glam::Vec3;
 use rayon::prelude::*;
-
-use crate::Film;
 
 /// Edge length of a tile in pixels; tiles on the right and bottom border may be smaller.
 pub const TILE_SIZE: u32 = 16;
 
 /// A rectangle of pixels: `x0..x0 + width` × `y0..y0 + height`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Tile {
+pub(crate) struct Tile {
     /// Left column.
     pub x0: u32,
     /// Top row.
@@ -31,90 +31,46 @@ impl Tile {
         (self.width * self.height) as usize
     }
 
-    /// Whether the tile has no pixels.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
     /// Image coordinates of the pixel at `index` in the tile's row-major order.
     pub fn pixel(&self, index: usize) -> (u32, u32) {
         (self.x0 + index as u32 % self.width, self.y0 + index as u32 / self.width)
     }
 }
 
-/// The tiles covering a `width × height` image, row of tiles by row of tiles.
-fn tiles(width: u32, height: u32) -> Vec<Tile> {
-    (0..height.div_ceil(TILE_SIZE))
-        .flat_map(|ty| (0..width.div_ceil(TILE_SIZE)).map(move |tx| (tx * TILE_SIZE, ty * TILE_SIZE)))
-        .map(|(x0, y0)| Tile { x0, y0, width: TILE_SIZE.min(width - x0), height: TILE_SIZE.min(height - y0) })
-        .collect()
-}
-
-/// Fills every pixel of `film`, tiles in parallel on the current rayon pool: run it inside
-/// `ThreadPool::install` to choose the number of threads. `shade_tile(tile, pixels)` writes the
-/// tile's pixels (linear RGB) into `pixels`, row-major, one per pixel; a whole tile at a time, so
-/// that the shader can trace neighbouring pixels' rays together.
-///
-/// Each tile is shaded into a buffer of its own and then copied into the film, so threads never
-/// share a pixel and need no locks; the copy is a few milliseconds for a full-HD frame.
-pub fn render_tiles(film: &mut Film, shade_tile: impl Fn(&Tile, &mut [Vec3]) + Sync) {
-    let rendered: Vec<(Tile, Vec<Vec3>)> = tiles(film.width(), film.height())
-        .into_par_iter()
-        .map(|tile| {
-            let mut pixels = vec![Vec3::ZERO; tile.len()];
-            shade_tile(&tile, &mut pixels);
-            (tile, pixels)
-        })
-        .collect();
-    for (tile, pixels) in rendered {
-        for (row, y) in pixels.chunks_exact(tile.width as usize).zip(tile.y0..) {
-            film.row_mut(y)[tile.x0 as usize..(tile.x0 + tile.width) as usize].copy_from_slice(row);
-        }
-    }
-}
-
-/// Runs `add` over the tiles of a `width × height` image in parallel, giving each a private copy
-/// of its part of two per-pixel accumulation buffers (row-major, one entry per pixel) and
-/// writing the copies back: the progressive renderer's loop.
-pub(crate) fn render_tiles_with(
+/// One band's part of the per-pixel accumulation buffers: whole image rows from `y0` on.
+pub(crate) struct Band<'a> {
+    /// Sum of the samples, per pixel.
+    pub sum: &'a mut [Vec3],
+    /// Sum of the squared sample luminances, per pixel.
+    pub sum_sq: &'a mut [f32],
     width: u32,
-    height: u32,
-    sum: &mut [Vec3],
-    sum_sq: &mut [f32],
-    add: impl Fn(&Tile, &mut [Vec3], &mut [f32]) + Sync,
-) {
-    let (shared_sum, shared_sq) = (&*sum, &*sum_sq);
-    let done: Vec<(Tile, Vec<Vec3>, Vec<f32>)> = tiles(width, height)
-        .into_par_iter()
-        .map(|tile| {
-            let index = |i: usize| {
-                let (x, y) = tile.pixel(i);
-                (y * width + x) as usize
-            };
-            let mut s: Vec<Vec3> = (0..tile.len()).map(|i| shared_sum[index(i)]).collect();
-            let mut q: Vec<f32> = (0..tile.len()).map(|i| shared_sq[index(i)]).collect();
-            add(&tile, &mut s, &mut q);
-            (tile, s, q)
-        })
-        .collect();
-    for (tile, s, q) in done {
-        for i in 0..tile.len() {
-            let (x, y) = tile.pixel(i);
-            let at = (y * width + x) as usize;
-            sum[at] = s[i];
-            sum_sq[at] = q[i];
-        }
+    y0: u32,
+}
+
+impl Band<'_> {
+    /// Where pixel `(x, y)` of the image is in the band's buffers.
+    pub fn index(&self, x: u32, y: u32) -> usize {
+        ((y - self.y0) * self.width + x) as usize
     }
 }
 
-/// Adapts a per-pixel shader `shade(x, y)` to [`render_tiles`].
-pub fn per_pixel(shade: impl Fn(u32, u32) -> Vec3 + Sync) -> impl Fn(&Tile, &mut [Vec3]) + Sync {
-    move |tile, pixels| {
-        for (i, p) in pixels.iter_mut().enumerate() {
-            let (x, y) = tile.pixel(i);
-            *p = shade(x, y);
-        }
+/// Runs `add` over every tile of a `width × height` image, bands of tiles in parallel on the
+/// current rayon pool (run it inside `ThreadPool::install` to choose the number of threads),
+/// giving it the band of the two per-pixel accumulation buffers (row-major, one entry per
+/// pixel) its tile lies in.
+pub(crate) fn render_tiles_with(width: u32, height: u32, sum: &mut [Vec3], sum_sq: &mut [f32], add: impl Fn(&Tile, &mut Band<'_>) + Sync) {
+    if width == 0 || height == 0 {
+        return;
     }
+    let band_len = (width * TILE_SIZE) as usize;
+    sum.par_chunks_mut(band_len).zip(sum_sq.par_chunks_mut(band_len)).enumerate().for_each(|(b, (sum, sum_sq))| {
+        let y0 = b as u32 * TILE_SIZE;
+        let rows = TILE_SIZE.min(height - y0);
+        let mut band = Band { sum, sum_sq, width, y0 };
+        for x0 in (0..width).step_by(TILE_SIZE as usize) {
+            add(&Tile { x0, y0, width: TILE_SIZE.min(width - x0), height: rows }, &mut band);
+        }
+    });
 }
 
 #[cfg(test)]
@@ -125,54 +81,59 @@ mod tests {
 
     const SIZES: [(u32, u32); 7] = [(1, 1), (16, 16), (17, 16), (16, 33), (35, 7), (160, 90), (3, 250)];
 
-    #[test]
-    fn every_pixel_is_shaded_exactly_once() {
-        for (width, height) in SIZES {
-            let calls: Vec<AtomicU32> = (0..width * height).map(|_| AtomicU32::new(0)).collect();
-            let mut film = Film::new(width, height);
-            render_tiles(
-                &mut film,
-                per_pixel(|x, y| {
-                    calls[(y * width + x) as usize].fetch_add(1, Ordering::Relaxed);
-                    Vec3::ZERO
-                }),
-            );
-            assert!(calls.iter().all(|c| c.load(Ordering::Relaxed) == 1), "{width}×{height}");
-        }
+    /// Runs `add` over a fresh `width × height` image; returns the sums.
+    fn run(width: u32, height: u32, add: impl Fn(&Tile, &mut Band<'_>) + Sync) -> Vec<Vec3> {
+        let n = (width * height) as usize;
+        let (mut sum, mut sum_sq) = (vec![Vec3::ZERO; n], vec![0.0; n]);
+        render_tiles_with(width, height, &mut sum, &mut sum_sq, add);
+        sum
     }
 
     #[test]
-    fn every_pixel_gets_its_own_value() {
+    fn every_pixel_is_visited_exactly_once_and_written_in_place() {
         for (width, height) in SIZES {
-            let mut film = Film::new(width, height);
-            render_tiles(&mut film, per_pixel(|x, y| Vec3::new(x as f32, y as f32, 1.0)));
-            for y in 0..height {
-                for x in 0..width {
-                    assert_eq!(film.pixel(x, y), Vec3::new(x as f32, y as f32, 1.0), "{width}×{height} at ({x}, {y})");
+            let calls: Vec<AtomicU32> = (0..width * height).map(|_| AtomicU32::new(0)).collect();
+            let sum = run(width, height, |tile, band| {
+                for i in 0..tile.len() {
+                    let (x, y) = tile.pixel(i);
+                    calls[(y * width + x) as usize].fetch_add(1, Ordering::Relaxed);
+                    let at = band.index(x, y);
+                    band.sum[at] = Vec3::new(x as f32, y as f32, 1.0);
                 }
+            });
+            assert!(calls.iter().all(|c| c.load(Ordering::Relaxed) == 1), "{width}×{height}");
+            for (i, p) in sum.iter().enumerate() {
+                assert_eq!(*p, Vec3::new((i as u32 % width) as f32, (i as u32 / width) as f32, 1.0), "{width}×{height}");
             }
         }
     }
 
     #[test]
     fn border_tiles_are_clipped_to_the_image() {
-        let t = tiles(35, 17);
-        assert_eq!(t.len(), 3 * 2);
-        assert_eq!(t[2], Tile { x0: 32, y0: 0, width: 3, height: 16 });
-        assert_eq!(t[5], Tile { x0: 32, y0: 16, width: 3, height: 1 });
+        let tiles = std::sync::Mutex::new(Vec::new());
+        run(35, 17, |tile, _| tiles.lock().unwrap().push(*tile));
+        let mut tiles = tiles.into_inner().unwrap();
+        tiles.sort_by_key(|t| (t.y0, t.x0));
+        assert_eq!(tiles.len(), 3 * 2);
+        assert_eq!(tiles[2], Tile { x0: 32, y0: 0, width: 3, height: 16 });
+        assert_eq!(tiles[5], Tile { x0: 32, y0: 16, width: 3, height: 1 });
     }
 
     #[test]
-    fn an_empty_film_renders_nothing() {
-        let mut film = Film::new(0, 5);
-        render_tiles(&mut film, |_, _| unreachable!("no tiles to shade"));
+    fn an_empty_image_renders_nothing() {
+        run(0, 5, |_, _| unreachable!("no tiles to shade"));
     }
 
     #[test]
     fn runs_on_the_callers_pool() {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
-        let mut film = Film::new(40, 40);
-        pool.install(|| render_tiles(&mut film, per_pixel(|_, _| Vec3::splat(rayon::current_num_threads() as f32))));
-        assert_eq!(film.pixel(39, 39), Vec3::ONE);
+        let sum = pool.install(|| {
+            run(40, 40, |tile, band| {
+                let (x, y) = tile.pixel(0);
+                let at = band.index(x, y);
+                band.sum[at] = Vec3::splat(rayon::current_num_threads() as f32);
+            })
+        });
+        assert_eq!(sum[0], Vec3::ONE);
     }
 }

@@ -1,6 +1,6 @@
 //! The camera: a pinhole looking from an eye point at a target.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use raystage_kernel::Ray;
 
 use crate::error::SceneError;
@@ -98,38 +98,64 @@ impl Camera {
         Ok(())
     }
 
-    /// The camera's orthonormal frame: forward, right, up.
-    fn frame(&self) -> (Vec3, Vec3, Vec3) {
-        let forward = (self.target - self.eye).normalize();
-        let right = forward.cross(self.up).normalize();
-        (forward, right, right.cross(forward))
-    }
-
     /// The primary ray through image position `(px, py)` (in pixels, `(0, 0)` the top-left
     /// corner of the image, so pixel centres are at `x + 0.5`) of a `width × height` image,
     /// through the centre of the lens.
     pub fn ray(&self, px: f32, py: f32, width: u32, height: u32) -> Ray {
-        self.ray_through_lens(px, py, width, height, [0.5, 0.5])
+        self.rays(width, height).ray(px, py, [0.5, 0.5])
     }
 
-    /// The primary ray through image position `(px, py)` and lens position `lens` (a point of
-    /// `[0, 1)²`, mapped uniformly onto the lens disc). With a pinhole every lens position gives
-    /// the same ray; with an aperture, all rays through one image position meet at the focus
-    /// distance, so only objects there are sharp.
-    pub fn ray_through_lens(&self, px: f32, py: f32, width: u32, height: u32, lens: [f32; 2]) -> Ray {
-        let (forward, right, up) = self.frame();
+    /// What generating primary rays for a `width × height` image takes, worked out once: the
+    /// camera's frame and the image plane's scale.
+    pub fn rays(&self, width: u32, height: u32) -> CameraRays {
+        let forward = (self.target - self.eye).normalize();
+        let right = forward.cross(self.up).normalize();
+        let up = right.cross(forward);
         let tan = (0.5 * self.fov_y_degrees.to_radians()).tan();
         let (w, h) = (width as f32, height as f32);
-        let u = (px / w * 2.0 - 1.0) * tan * w / h;
-        let v = (1.0 - py / h * 2.0) * tan;
-        let dir = (forward + right * u + up * v).normalize();
-        if !self.has_depth_of_field() {
+        let lens = self.has_depth_of_field().then(|| Lens {
+            radius: self.aperture_radius,
+            focus: if self.focus_distance > 0.0 { self.focus_distance } else { (self.target - self.eye).length() },
+        });
+        CameraRays { eye: self.eye, forward, right: right * (2.0 * tan / h), up: up * (2.0 * tan / h), centre: Vec2::new(w, h) * 0.5, lens }
+    }
+}
+
+/// Primary rays of one camera and image size (see [`Camera::rays`]).
+#[derive(Clone, Copy, Debug)]
+pub struct CameraRays {
+    eye: Vec3,
+    forward: Vec3,
+    /// The camera's right and up vectors, scaled to one pixel on the image plane at distance 1.
+    right: Vec3,
+    up: Vec3,
+    /// The image centre, in pixels.
+    centre: Vec2,
+    lens: Option<Lens>,
+}
+
+/// A thin lens.
+#[derive(Clone, Copy, Debug)]
+struct Lens {
+    radius: f32,
+    focus: f32,
+}
+
+impl CameraRays {
+    /// The primary ray through image position `(px, py)` (in pixels, `(0, 0)` the top-left
+    /// corner, pixel centres at `x + 0.5`) and lens position `lens` (a point of `[0, 1)²`,
+    /// mapped uniformly onto the lens disc). With a pinhole every lens position gives the same
+    /// ray; with an aperture, all rays through one image position meet at the focus distance,
+    /// so only objects there are sharp.
+    pub fn ray(&self, px: f32, py: f32, lens: [f32; 2]) -> Ray {
+        let dir = (self.forward + self.right * (px - self.centre.x) + self.up * (self.centre.y - py)).normalize();
+        let Some(Lens { radius, focus }) = self.lens else {
             return Ray::new(self.eye, dir);
-        }
-        let focus = if self.focus_distance > 0.0 { self.focus_distance } else { (self.target - self.eye).length() };
+        };
         // The point in focus, at the focus distance along the view axis.
-        let focal_point = self.eye + dir * (focus / dir.dot(forward));
-        let (r, phi) = (self.aperture_radius * lens[0].sqrt(), std::f32::consts::TAU * lens[1]);
+        let focal_point = self.eye + dir * (focus / dir.dot(self.forward));
+        let (r, phi) = (radius * lens[0].sqrt(), std::f32::consts::TAU * lens[1]);
+        let (right, up) = (self.right.normalize(), self.up.normalize());
         let origin = self.eye + right * (r * phi.cos()) + up * (r * phi.sin());
         Ray::new(origin, (focal_point - origin).normalize())
     }

@@ -2,19 +2,24 @@
 //! semantics), places the instances and rebuilds the top level over their world boxes; tracing
 //! then builds or refits each object's tree the first time a ray reaches it.
 
+use std::borrow::Cow;
 use std::collections::HashSet;
 use std::time::Instant;
 
 use glam::{Vec2, Vec3};
-use raystage_kernel::{BoxTree, PreparedRay, Ray};
+use raystage_kernel::{Aabb, BoxTree, PACKET_SIZE, PreparedRay, Ray};
 
 use crate::camera::Camera;
-use crate::ids::{InstanceId, ObjectId};
+use crate::ids::{InstanceId, ObjectId, ShaderId};
 use crate::instance::{Instance, Placed, world_bounds};
 use crate::light::Light;
 use crate::object::{BuildCounters, Object};
 use crate::scene::Scene;
 use crate::shader::{Shader, ShadingModel};
+
+/// Up to this many instances the top level is a list of boxes tested one by one: setting up a
+/// tree walk costs more than it saves.
+const LIST_TOP_LEVEL: usize = 4;
 
 /// An instance as a frame sees it.
 struct FrameInstance<'a> {
@@ -28,8 +33,10 @@ struct FrameInstance<'a> {
 
 impl FrameInstance<'_> {
     /// The placement at shutter time `time`.
-    fn placed_at(&self, time: f32) -> Placed {
-        if self.instance.end.is_some() && time != 0.0 { Placed::at(&self.instance, time) } else { self.placed }
+    /// (Borrowed for a still instance: the placement is two matrices, and rays look it up on
+    /// every visit.)
+    fn placed_at(&self, time: f32) -> Cow<'_, Placed> {
+        if self.instance.end.is_some() && time != 0.0 { Cow::Owned(Placed::at(&self.instance, time)) } else { Cow::Borrowed(&self.placed) }
     }
 }
 
@@ -48,6 +55,9 @@ pub struct SceneHit {
     pub u: f32,
     /// Barycentric weight of its third vertex.
     pub v: f32,
+    /// The triangle's unnormalised geometric normal `(v1 − v0) × (v2 − v0)` in the object's
+    /// space (see [`raystage_kernel::Hit::ng`]).
+    pub ng: Vec3,
     /// The instance's position in the frame's list.
     item: u32,
 }
@@ -55,15 +65,21 @@ pub struct SceneHit {
 /// What a shader needs to know about a hit point, in world space.
 #[derive(Clone, Copy, Debug)]
 pub struct SurfacePoint<'a> {
-    /// The hit point.
+    /// The hit point, computed from the triangle's vertices and barycentrics in the object's
+    /// space and carried into the world by the instance's transform.
     pub position: Vec3,
+    /// A conservative bound on the absolute rounding error of `position`, per component: the
+    /// true surface point lies within it. [`SurfacePoint::spawn_ray`] starts secondary rays
+    /// outside it.
+    pub position_error: Vec3,
     /// The hit point in the object's own space (where solid textures are evaluated, so that
     /// they move with the object).
     pub local_position: Vec3,
     /// Unit geometric normal, facing the side the ray came from.
     pub geometric_normal: Vec3,
-    /// Whether the ray hit the triangle's front (the side its counter-clockwise winding faces,
-    /// the outside of a consistently wound closed mesh).
+    /// Whether the ray hit the triangle's front (the side its counter-clockwise winding faces
+    /// in the object's own space, the outside of a consistently wound closed mesh; an instance
+    /// that mirrors the object keeps its outside the front).
     pub front_face: bool,
     /// Unit shading normal (interpolated vertex normals if the mesh has them), on the same side.
     pub shading_normal: Vec3,
@@ -71,8 +87,25 @@ pub struct SurfacePoint<'a> {
     pub color: Option<Vec3>,
     /// Interpolated texture coordinates, if the mesh has them.
     pub uv: Option<Vec2>,
-    /// The triangle's shader.
+    /// The triangle's shader, and its id (`None` for the scene's default shader).
     pub shader: &'a Shader,
+    pub shader_id: Option<ShaderId>,
+}
+
+/// What the eye-light preview needs of a hit point (see [`Frame::preview`]).
+#[derive(Clone, Copy, Debug)]
+pub struct PreviewPoint<'a> {
+    /// Unit shading normal in the world, on either side of the surface.
+    pub normal: Vec3,
+    /// The point in the object's own space, from the ray (for solid textures).
+    pub local_position: Vec3,
+    /// Interpolated vertex colour, if the mesh has colours.
+    pub color: Option<Vec3>,
+    /// Interpolated texture coordinates, if the mesh has them.
+    pub uv: Option<Vec2>,
+    /// The triangle's shader, and its id (`None` for the scene's default shader).
+    pub shader: &'a Shader,
+    pub shader_id: Option<ShaderId>,
 }
 
 /// Tree work done for a frame so far.
@@ -96,6 +129,8 @@ pub struct Frame<'a> {
     scene: &'a Scene,
     instances: Vec<FrameInstance<'a>>,
     top: BoxTree,
+    /// The instances' world boxes (over the shutter interval), by item.
+    boxes: Vec<Aabb>,
     counters: BuildCounters,
     lights: Vec<Light>,
     top_level_seconds: f64,
@@ -128,6 +163,7 @@ impl<'a> Frame<'a> {
             scene,
             instances,
             top,
+            boxes,
             counters: BuildCounters::default(),
             lights,
             top_level_seconds: start.elapsed().as_secs_f64(),
@@ -140,48 +176,166 @@ impl<'a> Frame<'a> {
         // Prepared once: instances placed by the identity trace the world ray as it is.
         let world = PreparedRay::new(ray);
         let mut best: Option<SceneHit> = None;
-        self.top.closest(&world, |item, tfar| {
-            let fi = &self.instances[item as usize];
-            let placed = fi.placed_at(time);
-            let bvh = fi.object.accel(&self.counters);
-            let found = if placed.identity {
-                bvh.intersect_prepared(&world.with_tfar(tfar))
-            } else {
-                bvh.intersect(&Ray { tfar, ..placed.ray_to_object(ray) })
-            };
-            let Some(h) = found else {
-                return tfar;
-            };
-            if best.is_none_or(|b| h.t < b.t || (h.t == b.t && item < b.item)) {
-                let hit = SceneHit { t: h.t, instance: fi.id, object: fi.object_id, prim: h.prim, u: h.u, v: h.v, item };
-                best = Some(hit);
+        let mut visit = |item: u32, tfar: f32| self.closest_in(item, ray, &world, time, tfar, &mut best);
+        if self.instances.len() <= LIST_TOP_LEVEL {
+            // A handful of instances: their boxes nearest first, without a tree.
+            let mut entries = [(0.0f32, 0u32); LIST_TOP_LEVEL];
+            let mut n = 0;
+            for (item, b) in self.boxes.iter().enumerate() {
+                if let Some(entry) = b.intersect(&world, ray.tfar) {
+                    entries[n] = (entry, item as u32);
+                    n += 1;
+                }
             }
-            best.map_or(tfar, |b| b.t)
-        });
+            entries[..n].sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+            let mut tfar = ray.tfar;
+            for &(_, item) in &entries[..n] {
+                // Boxes that start beyond the closest hit are skipped, as in the tree walk (so
+                // that an object behind a wall is never built).
+                if self.boxes[item as usize].intersect(&world, tfar).is_none() {
+                    break;
+                }
+                tfar = visit(item, tfar);
+            }
+        } else {
+            self.top.closest(&world, visit);
+        }
         best
     }
 
+    /// The closest hit in instance `item` of `ray` (prepared as `world`) up to `tfar`, kept in
+    /// `best` if it wins; returns the new closest distance.
+    fn closest_in(&self, item: u32, ray: &Ray, world: &PreparedRay, time: f32, tfar: f32, best: &mut Option<SceneHit>) -> f32 {
+        let fi = &self.instances[item as usize];
+        let placed = fi.placed_at(time);
+        let bvh = fi.object.accel(&self.counters);
+        let found = if placed.identity {
+            bvh.intersect_prepared(&world.with_tfar(tfar))
+        } else {
+            bvh.intersect(&Ray { tfar, ..placed.ray_to_object(ray) })
+        };
+        let Some(h) = found else {
+            return tfar;
+        };
+        if best.is_none_or(|b| h.t < b.t || (h.t == b.t && item < b.item)) {
+            *best = Some(SceneHit { t: h.t, instance: fi.id, object: fi.object_id, prim: h.prim, u: h.u, v: h.v, ng: h.ng, item });
+        }
+        best.map_or(tfar, |b| b.t)
+    }
+
     /// The closest hits of many rays, `hits[i]` for `rays[i]`, at shutter time `time`: exactly
-    /// what [`Frame::intersect`] returns for each.
+    /// what [`Frame::intersect`] returns for each. Consecutive groups of [`PACKET_SIZE`] rays
+    /// (camera rays of a 4×2 block of pixels, say) go through each instance they touch as a
+    /// packet, sharing the object tree's node tests.
     ///
     /// # Panics
     /// If `rays` and `hits` differ in length.
     pub fn intersect_many(&self, rays: &[Ray], hits: &mut [Option<SceneHit>], time: f32) {
         assert_eq!(rays.len(), hits.len(), "one hit slot per ray");
-        for (ray, hit) in rays.iter().zip(hits) {
-            *hit = self.intersect(ray, time);
+        for (rays, hits) in rays.chunks(PACKET_SIZE).zip(hits.chunks_mut(PACKET_SIZE)) {
+            if rays.len() == PACKET_SIZE {
+                self.intersect_packet(rays, hits, time);
+            } else {
+                for (ray, hit) in rays.iter().zip(hits) {
+                    *hit = self.intersect(ray, time);
+                }
+            }
+        }
+    }
+
+    /// One packet of [`Frame::intersect_many`]: the instances any of its rays touch, nearest
+    /// first for the first ray that touches them, each traced with the rays that touch it, each
+    /// ray limited to its closest hit so far.
+    fn intersect_packet(&self, rays: &[Ray], hits: &mut [Option<SceneHit>], time: f32) {
+        thread_local! {
+            /// The instances the rays touch: nearest entry of any ray, item, and the rays that
+            /// touch its box (bit i for ray i). Reused from packet to packet.
+            static TOUCHED: std::cell::RefCell<Vec<(f32, u32, u32)>> = const { std::cell::RefCell::new(Vec::new()) };
+        }
+        TOUCHED.with_borrow_mut(|touched| self.intersect_touched(rays, hits, time, touched));
+    }
+
+    /// [`Frame::intersect_packet`] with a scratch list for the instances touched.
+    ///
+    /// Instances are visited in the order of the nearest entry of any ray into their boxes:
+    /// every instance a ray reaches before its own closest hit is then also reached by that ray
+    /// traced alone, so a packet builds no object that its rays alone would not.
+    fn intersect_touched(&self, rays: &[Ray], hits: &mut [Option<SceneHit>], time: f32, touched: &mut Vec<(f32, u32, u32)>) {
+        touched.clear();
+        let prepared: [PreparedRay; PACKET_SIZE] = std::array::from_fn(|i| PreparedRay::new(&rays[i]));
+        let mut touch = |item: u32, i: usize| {
+            let Some(entry) = self.boxes[item as usize].intersect(&prepared[i], rays[i].tfar) else { return };
+            match touched.iter_mut().find(|(_, t, _)| *t == item) {
+                Some((nearest, _, mask)) => {
+                    *nearest = nearest.min(entry);
+                    *mask |= 1 << i;
+                }
+                None => touched.push((entry, item, 1 << i)),
+            }
+        };
+        if self.instances.len() == 1 {
+            // The only instance: every ray (the object's own root test culls those that miss).
+            touched.push((0.0, 0, (1 << PACKET_SIZE) - 1));
+        } else if self.instances.len() <= LIST_TOP_LEVEL {
+            for item in 0..self.instances.len() as u32 {
+                (0..PACKET_SIZE).for_each(|i| touch(item, i));
+            }
+        } else {
+            for (i, pre) in prepared.iter().enumerate() {
+                self.top.closest(pre, |item, tfar| {
+                    touch(item, i);
+                    tfar
+                });
+            }
+        }
+        touched.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        hits.fill(None);
+        let mut local = prepared;
+        let mut found = [None; PACKET_SIZE];
+        for &(_, item, touching) in touched.iter() {
+            let fi = &self.instances[item as usize];
+            let tfar: [f32; PACKET_SIZE] = std::array::from_fn(|i| hits[i].map_or(rays[i].tfar, |h| h.t));
+            // An object no ray has needed yet is built only if some ray reaches its box before
+            // its closest hit so far, as a single ray would; a built one culls rays itself.
+            let mask = if fi.object.is_built() {
+                touching
+            } else {
+                let b = &self.boxes[item as usize];
+                (0..PACKET_SIZE).filter(|&i| touching & (1 << i) != 0 && b.intersect(&prepared[i], tfar[i]).is_some()).fold(0u32, |m, i| m | 1 << i)
+            };
+            if mask == 0 {
+                continue;
+            }
+            let placed = fi.placed_at(time);
+            for (i, ray) in rays.iter().enumerate() {
+                // Rays that do not reach the box get an empty segment.
+                let tfar = if mask & (1 << i) == 0 { ray.tnear } else { tfar[i] };
+                local[i] = if placed.identity { prepared[i].with_tfar(tfar) } else { PreparedRay::new(&Ray { tfar, ..placed.ray_to_object(ray) }) };
+            }
+            fi.object.accel(&self.counters).intersect_packet_prepared(&local, &mut found);
+            for (i, h) in found.iter().enumerate() {
+                let Some(h) = h else { continue };
+                if hits[i].is_none_or(|b| h.t < b.t || (h.t == b.t && item < b.item)) {
+                    hits[i] = Some(SceneHit { t: h.t, instance: fi.id, object: fi.object_id, prim: h.prim, u: h.u, v: h.v, ng: h.ng, item });
+                }
+            }
         }
     }
 
     /// Whether anything is hit in `(tnear, tfar]` at shutter time `time`.
     pub fn occluded(&self, ray: &Ray, time: f32) -> bool {
         let world = PreparedRay::new(ray);
-        self.top.any(&world, |item| {
+        let blocks = |item: u32| {
             let fi = &self.instances[item as usize];
             let placed = fi.placed_at(time);
             let bvh = fi.object.accel(&self.counters);
             if placed.identity { bvh.occluded_prepared(&world) } else { bvh.occluded(&placed.ray_to_object(ray)) }
-        })
+        };
+        if self.instances.len() <= LIST_TOP_LEVEL {
+            (0..self.boxes.len() as u32).any(|item| self.boxes[item as usize].intersect(&world, ray.tfar).is_some() && blocks(item))
+        } else {
+            self.top.any(&world, blocks)
+        }
     }
 
     /// Everything a shader needs to know about `hit` of `ray` (at shutter time `time`).
@@ -189,30 +343,88 @@ impl<'a> Frame<'a> {
         let fi = &self.instances[hit.item as usize];
         let placed = fi.placed_at(time);
         let mesh = &fi.object.mesh;
-        let [a, b, c] = mesh.indices[hit.prim as usize].map(|i| i as usize);
-        let w = [1.0 - hit.u - hit.v, hit.u, hit.v];
-        let lerp3 = |v: &[Vec3]| v[a] * w[0] + v[b] * w[1] + v[c] * w[2];
-        let [p0, p1, p2] = [a, b, c].map(|i| mesh.positions[i]);
-        let outward = placed.normal_to_world((p1 - p0).cross(p2 - p0)).normalize_or_zero();
+        let [a, b, c] = mesh.indices[hit.prim as usize];
+        let (a, b, c) = (a as usize, b as usize, c as usize);
+        let (w0, w1, w2) = (1.0 - hit.u - hit.v, hit.u, hit.v);
+        let (p0, p1, p2) = (mesh.positions[a], mesh.positions[b], mesh.positions[c]);
+        let outward = placed.normal_to_world(hit.ng).normalize_or_zero();
         let front_face = outward.dot(ray.dir) < 0.0;
         let geometric_normal = if front_face { outward } else { -outward };
         let shading_normal = if mesh.normals.is_empty() {
             geometric_normal
         } else {
-            let n = placed.normal_to_world(lerp3(&mesh.normals)).normalize_or_zero();
+            let n = mesh.normals[a] * w0 + mesh.normals[b] * w1 + mesh.normals[c] * w2;
+            let n = placed.normal_to_world(n).normalize_or_zero();
             if n.dot(geometric_normal) < 0.0 { -n } else { n }
         };
-        let shader = mesh.shaders.get(hit.prim as usize).and_then(|&s| self.scene.shader(s).ok()).unwrap_or(self.scene.default_shader());
+        let (shader, shader_id) = self.shader_of(mesh, hit.prim);
+        let (position, local_position, position_error) = crate::spawn::hit_point(&[p0, p1, p2], [w0, w1, w2], &placed);
         SurfacePoint {
-            position: ray.at(hit.t),
-            local_position: p0 * w[0] + p1 * w[1] + p2 * w[2],
+            position,
+            position_error,
+            local_position,
             geometric_normal,
             front_face,
             shading_normal,
-            color: (!mesh.colors.is_empty()).then(|| lerp3(&mesh.colors)),
-            uv: (!mesh.uvs.is_empty()).then(|| mesh.uvs[a] * w[0] + mesh.uvs[b] * w[1] + mesh.uvs[c] * w[2]),
+            color: (!mesh.colors.is_empty()).then(|| mesh.colors[a] * w0 + mesh.colors[b] * w1 + mesh.colors[c] * w2),
+            uv: (!mesh.uvs.is_empty()).then(|| mesh.uvs[a] * w0 + mesh.uvs[b] * w1 + mesh.uvs[c] * w2),
             shader,
+            shader_id,
         }
+    }
+
+    /// What a preview needs of `hit` of `ray`: its unit shading normal (facing either way), the
+    /// interpolated attributes the mesh has, an approximate object-space point, and the shader.
+    /// Unlike [`Frame::surface`] it computes no robust hit point, so a mesh without per-vertex
+    /// attributes is not read at all: the normal comes with the hit.
+    pub fn preview(&self, ray: &Ray, hit: &SceneHit) -> PreviewPoint<'a> {
+        let fi = &self.instances[hit.item as usize];
+        let placed = fi.placed;
+        let mesh = &fi.object.mesh;
+        let (w0, w1, w2) = (1.0 - hit.u - hit.v, hit.u, hit.v);
+        let corners = || mesh.indices[hit.prim as usize].map(|i| i as usize);
+        let normal = if mesh.normals.is_empty() {
+            hit.ng
+        } else {
+            let [a, b, c] = corners();
+            mesh.normals[a] * w0 + mesh.normals[b] * w1 + mesh.normals[c] * w2
+        };
+        let position = ray.at(hit.t);
+        let (shader, shader_id) = self.shader_of(mesh, hit.prim);
+        PreviewPoint {
+            normal: placed.normal_to_world(normal).normalize_or_zero(),
+            local_position: if placed.identity { position } else { placed.to_object.transform_point3(position) },
+            color: (!mesh.colors.is_empty()).then(|| {
+                let [a, b, c] = corners();
+                mesh.colors[a] * w0 + mesh.colors[b] * w1 + mesh.colors[c] * w2
+            }),
+            uv: (!mesh.uvs.is_empty()).then(|| {
+                let [a, b, c] = corners();
+                mesh.uvs[a] * w0 + mesh.uvs[b] * w1 + mesh.uvs[c] * w2
+            }),
+            shader,
+            shader_id,
+        }
+    }
+
+    /// The shader of triangle `prim` of `mesh`, as the frame resolves it, and its id (`None`
+    /// for the default shader).
+    fn shader_of(&self, mesh: &crate::Mesh, prim: u32) -> (&'a Shader, Option<ShaderId>) {
+        match mesh.shaders.get(prim as usize).and_then(|&id| Some((self.scene.shader(id).ok()?, Some(id)))) {
+            Some(found) => found,
+            None => (self.scene.default_shader(), None),
+        }
+    }
+
+    /// Every shader of the scene with its id (the scene's default shader is
+    /// [`Frame::default_shader`]).
+    pub fn shaders(&self) -> impl Iterator<Item = (ShaderId, &'a Shader)> + 'a {
+        self.scene.shaders()
+    }
+
+    /// The shader of triangles that have none.
+    pub fn default_shader(&self) -> &'a Shader {
+        self.scene.default_shader()
     }
 
     /// The shading models of every instanced triangle, resolved through the shaders as they are
@@ -284,3 +496,4 @@ impl<'a> Frame<'a> {
         }
     }
 }
+

@@ -34,6 +34,8 @@ pub(crate) fn validate_transform(field: &'static str, t: Affine3A) -> Result<Aff
 /// An instance as a frame traces it: both directions of its transform at the frame's time.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Placed {
+    /// Object to world (hit points are carried out into the world with it).
+    pub to_world: Affine3A,
     /// World to object.
     pub to_object: Affine3A,
     /// Whether the transform is the identity (the ray needs no transform).
@@ -52,7 +54,7 @@ impl Placed {
             }
             _ => instance.start,
         };
-        Placed { to_object: to_world.inverse(), identity: to_world == Affine3A::IDENTITY }
+        Placed { to_world, to_object: to_world.inverse(), identity: to_world == Affine3A::IDENTITY }
     }
 
     /// The ray in object space. The direction is not renormalised, so the ray parameter `t` of

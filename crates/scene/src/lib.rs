@@ -25,11 +25,12 @@ mod mesh;
 mod object;
 mod scene;
 mod shader;
+mod spawn;
 mod texture;
 
-pub use camera::Camera;
+pub use camera::{Camera, CameraRays};
 pub use error::SceneError;
-pub use frame::{Frame, FrameWork, SceneHit, SurfacePoint};
+pub use frame::{Frame, FrameWork, PreviewPoint, SceneHit, SurfacePoint};
 pub use ids::{InstanceId, LightId, ObjectId, ShaderId, TextureId};
 pub use light::Light;
 pub use mesh::Mesh;

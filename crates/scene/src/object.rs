@@ -91,6 +91,20 @@ impl Object {
     /// current tree for a refit; anything else starts over.
     pub fn redefine(&mut self, mesh: Mesh) {
         let same_triangles = mesh.indices.len() == self.mesh.indices.len();
+        self.replace(mesh, same_triangles);
+    }
+
+    /// Moves the vertices (same count), keeping the triangles: a redefinition that keeps the
+    /// topology, so an unstructured object's tree can be refitted.
+    pub fn move_vertices(&mut self, positions: Vec<glam::Vec3>) {
+        let mut mesh = std::mem::take(&mut self.mesh);
+        mesh.positions = positions;
+        self.replace(mesh, true);
+    }
+
+    /// Installs `mesh`; `same_triangles` says whether it has the triangles of the mesh it
+    /// replaces (so that a tree built for that one can be refitted to it).
+    fn replace(&mut self, mesh: Mesh, same_triangles: bool) {
         let previous = self.previous.get_mut().unwrap_or_else(|e| e.into_inner());
         match (self.kind, same_triangles, self.accel.take()) {
             (ObjectKind::Unstructured, true, Some(tree)) => *previous = Some(tree),
@@ -100,14 +114,6 @@ impl Object {
         self.bounds = mesh.bounds();
         (self.shaders_used, self.uses_default_shader) = shaders_of(&mesh);
         self.mesh = mesh;
-    }
-
-    /// Moves the vertices (same count), keeping the triangles: a redefinition that keeps the
-    /// topology, so an unstructured object's tree can be refitted.
-    pub fn move_vertices(&mut self, positions: Vec<glam::Vec3>) {
-        let mut mesh = std::mem::take(&mut self.mesh);
-        mesh.positions = positions;
-        self.redefine(mesh);
     }
 
     /// Whether the tree for the current geometry exists.

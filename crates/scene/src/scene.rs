@@ -237,6 +237,11 @@ impl Scene {
         self.shaders.get(id.0).ok_or(SceneError::UnknownShader(id))
     }
 
+    /// Every shader with its id, in id order.
+    pub fn shaders(&self) -> impl Iterator<Item = (ShaderId, &Shader)> + '_ {
+        self.shaders.iter().map(|(id, s)| (ShaderId(id), s))
+    }
+
     /// The shader of triangles that have none.
     pub fn default_shader(&self) -> &Shader {
         &self.default_shader

@@ -17,13 +17,28 @@ fn look(frame: &Frame<'_>, n: u32) -> Vec<Option<raystage_scene::SceneHit>> {
     (0..n * n).map(|i| frame.pick(i % n, i / n, n, n)).collect()
 }
 
+/// Traces the same grid as [`look`], eight neighbouring rays at a time as a renderer does.
+fn look_in_packets(frame: &Frame<'_>, n: u32) -> Vec<Option<raystage_scene::SceneHit>> {
+    let rays: Vec<Ray> = (0..n * n).map(|i| frame.camera().ray((i % n) as f32 + 0.5, (i / n) as f32 + 0.5, n, n)).collect();
+    let mut hits = vec![None; rays.len()];
+    frame.intersect_many(&rays, &mut hits, 0.0);
+    hits
+}
+
 #[test]
 fn an_object_hidden_behind_a_wall_is_never_built() {
+    for look in [look, look_in_packets] {
+        hidden_behind_a_wall(look);
+    }
+}
+
+fn hidden_behind_a_wall(look: fn(&Frame<'_>, u32) -> Vec<Option<raystage_scene::SceneHit>>) {
     let mut scene = Scene::new();
     let wall = scene.add_object(ObjectKind::Static, square(Vec3::ZERO).scaled(20.0)).unwrap();
     let hidden = scene.add_object(ObjectKind::Static, square(Vec3::new(0.0, 0.0, -5.0))).unwrap();
     let visible = scene.add_object(ObjectKind::Static, square(Vec3::new(0.0, 0.0, 2.0))).unwrap();
-    for object in [wall, hidden, visible] {
+    // The hidden object comes first, so that only a near-first walk skips it.
+    for object in [hidden, wall, visible] {
         scene.add_instance(object, Affine3A::IDENTITY).unwrap();
     }
     scene.set_camera(Camera::look_at(Vec3::new(0.0, 0.0, 10.0), Vec3::ZERO, Vec3::Y, 60.0).unwrap()).unwrap();
@@ -141,7 +156,12 @@ fn refit_then_trace_equals_rebuild_then_trace() {
     let drift = |scale: f32| -> Vec<Vec3> { cloud.iter().enumerate().map(|(i, p)| *p + Vec3::splat((i % 7) as f32 * scale)).collect() };
     let scrambled: Vec<Vec3> = (0..cloud.len()).map(|i| cloud[(i / 3 * 3 * 7919 + i % 3) % cloud.len()]).collect();
     for (frame_no, moved, large) in [(1, drift(0.001), false), (2, drift(0.002), false), (3, scrambled, true)] {
-        refitted.define_object(object, ObjectKind::Unstructured, mesh(moved.clone())).unwrap();
+        // The second drift moves the vertices only, as an animation loop does.
+        if frame_no == 2 {
+            refitted.set_positions(object, moved.clone()).unwrap();
+        } else {
+            refitted.define_object(object, ObjectKind::Unstructured, mesh(moved.clone())).unwrap();
+        }
         let mut rebuilt = Scene::new();
         let fresh = rebuilt.add_object(ObjectKind::Static, mesh(moved)).unwrap();
         rebuilt.add_instance(fresh, Affine3A::IDENTITY).unwrap();
@@ -284,4 +304,54 @@ proptest! {
             prop_assert!(na.dot(nc) > 0.99, "normals {na} vs {nc}");
         }
     }
+}
+
+/// Packets through the top level return exactly the single-ray hits: random instances of two
+/// objects (some overlapping, some mirrored, sometimes two coincident so that ties between
+/// instances occur), packets of rays sharing an origin as camera rays do, fanning out by
+/// different amounts around the first instance.
+#[test]
+fn packets_through_the_top_level_hit_what_single_rays_hit() {
+    let strategy = (
+        prop::collection::vec(transform(), 1..12),
+        any::<bool>(),
+        prop::collection::vec((-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0), 30..60),
+        (-60.0f32..60.0, -60.0f32..60.0, -60.0f32..60.0),
+        prop::collection::vec((-60.0f32..60.0, -60.0f32..60.0, -60.0f32..60.0), 8..=8),
+        prop::sample::select(vec![1e-3f32, 0.05, 1.0]),
+    );
+    let hits = std::cell::Cell::new(0);
+    let mut runner = proptest::test_runner::TestRunner::new(ProptestConfig { cases: 48, ..ProptestConfig::default() });
+    let result = runner.run(&strategy, |(transforms, duplicate, positions, eye, targets, spread)| {
+        let positions: Vec<Vec3> = positions.iter().map(|&(x, y, z)| Vec3::new(x, y, z) * 10.0).collect();
+        let n = positions.len() as u32 / 3;
+        let mesh = Mesh::new(positions, (0..n).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect());
+        let mut scene = Scene::new();
+        let a = scene.add_object(ObjectKind::Static, mesh.clone()).unwrap();
+        let b = scene.add_object(ObjectKind::Animated, mesh.scaled(0.5)).unwrap();
+        for (k, t) in transforms.iter().enumerate() {
+            scene.add_instance(if k % 2 == 0 { a } else { b }, *t).unwrap();
+            if duplicate && k == 0 {
+                scene.add_instance(a, *t).unwrap();
+            }
+        }
+        let frame = scene.frame();
+        let eye = Vec3::new(eye.0, eye.1, eye.2);
+        let first = Vec3::from(transforms[0].translation);
+        let rays: Vec<Ray> = targets
+            .iter()
+            .map(|&(x, y, z)| Ray::new(eye, (first + Vec3::new(x, y, z) * spread - eye).normalize_or(Vec3::Z)))
+            .collect();
+        let mut many = vec![None; rays.len()];
+        frame.intersect_many(&rays, &mut many, 0.0);
+        for (ray, packet) in rays.iter().zip(&many) {
+            prop_assert_eq!(*packet, frame.intersect(ray, 0.0));
+        }
+        hits.set(hits.get() + many.iter().filter(|h| h.is_some()).count());
+        Ok(())
+    });
+    if let Err(e) = result {
+        panic!("{e}");
+    }
+    assert!(hits.get() > 48, "only {} of the rays hit anything", hits.get());
 }

@@ -136,7 +136,8 @@ pub(crate) struct Built {
 }
 
 /// Builds a binary BVH over all triangles that can be hit: triangles with a non-finite coordinate
-/// are left out, and so are triangles with two equal vertices unless the tree must be refittable.
+/// are left out, and so are triangles without area (two equal vertices, or three on a line: see
+/// `triangle::is_degenerate`) unless the tree must be refittable.
 /// Runs on the current rayon pool.
 pub(crate) fn build(tris: &(impl TriangleSource + ?Sized), opts: &BuildOptions) -> Built {
     let opts = BuildOptions {
@@ -150,7 +151,7 @@ pub(crate) fn build(tris: &(impl TriangleSource + ?Sized), opts: &BuildOptions) 
         .filter_map(|i| {
             let t = tris.triangle(i);
             let b = Aabb::from_points(&t);
-            let hittable = opts.refittable || !has_repeated_vertex(&t);
+            let hittable = opts.refittable || !crate::triangle::is_degenerate(&t);
             (b.min.is_finite() && b.max.is_finite() && hittable).then(|| PrimRef::new(b, i))
         })
         .collect();
@@ -165,14 +166,12 @@ pub(crate) fn build(tris: &(impl TriangleSource + ?Sized), opts: &BuildOptions) 
     Built { nodes, prims: refs.iter().map(PrimRef::prim).collect() }
 }
 
-/// Whether two vertices of the triangle are equal. The watertight test can never hit such a
-/// triangle: the repeated vertex makes one edge value exactly zero and the other two exact
-/// negatives of each other, so the determinant is exactly zero for every ray. Leaving them out
-/// changes no result but saves their test, which would otherwise always take the slow
-/// double-precision path (UV spheres have a row of them at each pole).
-fn has_repeated_vertex(t: &[glam::Vec3; 3]) -> bool {
-    t[0] == t[1] || t[1] == t[2] || t[0] == t[2]
-}
+// Triangles with two equal vertices are the common degenerate case: the watertight test can
+// never hit them (the repeated vertex makes one edge value exactly zero and the other two exact
+// negatives of each other, so the determinant is exactly zero for every ray), but leaving them
+// out saves their test, which would otherwise always take the slow double-precision path (UV
+// spheres have a row of them at each pole). Three distinct vertices on one line can be hit
+// (by rounding): leaving them out is what keeps them from being.
 
 /// Appends a subtree built into its own vector, rebasing its child links; returns its root index.
 pub(crate) fn splice(out: &mut Vec<Node2>, sub: Vec<Node2>) -> u32 {

@@ -26,8 +26,9 @@ fn child_hits(node: &Node8, ray: &PreparedRay, tfar: f32) -> [Option<f32>; WIDTH
 
 fn block_closest(block: &TriBlock, ray: &PreparedRay, best: &mut Best) {
     for lane in 0..WIDTH {
-        if let Some(h) = triangle::intersect(ray, &block.lane(lane), best.t) {
-            best.offer(h.t, block.prim[lane], h.u, h.v);
+        let tri = block.lane(lane);
+        if let Some(h) = triangle::intersect(ray, &tri, best.t) {
+            best.offer(h.t, block.prim[lane], h.u, h.v, || tri);
         }
     }
 }

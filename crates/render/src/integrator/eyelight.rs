@@ -4,20 +4,22 @@
 
 use glam::Vec3;
 use raystage_kernel::Ray;
-use raystage_scene::ShadingModel;
+use raystage_scene::{SceneHit, ShadingModel};
 
-use super::Hit;
+use super::Tracer;
 
 /// Light reaching a surface seen edge-on, so that silhouettes stay visible.
 const AMBIENT: f32 = 0.15;
 
-/// The colour of `hit` of `ray` under the eye light.
-pub(crate) fn shade(ray: &Ray, hit: &Hit<'_>) -> Vec3 {
-    let m = &hit.material;
+/// The colour of `hit` of `ray` under the eye light. Only the normal and the material are
+/// looked up (no hit point), which keeps the preview close to the cost of its camera rays.
+pub(crate) fn shade(t: &Tracer<'_, '_>, ray: &Ray, hit: &SceneHit) -> Vec3 {
+    let point = t.frame.preview(ray, hit);
+    let m = t.materials.at_preview(&point);
     match m.model {
         ShadingModel::Constant | ShadingModel::Emissive => m.emission,
         _ => {
-            let cos = hit.surface.shading_normal.dot(ray.dir.normalize()).abs();
+            let cos = point.normal.dot(ray.dir.normalize()).abs();
             m.albedo * (AMBIENT + (1.0 - AMBIENT) * cos)
         }
     }

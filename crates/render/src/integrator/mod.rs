@@ -20,7 +20,7 @@ use raystage_scene::{Frame, SceneHit, ShadingModel, SurfacePoint};
 use crate::bsdf::{Bsdf, fresnel_dielectric};
 use crate::effects::EffectSet;
 use crate::lights::{SceneLights, Seen};
-use crate::material::Material;
+use crate::material::{Material, Materials};
 use crate::sampler::PixelSampler;
 use crate::stats::RayCounts;
 use crate::warp::{Frame3, cosine_hemisphere, power_heuristic};
@@ -92,6 +92,7 @@ impl Media {
 pub(crate) struct Tracer<'a, 'f> {
     pub frame: &'a Frame<'f>,
     pub lights: SceneLights<'f>,
+    pub materials: Materials<'f>,
     pub effects: EffectSet,
     pub settings: &'a RenderSettings,
 }
@@ -107,7 +108,7 @@ impl<'f> Tracer<'_, 'f> {
     /// What is at a hit of `ray` found elsewhere (camera rays are traced in packets).
     pub fn resolve(&self, ray: &Ray, hit: SceneHit, time: f32) -> Hit<'f> {
         let surface = self.frame.surface(ray, &hit, time);
-        let material = Material::at(self.frame, &surface);
+        let material = self.materials.at(&surface);
         Hit { hit, surface, material }
     }
 
@@ -137,11 +138,11 @@ impl<'f> Tracer<'_, 'f> {
         self.lights.emission_along(ray.origin, ray.dir / length, tmax, seen)
     }
 
-    /// The fraction of light arriving at `p` (normal `n`, facing `wi`) from `distance` away in
+    /// The fraction of light arriving at surface point `sp` from `distance` away in
     /// direction `wi`: 0 or 1 for opaque occluders; with transparent shadows, transmissive
     /// surfaces on the way let through what Fresnel and Beer's law leave.
-    pub fn transmittance(&self, p: Vec3, n: Vec3, wi: Vec3, distance: f32, time: f32, rays: &mut RayCounts) -> Vec3 {
-        let mut ray = Ray::segment(offset(p, n, wi), wi, 0.0, shorten(distance));
+    pub fn transmittance(&self, sp: &SurfacePoint<'_>, wi: Vec3, distance: f32, time: f32, rays: &mut RayCounts) -> Vec3 {
+        let mut ray = Ray::segment(offset(sp, wi), wi, 0.0, shorten(distance));
         if !self.effects.transparent_shadows {
             rays.shadow += 1;
             return if self.frame.occluded(&ray, time) { Vec3::ZERO } else { Vec3::ONE };
@@ -153,7 +154,7 @@ impl<'f> Tracer<'_, 'f> {
             rays.shadow += 1;
             let Some(hit) = self.frame.intersect(&ray, time) else { return through };
             let surface = self.frame.surface(&ray, &hit, time);
-            let material = Material::at(self.frame, &surface);
+            let material = self.materials.at(&surface);
             if material.model != ShadingModel::Glass {
                 return Vec3::ZERO;
             }
@@ -165,7 +166,7 @@ impl<'f> Tracer<'_, 'f> {
                 (false, None) => {}
             }
             travelled = at;
-            let origin = offset(surface.position, surface.geometric_normal, wi);
+            let origin = offset(&surface, wi);
             ray = Ray::segment(origin, wi, 0.0, (shorten(distance) - travelled).max(0.0));
         }
         through
@@ -199,7 +200,7 @@ impl<'f> Tracer<'_, 'f> {
                 let weight =
                     if ls.pdf > 0.0 && self.effects.global_illumination { power_heuristic(samples as f32 * ls.pdf, bsdf.pdf(wo_local, wi_local)) } else { 1.0 };
                 let visible = if self.effects.shadows {
-                    self.transmittance(sp.position, sp.geometric_normal, ls.wi, ls.distance, time, rays)
+                    self.transmittance(sp, ls.wi, ls.distance, time, rays)
                 } else {
                     Vec3::ONE
                 };
@@ -219,7 +220,7 @@ impl<'f> Tracer<'_, 'f> {
             .filter(|_| {
                 let wi = frame3.to_world(cosine_hemisphere(sampler.next_2d()));
                 rays.diffuse += 1;
-                let probe = Ray::segment(offset(sp.position, sp.geometric_normal, wi), wi, 0.0, hit.material.occlusion_distance);
+                let probe = Ray::segment(offset(sp, wi), wi, 0.0, hit.material.occlusion_distance);
                 !self.frame.occluded(&probe, time)
             })
             .count();
@@ -228,16 +229,18 @@ impl<'f> Tracer<'_, 'f> {
 
 }
 
-/// A secondary ray's origin: the hit point pushed off the surface along its geometric normal
-/// `n`, towards the side `dir` leaves on, by an amount that grows with the point's magnitude
-/// (the floating-point spacing there), so the ray does not hit the surface it starts on.
-pub(crate) fn offset(p: Vec3, n: Vec3, dir: Vec3) -> Vec3 {
-    let eps = 1e-4 * p.abs().max_element().max(1.0);
-    if n.dot(dir) >= 0.0 { p + n * eps } else { p - n * eps }
+/// A secondary ray's origin: the hit point pushed off the surface along its geometric normal,
+/// towards the side `dir` leaves on, by the bound of the point's rounding error (pbrt-v4's
+/// `OffsetRayOrigin`, see [`SurfacePoint::spawn_origin`]): a few ulps of the point's own
+/// coordinates, so the ray neither re-hits the surface it starts on nor skips a wall next to it,
+/// at a millimetre or a million units from the origin.
+pub(crate) fn offset(sp: &SurfacePoint<'_>, dir: Vec3) -> Vec3 {
+    sp.spawn_origin(dir)
 }
 
-/// A shadow ray's extent: a little short of the light, so it does not hit the light's own
-/// geometry or pass through the point it was aimed at.
+/// A shadow ray's extent: a little short of the light (pbrt's `ShadowEpsilon`, 10⁻⁴ of the
+/// distance), so it does not hit geometry that the light sits on or pass through the point it
+/// was aimed at.
 fn shorten(distance: f32) -> f32 {
     if distance.is_finite() { distance * (1.0 - 1e-4) } else { f32::INFINITY }
 }

@@ -110,5 +110,5 @@ enum Bounce {
 /// The next ray of the path, leaving `hit` in direction `wi`.
 fn continue_from(hit: &Hit<'_>, wi: Vec3) -> Ray {
     let sp = &hit.surface;
-    Ray::new(offset(sp.position, sp.geometric_normal, wi), wi)
+    Ray::new(offset(sp, wi), wi)
 }

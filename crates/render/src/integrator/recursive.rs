@@ -117,7 +117,7 @@ impl<const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED: bool> Recursio
     /// Continues the recursion with a new ray leaving `hit` in direction `dir`.
     fn trace_on(&mut self, hit: &Hit<'_>, dir: Vec3, kind: Kind, media: Media, depth: u32) -> Vec3 {
         let sp = &hit.surface;
-        let ray = Ray::new(offset(sp.position, sp.geometric_normal, dir), dir);
+        let ray = Ray::new(offset(sp, dir), dir);
         self.radiance(&ray, kind, media, depth + 1)
     }
 

@@ -42,14 +42,22 @@ impl BoxLanes {
     #[inline]
     fn new(ray: &PreparedRay) -> BoxLanes {
         BoxLanes {
-            org: ray.org.map(|x| _mm256_set1_ps(x)),
-            inv: ray.inv.map(|x| _mm256_set1_ps(x)),
-            inv_far: ray.inv_far.map(|x| _mm256_set1_ps(x)),
+            org: splat3(ray.org),
+            inv: splat3(ray.inv),
+            inv_far: splat3(ray.inv_far),
             tnear: _mm256_set1_ps(ray.tnear),
             near: plane_rows(ray.neg, false),
             far: plane_rows(ray.neg, true),
         }
     }
+}
+
+/// Each of three numbers in all eight lanes. (Written out: `array::map` with an intrinsic
+/// in the closure is not inlined into the traversal, and costs a call per ray.)
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn splat3(v: [f32; 3]) -> [__m256; 3] {
+    [_mm256_set1_ps(v[0]), _mm256_set1_ps(v[1]), _mm256_set1_ps(v[2])]
 }
 
 /// Rows of `Node8::planes` holding each axis's near (or far) plane for a ray with these signs.
@@ -70,8 +78,8 @@ impl LeafLanes {
     #[inline]
     fn new(ray: &PreparedRay) -> LeafLanes {
         LeafLanes {
-            korg: ray.k.map(|k| _mm256_set1_ps(ray.org[k])),
-            shear: ray.shear.map(|x| _mm256_set1_ps(x)),
+            korg: splat3(ray.k.map(|k| ray.org[k])),
+            shear: splat3(ray.shear),
             tnear: _mm256_set1_ps(ray.tnear),
         }
     }
@@ -179,7 +187,7 @@ fn block_closest(block: &TriBlock, ray: &PreparedRay, r: &LeafLanes, best: &mut 
             while hits != 0 {
                 let lane = hits.trailing_zeros() as usize;
                 hits &= hits - 1;
-                best.offer(ts[lane], block.prim[lane], vs[lane] / dets[lane], ws[lane] / dets[lane]);
+                best.offer(ts[lane], block.prim[lane], vs[lane] / dets[lane], ws[lane] / dets[lane], || block.lane(lane));
             }
         }
     }
@@ -187,8 +195,9 @@ fn block_closest(block: &TriBlock, ray: &PreparedRay, r: &LeafLanes, best: &mut 
     while degenerate != 0 {
         let lane = degenerate.trailing_zeros() as usize;
         degenerate &= degenerate - 1;
-        if let Some(h) = triangle::intersect(ray, &block.lane(lane), best.t) {
-            best.offer(h.t, block.prim[lane], h.u, h.v);
+        let tri = block.lane(lane);
+        if let Some(h) = triangle::intersect(ray, &tri, best.t) {
+            best.offer(h.t, block.prim[lane], h.u, h.v, || tri);
         }
     }
 }

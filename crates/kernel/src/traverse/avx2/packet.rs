@@ -17,7 +17,7 @@ use std::arch::x86_64::*;
 use std::mem::MaybeUninit;
 
 use super::single::closest_below;
-use super::{LeafLanes, block_closest, plane_rows, prefetch, sort_farthest_first, written};
+use super::{LeafLanes, block_closest, plane_rows, prefetch, sort_farthest_first, splat3, written};
 use crate::bvh8::Bvh8;
 use crate::wide::{EMPTY, LEAF, Node8, STACK_SIZE, WIDTH};
 use crate::prepared::{PreparedRay, widen};
@@ -63,7 +63,7 @@ impl Frustum {
             _mm256_set1_ps(rays.iter().map(f).reduce(pick).expect("non-empty packet"))
         };
         Frustum {
-            org: rays[0].org.map(|x| _mm256_set1_ps(x)),
+            org: splat3(rays[0].org),
             inv_lo: std::array::from_fn(|a| bound(&|r| r.inv[a], f32::min)),
             inv_hi: std::array::from_fn(|a| bound(&|r| r.inv[a], f32::max)),
             far_lo: std::array::from_fn(|a| bound(&|r| r.inv_far[a], f32::min)),
