@@ -1,0 +1,49 @@
+//! The bytes of each buffer: the GLB binary chunk, a `data:` URI, or a file beside the glTF.
+
+use std::path::Path;
+
+use base64::Engine;
+use gltf::Document;
+use gltf::buffer::Source;
+
+use crate::error::ImportError;
+
+/// The bytes of every buffer of `document`, in order, each at least as long as it declares.
+pub(crate) fn load(document: &Document, blob: Option<&[u8]>, base: Option<&Path>) -> Result<Vec<Vec<u8>>, ImportError> {
+    document
+        .buffers()
+        .map(|buffer| {
+            let field = format!("buffers[{}]", buffer.index());
+            let data = match buffer.source() {
+                Source::Bin => blob.ok_or_else(|| ImportError::invalid(&field, "refers to the GLB binary chunk, but there is none"))?.to_vec(),
+                Source::Uri(uri) => from_uri(uri, base, &field)?,
+            };
+            if data.len() < buffer.length() {
+                return Err(ImportError::invalid(field, format!("declares {} bytes but holds {}", buffer.length(), data.len())));
+            }
+            Ok(data)
+        })
+        .collect()
+}
+
+/// The bytes a buffer URI names.
+fn from_uri(uri: &str, base: Option<&Path>, field: &str) -> Result<Vec<u8>, ImportError> {
+    let field = format!("{field}.uri");
+    if let Some(rest) = uri.strip_prefix("data:") {
+        let (header, payload) = rest.split_once(',').ok_or_else(|| ImportError::invalid(&field, "a data URI without a comma"))?;
+        if !header.ends_with(";base64") {
+            return Err(ImportError::invalid(field, "only base64 data URIs are supported"));
+        }
+        return base64::engine::general_purpose::STANDARD
+            .decode(payload)
+            .map_err(|e| ImportError::invalid(field, format!("bad base64: {e}")));
+    }
+    let Some(base) = base else {
+        return Err(ImportError::invalid(field, "external buffers cannot be uploaded: send a .glb, or embed buffers as data: URIs"));
+    };
+    if uri.contains("://") {
+        return Err(ImportError::invalid(field, format!("`{uri}` is not a relative path")));
+    }
+    let path = base.join(uri.replace("%20", " "));
+    std::fs::read(&path).map_err(|source| ImportError::Io { path, source })
+}

@@ -1,0 +1,61 @@
+//! What can be wrong with a glTF file.
+
+use std::path::PathBuf;
+
+use raystage_scene::SceneError;
+
+/// Why a file could not be imported. Every variant that concerns a part of the file names it by
+/// its JSON path (`meshes[0].primitives[1].attributes.POSITION`).
+#[derive(Debug, thiserror::Error)]
+pub enum ImportError {
+    /// Not glTF: bad JSON, a bad GLB header, or a document that breaks the schema.
+    #[error("not a valid glTF file: {0}")]
+    Syntax(#[from] gltf::Error),
+    /// A part of the file that cannot be read.
+    #[error("{field}: {message}")]
+    Invalid {
+        /// Where, as a JSON path.
+        field: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// More triangles, vertices or instances than the limits allow.
+    #[error("the file has {count} {what}, more than the limit of {limit}")]
+    TooLarge {
+        /// Triangles, vertices or instances.
+        what: &'static str,
+        /// How many the file has (at least).
+        count: usize,
+        /// The limit.
+        limit: usize,
+    },
+    /// An external buffer could not be read.
+    #[error("cannot read {}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The scene refused an edit (only a bug can cause this: [`crate::read`] checks everything).
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// The reader failed unexpectedly (a bug); nothing was imported.
+    #[error("internal error while reading the glTF file")]
+    Internal,
+}
+
+impl ImportError {
+    /// An [`ImportError::Invalid`] about `field`.
+    pub(crate) fn invalid(field: impl Into<String>, message: impl Into<String>) -> ImportError {
+        ImportError::Invalid { field: field.into(), message: message.into() }
+    }
+
+    /// The part of the file the error is about, if it is about one.
+    pub fn field(&self) -> Option<&str> {
+        match self {
+            ImportError::Invalid { field, .. } => Some(field),
+            _ => None,
+        }
+    }
+}

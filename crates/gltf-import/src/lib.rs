@@ -1,0 +1,62 @@
+//! # raystage-gltf-import
+//!
+//! Reads a glTF 2.0 file (`.gltf` JSON or binary `.glb`) into raystage's retained scene: each
+//! glTF mesh becomes one object (its primitives' triangles together, each bound to the shader of
+//! its material), each node that holds a mesh becomes an instance with the node's world
+//! transform, each material becomes a shader of the nearest built-in class (see
+//! [`shader_for`]), and `KHR_lights_punctual` lights and the first perspective camera come along.
+//!
+//! Reading and adding are two steps: [`read`] checks everything (buffer bounds, accessor types,
+//! indices, numbers, sizes) and returns an [`Import`] that no longer refers to the file, and
+//! [`Import::add_to`] puts it into a scene. A file that [`read`] accepted cannot fail half-way
+//! into a scene, and nothing a file contains can panic the reader.
+//!
+//! Not in here: textures (base-colour images are ignored; the factors shade), skins, morph
+//! targets, animations, points and lines.
+
+mod accessor;
+mod buffers;
+mod error;
+mod import;
+mod material;
+mod mesh;
+mod nodes;
+
+use std::path::Path;
+
+pub use error::ImportError;
+pub use import::{Added, Import};
+pub use material::{ShaderSpec, shader_for};
+
+/// Limits on what a file may ask for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Limits {
+    /// Most triangles over all meshes (an instanced mesh counts once).
+    pub max_triangles: usize,
+    /// Most vertices over all meshes.
+    pub max_vertices: usize,
+    /// Most instances (nodes with a mesh, counted along every path from a root).
+    pub max_instances: usize,
+}
+
+impl Default for Limits {
+    /// Four million triangles and vertices, a million instances.
+    fn default() -> Limits {
+        Limits { max_triangles: 4_000_000, max_vertices: 4_000_000, max_instances: 1_000_000 }
+    }
+}
+
+/// Reads a glTF or GLB file from memory. `base` is the directory that relative buffer URIs are
+/// resolved against; without one (an upload), only the GLB binary chunk and `data:` URIs are
+/// read and any other URI is an error.
+pub fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result<Import, ImportError> {
+    // The reader checks every offset before it reads; the guard only turns a bug in a
+    // dependency into an error instead of a crashed server.
+    std::panic::catch_unwind(|| import::read(bytes, base, limits)).unwrap_or(Err(ImportError::Internal))
+}
+
+/// Reads a glTF or GLB file from disk, resolving its external buffers next to it.
+pub fn read_file(path: &Path, limits: &Limits) -> Result<Import, ImportError> {
+    let bytes = std::fs::read(path).map_err(|source| ImportError::Io { path: path.to_owned(), source })?;
+    read(&bytes, Some(path.parent().unwrap_or(Path::new("."))), limits)
+}

@@ -1,0 +1,185 @@
+//! glTF meshes as raystage meshes: every triangle primitive of a mesh in one object, each
+//! triangle bound to its primitive's material.
+
+use gltf::accessor::DataType;
+use gltf::mesh::{Mode, Semantic};
+use glam::{Vec2, Vec3};
+use raystage_scene::{Mesh, ShaderId};
+
+use crate::accessor::{read_floats, read_indices};
+use crate::error::ImportError;
+use crate::material::MaterialShaders;
+use crate::Limits;
+
+/// Running totals checked against the limits.
+#[derive(Debug, Default)]
+pub(crate) struct Budget {
+    pub triangles: usize,
+    pub vertices: usize,
+}
+
+impl Budget {
+    fn take(&mut self, triangles: usize, vertices: usize, limits: &Limits) -> Result<(), ImportError> {
+        self.triangles += triangles;
+        self.vertices += vertices;
+        if self.triangles > limits.max_triangles {
+            return Err(ImportError::TooLarge { what: "triangles", count: self.triangles, limit: limits.max_triangles });
+        }
+        if self.vertices > limits.max_vertices {
+            return Err(ImportError::TooLarge { what: "vertices", count: self.vertices, limit: limits.max_vertices });
+        }
+        Ok(())
+    }
+}
+
+/// One primitive's vertices and triangles.
+struct Primitive {
+    positions: Vec<Vec3>,
+    normals: Option<Vec<Vec3>>,
+    uvs: Option<Vec<Vec2>>,
+    colors: Option<Vec<Vec3>>,
+    triangles: Vec<[u32; 3]>,
+    shader: u32,
+}
+
+/// The mesh's triangle primitives as one mesh whose `shaders` hold local shader indices (see
+/// [`MaterialShaders`]); `None` if it has no triangles (only points or lines).
+pub(crate) fn read_mesh(
+    mesh: &gltf::Mesh<'_>,
+    buffers: &[Vec<u8>],
+    shaders: &mut MaterialShaders,
+    budget: &mut Budget,
+    limits: &Limits,
+) -> Result<Option<Mesh>, ImportError> {
+    let mut parts = Vec::new();
+    for primitive in mesh.primitives() {
+        let field = format!("meshes[{}].primitives[{}]", mesh.index(), primitive.index());
+        if let Some(part) = read_primitive(&primitive, buffers, shaders, budget, limits, &field)? {
+            parts.push(part);
+        }
+    }
+    Ok(merge(parts))
+}
+
+fn read_primitive(
+    primitive: &gltf::Primitive<'_>,
+    buffers: &[Vec<u8>],
+    shaders: &mut MaterialShaders,
+    budget: &mut Budget,
+    limits: &Limits,
+    field: &str,
+) -> Result<Option<Primitive>, ImportError> {
+    if !matches!(primitive.mode(), Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+        return Ok(None);
+    }
+    let attribute = |semantic: Semantic| primitive.get(&semantic).map(|a| (format!("{field}.attributes.{}", semantic.to_string()), a));
+    let (pfield, positions) = attribute(Semantic::Positions).ok_or_else(|| ImportError::invalid(format!("{field}.attributes"), "has no POSITION"))?;
+    let vertex_count = positions.count();
+    let index_count = primitive.indices().map_or(vertex_count, |a| a.count());
+    // Checked before reading, so a file cannot make the reader allocate past the limits.
+    budget.take(index_count / 3, vertex_count, limits)?;
+    let positions: Vec<Vec3> = read_floats::<3>(&positions, buffers, &[DataType::F32], &pfield)?.into_iter().map(Vec3::from).collect();
+    let same_length = |name: &str, len: usize| {
+        if len == positions.len() { Ok(()) } else { Err(ImportError::invalid(name, format!("has {len} elements, POSITION has {}", positions.len()))) }
+    };
+    let normals = match attribute(Semantic::Normals) {
+        Some((f, a)) => {
+            let n: Vec<Vec3> = read_floats::<3>(&a, buffers, &[DataType::F32], &f)?.into_iter().map(Vec3::from).collect();
+            same_length(&f, n.len())?;
+            Some(n)
+        }
+        None => None,
+    };
+    let unit = [DataType::F32, DataType::U8, DataType::U16];
+    let uvs = match attribute(Semantic::TexCoords(0)) {
+        Some((f, a)) => {
+            let t: Vec<Vec2> = read_floats::<2>(&a, buffers, &unit, &f)?.into_iter().map(Vec2::from).collect();
+            same_length(&f, t.len())?;
+            Some(t)
+        }
+        None => None,
+    };
+    let colors = match attribute(Semantic::Colors(0)) {
+        Some((f, a)) => {
+            let c: Vec<Vec3> = if a.dimensions() == gltf::accessor::Dimensions::Vec4 {
+                read_floats::<4>(&a, buffers, &unit, &f)?.into_iter().map(|[r, g, b, _]| Vec3::new(r, g, b)).collect()
+            } else {
+                read_floats::<3>(&a, buffers, &unit, &f)?.into_iter().map(Vec3::from).collect()
+            };
+            same_length(&f, c.len())?;
+            Some(c)
+        }
+        None => None,
+    };
+    let indices = match primitive.indices() {
+        Some(a) => {
+            let ifield = format!("{field}.indices");
+            let indices = read_indices(&a, buffers, &ifield)?;
+            if let Some(bad) = indices.iter().find(|&&i| i as usize >= positions.len()) {
+                return Err(ImportError::invalid(ifield, format!("index {bad} is past the {} vertices", positions.len())));
+            }
+            indices
+        }
+        None => (0..positions.len() as u32).collect(),
+    };
+    let triangles = assemble(primitive.mode(), &indices);
+    let shader = shaders.get(&primitive.material(), colors.is_some());
+    Ok(Some(Primitive { positions, normals, uvs, colors, triangles, shader }))
+}
+
+/// Triangles from an index list in the primitive's mode.
+fn assemble(mode: Mode, indices: &[u32]) -> Vec<[u32; 3]> {
+    match mode {
+        Mode::TriangleStrip => indices
+            .windows(3)
+            .enumerate()
+            // Every other triangle of a strip is flipped to keep the winding.
+            .map(|(k, w)| if k % 2 == 0 { [w[0], w[1], w[2]] } else { [w[1], w[0], w[2]] })
+            .collect(),
+        Mode::TriangleFan if indices.len() >= 3 => indices[1..].windows(2).map(|w| [indices[0], w[0], w[1]]).collect(),
+        Mode::TriangleFan => Vec::new(),
+        _ => indices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
+    }
+}
+
+/// One mesh of the primitives. Normals and texture coordinates are kept only if every
+/// primitive has them; vertex colours if any has them (white elsewhere).
+fn merge(parts: Vec<Primitive>) -> Option<Mesh> {
+    if parts.iter().all(|p| p.triangles.is_empty()) {
+        return None;
+    }
+    let all_normals = parts.iter().all(|p| p.normals.is_some());
+    let all_uvs = parts.iter().all(|p| p.uvs.is_some());
+    let any_colors = parts.iter().any(|p| p.colors.is_some());
+    let mut mesh = Mesh::default();
+    for part in parts {
+        let offset = mesh.positions.len() as u32;
+        let n = part.positions.len();
+        mesh.positions.extend(part.positions);
+        mesh.indices.extend(part.triangles.iter().map(|t| t.map(|i| i + offset)));
+        mesh.shaders.extend(std::iter::repeat_n(ShaderId(part.shader), part.triangles.len()));
+        if all_normals {
+            mesh.normals.extend(part.normals.into_iter().flatten());
+        }
+        if all_uvs {
+            mesh.uvs.extend(part.uvs.into_iter().flatten());
+        }
+        if any_colors {
+            mesh.colors.extend(part.colors.unwrap_or_else(|| vec![Vec3::ONE; n]));
+        }
+    }
+    Some(mesh)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strips_and_fans_keep_their_winding() {
+        assert_eq!(assemble(Mode::TriangleStrip, &[0, 1, 2, 3]), vec![[0, 1, 2], [2, 1, 3]]);
+        assert_eq!(assemble(Mode::TriangleFan, &[0, 1, 2, 3]), vec![[0, 1, 2], [0, 2, 3]]);
+        assert_eq!(assemble(Mode::Triangles, &[0, 1, 2, 3, 4]), vec![[0, 1, 2]]);
+        assert!(assemble(Mode::TriangleFan, &[0, 1]).is_empty());
+    }
+}

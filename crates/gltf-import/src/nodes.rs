@@ -1,0 +1,120 @@
+//! The node hierarchy: world transforms, and what the nodes hold (meshes become instances,
+//! `KHR_lights_punctual` lights become lights, the first perspective camera becomes the camera).
+
+use gltf::camera::Projection;
+use gltf::khr_lights_punctual::Kind;
+use glam::{Affine3A, Mat4, Vec3};
+use raystage_scene::{Camera, Light};
+
+use crate::error::ImportError;
+use crate::Limits;
+
+/// Deepest node hierarchy followed.
+const MAX_DEPTH: usize = 256;
+
+/// What the nodes place in the world.
+#[derive(Debug, Default)]
+pub(crate) struct Placements {
+    /// Mesh index and object-to-world transform of each instance.
+    pub instances: Vec<(usize, Affine3A)>,
+    /// Lights in world space.
+    pub lights: Vec<Light>,
+    /// The first perspective camera.
+    pub camera: Option<Camera>,
+    /// What was left out, for the user.
+    pub notes: Vec<String>,
+}
+
+/// Walks the default scene (or the first, or every root node if the file has no scenes).
+pub(crate) fn place(document: &gltf::Document, limits: &Limits) -> Result<Placements, ImportError> {
+    let roots: Vec<gltf::Node<'_>> = match document.default_scene().or_else(|| document.scenes().next()) {
+        Some(scene) => scene.nodes().collect(),
+        None => {
+            let mut is_child = vec![false; document.nodes().len()];
+            document.nodes().flat_map(|n| n.children()).for_each(|c| is_child[c.index()] = true);
+            document.nodes().filter(|n| !is_child[n.index()]).collect()
+        }
+    };
+    let mut walk = Walk { out: Placements::default(), visited: vec![false; document.nodes().len()], limits };
+    for root in roots {
+        walk.node(&root, Mat4::IDENTITY, 0)?;
+    }
+    Ok(walk.out)
+}
+
+struct Walk<'l> {
+    out: Placements,
+    /// Nodes already placed: a node belongs to one parent, so a cycle or a shared child is
+    /// followed once.
+    visited: Vec<bool>,
+    limits: &'l Limits,
+}
+
+impl Walk<'_> {
+    fn node(&mut self, node: &gltf::Node<'_>, parent: Mat4, depth: usize) -> Result<(), ImportError> {
+        let field = format!("nodes[{}]", node.index());
+        if std::mem::replace(&mut self.visited[node.index()], true) || depth > MAX_DEPTH {
+            self.out.notes.push(format!("{field}: visited twice or nested too deeply; followed once"));
+            return Ok(());
+        }
+        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        let affine = Affine3A::from_mat4(world);
+        if let Some(mesh) = node.mesh() {
+            if is_invertible(&affine) {
+                if self.out.instances.len() >= self.limits.max_instances {
+                    return Err(ImportError::TooLarge { what: "instances", count: self.out.instances.len() + 1, limit: self.limits.max_instances });
+                }
+                self.out.instances.push((mesh.index(), affine));
+            } else {
+                self.out.notes.push(format!("{field}: a singular transform hides its mesh; left out"));
+            }
+        }
+        if let Some(light) = node.light() {
+            let light = punctual(&light, &affine);
+            light.validate().map_err(|e| ImportError::invalid(format!("{field}.extensions.KHR_lights_punctual"), e.to_string()))?;
+            self.out.lights.push(light);
+        }
+        if let (None, Some(camera)) = (self.out.camera, node.camera()) {
+            self.camera(&camera, &affine, &field);
+        }
+        for child in node.children() {
+            self.node(&child, world, depth + 1)?;
+        }
+        Ok(())
+    }
+
+    /// The camera looks down the node's −z axis with its +y up.
+    fn camera(&mut self, camera: &gltf::Camera<'_>, world: &Affine3A, field: &str) {
+        let Projection::Perspective(p) = camera.projection() else {
+            self.out.notes.push(format!("{field}: orthographic cameras are not supported; left out"));
+            return;
+        };
+        let eye = world.transform_point3(Vec3::ZERO);
+        let forward = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
+        match Camera::look_at(eye, eye + forward, world.transform_vector3(Vec3::Y), p.yfov().to_degrees()) {
+            Ok(c) => self.out.camera = Some(c),
+            Err(e) => self.out.notes.push(format!("{field}: camera left out: {e}")),
+        }
+    }
+}
+
+/// Whether a transform can place an instance: finite and invertible (as the scene requires).
+fn is_invertible(t: &Affine3A) -> bool {
+    t.is_finite() && t.matrix3.determinant().is_normal() && t.inverse().is_finite()
+}
+
+/// A punctual light in world space; its colour times its intensity is the light's intensity
+/// (candela and lux taken as raystage's units, with no photometric conversion).
+fn punctual(light: &gltf::khr_lights_punctual::Light<'_>, world: &Affine3A) -> Light {
+    let intensity = Vec3::from(light.color()) * light.intensity();
+    let position = world.transform_point3(Vec3::ZERO);
+    let direction = world.transform_vector3(Vec3::NEG_Z);
+    match light.kind() {
+        Kind::Directional => Light::Directional { direction, intensity },
+        Kind::Point => Light::Point { position, intensity },
+        Kind::Spot { inner_cone_angle, outer_cone_angle } => {
+            let cone_degrees = outer_cone_angle.to_degrees().clamp(1e-3, 90.0);
+            Light::Spot { position, direction, intensity, cone_degrees, falloff_degrees: inner_cone_angle.to_degrees().clamp(0.0, cone_degrees) }
+        }
+    }
+}
