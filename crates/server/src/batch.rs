@@ -1,0 +1,430 @@
+//! Applying edits. Every edit, whether it came alone (`POST /objects`) or in a batch
+//! (`POST /commands`), runs through [`execute`]: first each command is checked against the
+//! scene as the earlier commands will have left it (ids, labels, deletions, meshes,
+//! transforms, parameters, lights, camera), with no edit made; only when all pass are they
+//! applied. So a failed batch changes nothing, without copying the scene.
+
+use std::collections::{HashMap, HashSet};
+
+use glam::{Affine3A, Vec3};
+use raystage_scene::{Camera, InstanceId, Light, LightId, Mesh, ObjectId, ObjectKind, ParamValue, Scene, SceneError, Shader, ShaderId};
+
+use crate::config::Limits;
+use crate::error::{ApiError, ApiResult};
+use crate::model::{Binding, Command, CommandResult, Kind as JsonKind, MeshSpec, ParamJson, Ref, decode_positions, param_value};
+
+/// The kinds of resources commands refer to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum Kind {
+    Object,
+    Instance,
+    Shader,
+    Light,
+}
+
+impl Kind {
+    fn name(self) -> &'static str {
+        match self {
+            Kind::Object => "object",
+            Kind::Instance => "instance",
+            Kind::Shader => "shader",
+            Kind::Light => "light",
+        }
+    }
+}
+
+/// A resource as a command sees it: one that exists, or the one command `n` of the batch
+/// creates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum Target {
+    Existing(u32),
+    New(usize),
+}
+
+/// A checked command, ready to apply.
+enum Op {
+    AddObject { kind: ObjectKind, mesh: Mesh, shaders: Binding<Target> },
+    DefineObject { id: Target, kind: ObjectKind, mesh: Mesh, shaders: Binding<Target> },
+    SetPositions { id: Target, positions: Vec<Vec3> },
+    DeleteObject(Target),
+    AddInstance { object: Target, start: Affine3A, end: Option<Affine3A> },
+    SetInstance { id: Target, start: Affine3A, end: Option<Affine3A> },
+    DeleteInstance(Target),
+    AddShader { class: String, params: Vec<(String, ParamValue)>, ignored: Vec<String> },
+    DefineShader { id: Target, class: String, params: Vec<(String, ParamValue)>, ignored: Vec<String> },
+    SetParams { id: Target, params: Vec<(String, ParamValue)>, ignored: Vec<String> },
+    DeleteShader(Target),
+    AddLight(Light),
+    SetLight(Target, Light),
+    DeleteLight(Target),
+    SetCamera(Camera),
+}
+
+/// Checks every command, then applies them all. In a batch, error fields are prefixed with the
+/// command's place (`commands[2].add_object.mesh.positions`).
+pub(crate) fn execute(scene: &mut Scene, commands: Vec<Command>, limits: &Limits, in_batch: bool) -> ApiResult<Vec<CommandResult>> {
+    if commands.len() > limits.max_commands {
+        return Err(ApiError::too_large(Some("commands".into()), format!("{} commands: the limit is {}", commands.len(), limits.max_commands)));
+    }
+    let mut planner = Planner::new(scene, limits);
+    let mut ops = Vec::with_capacity(commands.len());
+    for (i, command) in commands.into_iter().enumerate() {
+        let name = command.op();
+        ops.push(planner.plan(i, command).map_err(|e| if in_batch { e.within(&format!("commands[{i}].{name}")) } else { e })?);
+    }
+    apply(scene, ops)
+}
+
+/// The scene as the commands checked so far will leave it, as far as later commands can tell.
+struct Planner<'s> {
+    scene: &'s Scene,
+    limits: &'s Limits,
+    labels: HashMap<String, (Kind, usize)>,
+    gone: HashSet<(Kind, Target)>,
+    /// Vertex counts of objects created or redefined by the batch.
+    vertices: HashMap<Target, usize>,
+    /// Instances created by the batch, with their objects.
+    new_instances: Vec<(Target, Target)>,
+    /// The scene's instances and their objects, and its lights (looked up once, when needed).
+    existing_instances: Option<HashMap<u32, u32>>,
+    existing_lights: Option<HashSet<u32>>,
+    /// Shaders as the batch leaves them.
+    shaders: HashMap<Target, Shader>,
+    camera: Camera,
+}
+
+impl<'s> Planner<'s> {
+    fn new(scene: &'s Scene, limits: &'s Limits) -> Planner<'s> {
+        Planner {
+            scene,
+            limits,
+            labels: HashMap::new(),
+            gone: HashSet::new(),
+            vertices: HashMap::new(),
+            new_instances: Vec::new(),
+            existing_instances: None,
+            existing_lights: None,
+            shaders: HashMap::new(),
+            camera: *scene.camera(),
+        }
+    }
+
+    fn plan(&mut self, i: usize, command: Command) -> ApiResult<Op> {
+        Ok(match command {
+            Command::AddObject(b) => {
+                let (mesh, shaders) = self.mesh(b.mesh)?;
+                self.label(b.label, Kind::Object, i)?;
+                self.vertices.insert(Target::New(i), mesh.positions.len());
+                Op::AddObject { kind: b.kind.unwrap_or_default().to_scene(), mesh, shaders }
+            }
+            Command::DefineObject(d) => {
+                let id = self.resolve(&d.id, Kind::Object, "id")?;
+                let (mesh, shaders) = self.mesh(d.mesh)?;
+                self.vertices.insert(id, mesh.positions.len());
+                Op::DefineObject { id, kind: d.kind.unwrap_or(JsonKind::Unstructured).to_scene(), mesh, shaders }
+            }
+            Command::SetPositions(s) => {
+                let id = self.resolve(&s.id, Kind::Object, "id")?;
+                let positions = decode_positions(s.positions, s.positions_base64, self.limits)?;
+                let expected = match (self.vertices.get(&id), id) {
+                    (Some(&n), _) => n,
+                    (None, Target::Existing(object)) => self.scene.mesh(ObjectId(object))?.positions.len(),
+                    (None, Target::New(_)) => unreachable!("objects made by the batch have their vertex count recorded"),
+                };
+                if positions.len() != expected {
+                    return Err(SceneError::WrongLength { field: "positions", got: positions.len(), expected }.into());
+                }
+                if let Some(index) = positions.iter().position(|p| !p.is_finite()) {
+                    return Err(SceneError::NotFinite { field: "positions", index }.into());
+                }
+                Op::SetPositions { id, positions }
+            }
+            Command::DeleteObject(d) => {
+                let id = self.resolve(&d.id, Kind::Object, "id")?;
+                self.gone.insert((Kind::Object, id));
+                // Its instances go with it.
+                let mut doomed: Vec<Target> = self.new_instances.iter().filter(|(_, o)| *o == id).map(|(inst, _)| *inst).collect();
+                if let Target::Existing(object) = id {
+                    doomed.extend(self.instances().iter().filter(|(_, o)| **o == object).map(|(inst, _)| Target::Existing(*inst)));
+                }
+                self.gone.extend(doomed.into_iter().map(|t| (Kind::Instance, t)));
+                Op::DeleteObject(id)
+            }
+            Command::AddInstance(b) => {
+                let object = self.resolve(&b.object, Kind::Object, "object")?;
+                let start = b.transform.to_affine().map_err(|e| e.within("transform"))?;
+                let end = b.end_transform.map(|t| t.to_affine().map_err(|e| e.within("end_transform"))).transpose()?;
+                self.label(b.label, Kind::Instance, i)?;
+                self.new_instances.push((Target::New(i), object));
+                Op::AddInstance { object, start, end }
+            }
+            Command::SetInstance(s) => {
+                let id = self.resolve(&s.id, Kind::Instance, "id")?;
+                let start = s.transform.to_affine().map_err(|e| e.within("transform"))?;
+                let end = s.end_transform.map(|t| t.to_affine().map_err(|e| e.within("end_transform"))).transpose()?;
+                Op::SetInstance { id, start, end }
+            }
+            Command::DeleteInstance(d) => {
+                let id = self.resolve(&d.id, Kind::Instance, "id")?;
+                self.gone.insert((Kind::Instance, id));
+                Op::DeleteInstance(id)
+            }
+            Command::AddShader(b) => {
+                let shader = Shader::new(&b.class).map_err(ApiError::from)?;
+                let (shader, params, ignored) = write_params(shader, b.params)?;
+                self.label(b.label, Kind::Shader, i)?;
+                self.shaders.insert(Target::New(i), shader);
+                Op::AddShader { class: b.class, params, ignored }
+            }
+            Command::DefineShader(d) => {
+                let id = self.resolve(&d.id, Kind::Shader, "id")?;
+                let shader = Shader::new(&d.class).map_err(ApiError::from)?;
+                let (shader, params, ignored) = write_params(shader, d.params)?;
+                self.shaders.insert(id, shader);
+                Op::DefineShader { id, class: d.class, params, ignored }
+            }
+            Command::SetParams(s) => {
+                let id = self.resolve(&s.id, Kind::Shader, "id")?;
+                let shader = match (self.shaders.get(&id), id) {
+                    (Some(shader), _) => shader.clone(),
+                    (None, Target::Existing(shader)) => self.scene.shader(ShaderId(shader))?.clone(),
+                    (None, Target::New(_)) => unreachable!("shaders made by the batch are recorded"),
+                };
+                let (shader, params, ignored) = write_params(shader, s.params)?;
+                self.shaders.insert(id, shader);
+                Op::SetParams { id, params, ignored }
+            }
+            Command::DeleteShader(d) => {
+                let id = self.resolve(&d.id, Kind::Shader, "id")?;
+                self.gone.insert((Kind::Shader, id));
+                self.shaders.remove(&id);
+                Op::DeleteShader(id)
+            }
+            Command::AddLight(spec) => {
+                let light = spec.to_light()?;
+                self.label(spec.label, Kind::Light, i)?;
+                Op::AddLight(light)
+            }
+            Command::SetLight(s) => {
+                let id = self.resolve(&s.id, Kind::Light, "id")?;
+                Op::SetLight(id, s.light.to_light().map_err(|e| e.within("light"))?)
+            }
+            Command::DeleteLight(d) => {
+                let id = self.resolve(&d.id, Kind::Light, "id")?;
+                self.gone.insert((Kind::Light, id));
+                Op::DeleteLight(id)
+            }
+            Command::SetCamera(patch) => {
+                self.camera = patch.apply(self.camera)?;
+                Op::SetCamera(self.camera)
+            }
+        })
+    }
+
+    /// A mesh decoded and checked, with its shaders resolved.
+    fn mesh(&mut self, spec: MeshSpec) -> ApiResult<(Mesh, Binding<Target>)> {
+        let (mesh, binding) = spec.decode(self.limits).map_err(|e| e.within("mesh"))?;
+        mesh.validate().map_err(|e| ApiError::from(e).within("mesh"))?;
+        let shaders = match binding {
+            Binding::Default => Binding::Default,
+            Binding::All(r) => Binding::All(self.resolve(&r, Kind::Shader, "mesh.shader")?),
+            Binding::Each(refs) => {
+                if refs.len() != mesh.indices.len() {
+                    return Err(ApiError::from(SceneError::WrongLength { field: "shaders", got: refs.len(), expected: mesh.indices.len() }).within("mesh"));
+                }
+                let mut resolved = HashMap::new();
+                let mut out = Vec::with_capacity(refs.len());
+                for (k, r) in refs.iter().enumerate() {
+                    // Meshes bind few distinct shaders: resolve each once.
+                    let t = match resolved.get(r) {
+                        Some(&t) => t,
+                        None => {
+                            let t = self.resolve(r, Kind::Shader, &format!("mesh.shaders[{k}]"))?;
+                            resolved.insert(r.clone(), t);
+                            t
+                        }
+                    };
+                    out.push(t);
+                }
+                Binding::Each(out)
+            }
+        };
+        Ok((mesh, shaders))
+    }
+
+    /// Gives the resource command `i` creates a label.
+    fn label(&mut self, label: Option<String>, kind: Kind, i: usize) -> ApiResult<()> {
+        let Some(label) = label else {
+            return Ok(());
+        };
+        if self.labels.contains_key(&label) {
+            return Err(ApiError::unprocessable(Some("label".into()), format!("label `{label}` is already used in this batch")));
+        }
+        self.labels.insert(label, (kind, i));
+        Ok(())
+    }
+
+    /// The resource `r` names, which must exist when the command runs (404 otherwise).
+    fn resolve(&mut self, r: &Ref, kind: Kind, field: &str) -> ApiResult<Target> {
+        let missing = |message: String| ApiError::not_found(Some(field.to_string()), message);
+        let target = match r {
+            Ref::Id(id) => {
+                if !self.exists(kind, *id) {
+                    return Err(missing(format!("unknown {} {id}", kind.name())));
+                }
+                Target::Existing(*id)
+            }
+            Ref::Label(label) => match self.labels.get(label) {
+                Some(&(k, i)) if k == kind => Target::New(i),
+                Some(&(k, _)) => {
+                    return Err(ApiError::unprocessable(Some(field.to_string()), format!("`{label}` labels a {}, not a {}", k.name(), kind.name())));
+                }
+                None => return Err(missing(format!("no earlier command of this batch has the label `{label}`"))),
+            },
+        };
+        if self.gone.contains(&(kind, target)) {
+            return Err(missing(format!("{} {r} was deleted earlier in this batch", kind.name())));
+        }
+        Ok(target)
+    }
+
+    fn exists(&mut self, kind: Kind, id: u32) -> bool {
+        match kind {
+            Kind::Object => self.scene.mesh(ObjectId(id)).is_ok(),
+            Kind::Shader => self.scene.shader(ShaderId(id)).is_ok(),
+            Kind::Instance => self.instances().contains_key(&id),
+            Kind::Light => {
+                let scene = self.scene;
+                self.existing_lights.get_or_insert_with(|| scene.lights().map(|(id, _)| id.0).collect()).contains(&id)
+            }
+        }
+    }
+
+    /// The scene's instances and their objects.
+    fn instances(&mut self) -> &HashMap<u32, u32> {
+        let scene = self.scene;
+        self.existing_instances.get_or_insert_with(|| scene.instances().map(|(i, o, _)| (i.0, o.0)).collect())
+    }
+}
+
+/// Writes parameters into a copy of a shader (checking each as the scene will); returns the
+/// shader, the writes to make, and the names the class does not export.
+#[allow(clippy::type_complexity)]
+fn write_params(mut shader: Shader, params: std::collections::BTreeMap<String, ParamJson>) -> ApiResult<(Shader, Vec<(String, ParamValue)>, Vec<String>)> {
+    let mut writes = Vec::new();
+    let mut ignored = Vec::new();
+    for (name, value) in params {
+        let field = format!("params.{name}");
+        match param_value(shader.class(), &name, value) {
+            None => ignored.push(name),
+            Some(value) => {
+                shader.set(&name, value).map_err(|e| {
+                    let mut e = ApiError::from(e);
+                    e.detail.field = Some(field);
+                    e
+                })?;
+                writes.push((name, value));
+            }
+        }
+    }
+    Ok((shader, writes, ignored))
+}
+
+/// Applies checked commands in order.
+fn apply(scene: &mut Scene, ops: Vec<Op>) -> ApiResult<Vec<CommandResult>> {
+    let mut ids: Vec<Option<u32>> = Vec::with_capacity(ops.len());
+    let mut results = Vec::with_capacity(ops.len());
+    for (k, op) in ops.into_iter().enumerate() {
+        let result = apply_one(scene, op, &ids).map_err(|e| {
+            ApiError::internal(format!("command {k} failed although it was checked ({e}); the commands before it were applied"))
+        })?;
+        ids.push(result.id);
+        results.push(result);
+    }
+    Ok(results)
+}
+
+fn apply_one(scene: &mut Scene, op: Op, ids: &[Option<u32>]) -> Result<CommandResult, SceneError> {
+    let real = |t: Target| match t {
+        Target::Existing(id) => id,
+        Target::New(i) => ids[i].expect("a command's resources are created before later commands use them"),
+    };
+    let bind = |mut mesh: Mesh, shaders: Binding<Target>| {
+        mesh.shaders = match shaders {
+            Binding::Default => Vec::new(),
+            Binding::All(t) => vec![ShaderId(real(t)); mesh.indices.len()],
+            Binding::Each(ts) => ts.into_iter().map(|t| ShaderId(real(t))).collect(),
+        };
+        mesh
+    };
+    let created = |id: u32| CommandResult { id: Some(id), ignored: Vec::new() };
+    let done = CommandResult::default();
+    let write = |scene: &mut Scene, id: ShaderId, params: Vec<(String, ParamValue)>| -> Result<(), SceneError> {
+        for (name, value) in params {
+            scene.set_param(id, &name, value)?;
+        }
+        Ok(())
+    };
+    Ok(match op {
+        Op::AddObject { kind, mesh, shaders } => created(scene.add_object(kind, bind(mesh, shaders))?.0),
+        Op::DefineObject { id, kind, mesh, shaders } => {
+            scene.define_object(ObjectId(real(id)), kind, bind(mesh, shaders))?;
+            done
+        }
+        Op::SetPositions { id, positions } => {
+            scene.set_positions(ObjectId(real(id)), positions)?;
+            done
+        }
+        Op::DeleteObject(id) => {
+            scene.delete_object(ObjectId(real(id)))?;
+            done
+        }
+        Op::AddInstance { object, start, end } => {
+            let id = scene.add_instance(ObjectId(real(object)), start)?;
+            if end.is_some() {
+                scene.set_motion(id, start, end)?;
+            }
+            created(id.0)
+        }
+        Op::SetInstance { id, start, end } => {
+            scene.set_motion(InstanceId(real(id)), start, end)?;
+            done
+        }
+        Op::DeleteInstance(id) => {
+            scene.remove_instance(InstanceId(real(id)))?;
+            done
+        }
+        Op::AddShader { class, params, ignored } => {
+            let id = scene.add_shader(&class)?;
+            write(scene, id, params)?;
+            CommandResult { id: Some(id.0), ignored }
+        }
+        Op::DefineShader { id, class, params, ignored } => {
+            let id = ShaderId(real(id));
+            scene.define_shader(id, &class)?;
+            write(scene, id, params)?;
+            CommandResult { id: None, ignored }
+        }
+        Op::SetParams { id, params, ignored } => {
+            write(scene, ShaderId(real(id)), params)?;
+            CommandResult { id: None, ignored }
+        }
+        Op::DeleteShader(id) => {
+            scene.remove_shader(ShaderId(real(id)))?;
+            done
+        }
+        Op::AddLight(light) => created(scene.add_light(light)?.0),
+        Op::SetLight(id, light) => {
+            scene.set_light(LightId(real(id)), light)?;
+            done
+        }
+        Op::DeleteLight(id) => {
+            scene.remove_light(LightId(real(id)))?;
+            done
+        }
+        Op::SetCamera(camera) => {
+            scene.set_camera(camera)?;
+            done
+        }
+    })
+}

@@ -1,0 +1,89 @@
+//! What a server allows: the access token and the size limits of requests.
+
+use std::net::SocketAddr;
+
+/// A server's configuration.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Config {
+    /// The bearer token every request must carry (`Authorization: Bearer <token>`); `None`
+    /// serves anyone who can connect, which [`crate::serve`] allows on loopback addresses only.
+    pub token: Option<String>,
+    /// Size limits.
+    pub limits: Limits,
+}
+
+/// Size limits: a request over one is refused (413 for sizes of what was sent, 422 for what it
+/// asks to be computed) before any work is done.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Limits {
+    /// Largest request body in bytes (JSON, glTF uploads).
+    pub max_body_bytes: usize,
+    /// Most triangles in one mesh or upload.
+    pub max_triangles: usize,
+    /// Most vertices in one mesh or upload.
+    pub max_vertices: usize,
+    /// Largest image width or height.
+    pub max_dimension: u32,
+    /// Most samples per pixel in one frame.
+    pub max_spp: u32,
+    /// Most samples in one frame (width × height × samples per pixel).
+    pub max_frame_samples: u64,
+    /// Most commands in one batch.
+    pub max_commands: usize,
+    /// Most scenes held at once.
+    pub max_scenes: usize,
+    /// Most open streams.
+    pub max_streams: usize,
+    /// Renders running at once (more wait their turn); each uses every core.
+    pub concurrent_renders: usize,
+}
+
+impl Default for Limits {
+    fn default() -> Limits {
+        Limits {
+            max_body_bytes: 256 << 20,
+            max_triangles: 4_000_000,
+            max_vertices: 4_000_000,
+            max_dimension: 8192,
+            max_spp: 4096,
+            // A 1920×1080 frame at 256 samples per pixel.
+            max_frame_samples: 1920 * 1080 * 256,
+            max_commands: 100_000,
+            max_scenes: 64,
+            max_streams: 32,
+            concurrent_renders: 4,
+        }
+    }
+}
+
+/// Why a server may not listen on an address.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("refusing to serve on {0} without a token: anyone who can reach it could use the server (bind to 127.0.0.1, or set a token)")]
+pub struct ExposedWithoutToken(pub SocketAddr);
+
+impl Config {
+    /// Checks that the server may listen on `addr`: loopback addresses always, any other only
+    /// with a token.
+    pub fn check_address(&self, addr: SocketAddr) -> Result<(), ExposedWithoutToken> {
+        if addr.ip().is_loopback() || self.token.as_deref().is_some_and(|t| !t.is_empty()) {
+            Ok(())
+        } else {
+            Err(ExposedWithoutToken(addr))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_loopback_is_served_without_a_token() {
+        let open = Config::default();
+        assert!(open.check_address("127.0.0.1:8080".parse().unwrap()).is_ok());
+        assert!(open.check_address("[::1]:8080".parse().unwrap()).is_ok());
+        assert!(open.check_address("0.0.0.0:8080".parse().unwrap()).is_err());
+        assert!(Config { token: Some(String::new()), ..Config::default() }.check_address("0.0.0.0:80".parse().unwrap()).is_err());
+        assert!(Config { token: Some("s3cret".into()), ..Config::default() }.check_address("0.0.0.0:80".parse().unwrap()).is_ok());
+    }
+}

@@ -1,0 +1,160 @@
+//! Request extractors whose failures are [`ApiError`]s naming the field at fault: JSON bodies,
+//! raw bodies, query strings, and the scene and resource ids of the path.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use axum::body::Bytes;
+use axum::extract::{FromRequest, FromRequestParts, Path, Request};
+use axum::http::StatusCode;
+use axum::http::request::Parts;
+use serde::de::DeserializeOwned;
+
+use crate::error::{ApiError, ApiResult};
+use crate::state::{AppState, SceneSlot};
+
+/// Bodies larger than this are parsed on a blocking thread, off the reactor.
+const PARSE_INLINE_BYTES: usize = 1 << 20;
+
+/// A JSON body. Unlike axum's `Json`, it accepts any content type (so `curl -d` works) and
+/// reports errors as [`ApiError`]s: 400 naming the field for malformed JSON, 422 for a number
+/// that is not finite (`NaN`, `Infinity`), 413 past the body limit.
+pub struct JsonBody<T>(pub T);
+
+impl<S: Send + Sync, T: DeserializeOwned + Send + 'static> FromRequest<S> for JsonBody<T> {
+    type Rejection = ApiError;
+
+    async fn from_request(req: Request, state: &S) -> Result<Self, ApiError> {
+        let bytes = RawBody::from_request(req, state).await?.0;
+        let value = if bytes.len() > PARSE_INLINE_BYTES {
+            tokio::task::spawn_blocking(move || parse_json(&bytes)).await.map_err(|e| ApiError::internal(e.to_string()))??
+        } else {
+            parse_json(&bytes)?
+        };
+        Ok(JsonBody(value))
+    }
+}
+
+/// The body's bytes, within the body limit (413 past it).
+pub struct RawBody(pub Bytes);
+
+impl<S: Send + Sync> FromRequest<S> for RawBody {
+    type Rejection = ApiError;
+
+    async fn from_request(req: Request, state: &S) -> Result<Self, ApiError> {
+        Bytes::from_request(req, state).await.map(RawBody).map_err(|e| {
+            if e.status() == StatusCode::PAYLOAD_TOO_LARGE {
+                ApiError::too_large(None, "the request body is larger than the server's limit")
+            } else {
+                ApiError::bad_request(None, e.body_text())
+            }
+        })
+    }
+}
+
+/// Parses JSON, naming the field where parsing failed.
+pub(crate) fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> ApiResult<T> {
+    let mut de = serde_json::Deserializer::from_slice(bytes);
+    let value: T = serde_path_to_error::deserialize(&mut de).map_err(|e| {
+        let path = e.path().to_string();
+        let field = (path != ".").then_some(path);
+        let inner = e.into_inner();
+        if inner.is_syntax() && non_finite_literal_at(bytes, inner.line(), inner.column()) {
+            ApiError::unprocessable(field, "numbers must be finite: JSON has no NaN or Infinity")
+        } else if inner.is_eof() {
+            ApiError::bad_request(field, format!("the JSON ends early: {inner}"))
+        } else {
+            ApiError::bad_request(field, inner.to_string())
+        }
+    })?;
+    de.end().map_err(|e| ApiError::bad_request(None, e.to_string()))?;
+    Ok(value)
+}
+
+/// Whether a syntax error at `line`, `column` (1-based, as serde_json reports them) is a `NaN`
+/// or `Infinity` literal, which some JSON writers emit for non-finite numbers.
+fn non_finite_literal_at(bytes: &[u8], line: usize, column: usize) -> bool {
+    let Some(text) = bytes.split(|&b| b == b'\n').nth(line.saturating_sub(1)) else {
+        return false;
+    };
+    let from = column.saturating_sub(2).min(text.len());
+    let window = &text[from..(from + 12).min(text.len())];
+    [&b"NaN"[..], b"Infinity", b"inf"].iter().any(|lit| window.windows(lit.len()).any(|w| w.eq_ignore_ascii_case(lit)))
+}
+
+/// A query string, parsed with unknown parameters refused (400 naming the parameter).
+pub struct Params<T>(pub T);
+
+impl<S: Send + Sync, T: DeserializeOwned> FromRequestParts<S> for Params<T> {
+    type Rejection = ApiError;
+
+    async fn from_request_parts(parts: &mut Parts, _: &S) -> Result<Self, ApiError> {
+        let query = parts.uri.query().unwrap_or("");
+        let de = serde_urlencoded::Deserializer::new(form_urlencoded::parse(query.as_bytes()));
+        serde_path_to_error::deserialize(de).map(Params).map_err(|e| {
+            let path = e.path().to_string();
+            ApiError::bad_request((path != ".").then_some(path), format!("bad query string: {}", e.into_inner()))
+        })
+    }
+}
+
+/// The scene named by the path's `{scene}` (404 if there is none), and the path's `{id}` if
+/// the route has one.
+pub struct Target {
+    /// The scene.
+    pub scene: Arc<SceneSlot>,
+    /// The resource id of the path, if any.
+    pub id: Option<u32>,
+}
+
+impl Target {
+    /// The path's resource id (routes with an `{id}` always have one).
+    pub fn id(&self) -> u32 {
+        self.id.expect("the route has an {id}")
+    }
+}
+
+impl FromRequestParts<AppState> for Target {
+    type Rejection = ApiError;
+
+    async fn from_request_parts(parts: &mut Parts, state: &AppState) -> Result<Self, ApiError> {
+        let Path(params) = Path::<HashMap<String, String>>::from_request_parts(parts, state)
+            .await
+            .map_err(|e| ApiError::bad_request(None, e.body_text()))?;
+        let number = |key: &str| -> ApiResult<Option<u32>> {
+            params
+                .get(key)
+                .map(|v| v.parse::<u32>().map_err(|_| ApiError::not_found(Some(key.into()), format!("`{v}` is not an id: ids are numbers"))))
+                .transpose()
+        };
+        let scene_id = number("scene")?.ok_or_else(|| ApiError::internal("route without a scene"))?;
+        let scene = state.scene(scene_id)?;
+        Ok(Target { scene, id: number("id")? })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[derive(Debug, serde::Deserialize)]
+    #[allow(dead_code)]
+    struct Point {
+        xyz: [f32; 3],
+    }
+
+    #[test]
+    fn errors_name_the_field_and_tell_nan_from_bad_syntax() {
+        let err = parse_json::<Point>(br#"{"xyz": [1, "two", 3]}"#).unwrap_err();
+        assert_eq!((err.status, err.detail.field.as_deref()), (StatusCode::BAD_REQUEST, Some("xyz[1]")));
+        let err = parse_json::<Point>(br#"{"xyz": [1, NaN, 3]}"#).unwrap_err();
+        assert_eq!((err.status, err.detail.field.as_deref()), (StatusCode::UNPROCESSABLE_ENTITY, Some("xyz[1]")));
+        let err = parse_json::<Point>(b"{\n  \"xyz\": [1, 2,\n -Infinity]}").unwrap_err();
+        assert_eq!(err.status, StatusCode::UNPROCESSABLE_ENTITY);
+        let err = parse_json::<Point>(br#"{"xyz": [1, 2, 3}"#).unwrap_err();
+        assert_eq!(err.status, StatusCode::BAD_REQUEST);
+        let err = parse_json::<Point>(br#"{"xyz": [1, 2, 3]} trailing"#).unwrap_err();
+        assert_eq!(err.status, StatusCode::BAD_REQUEST);
+        assert!(parse_json::<Point>(br#"{"xyz": [1, 2, 3]}"#).is_ok());
+    }
+}

@@ -1,0 +1,116 @@
+//! `/scenes/{scene}/gltf`: a glTF or GLB file added to a scene.
+
+use axum::Json;
+use axum::extract::State;
+use serde::{Deserialize, Serialize};
+use utoipa::{IntoParams, ToSchema};
+
+use crate::config::Limits;
+use crate::error::{ApiError, ApiResult, ErrorBody};
+use crate::extract::{Params, RawBody, Target};
+use crate::state::AppState;
+
+/// What to do with the camera.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, ToSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum CameraChoice {
+    /// The file's camera if it has one; else, if the scene had no instances before, one that
+    /// frames the file's contents; else the scene's camera stays.
+    #[default]
+    Auto,
+    /// The file's camera (the scene's stays if the file has none).
+    File,
+    /// A camera that frames the file's contents.
+    Frame,
+    /// The scene's camera stays.
+    Keep,
+}
+
+/// Options of an upload.
+#[derive(Clone, Debug, Default, Deserialize, IntoParams)]
+#[serde(deny_unknown_fields)]
+#[into_params(parameter_in = Query)]
+pub struct GltfQuery {
+    /// What to do with the camera; default `auto`.
+    pub camera: Option<CameraChoice>,
+}
+
+/// What an upload added.
+#[derive(Clone, Debug, Serialize, ToSchema)]
+pub struct GltfAdded {
+    /// One shader per material (and vertex-colour use).
+    pub shaders: Vec<u32>,
+    /// One object per glTF mesh with triangles.
+    pub objects: Vec<u32>,
+    /// One instance per node holding such a mesh.
+    pub instances: Vec<u32>,
+    /// The file's punctual lights.
+    pub lights: Vec<u32>,
+    /// Whether the camera changed.
+    pub camera_changed: bool,
+    /// Triangles added.
+    pub triangles: usize,
+    /// What the file had that was left out.
+    pub notes: Vec<String>,
+    /// The scene's version after the upload.
+    pub version: u64,
+}
+
+/// The importer's limits, from the server's.
+pub(crate) fn import_limits(limits: &Limits) -> raystage_gltf_import::Limits {
+    raystage_gltf_import::Limits {
+        max_triangles: limits.max_triangles,
+        max_vertices: limits.max_vertices,
+        ..raystage_gltf_import::Limits::default()
+    }
+}
+
+/// Adds a glTF 2.0 file (`.glb`, or `.gltf` with its buffers as `data:` URIs) to the scene:
+/// meshes become objects, nodes instances, materials shaders of the nearest class, punctual
+/// lights lights. The whole file is checked before anything is added.
+#[utoipa::path(post, path = "/scenes/{scene}/gltf", tag = "scenes",
+    params(("scene" = u32, Path, description = "The scene's id"), GltfQuery),
+    request_body(content((crate::model::Binary = "model/gltf-binary"), (crate::model::Binary = "model/gltf+json"))),
+    responses(
+        (status = 200, description = "Success", body = GltfAdded),
+        (status = 400, description = "Malformed request: the error names the field", body = ErrorBody),
+        (status = 404, description = "No such scene, resource or route", body = ErrorBody),
+        (status = 413, description = "Larger than the server allows", body = ErrorBody),
+        (status = 422, description = "A value is not acceptable: the error names the field", body = ErrorBody),
+    ))]
+pub(crate) async fn upload(State(state): State<AppState>, target: Target, Params(query): Params<GltfQuery>, RawBody(body): RawBody) -> ApiResult<Json<GltfAdded>> {
+    let limits = import_limits(&state.config().limits);
+    let import = tokio::task::spawn_blocking(move || raystage_gltf_import::read(&body, None, &limits))
+        .await
+        .map_err(|e| ApiError::internal(e.to_string()))??;
+    let choice = query.camera.unwrap_or_default();
+    let (added, version) = target
+        .scene
+        .edit(move |scene| {
+            let was_empty = scene.instances().next().is_none();
+            let camera = match choice {
+                CameraChoice::Auto => import.camera().or_else(|| was_empty.then(|| import.framing_camera())),
+                CameraChoice::File => import.camera(),
+                CameraChoice::Frame => Some(import.framing_camera()),
+                CameraChoice::Keep => None,
+            };
+            let (triangles, notes) = (import.triangles(), import.notes().to_vec());
+            let added = import.add_to(scene)?;
+            if let Some(camera) = camera {
+                scene.set_camera(camera)?;
+            }
+            let result = GltfAdded {
+                shaders: added.shaders.iter().map(|s| s.0).collect(),
+                objects: added.objects.iter().map(|o| o.0).collect(),
+                instances: added.instances.iter().map(|i| i.0).collect(),
+                lights: added.lights.iter().map(|l| l.0).collect(),
+                camera_changed: camera.is_some(),
+                triangles,
+                notes,
+                version: 0,
+            };
+            Ok((result, true))
+        })
+        .await?;
+    Ok(Json(GltfAdded { version, ..added }))
+}

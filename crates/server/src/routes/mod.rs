@@ -1,0 +1,127 @@
+//! The HTTP routes: one module per resource, each handler a thin shell around an edit (run
+//! through [`crate::batch`]), a read, or a render.
+
+mod camera;
+mod classes;
+mod commands;
+mod frame;
+mod gltf;
+mod instances;
+mod lights;
+mod objects;
+pub(crate) mod openapi;
+mod scenes;
+mod shaders;
+
+use std::sync::Arc;
+
+use axum::extract::DefaultBodyLimit;
+use axum::routing::get;
+use axum::{Json, Router, middleware};
+use serde::Serialize;
+use utoipa::ToSchema;
+
+use crate::auth::require_token;
+use crate::batch;
+use crate::error::{ApiError, ApiResult};
+use crate::model::{Command, CommandResult};
+use crate::state::{AppState, SceneSlot};
+
+/// The whole API as a router.
+pub(crate) fn router(state: AppState) -> Router {
+    let limits = state.config().limits;
+    Router::new()
+        .route("/", get(index))
+        .route("/openapi.json", get(openapi::openapi_json))
+        .route("/shader-classes", get(classes::list))
+        .route("/scenes", get(scenes::list).post(scenes::create))
+        .route("/scenes/{scene}", get(scenes::info).delete(scenes::delete))
+        .route("/scenes/{scene}/stats", get(scenes::stats))
+        .route("/scenes/{scene}/objects", get(objects::list).post(objects::add))
+        .route("/scenes/{scene}/objects/{id}", get(objects::get).put(objects::define).patch(objects::move_vertices).delete(objects::delete))
+        .route("/scenes/{scene}/instances", get(instances::list).post(instances::add))
+        .route("/scenes/{scene}/instances/{id}", get(instances::get).put(instances::set).delete(instances::delete))
+        .route("/scenes/{scene}/shaders", axum::routing::post(shaders::add))
+        .route("/scenes/{scene}/shaders/{id}", get(shaders::get).put(shaders::define).patch(shaders::set_params).delete(shaders::delete))
+        .route("/scenes/{scene}/lights", get(lights::list).post(lights::add))
+        .route("/scenes/{scene}/lights/{id}", get(lights::get).put(lights::set).delete(lights::delete))
+        .route("/scenes/{scene}/camera", get(camera::get).put(camera::set))
+        .route("/scenes/{scene}/commands", axum::routing::post(commands::run))
+        .route("/scenes/{scene}/gltf", axum::routing::post(gltf::upload))
+        .route("/scenes/{scene}/frame.png", get(frame::frame_png))
+        .route("/scenes/{scene}/pick", get(frame::pick))
+        .route("/scenes/{scene}/stream", get(crate::stream::stream))
+        .fallback(|| async { ApiError::not_found(None, "no such route: see /openapi.json") })
+        .method_not_allowed_fallback(|| async {
+            ApiError { status: axum::http::StatusCode::METHOD_NOT_ALLOWED, ..ApiError::bad_request(None, "this route does not take that method: see /openapi.json") }
+        })
+        .layer(middleware::from_fn_with_state(state.clone(), require_token))
+        .layer(DefaultBodyLimit::max(limits.max_body_bytes))
+        .with_state(state)
+}
+
+/// What the server is and where its description is.
+#[derive(Serialize, ToSchema)]
+pub struct Index {
+    /// `raystage`.
+    pub name: &'static str,
+    /// The server's version.
+    pub version: &'static str,
+    /// Where the OpenAPI description is.
+    pub openapi: &'static str,
+}
+
+/// What this server is.
+#[utoipa::path(get, path = "/", tag = "server", responses((status = 200, description = "Success", body = Index)))]
+async fn index() -> Json<Index> {
+    Json(Index { name: "raystage", version: env!("CARGO_PKG_VERSION"), openapi: "/openapi.json" })
+}
+
+/// After an edit.
+#[derive(Clone, Debug, Serialize, ToSchema)]
+pub struct Updated {
+    /// The scene's version after the edit.
+    pub version: u64,
+    /// Parameters the shader's class does not export: those writes were ignored.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub ignored: Vec<String>,
+}
+
+/// After a creation.
+#[derive(Clone, Debug, Serialize, ToSchema)]
+pub struct CreatedResponse {
+    /// The new resource's id.
+    pub id: u32,
+    /// The scene's version after the edit.
+    pub version: u64,
+    /// Parameters the shader's class does not export: those writes were ignored.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub ignored: Vec<String>,
+}
+
+/// Runs edits on a scene (see [`crate::batch`]); returns their results and the new version.
+pub(crate) async fn edit(state: &AppState, scene: &Arc<SceneSlot>, commands: Vec<Command>, in_batch: bool) -> ApiResult<(Vec<CommandResult>, u64)> {
+    let limits = state.config().limits;
+    scene
+        .edit(move |s| {
+            let results = batch::execute(s, commands, &limits, in_batch)?;
+            let changed = !results.is_empty();
+            Ok((results, changed))
+        })
+        .await
+}
+
+/// Runs one edit that creates a resource: 201 with its id.
+pub(crate) async fn create(state: &AppState, scene: &Arc<SceneSlot>, command: Command) -> ApiResult<(axum::http::StatusCode, Json<CreatedResponse>)> {
+    let (mut results, version) = edit(state, scene, vec![command], false).await?;
+    let result = results.pop().expect("one result per command");
+    let id = result.id.ok_or_else(|| ApiError::internal("a creation returned no id"))?;
+    Ok((axum::http::StatusCode::CREATED, Json(CreatedResponse { id, version, ignored: result.ignored })))
+}
+
+/// Runs one edit that changes or deletes a resource.
+pub(crate) async fn update(state: &AppState, scene: &Arc<SceneSlot>, command: Command) -> ApiResult<Json<Updated>> {
+    let (mut results, version) = edit(state, scene, vec![command], false).await?;
+    let ignored = results.pop().map(|r| r.ignored).unwrap_or_default();
+    Ok(Json(Updated { version, ignored }))
+}

@@ -1,0 +1,55 @@
+//! The OpenAPI description, generated from the handlers and types (a copy is checked in as
+//! `api/openapi.json`; a test fails when they differ).
+
+use axum::Json;
+use utoipa::OpenApi;
+
+use crate::error::{ErrorBody, ErrorDetail};
+use crate::model::*;
+use crate::stats::{FrameReport, RaysJson};
+use crate::stream::{ClientMessage, FrameMessage, ServerMessage};
+
+/// The API's description.
+#[derive(OpenApi)]
+#[openapi(
+    info(
+        title = "raystage",
+        description = "A ray-tracing rendering server: build and edit retained scenes over HTTP/JSON, render PNG frames, or watch a WebSocket stream of progressive frames. Every error is JSON: `{\"error\": {\"code\", \"message\", \"field\"}}`. With a token configured, every request needs `Authorization: Bearer <token>`.",
+        license(name = "MIT OR Apache-2.0"),
+    ),
+    paths(
+        super::index,
+        super::classes::list,
+        super::scenes::list, super::scenes::create, super::scenes::info, super::scenes::delete, super::scenes::stats,
+        super::objects::list, super::objects::add, super::objects::get, super::objects::define, super::objects::move_vertices, super::objects::delete,
+        super::instances::list, super::instances::add, super::instances::get, super::instances::set, super::instances::delete,
+        super::shaders::add, super::shaders::get, super::shaders::define, super::shaders::set_params, super::shaders::delete,
+        super::lights::list, super::lights::add, super::lights::get, super::lights::set, super::lights::delete,
+        super::camera::get, super::camera::set,
+        super::commands::run,
+        super::gltf::upload,
+        super::frame::frame_png, super::frame::pick,
+        crate::stream::stream,
+    ),
+    components(schemas(
+        ErrorBody, ErrorDetail, FrameReport, RaysJson, Rgb, Transform, Rotation, Scale, Ref, ParamJson, ParamOut, Kind, MeshSpec,
+        ClientMessage, ServerMessage, FrameMessage, Command, CommandResult,
+    )),
+    tags(
+        (name = "scenes", description = "Scenes: empty, built-in demos, glTF files"),
+        (name = "objects", description = "Geometry with its own acceleration structure"),
+        (name = "instances", description = "Objects placed in the world"),
+        (name = "shaders", description = "Surface shaders of the built-in classes"),
+        (name = "lights", description = "Light sources"),
+        (name = "camera", description = "The camera"),
+        (name = "commands", description = "Batches of edits, all or nothing"),
+        (name = "frames", description = "Rendering: PNG frames, picking, the progressive stream"),
+        (name = "server", description = "The server itself"),
+    ),
+)]
+pub struct ApiDoc;
+
+/// The OpenAPI description of this server.
+pub(crate) async fn openapi_json() -> Json<utoipa::openapi::OpenApi> {
+    Json(ApiDoc::openapi())
+}

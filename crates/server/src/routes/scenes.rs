@@ -1,0 +1,171 @@
+//! `/scenes`: creating (empty, a built-in demo, or a glTF file), listing, describing and
+//! deleting scenes, and their statistics.
+
+use axum::Json;
+use axum::extract::{FromRequest, Request, State};
+use axum::http::{HeaderMap, StatusCode, header};
+use raystage_demo::animated::Demo;
+use raystage_scene::Scene;
+use serde::{Deserialize, Serialize};
+use utoipa::ToSchema;
+
+use crate::error::{ApiError, ApiResult, ErrorBody};
+use crate::extract::{RawBody, Target, parse_json};
+use crate::model::CameraJson;
+use crate::state::{AppState, SceneSlot};
+use crate::stats::FrameReport;
+
+/// A new scene: empty, or a built-in demo. (To start from a glTF file, send the file itself
+/// with content type `model/gltf-binary` or `model/gltf+json`.)
+#[derive(Clone, Debug, Default, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct NewScene {
+    /// A built-in scene: `spheres`, `soup`, `cornell`, `materials`, `robots`, `museum`,
+    /// `museum-<triangles>`, `terrain`.
+    pub demo: Option<String>,
+    /// The frame of an animated demo; default 0.
+    pub frame: Option<u32>,
+}
+
+/// A scene at a glance.
+#[derive(Clone, Debug, Serialize, ToSchema)]
+pub struct SceneInfo {
+    /// Its id.
+    pub id: u32,
+    /// Where it came from: `empty`, `demo:<name>`, `gltf`.
+    pub origin: String,
+    /// Edits so far.
+    pub version: u64,
+    /// Objects defined.
+    pub objects: usize,
+    /// Instances placed.
+    pub instances: usize,
+    /// Lights.
+    pub lights: usize,
+    /// Triangles over all objects (each object counted once).
+    pub triangles: usize,
+    /// The camera.
+    pub camera: CameraJson,
+}
+
+/// A scene and its last frame's statistics.
+#[derive(Clone, Debug, Serialize, ToSchema)]
+pub struct SceneStats {
+    /// The scene.
+    pub scene: SceneInfo,
+    /// The last frame rendered (by `frame.png` or a stream), if any.
+    pub last_frame: Option<FrameReport>,
+}
+
+pub(crate) fn info_of(slot: &SceneSlot, scene: &Scene, version: u64) -> SceneInfo {
+    SceneInfo {
+        id: slot.id,
+        origin: slot.origin.clone(),
+        version,
+        objects: scene.object_ids().count(),
+        instances: scene.instances().count(),
+        lights: scene.lights().count(),
+        triangles: scene.object_ids().filter_map(|id| scene.mesh(id).ok()).map(|m| m.indices.len()).sum(),
+        camera: CameraJson::from(scene.camera()),
+    }
+}
+
+/// Every scene.
+#[utoipa::path(get, path = "/scenes", tag = "scenes", responses((status = 200, description = "Success", body = [SceneInfo])))]
+pub(crate) async fn list(State(state): State<AppState>) -> ApiResult<Json<Vec<SceneInfo>>> {
+    let mut out = Vec::new();
+    for slot in state.scenes() {
+        let s = slot.clone();
+        out.push(slot.read(move |scene, version| info_of(&s, scene, version)).await?);
+    }
+    Ok(Json(out))
+}
+
+/// Creates a scene: empty (`{}` or no body), a built-in demo (`{"demo": "spheres"}`), or from
+/// a glTF file sent as the body with content type `model/gltf-binary` or `model/gltf+json`
+/// (the file's camera, or one that frames everything).
+#[utoipa::path(post, path = "/scenes", tag = "scenes",
+    request_body(content(
+        (NewScene = "application/json"),
+        (crate::model::Binary = "model/gltf-binary"),
+        (crate::model::Binary = "model/gltf+json"),
+    )),
+    responses(
+        (status = 201, description = "Created", body = SceneInfo),
+        (status = 400, description = "Malformed request: the error names the field", body = ErrorBody),
+        (status = 413, description = "Larger than the server allows", body = ErrorBody),
+        (status = 422, description = "A value is not acceptable: the error names the field", body = ErrorBody),
+    ))]
+pub(crate) async fn create(State(state): State<AppState>, headers: HeaderMap, request: Request) -> ApiResult<(StatusCode, Json<SceneInfo>)> {
+    let gltf = headers.get(header::CONTENT_TYPE).and_then(|v| v.to_str().ok()).is_some_and(|t| t.starts_with("model/gltf"));
+    let body = RawBody::from_request(request, &state).await?.0;
+    let limits = state.config().limits;
+    let (scene, origin) = if gltf {
+        let scene = tokio::task::spawn_blocking(move || -> ApiResult<Scene> {
+            let import = raystage_gltf_import::read(&body, None, &super::gltf::import_limits(&limits))?;
+            Ok(import.into_scene()?)
+        })
+        .await
+        .map_err(|e| ApiError::internal(e.to_string()))??;
+        (scene, "gltf".to_string())
+    } else {
+        let new: NewScene = if body.iter().all(u8::is_ascii_whitespace) { NewScene::default() } else { parse_json(&body)? };
+        match new.demo {
+            None if new.frame.is_some() => return Err(ApiError::bad_request(Some("frame".into()), "`frame` needs a `demo`")),
+            None => (Scene::new(), "empty".to_string()),
+            Some(name) => {
+                let demo = Demo::from_name(&name)
+                    .ok_or_else(|| ApiError::unprocessable(Some("demo".into()), format!("unknown demo scene `{name}`: expected {}", Demo::NAMES)))?;
+                let frame = new.frame.unwrap_or(0);
+                let origin = format!("demo:{}", demo.name());
+                let scene = tokio::task::spawn_blocking(move || demo.scene(frame))
+                    .await
+                    .map_err(|e| ApiError::internal(e.to_string()))?
+                    .map_err(|e| ApiError::internal(format!("cannot build the demo scene: {e}")))?;
+                (scene, origin)
+            }
+        }
+    };
+    let id = state.add_scene(scene, origin)?;
+    let slot = state.scene(id)?;
+    let s = slot.clone();
+    Ok((StatusCode::CREATED, Json(slot.read(move |scene, version| info_of(&s, scene, version)).await?)))
+}
+
+/// A scene at a glance.
+#[utoipa::path(get, path = "/scenes/{scene}", tag = "scenes",
+    params(("scene" = u32, Path, description = "The scene's id")),
+    responses(
+        (status = 200, description = "Success", body = SceneInfo),
+        (status = 404, description = "No such scene, resource or route", body = ErrorBody),
+    ))]
+pub(crate) async fn info(target: Target) -> ApiResult<Json<SceneInfo>> {
+    let s = target.scene.clone();
+    Ok(Json(target.scene.read(move |scene, version| info_of(&s, scene, version)).await?))
+}
+
+/// Deletes a scene.
+#[utoipa::path(delete, path = "/scenes/{scene}", tag = "scenes",
+    params(("scene" = u32, Path, description = "The scene's id")),
+    responses(
+        (status = 204, description = "Deleted"),
+        (status = 404, description = "No such scene, resource or route", body = ErrorBody),
+    ))]
+pub(crate) async fn delete(State(state): State<AppState>, target: Target) -> ApiResult<StatusCode> {
+    state.remove_scene(target.scene.id)?;
+    Ok(StatusCode::NO_CONTENT)
+}
+
+/// The scene and the statistics of its last frame.
+#[utoipa::path(get, path = "/scenes/{scene}/stats", tag = "scenes",
+    params(("scene" = u32, Path, description = "The scene's id")),
+    responses(
+        (status = 200, description = "Success", body = SceneStats),
+        (status = 404, description = "No such scene, resource or route", body = ErrorBody),
+    ))]
+pub(crate) async fn stats(target: Target) -> ApiResult<Json<SceneStats>> {
+    let s = target.scene.clone();
+    let scene = target.scene.read(move |scene, version| info_of(&s, scene, version)).await?;
+    let last_frame = target.scene.last_frame.lock().unwrap_or_else(|e| e.into_inner()).clone();
+    Ok(Json(SceneStats { scene, last_frame }))
+}

@@ -1,0 +1,171 @@
+//! The server's state: its configuration and its scenes, each behind a lock with a version
+//! number that every edit advances (streams restart their accumulation when it changes).
+
+use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, RwLock};
+
+use raystage_scene::Scene;
+use tokio::sync::{OwnedRwLockReadGuard, Semaphore, SemaphorePermit, watch};
+
+use crate::config::Config;
+use crate::error::{ApiError, ApiResult};
+use crate::stats::FrameReport;
+
+/// Everything the handlers share; cheap to clone.
+#[derive(Clone)]
+pub struct AppState(Arc<Shared>);
+
+struct Shared {
+    config: Config,
+    scenes: RwLock<BTreeMap<u32, Arc<SceneSlot>>>,
+    next_scene: AtomicU32,
+    renders: Semaphore,
+    streams: AtomicUsize,
+}
+
+/// A scene held by the server.
+pub struct SceneSlot {
+    /// Its id.
+    pub(crate) id: u32,
+    /// Where it came from (`empty`, `demo:spheres`, `gltf`, ...).
+    pub(crate) origin: String,
+    /// The scene. Renders hold a read lock for their duration, edits a write lock.
+    scene: Arc<tokio::sync::RwLock<Scene>>,
+    /// The number of edits so far, changed only while the write lock is held.
+    version: watch::Sender<u64>,
+    /// The last frame rendered by `frame.png` or a stream.
+    pub(crate) last_frame: Mutex<Option<FrameReport>>,
+    /// Whether the scene was deleted (its streams end).
+    deleted: AtomicBool,
+}
+
+impl AppState {
+    /// A server with no scenes.
+    pub fn new(config: Config) -> AppState {
+        let renders = Semaphore::new(config.limits.concurrent_renders.max(1));
+        AppState(Arc::new(Shared { config, scenes: RwLock::default(), next_scene: AtomicU32::new(1), renders, streams: AtomicUsize::new(0) }))
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &Config {
+        &self.0.config
+    }
+
+    /// Adds a scene; returns its id (ids start at 1 and are never reused).
+    pub fn add_scene(&self, scene: Scene, origin: impl Into<String>) -> ApiResult<u32> {
+        let mut scenes = self.0.scenes.write().unwrap_or_else(|e| e.into_inner());
+        let limit = self.0.config.limits.max_scenes;
+        if scenes.len() >= limit {
+            return Err(ApiError::too_large(None, format!("the server holds {limit} scenes, its limit: delete one first")));
+        }
+        let id = self.0.next_scene.fetch_add(1, Ordering::Relaxed);
+        let slot = SceneSlot {
+            id,
+            origin: origin.into(),
+            scene: Arc::new(tokio::sync::RwLock::new(scene)),
+            version: watch::Sender::new(0),
+            last_frame: Mutex::new(None),
+            deleted: AtomicBool::new(false),
+        };
+        scenes.insert(id, Arc::new(slot));
+        Ok(id)
+    }
+
+    /// The scene with id `id` (404 if there is none).
+    pub(crate) fn scene(&self, id: u32) -> ApiResult<Arc<SceneSlot>> {
+        let scenes = self.0.scenes.read().unwrap_or_else(|e| e.into_inner());
+        scenes.get(&id).cloned().ok_or_else(|| ApiError::not_found(Some("scene".into()), format!("unknown scene {id}")))
+    }
+
+    /// Every scene, by id.
+    pub(crate) fn scenes(&self) -> Vec<Arc<SceneSlot>> {
+        self.0.scenes.read().unwrap_or_else(|e| e.into_inner()).values().cloned().collect()
+    }
+
+    /// Forgets a scene: renders that hold it finish with it, its streams end.
+    pub(crate) fn remove_scene(&self, id: u32) -> ApiResult<()> {
+        let mut scenes = self.0.scenes.write().unwrap_or_else(|e| e.into_inner());
+        let slot = scenes.remove(&id).ok_or_else(|| ApiError::not_found(Some("scene".into()), format!("unknown scene {id}")))?;
+        slot.deleted.store(true, Ordering::Release);
+        // Wakes the streams waiting for a change.
+        slot.version.send_modify(|_| ());
+        Ok(())
+    }
+
+    /// Waits for a turn to render (at most `concurrent_renders` at once).
+    pub(crate) async fn render_permit(&self) -> SemaphorePermit<'_> {
+        self.0.renders.acquire().await.expect("the semaphore is never closed")
+    }
+
+    /// Counts a new stream in, if there is room: the guard counts it out when dropped.
+    pub(crate) fn open_stream(&self) -> ApiResult<StreamGuard> {
+        let limit = self.0.config.limits.max_streams;
+        let open = self.0.streams.fetch_add(1, Ordering::Relaxed);
+        let guard = StreamGuard(self.clone());
+        if open >= limit {
+            return Err(ApiError::busy(format!("{limit} streams are open, the server's limit")));
+        }
+        Ok(guard)
+    }
+}
+
+/// An open stream, counted until dropped.
+pub(crate) struct StreamGuard(AppState);
+
+impl Drop for StreamGuard {
+    fn drop(&mut self) {
+        self.0.0.streams.fetch_sub(1, Ordering::Relaxed);
+    }
+}
+
+impl SceneSlot {
+    /// Runs `edit` on the scene under the write lock, on a blocking thread; if it succeeds and
+    /// says it changed something, advances the version. Returns its result and the version.
+    pub(crate) async fn edit<R: Send + 'static>(
+        self: &Arc<Self>,
+        edit: impl FnOnce(&mut Scene) -> ApiResult<(R, bool)> + Send + 'static,
+    ) -> ApiResult<(R, u64)> {
+        let mut guard = self.scene.clone().write_owned().await;
+        let slot = self.clone();
+        tokio::task::spawn_blocking(move || {
+            let (result, changed) = edit(&mut guard)?;
+            if changed {
+                slot.version.send_modify(|v| *v += 1);
+            }
+            Ok((result, *slot.version.borrow()))
+        })
+        .await
+        .map_err(|e| ApiError::internal(format!("an edit failed: {e}")))?
+    }
+
+    /// Runs `read` on the scene under a read lock, on a blocking thread (it may trace rays or
+    /// build trees), with the version the scene had.
+    pub(crate) async fn read<R: Send + 'static>(self: &Arc<Self>, read: impl FnOnce(&Scene, u64) -> R + Send + 'static) -> ApiResult<R> {
+        let (guard, version) = self.snapshot().await;
+        tokio::task::spawn_blocking(move || read(&guard, version)).await.map_err(|e| ApiError::internal(format!("a read failed: {e}")))
+    }
+
+    /// A read lock on the scene, and its version (consistent: edits change both under the
+    /// write lock).
+    pub(crate) async fn snapshot(&self) -> (OwnedRwLockReadGuard<Scene>, u64) {
+        let guard = self.scene.clone().read_owned().await;
+        let version = *self.version.borrow();
+        (guard, version)
+    }
+
+    /// Whether the scene was deleted.
+    pub(crate) fn is_deleted(&self) -> bool {
+        self.deleted.load(Ordering::Acquire)
+    }
+
+    /// The version now.
+    pub(crate) fn version(&self) -> u64 {
+        *self.version.borrow()
+    }
+
+    /// A receiver told of every new version.
+    pub(crate) fn watch(&self) -> watch::Receiver<u64> {
+        self.version.subscribe()
+    }
+}

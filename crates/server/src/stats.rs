@@ -1,0 +1,72 @@
+//! Frame statistics as JSON: what a frame computed and what it cost.
+
+use raystage_render::{FrameStats, RenderSettings};
+use serde::Serialize;
+use utoipa::ToSchema;
+
+/// Rays traced, by kind.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, ToSchema)]
+pub struct RaysJson {
+    /// Camera rays.
+    pub primary: u64,
+    /// Shadow rays.
+    pub shadow: u64,
+    /// Reflection rays.
+    pub reflection: u64,
+    /// Refraction rays.
+    pub refraction: u64,
+    /// Diffuse bounce and ambient-occlusion rays.
+    pub diffuse: u64,
+    /// All of them.
+    pub total: u64,
+}
+
+/// A rendered frame (or a stream's pass): its settings, effects, rays and times.
+#[derive(Clone, Debug, PartialEq, Serialize, ToSchema)]
+pub struct FrameReport {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// The integrator.
+    pub integrator: String,
+    /// Samples per pixel this render added.
+    pub samples_per_pixel: u32,
+    /// Samples per pixel in the image (progressive streams accumulate).
+    pub accumulated_samples: u32,
+    /// The effects simulated (only what the scene calls for).
+    pub effects: Vec<String>,
+    /// Rays traced.
+    pub rays: RaysJson,
+    /// Wall-clock seconds of the render, lazy tree builds included.
+    pub render_seconds: f64,
+    /// Seconds spent building or refitting object trees (within `render_seconds`).
+    pub build_seconds: f64,
+    /// Seconds spent encoding the PNG.
+    pub encode_seconds: f64,
+    /// Tracing rate, not counting tree builds.
+    pub mrays_per_second: f64,
+    /// The scene version rendered.
+    pub scene_version: u64,
+}
+
+impl FrameReport {
+    /// The report of a render with `settings` that produced `stats`.
+    pub fn new(settings: &RenderSettings, stats: &FrameStats, encode_seconds: f64, scene_version: u64) -> FrameReport {
+        let r = stats.rays;
+        FrameReport {
+            width: settings.width,
+            height: settings.height,
+            integrator: settings.integrator.name().to_string(),
+            samples_per_pixel: stats.samples_per_pixel,
+            accumulated_samples: stats.accumulated_samples,
+            effects: stats.effects.names().into_iter().map(String::from).collect(),
+            rays: RaysJson { primary: r.primary, shadow: r.shadow, reflection: r.reflection, refraction: r.refraction, diffuse: r.diffuse, total: r.total() },
+            render_seconds: stats.seconds,
+            build_seconds: stats.work.build_seconds,
+            encode_seconds,
+            mrays_per_second: stats.mrays_per_second(),
+            scene_version,
+        }
+    }
+}

@@ -1,0 +1,176 @@
+//! `/scenes/{scene}/stream`: a WebSocket that pushes progressively refined frames of a scene
+//! and takes camera changes, edits and settings (protocol: `api/stream.md`).
+//!
+//! Three tasks serve a stream: this module's receiver reads client messages and applies them;
+//! [`refine::refine`] renders passes on the blocking pool and publishes the newest frame into a
+//! one-slot channel; the sender writes that frame (and replies) to the socket. A slow client
+//! holds up only the sender, and the one slot means frames are replaced, never queued.
+
+mod protocol;
+mod refine;
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use axum::extract::State;
+use axum::extract::ws::{Message, WebSocket, WebSocketUpgrade};
+use axum::response::Response;
+use futures_util::{SinkExt, StreamExt};
+use tokio::sync::{mpsc, watch};
+
+pub use protocol::{ClientMessage, FrameMessage, PROTOCOL, ServerMessage, StreamQuery};
+use refine::{Packet, StreamSettings, refine};
+
+use crate::config::Limits;
+use crate::error::{ApiError, ApiResult, ErrorBody};
+use crate::extract::{Params, Target, parse_json};
+use crate::model::Command;
+use crate::render::{FrameRequest, parse_integrator};
+use crate::state::{AppState, SceneSlot};
+
+/// Default samples per pixel a stream refines to.
+const DEFAULT_MAX_SAMPLES: u32 = 256;
+
+/// Opens a stream of progressive frames (a WebSocket; see `api/stream.md`).
+#[utoipa::path(get, path = "/scenes/{scene}/stream", tag = "frames",
+    params(("scene" = u32, Path, description = "The scene's id"), StreamQuery),
+    responses(
+        (status = 101, description = "Switching to the WebSocket protocol"),
+        (status = 400, description = "Malformed request: the error names the field", body = ErrorBody),
+        (status = 404, description = "No such scene, resource or route", body = ErrorBody),
+        (status = 422, description = "A value is not acceptable: the error names the field", body = ErrorBody),
+        (status = 503, description = "Too many open streams", body = ErrorBody),
+    ))]
+pub(crate) async fn stream(State(state): State<AppState>, target: Target, Params(query): Params<StreamQuery>, upgrade: WebSocketUpgrade) -> ApiResult<Response> {
+    let limits = state.config().limits;
+    let settings = StreamSettings {
+        width: query.width.unwrap_or(640),
+        height: query.height.unwrap_or(360),
+        integrator: query.integrator.as_deref().map(parse_integrator).transpose()?,
+        max_samples: query.max_samples.unwrap_or(DEFAULT_MAX_SAMPLES.min(limits.max_spp)),
+    };
+    check(&settings, &limits)?;
+    let guard = state.open_stream()?;
+    let scene = target.scene;
+    Ok(upgrade.max_message_size(limits.max_body_bytes).on_upgrade(move |socket| async move {
+        session(socket, state, scene, settings).await;
+        drop(guard);
+    }))
+}
+
+/// Checks a stream's settings as a frame request of `max_samples` samples per pixel.
+fn check(settings: &StreamSettings, limits: &Limits) -> ApiResult<()> {
+    let request = FrameRequest { width: settings.width, height: settings.height, spp: settings.max_samples, integrator: settings.integrator };
+    request.check(limits).map_err(|mut e| {
+        if e.detail.field.as_deref() == Some("spp") {
+            e.detail.field = Some("max_samples".into());
+        }
+        e
+    })
+}
+
+async fn session(socket: WebSocket, state: AppState, slot: Arc<SceneSlot>, settings: StreamSettings) {
+    let (mut sink, mut incoming) = socket.split();
+    let (settings_tx, settings_rx) = watch::channel(settings);
+    let (frames_tx, mut frames_rx) = watch::channel::<Option<Arc<Packet>>>(None);
+    let (replies_tx, mut replies_rx) = mpsc::channel::<ServerMessage>(16);
+    let taken = Arc::new(AtomicBool::new(true));
+
+    let hello = ServerMessage::Hello {
+        protocol: PROTOCOL,
+        scene: slot.id,
+        width: settings.width,
+        height: settings.height,
+        integrator: settings.integrator.map(|i| i.name().to_string()),
+        max_samples: settings.max_samples,
+    };
+    let renderer = tokio::spawn(refine(state.clone(), slot.clone(), settings_rx, frames_tx, taken.clone(), replies_tx.clone()));
+    let mut sender = tokio::spawn(async move {
+        let text = |m: &ServerMessage| Message::text(serde_json::to_string(m).expect("messages serialise"));
+        if sink.send(text(&hello)).await.is_err() {
+            return;
+        }
+        loop {
+            tokio::select! {
+                // Replies first: the renderer's last word comes before it goes.
+                biased;
+                reply = replies_rx.recv() => match reply {
+                    Some(reply) => if sink.send(text(&reply)).await.is_err() { return },
+                    None => return,
+                },
+                changed = frames_rx.changed() => {
+                    if changed.is_err() {
+                        // The renderer stopped (the scene was deleted): so does the stream.
+                        let _ = sink.send(Message::Close(None)).await;
+                        return;
+                    }
+                    let packet = frames_rx.borrow_and_update().clone();
+                    if let Some(packet) = packet {
+                        if sink.send(Message::text(packet.json.clone())).await.is_err()
+                            || sink.send(Message::binary(packet.png.clone())).await.is_err()
+                        {
+                            return;
+                        }
+                        taken.store(true, Ordering::Release);
+                    }
+                }
+            }
+        }
+    });
+
+    loop {
+        let message = tokio::select! {
+            message = incoming.next() => match message {
+                Some(Ok(message)) => message,
+                _ => break,
+            },
+            _ = &mut sender => break,
+        };
+        let reply = match message {
+            Message::Text(text) => handle(&state, &slot, &settings_tx, text.as_str()).await,
+            Message::Binary(_) => ServerMessage::Error {
+                request: None,
+                error: ApiError::bad_request(None, "binary messages are not understood: send JSON text").detail,
+            },
+            Message::Close(_) => break,
+            Message::Ping(_) | Message::Pong(_) => continue,
+        };
+        if replies_tx.send(reply).await.is_err() {
+            break;
+        }
+    }
+    renderer.abort();
+    sender.abort();
+}
+
+/// Applies one client message; returns the reply.
+async fn handle(state: &AppState, slot: &Arc<SceneSlot>, settings: &watch::Sender<StreamSettings>, text: &str) -> ServerMessage {
+    let message: ClientMessage = match parse_json(text.as_bytes()) {
+        Ok(m) => m,
+        Err(e) => return ServerMessage::Error { request: None, error: e.detail },
+    };
+    let (request, outcome) = match message {
+        ClientMessage::Camera { request, camera } => (request, crate::routes::edit(state, slot, vec![Command::SetCamera(camera)], false).await),
+        ClientMessage::Commands { request, commands } => (request, crate::routes::edit(state, slot, commands, true).await),
+        ClientMessage::Settings { request, width, height, integrator, max_samples } => {
+            let old = *settings.borrow();
+            let new = integrator.as_deref().map(parse_integrator).transpose().and_then(|integrator| {
+                let new = StreamSettings {
+                    width: width.unwrap_or(old.width),
+                    height: height.unwrap_or(old.height),
+                    integrator: integrator.or(old.integrator),
+                    max_samples: max_samples.unwrap_or(old.max_samples),
+                };
+                check(&new, &state.config().limits).map(|()| new)
+            });
+            (request, new.map(|new| {
+                settings.send_replace(new);
+                (Vec::new(), slot.version())
+            }))
+        }
+    };
+    match outcome {
+        Ok((results, version)) => ServerMessage::Result { request, version, results },
+        Err(e) => ServerMessage::Error { request, error: e.detail },
+    }
+}

@@ -1,0 +1,144 @@
+//! A stream's render loop: progressive passes while the scene and settings stay the same,
+//! starting over when either changes, and a PNG of the newest image whenever the sender has
+//! delivered the previous one. A slow client therefore gets fewer, newer frames: nothing
+//! queues.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+use raystage_render::{Integrator, Progressive, RenderSettings};
+use tokio::sync::{mpsc, watch};
+
+use crate::render::default_integrator;
+use crate::state::{AppState, SceneSlot};
+use crate::stats::FrameReport;
+use crate::error::ApiError;
+use crate::stream::protocol::{FrameMessage, ServerMessage};
+
+/// A pass aims to take about this long: short enough for interactive frame rates, long enough
+/// that encoding a PNG per pass is a small part of it.
+const TARGET_PASS_SECONDS: f64 = 0.05;
+/// Most samples per pixel in one pass.
+const MAX_PASS_SAMPLES: u32 = 64;
+
+/// A stream's image settings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct StreamSettings {
+    pub width: u32,
+    pub height: u32,
+    /// `None`: Whitted if the scene has lights, else the eye-light preview.
+    pub integrator: Option<Integrator>,
+    pub max_samples: u32,
+}
+
+/// A frame ready to send: its statistics as JSON text, and its PNG.
+pub(crate) struct Packet {
+    pub json: String,
+    pub png: Vec<u8>,
+}
+
+/// The accumulation in progress.
+struct Accumulation {
+    settings: StreamSettings,
+    version: u64,
+    progressive: Progressive,
+}
+
+/// Renders until the session ends (`settings` closes) or the scene is deleted (then it says so
+/// on `replies` and returns). `out` holds the newest packet; `taken` says whether the sender has
+/// delivered the last one.
+pub(crate) async fn refine(
+    state: AppState,
+    slot: Arc<SceneSlot>,
+    mut settings: watch::Receiver<StreamSettings>,
+    out: watch::Sender<Option<Arc<Packet>>>,
+    taken: Arc<AtomicBool>,
+    replies: mpsc::Sender<ServerMessage>,
+) {
+    let mut versions = slot.watch();
+    let mut accumulation: Option<Accumulation> = None;
+    let mut pass_samples = 1;
+    let mut seq = 0;
+    loop {
+        if slot.is_deleted() {
+            let error = ApiError::not_found(Some("scene".into()), format!("scene {} was deleted", slot.id));
+            let _ = replies.send(ServerMessage::Error { request: None, error: error.detail }).await;
+            return;
+        }
+        let wanted = *settings.borrow_and_update();
+        let converged = accumulation
+            .as_ref()
+            .is_some_and(|a| a.settings == wanted && a.version == slot.version() && a.progressive.samples() >= wanted.max_samples);
+        if converged {
+            tokio::select! {
+                changed = versions.changed() => if changed.is_err() { return },
+                changed = settings.changed() => if changed.is_err() { return },
+            }
+            continue;
+        }
+        let permit = state.render_permit().await;
+        let (scene, version) = slot.snapshot().await;
+        let mut acc = match accumulation.take() {
+            Some(a) if a.settings == wanted && a.version == version => a,
+            _ => {
+                pass_samples = 1;
+                let integrator = wanted.integrator.unwrap_or_else(|| default_integrator(&scene));
+                let render_settings = RenderSettings { width: wanted.width, height: wanted.height, integrator, ..RenderSettings::default() };
+                let Ok(progressive) = Progressive::new(render_settings) else {
+                    return; // The settings were checked when they were received.
+                };
+                Accumulation { settings: wanted, version, progressive }
+            }
+        };
+        let samples = pass_samples.min(wanted.max_samples - acc.progressive.samples());
+        let last = acc.progressive.samples() + samples >= wanted.max_samples;
+        let sent = taken.clone();
+        let pass = tokio::task::spawn_blocking(move || {
+            let stats = acc.progressive.add(&scene.frame(), samples);
+            drop(scene);
+            // Decided after the pass, which gave the sender its duration to deliver the last frame.
+            let png = (last || sent.load(Ordering::Acquire)).then(|| {
+                let start = Instant::now();
+                crate::png::encode(&acc.progressive.film()).ok().map(|png| (png, start.elapsed().as_secs_f64()))
+            });
+            (acc, stats, png.flatten())
+        })
+        .await;
+        drop(permit);
+        let Ok((acc, stats, png)) = pass else {
+            return;
+        };
+        pass_samples = if stats.seconds < TARGET_PASS_SECONDS / 2.0 {
+            (pass_samples * 2).min(MAX_PASS_SAMPLES)
+        } else if stats.seconds > TARGET_PASS_SECONDS * 2.0 {
+            (pass_samples / 2).max(1)
+        } else {
+            pass_samples
+        };
+        if let Some((png, encode_seconds)) = png {
+            seq += 1;
+            let report = FrameReport::new(acc.progressive.settings(), &stats, encode_seconds, acc.version);
+            let message = FrameMessage {
+                seq,
+                scene_version: acc.version,
+                width: report.width,
+                height: report.height,
+                integrator: report.integrator.clone(),
+                samples: report.accumulated_samples,
+                pass_samples: report.samples_per_pixel,
+                pass_seconds: report.render_seconds,
+                encode_seconds,
+                rays: report.rays,
+                mrays_per_second: report.mrays_per_second,
+                effects: report.effects.clone(),
+                converged: acc.progressive.samples() >= wanted.max_samples,
+            };
+            *slot.last_frame.lock().unwrap_or_else(|e| e.into_inner()) = Some(report);
+            let json = serde_json::to_string(&crate::stream::protocol::ServerMessage::Frame(message)).expect("frames serialise");
+            taken.store(false, Ordering::Release);
+            out.send_replace(Some(Arc::new(Packet { json, png })));
+        }
+        accumulation = Some(acc);
+    }
+}

@@ -1,0 +1,73 @@
+//! Helpers for driving the API in-process: requests through `tower::ServiceExt::oneshot`,
+//! JSON in and out, PNG bodies decoded.
+
+#![allow(dead_code, reason = "each test file uses some of the helpers")]
+
+use axum::Router;
+use axum::body::Body;
+use axum::http::{Request, StatusCode};
+use http_body_util::BodyExt;
+use raystage_server::{AppState, Config, router};
+use serde_json::{Value, json};
+use tower::ServiceExt;
+
+/// A fresh server with the default configuration.
+pub fn app() -> Router {
+    router(AppState::new(Config::default()))
+}
+
+/// Sends a request; returns the status, the content type and the body.
+pub async fn send(app: &Router, method: &str, uri: &str, body: Body, headers: &[(&str, &str)]) -> (StatusCode, String, Vec<u8>) {
+    let mut request = Request::builder().method(method).uri(uri);
+    for (name, value) in headers {
+        request = request.header(*name, *value);
+    }
+    let response = app.clone().oneshot(request.body(body).unwrap()).await.unwrap();
+    let status = response.status();
+    let content_type = response.headers().get("content-type").map(|v| v.to_str().unwrap().to_string()).unwrap_or_default();
+    let bytes = response.into_body().collect().await.unwrap().to_bytes().to_vec();
+    (status, content_type, bytes)
+}
+
+/// Sends JSON (or nothing, for `Value::Null`); returns the status and the JSON body.
+pub async fn call(app: &Router, method: &str, uri: &str, body: Value) -> (StatusCode, Value) {
+    let body = if body.is_null() { Body::empty() } else { Body::from(body.to_string()) };
+    let (status, content_type, bytes) = send(app, method, uri, body, &[("content-type", "application/json")]).await;
+    assert!(content_type.starts_with("application/json"), "{method} {uri}: {status} with content type `{content_type}`");
+    (status, serde_json::from_slice(&bytes).unwrap())
+}
+
+/// Sends JSON that must succeed with `expected`; returns the body.
+pub async fn ok(app: &Router, method: &str, uri: &str, body: Value, expected: StatusCode) -> Value {
+    let (status, value) = call(app, method, uri, body).await;
+    assert_eq!(status, expected, "{method} {uri}: {value}");
+    value
+}
+
+/// A request that must fail with `status`; returns the error's `field` (or "" for none) and
+/// checks the body has the documented shape.
+pub async fn fails(app: &Router, method: &str, uri: &str, body: Value, status: StatusCode) -> String {
+    let (got, value) = call(app, method, uri, body).await;
+    assert_eq!(got, status, "{method} {uri}: {value}");
+    let error = &value["error"];
+    assert!(error["code"].is_string() && error["message"].is_string(), "{value}");
+    error["field"].as_str().unwrap_or("").to_string()
+}
+
+/// A new empty scene; returns its id.
+pub async fn new_scene(app: &Router) -> u64 {
+    ok(app, "POST", "/scenes", json!({}), StatusCode::CREATED).await["id"].as_u64().unwrap()
+}
+
+/// A frame, decoded.
+pub async fn frame(app: &Router, uri: &str) -> image::RgbaImage {
+    let (status, content_type, bytes) = send(app, "GET", uri, Body::empty(), &[]).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&bytes));
+    assert_eq!(content_type, "image/png");
+    image::load_from_memory(&bytes).unwrap().to_rgba8()
+}
+
+/// A square in the z = 0 plane from (-s, -s) to (s, s), facing +z (the default camera).
+pub fn square(s: f32) -> Value {
+    json!({ "positions": [[-s, -s, 0], [s, -s, 0], [s, s, 0], [-s, s, 0]], "indices": [[0, 1, 2], [0, 2, 3]] })
+}

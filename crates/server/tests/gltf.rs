@@ -1,0 +1,132 @@
+//! glTF uploads: a file written in the test (JSON with an embedded base64 buffer, and the same
+//! as GLB) becomes a scene that renders; broken files are refused and change nothing.
+
+mod common;
+
+use axum::body::Body;
+use axum::http::StatusCode;
+use base64::Engine;
+use common::*;
+use serde_json::{Value, json};
+
+/// Two triangles forming a unit square in the xy plane, centred on the origin.
+fn square_buffer() -> Vec<u8> {
+    let mut bytes = Vec::new();
+    for p in [[-0.5f32, -0.5, 0.0], [0.5, -0.5, 0.0], [0.5, 0.5, 0.0], [-0.5, 0.5, 0.0]] {
+        p.iter().for_each(|c| bytes.extend(c.to_le_bytes()));
+    }
+    for i in [0u16, 1, 2, 0, 2, 3] {
+        bytes.extend(i.to_le_bytes());
+    }
+    bytes
+}
+
+/// A glTF document: the square as one mesh with an unlit orange material, placed by two nodes
+/// side by side, and a camera looking at them; buffer 0 as `uri` (or the GLB chunk).
+fn document(uri: Option<String>) -> Value {
+    let mut buffer = json!({ "byteLength": 60 });
+    if let Some(uri) = uri {
+        buffer["uri"] = json!(uri);
+    }
+    json!({
+        "asset": { "version": "2.0" },
+        "extensionsUsed": ["KHR_materials_unlit"],
+        "buffers": [buffer],
+        "bufferViews": [{ "buffer": 0, "byteLength": 48 }, { "buffer": 0, "byteOffset": 48, "byteLength": 12 }],
+        "accessors": [
+            { "bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-0.5, -0.5, 0], "max": [0.5, 0.5, 0] },
+            { "bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR" }
+        ],
+        "materials": [{ "pbrMetallicRoughness": { "baseColorFactor": [1, 0.5, 0, 1] }, "extensions": { "KHR_materials_unlit": {} } }],
+        "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0 }, "indices": 1, "material": 0 }] }],
+        "cameras": [{ "type": "perspective", "perspective": { "yfov": 0.8, "znear": 0.1 } }],
+        "nodes": [
+            { "mesh": 0, "translation": [-0.6, 0, 0] },
+            { "mesh": 0, "translation": [0.6, 0, 0] },
+            { "camera": 0, "translation": [0, 0, 3] }
+        ],
+        "scenes": [{ "nodes": [0, 1, 2] }]
+    })
+}
+
+fn embedded() -> Vec<u8> {
+    let uri = format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(square_buffer()));
+    serde_json::to_vec(&document(Some(uri))).unwrap()
+}
+
+fn glb() -> Vec<u8> {
+    let mut json = serde_json::to_vec(&document(None)).unwrap();
+    json.resize(json.len().next_multiple_of(4), b' ');
+    let mut bin = square_buffer();
+    bin.resize(bin.len().next_multiple_of(4), 0);
+    let mut out = Vec::new();
+    out.extend(b"glTF");
+    out.extend(2u32.to_le_bytes());
+    out.extend(((28 + json.len() + bin.len()) as u32).to_le_bytes());
+    out.extend((json.len() as u32).to_le_bytes());
+    out.extend(b"JSON");
+    out.extend(json);
+    out.extend((bin.len() as u32).to_le_bytes());
+    out.extend(b"BIN\0");
+    out.extend(bin);
+    out
+}
+
+async fn upload(app: &axum::Router, uri: &str, body: Vec<u8>, content_type: &str) -> (StatusCode, Value) {
+    let (status, _, bytes) = send(app, "POST", uri, Body::from(body), &[("content-type", content_type)]).await;
+    (status, serde_json::from_slice(&bytes).unwrap())
+}
+
+#[tokio::test]
+async fn a_gltf_file_becomes_a_scene_seen_through_its_camera() {
+    let app = app();
+    for (body, content_type) in [(embedded(), "model/gltf+json"), (glb(), "model/gltf-binary")] {
+        let (status, info) = upload(&app, "/scenes", body, content_type).await;
+        assert_eq!(status, StatusCode::CREATED, "{info}");
+        assert_eq!((info["origin"].as_str(), info["objects"].as_u64(), info["instances"].as_u64()), (Some("gltf"), Some(1), Some(2)));
+        assert_eq!(info["camera"]["eye"], json!([0.0, 0.0, 3.0]));
+        let s = info["id"].as_u64().unwrap();
+        let image = frame(&app, &format!("/scenes/{s}/frame.png?width=80&height=40&integrator=eyelight")).await;
+        let orange = [255, 188, 0, 255];
+        assert_eq!(image.get_pixel(27, 20).0, orange, "the left square");
+        assert_eq!(image.get_pixel(53, 20).0, orange, "the right square");
+        assert_ne!(image.get_pixel(40, 20).0, orange, "the gap between them");
+    }
+}
+
+#[tokio::test]
+async fn an_upload_adds_to_a_scene_and_a_broken_one_changes_nothing() {
+    let app = app();
+    let s = new_scene(&app).await;
+    let (status, added) = upload(&app, &format!("/scenes/{s}/gltf?camera=keep"), glb(), "model/gltf-binary").await;
+    assert_eq!(status, StatusCode::OK, "{added}");
+    assert_eq!((added["objects"].as_array().unwrap().len(), added["instances"].as_array().unwrap().len()), (1, 2));
+    assert_eq!((added["triangles"].as_u64(), added["camera_changed"].as_bool()), (Some(2), Some(false)));
+    let shader = ok(&app, "GET", &format!("/scenes/{s}/shaders/{}", added["shaders"][0]), json!(null), StatusCode::OK).await;
+    assert_eq!(shader["class"], "Constant");
+    let before = ok(&app, "GET", &format!("/scenes/{s}"), json!(null), StatusCode::OK).await;
+    let (status, error) = upload(&app, &format!("/scenes/{s}/gltf"), b"{ not gltf".to_vec(), "model/gltf+json").await;
+    assert_eq!(status, StatusCode::BAD_REQUEST, "{error}");
+    let mut lying = document(Some(format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(square_buffer()))));
+    lying["accessors"][0]["count"] = json!(4000);
+    let (status, error) = upload(&app, &format!("/scenes/{s}/gltf"), serde_json::to_vec(&lying).unwrap(), "model/gltf+json").await;
+    assert_eq!((status, error["error"]["field"].as_str()), (StatusCode::UNPROCESSABLE_ENTITY, Some("meshes[0].primitives[0].attributes.POSITION")));
+    let external = document(Some("square.bin".into()));
+    let (status, error) = upload(&app, &format!("/scenes/{s}/gltf"), serde_json::to_vec(&external).unwrap(), "model/gltf+json").await;
+    assert_eq!((status, error["error"]["field"].as_str()), (StatusCode::UNPROCESSABLE_ENTITY, Some("buffers[0].uri")));
+    assert_eq!(ok(&app, "GET", &format!("/scenes/{s}"), json!(null), StatusCode::OK).await, before);
+    // Every byte of the GLB flipped in turn: refused or imported, never a server error.
+    let good = glb();
+    for at in (0..good.len()).step_by(3) {
+        let mut bad = good.clone();
+        bad[at] ^= 0xa5;
+        let (status, body) = upload(&app, "/scenes/999/gltf", bad.clone(), "model/gltf-binary").await;
+        assert_eq!(status, StatusCode::NOT_FOUND, "{body}");
+        let version = ok(&app, "GET", &format!("/scenes/{s}"), json!(null), StatusCode::OK).await["version"].clone();
+        let (status, body) = upload(&app, &format!("/scenes/{s}/gltf?camera=keep"), bad, "model/gltf-binary").await;
+        assert!(status.is_success() || status.is_client_error(), "byte {at}: {status} {body}");
+        if !status.is_success() {
+            assert_eq!(ok(&app, "GET", &format!("/scenes/{s}"), json!(null), StatusCode::OK).await["version"], version);
+        }
+    }
+}

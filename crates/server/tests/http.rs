@@ -1,0 +1,149 @@
+//! The API end to end, in-process: build scenes through JSON, render them, decode the PNGs and
+//! look at their pixels.
+
+mod common;
+
+use axum::http::StatusCode;
+use common::*;
+use serde_json::json;
+
+#[tokio::test]
+async fn a_scene_built_from_json_renders_as_described() {
+    let app = app();
+    let s = new_scene(&app).await;
+    let red = ok(&app, "POST", &format!("/scenes/{s}/shaders"), json!({ "class": "Constant", "params": { "color": [1, 0, 0] } }), StatusCode::CREATED).await;
+    let mut mesh = square(1.0);
+    mesh["shader"] = red["id"].clone();
+    let object = ok(&app, "POST", &format!("/scenes/{s}/objects"), json!({ "mesh": mesh }), StatusCode::CREATED).await;
+    let instance = ok(&app, "POST", &format!("/scenes/{s}/instances"), json!({ "object": object["id"] }), StatusCode::CREATED).await;
+
+    let image = frame(&app, &format!("/scenes/{s}/frame.png?width=64&height=48&integrator=eyelight")).await;
+    assert_eq!(image.dimensions(), (64, 48));
+    assert_eq!(image.get_pixel(32, 24).0, [255, 0, 0, 255], "the square fills the centre");
+    assert_ne!(image.get_pixel(1, 1).0, [255, 0, 0, 255], "but not the corner");
+
+    // Move the instance right: the left of the centre is uncovered.
+    let uri = format!("/scenes/{s}/instances/{}", instance["id"]);
+    ok(&app, "PUT", &uri, json!({ "transform": { "translate": [1.5, 0, 0] } }), StatusCode::OK).await;
+    let moved = frame(&app, &format!("/scenes/{s}/frame.png?width=64&height=48&integrator=eyelight")).await;
+    assert_ne!(moved.get_pixel(24, 24).0, [255, 0, 0, 255]);
+    assert_eq!(moved.get_pixel(50, 24).0, [255, 0, 0, 255]);
+
+    // A parameter write changes every triangle bound to the shader.
+    ok(&app, "PATCH", &format!("/scenes/{s}/shaders/{}", red["id"]), json!({ "params": { "color": [0, 0, 1] } }), StatusCode::OK).await;
+    let blue = frame(&app, &format!("/scenes/{s}/frame.png?width=64&height=48&integrator=eyelight")).await;
+    assert_eq!(blue.get_pixel(50, 24).0, [0, 0, 255, 255]);
+}
+
+#[tokio::test]
+async fn lights_make_whitted_the_default_and_shade_diffuse_surfaces() {
+    let app = app();
+    let s = new_scene(&app).await;
+    let grey = ok(&app, "POST", &format!("/scenes/{s}/shaders"), json!({ "class": "Diffuse", "params": { "diffuse": 0.5 } }), StatusCode::CREATED).await;
+    let mut mesh = square(1.0);
+    mesh["shader"] = grey["id"].clone();
+    let object = ok(&app, "POST", &format!("/scenes/{s}/objects"), json!({ "mesh": mesh }), StatusCode::CREATED).await;
+    ok(&app, "POST", &format!("/scenes/{s}/instances"), json!({ "object": object["id"] }), StatusCode::CREATED).await;
+    let dark = frame(&app, &format!("/scenes/{s}/frame.png?width=32&height=32&integrator=whitted")).await;
+    assert_eq!(&dark.get_pixel(16, 16).0[..3], &[0, 0, 0], "no light, no colour");
+
+    let light = ok(&app, "POST", &format!("/scenes/{s}/lights"), json!({ "class": "DirectionalLight", "direction": [0, 0, -1], "intensity": 2.5 }), StatusCode::CREATED).await;
+    let lit = frame(&app, &format!("/scenes/{s}/frame.png?width=32&height=32")).await;
+    let value = lit.get_pixel(16, 16).0[0];
+    // Albedo 0.5 under irradiance 2.5: radiance 0.5 × 2.5 / π = 0.398, sRGB 170.
+    assert!((168..=172).contains(&value), "{value}");
+    let stats = ok(&app, "GET", &format!("/scenes/{s}/stats"), json!(null), StatusCode::OK).await;
+    assert_eq!(stats["last_frame"]["integrator"], "whitted");
+    assert!(stats["last_frame"]["rays"]["shadow"].as_u64().unwrap() > 0);
+
+    let lights = ok(&app, "GET", &format!("/scenes/{s}/lights"), json!(null), StatusCode::OK).await;
+    assert_eq!(lights[0]["class"], "DirectionalLight");
+    assert_eq!(lights[0]["intensity"], json!([2.5, 2.5, 2.5]));
+    ok(&app, "DELETE", &format!("/scenes/{s}/lights/{}", light["id"]), json!(null), StatusCode::OK).await;
+    let info = ok(&app, "GET", &format!("/scenes/{s}"), json!(null), StatusCode::OK).await;
+    assert_eq!((info["lights"].as_u64(), info["objects"].as_u64(), info["triangles"].as_u64()), (Some(0), Some(1), Some(2)));
+}
+
+#[tokio::test]
+async fn a_batch_builds_a_scene_with_labels_and_reports_each_command() {
+    let app = app();
+    let s = new_scene(&app).await;
+    let batch = json!({ "commands": [
+        { "add_shader": { "label": "green", "class": "Constant", "params": { "color": [0, 1, 0], "shininess": 3 } } },
+        { "add_object": { "label": "square", "mesh": { "positions": [[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]], "indices": [[0, 1, 2], [0, 2, 3]], "shader": "green" } } },
+        { "add_instance": { "label": "left", "object": "square", "transform": { "translate": [-1, 0, 0], "scale": 0.5 } } },
+        { "add_instance": { "object": "square", "transform": { "matrix": [[0.5, 0, 0, 1], [0, 0.5, 0, 0], [0, 0, 0.5, 0], [0, 0, 0, 1]] } } },
+        { "set_camera": { "eye": [0, 0, 4] } }
+    ] });
+    let result = ok(&app, "POST", &format!("/scenes/{s}/commands"), batch, StatusCode::OK).await;
+    let results = result["results"].as_array().unwrap();
+    assert_eq!(results.len(), 5);
+    assert_eq!(results[0]["ignored"], json!(["shininess"]), "Constant has no shininess: ignored, as in the C ABI");
+    assert!(results[1]["id"].is_u64() && results[2]["id"].is_u64() && results[3]["id"].is_u64());
+    assert_eq!(result["version"], 1, "one batch, one version");
+
+    let image = frame(&app, &format!("/scenes/{s}/frame.png?width=64&height=32&integrator=eyelight")).await;
+    assert_eq!(image.get_pixel(22, 16).0, [0, 255, 0, 255], "left square");
+    assert_eq!(image.get_pixel(42, 16).0, [0, 255, 0, 255], "right square");
+    assert_ne!(image.get_pixel(32, 16).0, [0, 255, 0, 255], "a gap between them");
+    let instances = ok(&app, "GET", &format!("/scenes/{s}/instances"), json!(null), StatusCode::OK).await;
+    assert_eq!(instances[1]["matrix"][0], json!([0.5, 0.0, 0.0, 1.0]));
+}
+
+#[tokio::test]
+async fn put_redefines_and_patch_moves_vertices_of_an_object_and_its_instances() {
+    let app = app();
+    let s = new_scene(&app).await;
+    let object = ok(&app, "POST", &format!("/scenes/{s}/objects"), json!({ "kind": "unstructured", "mesh": square(0.2) }), StatusCode::CREATED).await;
+    let o = object["id"].as_u64().unwrap();
+    ok(&app, "POST", &format!("/scenes/{s}/instances"), json!({ "object": o }), StatusCode::CREATED).await;
+    let pick = |x: u32| format!("/scenes/{s}/pick?x={x}&y=24&width=64&height=48");
+    assert!(ok(&app, "GET", &pick(32), json!(null), StatusCode::OK).await["hit"].is_object());
+    assert!(ok(&app, "GET", &pick(10), json!(null), StatusCode::OK).await["hit"].is_null());
+
+    // PUT: a bigger square, as base64; the instance follows.
+    let positions: Vec<u8> = [[-2.0f32, -2.0, 0.0], [2.0, -2.0, 0.0], [2.0, 2.0, 0.0], [-2.0, 2.0, 0.0]].iter().flatten().flat_map(|f| f.to_le_bytes()).collect();
+    let indices: Vec<u8> = [0u32, 1, 2, 0, 2, 3].iter().flat_map(|i| i.to_le_bytes()).collect();
+    use base64::Engine;
+    let b64 = |b: &[u8]| base64::engine::general_purpose::STANDARD.encode(b);
+    let mesh = json!({ "positions_base64": b64(&positions), "indices_base64": b64(&indices) });
+    ok(&app, "PUT", &format!("/scenes/{s}/objects/{o}"), json!({ "mesh": mesh }), StatusCode::OK).await;
+    let hit = ok(&app, "GET", &pick(10), json!(null), StatusCode::OK).await;
+    assert_eq!(hit["hit"]["object"], o);
+    let info = ok(&app, "GET", &format!("/scenes/{s}/objects/{o}"), json!(null), StatusCode::OK).await;
+    assert_eq!((info["kind"].as_str(), info["triangles"].as_u64()), (Some("unstructured"), Some(2)));
+
+    // PATCH: the same vertices moved far away.
+    let far = json!({ "positions": [[10, 10, 0], [11, 10, 0], [11, 11, 0], [10, 11, 0]] });
+    ok(&app, "PATCH", &format!("/scenes/{s}/objects/{o}"), far, StatusCode::OK).await;
+    assert!(ok(&app, "GET", &pick(32), json!(null), StatusCode::OK).await["hit"].is_null());
+
+    // DELETE takes the instances with it.
+    ok(&app, "DELETE", &format!("/scenes/{s}/objects/{o}"), json!(null), StatusCode::OK).await;
+    assert_eq!(ok(&app, "GET", &format!("/scenes/{s}/instances"), json!(null), StatusCode::OK).await, json!([]));
+}
+
+#[tokio::test]
+async fn built_in_demos_load_by_name_and_everything_is_listed() {
+    let app = app();
+    let created = ok(&app, "POST", "/scenes", json!({ "demo": "cornell" }), StatusCode::CREATED).await;
+    assert_eq!(created["origin"], "demo:cornell");
+    assert!(created["triangles"].as_u64().unwrap() > 10);
+    let s = created["id"].as_u64().unwrap();
+    let image = frame(&app, &format!("/scenes/{s}/frame.png?width=40&height=30&spp=2&integrator=path")).await;
+    assert!(image.pixels().any(|p| p.0[0] > 20), "the room is lit");
+    let scenes = ok(&app, "GET", "/scenes", json!(null), StatusCode::OK).await;
+    assert_eq!(scenes.as_array().unwrap().len(), 1);
+    let classes = ok(&app, "GET", "/shader-classes", json!(null), StatusCode::OK).await;
+    let names: Vec<&str> = classes.as_array().unwrap().iter().map(|c| c["name"].as_str().unwrap()).collect();
+    assert!(names.contains(&"Glass") && names.contains(&"SpotLight"), "{names:?}");
+    let shader = ok(&app, "GET", &format!("/scenes/{s}/shaders/0"), json!(null), StatusCode::OK).await;
+    assert!(shader["class"].is_string() && shader["params"].is_object(), "{shader}");
+    let camera = ok(&app, "GET", &format!("/scenes/{s}/camera"), json!(null), StatusCode::OK).await;
+    ok(&app, "PUT", &format!("/scenes/{s}/camera"), json!({ "fov_y_degrees": 30 }), StatusCode::OK).await;
+    let narrower = ok(&app, "GET", &format!("/scenes/{s}/camera"), json!(null), StatusCode::OK).await;
+    assert_eq!((narrower["fov_y_degrees"].as_f64(), &narrower["eye"]), (Some(30.0), &camera["eye"]), "fields left out stay");
+    let (status, _, _) = send(&app, "DELETE", &format!("/scenes/{s}"), axum::body::Body::empty(), &[]).await;
+    assert_eq!(status, StatusCode::NO_CONTENT);
+    fails(&app, "GET", &format!("/scenes/{s}"), json!(null), StatusCode::NOT_FOUND).await;
+}

@@ -1,0 +1,149 @@
+//! The WebSocket stream over a real socket: progressive frames arrive, a camera change
+//! restarts the image, settings and bad messages get replies.
+
+mod common;
+
+use axum::http::StatusCode;
+use common::*;
+use futures_util::{SinkExt, StreamExt};
+use raystage_server::{AppState, Config, serve};
+use serde_json::{Value, json};
+use tokio_tungstenite::tungstenite::Message;
+
+type Socket = tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
+
+/// The next text message, as JSON.
+async fn next_json(socket: &mut Socket) -> Value {
+    loop {
+        match socket.next().await.expect("the stream stays open").expect("no socket error") {
+            Message::Text(text) => return serde_json::from_str(text.as_str()).unwrap(),
+            Message::Ping(_) | Message::Pong(_) => continue,
+            other => panic!("expected a JSON text message, got {other:?}"),
+        }
+    }
+}
+
+/// The next frame: its statistics and its image.
+async fn next_frame(socket: &mut Socket) -> (Value, image::RgbaImage) {
+    loop {
+        let message = next_json(socket).await;
+        if message["type"] != "frame" {
+            continue;
+        }
+        let Some(Ok(Message::Binary(png))) = socket.next().await else { panic!("a frame's PNG follows its statistics") };
+        return (message, image::load_from_memory(&png).unwrap().to_rgba8());
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn frames_refine_and_a_camera_change_restarts_them() {
+    let state = AppState::new(Config::default());
+    let app = raystage_server::router(state.clone());
+    let s = new_scene(&app).await;
+    let red = ok(&app, "POST", &format!("/scenes/{s}/shaders"), json!({ "class": "Constant", "params": { "color": [1, 0, 0] } }), StatusCode::CREATED).await;
+    let mut mesh = square(1.0);
+    mesh["shader"] = red["id"].clone();
+    let object = ok(&app, "POST", &format!("/scenes/{s}/objects"), json!({ "mesh": mesh }), StatusCode::CREATED).await;
+    ok(&app, "POST", &format!("/scenes/{s}/instances"), json!({ "object": object["id"] }), StatusCode::CREATED).await;
+
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    tokio::spawn(serve(listener, state, std::future::pending()));
+    let url = format!("ws://{addr}/scenes/{s}/stream?width=48&height=32&integrator=eyelight&max_samples=4096");
+    let (mut socket, _) = tokio_tungstenite::connect_async(url).await.unwrap();
+
+    let hello = next_json(&mut socket).await;
+    assert_eq!((hello["type"].as_str(), hello["protocol"].as_u64(), hello["width"].as_u64()), (Some("hello"), Some(1), Some(48)));
+    let mut samples = 0;
+    for _ in 0..3 {
+        let (stats, image) = next_frame(&mut socket).await;
+        assert_eq!(image.dimensions(), (48, 32));
+        assert_eq!(image.get_pixel(24, 16).0, [255, 0, 0, 255]);
+        let now = stats["samples"].as_u64().unwrap();
+        assert!(now > samples, "each frame has more samples: {stats}");
+        samples = now;
+        assert_eq!(stats["scene_version"], 3);
+    }
+
+    let camera = json!({ "type": "camera", "request": 7, "camera": { "eye": [4, 0, 5], "target": [4, 0, 0] } });
+    socket.send(Message::text(camera.to_string())).await.unwrap();
+    let (stats, image) = loop {
+        let (stats, image) = next_frame(&mut socket).await;
+        if stats["scene_version"] == 4 {
+            break (stats, image);
+        }
+    };
+    assert_ne!(image.get_pixel(24, 16).0, [255, 0, 0, 255], "the square is out of the centre now");
+    assert!(stats["samples"].as_u64().unwrap() < samples + 64, "the image started over: {stats}");
+
+    // Replies come in between frames.
+    let reply = async |socket: &mut Socket| loop {
+        let message = next_json(socket).await;
+        if message["type"] != "frame" {
+            return message;
+        }
+        socket.next().await; // its PNG
+    };
+    socket.send(Message::text(r#"{"type": "settings", "request": 8, "width": 0}"#)).await.unwrap();
+    let error = reply(&mut socket).await;
+    assert_eq!((error["type"].as_str(), error["request"].as_u64(), error["error"]["field"].as_str()), (Some("error"), Some(8), Some("width")));
+    socket.send(Message::text(r#"{"type": "dance"}"#)).await.unwrap();
+    assert_eq!(reply(&mut socket).await["type"], "error");
+    socket.send(Message::text(r#"{"type": "settings", "request": 9, "width": 24, "height": 16, "max_samples": 8}"#)).await.unwrap();
+    let result = reply(&mut socket).await;
+    assert_eq!((result["type"].as_str(), result["request"].as_u64()), (Some("result"), Some(9)));
+    let (stats, image) = loop {
+        let (stats, image) = next_frame(&mut socket).await;
+        if image.width() == 24 && stats["converged"] == true {
+            break (stats, image);
+        }
+    };
+    assert_eq!((image.dimensions(), stats["samples"].as_u64()), ((24, 16), Some(8)));
+    socket.close(None).await.unwrap();
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn deleting_the_scene_ends_its_streams() {
+    let state = AppState::new(Config::default());
+    let app = raystage_server::router(state.clone());
+    let s = new_scene(&app).await;
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    tokio::spawn(serve(listener, state, std::future::pending()));
+    let (mut socket, _) = tokio_tungstenite::connect_async(format!("ws://{addr}/scenes/{s}/stream?width=16&height=16&max_samples=4")).await.unwrap();
+    next_frame(&mut socket).await;
+    let (status, _, _) = send(&app, "DELETE", &format!("/scenes/{s}"), axum::body::Body::empty(), &[]).await;
+    assert_eq!(status, StatusCode::NO_CONTENT);
+    let error = loop {
+        if let Some(Ok(Message::Text(text))) = socket.next().await {
+            let message: Value = serde_json::from_str(text.as_str()).unwrap();
+            if message["type"] == "error" {
+                break message;
+            }
+        }
+    };
+    assert_eq!(error["error"]["field"], "scene");
+    // A frame already on its way may still arrive; then the server closes the stream.
+    for _ in 0..4 {
+        match socket.next().await {
+            None | Some(Ok(Message::Close(_))) | Some(Err(_)) => return,
+            Some(Ok(_)) => continue,
+        }
+    }
+    panic!("the stream of a deleted scene stays open");
+}
+
+#[tokio::test]
+async fn a_stream_of_an_unknown_scene_or_with_bad_settings_is_refused() {
+    let state = AppState::new(Config::default());
+    let app = raystage_server::router(state.clone());
+    let s = new_scene(&app).await;
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    tokio::spawn(serve(listener, state, std::future::pending()));
+    for (path, status) in [("/scenes/99/stream", 404), (&format!("/scenes/{s}/stream?width=0") as &str, 422), (&format!("/scenes/{s}/stream?max_samples=0"), 422)] {
+        let error = tokio_tungstenite::connect_async(format!("ws://{addr}{path}")).await.unwrap_err();
+        let tokio_tungstenite::tungstenite::Error::Http(response) = error else { panic!("{path}: {error}") };
+        assert_eq!(response.status().as_u16(), status, "{path}");
+    }
+}
