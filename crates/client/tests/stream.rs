@@ -1,0 +1,77 @@
+//! The client's network layer against a real server started in-process: the scene arrives over
+//! HTTP, frames over the WebSocket (decoded, refining), and a camera change shows in a later
+//! frame.
+
+use std::sync::mpsc::RecvTimeoutError;
+use std::time::{Duration, Instant};
+
+use raystage_client::net::{Event, Link, StreamConfig, connect};
+use raystage_client::protocol::{CameraPatch, Request, Settings};
+use raystage_client::{Frame, Server};
+
+mod common;
+use common::server;
+
+fn next(link: &Link, deadline: Instant) -> Event {
+    match link.events.recv_timeout(deadline.saturating_duration_since(Instant::now())) {
+        Ok(Event::Closed(reason)) => panic!("the connection closed: {reason}"),
+        Ok(event) => event,
+        Err(RecvTimeoutError::Timeout) => panic!("nothing from the server in time"),
+        Err(RecvTimeoutError::Disconnected) => panic!("the network thread ended"),
+    }
+}
+
+fn next_frame(link: &Link, deadline: Instant) -> Frame {
+    loop {
+        match next(link, deadline) {
+            Event::Frame(frame) => return frame,
+            Event::Problem(problem) => panic!("{problem}"),
+            _ => {}
+        }
+    }
+}
+
+#[test]
+fn frames_arrive_refine_and_follow_the_camera() {
+    let (_runtime, url) = server();
+    let settings = Settings { width: Some(64), height: Some(48), integrator: Some("eyelight".into()), max_samples: Some(4096) };
+    let link = connect(StreamConfig { server: Server::parse(&url, None).unwrap(), scene: None, settings }, || {});
+    let deadline = Instant::now() + Duration::from_secs(30);
+
+    let Event::Scene(scene) = next(&link, deadline) else { panic!("the scene comes first") };
+    assert_eq!((scene.info.id, scene.info.origin.as_str()), (1, "demo:cornell"));
+    assert!(!scene.objects.is_empty() && !scene.instances.is_empty(), "{scene:?}");
+    let Event::Connected(hello) = next(&link, deadline) else { panic!("then the stream opens") };
+    assert_eq!((hello.width, hello.height, hello.integrator.as_deref()), (64, 48, Some("eyelight")));
+
+    let first = next_frame(&link, deadline);
+    let second = next_frame(&link, deadline);
+    for frame in [&first, &second] {
+        assert_eq!((frame.image.size, frame.stats.width, frame.stats.integrator.as_str()), ([64, 48], 64, "eyelight"));
+        assert!(frame.stats.mrays_per_second > 0.0 && frame.stats.rays.primary > 0, "{:?}", frame.stats);
+    }
+    assert!(second.stats.seq > first.stats.seq && second.stats.samples > first.stats.samples, "frames refine");
+    // The Cornell room has a red and a green wall: the decoded pixels are the rendered image.
+    let red = first.image.pixels.iter().filter(|c| i32::from(c.r()) > i32::from(c.g()) + 50).count();
+    let green = first.image.pixels.iter().filter(|c| i32::from(c.g()) > i32::from(c.r()) + 30).count();
+    assert!(red > 64 && green > 64, "red {red}, green {green} of {} pixels", first.image.pixels.len());
+
+    // A camera change is an edit of the scene: a later frame shows its version, from scratch.
+    let version = second.stats.scene_version;
+    let eye = scene.info.camera.eye;
+    link.requests.send(Request::Camera(CameraPatch { eye: [eye[0] + 0.5, eye[1], eye[2]], target: scene.info.camera.target })).unwrap();
+    let moved = loop {
+        let frame = next_frame(&link, deadline);
+        if frame.stats.scene_version > version {
+            break frame;
+        }
+    };
+    assert!(moved.stats.samples < second.stats.samples + 64, "the image started over: {:?}", moved.stats);
+
+    // Dropping the link ends the connection.
+    let Link { events, requests } = link;
+    drop(requests);
+    let end = Instant::now() + Duration::from_secs(10);
+    while events.recv_timeout(end.saturating_duration_since(Instant::now())).is_ok() {}
+    assert!(Instant::now() < end, "the network thread stops when the viewer goes");
+}

@@ -1,0 +1,136 @@
+//! The viewer's UI state, with the test playing the server on the other end of the viewer's
+//! channels (egui_kittest, no window, no rendering): statistics show up in the side panel,
+//! choosing an integrator sends a `settings` message, a drag sends the orbited camera.
+
+use std::time::{Duration, Instant};
+
+use eframe::egui::{self, Color32, ColorImage};
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use raystage_client::net::{Event, Frame, Link, Remote, SceneSnapshot};
+use raystage_client::protocol::{CameraJson, FrameStats, Hello, Rays, Request, SceneInfo, Settings};
+use raystage_client::{Viewer, ViewerOptions};
+use serde_json::json;
+
+fn scene() -> SceneSnapshot {
+    let camera = CameraJson { eye: [0.0, 0.0, 5.0], target: [0.0; 3], up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0 };
+    let info = SceneInfo { id: 1, origin: "demo:test".into(), version: 0, objects: 0, instances: 0, lights: 0, triangles: 0, camera };
+    SceneSnapshot { info, objects: Vec::new(), instances: Vec::new() }
+}
+
+fn frame(seq: u64, samples: u32, received: Instant) -> Event {
+    let stats = FrameStats {
+        seq,
+        scene_version: 0,
+        width: 8,
+        height: 4,
+        integrator: "eyelight".into(),
+        samples,
+        pass_samples: 4,
+        pass_seconds: 0.021,
+        encode_seconds: 0.004,
+        rays: Rays { primary: 128, total: 128, ..Rays::default() },
+        mrays_per_second: 11.2,
+        effects: vec!["multisampling".into()],
+        converged: false,
+    };
+    Event::Frame(Frame { stats, image: ColorImage::new([8, 4], vec![Color32::RED; 32]), received })
+}
+
+fn viewer() -> (Harness<'static, Viewer>, Remote) {
+    let (link, remote) = Link::pair();
+    let viewer = Viewer::new(link, ViewerOptions { integrator: None, max_samples: 256, ..ViewerOptions::default() });
+    let harness = Harness::builder().with_size([1000.0, 600.0]).build_ui_state(|ui, viewer: &mut Viewer| viewer.ui(ui), viewer);
+    (harness, remote)
+}
+
+fn requests(remote: &mut Remote) -> Vec<Request> {
+    std::iter::from_fn(|| remote.requests.try_recv().ok()).collect()
+}
+
+fn hello() -> Event {
+    Event::Connected(Hello { protocol: 1, scene: 1, width: 640, height: 360, integrator: None, max_samples: 256 })
+}
+
+#[test]
+fn the_side_panel_shows_the_stream_statistics() {
+    let (mut harness, remote) = viewer();
+    let start = Instant::now();
+    remote.events.send(Event::Scene(Box::new(scene()))).unwrap();
+    remote.events.send(hello()).unwrap();
+    remote.events.send(frame(1, 4, start)).unwrap();
+    remote.events.send(frame(2, 16, start + Duration::from_millis(500))).unwrap();
+    harness.run();
+
+    for shown in ["11.2 Mrays/s", "16 / 256", "21.0 ms for 4 spp", "effects: multisampling", "2.0 frames/s", "8 × 4, eyelight", "scene 1 (demo:test)"] {
+        assert!(harness.query_by_label(shown).is_some(), "the side panel shows `{shown}`");
+    }
+    assert_eq!(harness.state().stats().map(|s| s.samples), Some(16));
+}
+
+#[test]
+fn the_stream_follows_the_view_and_choosing_an_integrator_sends_settings() {
+    let (mut harness, mut remote) = viewer();
+    remote.events.send(Event::Scene(Box::new(scene()))).unwrap();
+    remote.events.send(hello()).unwrap();
+    harness.run();
+    // The first size goes out at once: the view's pixels (the window less the side panel and
+    // the status line).
+    let first = requests(&mut remote);
+    let [Request::Settings(Settings { width: Some(w), height: Some(h), max_samples: Some(256), integrator: None })] = first.as_slice() else {
+        panic!("one settings message with the view's size, got {first:?}")
+    };
+    assert!((600..1000).contains(w) && (500..600).contains(h), "{w} × {h}");
+
+    harness.get_by_label("path").click();
+    harness.run();
+    let sent = requests(&mut remote);
+    assert_eq!(sent, [Request::Settings(Settings { integrator: Some("path".into()), ..Settings::default() })]);
+    assert_eq!(sent[0].message(9), Some(json!({ "type": "settings", "request": 9, "integrator": "path" })));
+
+    // A resize is sent once it has held still.
+    harness.set_size(egui::vec2(900.0, 600.0));
+    harness.step();
+    assert!(requests(&mut remote).is_empty(), "not while the window may still be moving");
+    harness.run_steps(30);
+    let sent = requests(&mut remote);
+    assert!(matches!(sent.as_slice(), [Request::Settings(Settings { width: Some(n), .. })] if *n == w - 100), "{sent:?}");
+}
+
+#[test]
+fn dragging_orbits_the_camera_around_its_target() {
+    let (mut harness, mut remote) = viewer();
+    remote.events.send(Event::Scene(Box::new(scene()))).unwrap();
+    remote.events.send(hello()).unwrap();
+    remote.events.send(frame(1, 1, Instant::now())).unwrap();
+    harness.run();
+    requests(&mut remote);
+
+    // 100 points to the right, over a few frames, on the view (left of the side panel).
+    let start = egui::pos2(300.0, 300.0);
+    harness.hover_at(start);
+    harness.drag_at(start);
+    harness.run();
+    for x in [20.0, 60.0, 100.0] {
+        harness.hover_at(start + egui::vec2(x, 0.0));
+        harness.run();
+    }
+    harness.drop_at(start + egui::vec2(100.0, 0.0));
+    harness.run();
+
+    let cameras: Vec<_> = requests(&mut remote).into_iter().filter_map(|r| if let Request::Camera(c) = r { Some(c) } else { None }).collect();
+    let last = cameras.last().expect("the drag sent camera messages");
+    // One radian (0.01 per point) about the up axis: the eye goes left around the target.
+    let expected = [-5.0 * 1f32.sin(), 0.0, 5.0 * 1f32.cos()];
+    assert!(last.eye.iter().zip(expected).all(|(a, b)| (a - b).abs() < 1e-3), "eye {:?}, expected {expected:?}", last.eye);
+    assert_eq!(last.target, [0.0; 3]);
+    let message = Request::Camera(*last).message(3).unwrap();
+    assert_eq!((message["type"].as_str(), message["camera"]["target"].clone()), (Some("camera"), json!([0.0, 0.0, 0.0])));
+
+    // A scroll over the view zooms in: same direction, closer.
+    harness.hover_at(start);
+    harness.event(egui::Event::MouseWheel { unit: egui::MouseWheelUnit::Point, delta: egui::vec2(0.0, 50.0), phase: egui::TouchPhase::Move, source: egui::MouseWheelSource::Unknown, modifiers: egui::Modifiers::NONE });
+    harness.run();
+    let orbit = harness.state().orbit().unwrap();
+    assert!(orbit.eye.length() < 4.99, "{orbit:?}");
+}

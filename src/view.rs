@@ -1,0 +1,52 @@
+//! `raystage view`: a scene and the viewer in one step. A server runs in-process on a free
+//! loopback port with the scene as scene 1, and the viewer's window opens on it; closing the
+//! window stops both.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::time::Duration;
+
+use anyhow::{Context, Result};
+use raystage_server::{AppState, Config};
+
+use crate::render::SceneSource;
+
+/// What to view.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ViewJob {
+    /// The scene.
+    pub scene: SceneSource,
+    /// The integrator, or `None` for the server's choice.
+    pub integrator: Option<String>,
+    /// Samples per pixel the image refines to.
+    pub max_samples: u32,
+    /// Save a screenshot of the window here once the first frame is shown, then exit.
+    pub screenshot: Option<PathBuf>,
+}
+
+/// Loads the scene, serves it on 127.0.0.1 (a free port) and opens the viewer on it; returns
+/// when the window is closed.
+pub fn view(job: &ViewJob, log: &mut impl Write) -> Result<()> {
+    let scene = job.scene.load(log)?;
+    let state = AppState::new(Config::default());
+    let id = state.add_scene(scene, job.scene.name()).map_err(|e| anyhow::anyhow!(e.detail.message))?;
+    let runtime = tokio::runtime::Runtime::new().context("cannot start the server's threads")?;
+    let listener = runtime.block_on(tokio::net::TcpListener::bind("127.0.0.1:0")).context("cannot listen on 127.0.0.1")?;
+    let addr = listener.local_addr()?;
+    // The server runs on the runtime's threads; the window needs the main thread.
+    runtime.spawn(raystage_server::serve(listener, state, std::future::pending()));
+    writeln!(log, "raystage serving http://{addr}/ (scene {id}: {}) for the viewer; closing the window stops it", job.scene.name())?;
+    log.flush()?;
+    let options = raystage_client::Options {
+        server: format!("http://{addr}"),
+        scene: Some(id),
+        integrator: job.integrator.clone(),
+        max_samples: job.max_samples,
+        screenshot: job.screenshot.clone(),
+        ..raystage_client::Options::default()
+    };
+    let outcome = raystage_client::run(options);
+    // Renders in flight finish on the blocking pool; don't wait long for them.
+    runtime.shutdown_timeout(Duration::from_secs(1));
+    outcome.context("the viewer failed")
+}
