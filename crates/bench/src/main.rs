@@ -1,7 +1,9 @@
 //! `raystage-bench`: command-line front end of the benchmark harness.
 
+use std::path::PathBuf;
+
 use clap::{Parser, Subcommand};
-use raystage_bench::{dynamic, kernel, table};
+use raystage_bench::{dynamic, kernel, plot, render, table};
 use raystage_demo::animated::{Animation, Museum, Robots, Still, Terrain};
 use raystage_demo::StandardScene;
 
@@ -47,10 +49,67 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Shading costs (issue 6): eye-light and point-light frames against the bare kernel,
+    /// specialised against general shading, and the path tracer's convergence.
+    Render {
+        /// Threads of every measurement.
+        #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
+        threads: usize,
+        /// Repetitions of the shading measurements; medians are reported.
+        #[arg(long, default_value_t = 3)]
+        reps: usize,
+        /// Samples per pixel of the convergence reference (its own error adds to the RMSE at the
+        /// highest counts: raise it for a cleaner tail, at about 25 ms per sample on 2 cores).
+        #[arg(long, default_value_t = 2048)]
+        reference_spp: u32,
+        /// Highest sample count compared with the reference (powers of two from 1).
+        #[arg(long, default_value_t = 256)]
+        max_spp: u32,
+        /// Where to write the convergence plot (PNG).
+        #[arg(long, default_value = "convergence.png")]
+        plot: PathBuf,
+        /// Print one JSON object per measurement instead of tables.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 fn main() {
     match Cli::parse().command {
+        Command::Render { threads, reps, reference_spp, max_spp, plot: plot_path, json } => {
+            let threads = threads.max(1);
+            let shading = render::run_shading(threads, reps, |line| eprintln!("{line}"));
+            let convergence = render::run_convergence(threads, reference_spp.max(1), max_spp.max(1), |line| eprintln!("{line}"));
+            let text = plot::register_system_font();
+            if let Err(e) = plot::convergence(&plot_path, &convergence, text) {
+                eprintln!("error: cannot write the plot {}: {e}", plot_path.display());
+                std::process::exit(1);
+            }
+            let (lines, specialisation) = shading.reports();
+            if json {
+                for r in &lines {
+                    println!("{}", serde_json::to_string(r).expect("report serialises"));
+                }
+                println!("{}", serde_json::to_string(&specialisation).expect("report serialises"));
+                for r in convergence.reports() {
+                    println!("{}", serde_json::to_string(&r).expect("report serialises"));
+                }
+            } else {
+                print!("{}", table::shading_table(&shading));
+                print!("{}", table::convergence_table(&convergence));
+            }
+            let mut note = format!("convergence plot: {}", plot_path.display());
+            if !text {
+                note += " (no font found, so no text: log-log axes, x samples per pixel from 1, y RMSE; \
+                         solid blue with dots: measured; dashed red: ideal 1/sqrt(spp) from the first point)";
+            }
+            // Standard output stays one JSON object per line with --json.
+            if json {
+                eprintln!("{note}");
+            } else {
+                println!("{note}");
+            }
+        }
         Command::Dynamic { scene, triangles, frames, threads, json } => {
             let museum_sizes = triangles.map_or(vec![1024, 4096, 16384, 65536], |n| vec![n]);
             let animations: Vec<Box<dyn Animation>> = match scene.as_str() {

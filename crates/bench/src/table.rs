@@ -3,6 +3,7 @@
 use std::fmt::Write;
 
 use crate::kernel::{Samples, SceneRun, Traced, median};
+use crate::render::{ConvergenceRun, ShadingRun, System};
 
 /// Median throughput of repeated runs over `n` rays.
 fn mrays(runs: &[Traced], n: usize) -> f64 {
@@ -123,5 +124,78 @@ pub fn dynamic_table(scene: &str, triangles: u64, instances: usize, frames: usiz
             );
         }
     }
+    out
+}
+
+/// The shading measurements as a table: median time per frame of the bare kernel and of each
+/// rendered frame, its ratio to the kernel's (median of the repetitions' ratios) and the rays it
+/// traced; then the ratios issue 6 sets targets for, and whether specialised and general shading
+/// gave the same image.
+pub fn shading_table(run: &ShadingRun) -> String {
+    let mut out = String::new();
+    let reps = run.samples.first().map_or(0, |(_, m)| m.len());
+    let _ = writeln!(
+        out,
+        "shading: sphere grid, {} triangles, {}x{}, one point light; {} thread(s), median of {reps}; object tree built once beforehand ({:.3} s)",
+        run.triangles,
+        crate::rays::WIDTH,
+        crate::rays::HEIGHT,
+        run.threads,
+        run.object_build_seconds
+    );
+    let _ = writeln!(out, "  {:<18} {:>9} {:>10} {:>13} {:>13} {:>9}", "system", "ms", "vs kernel", "primary rays", "shadow rays", "Mrays/s");
+    for system in System::ALL {
+        let (seconds, rays) = (run.median_seconds(system), run.rays(system));
+        let _ = writeln!(
+            out,
+            "  {:<18} {:>9.1} {:>9.2}x {:>13} {:>13} {:>9.1}",
+            system.name(),
+            seconds * 1e3,
+            run.ratio(system, System::Kernel),
+            rays.primary,
+            rays.shadow,
+            rays.total() as f64 / seconds / 1e6
+        );
+    }
+    let _ = writeln!(out, "  eyelight / kernel:     {:.2}x (target <= 1.2)", run.ratio(System::EyeLight, System::Kernel));
+    let _ = writeln!(out, "  point light / kernel:  {:.2}x (target <= 2.2)", run.ratio(System::Whitted, System::Kernel));
+    let general = run.ratio(System::WhittedGeneral, System::Whitted);
+    let _ = writeln!(out, "specialisation: whitted, purely diffuse scene");
+    let _ = writeln!(out, "  general / specialised: {general:.3}x (target <= 1.05: reflection and refraction code costs a diffuse scene at most 5 %)");
+    let d = run.specialisation_difference;
+    if d.differing == 0 {
+        let _ = writeln!(out, "  images identical: yes (every pixel bit-identical)");
+    } else {
+        let _ = writeln!(out, "  images identical: NO ({} pixels differ, by up to {})", d.differing, d.largest);
+    }
+    out
+}
+
+/// The path tracer's convergence as a table: RMSE against the reference and the cumulative
+/// render time at each sample count, beside the ideal 1/sqrt(spp) from the first point, and the
+/// fitted log-log slope.
+pub fn convergence_table(run: &ConvergenceRun) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "convergence: Cornell room, path tracing, {}x{}, {} thread(s); reference {} spp of another seed ({:.1} s)",
+        crate::render::CONVERGENCE_WIDTH,
+        crate::render::CONVERGENCE_HEIGHT,
+        run.threads,
+        run.reference_spp,
+        run.reference_seconds
+    );
+    let _ = writeln!(out, "  {:>6} {:>10} {:>10} {:>9}", "spp", "RMSE", "ideal", "seconds");
+    let first = run.points.first().map_or(0.0, |p| p.rmse);
+    for p in &run.points {
+        let _ = writeln!(out, "  {:>6} {:>10.5} {:>10.5} {:>9.2}", p.spp, p.rmse, first / (p.spp as f64).sqrt(), p.seconds);
+    }
+    let _ = writeln!(
+        out,
+        "  log-log slope: {:.3} over all, {:.3} over the last {} counts (Monte Carlo: -0.5)",
+        run.slope,
+        run.tail_slope,
+        crate::render::TAIL_POINTS
+    );
     out
 }

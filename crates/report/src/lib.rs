@@ -1,0 +1,90 @@
+//! # raystage-report
+//!
+//! The accuracy report (`raystage report`, DESIGN.md "Accuracy report"): what each knob that
+//! trades accuracy for time costs and buys. For one scene it renders a converged reference with
+//! the path tracer, then sweeps one knob at a time — samples per pixel, path depth, shadow rays
+//! per area light, Russian roulette, the integrator — measuring wall time and the error against
+//! the reference (RMSE, relative MSE, mean absolute error), and compares the BVH builders at the
+//! kernel level (build time against trace time on the scene's own rays). [`run`] computes a
+//! [`Report`]; [`write`] turns it into `report.md` (a table and a reading per knob), log-log
+//! plots of error against time, and a strip of the images side by side.
+//!
+//! Not in here: the renderer and kernel it measures, and the command line (the `raystage`
+//! binary parses arguments and shows progress through [`Progress`]).
+
+mod markdown;
+mod metrics;
+mod plot;
+mod run;
+mod scenes;
+mod strip;
+
+pub use markdown::markdown;
+pub use metrics::Errors;
+pub use plot::{error_plot, register_font};
+pub use run::{BvhRow, Knob, Options, Progress, Report, Row, run};
+pub use scenes::{BuiltinScene, SceneSource};
+pub use strip::strip;
+
+use std::path::{Path, PathBuf};
+
+/// What can go wrong making a report.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The scene could not be built.
+    #[error("cannot build the scene: {0}")]
+    Scene(#[from] raystage_scene::SceneError),
+    /// The renderer refused the settings.
+    #[error("cannot render: {0}")]
+    Render(#[from] raystage_render::Error),
+    /// The scene named is not one the report knows how to load.
+    #[error("{0}")]
+    Unsupported(String),
+    /// Writing an output file failed.
+    #[error("cannot write {path}: {source}")]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// Drawing a plot or encoding an image failed.
+    #[error("cannot draw {path}: {message}")]
+    Draw {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        message: String,
+    },
+}
+
+/// The files [`write`] makes in its directory.
+pub const FILES: [&str; 4] = ["report.md", "error_vs_time.png", "strip.png", "reference.png"];
+
+/// Writes the report into `dir` (created if needed): `report.md`, `error_vs_time.png` (every
+/// knob's RMSE against wall time, log-log), one plot per knob (`<knob>.png`), `strip.png` (the
+/// reference and the settings' images side by side) and `reference.png`. Plots carry text only
+/// if a font was registered ([`register_font`]); `report.md` says what they show either way.
+/// Returns the files written.
+pub fn write(report: &Report, dir: &Path) -> Result<Vec<PathBuf>, Error> {
+    std::fs::create_dir_all(dir).map_err(|source| Error::Write { path: dir.to_owned(), source })?;
+    let mut written = Vec::new();
+    let md = dir.join("report.md");
+    std::fs::write(&md, markdown(report)).map_err(|source| Error::Write { path: md.clone(), source })?;
+    written.push(md);
+    let all = dir.join("error_vs_time.png");
+    error_plot(&all, &report.knobs.iter().collect::<Vec<_>>(), "Error against time, every knob")?;
+    written.push(all);
+    for knob in &report.knobs {
+        let path = dir.join(format!("{}.png", knob.id));
+        error_plot(&path, &[knob], &format!("{}: error against time", knob.name))?;
+        written.push(path);
+    }
+    let strip_path = dir.join("strip.png");
+    strip(&strip_path, &report.images.iter().map(|(_, film)| film).collect::<Vec<_>>())?;
+    written.push(strip_path);
+    let reference = dir.join("reference.png");
+    report.reference.write_png(&reference).map_err(|e| Error::Draw { path: reference.clone(), message: e.to_string() })?;
+    written.push(reference);
+    Ok(written)
+}

@@ -1,0 +1,52 @@
+//! `raystage report` end to end: a quick report of the Cornell room, its files and tables.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn raystage(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_raystage")).args(args).output().expect("the raystage binary runs")
+}
+
+#[test]
+fn a_quick_report_writes_tables_plots_and_images() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("cli_report-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let output = raystage(&["report", "--quick", "--scene", "cornell", "--threads", "2", "--out", dir.to_str().unwrap()]);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "stdout: {stdout}\nstderr: {}", String::from_utf8_lossy(&output.stderr));
+    assert!(stdout.starts_with("cornell at 32x24 on 2 threads: reference 64 spp"), "{stdout}");
+    assert!(stdout.contains("Samples per pixel: best trade "), "{stdout}");
+
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    for heading in ["# Accuracy report: cornell", "## Summary", "## Samples per pixel", "## Path depth", "## Shadow rays per area light", "## Russian roulette", "## Integrator", "## BVH build quality"] {
+        assert!(md.contains(heading), "report.md lacks {heading}:\n{md}");
+    }
+    for row in ["| 1 spp |", "| 4 spp |", "| depth 2 |", "| 2 per light |", "| roulette off |", "| eyelight |", "| path |", "| sah |", "| fast |"] {
+        assert!(md.contains(row), "report.md lacks the row {row}");
+    }
+    assert!(md.contains("Best trade (lowest MSE × time): **"), "a reading per knob");
+    assert!(!md.contains("NaN") && !md.contains("inf |"), "every number is finite:\n{md}");
+
+    for plot in ["error_vs_time.png", "spp.png", "depth.png", "light-samples.png", "roulette.png", "integrator.png"] {
+        let image = image::open(dir.join(plot)).unwrap().to_rgb8();
+        assert_eq!(image.dimensions(), (720, 540), "{plot}");
+        assert!(image.pixels().any(|p| p.0 != [255, 255, 255]), "{plot} is blank");
+    }
+    let strip = image::open(dir.join("strip.png")).unwrap();
+    // The reference, three spp settings and three other integrators, 32 wide with 4-pixel gaps.
+    assert_eq!((strip.width(), strip.height()), (7 * 32 + 6 * 4, 24));
+    assert_eq!(image::open(dir.join("reference.png")).unwrap().width(), 32);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn unknown_scenes_and_gltf_files_are_errors() {
+    let output = raystage(&["report", "--quick", "--scene", "teapot", "--out", env!("CARGO_TARGET_TMPDIR")]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success());
+    assert!(stderr.contains("unknown scene `teapot`: expected cornell, area-spheres, glass, spheres or a .glb file"), "{stderr}");
+    let output = raystage(&["report", "--quick", "--scene", "room.glb", "--out", env!("CARGO_TARGET_TMPDIR")]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success());
+    assert!(stderr.contains("room.glb: glTF scenes need the gltf-import crate"), "{stderr}");
+}
