@@ -1,12 +1,16 @@
 #!/usr/bin/env bash
 # Runs every test of the workspace. As root on Debian it first installs the system packages the
 # tests need (Embree 3, for the benchmark's side-by-side checks; gcc, g++, pkg-config and CMake,
-# to build the C and C++ examples against the installed C library); with Embree's headers
-# present, the benchmark crate is tested with its `embree` feature.
+# to build the C and C++ examples against the installed C library; Xvfb and Mesa, for the
+# viewer's window test); with Embree's headers present, the benchmark crate is tested with its
+# `embree` feature.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 packages=(libembree-dev gcc g++ pkg-config cmake)
+# The viewer's window test (crates/client/tests/window.rs): a virtual X server, Mesa's software
+# OpenGL through GLX (llvmpipe), and the X libraries winit loads at run time.
+packages+=(xvfb libgl1 libglx-mesa0 libgl1-mesa-dri libegl1 libx11-xcb1 libxcursor1 libxi6 libxkbcommon-x11-0)
 
 if [[ $(id -u) -eq 0 ]] && command -v apt-get >/dev/null; then
     missing=()

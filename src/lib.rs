@@ -1,12 +1,23 @@
 //! # raystage
 //!
 //! The `raystage` command-line tool as a library: everything the binary does after parsing its
-//! arguments, so that each command can be tested as a function call. Today that is `raystage
-//! render`, one frame of a built-in demo scene written as PNG ([`render_demo`]).
+//! arguments, so that each command can be tested as a function call: `raystage render`, one
+//! frame of a built-in demo scene or a glTF file written as PNG ([`render_scene`]), `raystage
+//! serve`, the HTTP/JSON server ([`serve`]), `raystage report`, the accuracy report of a
+//! scene ([`run_report`]), and `raystage view`, a server in-process with the viewer's window
+//! on it ([`view`]).
 //!
-//! Not in here: the scene, rendering ([`raystage_render`]) and the demo scenes
-//! ([`raystage_demo`]); this crate only wires them together for a command line.
+//! Not in here: the scene, rendering ([`raystage_render`]), the demo scenes
+//! ([`raystage_demo`]), glTF import ([`raystage_gltf_import`]), the server
+//! ([`raystage_server`]) and the viewer ([`raystage_client`]); this crate only wires them
+//! together for a command line.
 
 mod render;
+mod serve;
+mod report;
+mod view;
 
-pub use render::{MAX_DIMENSION, MAX_THREADS, RenderJob, RenderReport, parse_demo, parse_integrator, render_demo};
+pub use render::{MAX_DIMENSION, MAX_THREADS, RenderJob, RenderReport, SceneSource, parse_demo, parse_integrator, render_scene};
+pub use serve::{ServeJob, serve};
+pub use report::{ReportJob, run_report};
+pub use view::{ViewJob, view};

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use raystage::RenderJob;
+use raystage::{RenderJob, SceneSource};
 use raystage_demo::animated::Demo;
 use raystage_render::Integrator;
 
@@ -18,12 +18,16 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Render one frame of a built-in demo scene to a PNG file.
+    /// Render one frame of a glTF file or a built-in demo scene to a PNG file.
     Render {
+        /// A glTF 2.0 file (.gltf or .glb) to render instead of a demo: seen through its first
+        /// camera, or one that frames everything.
+        #[arg(required_unless_present = "demo", conflicts_with = "demo")]
+        scene: Option<PathBuf>,
         /// The demo scene: spheres (or sphere), soup, cornell, materials, robots, museum,
         /// museum-<triangles>, terrain.
         #[arg(long, value_parser = raystage::parse_demo)]
-        demo: Demo,
+        demo: Option<Demo>,
         /// The frame of an animated demo.
         #[arg(long, default_value_t = 0)]
         frame: u32,
@@ -47,13 +51,77 @@ enum Command {
         #[arg(long, default_value_t = 1)]
         spp: u32,
     },
+    /// Serve the HTTP/JSON API: scenes, edits, PNG frames and a WebSocket stream.
+    Serve {
+        /// A glTF 2.0 file (.gltf or .glb) to load as scene 1.
+        #[arg(conflicts_with = "demo")]
+        scene: Option<PathBuf>,
+        /// A demo scene to load as scene 1 (see `render --demo`).
+        #[arg(long, value_parser = raystage::parse_demo)]
+        demo: Option<Demo>,
+        /// The address to listen on; anything but a loopback address needs a token.
+        #[arg(long, default_value = "127.0.0.1:8080")]
+        addr: std::net::SocketAddr,
+        /// The bearer token every request must carry (`Authorization: Bearer <token>`).
+        #[arg(long, env = "RAYSTAGE_TOKEN", hide_env_values = true)]
+        token: Option<String>,
+    },
+    /// View a glTF file or a demo scene in a window: serves it on 127.0.0.1 (a free port) and
+    /// opens the viewer on it. Left-drag orbits, right- or middle-drag pans, scroll zooms.
+    View {
+        /// A glTF 2.0 file (.gltf or .glb) to view.
+        #[arg(required_unless_present = "demo", conflicts_with = "demo")]
+        scene: Option<PathBuf>,
+        /// The demo scene (see `render --demo`).
+        #[arg(long, value_parser = raystage::parse_demo)]
+        demo: Option<Demo>,
+        /// How pixels are shaded [default: whitted if the scene has lights, else eyelight].
+        #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(raystage_client::INTEGRATORS))]
+        integrator: Option<String>,
+        /// Samples per pixel the image refines to.
+        #[arg(long, default_value_t = 256)]
+        max_samples: u32,
+        /// Save a PNG screenshot of the window here once the first frame is shown, then exit.
+        #[arg(long)]
+        screenshot: Option<PathBuf>,
+    },
+    /// Measure what accuracy costs in time: render a converged reference of a scene, sweep
+    /// each knob that trades accuracy for time, and write report.md, plots and images.
+    Report {
+        /// The scene: cornell, area-spheres, glass, spheres, or a .glb file.
+        #[arg(long, default_value = "cornell")]
+        scene: String,
+        /// The directory to write the report into.
+        #[arg(long, default_value = "report")]
+        out: PathBuf,
+        /// A tiny run (32x24 pixels, a 64-spp reference): seconds instead of a minute.
+        #[arg(long)]
+        quick: bool,
+        /// Threads for the renders and builds [default: one per core].
+        #[arg(long)]
+        threads: Option<usize>,
+    },
 }
 
 fn main() -> ExitCode {
     let result = match Cli::parse().command {
-        Command::Render { demo, frame, out, width, height, threads, integrator, spp } => {
-            let job = RenderJob { demo, frame, width, height, threads, integrator, samples: spp, out };
-            raystage::render_demo(&job, &mut std::io::stdout().lock())
+        Command::Render { scene, demo, frame, out, width, height, threads, integrator, spp } => {
+            let scene = SceneSource::from_args(scene, demo, frame).expect("clap requires a file or a demo");
+            let job = RenderJob { scene, width, height, threads, integrator, samples: spp, out };
+            raystage::render_scene(&job, &mut std::io::stdout().lock()).map(|_| ())
+        }
+        Command::Serve { scene, demo, addr, token } => {
+            let job = raystage::ServeJob { addr, token, scene: SceneSource::from_args(scene, demo, 0) };
+            raystage::serve(&job, &mut std::io::stdout().lock())
+        }
+        Command::View { scene, demo, integrator, max_samples, screenshot } => {
+            let scene = SceneSource::from_args(scene, demo, 0).expect("clap requires a file or a demo");
+            let job = raystage::ViewJob { scene, integrator, max_samples, screenshot };
+            raystage::view(&job, &mut std::io::stdout().lock())
+        }
+        Command::Report { scene, out, quick, threads } => {
+            let job = raystage::ReportJob { scene, out, quick, threads };
+            raystage::run_report(&job, &mut std::io::stdout().lock()).map(|_| ())
         }
     };
     match result {
