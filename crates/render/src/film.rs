@@ -49,12 +49,28 @@ impl Film {
         self.pixels[y as usize * self.width as usize + x as usize]
     }
 
+    /// Rows `rows` of the film as sRGB-encoded RGB8, row by row from the top: a band of a PNG
+    /// that an encoder can compress while later bands are still being converted. Panics if the
+    /// rows are not in the film.
+    pub fn rgb8_rows(&self, rows: std::ops::Range<u32>) -> Vec<u8> {
+        assert!(rows.start <= rows.end && rows.end <= self.height, "rows {rows:?} outside a film of {} rows", self.height);
+        let width = self.width as usize;
+        let pixels = &self.pixels[rows.start as usize * width..rows.end as usize * width];
+        let table = srgb::table();
+        let mut bytes = vec![0u8; pixels.len() * 3];
+        for (out, p) in bytes.chunks_exact_mut(3).zip(pixels) {
+            out.copy_from_slice(&[srgb::encode_with(table, p.x), srgb::encode_with(table, p.y), srgb::encode_with(table, p.z)]);
+        }
+        bytes
+    }
+
     /// The pixels as sRGB-encoded RGBA8 (opaque), row by row: the layout of an application's
     /// frame buffer and of the PNG.
     pub fn to_rgba8(&self) -> Vec<u8> {
+        let table = srgb::table();
         let mut bytes = vec![0u8; self.pixels.len() * 4];
         bytes.par_chunks_mut(4).zip(self.pixels.par_iter()).for_each(|(out, p)| {
-            out.copy_from_slice(&[srgb::encode(p.x), srgb::encode(p.y), srgb::encode(p.z), 255]);
+            out.copy_from_slice(&[srgb::encode_with(table, p.x), srgb::encode_with(table, p.y), srgb::encode_with(table, p.z), 255]);
         });
         bytes
     }
@@ -113,6 +129,18 @@ mod tests {
     fn write_png_to_a_missing_directory_is_an_error_naming_the_path() {
         let err = ramp(4, 4).write_png("/nonexistent-raystage-dir/frame.png").unwrap_err();
         assert!(err.to_string().contains("/nonexistent-raystage-dir/frame.png"), "{err}");
+    }
+
+    #[test]
+    fn rgb8_rows_are_the_rgba8_bytes_without_alpha() {
+        let film = ramp(13, 7);
+        let rgba = film.to_rgba8();
+        let rgb = |rows: std::ops::Range<u32>| -> Vec<u8> {
+            rgba[rows.start as usize * 13 * 4..rows.end as usize * 13 * 4].chunks(4).flat_map(|p| [p[0], p[1], p[2]]).collect()
+        };
+        assert_eq!(film.rgb8_rows(0..7), rgb(0..7));
+        assert_eq!(film.rgb8_rows(2..5), rgb(2..5));
+        assert!(film.rgb8_rows(3..3).is_empty());
     }
 
     #[test]

@@ -2,14 +2,38 @@
 
 /// Steps of the encoding table over `[0, 1]`: fine enough that a step moves the encoded value by
 /// at most 0.05 of an 8-bit level (the curve is steepest at 0, 12.92 × 255 levels per unit).
-const TABLE_STEPS: usize = 65_535;
+pub(crate) const TABLE_STEPS: usize = 65_535;
+const _: () = assert!((TABLE_STEPS + 1).is_power_of_two(), "encode_with masks the step with TABLE_STEPS");
 
 /// Encodes a linear value as an 8-bit sRGB value, clamping to `[0, 1]` first (NaN becomes 0).
-/// A table lookup: encoding a 1080p frame takes six million of these.
-pub(crate) fn encode(linear: f32) -> u8 {
-    static TABLE: std::sync::LazyLock<Vec<u8>> = std::sync::LazyLock::new(|| (0..=TABLE_STEPS).map(|i| encode_exact(i as f32 / TABLE_STEPS as f32)).collect());
-    let c = if linear.is_nan() { 0.0 } else { linear.clamp(0.0, 1.0) };
-    TABLE[(c * TABLE_STEPS as f32 + 0.5) as usize]
+/// (The film encodes whole rows with [`encode_with`]; the tests check values one by one.)
+#[cfg(test)]
+fn encode(linear: f32) -> u8 {
+    encode_with(table(), linear)
+}
+
+/// The encoding table: the encoded value of every step over `[0, 1]`. Loops over many pixels
+/// fetch it once and call [`encode_with`].
+pub(crate) fn table() -> &'static [u8; TABLE_STEPS + 1] {
+    static TABLE: std::sync::LazyLock<Box<[u8; TABLE_STEPS + 1]>> = std::sync::LazyLock::new(|| {
+        let mut table = Box::new([0; TABLE_STEPS + 1]);
+        for (i, entry) in table.iter_mut().enumerate() {
+            *entry = encode_exact(i as f32 / TABLE_STEPS as f32);
+        }
+        table
+    });
+    &TABLE
+}
+
+/// One value encoded with the table in hand. `max` and `min` return the other operand for NaN, so
+/// NaN lands on 0. The step is rounded to the nearest by adding 2²³: the sum's low mantissa
+/// bits are then the step itself (at most `TABLE_STEPS`, so the lookup needs no bounds check),
+/// which costs half of Rust's saturating float-to-integer cast in this loop.
+#[inline]
+pub(crate) fn encode_with(table: &[u8; TABLE_STEPS + 1], linear: f32) -> u8 {
+    const ROUND: f32 = (1 << f32::MANTISSA_DIGITS - 1) as f32;
+    let step = linear.max(0.0).min(1.0) * TABLE_STEPS as f32 + ROUND;
+    table[(step.to_bits() & TABLE_STEPS as u32) as usize]
 }
 
 /// The sRGB curve itself, for values in `[0, 1]`.

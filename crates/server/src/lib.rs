@@ -24,7 +24,6 @@ mod model;
 mod png;
 mod render;
 mod routes;
-mod srgb;
 mod state;
 mod stats;
 mod stream;
