@@ -3,6 +3,10 @@
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
+mod common;
+
+use common::write_gltf;
+
 fn raystage(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_raystage")).args(args).output().expect("the raystage binary runs")
 }
@@ -40,13 +44,30 @@ fn a_quick_report_writes_tables_plots_and_images() {
 }
 
 #[test]
-fn unknown_scenes_and_gltf_files_are_errors() {
+fn a_gltf_file_is_reported_on_through_its_camera() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("cli_report-gltf-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let file = write_gltf();
+    let output = raystage(&["report", "--quick", "--scene", file.to_str().unwrap(), "--threads", "2", "--out", dir.to_str().unwrap()]);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "stdout: {stdout}\nstderr: {}", String::from_utf8_lossy(&output.stderr));
+    assert!(stdout.contains("triangle.gltf at 32x24 on 2 threads"), "{stdout}");
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(md.contains("the glTF scene ") && md.contains("## Samples per pixel"), "{md}");
+    // The unlit green triangle fills the middle of the reference.
+    let reference = image::open(dir.join("reference.png")).unwrap().to_rgba8();
+    assert_eq!(reference.get_pixel(16, 13).0, [0, 255, 0, 255]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn unknown_scenes_and_missing_files_are_errors() {
     let output = raystage(&["report", "--quick", "--scene", "teapot", "--out", env!("CARGO_TARGET_TMPDIR")]);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(!output.status.success());
-    assert!(stderr.contains("unknown scene `teapot`: expected cornell, area-spheres, glass, spheres or a .glb file"), "{stderr}");
-    let output = raystage(&["report", "--quick", "--scene", "room.glb", "--out", env!("CARGO_TARGET_TMPDIR")]);
+    assert!(stderr.contains("unknown scene `teapot`: expected cornell, area-spheres, glass, spheres or a .glb or .gltf file"), "{stderr}");
+    let output = raystage(&["report", "--quick", "--scene", "/nonexistent/room.glb", "--out", env!("CARGO_TARGET_TMPDIR")]);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(!output.status.success());
-    assert!(stderr.contains("room.glb: glTF scenes need the gltf-import crate"), "{stderr}");
+    assert!(stderr.contains("cannot import /nonexistent/room.glb"), "{stderr}");
 }

@@ -37,6 +37,14 @@ pub enum Error {
     /// The renderer refused the settings.
     #[error("cannot render: {0}")]
     Render(#[from] raystage_render::Error),
+    /// The glTF file could not be read or imported.
+    #[error("cannot import {path}: {source}")]
+    Import {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: raystage_gltf_import::ImportError,
+    },
     /// The scene named is not one the report knows how to load.
     #[error("{0}")]
     Unsupported(String),

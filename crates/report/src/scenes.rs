@@ -1,5 +1,5 @@
-//! The scenes a report can be made of: the built-in ones, and (once the importer exists) glTF
-//! files.
+//! The scenes a report can be made of: the built-in ones, and glTF files (through
+//! `raystage-gltf-import`, as `raystage render` reads them).
 
 use std::path::PathBuf;
 
@@ -63,7 +63,8 @@ impl BuiltinScene {
 pub enum SceneSource {
     /// A built-in scene.
     Builtin(BuiltinScene),
-    /// A binary glTF file.
+    /// A glTF 2.0 file (`.gltf` or `.glb`), seen through its camera or one that frames
+    /// everything, lit by its lights or, if it has none, by a sun and a fill light.
     Gltf(PathBuf),
 }
 
@@ -78,7 +79,7 @@ impl SceneSource {
             return Ok(SceneSource::Gltf(PathBuf::from(name)));
         }
         let names: Vec<&str> = BuiltinScene::ALL.iter().map(|s| s.name()).collect();
-        Err(Error::Unsupported(format!("unknown scene `{name}`: expected {} or a .glb file", names.join(", "))))
+        Err(Error::Unsupported(format!("unknown scene `{name}`: expected {} or a .glb or .gltf file", names.join(", "))))
     }
 
     /// Its name in the report.
@@ -101,7 +102,10 @@ impl SceneSource {
     pub fn scene(&self) -> Result<Scene, Error> {
         match self {
             SceneSource::Builtin(s) => s.scene(),
-            SceneSource::Gltf(path) => Err(Error::Unsupported(format!("{}: glTF scenes need the gltf-import crate", path.display()))),
+            SceneSource::Gltf(path) => {
+                let import = |source| Error::Import { path: path.clone(), source };
+                raystage_gltf_import::read_file(path, &raystage_gltf_import::Limits::default()).and_then(|i| i.into_scene()).map_err(import)
+            }
         }
     }
 }
