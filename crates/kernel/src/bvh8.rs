@@ -222,6 +222,23 @@ impl Bvh8 {
         }
     }
 
+    /// Which of up to [`PACKET_SIZE`] prepared rays hit anything in their segment `(tnear, tfar]`:
+    /// bit `i` for `rays[i]`, exactly what [`Bvh8::occluded_prepared`] says of each. Rays that
+    /// share their origin and octant (shadow rays traced from a point light to the points it
+    /// lights) are traced as one packet; others one by one.
+    ///
+    /// # Panics
+    /// If `rays` holds more than [`PACKET_SIZE`] rays.
+    pub fn occluded_packet_prepared(&self, rays: &[PreparedRay]) -> u32 {
+        assert!(rays.len() <= PACKET_SIZE, "at most a packet");
+        match self.isa {
+            // SAFETY: as in `intersect`.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 if !rays.is_empty() => unsafe { traverse::avx2::occluded_packet(self, rays) },
+            _ => (0..rays.len()).filter(|&i| traverse::portable::occluded(self, &rays[i])).fold(0, |m, i| m | 1 << i),
+        }
+    }
+
     /// Moves the triangles to their current positions in `tris` (the same triangles, by index,
     /// that the tree was built from, with [`BuildOptions::refittable`]) and refits every box
     /// bottom-up, keeping the tree's topology. Linear in the size of the tree and far cheaper than

@@ -122,13 +122,20 @@ fn lattice_ray() -> impl Strategy<Value = Ray> {
     (o, d).prop_map(|(o, d)| Ray::new(o, d))
 }
 
-/// Checks packets of rays against brute force, ray by ray.
+/// Checks packets of rays against brute force, ray by ray: closest hits, and occlusion (bit
+/// `i` of a packet's mask for its ray `i`).
 fn check_packets(tris: &Vec<[Vec3; 3]>, bvh8s: &[Bvh8], rays: &[Ray]) -> Result<(), TestCaseError> {
     let expected: Vec<Option<Hit>> = rays.iter().map(|r| brute::intersect(tris, r)).collect();
     for bvh in bvh8s {
         let mut hits = vec![None; rays.len()];
         bvh.intersect_packets(rays, &mut hits);
         prop_assert_eq!(&hits, &expected, "Bvh8/{} packets", bvh.isa().name());
+        for packet in rays.chunks(8) {
+            let prepared: Vec<PreparedRay> = packet.iter().map(PreparedRay::new).collect();
+            let blocked = bvh.occluded_packet_prepared(&prepared);
+            let expected = packet.iter().enumerate().filter(|(_, r)| brute::occluded(tris, r)).fold(0u32, |m, (i, _)| m | 1 << i);
+            prop_assert_eq!(blocked, expected, "Bvh8/{} occluded packets", bvh.isa().name());
+        }
     }
     Ok(())
 }
@@ -352,5 +359,26 @@ fn packets_equal_single_rays_on_a_large_scene() {
             assert_eq!(*hit, bvh.intersect(ray), "{} packet vs single for {:?}", bvh.isa().name(), ray);
         }
         assert!(packed.iter().flatten().count() > rays.len() / 2, "the camera sees the field");
+        // Shadow rays from a light above the field to the points seen, as the renderer traces
+        // them: from the light, ending short of each point.
+        let light = Vec3::new(-3.0, 9.0, -8.0);
+        let shadows: Vec<Ray> = rays
+            .iter()
+            .zip(&packed)
+            .map(|(ray, hit)| {
+                let target = hit.map_or(ray.at(10.0), |h| ray.at(h.t));
+                Ray::segment(light, target - light, 1e-4, 1.0 - 1e-4)
+            })
+            .collect();
+        let mut blocked = 0;
+        for packet in shadows.chunks(8) {
+            let prepared: Vec<PreparedRay> = packet.iter().map(PreparedRay::new).collect();
+            let mask = bvh.occluded_packet_prepared(&prepared);
+            for (i, ray) in packet.iter().enumerate() {
+                assert_eq!(mask & (1 << i) != 0, bvh.occluded(ray), "{} shadow packet vs single for {:?}", bvh.isa().name(), ray);
+            }
+            blocked += mask.count_ones();
+        }
+        assert!(blocked > 0 && (blocked as usize) < shadows.len(), "some points are lit, some in shadow: {blocked}");
     }
 }

@@ -12,12 +12,16 @@
 //! bit-identical to tracing the rays one by one, while the node tests, the serial part of
 //! single-ray traversal, are shared by the packet. When no more than `FEW` rays need a subtree,
 //! they finish it as single rays (the hybrid scheme of Embree's packet kernels).
+//!
+//! The any-hit walk ([`occluded_packet`]) shares node tests the same way; a ray leaves the
+//! packet at its first hit, and the walk ends when every ray is blocked. Shadow rays traced
+//! from a point light towards the points it lights share the light as their origin.
 
 use std::arch::x86_64::*;
 use std::mem::MaybeUninit;
 
-use super::single::closest_below;
-use super::{LeafLanes, block_closest, plane_rows, prefetch, sort_farthest_first, splat3, written};
+use super::single::{closest_below, occluded_below};
+use super::{LeafLanes, block_any, block_closest, plane_rows, prefetch, sort_farthest_first, splat3, written};
 use crate::bvh8::Bvh8;
 use crate::wide::{EMPTY, LEAF, Node8, STACK_SIZE, WIDTH};
 use crate::prepared::{PreparedRay, widen};
@@ -270,6 +274,67 @@ pub(crate) unsafe fn intersect_packet(bvh: &Bvh8, rays: &[PreparedRay], out: &mu
     for (hit, b) in out.iter_mut().zip(state.best) {
         *hit = b.into_hit();
     }
+}
+
+/// Which rays of a packet hit anything in their segment `(tnear, tfar]`: bit `i` for `rays[i]`,
+/// exactly as [`super::occluded`] finds ray by ray. Rays that do not form a packet (see
+/// `is_packet`) are traced one by one. Children are visited in slot order, as by single rays.
+///
+/// # Safety
+/// The CPU must support AVX2 and FMA.
+#[target_feature(enable = "avx2,fma")]
+pub(crate) unsafe fn occluded_packet(bvh: &Bvh8, rays: &[PreparedRay]) -> u32 {
+    let all = (1u32 << rays.len()) - 1;
+    if !is_packet(rays) {
+        return (0..rays.len()).filter(|&i| occluded_below(bvh, &rays[i], bvh.root)).fold(0, |m, i| m | 1 << i);
+    }
+    let frustum = Frustum::new(rays);
+    let lanes = RayLanes::new(rays);
+    let widened: [f32; PACKET] = std::array::from_fn(|i| rays.get(i).map_or(f32::NEG_INFINITY, |r| widen(r.tfar)));
+    let tfar = unsafe { _mm256_loadu_ps(widened.as_ptr()) };
+    let farthest = _mm256_set1_ps(widened.iter().copied().fold(f32::NEG_INFINITY, f32::max));
+    // Rays not blocked yet.
+    let mut open = all;
+    // Deferred children with the rays that hit their boxes.
+    let mut stack = [MaybeUninit::<(u32, u32)>::uninit(); STACK_SIZE];
+    stack[0].write((bvh.root, all));
+    let mut sp = 1usize;
+    while sp > 0 && open != 0 {
+        sp -= 1;
+        // SAFETY: every entry below `sp` was written before.
+        let (link, needing) = unsafe { stack[sp].assume_init() };
+        let live = needing & open;
+        if live == 0 {
+            continue;
+        }
+        if live.count_ones() <= FEW {
+            for i in Lanes(live) {
+                if occluded_below(bvh, &rays[i], link) {
+                    open &= !(1 << i);
+                }
+            }
+        } else if link & LEAF == 0 {
+            // SAFETY: inner links written by the collapse are valid node indices.
+            let node = unsafe { bvh.nodes.get_unchecked(link as usize) };
+            let (mask, _) = frustum.child_hits(node, farthest);
+            for lane in Lanes(mask) {
+                let (hit, _) = lanes.hit_child(node, lane, tfar);
+                if hit & live != 0 {
+                    stack[sp].write((node.child[lane], hit & live));
+                    sp += 1;
+                }
+            }
+        } else if link != EMPTY {
+            // SAFETY: leaf links written by the collapse are valid block indices.
+            let block = unsafe { bvh.blocks.get_unchecked((link & !LEAF) as usize) };
+            for i in Lanes(live) {
+                if block_any(block, &rays[i], &LeafLanes::new(&rays[i])) {
+                    open &= !(1 << i);
+                }
+            }
+        }
+    }
+    all & !open
 }
 
 /// The set bits of a mask, lowest first.

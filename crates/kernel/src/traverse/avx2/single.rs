@@ -112,11 +112,18 @@ pub(super) fn closest_below(bvh: &Bvh8, ray: &PreparedRay, link: u32, best: Best
 /// The CPU must support AVX2 and FMA.
 #[target_feature(enable = "avx2,fma")]
 pub(crate) unsafe fn occluded(bvh: &Bvh8, ray: &PreparedRay) -> bool {
+    occluded_below(bvh, ray, bvh.root)
+}
+
+/// Whether anything in the subtree under `link` is hit. A packet hands rays over to this when
+/// too few of them share the rest of the walk.
+#[target_feature(enable = "avx2,fma")]
+pub(super) fn occluded_below(bvh: &Bvh8, ray: &PreparedRay, link: u32) -> bool {
     let r = BoxLanes::new(ray);
     let leaf = LeafLanes::new(ray);
     let tfar_wide = _mm256_set1_ps(widen(ray.tfar));
     let mut stack = [MaybeUninit::<u32>::uninit(); STACK_SIZE];
-    stack[0].write(bvh.root);
+    stack[0].write(link);
     let mut sp = 1usize;
     while sp > 0 {
         sp -= 1;
