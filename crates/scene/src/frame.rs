@@ -263,6 +263,24 @@ impl<'a> Frame<'a> {
     fn intersect_touched(&self, rays: &[Ray], hits: &mut [Option<SceneHit>], time: f32, touched: &mut Vec<(f32, u32, u32)>) {
         touched.clear();
         let prepared: [PreparedRay; PACKET_SIZE] = std::array::from_fn(|i| PreparedRay::new(&rays[i]));
+        if let [only] = &self.instances[..]
+            && only.placed_at(time).identity
+        {
+            // One instance in place (a single mesh): the packet goes straight into its tree,
+            // whose root box culls the rays that miss it; a tree not built yet is built only if
+            // some ray reaches its box.
+            let reached = || (0..PACKET_SIZE).any(|i| self.boxes[0].intersect(&prepared[i], rays[i].tfar).is_some());
+            if !only.object.is_built() && !reached() {
+                hits.fill(None);
+                return;
+            }
+            let mut found = [None; PACKET_SIZE];
+            only.object.accel(&self.counters).intersect_packet_prepared(&prepared, &mut found);
+            for (hit, h) in hits.iter_mut().zip(found) {
+                *hit = h.map(|h| SceneHit { t: h.t, instance: only.id, object: only.object_id, prim: h.prim, u: h.u, v: h.v, ng: h.ng, item: 0 });
+            }
+            return;
+        }
         let mut touch = |item: u32, i: usize| {
             let Some(entry) = self.boxes[item as usize].intersect(&prepared[i], rays[i].tfar) else { return };
             match touched.iter_mut().find(|(_, t, _)| *t == item) {
@@ -336,6 +354,69 @@ impl<'a> Frame<'a> {
         } else {
             self.top.any(&world, blocks)
         }
+    }
+
+    /// Which of up to [`PACKET_SIZE`] rays are blocked in `(tnear, tfar]` at shutter time `time`:
+    /// bit `i` for `rays[i]`, exactly what [`Frame::occluded`] says of each. Rays that share
+    /// their origin (shadow rays traced from a point light towards the points it lights) go
+    /// through each instance they touch as a packet, sharing the object tree's node tests; an
+    /// object is built only if a ray not yet blocked reaches its box, as for single rays.
+    ///
+    /// # Panics
+    /// If `rays` holds more than [`PACKET_SIZE`] rays.
+    pub fn occluded_many(&self, rays: &[Ray], time: f32) -> u32 {
+        assert!(rays.len() <= PACKET_SIZE, "at most a packet");
+        let n = rays.len();
+        if n == 0 {
+            return 0;
+        }
+        thread_local! {
+            /// The instances the rays touch: item, and the rays that touch its box (bit i for
+            /// ray i). Reused from packet to packet.
+            static TOUCHED: std::cell::RefCell<Vec<(u32, u32)>> = const { std::cell::RefCell::new(Vec::new()) };
+        }
+        TOUCHED.with_borrow_mut(|touched| self.occluded_touched(rays, time, touched))
+    }
+
+    /// [`Frame::occluded_many`] with a scratch list for the instances touched.
+    fn occluded_touched(&self, rays: &[Ray], time: f32, touched: &mut Vec<(u32, u32)>) -> u32 {
+        touched.clear();
+        let n = rays.len();
+        let all = (1u32 << n) - 1;
+        let prepared: [PreparedRay; PACKET_SIZE] = std::array::from_fn(|i| PreparedRay::new(&rays[i.min(n - 1)]));
+        let mut touch = |item: u32, i: usize| match touched.iter_mut().find(|(t, _)| *t == item) {
+            Some((_, mask)) => *mask |= 1 << i,
+            None => touched.push((item, 1 << i)),
+        };
+        if self.instances.len() <= LIST_TOP_LEVEL {
+            for (item, b) in self.boxes.iter().enumerate() {
+                (0..n).filter(|&i| b.intersect(&prepared[i], rays[i].tfar).is_some()).for_each(|i| touch(item as u32, i));
+            }
+        } else {
+            for (i, pre) in prepared[..n].iter().enumerate() {
+                self.top.any(pre, |item| {
+                    touch(item, i);
+                    false
+                });
+            }
+        }
+        let mut open = all;
+        let mut local = prepared;
+        for &(item, touching) in touched.iter() {
+            let live = touching & open;
+            if live == 0 {
+                continue;
+            }
+            let fi = &self.instances[item as usize];
+            let placed = fi.placed_at(time);
+            for (i, ray) in rays.iter().enumerate() {
+                // Rays that are blocked already or miss the box get an empty segment.
+                let tfar = if live & (1 << i) == 0 { ray.tnear } else { ray.tfar };
+                local[i] = if placed.identity { prepared[i].with_tfar(tfar) } else { PreparedRay::new(&Ray { tfar, ..placed.ray_to_object(ray) }) };
+            }
+            open &= !(fi.object.accel(&self.counters).occluded_packet_prepared(&local[..n]) & live);
+        }
+        all & !open
     }
 
     /// Everything a shader needs to know about `hit` of `ray` (at shutter time `time`).

@@ -306,12 +306,12 @@ proptest! {
     }
 }
 
-/// Packets through the top level return exactly the single-ray hits: random instances of two
-/// objects (some overlapping, some mirrored, sometimes two coincident so that ties between
-/// instances occur), packets of rays sharing an origin as camera rays do, fanning out by
-/// different amounts around the first instance.
+/// Packets through the top level return exactly the single-ray hits and occlusion: random
+/// instances of two objects (some overlapping, some mirrored, sometimes two coincident so that
+/// ties between instances occur), packets of rays sharing an origin as camera rays (and shadow
+/// rays from a light) do, fanning out by different amounts around the first instance.
 #[test]
-fn packets_through_the_top_level_hit_what_single_rays_hit() {
+fn packets_through_the_top_level_hit_and_are_blocked_as_single_rays() {
     let strategy = (
         prop::collection::vec(transform(), 1..12),
         any::<bool>(),
@@ -346,6 +346,18 @@ fn packets_through_the_top_level_hit_what_single_rays_hit() {
         frame.intersect_many(&rays, &mut many, 0.0);
         for (ray, packet) in rays.iter().zip(&many) {
             prop_assert_eq!(*packet, frame.intersect(ray, 0.0));
+        }
+        // Shadow-ray segments from the same origin, ending short of, at and beyond the hits:
+        // blocked as a packet exactly as one by one.
+        let segments: Vec<Ray> = rays
+            .iter()
+            .zip(&many)
+            .enumerate()
+            .map(|(i, (ray, hit))| Ray::segment(ray.origin, ray.dir, 1e-3, hit.map_or(200.0, |h| h.t) * [0.5, 1.0, 2.0][i % 3]))
+            .collect();
+        let blocked = frame.occluded_many(&segments, 0.0);
+        for (i, segment) in segments.iter().enumerate() {
+            prop_assert_eq!(blocked & (1 << i) != 0, frame.occluded(segment, 0.0), "segment {}", i);
         }
         hits.set(hits.get() + many.iter().filter(|h| h.is_some()).count());
         Ok(())
