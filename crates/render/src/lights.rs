@@ -128,6 +128,15 @@ impl<'f> SceneLights<'f> {
         matches!(self.lights[index], Prepared::Area { .. } | Prepared::Environment { .. })
     }
 
+    /// The position of light `index` if it is a point or a spot: every shadow ray towards it
+    /// ends there, so rays of neighbouring points can be traced from it as a packet.
+    pub fn position(&self, index: usize) -> Option<Vec3> {
+        match self.lights[index] {
+            Prepared::Point { position, .. } | Prepared::Spot { position, .. } => Some(position),
+            _ => None,
+        }
+    }
+
     /// Samples light `index` as seen from `p` with shading normal `n`, using the two uniform
     /// numbers `u`. With `u = [0.5, 0.5]` (Whitted's deterministic rays) an area light is
     /// sampled at its centre and an environment along the normal.

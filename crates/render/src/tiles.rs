@@ -41,8 +41,8 @@ impl Tile {
 pub(crate) struct Band<'a> {
     /// Sum of the samples, per pixel.
     pub sum: &'a mut [Vec3],
-    /// Sum of the squared sample luminances, per pixel.
-    pub sum_sq: &'a mut [f32],
+    /// Sum of the squared sample luminances, per pixel, if the variance is kept.
+    pub sum_sq: Option<&'a mut [f32]>,
     width: u32,
     y0: u32,
 }
@@ -56,14 +56,19 @@ impl Band<'_> {
 
 /// Runs `add` over every tile of a `width × height` image, bands of tiles in parallel on the
 /// current rayon pool (run it inside `ThreadPool::install` to choose the number of threads),
-/// giving it the band of the two per-pixel accumulation buffers (row-major, one entry per
-/// pixel) its tile lies in.
-pub(crate) fn render_tiles_with(width: u32, height: u32, sum: &mut [Vec3], sum_sq: &mut [f32], add: impl Fn(&Tile, &mut Band<'_>) + Sync) {
+/// giving it the band of the per-pixel accumulation buffers (row-major, one entry per pixel;
+/// the squared sums only if kept) its tile lies in.
+pub(crate) fn render_tiles_with(width: u32, height: u32, sum: &mut [Vec3], sum_sq: Option<&mut [f32]>, add: impl Fn(&Tile, &mut Band<'_>) + Sync) {
     if width == 0 || height == 0 {
         return;
     }
     let band_len = (width * TILE_SIZE) as usize;
-    sum.par_chunks_mut(band_len).zip(sum_sq.par_chunks_mut(band_len)).enumerate().for_each(|(b, (sum, sum_sq))| {
+    let bands = sum.len().div_ceil(band_len);
+    let sum_sq_bands: Vec<Option<&mut [f32]>> = match sum_sq {
+        Some(sum_sq) => sum_sq.chunks_mut(band_len).map(Some).collect(),
+        None => (0..bands).map(|_| None).collect(),
+    };
+    sum.par_chunks_mut(band_len).zip(sum_sq_bands).enumerate().for_each(|(b, (sum, sum_sq))| {
         let y0 = b as u32 * TILE_SIZE;
         let rows = TILE_SIZE.min(height - y0);
         let mut band = Band { sum, sum_sq, width, y0 };
@@ -85,7 +90,7 @@ mod tests {
     fn run(width: u32, height: u32, add: impl Fn(&Tile, &mut Band<'_>) + Sync) -> Vec<Vec3> {
         let n = (width * height) as usize;
         let (mut sum, mut sum_sq) = (vec![Vec3::ZERO; n], vec![0.0; n]);
-        render_tiles_with(width, height, &mut sum, &mut sum_sq, add);
+        render_tiles_with(width, height, &mut sum, Some(&mut sum_sq), add);
         sum
     }
 

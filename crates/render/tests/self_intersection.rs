@@ -16,19 +16,39 @@ fn settings(integrator: Integrator, size: u32, spp: u32) -> RenderSettings {
     RenderSettings { width: size, height: size, integrator, samples_per_pixel: spp, max_depth: 16, ..RenderSettings::default() }
 }
 
+/// The light of [`floor_and_sphere`]: the sun, or a point light (whose shadow rays from camera
+/// hits are traced in packets from the light) ten radii away in the same direction.
+#[derive(Clone, Copy, Debug)]
+enum Lamp {
+    Sun,
+    Point,
+}
+
+/// Unit direction of the light from the scene's centre.
+fn towards_light() -> Vec3 {
+    -Vec3::new(1.0, -0.8, 0.3).normalize()
+}
+
 /// A diffuse sphere of radius `s` resting on a diffuse floor, lit by a directional light of
-/// irradiance π, seen from above; everything scaled by `s` and moved by `offset`.
-fn floor_and_sphere(s: f32, offset: Vec3) -> (Scene, Vec3, f32) {
+/// irradiance π (or a point light giving that irradiance at the sphere's centre), seen from
+/// above; everything scaled by `s` and moved by `offset`. Returns the scene, the sphere's
+/// centre and the point light's position.
+fn floor_and_sphere(s: f32, offset: Vec3, lamp: Lamp) -> (Scene, Vec3, Vec3) {
     let mut scene = Scene::new();
     let grey = shader(&mut scene, "Diffuse", &[("diffuse", ParamValue::Color(Vec3::splat(0.5)))]);
     let centre = offset + Vec3::new(0.0, s, 0.0);
     place(&mut scene, box_mesh(offset + Vec3::new(-20.0, -1.0, -20.0) * s, offset + Vec3::new(20.0, 0.0, 20.0) * s), grey);
     place(&mut scene, sphere_mesh(centre, s, 96, 48), grey);
-    let direction = Vec3::new(1.0, -0.8, 0.3);
-    scene.add_light(Light::Directional { direction, intensity: Vec3::splat(std::f32::consts::PI) }).unwrap();
+    let lamp_position = centre + towards_light() * (10.0 * s);
+    let pi = std::f32::consts::PI;
+    let light = match lamp {
+        Lamp::Sun => Light::Directional { direction: -towards_light(), intensity: Vec3::splat(pi) },
+        Lamp::Point => Light::Point { position: lamp_position, intensity: Vec3::splat(pi * (10.0 * s) * (10.0 * s)) },
+    };
+    scene.add_light(light).unwrap();
     let eye = offset + Vec3::new(1.0, 4.0, 3.0) * s;
     scene.set_camera(Camera::look_at(eye, offset + Vec3::new(-0.5, 0.0, -0.5) * s, Vec3::Y, 60.0).unwrap()).unwrap();
-    (scene, centre, s)
+    (scene, centre, lamp_position)
 }
 
 /// Whether the ray from `p` towards the light (`-direction`) passes within `margin` of the
@@ -51,64 +71,78 @@ fn sphere_shadow(p: Vec3, towards: Vec3, c: Vec3, r: f32, margin: f32) -> Option
 
 /// No shadow acne, no lost contact shadows: the floor is exactly as bright as Lambert says
 /// wherever the sphere does not shadow it and black where it does, and the sphere's lit side
-/// is never speckled by its own shadow, from 1e-4 at the origin to 1e2 a million units out.
+/// is never speckled by its own shadow, from 1e-4 at the origin to 1e2 a million units out,
+/// under the sun and under a point light.
 /// (The old offset, 1e-4 × |p|, was as big as the whole scene at the first scale and 100 units
 /// at the last.)
 #[test]
 fn no_shadow_acne_or_light_leaks_at_any_scale() {
-    let towards = -Vec3::new(1.0, -0.8, 0.3).normalize();
-    for (s, offset) in [(1e-4f32, Vec3::ZERO), (1e-2, Vec3::new(3.0, -1.0, 2.0)), (1.0, Vec3::new(1e3, 0.0, -1e3)), (1e2, Vec3::new(-6e5, 1e5, 8e5))] {
-        let (scene, centre, r) = floor_and_sphere(s, offset);
-        let size = 64;
-        let (film, _) = render(&scene.frame(), &settings(Integrator::Whitted, size, 1)).unwrap();
-        let frame = scene.frame();
-        let floor = ObjectId(0);
-        let (mut lit, mut shadowed, mut sphere_lit) = (0, 0, 0);
-        for y in 0..size {
-            for x in 0..size {
-                let ray = frame.camera().ray(x as f32 + 0.5, y as f32 + 0.5, size, size);
-                let Some(hit) = frame.intersect(&ray, 0.0) else { continue };
-                // The box filter jitters samples inside the pixel; judge pixels whose
-                // neighbours see the same thing.
-                let same = (-1..=1i32).all(|dy| {
-                    (-1..=1i32).all(|dx| {
-                        let (nx, ny) = (x as i32 + dx, y as i32 + dy);
-                        (0..size as i32).contains(&nx)
-                            && (0..size as i32).contains(&ny)
-                            && frame.pick(nx as u32, ny as u32, size, size).is_some_and(|h| h.object == hit.object)
-                    })
-                });
-                if !same {
-                    continue;
+    for lamp in [Lamp::Sun, Lamp::Point] {
+        for (s, offset) in [(1e-4f32, Vec3::ZERO), (1e-2, Vec3::new(3.0, -1.0, 2.0)), (1.0, Vec3::new(1e3, 0.0, -1e3)), (1e2, Vec3::new(-6e5, 1e5, 8e5))] {
+            check_shadows(s, offset, lamp);
+        }
+    }
+}
+
+/// [`no_shadow_acne_or_light_leaks_at_any_scale`] for one scale, offset and light.
+fn check_shadows(s: f32, offset: Vec3, lamp: Lamp) {
+    let (scene, centre, lamp_position) = floor_and_sphere(s, offset, lamp);
+    let r = s;
+    // The light's direction and the irradiance it gives (relative to π) at a point.
+    let light_at = |p: Vec3| match lamp {
+        Lamp::Sun => (towards_light(), 1.0),
+        Lamp::Point => ((lamp_position - p).normalize(), (10.0 * s) * (10.0 * s) / (lamp_position - p).length_squared()),
+    };
+    let size = 64;
+    let (film, _) = render(&scene.frame(), &settings(Integrator::Whitted, size, 1)).unwrap();
+    let frame = scene.frame();
+    let floor = ObjectId(0);
+    let (mut lit, mut shadowed, mut sphere_lit) = (0, 0, 0);
+    for y in 0..size {
+        for x in 0..size {
+            let ray = frame.camera().ray(x as f32 + 0.5, y as f32 + 0.5, size, size);
+            let Some(hit) = frame.intersect(&ray, 0.0) else { continue };
+            // The box filter jitters samples inside the pixel; judge pixels whose
+            // neighbours see the same thing.
+            let same = (-1..=1i32).all(|dy| {
+                (-1..=1i32).all(|dx| {
+                    let (nx, ny) = (x as i32 + dx, y as i32 + dy);
+                    (0..size as i32).contains(&nx)
+                        && (0..size as i32).contains(&ny)
+                        && frame.pick(nx as u32, ny as u32, size, size).is_some_and(|h| h.object == hit.object)
+                })
+            });
+            if !same {
+                continue;
+            }
+            let p = frame.surface(&ray, &hit, 0.0).position;
+            let (towards, irradiance) = light_at(p);
+            let value = film.pixel(x, y).x;
+            let case = format!("{lamp:?} at scale {s:e} at {offset}, pixel ({x}, {y})");
+            if hit.object == floor {
+                match sphere_shadow(p, towards, centre, r, 0.1 * r) {
+                    Some(false) => {
+                        let expected = 0.5 * towards.y * irradiance;
+                        assert!((value - expected).abs() < 0.01 * expected, "{case}: lit floor {value} instead of {expected} (acne)");
+                        lit += 1;
+                    }
+                    Some(true) => {
+                        assert_eq!(value, 0.0, "{case}: light leaked into the sphere's shadow");
+                        shadowed += 1;
+                    }
+                    None => {}
                 }
-                let p = frame.surface(&ray, &hit, 0.0).position;
-                let value = film.pixel(x, y).x;
-                let case = format!("scale {s:e} at {offset}, pixel ({x}, {y})");
-                if hit.object == floor {
-                    match sphere_shadow(p, towards, centre, r, 0.1 * r) {
-                        Some(false) => {
-                            let expected = 0.5 * towards.y;
-                            assert!((value - expected).abs() < 0.01 * expected, "{case}: lit floor {value} instead of {expected} (acne)");
-                            lit += 1;
-                        }
-                        Some(true) => {
-                            assert_eq!(value, 0.0, "{case}: light leaked into the sphere's shadow");
-                            shadowed += 1;
-                        }
-                        None => {}
-                    }
-                } else {
-                    let n = (p - centre).normalize();
-                    if n.dot(towards) > 0.3 {
-                        let expected = 0.5 * n.dot(towards);
-                        assert!(value > 0.9 * expected, "{case}: lit sphere {value} instead of about {expected} (acne)");
-                        sphere_lit += 1;
-                    }
+            } else {
+                let n = (p - centre).normalize();
+                if n.dot(towards) > 0.3 {
+                    let expected = 0.5 * n.dot(towards) * irradiance;
+                    assert!(value > 0.9 * expected, "{case}: lit sphere {value} instead of about {expected} (acne)");
+                    sphere_lit += 1;
                 }
             }
         }
-        assert!(lit > 300 && shadowed > 30 && sphere_lit > 100, "scale {s:e}: {lit} lit, {shadowed} shadowed floor pixels, {sphere_lit} lit sphere pixels");
     }
+    assert!(lit > 300 && shadowed > 30 && sphere_lit > 100, "{lamp:?} at scale {s:e}: {lit} lit, {shadowed} shadowed floor pixels, {sphere_lit} lit sphere pixels");
 }
 
 /// A closed room of walls a thousandth of its size thick, a million units from the origin, with

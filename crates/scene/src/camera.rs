@@ -146,7 +146,7 @@ impl CameraRays {
     /// corner, pixel centres at `x + 0.5`) and lens position `lens` (a point of `[0, 1)²`,
     /// mapped uniformly onto the lens disc). With a pinhole every lens position gives the same
     /// ray; with an aperture, all rays through one image position meet at the focus distance,
-    /// so only objects there are sharp.
+    /// so only objects there are sharp. The direction is a unit vector.
     pub fn ray(&self, px: f32, py: f32, lens: [f32; 2]) -> Ray {
         let dir = (self.forward + self.right * (px - self.centre.x) + self.up * (self.centre.y - py)).normalize();
         let Some(Lens { radius, focus }) = self.lens else {

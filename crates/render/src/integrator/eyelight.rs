@@ -19,7 +19,9 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, ray: &Ray, hit: &SceneHit) -> Vec3 {
     match m.model {
         ShadingModel::Constant | ShadingModel::Emissive => m.emission,
         _ => {
-            let cos = point.normal.dot(ray.dir.normalize()).abs();
+            // Camera rays have unit directions (`CameraRays::ray`), and the preview shades
+            // nothing else.
+            let cos = point.normal.dot(ray.dir).abs();
             m.albedo * (AMBIENT + (1.0 - AMBIENT) * cos)
         }
     }

@@ -10,6 +10,7 @@
 //!   and Russian roulette.
 
 pub(crate) mod eyelight;
+pub(crate) mod first_shadows;
 pub(crate) mod path;
 pub(crate) mod recursive;
 
@@ -19,6 +20,7 @@ use raystage_scene::{Frame, SceneHit, ShadingModel, SurfacePoint};
 
 use crate::bsdf::{Bsdf, fresnel_dielectric};
 use crate::effects::EffectSet;
+use first_shadows::KnownShadows;
 use crate::lights::{SceneLights, Seen};
 use crate::material::{Material, Materials};
 use crate::sampler::PixelSampler;
@@ -30,6 +32,7 @@ use crate::{RenderSettings, sky};
 const MAX_MEDIA: usize = 4;
 
 /// A hit and what is there.
+#[derive(Clone, Copy)]
 pub(crate) struct Hit<'f> {
     pub hit: SceneHit,
     pub surface: SurfacePoint<'f>,
@@ -177,7 +180,10 @@ impl<'f> Tracer<'_, 'f> {
     /// frame has soft shadows, else once at their centre), each sample tested with a shadow ray
     /// if the frame has shadows. In the path tracer, samples of extended lights are weighted
     /// against the BSDF sampling that could also find them (multiple importance sampling).
-    pub fn direct(&self, hit: &Hit<'f>, bsdf: &Bsdf, wo: Vec3, time: f32, sampler: &mut PixelSampler, rays: &mut RayCounts) -> Vec3 {
+    /// Shadows already `known` (traced in packets for a camera ray's first hit) are not traced
+    /// again.
+    #[allow(clippy::too_many_arguments)]
+    pub fn direct(&self, hit: &Hit<'f>, bsdf: &Bsdf, wo: Vec3, time: f32, known: KnownShadows, sampler: &mut PixelSampler, rays: &mut RayCounts) -> Vec3 {
         let sp = &hit.surface;
         let frame3 = Frame3::around(sp.shading_normal);
         let wo_local = frame3.to_local(wo);
@@ -199,10 +205,10 @@ impl<'f> Tracer<'_, 'f> {
                 }
                 let weight =
                     if ls.pdf > 0.0 && self.effects.global_illumination { power_heuristic(samples as f32 * ls.pdf, bsdf.pdf(wo_local, wi_local)) } else { 1.0 };
-                let visible = if self.effects.shadows {
-                    self.transmittance(sp, ls.wi, ls.distance, time, rays)
-                } else {
-                    Vec3::ONE
+                let visible = match known.get(index) {
+                    Some(visible) => Vec3::splat(visible as u32 as f32),
+                    None if self.effects.shadows => self.transmittance(sp, ls.wi, ls.distance, time, rays),
+                    None => Vec3::ONE,
                 };
                 light += f * ls.weighted * visible * weight;
             }

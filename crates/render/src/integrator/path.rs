@@ -8,6 +8,7 @@ use glam::Vec3;
 use raystage_kernel::Ray;
 use raystage_scene::ShadingModel;
 
+use super::first_shadows::KnownShadows;
 use super::{Hit, Media, Tracer, offset};
 use crate::lights::Seen;
 use crate::sampler::PixelSampler;
@@ -69,7 +70,7 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, ray: &Ray, first: Hit<'_>, time: f32, sa
         }
         let bsdf = if m.model == ShadingModel::Glass { media.glass(&hit) } else { m.bsdf.expect("scattering material") };
         if !bsdf.is_specular() {
-            radiance += throughput * t.direct(&hit, &bsdf, wo, time, sampler, rays);
+            radiance += throughput * t.direct(&hit, &bsdf, wo, time, KnownShadows::NONE, sampler, rays);
         }
         let frame3 = Frame3::around(hit.surface.shading_normal);
         let (u, choose) = (sampler.next_2d(), sampler.next_1d());

@@ -20,6 +20,7 @@ use glam::Vec3;
 use raystage_kernel::Ray;
 use raystage_scene::ShadingModel;
 
+use super::first_shadows::KnownShadows;
 use super::{Hit, Media, Tracer, offset};
 use crate::bsdf::{Bsdf, fresnel_dielectric, reflect, refract};
 use crate::lights::Seen;
@@ -42,16 +43,18 @@ enum Kind {
     Glossy,
 }
 
-/// The colour of a camera ray `ray` at shutter time `time` whose first hit `hit` is known.
+/// The colour of a camera ray `ray` at shutter time `time` whose first hit `hit` is known, with
+/// the shadows there that are `known` already.
 pub(crate) fn shade<const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED: bool>(
     t: &Tracer<'_, '_>,
     ray: &Ray,
-    hit: Hit<'_>,
+    hit: &Hit<'_>,
     time: f32,
+    known: KnownShadows,
     sampler: &mut PixelSampler,
     rays: &mut RayCounts,
 ) -> Vec3 {
-    Recursion::<REFLECT, REFRACT, DISTRIBUTED> { t, time, sampler, rays }.shade(ray, hit, Media::air(), 0)
+    Recursion::<REFLECT, REFRACT, DISTRIBUTED> { t, time, first_hit_shadows: known, sampler, rays }.shade(ray, hit, Media::air(), 0)
 }
 
 /// One camera sample's recursion: what stays the same from bounce to bounce.
@@ -59,6 +62,8 @@ struct Recursion<'a, 't, 'f, const REFLECT: bool, const REFRACT: bool, const DIS
     t: &'a Tracer<'t, 'f>,
     /// The camera ray's shutter time, shared by every ray of the sample.
     time: f32,
+    /// Shadows known at the camera ray's hit (depth 0).
+    first_hit_shadows: KnownShadows,
     sampler: &'a mut PixelSampler,
     rays: &'a mut RayCounts,
 }
@@ -77,11 +82,11 @@ impl<const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED: bool> Recursio
         let Some(hit) = found else {
             return emitted + self.t.background(ray.dir, seen) * media.attenuation(f32::INFINITY);
         };
-        emitted + self.shade(ray, hit, media, depth)
+        emitted + self.shade(ray, &hit, media, depth)
     }
 
     /// The colour `ray` carries back from `hit`, `depth` bounces from the camera.
-    fn shade(&mut self, ray: &Ray, hit: Hit<'_>, media: Media, depth: u32) -> Vec3 {
+    fn shade(&mut self, ray: &Ray, hit: &Hit<'_>, media: Media, depth: u32) -> Vec3 {
         let t = self.t;
         let attenuation = media.attenuation(hit.hit.t * ray.dir.length());
         let wo = -ray.dir.normalize();
@@ -102,16 +107,21 @@ impl<const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED: bool> Recursio
             ShadingModel::Mirror => Vec3::ZERO,
             ShadingModel::Glossy => {
                 let bsdf = m.bsdf.expect("glossy materials scatter");
-                let direct = t.direct(&hit, &bsdf, wo, self.time, self.sampler, self.rays);
+                let direct = t.direct(&hit, &bsdf, wo, self.time, self.known(depth), self.sampler, self.rays);
                 let reflected = if REFLECT && deeper { self.glossy_reflection(&hit, &bsdf, wo, media, depth) } else { Vec3::ZERO };
                 direct + reflected
             }
             ShadingModel::Diffuse | ShadingModel::VertexColor | ShadingModel::Phong => {
                 let bsdf = m.bsdf.expect("matte materials scatter");
-                t.direct(&hit, &bsdf, wo, self.time, self.sampler, self.rays)
+                t.direct(&hit, &bsdf, wo, self.time, self.known(depth), self.sampler, self.rays)
             }
         };
         colour * attenuation
+    }
+
+    /// The shadows known at a hit `depth` bounces from the camera.
+    fn known(&self, depth: u32) -> KnownShadows {
+        if depth == 0 { self.first_hit_shadows } else { KnownShadows::NONE }
     }
 
     /// Continues the recursion with a new ray leaving `hit` in direction `dir`.

@@ -1,0 +1,104 @@
+//! Shadow rays from camera rays' first hits towards point and spot lights, traced in packets.
+//!
+//! Whitted's and Cook's recursions send a shadow ray from every lit hit to every light. Towards
+//! a point or spot light, the rays of neighbouring pixels all end at one point, the light:
+//! traced backwards from it, they share their origin and go through the scene as one packet
+//! ([`raystage_scene::Frame::occluded_many`]), sharing its node tests, as camera rays do. The
+//! recursion then looks up the answer at its first hit instead of tracing the ray there (deeper
+//! hits, fewer and incoherent, trace their own).
+//!
+//! A backward ray covers the forward ray's segment: it starts a ten-thousandth of the distance
+//! from the light, where the forward ray stops (see `shorten`), and stops the same fraction
+//! short of the hit's spawned origin, as pbrt-v4's `SpawnRayTo` does between two surfaces.
+//! What it can miss lies within that sliver at the surface, far above rounding error.
+
+use glam::Vec3;
+use raystage_kernel::{PACKET_SIZE, Ray};
+use raystage_scene::ShadingModel;
+
+use super::{Hit, Tracer, offset};
+use crate::Integrator;
+use crate::stats::RayCounts;
+
+/// The fraction of a shadow segment left off at each end.
+const END_GAP: f32 = 1e-4;
+
+/// Lights numbered below this can have their shadows known (one bit each).
+const MAX_LIGHTS: usize = 32;
+
+/// What is known about the shadows at one hit: for each light whose bit is set in `tested`,
+/// whether it is visible.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct KnownShadows {
+    tested: u32,
+    visible: u32,
+}
+
+impl KnownShadows {
+    /// Nothing known: every shadow ray is traced where it is needed.
+    pub const NONE: KnownShadows = KnownShadows { tested: 0, visible: 0 };
+
+    /// Whether light `index` is visible, if that is known.
+    pub fn get(&self, index: usize) -> Option<bool> {
+        (index < MAX_LIGHTS && self.tested & (1 << index) != 0).then(|| self.visible & (1 << index) != 0)
+    }
+}
+
+/// Whether this frame's first hits get their point- and spot-light shadows in packets: opaque
+/// shadows (transparent ones are traced through glass ray by ray), one shutter time for all
+/// rays, a recursive integrator, and a positional light among the first [`MAX_LIGHTS`].
+pub(crate) fn applies(t: &Tracer<'_, '_>) -> bool {
+    let e = t.effects;
+    e.shadows
+        && !e.transparent_shadows
+        && !e.motion_blur
+        && matches!(t.settings.integrator, Integrator::Whitted | Integrator::Distribution)
+        && (0..t.lights.len().min(MAX_LIGHTS)).any(|i| t.lights.position(i).is_some())
+}
+
+/// The shadows of up to [`PACKET_SIZE`] first hits (at shutter time `time`) towards every point
+/// and spot light, `out[k]` for `hits[k]`: each light's rays traced as one packet, only from
+/// hits whose material takes direct light and that face the light, as `Tracer::direct` would.
+pub(crate) fn trace(t: &Tracer<'_, '_>, hits: &[Option<Hit<'_>>], time: f32, rays: &mut RayCounts, out: &mut [KnownShadows]) {
+    assert!(hits.len() <= PACKET_SIZE && hits.len() == out.len(), "one answer per hit, at most a packet");
+    out.fill(KnownShadows::NONE);
+    for light in 0..t.lights.len().min(MAX_LIGHTS) {
+        let Some(position) = t.lights.position(light) else { continue };
+        let mut segments = [Ray::new(position, Vec3::X); PACKET_SIZE];
+        let mut owners = [0usize; PACKET_SIZE];
+        let mut n = 0;
+        for (k, hit) in hits.iter().enumerate() {
+            let Some(hit) = hit else { continue };
+            if !takes_direct_light(hit.material.model) {
+                continue;
+            }
+            let sp = &hit.surface;
+            // The direction need not be a unit vector: only its side of the surface matters,
+            // to `direct` and to the spawned origin.
+            let towards = position - sp.position;
+            if sp.geometric_normal.dot(towards) <= 0.0 || t.lights.sample(light, sp.position, sp.shading_normal, [0.5, 0.5], true).is_none() {
+                continue;
+            }
+            let origin = offset(sp, towards);
+            segments[n] = Ray::segment(position, origin - position, END_GAP, 1.0 - END_GAP);
+            owners[n] = k;
+            n += 1;
+        }
+        if n == 0 {
+            continue;
+        }
+        rays.shadow += n as u64;
+        let blocked = t.frame.occluded_many(&segments[..n], time);
+        for (j, &k) in owners[..n].iter().enumerate() {
+            out[k].tested |= 1 << light;
+            if blocked & (1 << j) == 0 {
+                out[k].visible |= 1 << light;
+            }
+        }
+    }
+}
+
+/// The shading models whose hits the recursion lights with `Tracer::direct`.
+fn takes_direct_light(model: ShadingModel) -> bool {
+    matches!(model, ShadingModel::Diffuse | ShadingModel::VertexColor | ShadingModel::Phong | ShadingModel::Glossy)
+}
