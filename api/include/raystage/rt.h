@@ -339,6 +339,26 @@ void rtLookAt(RTfloat eye_x,
               RTfloat up_z);
 
 /**
+ * Gives the camera a thin lens of radius `aperture_radius` that focuses at `focus_distance`
+ * from the eye, for depth of field: what lies nearer or farther is blurred, the more the wider
+ * the lens. `focus_distance` 0 focuses on the point `rtLookAt` looks at; `aperture_radius` 0
+ * (the default) is a pinhole, sharp everywhere. Both must be finite and not negative. Only
+ * `RT_DISTRIBUTION` and `RT_PATH` (`rtRenderMode`) render the blur; raise
+ * `RT_SAMPLES_PER_PIXEL` to smooth it.
+ */
+void rtLens(RTfloat aperture_radius, RTfloat focus_distance);
+
+/**
+ * Opens the shutter at time `open` and closes it at `close`, times of the frame with
+ * 0 <= `open` <= `close` <= 1, for motion blur: instances given an end transform with
+ * `rtInstanceMotion` move over the frame, and the image shows them over the time the shutter
+ * is open. `open` equal to `close` (the default, 0 and 0) takes an instant: no blur. Only
+ * `RT_DISTRIBUTION` and `RT_PATH` (`rtRenderMode`) render the blur; raise
+ * `RT_SAMPLES_PER_PIXEL` to smooth it.
+ */
+void rtShutter(RTfloat open, RTfloat close);
+
+/**
  * Returns the first error recorded since the last call of `rtGetError` (`RT_NO_ERROR` if none)
  * and clears it. As with `glGetError`, later errors are not recorded while one is pending, so a
  * program can make many calls and check once; a failed call changes nothing.
@@ -504,9 +524,19 @@ void rtTriangleMesh(const RTfloat *positions,
 RTuint rtInstantiateObject(RTuint id);
 
 /**
- * Moves instance `instance` to the current modelview matrix.
+ * Moves instance `instance` to the current modelview matrix. It then stands still during the
+ * shutter: a motion set by `rtInstanceMotion` ends.
  */
 void rtMoveInstance(RTuint instance);
+
+/**
+ * Makes instance `instance` move while the shutter is open (motion blur): from the transform
+ * `rtInstantiateObject` or `rtMoveInstance` gave it, at time 0 of the frame, to the current
+ * modelview matrix (which must be invertible), at time 1, blending the two matrices in between.
+ * Seen with `rtShutter`, `RT_DISTRIBUTION` or `RT_PATH` and several samples per pixel. Call
+ * `rtMoveInstance` first, then this, each frame; `rtMoveInstance` alone stops the motion.
+ */
+void rtInstanceMotion(RTuint instance);
 
 /**
  * Removes instance `instance`; its object stays.

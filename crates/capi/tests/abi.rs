@@ -436,3 +436,103 @@ fn the_path_tracer_lights_the_floor_by_bounces_and_samples_reduce_its_noise() {
     );
     assert_no_error();
 }
+
+/// A white square of side 2 at the origin facing +z, as instance of its own object, in front of
+/// a black wall at z = -1; the camera looks at it from (0, 0, 6). Returns the square's instance.
+fn white_square_before_a_black_wall() -> RTuint {
+    let white = shader(c"Constant");
+    rtParameter3f(handle(c"color"), 1.0, 1.0, 1.0);
+    let black = shader(c"Constant");
+    rtParameter3f(handle(c"color"), 0.0, 0.0, 0.0);
+    let square = rtGenObjects(2);
+    let wall = square + 1;
+    rtNewObject(square, RT_COMPILE);
+    rtBindShader(white);
+    quad([[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]]);
+    rtEndObject();
+    rtNewObject(wall, RT_COMPILE);
+    rtBindShader(black);
+    quad([[-20.0, -20.0, -1.0], [20.0, -20.0, -1.0], [20.0, 20.0, -1.0], [-20.0, 20.0, -1.0]]);
+    rtEndObject();
+    rtInstantiateObject(wall);
+    rtLookAt(0.0, 0.0, 6.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0);
+    rtInstantiateObject(square)
+}
+
+/// How many pixels of the middle row of a `w × h` image are neither black nor white: blurred.
+fn grey_pixels(pixels: &[u8], w: usize, h: usize) -> usize {
+    (0..w).filter(|&x| (30..225).contains(&rgb(pixels, w, x, h / 2)[0])).count()
+}
+
+#[test]
+fn a_wide_lens_blurs_what_it_does_not_focus_on() {
+    white_square_before_a_black_wall();
+    let (w, h) = (32, 32);
+    let pixels = frame_buffer(w, h);
+    let blur = |mode| {
+        rtRenderMode(mode);
+        rtSwapBuffers();
+        grey_pixels(&pixels, w, h)
+    };
+    rtRenderParameteri(RT_SAMPLES_PER_PIXEL, 32);
+    let sharp = blur(RT_DISTRIBUTION);
+    rtLens(0.5, 2.0);
+    assert_no_error();
+    let blurred = blur(RT_DISTRIBUTION);
+    assert!(sharp <= 2 && blurred >= 6, "{sharp} grey pixels through a pinhole, {blurred} through the lens");
+    assert!(blur(RT_WHITTED) <= 2, "Whitted's ray tracer sees through a pinhole");
+    rtLookAt(0.0, 0.0, 6.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0);
+    assert_eq!(blur(RT_DISTRIBUTION), blurred, "rtLookAt keeps the lens");
+
+    let before = pixels.clone();
+    for (aperture, focus, fragment) in [(-0.5, 2.0, "aperture_radius is -0.5, negative"), (0.5, f32::NAN, "[1] is NaN"), (f32::INFINITY, 1.0, "[0] is inf")] {
+        rtLens(aperture, focus);
+        assert_error(RT_INVALID_VALUE, fragment);
+    }
+    rtSwapBuffers();
+    assert_eq!(pixels, before, "refused lenses change nothing");
+}
+
+#[test]
+fn an_instance_in_motion_blurs_while_the_shutter_is_open() {
+    let square = white_square_before_a_black_wall();
+    let (w, h) = (32, 32);
+    let pixels = frame_buffer(w, h);
+    let blur = || {
+        rtSwapBuffers();
+        grey_pixels(&pixels, w, h)
+    };
+    rtRenderMode(RT_DISTRIBUTION);
+    rtRenderParameteri(RT_SAMPLES_PER_PIXEL, 32);
+    rtTranslatef(-1.0, 0.0, 0.0);
+    rtMoveInstance(square);
+    rtLoadIdentity();
+    rtTranslatef(1.0, 0.0, 0.0);
+    rtInstanceMotion(square);
+    assert_no_error();
+    let still = blur();
+    assert!(still <= 2, "the shutter takes an instant by default: {still} grey pixels");
+    rtShutter(0.0, 1.0);
+    let moving = blur();
+    assert!(moving >= 8, "the square sweeps 2 units while the shutter is open: {moving} grey pixels");
+
+    let before = pixels.clone();
+    for (open, close, fragment) in [(0.5, 0.2, "open 0.5 and close 0.2 do not satisfy"), (0.0, 2.0, "close 2"), (f32::NAN, 1.0, "[0] is NaN")] {
+        rtShutter(open, close);
+        assert_error(RT_INVALID_VALUE, fragment);
+    }
+    rtInstanceMotion(0);
+    assert_error(RT_INVALID_VALUE, "instance 0 does not exist");
+    rtInstanceMotion(square + 1);
+    assert_error(RT_INVALID_VALUE, &format!("instance {} does not exist", square + 1));
+    rtScalef(0.0, 1.0, 1.0);
+    rtInstanceMotion(square);
+    assert_error(RT_INVALID_VALUE, "singular");
+    rtSwapBuffers();
+    assert_eq!(pixels, before, "refused calls change nothing");
+
+    rtLoadIdentity();
+    rtMoveInstance(square);
+    assert!(blur() <= 2, "rtMoveInstance stops the motion");
+    assert_no_error();
+}

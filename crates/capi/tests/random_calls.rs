@@ -19,6 +19,7 @@ enum Call {
     DeleteObjects(RTuint, usize),
     Instantiate(RTuint),
     MoveInstance(RTuint),
+    InstanceMotion(RTuint),
     DeleteInstance(RTuint),
     DeleteAllInstances,
     Begin(RTenum),
@@ -38,6 +39,8 @@ enum Call {
     Scale([f32; 3]),
     Perspective(f32),
     LookAt([f32; 3]),
+    Lens(f32, f32),
+    Shutter(f32, f32),
     RenderMode(RTenum),
     RenderParameter(RTenum, RTint),
     GetRenderParameter(RTenum),
@@ -82,6 +85,11 @@ const RENDER_MODES: &[RTenum] = &[RT_AUTO, RT_EYELIGHT, RT_WHITTED, RT_DISTRIBUT
 const RENDER_PARAMETERS: &[RTenum] = &[RT_SAMPLES_PER_PIXEL, RT_RAY_DEPTH, RT_LIGHT_SAMPLES, RT_RUSSIAN_ROULETTE, RT_SEED];
 const PARAMS: &[&str] = &["diffuse", "color", "position", "intensity", "cone", "specularColor"];
 
+/// Shutter times: mostly in [0, 1], sometimes not, or not numbers.
+fn time() -> impl Strategy<Value = f32> {
+    prop_oneof![4 => 0.0f32..=1.0, 1 => number()]
+}
+
 /// Render parameter values: mostly small (so that frames stay cheap), sometimes out of range.
 fn render_value() -> impl Strategy<Value = RTint> {
     prop_oneof![8 => -1..6, 1 => Just(RT_MAX_RAY_DEPTH + 1), 1 => Just(RT_MAX_SAMPLES + 1), 1 => Just(RTint::MAX)]
@@ -105,6 +113,7 @@ fn call() -> impl Strategy<Value = Call> {
         1 => (id(), 0usize..3).prop_map(|(i, n)| Call::DeleteObjects(i, n)),
         3 => id().prop_map(Call::Instantiate),
         1 => id().prop_map(Call::MoveInstance),
+        1 => id().prop_map(Call::InstanceMotion),
         1 => id().prop_map(Call::DeleteInstance),
         1 => Just(Call::DeleteAllInstances),
         4 => one_of(PRIMITIVES).prop_map(Call::Begin),
@@ -124,6 +133,8 @@ fn call() -> impl Strategy<Value = Call> {
         1 => vec3().prop_map(Call::Scale),
         1 => prop_oneof![1.0f32..179.0, Just(0.0), Just(180.0), Just(f32::NAN)].prop_map(Call::Perspective),
         1 => vec3().prop_map(Call::LookAt),
+        1 => (number(), number()).prop_map(|(a, f)| Call::Lens(a, f)),
+        1 => (time(), time()).prop_map(|(o, c)| Call::Shutter(o, c)),
         1 => one_of(RENDER_MODES).prop_map(Call::RenderMode),
         2 => (prop_oneof![6 => proptest::sample::select(RENDER_PARAMETERS), 1 => Just(RT_RENDER_MODE), 1 => 0u32..0x9100], render_value())
             .prop_map(|(p, v)| Call::RenderParameter(p, v)),
@@ -263,7 +274,7 @@ impl Model {
             EndObject => OneOf(OK_OR_OPERATION),
             ObjectKind(k) => enumerated(*k, KINDS),
             Instantiate(_) if self.defining => Code(RT_INVALID_OPERATION),
-            Instantiate(_) | MoveInstance(_) | DeleteInstance(_) => OneOf(OK_OR_VALUE),
+            Instantiate(_) | MoveInstance(_) | InstanceMotion(_) | DeleteInstance(_) => OneOf(OK_OR_VALUE),
             DeleteObjects(..) | DeleteAllInstances | LoadIdentity | GenShaderClasses(_) | GenShaders(_) | DeleteShaders(..) => {
                 Code(RT_NO_ERROR)
             }
@@ -287,6 +298,8 @@ impl Model {
             Rotate(a, v) if !Model::finite(v) || !a.is_finite() || *v == [0.0; 3] => Code(RT_INVALID_VALUE),
             Translate(_) | Scale(_) | Rotate(..) | LookAt(_) => OneOf(OK_OR_VALUE),
             Perspective(fov) => value(*fov > 0.0 && *fov < 180.0),
+            Lens(a, f) => value(Model::finite(&[*a, *f]) && *a >= 0.0 && *f >= 0.0),
+            Shutter(open, close) => value(0.0 <= *open && open <= close && *close <= 1.0),
             RenderMode(m) => enumerated(*m, RENDER_MODES),
             RenderParameter(p, v) => match Model::render_range(*p) {
                 None => Code(RT_INVALID_ENUM),
@@ -347,6 +360,7 @@ fn perform(call: &Call) -> Option<RTint> {
         DeleteObjects(first, n) => rtDeleteObjects(*first, *n),
         Instantiate(id) => drop(rtInstantiateObject(*id)),
         MoveInstance(id) => rtMoveInstance(*id),
+        InstanceMotion(id) => rtInstanceMotion(*id),
         DeleteInstance(id) => rtDeleteInstance(*id),
         DeleteAllInstances => rtDeleteAllInstances(),
         Begin(mode) => rtBegin(*mode),
@@ -369,6 +383,8 @@ fn perform(call: &Call) -> Option<RTint> {
         Scale([x, y, z]) => rtScalef(*x, *y, *z),
         Perspective(fov) => rtPerspective(*fov, 1.0, 0.1, 100.0),
         LookAt([x, y, z]) => rtLookAt(*x, *y, *z, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0),
+        Lens(aperture, focus) => rtLens(*aperture, *focus),
+        Shutter(open, close) => rtShutter(*open, *close),
         RenderMode(m) => rtRenderMode(*m),
         RenderParameter(p, v) => rtRenderParameteri(*p, *v),
         GetRenderParameter(p) => return Some(rtGetRenderParameteri(*p)),
