@@ -231,6 +231,83 @@ typedef int32_t RTint;
 #define RT_MAX_FRAMEBUFFER_SIZE 16384
 
 /**
+ * `rtRenderMode` (the default): `RT_WHITTED` if the scene has lights, else `RT_EYELIGHT`, so
+ * that an unlit scene is not black.
+ */
+#define RT_AUTO 36912
+
+/**
+ * `rtRenderMode`: a fast preview lit by a light at the eye; no shadows, no secondary rays.
+ */
+#define RT_EYELIGHT 36913
+
+/**
+ * `rtRenderMode`: Whitted's ray tracing: shadows, mirror reflection and refraction, recursively.
+ */
+#define RT_WHITTED 36914
+
+/**
+ * `rtRenderMode`: Cook's distribution ray tracing: Whitted's rays spread over the pixel, the
+ * lens (depth of field), the shutter (motion blur), area lights and glossy reflections.
+ */
+#define RT_DISTRIBUTION 36915
+
+/**
+ * `rtRenderMode`: path tracing (global illumination), with depth of field and motion blur too.
+ */
+#define RT_PATH 36916
+
+/**
+ * `rtGetRenderParameteri`: the mode `rtRenderMode` set (`RT_AUTO`, `RT_EYELIGHT`, ...).
+ */
+#define RT_RENDER_MODE 36928
+
+/**
+ * Render parameter: samples per pixel each `rtSwapBuffers` renders, 1 to `RT_MAX_SAMPLES`
+ * (default 1). Depth of field and motion blur need many to be smooth.
+ */
+#define RT_SAMPLES_PER_PIXEL 36929
+
+/**
+ * Render parameter: the deepest recursion (Whitted, distribution) or the longest path (path
+ * tracer), 1 to `RT_MAX_RAY_DEPTH` (default 6).
+ */
+#define RT_RAY_DEPTH 36930
+
+/**
+ * Render parameter: shadow rays per area or environment light at each shading point of the
+ * distribution ray tracer and the path tracer, 1 to `RT_MAX_LIGHT_SAMPLES` (default 1).
+ */
+#define RT_LIGHT_SAMPLES 36931
+
+/**
+ * Render parameter: 1 (the default) lets the path tracer end paths early by Russian roulette
+ * (cheaper samples, more noise, no bias); 0 runs every path to `RT_RAY_DEPTH`.
+ */
+#define RT_RUSSIAN_ROULETTE 36932
+
+/**
+ * Render parameter: the seed of the sample sequences, 0 (the default) or more. Frames with the
+ * same seed and scene are the same image; frames with different seeds have independent noise.
+ */
+#define RT_SEED 36933
+
+/**
+ * Largest `RT_SAMPLES_PER_PIXEL`.
+ */
+#define RT_MAX_SAMPLES 65536
+
+/**
+ * Largest `RT_RAY_DEPTH`.
+ */
+#define RT_MAX_RAY_DEPTH 64
+
+/**
+ * Largest `RT_LIGHT_SAMPLES`.
+ */
+#define RT_MAX_LIGHT_SAMPLES 256
+
+/**
  * Most ids of each kind (objects, shaders, shader classes) that one context can generate.
  */
 #define RT_MAX_IDS (1 << 20)
@@ -260,6 +337,26 @@ void rtLookAt(RTfloat eye_x,
               RTfloat up_x,
               RTfloat up_y,
               RTfloat up_z);
+
+/**
+ * Gives the camera a thin lens of radius `aperture_radius` that focuses at `focus_distance`
+ * from the eye, for depth of field: what lies nearer or farther is blurred, the more the wider
+ * the lens. `focus_distance` 0 focuses on the point `rtLookAt` looks at; `aperture_radius` 0
+ * (the default) is a pinhole, sharp everywhere. Both must be finite and not negative. Only
+ * `RT_DISTRIBUTION` and `RT_PATH` (`rtRenderMode`) render the blur; raise
+ * `RT_SAMPLES_PER_PIXEL` to smooth it.
+ */
+void rtLens(RTfloat aperture_radius, RTfloat focus_distance);
+
+/**
+ * Opens the shutter at time `open` and closes it at `close`, times of the frame with
+ * 0 <= `open` <= `close` <= 1, for motion blur: instances given an end transform with
+ * `rtInstanceMotion` move over the frame, and the image shows them over the time the shutter
+ * is open. `open` equal to `close` (the default, 0 and 0) takes an instant: no blur. Only
+ * `RT_DISTRIBUTION` and `RT_PATH` (`rtRenderMode`) render the blur; raise
+ * `RT_SAMPLES_PER_PIXEL` to smooth it.
+ */
+void rtShutter(RTfloat open, RTfloat close);
 
 /**
  * Returns the first error recorded since the last call of `rtGetError` (`RT_NO_ERROR` if none)
@@ -427,9 +524,19 @@ void rtTriangleMesh(const RTfloat *positions,
 RTuint rtInstantiateObject(RTuint id);
 
 /**
- * Moves instance `instance` to the current modelview matrix.
+ * Moves instance `instance` to the current modelview matrix. It then stands still during the
+ * shutter: a motion set by `rtInstanceMotion` ends.
  */
 void rtMoveInstance(RTuint instance);
+
+/**
+ * Makes instance `instance` move while the shutter is open (motion blur): from the transform
+ * `rtInstantiateObject` or `rtMoveInstance` gave it, at time 0 of the frame, to the current
+ * modelview matrix (which must be invertible), at time 1, blending the two matrices in between.
+ * Seen with `rtShutter`, `RT_DISTRIBUTION` or `RT_PATH` and several samples per pixel. Call
+ * `rtMoveInstance` first, then this, each frame; `rtMoveInstance` alone stops the motion.
+ */
+void rtInstanceMotion(RTuint instance);
 
 /**
  * Removes instance `instance`; its object stays.
@@ -572,6 +679,30 @@ void rtParameter4f(RTint handle, RTfloat x, RTfloat y, RTfloat z, RTfloat w);
  * `v` must be NULL (an error) or point to three floats.
  */
 void rtParameter3fv(RTint handle, const RTfloat *v);
+
+/**
+ * Chooses how frames are rendered: `RT_AUTO` (the default: `RT_WHITTED` if the scene has lights,
+ * else `RT_EYELIGHT`), `RT_EYELIGHT` (a preview lit from the eye), `RT_WHITTED` (shadows,
+ * mirrors and glass), `RT_DISTRIBUTION` (soft shadows, glossy reflection, depth of field and
+ * motion blur) or `RT_PATH` (global illumination). The last two need several samples per pixel
+ * (`RT_SAMPLES_PER_PIXEL`) for a smooth image.
+ */
+void rtRenderMode(RTenum mode);
+
+/**
+ * Sets render parameter `pname` to `value`: `RT_SAMPLES_PER_PIXEL` (1 to `RT_MAX_SAMPLES`,
+ * default 1), `RT_RAY_DEPTH` (1 to `RT_MAX_RAY_DEPTH`, default 6), `RT_LIGHT_SAMPLES` (1 to
+ * `RT_MAX_LIGHT_SAMPLES`, default 1), `RT_RUSSIAN_ROULETTE` (0 or 1, default 1) or `RT_SEED`
+ * (0 or more, default 0). Another `pname` records `RT_INVALID_ENUM`, a value out of range
+ * `RT_INVALID_VALUE`.
+ */
+void rtRenderParameteri(RTenum pname, RTint value);
+
+/**
+ * The value of render parameter `pname` (as `rtRenderParameteri` takes it), or with
+ * `RT_RENDER_MODE` the mode `rtRenderMode` set. Returns 0 on error (`RT_INVALID_ENUM`).
+ */
+RTint rtGetRenderParameteri(RTenum pname);
 
 /**
  * Reserves `n` consecutive shader class ids and returns the first (0 if `n` is 0 or on error).

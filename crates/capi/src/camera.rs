@@ -1,7 +1,9 @@
 //! The camera: `rtPerspective` and `rtLookAt` set the scene's camera directly. As the seed says
 //! (*The OpenRT API* §2.1), they take OpenGL's arguments but do not build matrices: there is no
 //! projection matrix to distort, so the image's aspect ratio is always the frame buffer's, and a
-//! ray tracer needs no clipping planes. Both are checked all the same.
+//! ray tracer needs no clipping planes. Both are checked all the same. `rtLens` and `rtShutter`
+//! set the camera's thin lens and shutter, which only the distribution ray tracer and the path
+//! tracer sample; each call keeps what the others set.
 
 use glam::Vec3;
 use raystage_scene::Camera;
@@ -29,8 +31,32 @@ impl Context {
         finite("eye", &eye)?;
         finite("center", &center)?;
         finite("up", &up)?;
-        let fov = self.scene.camera().fov_y_degrees;
-        self.scene.set_camera(Camera::look_at(Vec3::from(eye), Vec3::from(center), Vec3::from(up), fov)?)?;
+        let camera = Camera { eye: Vec3::from(eye), target: Vec3::from(center), up: Vec3::from(up), ..*self.scene.camera() };
+        self.scene.set_camera(camera)?;
+        Ok(())
+    }
+
+    /// `rtLens`: the thin lens's radius and focus distance (0 focuses on the point looked at).
+    pub fn lens(&mut self, aperture_radius: f32, focus_distance: f32) -> Result<(), Error> {
+        finite("(aperture_radius, focus_distance)", &[aperture_radius, focus_distance])?;
+        for (what, v) in [("aperture_radius", aperture_radius), ("focus_distance", focus_distance)] {
+            if v < 0.0 {
+                return Err(Error::invalid_value(format!("{what} is {v}, negative")));
+            }
+        }
+        let camera = Camera { aperture_radius, focus_distance, ..*self.scene.camera() };
+        self.scene.set_camera(camera)?;
+        Ok(())
+    }
+
+    /// `rtShutter`: when the shutter opens and closes, as times of the frame in `[0, 1]`.
+    pub fn shutter(&mut self, open: f32, close: f32) -> Result<(), Error> {
+        finite("(open, close)", &[open, close])?;
+        if !(0.0 <= open && open <= close && close <= 1.0) {
+            return Err(Error::invalid_value(format!("open {open} and close {close} do not satisfy 0 <= open <= close <= 1")));
+        }
+        let camera = Camera { shutter: [open, close], ..*self.scene.camera() };
+        self.scene.set_camera(camera)?;
         Ok(())
     }
 }

@@ -7,6 +7,7 @@ use crate::error::{Error, ErrorLog};
 use crate::frames::Frames;
 use crate::geometry::CurrentVertex;
 use crate::matrix::Matrices;
+use crate::rendering::Rendering;
 use crate::shaders::Shaders;
 
 /// Everything the `rt*` calls of one thread act on (see [`crate::boundary`] for why per thread).
@@ -32,6 +33,8 @@ pub(crate) struct Context {
     pub shaders: Shaders,
     /// The application's frame buffer and the last frame rendered.
     pub frames: Frames,
+    /// How `rtSwapBuffers` renders: the render mode and parameters.
+    pub rendering: Rendering,
 }
 
 impl Context {

@@ -6,7 +6,7 @@ use std::ffi::OsStr;
 use std::os::unix::ffi::OsStrExt;
 use std::ptr::NonNull;
 
-use raystage_render::{Film, render_frame};
+use raystage_render::{Film, render};
 use raystage_scene::SceneHit;
 
 use crate::abi::enums::{RT_MAX_FRAMEBUFFER_SIZE, RT_RGBA8, RT_RGBA32F};
@@ -96,12 +96,15 @@ pub(crate) struct Frames {
 }
 
 impl Context {
-    /// `rtSwapBuffers`: renders the scene as it is now into the frame buffer.
+    /// `rtSwapBuffers`: renders the scene as it is now into the frame buffer, with the render
+    /// settings as they are now.
     pub fn swap_buffers(&mut self) -> Result<(), Error> {
         self.outside_definition("rtSwapBuffers")?;
         let target = self.frame_buffer()?;
         let frame = self.scene.frame();
-        let (film, _stats) = render_frame(&frame, target.width, target.height);
+        let settings = self.rendering.settings(&frame, target.width, target.height);
+        // The settings were checked as they were set, and the size as the frame buffer was lent.
+        let (film, _stats) = render(&frame, &settings).map_err(|e| Error::internal(e.to_string()))?;
         target.write(&film);
         self.frames.last = Some(film);
         Ok(())

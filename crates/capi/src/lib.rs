@@ -8,9 +8,10 @@
 //!
 //! This crate is the state machine behind those calls: the current object and primitive, the
 //! matrix stacks, the current vertex attributes, the bound shader class and shader, the frame
-//! buffer and the error log. It records everything into a retained [`raystage_scene::Scene`] and
-//! renders with [`raystage_render::render_frame`]; references resolve when the frame starts, so
-//! a parameter written after the geometry still changes it (frame semantics).
+//! buffer, the render settings and the error log. It records everything into a retained
+//! [`raystage_scene::Scene`] and renders with [`raystage_render::render`]; references resolve
+//! when the frame starts, so a parameter written after the geometry still changes it (frame
+//! semantics).
 //!
 //! Layout: [`abi`] holds every `extern "C"` entry point, grouped by topic; each converts its
 //! arguments and calls the context through one boundary (the `boundary` module) that catches
@@ -36,4 +37,5 @@ mod light_class;
 mod matrix;
 mod objects;
 mod parameters;
+mod rendering;
 mod shaders;

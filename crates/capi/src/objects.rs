@@ -100,9 +100,18 @@ impl Context {
         ids::from_c(id).map(InstanceId).ok_or_else(|| Error::invalid_value("instance 0 does not exist"))
     }
 
-    /// `rtMoveInstance`: gives instance `id` the current modelview matrix.
+    /// `rtMoveInstance`: gives instance `id` the current modelview matrix, and no motion.
     pub fn move_instance(&mut self, id: RTuint) -> Result<(), Error> {
         self.scene.set_transform(Self::instance(id)?, self.matrices.modelview.top())?;
+        Ok(())
+    }
+
+    /// `rtInstanceMotion`: gives instance `id` the current modelview matrix at the shutter's
+    /// close; its transform at the opening stays.
+    pub fn instance_motion(&mut self, id: RTuint) -> Result<(), Error> {
+        let instance = Self::instance(id)?;
+        let start = self.scene.transform(instance)?;
+        self.scene.set_motion(instance, start, Some(self.matrices.modelview.top()))?;
         Ok(())
     }
 

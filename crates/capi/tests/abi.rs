@@ -323,3 +323,216 @@ fn reset_forgets_everything() {
     assert_error(RT_STACK_UNDERFLOW, "only one matrix");
     assert_eq!(rtGenObjects(1), object, "ids start over");
 }
+
+#[test]
+fn render_settings_are_checked_and_a_refused_value_changes_nothing() {
+    let get = rtGetRenderParameteri;
+    let defaults = [(RT_RENDER_MODE, RT_AUTO as RTint), (RT_SAMPLES_PER_PIXEL, 1), (RT_RAY_DEPTH, 6), (RT_LIGHT_SAMPLES, 1)];
+    for (pname, value) in defaults.into_iter().chain([(RT_RUSSIAN_ROULETTE, 1), (RT_SEED, 0)]) {
+        assert_eq!(get(pname), value, "default of {pname:#x}");
+    }
+    rtRenderMode(RT_PATH);
+    rtRenderParameteri(RT_SAMPLES_PER_PIXEL, RT_MAX_SAMPLES);
+    rtRenderParameteri(RT_RAY_DEPTH, 3);
+    rtRenderParameteri(RT_SEED, 7);
+    assert_no_error();
+
+    rtRenderMode(RT_TRIANGLES);
+    assert_error(RT_INVALID_ENUM, "rtRenderMode: 0x4 is not a render mode (RT_AUTO, RT_EYELIGHT");
+    rtRenderParameteri(RT_SAMPLES_PER_PIXEL, 0);
+    assert_error(RT_INVALID_VALUE, "RT_SAMPLES_PER_PIXEL is 0, not in 1..=65536");
+    rtRenderParameteri(RT_SAMPLES_PER_PIXEL, RT_MAX_SAMPLES + 1);
+    assert_error(RT_INVALID_VALUE, "RT_SAMPLES_PER_PIXEL is 65537");
+    rtRenderParameteri(RT_RAY_DEPTH, RT_MAX_RAY_DEPTH + 1);
+    assert_error(RT_INVALID_VALUE, "RT_RAY_DEPTH is 65, not in 1..=64");
+    rtRenderParameteri(RT_SEED, -1);
+    assert_error(RT_INVALID_VALUE, "RT_SEED is -1");
+    rtRenderParameteri(RT_RUSSIAN_ROULETTE, 2);
+    assert_error(RT_INVALID_VALUE, "RT_RUSSIAN_ROULETTE is 2, not in 0..=1");
+    rtRenderParameteri(RT_RENDER_MODE, RT_WHITTED as RTint);
+    assert_error(RT_INVALID_ENUM, "RT_RENDER_MODE is set with rtRenderMode");
+    rtRenderParameteri(0x9999, 1);
+    assert_error(RT_INVALID_ENUM, "0x9999 is not a render parameter");
+    assert_eq!(get(0x9999), 0);
+    assert_error(RT_INVALID_ENUM, "rtGetRenderParameteri: 0x9999 is not a render parameter");
+
+    let set = [(RT_RENDER_MODE, RT_PATH as RTint), (RT_SAMPLES_PER_PIXEL, RT_MAX_SAMPLES), (RT_RAY_DEPTH, 3), (RT_SEED, 7)];
+    for (pname, value) in set {
+        assert_eq!(get(pname), value, "{pname:#x} as last set");
+    }
+    rtResetContext();
+    assert_eq!(get(RT_RENDER_MODE), RT_AUTO as RTint, "reset restores the defaults");
+}
+
+/// A quadrilateral with corners `c` (counter-clockwise seen from its front).
+fn quad(c: [[f32; 3]; 4]) {
+    rtBegin(RT_QUADS);
+    for [x, y, z] in c {
+        rtVertex3f(x, y, z);
+    }
+    rtEnd();
+}
+
+/// The mean of the red channel over rows `rows` of a `w`-wide RGBA8 image.
+fn mean_red(pixels: &[u8], w: usize, rows: std::ops::Range<usize>) -> f64 {
+    let n = rows.len() * w;
+    rows.flat_map(|y| (0..w).map(move |x| (x, y))).map(|(x, y)| rgb(pixels, w, x, y)[0] as f64).sum::<f64>() / n as f64
+}
+
+/// A diffuse floor under an emitting panel, with no light shader: only the path tracer sees the
+/// panel's light, as it reaches the floor by bounces.
+fn floor_under_a_glowing_panel() {
+    let floor = shader(c"Diffuse");
+    let panel = shader(c"Emissive");
+    rtParameter3f(handle(c"emission"), 4.0, 4.0, 4.0);
+    let object = rtGenObjects(1);
+    rtNewObject(object, RT_COMPILE);
+    rtBindShader(floor);
+    quad([[-8.0, 0.0, 8.0], [8.0, 0.0, 8.0], [8.0, 0.0, -8.0], [-8.0, 0.0, -8.0]]);
+    rtBindShader(panel);
+    quad([[-1.0, 1.5, -1.0], [1.0, 1.5, -1.0], [1.0, 1.5, 1.0], [-1.0, 1.5, 1.0]]);
+    rtEndObject();
+    rtInstantiateObject(object);
+    rtLookAt(0.0, 4.0, 6.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0);
+}
+
+#[test]
+fn the_path_tracer_lights_the_floor_by_bounces_and_samples_reduce_its_noise() {
+    floor_under_a_glowing_panel();
+    let (w, h) = (32, 32);
+    let pixels = frame_buffer(w, h);
+    let floor = |mode| {
+        rtRenderMode(mode);
+        rtSwapBuffers();
+        mean_red(&pixels, w, 24..32)
+    };
+    rtRenderParameteri(RT_SAMPLES_PER_PIXEL, 16);
+    let (whitted, path) = (floor(RT_WHITTED), floor(RT_PATH));
+    assert!(whitted < 5.0 && path > whitted + 30.0, "the floor's red: {whitted} with Whitted, {path} path traced");
+    rtRenderParameteri(RT_RAY_DEPTH, 1);
+    assert!(floor(RT_PATH) < 5.0, "paths of one segment see the panel, not the light it sheds");
+    rtRenderParameteri(RT_RAY_DEPTH, 6);
+    assert_no_error();
+
+    // Each seed gives its own noise, the same each time; more samples give less of it (in
+    // linear light: sRGB bytes would stretch the dark floor's noise and clip the bright).
+    let mut linear = vec![0f32; w * h * 4];
+    unsafe { rtFrameBuffer(linear.as_mut_ptr().cast(), w, h, RT_RGBA32F) };
+    let image = |spp, seed| {
+        rtRenderParameteri(RT_SAMPLES_PER_PIXEL, spp);
+        rtRenderParameteri(RT_SEED, seed);
+        rtSwapBuffers();
+        linear.clone()
+    };
+    let noise = |a: &[f32], b: &[f32]| a.iter().zip(b).map(|(x, y)| (x - y).abs()).sum::<f32>();
+    let (one, one_again, other) = (image(1, 0), image(1, 0), image(1, 1));
+    assert_eq!(one, one_again, "the same seed renders the same image");
+    let (many, many_other) = (image(64, 0), image(64, 1));
+    assert!(
+        noise(&many, &many_other) * 3.0 < noise(&one, &other),
+        "64 samples differ by {} between seeds, 1 sample by {}",
+        noise(&many, &many_other),
+        noise(&one, &other)
+    );
+    assert_no_error();
+}
+
+/// A white square of side 2 at the origin facing +z, as instance of its own object, in front of
+/// a black wall at z = -1; the camera looks at it from (0, 0, 6). Returns the square's instance.
+fn white_square_before_a_black_wall() -> RTuint {
+    let white = shader(c"Constant");
+    rtParameter3f(handle(c"color"), 1.0, 1.0, 1.0);
+    let black = shader(c"Constant");
+    rtParameter3f(handle(c"color"), 0.0, 0.0, 0.0);
+    let square = rtGenObjects(2);
+    let wall = square + 1;
+    rtNewObject(square, RT_COMPILE);
+    rtBindShader(white);
+    quad([[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]]);
+    rtEndObject();
+    rtNewObject(wall, RT_COMPILE);
+    rtBindShader(black);
+    quad([[-20.0, -20.0, -1.0], [20.0, -20.0, -1.0], [20.0, 20.0, -1.0], [-20.0, 20.0, -1.0]]);
+    rtEndObject();
+    rtInstantiateObject(wall);
+    rtLookAt(0.0, 0.0, 6.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0);
+    rtInstantiateObject(square)
+}
+
+/// How many pixels of the middle row of a `w × h` image are neither black nor white: blurred.
+fn grey_pixels(pixels: &[u8], w: usize, h: usize) -> usize {
+    (0..w).filter(|&x| (30..225).contains(&rgb(pixels, w, x, h / 2)[0])).count()
+}
+
+#[test]
+fn a_wide_lens_blurs_what_it_does_not_focus_on() {
+    white_square_before_a_black_wall();
+    let (w, h) = (32, 32);
+    let pixels = frame_buffer(w, h);
+    let blur = |mode| {
+        rtRenderMode(mode);
+        rtSwapBuffers();
+        grey_pixels(&pixels, w, h)
+    };
+    rtRenderParameteri(RT_SAMPLES_PER_PIXEL, 32);
+    let sharp = blur(RT_DISTRIBUTION);
+    rtLens(0.5, 2.0);
+    assert_no_error();
+    let blurred = blur(RT_DISTRIBUTION);
+    assert!(sharp <= 2 && blurred >= 6, "{sharp} grey pixels through a pinhole, {blurred} through the lens");
+    assert!(blur(RT_WHITTED) <= 2, "Whitted's ray tracer sees through a pinhole");
+    rtLookAt(0.0, 0.0, 6.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0);
+    assert_eq!(blur(RT_DISTRIBUTION), blurred, "rtLookAt keeps the lens");
+
+    let before = pixels.clone();
+    for (aperture, focus, fragment) in [(-0.5, 2.0, "aperture_radius is -0.5, negative"), (0.5, f32::NAN, "[1] is NaN"), (f32::INFINITY, 1.0, "[0] is inf")] {
+        rtLens(aperture, focus);
+        assert_error(RT_INVALID_VALUE, fragment);
+    }
+    rtSwapBuffers();
+    assert_eq!(pixels, before, "refused lenses change nothing");
+}
+
+#[test]
+fn an_instance_in_motion_blurs_while_the_shutter_is_open() {
+    let square = white_square_before_a_black_wall();
+    let (w, h) = (32, 32);
+    let pixels = frame_buffer(w, h);
+    let blur = || {
+        rtSwapBuffers();
+        grey_pixels(&pixels, w, h)
+    };
+    rtRenderMode(RT_DISTRIBUTION);
+    rtRenderParameteri(RT_SAMPLES_PER_PIXEL, 32);
+    rtTranslatef(-1.0, 0.0, 0.0);
+    rtMoveInstance(square);
+    rtLoadIdentity();
+    rtTranslatef(1.0, 0.0, 0.0);
+    rtInstanceMotion(square);
+    assert_no_error();
+    let still = blur();
+    assert!(still <= 2, "the shutter takes an instant by default: {still} grey pixels");
+    rtShutter(0.0, 1.0);
+    let moving = blur();
+    assert!(moving >= 8, "the square sweeps 2 units while the shutter is open: {moving} grey pixels");
+
+    let before = pixels.clone();
+    for (open, close, fragment) in [(0.5, 0.2, "open 0.5 and close 0.2 do not satisfy"), (0.0, 2.0, "close 2"), (f32::NAN, 1.0, "[0] is NaN")] {
+        rtShutter(open, close);
+        assert_error(RT_INVALID_VALUE, fragment);
+    }
+    rtInstanceMotion(0);
+    assert_error(RT_INVALID_VALUE, "instance 0 does not exist");
+    rtInstanceMotion(square + 1);
+    assert_error(RT_INVALID_VALUE, &format!("instance {} does not exist", square + 1));
+    rtScalef(0.0, 1.0, 1.0);
+    rtInstanceMotion(square);
+    assert_error(RT_INVALID_VALUE, "singular");
+    rtSwapBuffers();
+    assert_eq!(pixels, before, "refused calls change nothing");
+
+    rtLoadIdentity();
+    rtMoveInstance(square);
+    assert!(blur() <= 2, "rtMoveInstance stops the motion");
+    assert_no_error();
+}

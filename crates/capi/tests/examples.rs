@@ -187,6 +187,21 @@ fn three_kinds_of_objects_move_as_their_kinds_do() {
 }
 
 #[test]
+fn motion_blur_smears_the_sliding_cube() {
+    for linking in [Linking::Shared, Linking::Static] {
+        let dir = build_and_run("c/motion_blur.c", linking, &["160", "90", "16"]);
+        let (blurred, still) = (frame(&dir, "motion_blur.png"), frame(&dir, "motion_blur_still.png"));
+        // Pixels redder than blue by `margin`: the ground is grey and the sky bluish, so they
+        // show the cube's orange, in full (a large margin) or as a trace of it (a small one).
+        let orange = |image: &RgbaImage, margin: i32| image.pixels().filter(|p| p[0] as i32 > p[2] as i32 + margin).count();
+        let (full, trace) = ([orange(&still, 100), orange(&blurred, 100)], [orange(&still, 12), orange(&blurred, 12)]);
+        assert!(full[0] > 100, "{linking:?}: the still cube covers {} pixels", full[0]);
+        assert!(full[1] * 2 < full[0], "{linking:?}: {} pixels keep the full colour in motion", full[1]);
+        assert!(trace[1] > trace[0] * 2, "{linking:?}: the smear tints {} pixels, the still cube {}", trace[1], trace[0]);
+    }
+}
+
+#[test]
 fn the_cpp_wrapper_spins_a_torus() {
     for linking in [Linking::Shared, Linking::Static] {
         let dir = build_and_run("cpp/spin.cpp", linking, &["2", "160", "120"]);

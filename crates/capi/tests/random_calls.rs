@@ -1,6 +1,7 @@
 //! Random sequences of C calls, valid and invalid, through the `extern "C"` functions: no panic
 //! escapes, no call fails inside raystage (`RT_INTERNAL_ERROR`), every call the model can judge
-//! records the error it predicts, and whatever happened, the scene still renders.
+//! records the error it predicts, the render settings read back are the last ones accepted, and
+//! whatever happened, the scene still renders.
 
 use std::ffi::CString;
 
@@ -18,6 +19,7 @@ enum Call {
     DeleteObjects(RTuint, usize),
     Instantiate(RTuint),
     MoveInstance(RTuint),
+    InstanceMotion(RTuint),
     DeleteInstance(RTuint),
     DeleteAllInstances,
     Begin(RTenum),
@@ -37,6 +39,11 @@ enum Call {
     Scale([f32; 3]),
     Perspective(f32),
     LookAt([f32; 3]),
+    Lens(f32, f32),
+    Shutter(f32, f32),
+    RenderMode(RTenum),
+    RenderParameter(RTenum, RTint),
+    GetRenderParameter(RTenum),
     GenShaderClasses(usize),
     NewShaderClass(RTuint, String),
     BindShaderClass(RTuint),
@@ -74,7 +81,19 @@ const KINDS: &[RTenum] = &[RT_STATIC, RT_ANIMATED, RT_UNSTRUCTURED];
 const MODES: &[RTenum] = &[RT_MODELVIEW, RT_TEXTURE];
 const SHADE: &[RTenum] = &[RT_FLAT, RT_SMOOTH];
 const LIGHTS: &[&str] = &["PointLight", "SpotLight", "DirectionalLight", "AmbientLight", "AreaLight", "EnvironmentLight"];
+const RENDER_MODES: &[RTenum] = &[RT_AUTO, RT_EYELIGHT, RT_WHITTED, RT_DISTRIBUTION, RT_PATH];
+const RENDER_PARAMETERS: &[RTenum] = &[RT_SAMPLES_PER_PIXEL, RT_RAY_DEPTH, RT_LIGHT_SAMPLES, RT_RUSSIAN_ROULETTE, RT_SEED];
 const PARAMS: &[&str] = &["diffuse", "color", "position", "intensity", "cone", "specularColor"];
+
+/// Shutter times: mostly in [0, 1], sometimes not, or not numbers.
+fn time() -> impl Strategy<Value = f32> {
+    prop_oneof![4 => 0.0f32..=1.0, 1 => number()]
+}
+
+/// Render parameter values: mostly small (so that frames stay cheap), sometimes out of range.
+fn render_value() -> impl Strategy<Value = RTint> {
+    prop_oneof![8 => -1..6, 1 => Just(RT_MAX_RAY_DEPTH + 1), 1 => Just(RT_MAX_SAMPLES + 1), 1 => Just(RTint::MAX)]
+}
 
 fn class_name() -> impl Strategy<Value = String> {
     let mut names: Vec<String> = SHADER_CLASSES.iter().map(|c| c.name.to_string()).collect();
@@ -94,6 +113,7 @@ fn call() -> impl Strategy<Value = Call> {
         1 => (id(), 0usize..3).prop_map(|(i, n)| Call::DeleteObjects(i, n)),
         3 => id().prop_map(Call::Instantiate),
         1 => id().prop_map(Call::MoveInstance),
+        1 => id().prop_map(Call::InstanceMotion),
         1 => id().prop_map(Call::DeleteInstance),
         1 => Just(Call::DeleteAllInstances),
         4 => one_of(PRIMITIVES).prop_map(Call::Begin),
@@ -113,6 +133,12 @@ fn call() -> impl Strategy<Value = Call> {
         1 => vec3().prop_map(Call::Scale),
         1 => prop_oneof![1.0f32..179.0, Just(0.0), Just(180.0), Just(f32::NAN)].prop_map(Call::Perspective),
         1 => vec3().prop_map(Call::LookAt),
+        1 => (number(), number()).prop_map(|(a, f)| Call::Lens(a, f)),
+        1 => (time(), time()).prop_map(|(o, c)| Call::Shutter(o, c)),
+        1 => one_of(RENDER_MODES).prop_map(Call::RenderMode),
+        2 => (prop_oneof![6 => proptest::sample::select(RENDER_PARAMETERS), 1 => Just(RT_RENDER_MODE), 1 => 0u32..0x9100], render_value())
+            .prop_map(|(p, v)| Call::RenderParameter(p, v)),
+        1 => one_of(&[RT_RENDER_MODE, RT_SAMPLES_PER_PIXEL, RT_RAY_DEPTH, RT_SEED]).prop_map(Call::GetRenderParameter),
         1 => (0usize..3).prop_map(Call::GenShaderClasses),
         1 => (id(), class_name()).prop_map(|(i, n)| Call::NewShaderClass(i, n)),
         1 => id().prop_map(Call::BindShaderClass),
@@ -180,11 +206,38 @@ struct Model {
     depth: [usize; 2],
     objects: usize,
     classes: usize,
+    /// The render mode and parameters as `rtGetRenderParameteri` should return them.
+    rendering: Vec<(RTenum, RTint)>,
 }
 
 impl Model {
     fn new() -> Model {
-        Model { depth: [1, 1], ..Model::default() }
+        let rendering = vec![
+            (RT_RENDER_MODE, RT_AUTO as RTint),
+            (RT_SAMPLES_PER_PIXEL, 1),
+            (RT_RAY_DEPTH, 6),
+            (RT_LIGHT_SAMPLES, 1),
+            (RT_RUSSIAN_ROULETTE, 1),
+            (RT_SEED, 0),
+        ];
+        Model { depth: [1, 1], rendering, ..Model::default() }
+    }
+
+    /// The values render parameter `pname` takes; `None` if `rtRenderParameteri` refuses it.
+    fn render_range(pname: RTenum) -> Option<std::ops::RangeInclusive<RTint>> {
+        match pname {
+            RT_SAMPLES_PER_PIXEL => Some(1..=RT_MAX_SAMPLES),
+            RT_RAY_DEPTH => Some(1..=RT_MAX_RAY_DEPTH),
+            RT_LIGHT_SAMPLES => Some(1..=RT_MAX_LIGHT_SAMPLES),
+            RT_RUSSIAN_ROULETTE => Some(0..=1),
+            RT_SEED => Some(0..=RTint::MAX),
+            _ => None,
+        }
+    }
+
+    /// What `rtGetRenderParameteri(pname)` should return.
+    fn render_value(&self, pname: RTenum) -> RTint {
+        self.rendering.iter().find(|(p, _)| *p == pname).map_or(0, |&(_, v)| v)
     }
 
     fn finite(v: &[f32]) -> bool {
@@ -221,7 +274,7 @@ impl Model {
             EndObject => OneOf(OK_OR_OPERATION),
             ObjectKind(k) => enumerated(*k, KINDS),
             Instantiate(_) if self.defining => Code(RT_INVALID_OPERATION),
-            Instantiate(_) | MoveInstance(_) | DeleteInstance(_) => OneOf(OK_OR_VALUE),
+            Instantiate(_) | MoveInstance(_) | InstanceMotion(_) | DeleteInstance(_) => OneOf(OK_OR_VALUE),
             DeleteObjects(..) | DeleteAllInstances | LoadIdentity | GenShaderClasses(_) | GenShaders(_) | DeleteShaders(..) => {
                 Code(RT_NO_ERROR)
             }
@@ -245,6 +298,17 @@ impl Model {
             Rotate(a, v) if !Model::finite(v) || !a.is_finite() || *v == [0.0; 3] => Code(RT_INVALID_VALUE),
             Translate(_) | Scale(_) | Rotate(..) | LookAt(_) => OneOf(OK_OR_VALUE),
             Perspective(fov) => value(*fov > 0.0 && *fov < 180.0),
+            Lens(a, f) => value(Model::finite(&[*a, *f]) && *a >= 0.0 && *f >= 0.0),
+            Shutter(open, close) => value(0.0 <= *open && open <= close && *close <= 1.0),
+            RenderMode(m) => enumerated(*m, RENDER_MODES),
+            RenderParameter(p, v) => match Model::render_range(*p) {
+                None => Code(RT_INVALID_ENUM),
+                Some(range) => value(range.contains(v)),
+            },
+            GetRenderParameter(p) => {
+                let known = *p == RT_RENDER_MODE || Model::render_range(*p).is_some();
+                Code(if known { RT_NO_ERROR } else { RT_INVALID_ENUM })
+            }
             NewShaderClass(id, name) => {
                 let known = SHADER_CLASSES.iter().any(|c| c.name == name) || LIGHTS.contains(&name.as_str());
                 value(*id != 0 && *id as usize <= self.classes && known)
@@ -256,6 +320,10 @@ impl Model {
             Swap => Code(RT_NO_ERROR),
             Pick(x, y) => value((*x as usize) < SIDE && (*y as usize) < SIDE),
         }
+    }
+
+    fn set_render_value(&mut self, pname: RTenum, value: RTint) {
+        self.rendering.iter_mut().filter(|(p, _)| *p == pname).for_each(|(_, v)| *v = value);
     }
 
     /// Follows the state change of `call`, which recorded `code`.
@@ -273,13 +341,15 @@ impl Model {
             MatrixMode(m) => self.texture_mode = *m == RT_TEXTURE,
             PushMatrix => self.depth[self.texture_mode as usize] += 1,
             PopMatrix => self.depth[self.texture_mode as usize] -= 1,
+            RenderMode(m) => self.set_render_value(RT_RENDER_MODE, *m as RTint),
+            RenderParameter(p, v) => self.set_render_value(*p, *v),
             _ => {}
         }
     }
 }
 
-/// Makes the call through the C ABI.
-fn perform(call: &Call) {
+/// Makes the call through the C ABI; returns what a query returned.
+fn perform(call: &Call) -> Option<RTint> {
     use Call::*;
     let null = std::ptr::null();
     match call {
@@ -290,6 +360,7 @@ fn perform(call: &Call) {
         DeleteObjects(first, n) => rtDeleteObjects(*first, *n),
         Instantiate(id) => drop(rtInstantiateObject(*id)),
         MoveInstance(id) => rtMoveInstance(*id),
+        InstanceMotion(id) => rtInstanceMotion(*id),
         DeleteInstance(id) => rtDeleteInstance(*id),
         DeleteAllInstances => rtDeleteAllInstances(),
         Begin(mode) => rtBegin(*mode),
@@ -312,6 +383,11 @@ fn perform(call: &Call) {
         Scale([x, y, z]) => rtScalef(*x, *y, *z),
         Perspective(fov) => rtPerspective(*fov, 1.0, 0.1, 100.0),
         LookAt([x, y, z]) => rtLookAt(*x, *y, *z, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0),
+        Lens(aperture, focus) => rtLens(*aperture, *focus),
+        Shutter(open, close) => rtShutter(*open, *close),
+        RenderMode(m) => rtRenderMode(*m),
+        RenderParameter(p, v) => rtRenderParameteri(*p, *v),
+        GetRenderParameter(p) => return Some(rtGetRenderParameteri(*p)),
         GenShaderClasses(n) => drop(rtGenShaderClasses(*n)),
         NewShaderClass(id, name) => {
             let name = CString::new(name.as_str()).unwrap();
@@ -336,6 +412,7 @@ fn perform(call: &Call) {
         Swap => rtSwapBuffers(),
         Pick(x, y) => drop(unsafe { rtPick(*x, *y, std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut()) }),
     }
+    None
 }
 
 /// A fresh context where ids 1 to 3 of objects, shader classes and shaders exist, the classes
@@ -374,9 +451,12 @@ proptest! {
         unsafe { rtFrameBuffer(pixels.as_mut_ptr().cast(), SIDE, SIDE, RT_RGBA8) };
         for call in &calls {
             let expected = model.expect(call);
-            perform(call);
+            let returned = perform(call);
             let code = rtGetError();
             prop_assert_ne!(code, RT_INTERNAL_ERROR, "{:?}: {}", call, message());
+            if let (Call::GetRenderParameter(pname), Some(value), RT_NO_ERROR) = (call, returned, code) {
+                prop_assert_eq!(value, model.render_value(*pname), "{:?}: refused settings change nothing", call);
+            }
             match expected {
                 Expect::Code(c) => prop_assert_eq!(code, c, "{:?}: {}", call, message()),
                 Expect::OneOf(codes) => prop_assert!(codes.contains(&code), "{:?} recorded {:#x}: {}", call, code, message()),

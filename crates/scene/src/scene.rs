@@ -148,6 +148,11 @@ impl Scene {
         self.set_motion(id, transform, None)
     }
 
+    /// An instance's transform at the shutter's opening.
+    pub fn transform(&self, id: InstanceId) -> Result<Affine3A, SceneError> {
+        self.instances.get(id.0).map(|i| i.start).ok_or(SceneError::UnknownInstance(id))
+    }
+
     /// Moves an instance and sets its motion during the shutter: `start` at its opening, `end`
     /// (if any) at its close.
     pub fn set_motion(&mut self, id: InstanceId, start: Affine3A, end: Option<Affine3A>) -> Result<(), SceneError> {

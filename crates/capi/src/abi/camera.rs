@@ -1,4 +1,5 @@
-//! The camera. Like OpenRT's, these calls set the camera and touch no matrix.
+//! The camera: where it looks from, its lens and its shutter. Like OpenRT's, these calls set
+//! the camera and touch no matrix.
 
 use crate::abi::types::RTfloat;
 use crate::boundary::call;
@@ -27,4 +28,26 @@ pub extern "C" fn rtLookAt(
     up_z: RTfloat,
 ) {
     call("rtLookAt", |ctx| ctx.look_at([eye_x, eye_y, eye_z], [center_x, center_y, center_z], [up_x, up_y, up_z]))
+}
+
+/// Gives the camera a thin lens of radius `aperture_radius` that focuses at `focus_distance`
+/// from the eye, for depth of field: what lies nearer or farther is blurred, the more the wider
+/// the lens. `focus_distance` 0 focuses on the point `rtLookAt` looks at; `aperture_radius` 0
+/// (the default) is a pinhole, sharp everywhere. Both must be finite and not negative. Only
+/// `RT_DISTRIBUTION` and `RT_PATH` (`rtRenderMode`) render the blur; raise
+/// `RT_SAMPLES_PER_PIXEL` to smooth it.
+#[unsafe(no_mangle)]
+pub extern "C" fn rtLens(aperture_radius: RTfloat, focus_distance: RTfloat) {
+    call("rtLens", |ctx| ctx.lens(aperture_radius, focus_distance))
+}
+
+/// Opens the shutter at time `open` and closes it at `close`, times of the frame with
+/// 0 <= `open` <= `close` <= 1, for motion blur: instances given an end transform with
+/// `rtInstanceMotion` move over the frame, and the image shows them over the time the shutter
+/// is open. `open` equal to `close` (the default, 0 and 0) takes an instant: no blur. Only
+/// `RT_DISTRIBUTION` and `RT_PATH` (`rtRenderMode`) render the blur; raise
+/// `RT_SAMPLES_PER_PIXEL` to smooth it.
+#[unsafe(no_mangle)]
+pub extern "C" fn rtShutter(open: RTfloat, close: RTfloat) {
+    call("rtShutter", |ctx| ctx.shutter(open, close))
 }

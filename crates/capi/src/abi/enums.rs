@@ -1,7 +1,7 @@
 //! The constants of the C ABI. Values that OpenGL also has keep OpenGL's numbers, so a ported
 //! program's constants mean the same; raystage's own values start at 0x9000.
 
-use crate::abi::types::{RTenum, RTsizei};
+use crate::abi::types::{RTenum, RTint, RTsizei};
 
 // ----- error codes (rtGetError) -----
 
@@ -92,6 +92,45 @@ pub const RT_RGBA8: RTenum = 0x8058;
 pub const RT_RGBA32F: RTenum = 0x8814;
 /// Largest frame buffer width or height.
 pub const RT_MAX_FRAMEBUFFER_SIZE: RTsizei = 16384;
+
+// ----- rendering (rtRenderMode, rtRenderParameteri) -----
+
+/// `rtRenderMode` (the default): `RT_WHITTED` if the scene has lights, else `RT_EYELIGHT`, so
+/// that an unlit scene is not black.
+pub const RT_AUTO: RTenum = 0x9030;
+/// `rtRenderMode`: a fast preview lit by a light at the eye; no shadows, no secondary rays.
+pub const RT_EYELIGHT: RTenum = 0x9031;
+/// `rtRenderMode`: Whitted's ray tracing: shadows, mirror reflection and refraction, recursively.
+pub const RT_WHITTED: RTenum = 0x9032;
+/// `rtRenderMode`: Cook's distribution ray tracing: Whitted's rays spread over the pixel, the
+/// lens (depth of field), the shutter (motion blur), area lights and glossy reflections.
+pub const RT_DISTRIBUTION: RTenum = 0x9033;
+/// `rtRenderMode`: path tracing (global illumination), with depth of field and motion blur too.
+pub const RT_PATH: RTenum = 0x9034;
+
+/// `rtGetRenderParameteri`: the mode `rtRenderMode` set (`RT_AUTO`, `RT_EYELIGHT`, ...).
+pub const RT_RENDER_MODE: RTenum = 0x9040;
+/// Render parameter: samples per pixel each `rtSwapBuffers` renders, 1 to `RT_MAX_SAMPLES`
+/// (default 1). Depth of field and motion blur need many to be smooth.
+pub const RT_SAMPLES_PER_PIXEL: RTenum = 0x9041;
+/// Render parameter: the deepest recursion (Whitted, distribution) or the longest path (path
+/// tracer), 1 to `RT_MAX_RAY_DEPTH` (default 6).
+pub const RT_RAY_DEPTH: RTenum = 0x9042;
+/// Render parameter: shadow rays per area or environment light at each shading point of the
+/// distribution ray tracer and the path tracer, 1 to `RT_MAX_LIGHT_SAMPLES` (default 1).
+pub const RT_LIGHT_SAMPLES: RTenum = 0x9043;
+/// Render parameter: 1 (the default) lets the path tracer end paths early by Russian roulette
+/// (cheaper samples, more noise, no bias); 0 runs every path to `RT_RAY_DEPTH`.
+pub const RT_RUSSIAN_ROULETTE: RTenum = 0x9044;
+/// Render parameter: the seed of the sample sequences, 0 (the default) or more. Frames with the
+/// same seed and scene are the same image; frames with different seeds have independent noise.
+pub const RT_SEED: RTenum = 0x9045;
+/// Largest `RT_SAMPLES_PER_PIXEL`.
+pub const RT_MAX_SAMPLES: RTint = 65536;
+/// Largest `RT_RAY_DEPTH`.
+pub const RT_MAX_RAY_DEPTH: RTint = 64;
+/// Largest `RT_LIGHT_SAMPLES`.
+pub const RT_MAX_LIGHT_SAMPLES: RTint = 256;
 
 // ----- limits -----
 

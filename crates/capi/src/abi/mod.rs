@@ -12,6 +12,7 @@ pub mod instances;
 pub mod matrices;
 pub mod objects;
 pub mod parameters;
+pub mod rendering;
 pub mod shaders;
 pub mod types;
 
@@ -24,5 +25,6 @@ pub use instances::*;
 pub use matrices::*;
 pub use objects::*;
 pub use parameters::*;
+pub use rendering::*;
 pub use shaders::*;
 pub use types::*;

@@ -1,0 +1,154 @@
+//! Render settings (`rtRenderMode`, `rtRenderParameteri`): how `rtSwapBuffers` renders. They
+//! are the renderer's own [`RenderSettings`], checked when set so that a frame never fails on
+//! them; the image size is the frame buffer's, and `RT_AUTO` picks the integrator per frame.
+
+use std::ops::RangeInclusive;
+
+use raystage_render::{Integrator, RenderSettings};
+use raystage_scene::Frame;
+
+use crate::abi::enums::{
+    RT_AUTO, RT_DISTRIBUTION, RT_EYELIGHT, RT_LIGHT_SAMPLES, RT_MAX_LIGHT_SAMPLES, RT_MAX_RAY_DEPTH, RT_MAX_SAMPLES, RT_PATH,
+    RT_RAY_DEPTH, RT_RENDER_MODE, RT_RUSSIAN_ROULETTE, RT_SAMPLES_PER_PIXEL, RT_SEED, RT_WHITTED,
+};
+use crate::abi::types::{RTenum, RTint};
+use crate::context::Context;
+use crate::error::Error;
+
+/// The render modes of `rtRenderMode` and the integrators they name; `RT_AUTO` names none.
+const MODES: [(RTenum, Option<Integrator>); 5] = [
+    (RT_AUTO, None),
+    (RT_EYELIGHT, Some(Integrator::EyeLight)),
+    (RT_WHITTED, Some(Integrator::Whitted)),
+    (RT_DISTRIBUTION, Some(Integrator::Distribution)),
+    (RT_PATH, Some(Integrator::Path)),
+];
+
+/// How the context renders.
+#[derive(Debug, Default)]
+pub(crate) struct Rendering {
+    /// The integrator `rtRenderMode` chose; `None` for `RT_AUTO`.
+    integrator: Option<Integrator>,
+    /// The render parameters; the size and the integrator are filled in at each frame.
+    settings: RenderSettings,
+}
+
+impl Rendering {
+    /// The settings of a `width × height` frame of `frame`. `RT_AUTO` chooses as
+    /// [`raystage_render::render_frame`] does, so the default image is what it always was.
+    pub fn settings(&self, frame: &Frame<'_>, width: u32, height: u32) -> RenderSettings {
+        let auto = || if frame.lights().is_empty() { Integrator::EyeLight } else { Integrator::Whitted };
+        RenderSettings { width, height, integrator: self.integrator.unwrap_or_else(auto), ..self.settings }
+    }
+}
+
+/// The settings `rtRenderParameteri` writes.
+#[derive(Clone, Copy, Debug)]
+enum Setting {
+    SamplesPerPixel,
+    RayDepth,
+    LightSamples,
+    RussianRoulette,
+    Seed,
+}
+
+impl Setting {
+    /// The setting `pname` names, with its C name and the values it takes.
+    fn from_enum(pname: RTenum) -> Result<(Setting, &'static str, RangeInclusive<RTint>), Error> {
+        Ok(match pname {
+            RT_SAMPLES_PER_PIXEL => (Setting::SamplesPerPixel, "RT_SAMPLES_PER_PIXEL", 1..=RT_MAX_SAMPLES),
+            RT_RAY_DEPTH => (Setting::RayDepth, "RT_RAY_DEPTH", 1..=RT_MAX_RAY_DEPTH),
+            RT_LIGHT_SAMPLES => (Setting::LightSamples, "RT_LIGHT_SAMPLES", 1..=RT_MAX_LIGHT_SAMPLES),
+            RT_RUSSIAN_ROULETTE => (Setting::RussianRoulette, "RT_RUSSIAN_ROULETTE", 0..=1),
+            RT_SEED => (Setting::Seed, "RT_SEED", 0..=RTint::MAX),
+            RT_RENDER_MODE => return Err(Error::invalid_enum("RT_RENDER_MODE is set with rtRenderMode")),
+            _ => {
+                return Err(Error::invalid_enum(format!(
+                    "{pname:#x} is not a render parameter (RT_SAMPLES_PER_PIXEL, RT_RAY_DEPTH, RT_LIGHT_SAMPLES, \
+                     RT_RUSSIAN_ROULETTE or RT_SEED)"
+                )));
+            }
+        })
+    }
+
+    fn get(self, s: &RenderSettings) -> RTint {
+        // Every value fits: each was set from an RTint in range.
+        match self {
+            Setting::SamplesPerPixel => s.samples_per_pixel as RTint,
+            Setting::RayDepth => s.max_depth as RTint,
+            Setting::LightSamples => s.light_samples as RTint,
+            Setting::RussianRoulette => s.russian_roulette as RTint,
+            Setting::Seed => s.seed as RTint,
+        }
+    }
+
+    /// Writes `value`, which [`Setting::from_enum`]'s range admits (so it is not negative).
+    fn set(self, s: &mut RenderSettings, value: RTint) {
+        let unsigned = value as u32;
+        match self {
+            Setting::SamplesPerPixel => s.samples_per_pixel = unsigned,
+            Setting::RayDepth => s.max_depth = unsigned,
+            Setting::LightSamples => s.light_samples = unsigned,
+            Setting::RussianRoulette => s.russian_roulette = value == 1,
+            Setting::Seed => s.seed = unsigned,
+        }
+    }
+}
+
+impl Context {
+    /// `rtRenderMode`: the integrator of the frames from now on.
+    pub fn render_mode(&mut self, mode: RTenum) -> Result<(), Error> {
+        let (_, integrator) = MODES.into_iter().find(|&(e, _)| e == mode).ok_or_else(|| {
+            Error::invalid_enum(format!(
+                "{mode:#x} is not a render mode (RT_AUTO, RT_EYELIGHT, RT_WHITTED, RT_DISTRIBUTION or RT_PATH)"
+            ))
+        })?;
+        self.rendering.integrator = integrator;
+        Ok(())
+    }
+
+    /// `rtRenderParameteri`: one render parameter, checked against its range.
+    pub fn render_parameter(&mut self, pname: RTenum, value: RTint) -> Result<(), Error> {
+        let (setting, name, range) = Setting::from_enum(pname)?;
+        if !range.contains(&value) {
+            return Err(Error::invalid_value(format!("{name} is {value}, not in {}..={}", range.start(), range.end())));
+        }
+        setting.set(&mut self.rendering.settings, value);
+        Ok(())
+    }
+
+    /// `rtGetRenderParameteri`: the render mode or a render parameter.
+    pub fn get_render_parameter(&self, pname: RTenum) -> Result<RTint, Error> {
+        if pname == RT_RENDER_MODE {
+            let (mode, _) = MODES.into_iter().find(|&(_, i)| i == self.rendering.integrator).expect("every integrator has a mode");
+            return Ok(mode as RTint);
+        }
+        let (setting, ..) = Setting::from_enum(pname)?;
+        Ok(setting.get(&self.rendering.settings))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_limits_are_the_renderers() {
+        assert_eq!(RT_MAX_SAMPLES as u32, raystage_render::MAX_SAMPLES);
+        assert_eq!(RT_MAX_RAY_DEPTH as u32, raystage_render::MAX_DEPTH);
+        assert_eq!(RT_MAX_LIGHT_SAMPLES as u32, raystage_render::MAX_LIGHT_SAMPLES);
+    }
+
+    #[test]
+    fn every_value_in_range_makes_valid_settings() {
+        let mut ctx = Context::default();
+        for pname in [RT_SAMPLES_PER_PIXEL, RT_RAY_DEPTH, RT_LIGHT_SAMPLES, RT_RUSSIAN_ROULETTE, RT_SEED] {
+            let (_, _, range) = Setting::from_enum(pname).unwrap();
+            for value in [*range.start(), *range.end()] {
+                ctx.render_parameter(pname, value).unwrap();
+                assert_eq!(ctx.get_render_parameter(pname), Ok(value));
+                ctx.rendering.settings.validate().unwrap();
+            }
+        }
+    }
+}
