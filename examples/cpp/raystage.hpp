@@ -144,6 +144,12 @@ class Instance : public Owned<detail::delete_instance> {
         rtMoveInstance(id());
         check();
     }
+    /// Makes the current modelview matrix the instance's transform at the shutter's close (it
+    /// moves from where `move` or `instantiate` put it: motion blur, with `rtShutter`).
+    void move_by_shutter_close() const {
+        rtInstanceMotion(id());
+        check();
+    }
 };
 
 /// An object: geometry with its own acceleration structure; deleted when destroyed.
@@ -179,6 +185,14 @@ class FrameBuffer {
     ~FrameBuffer() { rtFrameBuffer(nullptr, 0, 0, RT_RGBA8); }
     FrameBuffer(const FrameBuffer &) = delete;
     FrameBuffer &operator=(const FrameBuffer &) = delete;
+    /// How the next frames are rendered: `RT_AUTO`, `RT_EYELIGHT`, `RT_WHITTED`,
+    /// `RT_DISTRIBUTION` or `RT_PATH`, with `samples` samples per pixel.
+    void render_mode(RTenum integrator, RTint samples = 1) {
+        rtRenderMode(integrator);
+        check();
+        rtRenderParameteri(RT_SAMPLES_PER_PIXEL, samples);
+        check();
+    }
     /// Renders a frame into the buffer.
     void swap() {
         rtSwapBuffers();

@@ -42,6 +42,7 @@ int main(int argc, char *argv[]) {
     try {
         rt::Context context;
         rt::FrameBuffer frame(width, height);
+        frame.render_mode(RT_WHITTED); // shadows from the two suns, one sample per pixel
         rtPerspective(45, float(width) / height, 0.1f, 100);
         rtLookAt(0, 2.5f, 7, 0, 0.6f, 0, 0, 1, 0);
 
