@@ -70,12 +70,24 @@ impl Mesh {
 
     /// Bounds of the vertices the triangles use.
     pub fn bounds(&self) -> Aabb {
-        self.indices.iter().flatten().fold(Aabb::EMPTY, |b, &i| b.grow(self.positions[i as usize]))
+        // Written out: the `flatten` and `array::map` adapters are not inlined into these loops,
+        // and they run over every vertex of every redefinition of an unstructured object.
+        let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+        for &[a, b, c] in &self.indices {
+            for p in [self.positions[a as usize], self.positions[b as usize], self.positions[c as usize]] {
+                lo = lo.min(p);
+                hi = hi.max(p);
+            }
+        }
+        // No triangles leave it empty: `Aabb::EMPTY` is exactly this infinite inside-out box.
+        Aabb { min: lo, max: hi }
     }
 
     /// The vertices of triangle `prim`.
+    #[inline]
     pub fn triangle(&self, prim: u32) -> [Vec3; 3] {
-        self.indices[prim as usize].map(|i| self.positions[i as usize])
+        let [a, b, c] = self.indices[prim as usize];
+        [self.positions[a as usize], self.positions[b as usize], self.positions[c as usize]]
     }
 }
 

@@ -29,6 +29,13 @@ pub enum ObjectKind {
 /// triangles) pays for itself within a frame or two.
 pub const REBUILD_DEGRADATION: f32 = 0.4;
 
+/// Most redefinitions in a row rebuilt without trying a refit first. A refit that ends in a
+/// rebuild costs both; when refits keep failing (geometry that changes fast, as the museum's
+/// triangles do halfway between cloud and sphere), the next attempts are spaced out 1, 2, 4 and
+/// then this many redefinitions apart, and a refit that holds brings the attempts back to every
+/// redefinition.
+const MAX_REFIT_BACKOFF: u32 = 8;
+
 /// Counts of the tree work done while tracing a frame; objects no ray reached do none.
 #[derive(Debug, Default)]
 pub struct BuildCounters {
@@ -68,8 +75,19 @@ pub(crate) struct Object {
     /// The tree for the current geometry, built by the first ray that needs it.
     accel: OnceLock<Bvh8>,
     /// An unstructured object's tree for earlier geometry with the same triangles, waiting to be
-    /// refitted by the first ray that needs the new one.
-    previous: Mutex<Option<Bvh8>>,
+    /// refitted by the first ray that needs the new one, and how refits have fared.
+    previous: Mutex<Refits>,
+}
+
+/// An unstructured object's refit state.
+#[derive(Debug, Default)]
+struct Refits {
+    /// The tree to refit, if the triangles are still the ones it was built over.
+    tree: Option<Bvh8>,
+    /// Redefinitions still to rebuild without trying a refit (see [`MAX_REFIT_BACKOFF`]).
+    skip: u32,
+    /// How many the next failed refit makes that.
+    backoff: u32,
 }
 
 impl Object {
@@ -83,7 +101,7 @@ impl Object {
             mesh,
             kind,
             accel: OnceLock::new(),
-            previous: Mutex::new(None),
+            previous: Mutex::new(Refits::default()),
         }
     }
 
@@ -107,9 +125,9 @@ impl Object {
     fn replace(&mut self, mesh: Mesh, same_triangles: bool) {
         let previous = self.previous.get_mut().unwrap_or_else(|e| e.into_inner());
         match (self.kind, same_triangles, self.accel.take()) {
-            (ObjectKind::Unstructured, true, Some(tree)) => *previous = Some(tree),
+            (ObjectKind::Unstructured, true, Some(tree)) => previous.tree = Some(tree),
             (ObjectKind::Unstructured, true, None) => {}
-            _ => *previous = None,
+            _ => *previous = Refits::default(),
         }
         self.bounds = mesh.bounds();
         (self.shaders_used, self.uses_default_shader) = shaders_of(&mesh);
@@ -137,16 +155,25 @@ impl Object {
             BuildCounters::add(&counters.built);
             return Bvh8::build(&self.mesh, &BuildOptions::default());
         }
-        let previous = self.previous.lock().unwrap_or_else(|e| e.into_inner()).take();
-        if let Some(mut tree) = previous {
-            if tree.refit(&self.mesh) <= REBUILD_DEGRADATION {
-                BuildCounters::add(&counters.refitted);
-                return tree;
+        let mut refits = self.previous.lock().unwrap_or_else(|e| e.into_inner());
+        match refits.tree.take() {
+            Some(_) if refits.skip > 0 => {
+                refits.skip -= 1;
+                BuildCounters::add(&counters.rebuilt);
             }
-            BuildCounters::add(&counters.rebuilt);
-        } else {
-            BuildCounters::add(&counters.built);
+            Some(mut tree) => {
+                if tree.refit(&self.mesh) <= REBUILD_DEGRADATION {
+                    refits.backoff = 0;
+                    BuildCounters::add(&counters.refitted);
+                    return tree;
+                }
+                refits.backoff = (2 * refits.backoff).clamp(1, MAX_REFIT_BACKOFF);
+                refits.skip = refits.backoff;
+                BuildCounters::add(&counters.rebuilt);
+            }
+            None => BuildCounters::add(&counters.built),
         }
+        drop(refits);
         let fast = BuildOptions { quality: BuildQuality::Fast, refittable: true, ..BuildOptions::default() };
         Bvh8::build(&self.mesh, &fast)
     }
