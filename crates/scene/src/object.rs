@@ -117,21 +117,30 @@ impl Object {
     pub fn move_vertices(&mut self, positions: Vec<glam::Vec3>) {
         let mut mesh = std::mem::take(&mut self.mesh);
         mesh.positions = positions;
-        self.replace(mesh, true);
+        self.retire_tree(true);
+        // Same triangles, same shaders: only the bounds move.
+        self.bounds = mesh.bounds();
+        self.mesh = mesh;
     }
 
     /// Installs `mesh`; `same_triangles` says whether it has the triangles of the mesh it
     /// replaces (so that a tree built for that one can be refitted to it).
     fn replace(&mut self, mesh: Mesh, same_triangles: bool) {
+        self.retire_tree(same_triangles);
+        self.bounds = mesh.bounds();
+        (self.shaders_used, self.uses_default_shader) = shaders_of(&mesh);
+        self.mesh = mesh;
+    }
+
+    /// Drops the current tree for new geometry, keeping it for a refit if the object is
+    /// unstructured and the triangles stay the same (`same_triangles`).
+    fn retire_tree(&mut self, same_triangles: bool) {
         let previous = self.previous.get_mut().unwrap_or_else(|e| e.into_inner());
         match (self.kind, same_triangles, self.accel.take()) {
             (ObjectKind::Unstructured, true, Some(tree)) => previous.tree = Some(tree),
             (ObjectKind::Unstructured, true, None) => {}
             _ => *previous = Refits::default(),
         }
-        self.bounds = mesh.bounds();
-        (self.shaders_used, self.uses_default_shader) = shaders_of(&mesh);
-        self.mesh = mesh;
     }
 
     /// Whether the tree for the current geometry exists.
