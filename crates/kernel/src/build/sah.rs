@@ -7,7 +7,7 @@
 //! into its own node vector that the parent splices in; small subtrees run sequentially so that
 //! no task is smaller than a few thousand primitives.
 
-use glam::{IVec4, Vec4};
+use glam::Vec4;
 use rayon::prelude::*;
 
 use super::{BuildOptions, MAX_BINS, PrimRef, SetBounds, partition, splice};
@@ -105,47 +105,80 @@ impl BinMapping {
         }
     }
 
+    /// The bins of `r` along the three axes. Clamping in floating point first lets the three
+    /// conversions be one truncating SIMD instruction instead of Rust's saturating scalar casts.
     #[inline(always)]
-    fn bins_of(&self, r: &PrimRef) -> IVec4 {
-        ((r.centroid2() - self.origin) * self.scale).as_ivec4().clamp(IVec4::ZERO, IVec4::splat(self.last))
-    }
-
-    /// The bin of `r` along one axis.
-    #[inline(always)]
-    fn bin_on(&self, r: &PrimRef, axis: usize) -> usize {
-        (((r.lo[axis] + r.hi[axis] - self.origin[axis]) * self.scale[axis]) as i32).clamp(0, self.last) as usize
+    fn bins_of(&self, r: &PrimRef) -> [usize; 3] {
+        let f = ((r.centroid2() - self.origin) * self.scale).clamp(Vec4::ZERO, Vec4::splat(self.last as f32));
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::x86_64::{_mm_cvtsi128_si32 as lane0, _mm_cvttps_epi32, _mm_shuffle_epi32 as shuffle};
+            // SAFETY: these are SSE2 instructions, which every x86_64 CPU has.
+            unsafe {
+                let i = _mm_cvttps_epi32(f.into());
+                [lane0(i) as usize, lane0(shuffle::<0b01_01_01_01>(i)) as usize, lane0(shuffle::<0b10_10_10_10>(i)) as usize]
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            [f.x as usize, f.y as usize, f.z as usize]
+        }
     }
 }
 
 type Bins = [[Bin; MAX_BINS]; 3];
 
+/// Bins the references sequentially.
 fn bin_refs(refs: &[PrimRef], map: &BinMapping) -> Box<Bins> {
-    let mut bins = Box::new([[Bin::EMPTY; MAX_BINS]; 3]);
-    for r in refs {
+    // Neighbouring references usually fall into the same bins (meshes are stored in spatial
+    // order), and then each update waits for the previous one to reach memory: alternating
+    // between two sets of bins halves that chain. On one thread it took the sphere scene's build
+    // from 0.76 s to 0.60 s, and the SIMD bin indices (`bins_of`) then to 0.46 s.
+    let mut sets = Box::new([[[Bin::EMPTY; MAX_BINS]; 3]; 2]);
+    let add = |bins: &mut Bins, r: &PrimRef| {
         let b = map.bins_of(r);
         for axis in 0..3 {
-            let bin = &mut bins[axis][b[axis] as usize];
+            let bin = &mut bins[axis][b[axis]];
             bin.lo = bin.lo.min(r.lo);
             bin.hi = bin.hi.max(r.hi);
             bin.count += 1;
         }
+    };
+    let pairs = refs.chunks_exact(2);
+    let rest = pairs.remainder();
+    for pair in pairs {
+        let [a, b] = &mut *sets;
+        add(a, &pair[0]);
+        add(b, &pair[1]);
     }
-    bins
+    if let Some(r) = rest.first() {
+        add(&mut sets[0], r);
+    }
+    let [mut a, b] = *sets;
+    merge_bins(&mut a, &b);
+    Box::new(a)
+}
+
+/// Merges the bins of `b` into `a`.
+fn merge_bins(a: &mut Bins, b: &Bins) {
+    for (ax, bx) in a.iter_mut().zip(b.iter()) {
+        for (x, y) in ax.iter_mut().zip(bx.iter()) {
+            *x = x.merge(*y);
+        }
+    }
 }
 
 fn bin_all(refs: &[PrimRef], map: &BinMapping) -> Box<Bins> {
     if refs.len() < PARALLEL_BINNING {
         return bin_refs(refs, map);
     }
-    refs.par_chunks(16384).map(|c| bin_refs(c, map)).reduce_with(|mut a, b| {
-        for (ax, bx) in a.iter_mut().zip(b.iter()) {
-            for (x, y) in ax.iter_mut().zip(bx.iter()) {
-                *x = x.merge(*y);
-            }
-        }
-        a
-    })
-    .expect("at least one chunk")
+    refs.par_chunks(16384)
+        .map(|c| bin_refs(c, map))
+        .reduce_with(|mut a, b| {
+            merge_bins(&mut a, &b);
+            a
+        })
+        .expect("at least one chunk")
 }
 
 /// The best split found: axis, where the right side starts (a bin for binning, a position in
@@ -257,7 +290,7 @@ fn split<'a>(task: Task<'a>, opts: &BuildOptions) -> Option<(Task<'a>, Task<'a>)
             return None;
         }
         let axis = best.axis;
-        partition(task.refs, |r| map.bin_on(r, axis) < best.pos)
+        partition(task.refs, |r| map.bins_of(r)[axis] < best.pos)
     };
     if mid == 0 || mid == n {
         return (!fits_leaf).then(|| median_split(task));
