@@ -10,7 +10,7 @@
 use glam::Vec4;
 use rayon::prelude::*;
 
-use super::{BuildOptions, MAX_BINS, PrimRef, SetBounds, partition, splice};
+use super::{BuildOptions, Growing, MAX_BINS, PrimRef, SetBounds, splice};
 use crate::aabb::Aabb;
 use crate::bvh2::Node2;
 
@@ -123,6 +123,14 @@ impl BinMapping {
         {
             [f.x as usize, f.y as usize, f.z as usize]
         }
+    }
+
+    /// Whether `r` falls into a bin below `pos` along `axis`, for `1 <= pos < bins`: the same as
+    /// `bins_of(r)[axis] < pos` (the truncation and the clamping cannot change which side of an
+    /// integer a value lies on), without the conversion.
+    #[inline(always)]
+    fn below(&self, r: &PrimRef, axis: usize, pos: usize) -> bool {
+        (r.centroid2()[axis] - self.origin[axis]) * self.scale[axis] < pos as f32
     }
 }
 
@@ -298,7 +306,7 @@ fn split<'a>(task: Task<'a>, opts: &BuildOptions) -> Option<(Task<'a>, Task<'a>)
     }
     let area = task.set.geometry.area().max(f32::MIN_POSITIVE);
     let worth_splitting = |cost: f32| !fits_leaf || opts.traversal_cost + cost / area < leaf_cost(n as u32);
-    let mid = if n <= SWEEP_BELOW {
+    let (mid, sides) = if n <= SWEEP_BELOW {
         // Few primitives: sorting them is cheaper than binning and finds the exact best plane.
         let Some((best, keys)) = best_sweep_split(task.refs, leaf_cost) else {
             return (!fits_leaf).then(|| median_split(task));
@@ -310,7 +318,7 @@ fn split<'a>(task: Task<'a>, opts: &BuildOptions) -> Option<(Task<'a>, Task<'a>)
         for (r, &key) in task.refs.iter_mut().zip(&keys) {
             *r = unsorted[key as u32 as usize];
         }
-        best.pos
+        (best.pos, None)
     } else {
         let map = BinMapping::new(&task.set.centroids, opts.bins);
         let bins = bin_all(task.refs, &map);
@@ -321,23 +329,54 @@ fn split<'a>(task: Task<'a>, opts: &BuildOptions) -> Option<(Task<'a>, Task<'a>)
         if !worth_splitting(best.cost) {
             return None;
         }
-        let axis = best.axis;
-        partition(task.refs, |r| map.bins_of(r)[axis] < best.pos)
+        let (mid, left, right) = partition_bins(task.refs, &map, best.axis, best.pos);
+        (mid, Some((left, right)))
     };
     if mid == 0 || mid == n {
         return (!fits_leaf).then(|| median_split(task));
     }
-    Some(halves(task, mid))
+    Some(halves(task, mid, sides))
 }
 
-/// Splits the task's references at `mid` into two child tasks with freshly computed bounds.
-fn halves(task: Task<'_>, mid: usize) -> (Task<'_>, Task<'_>) {
+/// Partitions the references in place, those whose bin along `axis` lies below `pos` first;
+/// returns the size of the left side and the bounds of both sides. Growing the bounds here, while
+/// each reference is in registers anyway, saves a pass over the children's references after every
+/// split (as Embree does): the sphere scene's build went from 0.36 s to 0.31 s on one thread. The
+/// side test must stay cheap: taking it from `bins_of` (an index spilled to the stack and read
+/// back by axis) made this loop slower than the two passes it replaces.
+fn partition_bins(refs: &mut [PrimRef], map: &BinMapping, axis: usize, pos: usize) -> (usize, SetBounds, SetBounds) {
+    let is_left = |r: &PrimRef| map.below(r, axis, pos);
+    let (mut left, mut right) = (Growing::EMPTY, Growing::EMPTY);
+    let (mut i, mut j) = (0, refs.len());
+    loop {
+        while i < j && is_left(&refs[i]) {
+            left = left.add(&refs[i]);
+            i += 1;
+        }
+        while i < j && !is_left(&refs[j - 1]) {
+            right = right.add(&refs[j - 1]);
+            j -= 1;
+        }
+        if i >= j {
+            return (i, left.bounds(), right.bounds());
+        }
+        refs.swap(i, j - 1);
+        left = left.add(&refs[i]);
+        right = right.add(&refs[j - 1]);
+        i += 1;
+        j -= 1;
+    }
+}
+
+/// Splits the task's references at `mid` into two child tasks, with the sides' bounds if they
+/// are known (computed here otherwise).
+fn halves(task: Task<'_>, mid: usize, sides: Option<(SetBounds, SetBounds)>) -> (Task<'_>, Task<'_>) {
     let large = task.refs.len() >= PARALLEL_BINNING;
     let (l, r) = task.refs.split_at_mut(mid);
-    let (ls, rs) = if large {
-        rayon::join(|| SetBounds::of(l), || SetBounds::of(r))
-    } else {
-        (SetBounds::of(l), SetBounds::of(r))
+    let (ls, rs) = match sides {
+        Some(sides) => sides,
+        None if large => rayon::join(|| SetBounds::of(l), || SetBounds::of(r)),
+        None => (SetBounds::of(l), SetBounds::of(r)),
     };
     let depth = task.depth + 1;
     (
@@ -352,5 +391,5 @@ fn median_split(task: Task<'_>) -> (Task<'_>, Task<'_>) {
     let axis = if e.x >= e.y && e.x >= e.z { 0 } else if e.y >= e.z { 1 } else { 2 };
     let mid = task.refs.len() / 2;
     task.refs.select_nth_unstable_by(mid, |a, b| a.centroid2()[axis].total_cmp(&b.centroid2()[axis]));
-    halves(task, mid)
+    halves(task, mid, None)
 }
