@@ -106,10 +106,6 @@ pub(crate) struct SetBounds {
 impl SetBounds {
     pub(crate) const EMPTY: SetBounds = SetBounds { geometry: Aabb::EMPTY, centroids: Aabb::EMPTY };
 
-    pub(crate) fn add(self, r: &PrimRef) -> SetBounds {
-        SetBounds { geometry: self.geometry.union(r.bounds()), centroids: self.centroids.grow(r.centroid2().truncate()) }
-    }
-
     pub(crate) fn union(self, o: SetBounds) -> SetBounds {
         SetBounds { geometry: self.geometry.union(o.geometry), centroids: self.centroids.union(o.centroids) }
     }
@@ -117,10 +113,47 @@ impl SetBounds {
     pub(crate) fn of(refs: &[PrimRef]) -> SetBounds {
         if refs.len() >= PARALLEL_BOUNDS {
             refs.par_chunks(4096)
-                .map(|c| c.iter().fold(SetBounds::EMPTY, SetBounds::add))
+                .map(|c| c.iter().fold(Growing::EMPTY, Growing::add).bounds())
                 .reduce(|| SetBounds::EMPTY, SetBounds::union)
         } else {
-            refs.iter().fold(SetBounds::EMPTY, SetBounds::add)
+            refs.iter().fold(Growing::EMPTY, Growing::add).bounds()
+        }
+    }
+}
+
+/// [`SetBounds`] being grown reference by reference, in the references' own four-lane layout
+/// (each update is two SIMD min/max pairs; the `w` lanes hold garbage and are dropped at the end).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Growing {
+    lo: Vec4,
+    hi: Vec4,
+    centroid_lo: Vec4,
+    centroid_hi: Vec4,
+}
+
+impl Growing {
+    pub(crate) const EMPTY: Growing = Growing {
+        lo: Vec4::INFINITY,
+        hi: Vec4::NEG_INFINITY,
+        centroid_lo: Vec4::INFINITY,
+        centroid_hi: Vec4::NEG_INFINITY,
+    };
+
+    #[inline(always)]
+    pub(crate) fn add(self, r: &PrimRef) -> Growing {
+        let c = r.centroid2();
+        Growing {
+            lo: self.lo.min(r.lo),
+            hi: self.hi.max(r.hi),
+            centroid_lo: self.centroid_lo.min(c),
+            centroid_hi: self.centroid_hi.max(c),
+        }
+    }
+
+    pub(crate) fn bounds(self) -> SetBounds {
+        SetBounds {
+            geometry: Aabb { min: self.lo.truncate(), max: self.hi.truncate() },
+            centroids: Aabb { min: self.centroid_lo.truncate(), max: self.centroid_hi.truncate() },
         }
     }
 }

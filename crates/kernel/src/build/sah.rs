@@ -7,10 +7,10 @@
 //! into its own node vector that the parent splices in; small subtrees run sequentially so that
 //! no task is smaller than a few thousand primitives.
 
-use glam::{IVec4, Vec4};
+use glam::Vec4;
 use rayon::prelude::*;
 
-use super::{BuildOptions, MAX_BINS, PrimRef, SetBounds, partition, splice};
+use super::{BuildOptions, Growing, MAX_BINS, PrimRef, SetBounds, splice};
 use crate::aabb::Aabb;
 use crate::bvh2::Node2;
 
@@ -105,47 +105,88 @@ impl BinMapping {
         }
     }
 
+    /// The bins of `r` along the three axes. Clamping in floating point first lets the three
+    /// conversions be one truncating SIMD instruction instead of Rust's saturating scalar casts.
     #[inline(always)]
-    fn bins_of(&self, r: &PrimRef) -> IVec4 {
-        ((r.centroid2() - self.origin) * self.scale).as_ivec4().clamp(IVec4::ZERO, IVec4::splat(self.last))
+    fn bins_of(&self, r: &PrimRef) -> [usize; 3] {
+        let f = ((r.centroid2() - self.origin) * self.scale).clamp(Vec4::ZERO, Vec4::splat(self.last as f32));
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::x86_64::{_mm_cvtsi128_si32 as lane0, _mm_cvttps_epi32, _mm_shuffle_epi32 as shuffle};
+            // SAFETY: these are SSE2 instructions, which every x86_64 CPU has.
+            unsafe {
+                let i = _mm_cvttps_epi32(f.into());
+                [lane0(i) as usize, lane0(shuffle::<0b01_01_01_01>(i)) as usize, lane0(shuffle::<0b10_10_10_10>(i)) as usize]
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            [f.x as usize, f.y as usize, f.z as usize]
+        }
     }
 
-    /// The bin of `r` along one axis.
+    /// Whether `r` falls into a bin below `pos` along `axis`, for `1 <= pos < bins`: the same as
+    /// `bins_of(r)[axis] < pos` (the truncation and the clamping cannot change which side of an
+    /// integer a value lies on), without the conversion.
     #[inline(always)]
-    fn bin_on(&self, r: &PrimRef, axis: usize) -> usize {
-        (((r.lo[axis] + r.hi[axis] - self.origin[axis]) * self.scale[axis]) as i32).clamp(0, self.last) as usize
+    fn below(&self, r: &PrimRef, axis: usize, pos: usize) -> bool {
+        (r.centroid2()[axis] - self.origin[axis]) * self.scale[axis] < pos as f32
     }
 }
 
 type Bins = [[Bin; MAX_BINS]; 3];
 
+/// Bins the references sequentially.
 fn bin_refs(refs: &[PrimRef], map: &BinMapping) -> Box<Bins> {
-    let mut bins = Box::new([[Bin::EMPTY; MAX_BINS]; 3]);
-    for r in refs {
+    // Neighbouring references usually fall into the same bins (meshes are stored in spatial
+    // order), and then each update waits for the previous one to reach memory: alternating
+    // between two sets of bins halves that chain. On one thread it took the sphere scene's build
+    // from 0.76 s to 0.60 s, and the SIMD bin indices (`bins_of`) then to 0.46 s.
+    let mut sets = Box::new([[[Bin::EMPTY; MAX_BINS]; 3]; 2]);
+    let add = |bins: &mut Bins, r: &PrimRef| {
         let b = map.bins_of(r);
         for axis in 0..3 {
-            let bin = &mut bins[axis][b[axis] as usize];
+            let bin = &mut bins[axis][b[axis]];
             bin.lo = bin.lo.min(r.lo);
             bin.hi = bin.hi.max(r.hi);
             bin.count += 1;
         }
+    };
+    let pairs = refs.chunks_exact(2);
+    let rest = pairs.remainder();
+    for pair in pairs {
+        let [a, b] = &mut *sets;
+        add(a, &pair[0]);
+        add(b, &pair[1]);
     }
-    bins
+    if let Some(r) = rest.first() {
+        add(&mut sets[0], r);
+    }
+    let [mut a, b] = *sets;
+    merge_bins(&mut a, &b);
+    Box::new(a)
+}
+
+/// Merges the bins of `b` into `a`.
+fn merge_bins(a: &mut Bins, b: &Bins) {
+    for (ax, bx) in a.iter_mut().zip(b.iter()) {
+        for (x, y) in ax.iter_mut().zip(bx.iter()) {
+            *x = x.merge(*y);
+        }
+    }
 }
 
 fn bin_all(refs: &[PrimRef], map: &BinMapping) -> Box<Bins> {
     if refs.len() < PARALLEL_BINNING {
         return bin_refs(refs, map);
     }
-    refs.par_chunks(16384).map(|c| bin_refs(c, map)).reduce_with(|mut a, b| {
-        for (ax, bx) in a.iter_mut().zip(b.iter()) {
-            for (x, y) in ax.iter_mut().zip(bx.iter()) {
-                *x = x.merge(*y);
-            }
-        }
-        a
-    })
-    .expect("at least one chunk")
+    refs.par_chunks(16384)
+        .map(|c| bin_refs(c, map))
+        .reduce_with(|mut a, b| {
+            merge_bins(&mut a, &b);
+            a
+        })
+        .expect("at least one chunk")
 }
 
 /// The best split found: axis, where the right side starts (a bin for binning, a position in
@@ -189,35 +230,59 @@ fn best_bin_split(bins: &Bins, n_bins: usize, map: &BinMapping, leaf_cost: impl 
 }
 
 /// The exact best SAH split of a few primitives: along each axis, sorted by centroid, every
-/// position between two primitives is evaluated. `pos` is the size of the left side.
-fn best_sweep_split(refs: &[PrimRef], leaf_cost: impl Fn(u32) -> f32) -> Option<BinSplit> {
+/// position between two primitives is evaluated. `pos` is the size of the left side; the keys
+/// returned are the split axis's sort keys, whose low halves are the indices of `refs` in order.
+fn best_sweep_split(refs: &[PrimRef], leaf_cost: impl Fn(u32) -> f32) -> Option<(BinSplit, [u64; SWEEP_BELOW])> {
     let n = refs.len();
     debug_assert!(n <= SWEEP_BELOW);
-    let mut best: Option<BinSplit> = None;
-    let mut sorted = [refs[0]; SWEEP_BELOW];
-    let sorted = &mut sorted[..n];
+    let mut best: Option<(BinSplit, [u64; SWEEP_BELOW])> = None;
+    let mut best_cost = f32::INFINITY;
     let mut right_cost = [0.0f32; SWEEP_BELOW];
     for axis in 0..3 {
-        sorted.copy_from_slice(refs);
-        sorted.sort_unstable_by(|a, b| a.centroid2()[axis].total_cmp(&b.centroid2()[axis]));
-        if sorted[0].centroid2()[axis] == sorted[n - 1].centroid2()[axis] {
+        // Sorting packed (centroid key, index) words instead of the 32-byte references themselves
+        // took the sphere scene's build from 0.45 s to 0.39 s on one thread; the index breaks
+        // ties deterministically.
+        let mut keys = [0u64; SWEEP_BELOW];
+        for (i, (k, r)) in keys.iter_mut().zip(refs).enumerate() {
+            *k = (u64::from(order_key(r.centroid2()[axis])) << 32) | i as u64;
+        }
+        keys[..n].sort_unstable();
+        if keys[0] >> 32 == keys[n - 1] >> 32 {
             continue;
         }
-        let mut acc = Aabb::EMPTY;
+        let at = |i: usize| &refs[keys[i] as u32 as usize];
+        let (mut lo, mut hi) = (Vec4::INFINITY, Vec4::NEG_INFINITY);
         for i in (1..n).rev() {
-            acc = acc.union(sorted[i].bounds());
-            right_cost[i] = acc.area() * leaf_cost((n - i) as u32);
+            (lo, hi) = (lo.min(at(i).lo), hi.max(at(i).hi));
+            right_cost[i] = box_area(lo, hi) * leaf_cost((n - i) as u32);
         }
-        let mut left = Aabb::EMPTY;
-        for pos in 1..n {
-            left = left.union(sorted[pos - 1].bounds());
-            let cost = left.area() * leaf_cost(pos as u32) + right_cost[pos];
-            if best.as_ref().is_none_or(|b| cost < b.cost) {
-                best = Some(BinSplit { axis, pos, cost });
+        let (mut lo, mut hi) = (Vec4::INFINITY, Vec4::NEG_INFINITY);
+        let mut best_pos = None;
+        for (pos, &right) in right_cost[..n].iter().enumerate().skip(1) {
+            (lo, hi) = (lo.min(at(pos - 1).lo), hi.max(at(pos - 1).hi));
+            let cost = box_area(lo, hi) * leaf_cost(pos as u32) + right;
+            if cost < best_cost {
+                (best_cost, best_pos) = (cost, Some(pos));
             }
+        }
+        if let Some(pos) = best_pos {
+            best = Some((BinSplit { axis, pos, cost: best_cost }, keys));
         }
     }
     best
+}
+
+/// A key whose unsigned order is the order of finite floats.
+fn order_key(x: f32) -> u32 {
+    let bits = x.to_bits();
+    if bits >> 31 == 1 { !bits } else { bits | 1 << 31 }
+}
+
+/// Surface area of the non-empty box `lo..hi` (the `w` lanes are ignored).
+#[inline(always)]
+fn box_area(lo: Vec4, hi: Vec4) -> f32 {
+    let d = hi - lo;
+    2.0 * (d.x * d.y + d.y * d.z + d.z * d.x)
 }
 
 /// Decides how to split `task`: `None` makes it a leaf.
@@ -233,19 +298,27 @@ fn split<'a>(task: Task<'a>, opts: &BuildOptions) -> Option<(Task<'a>, Task<'a>)
     if task.depth >= SAH_DEPTH_LIMIT {
         return (!fits_leaf).then(|| median_split(task));
     }
+    // A split costs at least the traversal step: a node that fits a leaf whose test costs no more
+    // is a leaf without looking at its primitives. With the default costs that is every node of
+    // at most `max_leaf_size`; sweeping them took the sphere scene's build from 0.36 s to 0.39 s.
+    if fits_leaf && opts.traversal_cost >= leaf_cost(n as u32) {
+        return None;
+    }
     let area = task.set.geometry.area().max(f32::MIN_POSITIVE);
     let worth_splitting = |cost: f32| !fits_leaf || opts.traversal_cost + cost / area < leaf_cost(n as u32);
-    let mid = if n <= SWEEP_BELOW {
+    let (mid, sides) = if n <= SWEEP_BELOW {
         // Few primitives: sorting them is cheaper than binning and finds the exact best plane.
-        let Some(best) = best_sweep_split(task.refs, leaf_cost) else {
+        let Some((best, keys)) = best_sweep_split(task.refs, leaf_cost) else {
             return (!fits_leaf).then(|| median_split(task));
         };
         if !worth_splitting(best.cost) {
             return None;
         }
-        let axis = best.axis;
-        task.refs.sort_unstable_by(|a, b| a.centroid2()[axis].total_cmp(&b.centroid2()[axis]));
-        best.pos
+        let unsorted: [PrimRef; SWEEP_BELOW] = std::array::from_fn(|i| task.refs[i.min(n - 1)]);
+        for (r, &key) in task.refs.iter_mut().zip(&keys) {
+            *r = unsorted[key as u32 as usize];
+        }
+        (best.pos, None)
     } else {
         let map = BinMapping::new(&task.set.centroids, opts.bins);
         let bins = bin_all(task.refs, &map);
@@ -256,23 +329,54 @@ fn split<'a>(task: Task<'a>, opts: &BuildOptions) -> Option<(Task<'a>, Task<'a>)
         if !worth_splitting(best.cost) {
             return None;
         }
-        let axis = best.axis;
-        partition(task.refs, |r| map.bin_on(r, axis) < best.pos)
+        let (mid, left, right) = partition_bins(task.refs, &map, best.axis, best.pos);
+        (mid, Some((left, right)))
     };
     if mid == 0 || mid == n {
         return (!fits_leaf).then(|| median_split(task));
     }
-    Some(halves(task, mid))
+    Some(halves(task, mid, sides))
 }
 
-/// Splits the task's references at `mid` into two child tasks with freshly computed bounds.
-fn halves(task: Task<'_>, mid: usize) -> (Task<'_>, Task<'_>) {
+/// Partitions the references in place, those whose bin along `axis` lies below `pos` first;
+/// returns the size of the left side and the bounds of both sides. Growing the bounds here, while
+/// each reference is in registers anyway, saves a pass over the children's references after every
+/// split (as Embree does): the sphere scene's build went from 0.36 s to 0.31 s on one thread. The
+/// side test must stay cheap: taking it from `bins_of` (an index spilled to the stack and read
+/// back by axis) made this loop slower than the two passes it replaces.
+fn partition_bins(refs: &mut [PrimRef], map: &BinMapping, axis: usize, pos: usize) -> (usize, SetBounds, SetBounds) {
+    let is_left = |r: &PrimRef| map.below(r, axis, pos);
+    let (mut left, mut right) = (Growing::EMPTY, Growing::EMPTY);
+    let (mut i, mut j) = (0, refs.len());
+    loop {
+        while i < j && is_left(&refs[i]) {
+            left = left.add(&refs[i]);
+            i += 1;
+        }
+        while i < j && !is_left(&refs[j - 1]) {
+            right = right.add(&refs[j - 1]);
+            j -= 1;
+        }
+        if i >= j {
+            return (i, left.bounds(), right.bounds());
+        }
+        refs.swap(i, j - 1);
+        left = left.add(&refs[i]);
+        right = right.add(&refs[j - 1]);
+        i += 1;
+        j -= 1;
+    }
+}
+
+/// Splits the task's references at `mid` into two child tasks, with the sides' bounds if they
+/// are known (computed here otherwise).
+fn halves(task: Task<'_>, mid: usize, sides: Option<(SetBounds, SetBounds)>) -> (Task<'_>, Task<'_>) {
     let large = task.refs.len() >= PARALLEL_BINNING;
     let (l, r) = task.refs.split_at_mut(mid);
-    let (ls, rs) = if large {
-        rayon::join(|| SetBounds::of(l), || SetBounds::of(r))
-    } else {
-        (SetBounds::of(l), SetBounds::of(r))
+    let (ls, rs) = match sides {
+        Some(sides) => sides,
+        None if large => rayon::join(|| SetBounds::of(l), || SetBounds::of(r)),
+        None => (SetBounds::of(l), SetBounds::of(r)),
     };
     let depth = task.depth + 1;
     (
@@ -287,5 +391,5 @@ fn median_split(task: Task<'_>) -> (Task<'_>, Task<'_>) {
     let axis = if e.x >= e.y && e.x >= e.z { 0 } else if e.y >= e.z { 1 } else { 2 };
     let mid = task.refs.len() / 2;
     task.refs.select_nth_unstable_by(mid, |a, b| a.centroid2()[axis].total_cmp(&b.centroid2()[axis]));
-    halves(task, mid)
+    halves(task, mid, None)
 }
