@@ -61,6 +61,7 @@ fn splat3(v: [f32; 3]) -> [__m256; 3] {
 }
 
 /// Rows of `Node8::planes` holding each axis's near (or far) plane for a ray with these signs.
+#[inline]
 fn plane_rows(neg: [bool; 3], far: bool) -> [usize; 3] {
     std::array::from_fn(|a| 2 * a + (neg[a] != far) as usize)
 }
