@@ -29,6 +29,13 @@ impl Aabb {
         points.iter().fold(Aabb::EMPTY, |b, &p| b.grow(p))
     }
 
+    /// The smallest box containing a triangle: [`Aabb::from_points`] for three points, written
+    /// out for the builders, which take it of every triangle.
+    #[inline]
+    pub fn of_triangle([a, b, c]: &[Vec3; 3]) -> Aabb {
+        Aabb { min: a.min(*b).min(*c), max: a.max(*b).max(*c) }
+    }
+
     /// This box grown to contain `p`.
     #[inline]
     pub fn grow(self, p: Vec3) -> Aabb {

@@ -72,12 +72,13 @@ impl Mesh {
     pub fn bounds(&self) -> Aabb {
         // Written out: the `flatten` and `array::map` adapters are not inlined into these loops,
         // and they run over every vertex of every redefinition of an unstructured object.
+        // Each triangle's own box first, so that the running bounds wait on one `min` and one
+        // `max` per triangle, not per vertex.
         let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
         for &[a, b, c] in &self.indices {
-            for p in [self.positions[a as usize], self.positions[b as usize], self.positions[c as usize]] {
-                lo = lo.min(p);
-                hi = hi.max(p);
-            }
+            let (a, b, c) = (self.positions[a as usize], self.positions[b as usize], self.positions[c as usize]);
+            lo = lo.min(a.min(b).min(c));
+            hi = hi.max(a.max(b).max(c));
         }
         // No triangles leave it empty: `Aabb::EMPTY` is exactly this infinite inside-out box.
         Aabb { min: lo, max: hi }

@@ -164,26 +164,24 @@ impl Object {
             BuildCounters::add(&counters.built);
             return Bvh8::build(&self.mesh, &BuildOptions::default());
         }
-        let mut refits = self.previous.lock().unwrap_or_else(|e| e.into_inner());
-        match refits.tree.take() {
-            Some(_) if refits.skip > 0 => {
-                refits.skip -= 1;
-                BuildCounters::add(&counters.rebuilt);
-            }
-            Some(mut tree) => {
-                if tree.refit(&self.mesh) <= REBUILD_DEGRADATION {
-                    refits.backoff = 0;
-                    BuildCounters::add(&counters.refitted);
-                    return tree;
-                }
-                refits.backoff = (2 * refits.backoff).clamp(1, MAX_REFIT_BACKOFF);
-                refits.skip = refits.backoff;
-                BuildCounters::add(&counters.rebuilt);
-            }
-            None => BuildCounters::add(&counters.built),
-        }
-        drop(refits);
         let fast = BuildOptions { quality: BuildQuality::Fast, refittable: true, ..BuildOptions::default() };
-        Bvh8::build(&self.mesh, &fast)
+        let mut refits = self.previous.lock().unwrap_or_else(|e| e.into_inner());
+        let Some(mut tree) = refits.tree.take() else {
+            BuildCounters::add(&counters.built);
+            return Bvh8::build(&self.mesh, &fast);
+        };
+        if refits.skip > 0 {
+            refits.skip -= 1;
+        } else if tree.refit(&self.mesh) <= REBUILD_DEGRADATION {
+            refits.backoff = 0;
+            BuildCounters::add(&counters.refitted);
+            return tree;
+        } else {
+            refits.backoff = (2 * refits.backoff).clamp(1, MAX_REFIT_BACKOFF);
+            refits.skip = refits.backoff;
+        }
+        BuildCounters::add(&counters.rebuilt);
+        tree.rebuild(&self.mesh, &fast);
+        tree
     }
 }

@@ -178,16 +178,21 @@ pub(crate) fn build(tris: &(impl TriangleSource + ?Sized), opts: &BuildOptions) 
         bins: opts.bins.clamp(2, MAX_BINS),
         ..*opts
     };
+    // One reference per triangle, written in place (an indexed collect), with the triangles
+    // left out marked by empty bounds and dropped afterwards: collecting a `filter_map` would
+    // gather pieces of unknown length and copy them together.
     let mut refs: Vec<PrimRef> = (0..tris.triangle_count() as u32)
         .into_par_iter()
         .with_min_len(4096)
-        .filter_map(|i| {
+        .map(|i| {
             let t = tris.triangle(i);
-            let b = Aabb::from_points(&t);
+            let b = Aabb::of_triangle(&t);
             let hittable = opts.refittable || !crate::triangle::is_degenerate(&t);
-            (b.min.is_finite() && b.max.is_finite() && hittable).then(|| PrimRef::new(b, i))
+            let finite = t.iter().all(|v| v.is_finite());
+            if finite && hittable { PrimRef::new(b, i) } else { PrimRef::new(Aabb::EMPTY, i) }
         })
         .collect();
+    refs.retain(|r| r.lo.truncate().is_finite());
     if refs.is_empty() {
         return Built { nodes: Vec::new(), prims: Vec::new() };
     }
