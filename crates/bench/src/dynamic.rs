@@ -2,7 +2,9 @@
 //! traced frame by frame by raystage and (with the `embree` feature) Embree 3 in the same run.
 //!
 //! Every frame both systems take the same instance transforms and vertex positions, then trace
-//! the same 1280×720 primary rays and, from each primary hit, one shadow ray towards the sun.
+//! the same 1280×720 primary rays and, from each primary hit, one shadow ray towards the sun;
+//! each system traces the primary rays once one by one and once in 4×2-pixel packets (the
+//! renderer's camera rays; Embree's `rtcIntersect8`), the shadow rays one by one.
 //! *Update* is what a system spends bringing its acceleration structures up to date (raystage:
 //! setting transforms, the top-level build and the lazy object builds and refits; Embree: setting
 //! transforms and committing geometry and scenes). *Trace* is the rest of the frame. Frame 0
@@ -11,11 +13,11 @@
 use std::time::Instant;
 
 use raystage_demo::animated::{Animation, Staged};
-use raystage_kernel::Ray;
+use raystage_kernel::{PACKET_SIZE, Ray};
 use raystage_scene::{Camera, Frame};
 use serde::Serialize;
 
-use crate::kernel::median;
+use crate::kernel::{Api, median};
 
 /// Image size of the traced frames.
 pub const WIDTH: u32 = 1280;
@@ -107,23 +109,54 @@ fn shadow_ray(ray: &Ray, t: f32, sun: glam::Vec3) -> Ray {
     Ray::new(ray.at(t * (1.0 - 1e-4)), -sun.normalize())
 }
 
-/// Traces primary rays and a shadow ray per hit with `closest` and `occluded`, on `threads`
-/// threads; returns (rays traced, primary hits).
-fn trace_frame(
-    rays: &[Ray],
-    sun: glam::Vec3,
-    threads: usize,
-    closest: &(dyn Fn(&Ray) -> Option<f32> + Sync),
-    occluded: &(dyn Fn(&Ray) -> bool + Sync),
-) -> (u64, u64) {
+/// How a system traces: its closest-hit query for one ray and for a packet of up to
+/// [`PACKET_SIZE`] (camera rays of 4×2 pixels), and its occlusion query.
+pub struct Queries<'a> {
+    /// One ray: its closest hit distance.
+    pub closest: &'a (dyn Fn(&Ray) -> Option<f32> + Sync),
+    /// A packet: each ray's closest hit distance.
+    pub closest_packet: &'a (dyn Fn(&[Ray], &mut [Option<f32>]) + Sync),
+    /// Whether a segment is blocked.
+    pub occluded: &'a (dyn Fn(&Ray) -> bool + Sync),
+}
+
+/// The system name of a run: `base`, with `-packets` when primary rays go in packets.
+fn system_name(base: &str, api: Api) -> String {
+    match api {
+        Api::Single => base.to_string(),
+        Api::Packets => format!("{base}-packets"),
+    }
+}
+
+/// The frame's primary rays as `api` hands them over: row by row, or in 4×2-pixel packets.
+fn rays_for(camera: &Camera, api: Api) -> Vec<Ray> {
+    let rays = primary_rays(camera);
+    match api {
+        Api::Single => rays,
+        Api::Packets => crate::rays::in_packets(&rays, WIDTH, HEIGHT),
+    }
+}
+
+/// Traces primary rays (one by one, or in packets with `api`) and a shadow ray per hit, on
+/// `threads` threads; returns (rays traced, primary hits).
+fn trace_frame(rays: &[Ray], sun: glam::Vec3, threads: usize, api: Api, queries: &Queries<'_>) -> (u64, u64) {
     let chunk = |rays: &[Ray]| {
         let (mut traced, mut hits) = (0u64, 0u64);
-        for ray in rays {
-            traced += 1;
-            if let Some(t) = closest(ray) {
-                hits += 1;
+        let mut found = [None; PACKET_SIZE];
+        let group = if api == Api::Packets { PACKET_SIZE } else { 1 };
+        for rays in rays.chunks(group) {
+            let found = &mut found[..rays.len()];
+            match api {
+                Api::Single => found[0] = (queries.closest)(&rays[0]),
+                Api::Packets => (queries.closest_packet)(rays, found),
+            }
+            for (ray, t) in rays.iter().zip(found.iter()) {
                 traced += 1;
-                std::hint::black_box(occluded(&shadow_ray(ray, t, sun)));
+                if let Some(t) = t {
+                    hits += 1;
+                    traced += 1;
+                    std::hint::black_box((queries.occluded)(&shadow_ray(ray, *t, sun)));
+                }
             }
         }
         (traced, hits)
@@ -132,18 +165,20 @@ fn trace_frame(
         return chunk(rays);
     }
     std::thread::scope(|s| {
-        let handles: Vec<_> = rays.chunks(rays.len().div_ceil(threads)).map(|c| s.spawn(move || chunk(c))).collect();
+        let per = rays.len().div_ceil(threads).next_multiple_of(PACKET_SIZE);
+        let handles: Vec<_> = rays.chunks(per).map(|c| s.spawn(move || chunk(c))).collect();
         handles.into_iter().map(|h| h.join().expect("trace thread")).fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
     })
 }
 
-/// Runs raystage over frames 0..=`frames` of `animation`.
-pub fn run_raystage(animation: &dyn Animation, frames: u32, threads: usize) -> SystemRun {
+/// Runs raystage over frames 0..=`frames` of `animation`, primary rays handed over as `api`
+/// says (packets go through `Frame::intersect_many`, as the renderer's camera rays do).
+pub fn run_raystage(animation: &dyn Animation, frames: u32, threads: usize, api: Api) -> SystemRun {
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
     let mut staged = Staged::new(animation).expect("the animation makes a valid scene");
-    let rays = primary_rays(staged.scene.camera());
+    let rays = rays_for(staged.scene.camera(), api);
     let sun = animation.view().sun;
-    let mut run = SystemRun { system: "raystage".into(), ..SystemRun::default() };
+    let mut run = SystemRun { system: system_name("raystage", api), ..SystemRun::default() };
     for f in 0..=frames {
         let (instances, deformed) = (animation.instances(f), animation.deform(f));
         let start = Instant::now();
@@ -151,9 +186,13 @@ pub fn run_raystage(animation: &dyn Animation, frames: u32, threads: usize) -> S
         let frame: Frame<'_> = staged.scene.frame();
         let placed = start.elapsed().as_secs_f64();
         let trace_start = Instant::now();
-        let (traced, hits) = pool.install(|| {
-            trace_frame(&rays, sun, threads, &|r| frame.intersect(r, 0.0).map(|h| h.t), &|r| frame.occluded(r, 0.0))
-        });
+        let closest_packet = |rays: &[Ray], found: &mut [Option<f32>]| {
+            let mut hits = [None; PACKET_SIZE];
+            frame.intersect_many(rays, &mut hits[..rays.len()], 0.0);
+            found.iter_mut().zip(hits).for_each(|(f, h)| *f = h.map(|h| h.t));
+        };
+        let queries = Queries { closest: &|r| frame.intersect(r, 0.0).map(|h| h.t), closest_packet: &closest_packet, occluded: &|r| frame.occluded(r, 0.0) };
+        let (traced, hits) = pool.install(|| trace_frame(&rays, sun, threads, api, &queries));
         let traced_seconds = trace_start.elapsed().as_secs_f64();
         // Lazy builds and refits happened inside the trace; count them as update.
         let built = frame.work().build_seconds.min(traced_seconds);
@@ -164,9 +203,10 @@ pub fn run_raystage(animation: &dyn Animation, frames: u32, threads: usize) -> S
 }
 
 /// Runs Embree over frames 0..=`frames` of `animation`: objects at `object_quality` (static and
-/// animated objects at MEDIUM), unstructured ones at `unstructured_quality`, top level LOW.
+/// animated objects at MEDIUM), unstructured ones at `unstructured_quality`, top level LOW;
+/// primary rays one by one (`rtcIntersect1`) or in packets (`rtcIntersect8`) as `api` says.
 #[cfg(feature = "embree")]
-pub fn run_embree(animation: &dyn Animation, frames: u32, threads: usize, unstructured_quality: crate::embree::Quality) -> SystemRun {
+pub fn run_embree(animation: &dyn Animation, frames: u32, threads: usize, unstructured_quality: crate::embree::Quality, api: Api) -> SystemRun {
     use crate::embree::{Device, InstancedScene, Quality};
     use raystage_scene::ObjectKind;
 
@@ -181,13 +221,14 @@ pub fn run_embree(animation: &dyn Animation, frames: u32, threads: usize, unstru
         .collect();
     let view = animation.view();
     let camera = Camera::look_at(view.eye, view.target, glam::Vec3::Y, view.fov_y_degrees).expect("valid view");
-    let rays = primary_rays(&camera);
-    let mut run = SystemRun { system: format!("embree-{}", unstructured_quality.name().to_lowercase()), ..SystemRun::default() };
+    let rays = rays_for(&camera, api);
+    let mut run = SystemRun { system: system_name(&format!("embree-{}", unstructured_quality.name().to_lowercase()), api), ..SystemRun::default() };
     let (mut scene, built) = InstancedScene::build(&device, &specs, &animation.instances(0), Quality::Low);
     for f in 0..=frames {
         let update = if f == 0 { built } else { scene.update(&animation.instances(f), &animation.deform(f)) };
         let start = Instant::now();
-        let (traced, hits) = trace_frame(&rays, view.sun, threads, &|r| scene.intersect(r), &|r| scene.occluded(r));
+        let queries = Queries { closest: &|r| scene.intersect(r), closest_packet: &|rays, found| scene.intersect8(rays, found), occluded: &|r| scene.occluded(r) };
+        let (traced, hits) = trace_frame(&rays, view.sun, threads, api, &queries);
         let time = FrameTime { update, trace: start.elapsed().as_secs_f64(), rays: traced, hits };
         if f == 0 { run.first = time } else { run.frames.push(time) }
     }

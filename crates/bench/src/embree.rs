@@ -249,31 +249,36 @@ impl Scene {
 impl Scene {
     /// `rtcIntersect8`: closest-hit distances of up to eight rays traced as one packet.
     pub fn intersect8(&self, rays: &[Ray], out: &mut [Option<f32>]) {
-        assert!(rays.len() <= 8 && rays.len() == out.len(), "up to eight rays, one result each");
-        let valid = Valid8(std::array::from_fn(|i| if i < rays.len() { -1 } else { 0 }));
-        let lane = |i: usize| &rays[i.min(rays.len() - 1)];
-        let mut rh = RtcRayHit8 {
-            org: std::array::from_fn(|a| std::array::from_fn(|i| lane(i).origin[a])),
-            tnear: std::array::from_fn(|i| lane(i).tnear),
-            dir: std::array::from_fn(|a| std::array::from_fn(|i| lane(i).dir[a])),
-            time: [0.0; 8],
-            tfar: std::array::from_fn(|i| lane(i).tfar),
-            mask: [u32::MAX; 8],
-            id: [0; 8],
-            flags: [0; 8],
-            ng: [[0.0; 8]; 3],
-            u: [0.0; 8],
-            v: [0.0; 8],
-            prim_id: [0; 8],
-            geom_id: [INVALID_GEOMETRY_ID; 8],
-            inst_id: [INVALID_GEOMETRY_ID; 8],
-        };
-        let mut context = RtcIntersectContext::new();
-        // SAFETY: committed scene; `valid` and the packet are 32-byte aligned as Embree requires.
-        unsafe { rtcIntersect8(valid.0.as_ptr(), self.raw, &mut context, &mut rh) };
-        for (i, o) in out.iter_mut().enumerate() {
-            *o = (rh.geom_id[i] != INVALID_GEOMETRY_ID).then_some(rh.tfar[i]);
-        }
+        intersect8(self.raw, rays, out);
+    }
+}
+
+/// `rtcIntersect8` on a committed scene: closest-hit distances of up to eight rays.
+fn intersect8(scene: RtcScene, rays: &[Ray], out: &mut [Option<f32>]) {
+    assert!(rays.len() <= 8 && rays.len() == out.len(), "up to eight rays, one result each");
+    let valid = Valid8(std::array::from_fn(|i| if i < rays.len() { -1 } else { 0 }));
+    let lane = |i: usize| &rays[i.min(rays.len() - 1)];
+    let mut rh = RtcRayHit8 {
+        org: std::array::from_fn(|a| std::array::from_fn(|i| lane(i).origin[a])),
+        tnear: std::array::from_fn(|i| lane(i).tnear),
+        dir: std::array::from_fn(|a| std::array::from_fn(|i| lane(i).dir[a])),
+        time: [0.0; 8],
+        tfar: std::array::from_fn(|i| lane(i).tfar),
+        mask: [u32::MAX; 8],
+        id: [0; 8],
+        flags: [0; 8],
+        ng: [[0.0; 8]; 3],
+        u: [0.0; 8],
+        v: [0.0; 8],
+        prim_id: [0; 8],
+        geom_id: [INVALID_GEOMETRY_ID; 8],
+        inst_id: [INVALID_GEOMETRY_ID; 8],
+    };
+    let mut context = RtcIntersectContext::new();
+    // SAFETY: committed scene; `valid` and the packet are 32-byte aligned as Embree requires.
+    unsafe { rtcIntersect8(valid.0.as_ptr(), scene, &mut context, &mut rh) };
+    for (i, o) in out.iter_mut().enumerate() {
+        *o = (rh.geom_id[i] != INVALID_GEOMETRY_ID).then_some(rh.tfar[i]);
     }
 }
 
@@ -431,6 +436,11 @@ impl InstancedScene {
         // SAFETY: committed scene, valid ray/hit and context structs.
         unsafe { rtcIntersect1(self.top, &mut context, &mut rh) };
         (rh.hit.geom_id != INVALID_GEOMETRY_ID).then_some(rh.ray.tfar)
+    }
+
+    /// `rtcIntersect8` on the top level: closest-hit distances of up to eight rays as a packet.
+    pub fn intersect8(&self, rays: &[Ray], out: &mut [Option<f32>]) {
+        intersect8(self.top, rays, out);
     }
 
     /// `rtcOccluded1` on the top level: whether anything blocks the segment.

@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
+use raystage_bench::kernel::Api;
 use raystage_bench::{dynamic, kernel, plot, render, table};
 use raystage_demo::animated::{Animation, Museum, Robots, Still, Terrain};
 use raystage_demo::StandardScene;
@@ -133,17 +134,19 @@ fn main() {
             }
             for animation in animations {
                 let name = animation.name();
-                eprintln!("{name}: raystage");
-                #[cfg_attr(not(feature = "embree"), allow(unused_mut))]
-                let mut runs = vec![dynamic::run_raystage(animation.as_ref(), frames, threads.max(1))];
-                #[cfg(feature = "embree")]
-                {
-                    use raystage_bench::embree::Quality;
-                    let moving = animation.objects().iter().any(|o| o.kind == raystage_scene::ObjectKind::Unstructured);
-                    let qualities = if moving { vec![Quality::Low, Quality::Refit] } else { vec![Quality::Low] };
-                    for q in qualities {
-                        eprintln!("{name}: embree {}", q.name());
-                        runs.push(dynamic::run_embree(animation.as_ref(), frames, threads.max(1), q));
+                let mut runs = Vec::new();
+                for api in [Api::Single, Api::Packets] {
+                    eprintln!("{name}: raystage ({api:?})");
+                    runs.push(dynamic::run_raystage(animation.as_ref(), frames, threads.max(1), api));
+                    #[cfg(feature = "embree")]
+                    {
+                        use raystage_bench::embree::Quality;
+                        let moving = animation.objects().iter().any(|o| o.kind == raystage_scene::ObjectKind::Unstructured);
+                        let qualities = if moving { vec![Quality::Low, Quality::Refit] } else { vec![Quality::Low] };
+                        for q in qualities {
+                            eprintln!("{name}: embree {} ({api:?})", q.name());
+                            runs.push(dynamic::run_embree(animation.as_ref(), frames, threads.max(1), q, api));
+                        }
                     }
                 }
                 let triangles = dynamic::instanced_triangles(animation.as_ref());

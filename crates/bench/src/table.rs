@@ -93,7 +93,7 @@ pub fn dynamic_table(scene: &str, triangles: u64, instances: usize, frames: usiz
     let reports: Vec<_> = runs.iter().map(|r| r.report(scene, threads, triangles, instances)).collect();
     let _ = write!(out, "  {:<22}", "");
     for r in &reports {
-        let _ = write!(out, "{:>16}", r.system);
+        let _ = write!(out, "{:>22}", r.system);
     }
     let _ = writeln!(out);
     type Column = fn(&crate::dynamic::DynamicReport) -> f64;
@@ -108,15 +108,18 @@ pub fn dynamic_table(scene: &str, triangles: u64, instances: usize, frames: usiz
     for (name, get) in rows {
         let _ = write!(out, "  {name:<22}");
         for r in &reports {
-            let _ = write!(out, "{:>16.3}", get(r));
+            let _ = write!(out, "{:>22.3}", get(r));
         }
         let _ = writeln!(out);
     }
-    if let Some(ours) = reports.iter().find(|r| r.system == "raystage") {
-        for theirs in reports.iter().filter(|r| r.system != "raystage") {
+    // Each raystage run against the Embree runs that hand rays over the same way.
+    let packets = |r: &crate::dynamic::DynamicReport| r.system.ends_with("-packets");
+    for ours in reports.iter().filter(|r| r.system.starts_with("raystage")) {
+        for theirs in reports.iter().filter(|r| !r.system.starts_with("raystage") && packets(r) == packets(ours)) {
             let _ = writeln!(
                 out,
-                "  raystage / {}: frame time {:.2}x, update {:.2}x, trace {:.2}x",
+                "  {} / {}: frame time {:.2}x, update {:.2}x, trace {:.2}x",
+                ours.system,
                 theirs.system,
                 ours.frame_ms / theirs.frame_ms,
                 ours.update_ms / theirs.update_ms,

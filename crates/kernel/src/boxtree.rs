@@ -86,6 +86,34 @@ impl BoxTree {
         }
     }
 
+    /// The boxes that the segments of up to [`crate::PACKET_SIZE`] rays touch: `visit(item,
+    /// rays)` with the rays (bit `i` for `rays[i]`) that may touch the box, in no particular
+    /// order; every ray is named for every box [`BoxTree::any`] would give it (and for a few it
+    /// only nearly touches, so the caller tests each box itself). Rays that share an origin and
+    /// octant (camera rays of neighbouring pixels) walk the tree as one packet, naming each box
+    /// once; others walk it one by one, and a box can come once per ray. Returns whether every
+    /// box was named at most once.
+    ///
+    /// # Panics
+    /// If `rays` holds more than [`crate::PACKET_SIZE`] rays.
+    pub fn touched(&self, rays: &[PreparedRay], mut visit: impl FnMut(u32, u32)) -> bool {
+        assert!(rays.len() <= crate::PACKET_SIZE, "at most a packet");
+        match self.isa {
+            // SAFETY: as in `closest`.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 if !rays.is_empty() => unsafe { traverse::avx2::boxes_touched(self, rays, visit) },
+            _ => {
+                for (i, ray) in rays.iter().enumerate() {
+                    traverse::portable::boxes_any(self, ray, |item| {
+                        visit(item, 1 << i);
+                        false
+                    });
+                }
+                rays.len() <= 1
+            }
+        }
+    }
+
     /// The items of a leaf link.
     pub(crate) fn leaf_items(&self, link: u32) -> &[u32] {
         let [first, count] = self.leaves[(link & !LEAF) as usize];

@@ -281,30 +281,29 @@ impl<'a> Frame<'a> {
             }
             return;
         }
-        let mut touch = |item: u32, i: usize| {
-            let Some(entry) = self.boxes[item as usize].intersect(&prepared[i], rays[i].tfar) else { return };
-            match touched.iter_mut().find(|(_, t, _)| *t == item) {
-                Some((nearest, _, mask)) => {
-                    *nearest = nearest.min(entry);
-                    *mask |= 1 << i;
+        // The rays among `candidates` whose segment touches the box of instance `item`, and the
+        // nearest entry among them.
+        let mut touch = |item: u32, candidates: u32| {
+            let (mut nearest, mut mask) = (f32::INFINITY, 0u32);
+            for i in (0..PACKET_SIZE).filter(|&i| candidates & (1 << i) != 0) {
+                if let Some(entry) = self.boxes[item as usize].intersect(&prepared[i], rays[i].tfar) {
+                    nearest = nearest.min(entry);
+                    mask |= 1 << i;
                 }
-                None => touched.push((entry, item, 1 << i)),
+            }
+            if mask != 0 {
+                touched.push((nearest, item, mask));
             }
         };
+        let all = (1 << PACKET_SIZE) - 1;
         if self.instances.len() == 1 {
             // The only instance: every ray (the object's own root test culls those that miss).
-            touched.push((0.0, 0, (1 << PACKET_SIZE) - 1));
+            touched.push((0.0, 0, all));
         } else if self.instances.len() <= LIST_TOP_LEVEL {
-            for item in 0..self.instances.len() as u32 {
-                (0..PACKET_SIZE).for_each(|i| touch(item, i));
-            }
-        } else {
-            for (i, pre) in prepared.iter().enumerate() {
-                self.top.closest(pre, |item, tfar| {
-                    touch(item, i);
-                    tfar
-                });
-            }
+            (0..self.instances.len() as u32).for_each(|item| touch(item, all));
+        } else if !self.top.touched(&prepared, touch) {
+            // The rays went one by one: merge what each found of the same instance.
+            merge_touched(touched);
         }
         touched.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         hits.fill(None);
@@ -325,10 +324,18 @@ impl<'a> Frame<'a> {
                 continue;
             }
             let placed = fi.placed_at(time);
+            // Camera rays share their origin: it is carried into the object once.
+            let origin = (!placed.identity).then(|| placed.to_object.transform_point3(rays[0].origin));
             for (i, ray) in rays.iter().enumerate() {
                 // Rays that do not reach the box get an empty segment.
                 let tfar = if mask & (1 << i) == 0 { ray.tnear } else { tfar[i] };
-                local[i] = if placed.identity { prepared[i].with_tfar(tfar) } else { PreparedRay::new(&Ray { tfar, ..placed.ray_to_object(ray) }) };
+                local[i] = match origin {
+                    None => prepared[i].with_tfar(tfar),
+                    Some(origin) if ray.origin.to_array().map(f32::to_bits) == rays[0].origin.to_array().map(f32::to_bits) => {
+                        PreparedRay::new(&Ray { origin, dir: placed.to_object.transform_vector3(ray.dir), tnear: ray.tnear, tfar })
+                    }
+                    Some(_) => PreparedRay::new(&Ray { tfar, ..placed.ray_to_object(ray) }),
+                };
             }
             fi.object.accel(&self.counters).intersect_packet_prepared(&local, &mut found);
             for (i, h) in found.iter().enumerate() {
@@ -384,21 +391,23 @@ impl<'a> Frame<'a> {
         let n = rays.len();
         let all = (1u32 << n) - 1;
         let prepared: [PreparedRay; PACKET_SIZE] = std::array::from_fn(|i| PreparedRay::new(&rays[i.min(n - 1)]));
-        let mut touch = |item: u32, i: usize| match touched.iter_mut().find(|(t, _)| *t == item) {
-            Some((_, mask)) => *mask |= 1 << i,
-            None => touched.push((item, 1 << i)),
+        // The rays among `candidates` whose segment touches the box of instance `item`.
+        let mut touch = |item: u32, candidates: u32| {
+            let b = &self.boxes[item as usize];
+            let mask = (0..n).filter(|&i| candidates & (1 << i) != 0 && b.intersect(&prepared[i], rays[i].tfar).is_some()).fold(0, |m, i| m | 1 << i);
+            if mask != 0 {
+                touched.push((item, mask));
+            }
         };
         if self.instances.len() <= LIST_TOP_LEVEL {
-            for (item, b) in self.boxes.iter().enumerate() {
-                (0..n).filter(|&i| b.intersect(&prepared[i], rays[i].tfar).is_some()).for_each(|i| touch(item as u32, i));
-            }
-        } else {
-            for (i, pre) in prepared[..n].iter().enumerate() {
-                self.top.any(pre, |item| {
-                    touch(item, i);
-                    false
-                });
-            }
+            (0..self.instances.len() as u32).for_each(|item| touch(item, all));
+        } else if !self.top.touched(&prepared[..n], touch) {
+            // The rays went one by one: merge what each found of the same instance.
+            touched.sort_unstable_by_key(|&(item, _)| item);
+            touched.dedup_by(|later, kept| later.0 == kept.0 && {
+                kept.1 |= later.1;
+                true
+            });
         }
         let mut open = all;
         let mut local = prepared;
@@ -460,7 +469,7 @@ impl<'a> Frame<'a> {
     /// attributes is not read at all: the normal comes with the hit.
     pub fn preview(&self, ray: &Ray, hit: &SceneHit) -> PreviewPoint<'a> {
         let fi = &self.instances[hit.item as usize];
-        let placed = fi.placed;
+        let placed = &fi.placed;
         let mesh = &fi.object.mesh;
         let (w0, w1, w2) = (1.0 - hit.u - hit.v, hit.u, hit.v);
         let corners = || mesh.indices[hit.prim as usize].map(|i| i as usize);
@@ -578,3 +587,15 @@ impl<'a> Frame<'a> {
     }
 }
 
+/// Merges the entries of [`Frame::intersect_many`]'s touched list that name the same instance:
+/// the nearest entry, and every ray that touches it.
+fn merge_touched(touched: &mut Vec<(f32, u32, u32)>) {
+    touched.sort_unstable_by_key(|&(_, item, _)| item);
+    touched.dedup_by(|later, kept| {
+        later.1 == kept.1 && {
+            kept.0 = kept.0.min(later.0);
+            kept.2 |= later.2;
+            true
+        }
+    });
+}

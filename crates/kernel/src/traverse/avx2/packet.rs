@@ -22,6 +22,7 @@ use std::mem::MaybeUninit;
 
 use super::single::{closest_below, occluded_below};
 use super::{LeafLanes, block_any, block_closest, plane_rows, prefetch, sort_farthest_first, splat3, written};
+use crate::boxtree::BoxTree;
 use crate::bvh8::Bvh8;
 use crate::wide::{EMPTY, LEAF, Node8, STACK_SIZE, WIDTH};
 use crate::prepared::{PreparedRay, widen};
@@ -37,12 +38,12 @@ const FEW: u32 = 1;
 /// Whether the rays can travel as one packet: a common origin, the same direction sign on every
 /// axis, and no zero direction component (whose infinite reciprocal has no useful interval).
 fn is_packet(rays: &[PreparedRay]) -> bool {
-    let first = &rays[0];
-    (1..=PACKET).contains(&rays.len())
+    let Some(first) = rays.first() else { return false };
+    let org = first.org.map(f32::to_bits);
+    rays.len() <= PACKET
         && rays.iter().all(|r| {
-            r.org.map(f32::to_bits) == first.org.map(f32::to_bits)
-                && r.neg == first.neg
-                && r.inv.iter().chain(&r.inv_far).all(|i| i.is_finite())
+            let finite = (0..3).all(|a| r.inv[a].is_finite() && r.inv_far[a].is_finite());
+            r.org.map(f32::to_bits) == org && r.neg == first.neg && finite
         })
 }
 
@@ -63,16 +64,27 @@ impl Frustum {
     #[target_feature(enable = "avx2,fma")]
     #[inline]
     fn new(rays: &[PreparedRay]) -> Frustum {
-        let bound = |f: &dyn Fn(&PreparedRay) -> f32, pick: fn(f32, f32) -> f32| {
-            _mm256_set1_ps(rays.iter().map(f).reduce(pick).expect("non-empty packet"))
-        };
+        // One pass over the rays, written out: a frustum is set up for every packet that enters
+        // an instance, which for small objects costs as much as the walk.
+        let (mut inv_lo, mut inv_hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+        let (mut far_lo, mut far_hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+        let mut tnear = f32::INFINITY;
+        for r in rays {
+            for a in 0..3 {
+                inv_lo[a] = inv_lo[a].min(r.inv[a]);
+                inv_hi[a] = inv_hi[a].max(r.inv[a]);
+                far_lo[a] = far_lo[a].min(r.inv_far[a]);
+                far_hi[a] = far_hi[a].max(r.inv_far[a]);
+            }
+            tnear = tnear.min(r.tnear);
+        }
         Frustum {
             org: splat3(rays[0].org),
-            inv_lo: std::array::from_fn(|a| bound(&|r| r.inv[a], f32::min)),
-            inv_hi: std::array::from_fn(|a| bound(&|r| r.inv[a], f32::max)),
-            far_lo: std::array::from_fn(|a| bound(&|r| r.inv_far[a], f32::min)),
-            far_hi: std::array::from_fn(|a| bound(&|r| r.inv_far[a], f32::max)),
-            tnear: bound(&|r| r.tnear, f32::min),
+            inv_lo: splat3(inv_lo),
+            inv_hi: splat3(inv_hi),
+            far_lo: splat3(far_lo),
+            far_hi: splat3(far_hi),
+            tnear: _mm256_set1_ps(tnear),
             near: plane_rows(rays[0].neg, false),
             far: plane_rows(rays[0].neg, true),
         }
@@ -113,17 +125,23 @@ impl RayLanes {
     #[inline]
     fn new(rays: &[PreparedRay]) -> RayLanes {
         // Lanes past the last ray repeat the first; they are masked out of every result.
-        let lanes = |f: &dyn Fn(&PreparedRay) -> f32| {
-            let v: [f32; PACKET] = std::array::from_fn(|i| f(rays.get(i).unwrap_or(&rays[0])));
-            unsafe { _mm256_loadu_ps(v.as_ptr()) }
-        };
+        let (mut inv, mut inv_far, mut tnear) = ([[0f32; PACKET]; 3], [[0f32; PACKET]; 3], [0f32; PACKET]);
+        for lane in 0..PACKET {
+            let r = rays.get(lane).unwrap_or(&rays[0]);
+            for a in 0..3 {
+                inv[a][lane] = r.inv[a];
+                inv_far[a][lane] = r.inv_far[a];
+            }
+            tnear[lane] = r.tnear;
+        }
+        let load = |v: &[f32; PACKET]| unsafe { _mm256_loadu_ps(v.as_ptr()) };
         RayLanes {
             org: rays[0].org,
             near: plane_rows(rays[0].neg, false),
             far: plane_rows(rays[0].neg, true),
-            inv: std::array::from_fn(|a| lanes(&|r| r.inv[a])),
-            inv_far: std::array::from_fn(|a| lanes(&|r| r.inv_far[a])),
-            tnear: lanes(&|r| r.tnear),
+            inv: [load(&inv[0]), load(&inv[1]), load(&inv[2])],
+            inv_far: [load(&inv_far[0]), load(&inv_far[1]), load(&inv_far[2])],
+            tnear: load(&tnear),
         }
     }
 
@@ -335,6 +353,59 @@ pub(crate) unsafe fn occluded_packet(bvh: &Bvh8, rays: &[PreparedRay]) -> u32 {
         }
     }
     all & !open
+}
+
+/// The boxes of `tree` that the segments of a packet of rays touch: `visit(item, rays)` with
+/// the rays (bit `i` for `rays[i]`) whose own segment may touch it, in no particular order.
+/// Each ray is told of every box it touches (what `super::boxes_any` finds for it when no visit
+/// stops the walk), and of a few it only nearly touches: boxes in the same leaf, and a leaf at
+/// the root. Returns whether every box was named at most once: so it is when the rays travel as
+/// one packet; rays that do not walk the tree one by one, and a box can come once per ray.
+///
+/// # Safety
+/// The CPU must support AVX2 and FMA.
+#[target_feature(enable = "avx2,fma")]
+pub(crate) unsafe fn boxes_touched(tree: &BoxTree, rays: &[PreparedRay], mut visit: impl FnMut(u32, u32)) -> bool {
+    if !is_packet(rays) {
+        for (i, ray) in rays.iter().enumerate() {
+            unsafe {
+                super::boxes_any(tree, ray, |item| {
+                    visit(item, 1 << i);
+                    false
+                })
+            };
+        }
+        return rays.len() <= 1;
+    }
+    let frustum = Frustum::new(rays);
+    let lanes = RayLanes::new(rays);
+    let widened: [f32; PACKET] = std::array::from_fn(|i| rays.get(i).map_or(f32::NEG_INFINITY, |r| widen(r.tfar)));
+    let tfar = unsafe { _mm256_loadu_ps(widened.as_ptr()) };
+    let farthest = _mm256_set1_ps(widened.iter().copied().fold(f32::NEG_INFINITY, f32::max));
+    let mut stack = [MaybeUninit::<(u32, u32)>::uninit(); STACK_SIZE];
+    stack[0].write((tree.root, (1u32 << rays.len()) - 1));
+    let mut sp = 1usize;
+    while sp > 0 {
+        sp -= 1;
+        // SAFETY: every entry below `sp` was written before.
+        let (link, needing) = unsafe { stack[sp].assume_init() };
+        if link & LEAF == 0 {
+            let node = &tree.nodes[link as usize];
+            let (mask, _) = frustum.child_hits(node, farthest);
+            for lane in Lanes(mask) {
+                let (hit, _) = lanes.hit_child(node, lane, tfar);
+                if hit & needing != 0 {
+                    stack[sp].write((node.child[lane], hit & needing));
+                    sp += 1;
+                }
+            }
+        } else if link != EMPTY {
+            for &item in tree.leaf_items(link) {
+                visit(item, needing);
+            }
+        }
+    }
+    true
 }
 
 /// The set bits of a mask, lowest first.
