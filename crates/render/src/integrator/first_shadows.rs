@@ -58,7 +58,7 @@ pub(crate) fn applies(t: &Tracer<'_, '_>) -> bool {
 
 /// The shadows of up to [`PACKET_SIZE`] first hits (at shutter time `time`) towards every point
 /// and spot light, `out[k]` for `hits[k]`: each light's rays traced as one packet, only from
-/// hits whose material takes direct light and that face the light, as `Tracer::direct` would.
+/// hits whose material takes direct light and that face the light.
 pub(crate) fn trace(t: &Tracer<'_, '_>, hits: &[Option<Hit<'_>>], time: f32, rays: &mut RayCounts, out: &mut [KnownShadows]) {
     assert!(hits.len() <= PACKET_SIZE && hits.len() == out.len(), "one answer per hit, at most a packet");
     out.fill(KnownShadows::NONE);
@@ -74,9 +74,11 @@ pub(crate) fn trace(t: &Tracer<'_, '_>, hits: &[Option<Hit<'_>>], time: f32, ray
             }
             let sp = &hit.surface;
             // The direction need not be a unit vector: only its side of the surface matters,
-            // to `direct` and to the spawned origin.
+            // to `direct` and to the spawned origin. A ray traced for a light that `direct`
+            // then finds dark (a spot light's cone facing away) is wasted, never wrong: `direct`
+            // traces whatever it needs and finds no answer for.
             let towards = position - sp.position;
-            if sp.geometric_normal.dot(towards) <= 0.0 || t.lights.sample(light, sp.position, sp.shading_normal, [0.5, 0.5], true).is_none() {
+            if sp.geometric_normal.dot(towards) <= 0.0 {
                 continue;
             }
             let origin = offset(sp, towards);
