@@ -141,11 +141,15 @@ fn check_packets(tris: &Vec<[Vec3; 3]>, bvh8s: &[Bvh8], rays: &[Ray]) -> Result<
 }
 
 /// Rays from one origin in a cone around a random direction: real packets, with now and then
-/// a ray that breaks the packet (another octant, a zero component).
+/// a ray that breaks the packet (another octant, a zero component), and empty segments (the
+/// rays of a two-level packet that miss an instance), which a packet leaves out.
 fn coherent_rays() -> impl Strategy<Value = Vec<Ray>> {
-    let offset = (uniform(-1.0, 1.0), uniform(-1.0, 1.0), uniform(-1.0, 1.0)).prop_map(|(x, y, z)| Vec3::new(x, y, z));
+    let offset = (uniform(-1.0, 1.0), uniform(-1.0, 1.0), uniform(-1.0, 1.0), prop::bool::weighted(0.2))
+        .prop_map(|(x, y, z, empty)| (Vec3::new(x, y, z), empty));
     (point(), direction(), prop_oneof![Just(0.0f32), uniform(0.0, 0.05), uniform(0.0, 0.6)], prop::collection::vec(offset, 1..=20), prop_oneof![3 => Just(f32::INFINITY), 1 => uniform(1.0, 20.0)])
-        .prop_map(|(o, d, spread, offsets, tfar)| offsets.iter().map(|e| Ray::segment(o, d + *e * spread, 0.0, tfar)).collect())
+        .prop_map(|(o, d, spread, offsets, tfar)| {
+            offsets.iter().map(|&(e, empty)| Ray::segment(o, d + e * spread, 0.0, if empty { 0.0 } else { tfar })).collect()
+        })
 }
 
 proptest! {
