@@ -12,6 +12,14 @@ use tokio_tungstenite::tungstenite::Message;
 
 type Socket = tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
 
+/// Serves `state` on a free loopback port until the test ends; returns the address.
+async fn listen(state: AppState) -> std::net::SocketAddr {
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    tokio::spawn(serve(listener, state, std::future::pending()));
+    addr
+}
+
 /// The next text message, as JSON.
 async fn next_json(socket: &mut Socket) -> Value {
     loop {
@@ -46,9 +54,7 @@ async fn frames_refine_and_a_camera_change_restarts_them() {
     let object = ok(&app, "POST", &format!("/scenes/{s}/objects"), json!({ "mesh": mesh }), StatusCode::CREATED).await;
     ok(&app, "POST", &format!("/scenes/{s}/instances"), json!({ "object": object["id"] }), StatusCode::CREATED).await;
 
-    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
-    let addr = listener.local_addr().unwrap();
-    tokio::spawn(serve(listener, state, std::future::pending()));
+    let addr = listen(state).await;
     let url = format!("ws://{addr}/scenes/{s}/stream?width=48&height=32&integrator=eyelight&max_samples=4096");
     let (mut socket, _) = tokio_tungstenite::connect_async(url).await.unwrap();
 
@@ -107,9 +113,7 @@ async fn deleting_the_scene_ends_its_streams() {
     let state = AppState::new(Config::default());
     let app = raystage_server::router(state.clone());
     let s = new_scene(&app).await;
-    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
-    let addr = listener.local_addr().unwrap();
-    tokio::spawn(serve(listener, state, std::future::pending()));
+    let addr = listen(state).await;
     let (mut socket, _) = tokio_tungstenite::connect_async(format!("ws://{addr}/scenes/{s}/stream?width=16&height=16&max_samples=4")).await.unwrap();
     next_frame(&mut socket).await;
     let (status, _, _) = send(&app, "DELETE", &format!("/scenes/{s}"), axum::body::Body::empty(), &[]).await;
@@ -138,9 +142,7 @@ async fn a_stream_of_an_unknown_scene_or_with_bad_settings_is_refused() {
     let state = AppState::new(Config::default());
     let app = raystage_server::router(state.clone());
     let s = new_scene(&app).await;
-    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
-    let addr = listener.local_addr().unwrap();
-    tokio::spawn(serve(listener, state, std::future::pending()));
+    let addr = listen(state).await;
     for (path, status) in [("/scenes/99/stream", 404), (&format!("/scenes/{s}/stream?width=0") as &str, 422), (&format!("/scenes/{s}/stream?max_samples=0"), 422)] {
         let error = tokio_tungstenite::connect_async(format!("ws://{addr}{path}")).await.unwrap_err();
         let tokio_tungstenite::tungstenite::Error::Http(response) = error else { panic!("{path}: {error}") };
