@@ -345,25 +345,37 @@ impl TileWork {
         samplers.clear();
         rays.clear();
         times.clear();
-        for &(x, y) in &self.order {
-            let mut sampler = PixelSampler::new(x, y, s.seed, index);
-            let [dx, dy] = if t.effects.multisampling { s.filter.offset(sampler.next_2d()) } else { [0.5, 0.5] };
-            let lens = if t.effects.depth_of_field {
-                self.counts.lens_samples += 1;
-                sampler.next_2d()
-            } else {
-                [0.5, 0.5]
-            };
-            let time = if t.effects.motion_blur {
-                self.counts.time_samples += 1;
-                let [open, close] = shutter;
-                open + (close - open) * sampler.next_1d()
-            } else {
-                shutter[0]
-            };
-            rays.push(camera.ray(x as f32 + dx, y as f32 + dy, lens));
-            times.push(time);
-            samplers.push(sampler);
+        let e = t.effects;
+        if !e.multisampling && !e.depth_of_field && !e.motion_blur {
+            // One sample per pixel, through its centre, at the shutter's opening: each
+            // packet's camera rays are made together.
+            rays.resize(self.order.len(), Ray::new(Vec3::ZERO, Vec3::Z));
+            for (pixels, out) in self.order.chunks(PACKET_SIZE).zip(rays.chunks_mut(PACKET_SIZE)) {
+                camera.centre_rays(pixels, out);
+            }
+            times.resize(self.order.len(), shutter[0]);
+            samplers.extend(self.order.iter().map(|&(x, y)| PixelSampler::new(x, y, s.seed, index)));
+        } else {
+            for &(x, y) in &self.order {
+                let mut sampler = PixelSampler::new(x, y, s.seed, index);
+                let [dx, dy] = if e.multisampling { s.filter.offset(sampler.next_2d()) } else { [0.5, 0.5] };
+                let lens = if e.depth_of_field {
+                    self.counts.lens_samples += 1;
+                    sampler.next_2d()
+                } else {
+                    [0.5, 0.5]
+                };
+                let time = if e.motion_blur {
+                    self.counts.time_samples += 1;
+                    let [open, close] = shutter;
+                    open + (close - open) * sampler.next_1d()
+                } else {
+                    shutter[0]
+                };
+                rays.push(camera.ray(x as f32 + dx, y as f32 + dy, lens));
+                times.push(time);
+                samplers.push(sampler);
+            }
         }
         // Camera rays of neighbouring pixels go to the scene together; with motion blur each
         // has its own time, so they go one by one.
