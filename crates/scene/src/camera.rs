@@ -190,3 +190,23 @@ impl CameraRays {
         self.forward + self.right * (px - self.centre.x) + self.up * (self.centre.y - py)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn centre_rays_are_the_rays_through_pixel_centres_bit_for_bit() {
+        let camera = Camera::look_at(Vec3::new(0.3, 1.7, 5.0), Vec3::new(-0.2, 0.4, 0.0), Vec3::Y, 50.0).unwrap();
+        let rays = camera.rays(97, 61);
+        let pixels: Vec<(u32, u32)> = (0..61).flat_map(|y| (0..97).map(move |x| (x, y))).collect();
+        for packet in pixels.chunks(5).chain(pixels.chunks(8)) {
+            let mut out = [Ray::new(Vec3::ZERO, Vec3::Z); 8];
+            rays.centre_rays(packet, &mut out);
+            for (&(x, y), ray) in packet.iter().zip(&out) {
+                let one = rays.ray(x as f32 + 0.5, y as f32 + 0.5, [0.5, 0.5]);
+                assert_eq!((ray.origin, ray.dir), (one.origin, one.dir), "pixel ({x}, {y})");
+            }
+        }
+    }
+}
