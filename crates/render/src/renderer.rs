@@ -400,9 +400,16 @@ impl TileWork {
                 }
                 first_shadows::trace(t, &resolved[..end - start], shutter[0], &mut self.counts.rays, &mut known[..end - start]);
             }
+            // The preview of a frame without area lights (whose light camera rays can meet)
+            // shades the packet at once.
+            let mut previewed = [Vec3::ZERO; PACKET_SIZE];
+            let preview = s.integrator == Integrator::EyeLight && !t.lights.has_area();
+            if preview {
+                eyelight::shade(t, &rays[start..end], &self.hits[start..end], &mut previewed[..end - start]);
+            }
             for k in start..end {
                 let first = FirstHit { hit: self.hits[k], resolved: resolved[k - start].as_ref(), shadows: known[k - start] };
-                let colour = sample_pixel(t, &rays[k], times[k], first, &mut samplers[k], &mut self.counts.rays);
+                let colour = if preview { previewed[k - start] } else { sample_pixel(t, &rays[k], times[k], first, &mut samplers[k], &mut self.counts.rays) };
                 // A NaN or infinite sample would poison the pixel for good: drop it (it counts
                 // as black).
                 let colour = if colour.is_finite() { colour } else { Vec3::ZERO };
@@ -436,8 +443,9 @@ fn sample_pixel(t: &Tracer<'_, '_>, ray: &Ray, time: f32, first: FirstHit<'_, '_
     let e = t.effects;
     let (reflection, refraction) = if t.settings.specialize { (e.reflection, e.refraction) } else { (true, true) };
     if t.settings.integrator == Integrator::EyeLight {
-        // The preview looks up only the normal and the material.
-        return emitted + eyelight::shade(t, ray, &scene_hit);
+        let mut colour = [Vec3::ZERO];
+        eyelight::shade(t, std::slice::from_ref(ray), &[Some(scene_hit)], &mut colour);
+        return emitted + colour[0];
     }
     // Resolved here unless it was for the packet's shadows.
     let resolved_here;

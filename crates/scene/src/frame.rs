@@ -95,7 +95,8 @@ pub struct SurfacePoint<'a> {
 /// What the eye-light preview needs of a hit point (see [`Frame::preview`]).
 #[derive(Clone, Copy, Debug)]
 pub struct PreviewPoint<'a> {
-    /// Unit shading normal in the world, on either side of the surface.
+    /// Shading normal in the world, on either side of the surface, not normalised (a preview
+    /// normalises the normals of a packet of hits together).
     pub normal: Vec3,
     /// The point in the object's own space, from the ray (for solid textures).
     pub local_position: Vec3,
@@ -463,7 +464,7 @@ impl<'a> Frame<'a> {
         }
     }
 
-    /// What a preview needs of `hit` of `ray`: its unit shading normal (facing either way), the
+    /// What a preview needs of `hit` of `ray`: its shading normal (facing either way), the
     /// interpolated attributes the mesh has, an approximate object-space point, and the shader.
     /// Unlike [`Frame::surface`] it computes no robust hit point, so a mesh without per-vertex
     /// attributes is not read at all: the normal comes with the hit.
@@ -482,7 +483,7 @@ impl<'a> Frame<'a> {
         let position = ray.at(hit.t);
         let (shader, shader_id) = self.shader_of(mesh, hit.prim);
         PreviewPoint {
-            normal: placed.normal_to_world(normal).normalize_or_zero(),
+            normal: placed.normal_to_world(normal),
             local_position: if placed.identity { position } else { placed.to_object.transform_point3(position) },
             color: (!mesh.colors.is_empty()).then(|| {
                 let [a, b, c] = corners();
