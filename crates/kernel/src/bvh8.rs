@@ -59,9 +59,12 @@ impl TriBlock {
         Aabb { min: glam::Vec3::from_array(lo), max: glam::Vec3::from_array(hi) }
     }
 
-    /// The vertices of one lane.
+    /// The vertices of one lane. (Written out: nested `array::from_fn`s are not inlined into
+    /// the leaf test, which asks for the vertices of every hit it accepts.)
+    #[inline]
     pub(crate) fn lane(&self, lane: usize) -> [[f32; 3]; 3] {
-        std::array::from_fn(|vertex| std::array::from_fn(|axis| self.v[3 * vertex + axis][lane]))
+        let v = &self.v;
+        [[v[0][lane], v[1][lane], v[2][lane]], [v[3][lane], v[4][lane], v[5][lane]], [v[6][lane], v[7][lane], v[8][lane]]]
     }
 }
 
