@@ -55,13 +55,7 @@ impl Film {
     pub fn rgb8_rows(&self, rows: std::ops::Range<u32>) -> Vec<u8> {
         assert!(rows.start <= rows.end && rows.end <= self.height, "rows {rows:?} outside a film of {} rows", self.height);
         let width = self.width as usize;
-        let pixels = &self.pixels[rows.start as usize * width..rows.end as usize * width];
-        let table = srgb::table();
-        let mut bytes = vec![0u8; pixels.len() * 3];
-        for (out, p) in bytes.chunks_exact_mut(3).zip(pixels) {
-            out.copy_from_slice(&[srgb::encode_with(table, p.x), srgb::encode_with(table, p.y), srgb::encode_with(table, p.z)]);
-        }
-        bytes
+        rgb8(&self.pixels[rows.start as usize * width..rows.end as usize * width], 1)
     }
 
     /// The pixels as sRGB-encoded RGBA8 (opaque), row by row: the layout of an application's
@@ -92,6 +86,19 @@ impl Film {
         let path = path.as_ref();
         std::fs::write(path, self.encode_png()?).map_err(|source| Error::Write { path: path.to_owned(), source })
     }
+}
+
+/// Sums of `samples` samples per pixel as sRGB RGB8 bytes: the pixels are the sums divided by
+/// the count, exactly as a progressive film divides them.
+pub(crate) fn rgb8(sums: &[Vec3], samples: u32) -> Vec<u8> {
+    let table = srgb::table();
+    let n = samples.max(1) as f32;
+    let mut bytes = vec![0u8; sums.len() * 3];
+    for (out, s) in bytes.chunks_exact_mut(3).zip(sums) {
+        let p = if n != 1.0 { *s / n } else { *s };
+        out.copy_from_slice(&[srgb::encode_with(table, p.x), srgb::encode_with(table, p.y), srgb::encode_with(table, p.z)]);
+    }
+    bytes
 }
 
 #[cfg(test)]

@@ -163,10 +163,41 @@ impl RenderSettings {
 /// Renders `settings.samples_per_pixel` samples of every pixel of `frame`, on the current rayon
 /// pool.
 pub fn render(frame: &Frame<'_>, settings: &RenderSettings) -> Result<(Film, FrameStats), Error> {
+    render_rows(frame, settings, |_| {})
+}
+
+/// [`render`], handing every band of rows to `finished` as soon as its pixels are final, on the
+/// render thread that finished them (bands complete out of order, each exactly once): a caller
+/// can encode the image while the rest of it renders.
+pub fn render_rows(frame: &Frame<'_>, settings: &RenderSettings, finished: impl Fn(Rows<'_>) + Sync) -> Result<(Film, FrameStats), Error> {
     // One pass, whose variance nobody asks for: a 1080p frame saves 8 MB of page faults.
     let mut progressive = Progressive::without_variance(*settings)?;
-    let stats = progressive.add(frame, settings.samples_per_pixel);
+    let samples = settings.samples_per_pixel;
+    let stats = progressive.add_with(frame, samples, |first, sums| finished(Rows { first, width: settings.width, sums, samples }));
     Ok((progressive.into_film(), stats))
+}
+
+/// Finished rows of a frame being rendered (see [`render_rows`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Rows<'a> {
+    first: u32,
+    width: u32,
+    /// The rows' sums of samples, row by row.
+    sums: &'a [Vec3],
+    samples: u32,
+}
+
+impl Rows<'_> {
+    /// The image rows these are.
+    pub fn rows(&self) -> std::ops::Range<u32> {
+        self.first..self.first + (self.sums.len() / self.width as usize) as u32
+    }
+
+    /// The rows as sRGB RGB8 bytes: exactly what [`Film::rgb8_rows`] gives for them once the
+    /// frame is done.
+    pub fn rgb8(&self) -> Vec<u8> {
+        crate::film::rgb8(self.sums, self.samples)
+    }
 }
 
 /// A quick look at `frame`: one sample per pixel of a `width × height` image, Whitted's
@@ -226,6 +257,12 @@ impl Progressive {
 
     /// Adds `samples` samples per pixel of `frame`.
     pub fn add(&mut self, frame: &Frame<'_>, samples: u32) -> FrameStats {
+        self.add_with(frame, samples, |_, _| {})
+    }
+
+    /// [`Progressive::add`], calling `finished(first_row, sums)` for every band of rows once its
+    /// samples are in.
+    fn add_with(&mut self, frame: &Frame<'_>, samples: u32, finished: impl Fn(u32, &[Vec3]) + Sync) -> FrameStats {
         let start = Instant::now();
         let s = self.settings;
         let effects = EffectSet::of(frame, s.integrator, self.samples + samples);
@@ -234,13 +271,14 @@ impl Progressive {
         let first_index = self.samples;
         let counts = std::sync::Mutex::new(Counts::default());
         let (sum, sum_sq) = (&mut self.sum, self.sum_sq.as_deref_mut());
-        render_tiles_with(s.width, s.height, sum, sum_sq, |tile, band| {
+        let add = |tile: &Tile, band: &mut Band<'_>| {
             let mut work = TileWork::new(tile);
             for index in first_index..first_index + samples {
                 work.sample(&tracer, &camera, index, band);
             }
             counts.lock().unwrap_or_else(|e| e.into_inner()).add(work.counts);
-        });
+        };
+        render_tiles_with(s.width, s.height, sum, sum_sq, add, finished);
         self.samples += samples;
         let counts = counts.into_inner().unwrap_or_else(|e| e.into_inner());
         let work = frame.work();

@@ -57,8 +57,17 @@ impl Band<'_> {
 /// Runs `add` over every tile of a `width × height` image, bands of tiles in parallel on the
 /// current rayon pool (run it inside `ThreadPool::install` to choose the number of threads),
 /// giving it the band of the per-pixel accumulation buffers (row-major, one entry per pixel;
-/// the squared sums only if kept) its tile lies in.
-pub(crate) fn render_tiles_with(width: u32, height: u32, sum: &mut [Vec3], sum_sq: Option<&mut [f32]>, add: impl Fn(&Tile, &mut Band<'_>) + Sync) {
+/// the squared sums only if kept) its tile lies in. Once every tile of a band is done,
+/// `finished(first_row, sums)` is called with the band's rows of sums, on the thread that
+/// rendered them.
+pub(crate) fn render_tiles_with(
+    width: u32,
+    height: u32,
+    sum: &mut [Vec3],
+    sum_sq: Option<&mut [f32]>,
+    add: impl Fn(&Tile, &mut Band<'_>) + Sync,
+    finished: impl Fn(u32, &[Vec3]) + Sync,
+) {
     if width == 0 || height == 0 {
         return;
     }
@@ -75,6 +84,7 @@ pub(crate) fn render_tiles_with(width: u32, height: u32, sum: &mut [Vec3], sum_s
         for x0 in (0..width).step_by(TILE_SIZE as usize) {
             add(&Tile { x0, y0, width: TILE_SIZE.min(width - x0), height: rows }, &mut band);
         }
+        finished(y0, band.sum);
     });
 }
 
@@ -90,7 +100,7 @@ mod tests {
     fn run(width: u32, height: u32, add: impl Fn(&Tile, &mut Band<'_>) + Sync) -> Vec<Vec3> {
         let n = (width * height) as usize;
         let (mut sum, mut sum_sq) = (vec![Vec3::ZERO; n], vec![0.0; n]);
-        render_tiles_with(width, height, &mut sum, Some(&mut sum_sq), add);
+        render_tiles_with(width, height, &mut sum, Some(&mut sum_sq), add, |_, _| {});
         sum
     }
 

@@ -2,9 +2,8 @@
 //! blocking thread (it runs on the rayon pool, never on the reactor), the PNG encoded there too.
 
 use std::sync::Arc;
-use std::time::Instant;
 
-use raystage_render::{Integrator, RenderSettings, render};
+use raystage_render::{Integrator, RenderSettings};
 use raystage_scene::Scene;
 use serde::Deserialize;
 use utoipa::IntoParams;
@@ -114,11 +113,8 @@ pub(crate) async fn render_png(state: &AppState, slot: &Arc<SceneSlot>, request:
     let rendered = slot
         .read(move |scene, version| -> ApiResult<Rendered> {
             let settings = request.settings(scene);
-            let start = Instant::now();
-            let (film, stats) = render(&scene.frame(), &settings).map_err(|e| ApiError::unprocessable(None, e.to_string()))?;
-            let rendered = start.elapsed().as_secs_f64();
-            let png = crate::png::encode(&film)?;
-            let mut report = FrameReport::new(&settings, &stats, start.elapsed().as_secs_f64() - rendered, version);
+            let (png, stats, rendered, encoded) = crate::png::render_png(&scene.frame(), &settings)?;
+            let mut report = FrameReport::new(&settings, &stats, encoded, version);
             // The whole render, with the film's allocation and resolve, which the frame
             // statistics leave out.
             report.render_seconds = rendered;

@@ -42,7 +42,8 @@ pub struct FrameReport {
     pub render_seconds: f64,
     /// Seconds spent building or refitting object trees (within `render_seconds`).
     pub build_seconds: f64,
-    /// Seconds spent encoding the PNG.
+    /// Seconds the PNG took beyond the render (a frame is compressed band by band while it
+    /// renders; a stream's frame once its pass is done).
     pub encode_seconds: f64,
     /// Tracing rate, not counting tree builds.
     pub mrays_per_second: f64,
