@@ -66,6 +66,8 @@ pub struct Viewer {
     size: SizeFollower,
     problem: Option<String>,
     closed: Option<String>,
+    /// The scene version whose first frame last made the viewer fetch the scene again.
+    refetched_after: Option<u64>,
     /// Passes run with a frame on screen (the screenshot waits for one to be painted), and
     /// the UI time of the first.
     passes_with_frame: u32,
@@ -108,6 +110,7 @@ impl Viewer {
             size: SizeFollower::default(),
             problem: None,
             closed: None,
+            refetched_after: None,
             passes_with_frame: 0,
             first_shown: None,
             screenshot: Screenshot::NotYet,
@@ -162,6 +165,15 @@ impl Viewer {
                     self.arrivals.push_back(frame.received);
                     while self.arrivals.front().is_some_and(|t| frame.received.duration_since(*t) > RATE_WINDOW) {
                         self.arrivals.pop_front();
+                    }
+                    // A frame builds the trees its rays reach: fetch the scene once after the
+                    // first frame of each version while some object shows as not built, so that
+                    // the panel tells which ones were.
+                    let version = frame.stats.scene_version;
+                    let unbuilt = self.scene.as_ref().is_some_and(|s| s.objects.iter().any(|o| !o.built));
+                    if unbuilt && self.refetched_after != Some(version) {
+                        self.refetched_after = Some(version);
+                        self.send(Request::RefreshScene);
                     }
                     self.stats = Some(frame.stats);
                 }

@@ -1,6 +1,7 @@
 //! The viewer's UI state, with the test playing the server on the other end of the viewer's
 //! channels (egui_kittest, no window, no rendering): statistics show up in the side panel,
-//! choosing an integrator sends a `settings` message, a drag sends the orbited camera.
+//! choosing an integrator sends a `settings` message, a drag sends the orbited camera, and the
+//! first frame of a scene version refreshes objects the panel shows as not built.
 
 use std::time::{Duration, Instant};
 
@@ -8,7 +9,7 @@ use eframe::egui::{self, Color32, ColorImage};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use raystage_client::net::{Event, Frame, Link, Remote, SceneSnapshot};
-use raystage_client::protocol::{CameraJson, FrameStats, Hello, Rays, Request, SceneInfo, Settings};
+use raystage_client::protocol::{CameraJson, FrameStats, Hello, ObjectInfo, Rays, Request, SceneInfo, Settings};
 use raystage_client::{Viewer, ViewerOptions};
 use serde_json::json;
 
@@ -133,4 +134,30 @@ fn dragging_orbits_the_camera_around_its_target() {
     harness.run();
     let orbit = harness.state().orbit().unwrap();
     assert!(orbit.eye.length() < 4.99, "{orbit:?}");
+}
+
+#[test]
+fn the_first_frame_of_a_version_refreshes_objects_shown_as_not_built() {
+    let (mut harness, mut remote) = viewer();
+    let object = |built| ObjectInfo { id: 0, kind: "static".into(), triangles: 12, vertices: 8, built };
+    let mut unbuilt = scene();
+    unbuilt.objects = vec![object(false)];
+    remote.events.send(Event::Scene(Box::new(unbuilt))).unwrap();
+    remote.events.send(hello()).unwrap();
+    harness.run();
+    requests(&mut remote);
+    remote.events.send(frame(1, 1, Instant::now())).unwrap();
+    remote.events.send(frame(2, 2, Instant::now())).unwrap();
+    harness.run();
+    let refreshes = |sent: Vec<Request>| sent.iter().filter(|r| matches!(r, Request::RefreshScene)).count();
+    assert_eq!(refreshes(requests(&mut remote)), 1, "once for the version, not for every frame");
+    assert!(harness.query_by_label("#0 static: 12 triangles, not built").is_some());
+
+    let mut built = scene();
+    built.objects = vec![object(true)];
+    remote.events.send(Event::Scene(Box::new(built))).unwrap();
+    remote.events.send(frame(3, 4, Instant::now())).unwrap();
+    harness.run();
+    assert!(harness.query_by_label("#0 static: 12 triangles, built").is_some());
+    assert_eq!(refreshes(requests(&mut remote)), 0, "everything is built: nothing to refresh");
 }
