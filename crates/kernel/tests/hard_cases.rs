@@ -79,12 +79,15 @@ struct Target {
 const CONE: f32 = 25.0 * std::f32::consts::PI / 180.0;
 
 /// Every vertex, and points on every edge (its midpoint and a random point), sorted by the
-/// direction they face so that neighbours in the list face alike.
+/// direction they face so that neighbours in the list face alike. Edge points keep a tenth of
+/// the edge from its ends: far from the origin a point closer to a vertex rounds onto it, where
+/// the edge's normal no longer says which rays enter (at a vertex on the cube's rim, a ray
+/// within the cone of one face's normal may only touch the rim and leave).
 fn targets(shape: &Shape, rng: &mut Rng) -> Vec<Target> {
     let mut list: Vec<Target> = shape.vertices.iter().zip(shape.vertex_normals()).map(|(&point, normal)| Target { point, normal }).collect();
     for (a, b, normal) in shape.edges() {
         let (a, b) = (shape.vertices[a as usize], shape.vertices[b as usize]);
-        for s in [0.5, rng.f32()] {
+        for s in [0.5, rng.range(0.1, 0.9)] {
             list.push(Target { point: a + (b - a) * s, normal });
         }
     }
