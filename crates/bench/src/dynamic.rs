@@ -109,13 +109,16 @@ fn shadow_ray(ray: &Ray, t: f32, sun: glam::Vec3) -> Ray {
     Ray::new(ray.at(t * (1.0 - 1e-4)), -sun.normalize())
 }
 
+/// A closest-hit query for a packet of rays: each ray's hit distance into the second slice.
+pub type PacketQuery<'a> = &'a (dyn Fn(&[Ray], &mut [Option<f32>]) + Sync);
+
 /// How a system traces: its closest-hit query for one ray and for a packet of up to
 /// [`PACKET_SIZE`] (camera rays of 4×2 pixels), and its occlusion query.
 pub struct Queries<'a> {
     /// One ray: its closest hit distance.
     pub closest: &'a (dyn Fn(&Ray) -> Option<f32> + Sync),
     /// A packet: each ray's closest hit distance.
-    pub closest_packet: &'a (dyn Fn(&[Ray], &mut [Option<f32>]) + Sync),
+    pub closest_packet: PacketQuery<'a>,
     /// Whether a segment is blocked.
     pub occluded: &'a (dyn Fn(&Ray) -> bool + Sync),
 }

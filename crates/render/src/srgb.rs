@@ -30,8 +30,9 @@ pub(crate) fn table() -> &'static [u8; TABLE_STEPS + 1] {
 /// bits are then the step itself (at most `TABLE_STEPS`, so the lookup needs no bounds check),
 /// which costs half of Rust's saturating float-to-integer cast in this loop.
 #[inline]
+#[allow(clippy::manual_clamp, reason = "`clamp` keeps NaN, which must encode as 0")]
 pub(crate) fn encode_with(table: &[u8; TABLE_STEPS + 1], linear: f32) -> u8 {
-    const ROUND: f32 = (1 << f32::MANTISSA_DIGITS - 1) as f32;
+    const ROUND: f32 = (1 << (f32::MANTISSA_DIGITS - 1)) as f32;
     let step = linear.max(0.0).min(1.0) * TABLE_STEPS as f32 + ROUND;
     table[(step.to_bits() & TABLE_STEPS as u32) as usize]
 }

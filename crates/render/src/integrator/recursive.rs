@@ -96,24 +96,24 @@ impl<const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED: bool> Recursio
             ShadingModel::Constant | ShadingModel::Emissive => m.emission,
             ShadingModel::AmbientOcclusion => {
                 let probes = if DISTRIBUTED { 1 } else { WHITTED_OCCLUSION_PROBES };
-                let open = if t.effects.ambient_occlusion { t.occlusion(&hit, self.time, probes, self.sampler, self.rays) } else { 1.0 };
+                let open = if t.effects.ambient_occlusion { t.occlusion(hit, self.time, probes, self.sampler, self.rays) } else { 1.0 };
                 m.albedo * open
             }
-            ShadingModel::Glass if (REFLECT || REFRACT) && deeper => self.glass(&hit, wo, media, depth),
+            ShadingModel::Glass if (REFLECT || REFRACT) && deeper => self.glass(hit, wo, media, depth),
             ShadingModel::Glass => Vec3::ZERO,
             ShadingModel::Mirror if REFLECT && deeper => {
-                m.albedo * self.trace_on(&hit, reflect(wo, hit.surface.shading_normal), Kind::Reflection, media, depth)
+                m.albedo * self.trace_on(hit, reflect(wo, hit.surface.shading_normal), Kind::Reflection, media, depth)
             }
             ShadingModel::Mirror => Vec3::ZERO,
             ShadingModel::Glossy => {
                 let bsdf = m.bsdf.expect("glossy materials scatter");
-                let direct = t.direct(&hit, &bsdf, wo, self.time, self.known(depth), self.sampler, self.rays);
-                let reflected = if REFLECT && deeper { self.glossy_reflection(&hit, &bsdf, wo, media, depth) } else { Vec3::ZERO };
+                let direct = t.direct(hit, &bsdf, wo, self.time, self.known(depth), self.sampler, self.rays);
+                let reflected = if REFLECT && deeper { self.glossy_reflection(hit, &bsdf, wo, media, depth) } else { Vec3::ZERO };
                 direct + reflected
             }
             ShadingModel::Diffuse | ShadingModel::VertexColor | ShadingModel::Phong => {
                 let bsdf = m.bsdf.expect("matte materials scatter");
-                t.direct(&hit, &bsdf, wo, self.time, self.known(depth), self.sampler, self.rays)
+                t.direct(hit, &bsdf, wo, self.time, self.known(depth), self.sampler, self.rays)
             }
         };
         colour * attenuation
