@@ -30,10 +30,11 @@ pub enum ObjectKind {
 pub const REBUILD_DEGRADATION: f32 = 0.4;
 
 /// Most redefinitions in a row rebuilt without trying a refit first. A refit that ends in a
-/// rebuild costs both; when refits keep failing (geometry that changes fast, as the museum's
-/// triangles do halfway between cloud and sphere), the next attempts are spaced out 1, 2, 4 and
-/// then this many redefinitions apart, and a refit that holds brings the attempts back to every
-/// redefinition.
+/// rebuild costs both, so it is avoided twice over: a tree whose refits so far, extrapolated,
+/// would pass [`REBUILD_DEGRADATION`] at the next one is rebuilt at once; and when refits of
+/// fresh trees keep failing (geometry that changes fast, as the museum's triangles do halfway
+/// between cloud and sphere), the next attempts are spaced out 1, 2, 4 and then this many
+/// redefinitions apart, until a refit that holds brings them back to every redefinition.
 const MAX_REFIT_BACKOFF: u32 = 8;
 
 /// Counts of the tree work done while tracing a frame; objects no ray reached do none.
@@ -88,6 +89,17 @@ struct Refits {
     skip: u32,
     /// How many the next failed refit makes that.
     backoff: u32,
+    /// Refits since the tree was last built, and the degradation they brought it to.
+    since_build: u32,
+    degradation: f32,
+}
+
+impl Refits {
+    /// The degradation one more refit is expected to bring: the growth per refit so far,
+    /// extrapolated (geometry that keeps moving keeps loosening the tree at about its pace).
+    fn predicted(&self) -> f32 {
+        if self.since_build == 0 { 0.0 } else { self.degradation / self.since_build as f32 * (self.since_build + 1) as f32 }
+    }
 }
 
 impl Object {
@@ -172,16 +184,23 @@ impl Object {
         };
         if refits.skip > 0 {
             refits.skip -= 1;
-        } else if tree.refit(&self.mesh) <= REBUILD_DEGRADATION {
-            refits.backoff = 0;
-            BuildCounters::add(&counters.refitted);
-            return tree;
+        } else if refits.predicted() > REBUILD_DEGRADATION {
+            // The refit would most likely end in a rebuild: rebuild now.
         } else {
+            let degradation = tree.refit(&self.mesh);
+            if degradation <= REBUILD_DEGRADATION {
+                refits.backoff = 0;
+                refits.since_build += 1;
+                refits.degradation = degradation;
+                BuildCounters::add(&counters.refitted);
+                return tree;
+            }
             refits.backoff = (2 * refits.backoff).clamp(1, MAX_REFIT_BACKOFF);
             refits.skip = refits.backoff;
         }
         BuildCounters::add(&counters.rebuilt);
         tree.rebuild(&self.mesh, &fast);
+        (refits.since_build, refits.degradation) = (0, 0.0);
         tree
     }
 }
