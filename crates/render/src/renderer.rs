@@ -420,7 +420,7 @@ impl TileWork {
         }
         // Camera rays of neighbouring pixels go to the scene together; with motion blur each
         // has its own time, so they go one by one.
-        if t.effects.motion_blur {
+        if e.motion_blur {
             for ((ray, time), hit) in rays.iter().zip(times.iter()).zip(self.hits.iter_mut()) {
                 *hit = t.frame.intersect(ray, *time);
             }
@@ -429,6 +429,9 @@ impl TileWork {
         }
         self.counts.rays.primary += rays.len() as u64;
         let packed_shadows = first_shadows::applies(t);
+        // The preview of a frame without area lights (whose light camera rays can meet)
+        // shades each packet at once.
+        let preview = s.integrator == Integrator::EyeLight && !t.lights.has_area();
         for start in (0..self.order.len()).step_by(PACKET_SIZE) {
             let end = (start + PACKET_SIZE).min(self.order.len());
             // The first hits of a packet's camera rays, resolved together when their shadows
@@ -441,16 +444,17 @@ impl TileWork {
                 }
                 first_shadows::trace(t, &resolved[..end - start], shutter[0], &mut self.counts.rays, &mut known[..end - start]);
             }
-            // The preview of a frame without area lights (whose light camera rays can meet)
-            // shades the packet at once.
             let mut previewed = [Vec3::ZERO; PACKET_SIZE];
-            let preview = s.integrator == Integrator::EyeLight && !t.lights.has_area();
             if preview {
                 eyelight::shade(t, &rays[start..end], &self.hits[start..end], &mut previewed[..end - start]);
             }
             for k in start..end {
-                let first = FirstHit { hit: self.hits[k], resolved: resolved[k - start].as_ref(), shadows: known[k - start] };
-                let colour = if preview { previewed[k - start] } else { sample_pixel(t, &rays[k], times[k], first, &mut samplers[k], &mut self.counts.rays) };
+                let colour = if preview {
+                    previewed[k - start]
+                } else {
+                    let first = FirstHit { hit: self.hits[k], resolved: resolved[k - start].as_ref(), shadows: known[k - start] };
+                    sample_pixel(t, &rays[k], times[k], first, &mut samplers[k], &mut self.counts.rays)
+                };
                 // A NaN or infinite sample would poison the pixel for good: drop it (it counts
                 // as black).
                 let colour = if colour.is_finite() { colour } else { Vec3::ZERO };
