@@ -3,11 +3,14 @@
 //!
 //! *Shading cost*: on the probe's sphere grid at 1920×1080, the kernel's bare primary rays (in
 //! 4×2 packets, as the renderer traces camera rays) against whole frames through the renderer:
-//! the eye-light preview, and Whitted with one point light and shadows. *Specialisation*: the
-//! same Whitted frame of this purely diffuse scene through the kernel compiled for its effect
-//! set and through the general one with reflection and refraction compiled in, which must give
-//! the identical image. All four take turns within each repetition, on the same thread count;
-//! times are medians over repetitions, ratios the medians of each repetition's ratio.
+//! the eye-light preview, and Whitted with one point light and shadows. *Specialisation*: a
+//! Whitted frame of the same purely diffuse grid under its own two directional lights (whose
+//! shadows every hit traces through the recursion, where reflection and refraction code would
+//! sit; the point-lit frame shades its matte first hits in packets, with no recursion at all)
+//! through the kernel compiled for its effect set and through the general one with reflection
+//! and refraction compiled in, which must give the identical image. All systems take turns
+//! within each repetition, on the same thread count; times are medians over repetitions, ratios
+//! the medians of each repetition's ratio.
 //! *Convergence*: the path tracer on the closed Cornell room, accumulated progressively to 1, 2,
 //! 4, … samples per pixel and compared with a high-sample reference of another seed; the RMSE
 //! should fall at least as 1/√spp, a slope of −0.5 on log-log axes (faster while the sampler's
@@ -47,16 +50,18 @@ pub enum System {
     Kernel,
     /// A whole eye-light frame through the renderer.
     EyeLight,
-    /// A whole Whitted frame (one point light, shadows) through the kernel specialised for the
-    /// frame's effect set: no reflection or refraction code.
+    /// A whole Whitted frame (one point light, shadows).
     Whitted,
+    /// A whole Whitted frame of the sun-lit grid through the kernel specialised for the frame's
+    /// effect set: no reflection or refraction code.
+    SunSpecialised,
     /// The same frame through the general kernel, reflection and refraction compiled in.
-    WhittedGeneral,
+    SunGeneral,
 }
 
 impl System {
     /// Every system, in the order of the first repetition.
-    pub const ALL: [System; 4] = [System::Kernel, System::EyeLight, System::Whitted, System::WhittedGeneral];
+    pub const ALL: [System; 5] = [System::Kernel, System::EyeLight, System::Whitted, System::SunSpecialised, System::SunGeneral];
 
     /// Its name in tables and JSON.
     pub fn name(self) -> &'static str {
@@ -64,7 +69,8 @@ impl System {
             System::Kernel => "kernel",
             System::EyeLight => "eyelight",
             System::Whitted => "whitted",
-            System::WhittedGeneral => "whitted-general",
+            System::SunSpecialised => "whitted-sun",
+            System::SunGeneral => "whitted-sun-general",
         }
     }
 
@@ -74,9 +80,14 @@ impl System {
         match self {
             System::Kernel => None,
             System::EyeLight => Some(frame(Integrator::EyeLight, true)),
-            System::Whitted => Some(frame(Integrator::Whitted, true)),
-            System::WhittedGeneral => Some(frame(Integrator::Whitted, false)),
+            System::Whitted | System::SunSpecialised => Some(frame(Integrator::Whitted, true)),
+            System::SunGeneral => Some(frame(Integrator::Whitted, false)),
         }
+    }
+
+    /// Whether its frame is of the sun-lit grid (else of the point-lit one).
+    fn sun_lit(self) -> bool {
+        matches!(self, System::SunSpecialised | System::SunGeneral)
     }
 }
 
@@ -176,9 +187,9 @@ impl ShadingRun {
             measurement: "specialisation",
             scene: StandardScene::Spheres.name(),
             threads: self.threads,
-            specialised_ms: self.median_seconds(System::Whitted) * 1e3,
-            general_ms: self.median_seconds(System::WhittedGeneral) * 1e3,
-            general_over_specialised: self.ratio(System::WhittedGeneral, System::Whitted),
+            specialised_ms: self.median_seconds(System::SunSpecialised) * 1e3,
+            general_ms: self.median_seconds(System::SunGeneral) * 1e3,
+            general_over_specialised: self.ratio(System::SunGeneral, System::SunSpecialised),
             difference: self.specialisation_difference,
         };
         (shading, specialisation)
@@ -257,15 +268,16 @@ fn assert_no_tree_work(stats: &FrameStats) {
 pub fn run_shading(threads: usize, reps: usize, mut progress: impl FnMut(&str)) -> ShadingRun {
     let reps = reps.max(1);
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
-    progress("shading: building the point-lit sphere scene and the kernel's BVH");
-    let scene = point_lit_spheres();
+    progress("shading: building the point-lit and the sun-lit sphere scenes and the kernel's BVH");
+    let (point_lit, sun_lit) = (point_lit_spheres(), StandardScene::Spheres.scene().expect("the standard scene is valid"));
     let mesh = StandardScene::Spheres.mesh();
     let (bvh, kernel_build) = build_raystage(&mesh, threads);
     progress(&format!("shading: kernel BVH built in {kernel_build:.3} s"));
     let packets = rays::in_packets(&rays::primary(StandardScene::Spheres, WIDTH, HEIGHT), WIDTH, HEIGHT);
     let warm_up = System::EyeLight.settings().expect("a rendered system");
-    let (_, stats) = pool.install(|| raystage_render::render(&scene.frame(), &warm_up)).expect("valid settings");
-    progress(&format!("shading: warm-up frame built {} object tree(s) in {:.3} s", stats.work.built, stats.work.build_seconds));
+    let (_, stats) = pool.install(|| raystage_render::render(&point_lit.frame(), &warm_up)).expect("valid settings");
+    pool.install(|| raystage_render::render(&sun_lit.frame(), &warm_up)).expect("valid settings");
+    progress(&format!("shading: warm-up frames built each scene's {} object tree(s) in {:.3} s", stats.work.built, stats.work.build_seconds));
     let mut samples: Vec<(System, Vec<Measured>)> = System::ALL.iter().map(|&s| (s, Vec::new())).collect();
     let mut last_films: Vec<Option<Film>> = vec![None; System::ALL.len()];
     for rep in 0..reps {
@@ -275,7 +287,8 @@ pub fn run_shading(threads: usize, reps: usize, mut progress: impl FnMut(&str)) 
             let measured = match system.settings() {
                 None => measure_kernel(&bvh, &packets, threads),
                 Some(settings) => {
-                    let (measured, film) = pool.install(|| render_timed(&scene, &settings));
+                    let scene = if system.sun_lit() { &sun_lit } else { &point_lit };
+                    let (measured, film) = pool.install(|| render_timed(scene, &settings));
                     last_films[index] = Some(film);
                     measured
                 }
@@ -293,7 +306,7 @@ pub fn run_shading(threads: usize, reps: usize, mut progress: impl FnMut(&str)) 
         triangles: mesh.indices.len(),
         object_build_seconds: stats.work.build_seconds,
         samples,
-        specialisation_difference: compare(film(System::Whitted), film(System::WhittedGeneral)),
+        specialisation_difference: compare(film(System::SunSpecialised), film(System::SunGeneral)),
     }
 }
 

@@ -202,7 +202,7 @@ impl Bvh8 {
     pub fn intersect_packets(&self, rays: &[Ray], hits: &mut [Option<Hit>]) {
         assert_eq!(rays.len(), hits.len(), "one hit slot per ray");
         for (rays, hits) in rays.chunks(PACKET_SIZE).zip(hits.chunks_mut(PACKET_SIZE)) {
-            let prepared: [PreparedRay; PACKET_SIZE] = std::array::from_fn(|i| PreparedRay::new(&rays[i.min(rays.len() - 1)]));
+            let prepared = PreparedRay::packet(rays);
             self.intersect_packet_prepared(&prepared[..rays.len()], hits);
         }
     }

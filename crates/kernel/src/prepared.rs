@@ -1,5 +1,6 @@
 //! Per-ray constants computed once per query and shared by the box and triangle tests.
 
+use crate::PACKET_SIZE;
 use crate::ray::Ray;
 
 /// Widening factor of the far end of every box test, `1 + 2·γ(4)` with `γ(n) = n·ε/(1 − n·ε)`
@@ -54,8 +55,25 @@ pub struct PreparedRay {
 }
 
 impl PreparedRay {
-    /// Precomputes the per-ray constants.
+    /// Up to [`PACKET_SIZE`] rays prepared for a packet, lanes past the last ray repeating it
+    /// (so that every lane holds a valid ray). Each is written in place, which matters: a
+    /// prepared ray built elsewhere and copied in is read back before its bytes have settled.
+    ///
+    /// # Panics
+    /// If `rays` is empty or longer than a packet.
     #[inline]
+    pub fn packet(rays: &[Ray]) -> [PreparedRay; PACKET_SIZE] {
+        assert!(!rays.is_empty() && rays.len() <= PACKET_SIZE, "one to a packet of rays");
+        let last = rays.len() - 1;
+        let mut prepared = [PreparedRay::new(&rays[0]); PACKET_SIZE];
+        for (i, lane) in prepared.iter_mut().enumerate().skip(1) {
+            *lane = PreparedRay::new(&rays[i.min(last)]);
+        }
+        prepared
+    }
+
+    /// Precomputes the per-ray constants.
+    #[inline(always)]
     pub fn new(ray: &Ray) -> PreparedRay {
         let org = ray.origin.to_array();
         let dir = ray.dir.to_array();

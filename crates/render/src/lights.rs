@@ -55,10 +55,43 @@ pub(crate) struct SceneLights<'f> {
     samples: f32,
 }
 
+/// A point or spot light: where it is, its intensity and, for a spot, its cone.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Positional {
+    pub position: Vec3,
+    pub intensity: Vec3,
+    pub cone: Option<Cone>,
+}
+
+/// A spot light's cone: full intensity within `cos_falloff` of its unit `axis`, none beyond
+/// `cos_cone`, a smooth step between.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Cone {
+    pub axis: Vec3,
+    pub cos_cone: f32,
+    pub cos_falloff: f32,
+}
+
+impl Cone {
+    /// The fraction of the intensity that leaves in direction `-wi` (`wi` pointing from a
+    /// point to the light).
+    pub fn fade(&self, wi: Vec3) -> f32 {
+        let cos = (-wi).dot(self.axis);
+        if cos >= self.cos_falloff {
+            1.0
+        } else if cos <= self.cos_cone {
+            0.0
+        } else {
+            let s = (cos - self.cos_cone) / (self.cos_falloff - self.cos_cone);
+            s * s * (3.0 - 2.0 * s)
+        }
+    }
+}
+
 /// One light with what sampling needs precomputed.
 enum Prepared<'f> {
     Point { position: Vec3, intensity: Vec3 },
-    Spot { position: Vec3, axis: Vec3, intensity: Vec3, cos_cone: f32, cos_falloff: f32 },
+    Spot { position: Vec3, intensity: Vec3, cone: Cone },
     Directional { towards: Vec3, intensity: Vec3 },
     Area { corner: Vec3, edge_u: Vec3, edge_v: Vec3, normal: Vec3, area: f32, radiance: Vec3 },
     Environment { radiance: Vec3, map: Option<EnvironmentMap<'f>> },
@@ -78,10 +111,12 @@ impl<'f> SceneLights<'f> {
                 Light::Point { position, intensity } => Prepared::Point { position, intensity },
                 Light::Spot { position, direction, intensity, cone_degrees, falloff_degrees } => Prepared::Spot {
                     position,
-                    axis: direction.normalize(),
                     intensity,
-                    cos_cone: cone_degrees.to_radians().cos(),
-                    cos_falloff: falloff_degrees.to_radians().cos(),
+                    cone: Cone {
+                        axis: direction.normalize(),
+                        cos_cone: cone_degrees.to_radians().cos(),
+                        cos_falloff: falloff_degrees.to_radians().cos(),
+                    },
                 },
                 Light::Directional { direction, intensity } => Prepared::Directional { towards: -direction.normalize(), intensity },
                 Light::Area { corner, edge_u, edge_v, radiance } => {
@@ -128,11 +163,13 @@ impl<'f> SceneLights<'f> {
         matches!(self.lights[index], Prepared::Area { .. } | Prepared::Environment { .. })
     }
 
-    /// The position of light `index` if it is a point or a spot: every shadow ray towards it
-    /// ends there, so rays of neighbouring points can be traced from it as a packet.
-    pub fn position(&self, index: usize) -> Option<Vec3> {
+    /// Light `index` if it is a point or a spot: every shadow ray towards it ends at its
+    /// position, so rays of neighbouring points can be traced from it as a packet, and
+    /// neighbouring points can be lit by it together.
+    pub fn positional(&self, index: usize) -> Option<Positional> {
         match self.lights[index] {
-            Prepared::Point { position, .. } | Prepared::Spot { position, .. } => Some(position),
+            Prepared::Point { position, intensity } => Some(Positional { position, intensity, cone: None }),
+            Prepared::Spot { position, intensity, cone } => Some(Positional { position, intensity, cone: Some(cone) }),
             _ => None,
         }
     }
@@ -146,18 +183,9 @@ impl<'f> SceneLights<'f> {
                 let (wi, distance) = towards(p, *position)?;
                 LightSample { wi, distance, weighted: *intensity / (distance * distance), pdf: 0.0 }
             }
-            Prepared::Spot { position, axis, intensity, cos_cone, cos_falloff } => {
+            Prepared::Spot { position, intensity, cone } => {
                 let (wi, distance) = towards(p, *position)?;
-                let cos = (-wi).dot(*axis);
-                let fade = if cos >= *cos_falloff {
-                    1.0
-                } else if cos <= *cos_cone {
-                    0.0
-                } else {
-                    let s = (cos - cos_cone) / (cos_falloff - cos_cone);
-                    s * s * (3.0 - 2.0 * s)
-                };
-                LightSample { wi, distance, weighted: *intensity * fade / (distance * distance), pdf: 0.0 }
+                LightSample { wi, distance, weighted: *intensity * cone.fade(wi) / (distance * distance), pdf: 0.0 }
             }
             Prepared::Directional { towards, intensity } => LightSample { wi: *towards, distance: f32::INFINITY, weighted: *intensity, pdf: 0.0 },
             Prepared::Area { corner, edge_u, edge_v, normal, area, radiance } => {

@@ -57,6 +57,7 @@ impl<'f> Materials<'f> {
     }
 
     /// The material at `sp`.
+    #[inline(always)]
     pub fn at(&self, sp: &SurfacePoint<'_>) -> Material {
         self.resolved(sp.shader_id).apply(sp.local_position, sp.uv, sp.color)
     }
@@ -122,6 +123,7 @@ impl<'f> Resolved<'f> {
     /// The material at a point with object-space position `local_position` and the mesh's
     /// interpolated texture coordinates and colour, if it has them: the diffuse albedo scaled by
     /// the texture or the vertex colour.
+    #[inline(always)]
     fn apply(&self, local_position: Vec3, uv: Option<Vec2>, color: Option<Vec3>) -> Material {
         let mut m = self.base;
         let scale = match (self.texture, m.model) {

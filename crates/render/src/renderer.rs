@@ -9,7 +9,7 @@ use raystage_scene::{CameraRays, Frame, SceneHit};
 
 use crate::effects::EffectSet;
 use crate::integrator::first_shadows::{self, KnownShadows};
-use crate::integrator::{Hit, Tracer, eyelight, path, recursive};
+use crate::integrator::{Hit, Tracer, eyelight, first_matte, path, recursive};
 use crate::lights::{SceneLights, Seen};
 use crate::material::Materials;
 use crate::sampler::PixelSampler;
@@ -429,6 +429,7 @@ impl TileWork {
         }
         self.counts.rays.primary += rays.len() as u64;
         let packed_shadows = first_shadows::applies(t);
+        let packed_matte = packed_shadows && first_matte::applies(t);
         // The preview of a frame without area lights (whose light camera rays can meet)
         // shades each packet at once.
         let preview = s.integrator == Integrator::EyeLight && !t.lights.has_area();
@@ -439,10 +440,12 @@ impl TileWork {
             let mut resolved: [Option<Hit<'_>>; PACKET_SIZE] = [None; PACKET_SIZE];
             let mut known = [KnownShadows::NONE; PACKET_SIZE];
             if packed_shadows {
-                for k in start..end {
-                    resolved[k - start] = self.hits[k].map(|h| t.resolve(&rays[k], h, times[k]));
-                }
+                t.resolve_packet(&rays[start..end], &self.hits[start..end], shutter[0], &mut resolved[..end - start]);
                 first_shadows::trace(t, &resolved[..end - start], shutter[0], &mut self.counts.rays, &mut known[..end - start]);
+            }
+            let mut matte = [None; PACKET_SIZE];
+            if packed_matte {
+                first_matte::shade(t, &rays[start..end], &resolved[..end - start], &known[..end - start], &mut matte[..end - start]);
             }
             let mut previewed = [Vec3::ZERO; PACKET_SIZE];
             if preview {
@@ -451,6 +454,8 @@ impl TileWork {
             for k in start..end {
                 let colour = if preview {
                     previewed[k - start]
+                } else if let Some(colour) = matte[k - start] {
+                    colour
                 } else {
                     let first = FirstHit { hit: self.hits[k], resolved: resolved[k - start].as_ref(), shadows: known[k - start] };
                     sample_pixel(t, &rays[k], times[k], first, &mut samplers[k], &mut self.counts.rays)

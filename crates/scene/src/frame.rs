@@ -17,6 +17,8 @@ use crate::object::{BuildCounters, Object};
 use crate::scene::Scene;
 use crate::shader::{Shader, ShadingModel};
 
+mod surfaces;
+
 /// Up to this many instances the top level is a list of boxes tested one by one: setting up a
 /// tree walk costs more than it saves.
 const LIST_TOP_LEVEL: usize = 4;
@@ -60,6 +62,16 @@ pub struct SceneHit {
     pub ng: Vec3,
     /// The instance's position in the frame's list.
     item: u32,
+}
+
+/// The geometric part of a surface point (see [`SurfacePoint`]).
+#[derive(Clone, Copy, Debug)]
+struct Geometry {
+    position: Vec3,
+    position_error: Vec3,
+    local_position: Vec3,
+    geometric_normal: Vec3,
+    front_face: bool,
 }
 
 /// What a shader needs to know about a hit point, in world space.
@@ -263,7 +275,7 @@ impl<'a> Frame<'a> {
     /// traced alone, so a packet builds no object that its rays alone would not.
     fn intersect_touched(&self, rays: &[Ray], hits: &mut [Option<SceneHit>], time: f32, touched: &mut Vec<(f32, u32, u32)>) {
         touched.clear();
-        let prepared: [PreparedRay; PACKET_SIZE] = std::array::from_fn(|i| PreparedRay::new(&rays[i]));
+        let prepared = PreparedRay::packet(rays);
         if let [only] = &self.instances[..]
             && only.placed_at(time).identity
         {
@@ -391,7 +403,7 @@ impl<'a> Frame<'a> {
         touched.clear();
         let n = rays.len();
         let all = (1u32 << n) - 1;
-        let prepared: [PreparedRay; PACKET_SIZE] = std::array::from_fn(|i| PreparedRay::new(&rays[i.min(n - 1)]));
+        let prepared = PreparedRay::packet(rays);
         // The rays among `candidates` whose segment touches the box of instance `item`.
         let mut touch = |item: u32, candidates: u32| {
             let b = &self.boxes[item as usize];
@@ -419,12 +431,18 @@ impl<'a> Frame<'a> {
             }
             let fi = &self.instances[item as usize];
             let placed = fi.placed_at(time);
+            let accel = fi.object.accel(&self.counters);
+            if placed.identity && live == all {
+                // Every ray goes in as it is (a single mesh, typically): nothing to copy.
+                open &= !accel.occluded_packet_prepared(&prepared[..n]);
+                continue;
+            }
             for (i, ray) in rays.iter().enumerate() {
                 // Rays that are blocked already or miss the box get an empty segment.
                 let tfar = if live & (1 << i) == 0 { ray.tnear } else { ray.tfar };
                 local[i] = if placed.identity { prepared[i].with_tfar(tfar) } else { PreparedRay::new(&Ray { tfar, ..placed.ray_to_object(ray) }) };
             }
-            open &= !(fi.object.accel(&self.counters).occluded_packet_prepared(&local[..n]) & live);
+            open &= !(accel.occluded_packet_prepared(&local[..n]) & live);
         }
         all & !open
     }
@@ -434,13 +452,24 @@ impl<'a> Frame<'a> {
         let fi = &self.instances[hit.item as usize];
         let placed = fi.placed_at(time);
         let mesh = &fi.object.mesh;
-        let [a, b, c] = mesh.indices[hit.prim as usize];
-        let (a, b, c) = (a as usize, b as usize, c as usize);
-        let (w0, w1, w2) = (1.0 - hit.u - hit.v, hit.u, hit.v);
-        let (p0, p1, p2) = (mesh.positions[a], mesh.positions[b], mesh.positions[c]);
+        let corners = mesh.indices[hit.prim as usize].map(|i| i as usize);
+        let w = [1.0 - hit.u - hit.v, hit.u, hit.v];
         let outward = placed.normal_to_world(hit.ng).normalize_or_zero();
         let front_face = outward.dot(ray.dir) < 0.0;
         let geometric_normal = if front_face { outward } else { -outward };
+        let (position, local_position, position_error) = crate::spawn::hit_point(&corners.map(|i| mesh.positions[i]), w, &placed);
+        let geometry = Geometry { position, position_error, local_position, geometric_normal, front_face };
+        self.complete(mesh, &placed, hit.prim, corners, w, geometry)
+    }
+
+    /// The surface point of triangle `prim` of `mesh` (vertices `corners`) at barycentrics `w`,
+    /// on an instance placed by `placed`, whose `geometry` is known: its shading normal,
+    /// interpolated attributes and shader added.
+    #[inline(always)]
+    fn complete(&self, mesh: &crate::Mesh, placed: &Placed, prim: u32, corners: [usize; 3], w: [f32; 3], geometry: Geometry) -> SurfacePoint<'a> {
+        let Geometry { position, position_error, local_position, geometric_normal, front_face } = geometry;
+        let [a, b, c] = corners;
+        let [w0, w1, w2] = w;
         let shading_normal = if mesh.normals.is_empty() {
             geometric_normal
         } else {
@@ -448,8 +477,7 @@ impl<'a> Frame<'a> {
             let n = placed.normal_to_world(n).normalize_or_zero();
             if n.dot(geometric_normal) < 0.0 { -n } else { n }
         };
-        let (shader, shader_id) = self.shader_of(mesh, hit.prim);
-        let (position, local_position, position_error) = crate::spawn::hit_point(&[p0, p1, p2], [w0, w1, w2], &placed);
+        let (shader, shader_id) = self.shader_of(mesh, prim);
         SurfacePoint {
             position,
             position_error,

@@ -43,10 +43,24 @@ const KERNEL: f32 = gamma(16);
 
 /// The hit point in the world for barycentrics `w` on the object-space triangle `tri` of an
 /// instance placed by `placed`, and a bound on its absolute error per component.
+#[inline(always)]
 pub(crate) fn hit_point(tri: &[Vec3; 3], w: [f32; 3], placed: &Placed) -> (Vec3, Vec3, Vec3) {
     let local = tri[0] * w[0] + tri[1] * w[1] + tri[2] * w[2];
     let largest = tri[0].abs().max(tri[1].abs()).max(tri[2].abs()).max_element();
     let local_error = INTERPOLATION * ((tri[0] * w[0]).abs() + (tri[1] * w[1]).abs() + (tri[2] * w[2]).abs()) + Vec3::splat(KERNEL * largest);
+    placed_hit_point(local, local_error, placed)
+}
+
+/// The bound of the interpolated point's error: `INTERPOLATION` times the sum of the weighted
+/// vertices' magnitudes, plus `KERNEL` times the largest vertex coordinate (for
+/// [`hit_point`]'s side-by-side form in `frame::surfaces`).
+pub(crate) const ERROR_FACTORS: (f32, f32) = (INTERPOLATION, KERNEL);
+
+/// The world hit point, its object-space point and the world bound of its error, for the
+/// object-space point `local` whose error is bounded by `local_error`, on an instance placed
+/// by `placed`.
+#[inline(always)]
+pub(crate) fn placed_hit_point(local: Vec3, local_error: Vec3, placed: &Placed) -> (Vec3, Vec3, Vec3) {
     if placed.identity {
         return (local, local, local_error);
     }

@@ -315,6 +315,68 @@ proptest! {
     }
 }
 
+/// The bits of everything a surface point holds, to compare two points exactly.
+fn surface_bits(sp: &raystage_scene::SurfacePoint<'_>) -> Vec<u32> {
+    let vectors = [sp.position, sp.position_error, sp.local_position, sp.geometric_normal, sp.shading_normal, sp.color.unwrap_or(Vec3::NAN)];
+    let mut bits: Vec<u32> = vectors.iter().flat_map(|v| v.to_array()).map(f32::to_bits).collect();
+    bits.extend(sp.uv.map_or([f32::NAN; 2], |uv| uv.to_array()).map(f32::to_bits));
+    bits.extend([sp.front_face as u32, sp.shader_id.map_or(u32::MAX, |id| id.0)]);
+    bits
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// `Frame::surfaces` computes, side by side, bit for bit the points `Frame::surface`
+    /// computes one by one: on instances with random transforms (mirrored ones too) of a mesh
+    /// with or without per-vertex normals, colours and texture coordinates, for packets of rays
+    /// that hit, miss, and meet triangles from the back.
+    #[test]
+    fn surfaces_of_a_packet_are_exactly_the_surfaces_one_by_one(
+        to_world in prop::collection::vec(transform(), 1..4),
+        positions in prop::collection::vec((-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0), 30..90),
+        attributes in any::<bool>(),
+        eye in (-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0),
+        spread in 0.0f32..0.5,
+    ) {
+        let positions: Vec<Vec3> = positions.iter().map(|&(x, y, z)| Vec3::new(x, y, z)).collect();
+        let n = positions.len() as u32 / 3;
+        let mut mesh = Mesh::new(positions.clone(), (0..n).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect());
+        let mut scene = Scene::new();
+        if attributes {
+            mesh.normals = positions.iter().map(|p| (*p + Vec3::splat(0.1)).normalize_or_zero()).collect();
+            mesh.colors = positions.iter().map(|p| p.abs()).collect();
+            mesh.uvs = positions.iter().map(|p| p.truncate()).collect();
+            let (a, b) = (scene.add_shader("Diffuse").unwrap(), scene.add_shader("Mirror").unwrap());
+            mesh.shaders = (0..n).map(|t| if t % 2 == 0 { a } else { b }).collect();
+        }
+        let o = scene.add_object(ObjectKind::Animated, mesh).unwrap();
+        for t in &to_world {
+            scene.add_instance(o, *t).unwrap();
+        }
+        let frame = scene.frame();
+        let eye = to_world[0].transform_point3(Vec3::new(eye.0, eye.1, eye.2) * 4.0 + Vec3::splat(5.0));
+        let centre = to_world[0].transform_point3(Vec3::ZERO);
+        for packet in 0..8u32 {
+            let rays: Vec<Ray> = (0..8u32)
+                .map(|i| {
+                    let k = (packet * 8 + i) as f32;
+                    let off = Vec3::new((k * 0.37).sin(), (k * 0.71).cos(), (k * 1.3).sin()) * spread * (centre - eye).length();
+                    Ray::new(eye, centre + off - eye)
+                })
+                .collect();
+            let mut hits = vec![None; 8];
+            frame.intersect_many(&rays, &mut hits, 0.0);
+            let mut together = vec![None; 8];
+            frame.surfaces(&rays, &hits, 0.0, |k, sp| together[k] = Some(surface_bits(&sp)));
+            for (k, hit) in hits.iter().enumerate() {
+                let alone = hit.map(|h| surface_bits(&frame.surface(&rays[k], &h, 0.0)));
+                prop_assert_eq!(&together[k], &alone, "ray {} of packet {}", k, packet);
+            }
+        }
+    }
+}
+
 /// Packets through the top level return exactly the single-ray hits and occlusion: random
 /// instances of two objects (some overlapping, some mirrored, sometimes two coincident so that
 /// ties between instances occur), packets of rays sharing an origin as camera rays (and shadow

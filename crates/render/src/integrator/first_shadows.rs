@@ -24,7 +24,7 @@ use crate::stats::RayCounts;
 const END_GAP: f32 = 1e-4;
 
 /// Lights numbered below this can have their shadows known (one bit each).
-const MAX_LIGHTS: usize = 32;
+pub(crate) const MAX_LIGHTS: usize = 32;
 
 /// What is known about the shadows at one hit: for each light whose bit is set in `tested`,
 /// whether it is visible.
@@ -53,7 +53,7 @@ pub(crate) fn applies(t: &Tracer<'_, '_>) -> bool {
         && !e.transparent_shadows
         && !e.motion_blur
         && matches!(t.settings.integrator, Integrator::Whitted | Integrator::Distribution)
-        && (0..t.lights.len().min(MAX_LIGHTS)).any(|i| t.lights.position(i).is_some())
+        && (0..t.lights.len().min(MAX_LIGHTS)).any(|i| t.lights.positional(i).is_some())
 }
 
 /// The shadows of up to [`PACKET_SIZE`] first hits (at shutter time `time`) towards every point
@@ -63,7 +63,7 @@ pub(crate) fn trace(t: &Tracer<'_, '_>, hits: &[Option<Hit<'_>>], time: f32, ray
     assert!(hits.len() <= PACKET_SIZE && hits.len() == out.len(), "one answer per hit, at most a packet");
     out.fill(KnownShadows::NONE);
     for light in 0..t.lights.len().min(MAX_LIGHTS) {
-        let Some(position) = t.lights.position(light) else { continue };
+        let Some(position) = t.lights.positional(light).map(|l| l.position) else { continue };
         let mut segments = [Ray::new(position, Vec3::X); PACKET_SIZE];
         let mut owners = [0usize; PACKET_SIZE];
         let mut n = 0;

@@ -1,0 +1,243 @@
+//! Camera rays' first hits on matte surfaces under point and spot lights, shaded a packet at a
+//! time.
+//!
+//! In a Whitted or distribution frame lit only by point and spot lights, a matte (Lambert)
+//! first hit's colour is its ambient term plus, for each light it sees, the light's irradiance
+//! times the BSDF's cosine-weighted value, and the packets of [`first_shadows`] already know
+//! which lights it sees. That is what [`Tracer::direct`] computes for one hit at a time; here a
+//! packet's hits go through it together, light by light, with the same arithmetic in the same
+//! order, so the image is bit for bit the one the recursion would make (a test holds it to
+//! that), while the hits' chains of square roots and divisions overlap instead of waiting on
+//! each other, and no hit pays for the recursion's generality.
+
+use std::f32::consts::FRAC_1_PI;
+
+use glam::Vec3;
+use raystage_kernel::{PACKET_SIZE, Ray};
+use raystage_scene::ShadingModel;
+
+use super::first_shadows::{self, KnownShadows, MAX_LIGHTS};
+use super::{Hit, Tracer};
+use crate::bsdf::Bsdf;
+use crate::lights::Positional;
+
+/// Whether this frame's matte first hits are shaded here: their shadows go in packets, and
+/// every light is a point or a spot among the first [`MAX_LIGHTS`] (so every shadow is known,
+/// and no light is extended, directional or met by rays).
+pub(crate) fn applies(t: &Tracer<'_, '_>) -> bool {
+    let n = t.lights.len();
+    first_shadows::applies(t) && n <= MAX_LIGHTS && (0..n).all(|i| t.lights.positional(i).is_some())
+}
+
+/// The colours of the matte hits among up to [`PACKET_SIZE`] first hits `hits` of camera rays
+/// `rays`, whose shadows are `known`: `out[k]` for `hits[k]`, `None` where the hit is not
+/// matte (or a rounding corner case needs a shadow that was not traced), for the recursion to
+/// shade.
+pub(crate) fn shade(t: &Tracer<'_, '_>, rays: &[Ray], hits: &[Option<Hit<'_>>], known: &[KnownShadows], out: &mut [Option<Vec3>]) {
+    let n = hits.len();
+    assert!(n <= PACKET_SIZE && rays.len() == n && known.len() == n && out.len() == n, "one ray, shadow set and answer per hit");
+    let mut lanes = Lanes::default();
+    for (k, (hit, ray)) in hits.iter().zip(rays).enumerate() {
+        let Some(hit) = hit else { continue };
+        let (ShadingModel::Diffuse | ShadingModel::VertexColor, Some(Bsdf::Lambert { albedo })) = (hit.material.model, hit.material.bsdf) else {
+            continue;
+        };
+        let sp = &hit.surface;
+        // As the recursion has it: `wo` from the ray, its cosine in the shading frame, and the
+        // ambient term first.
+        let wo = -ray.dir.normalize();
+        lanes.matte[k] = true;
+        lanes.position.set(k, sp.position);
+        lanes.geometric_normal.set(k, sp.geometric_normal);
+        lanes.shading_normal.set(k, sp.shading_normal);
+        lanes.albedo.set(k, albedo);
+        lanes.wo_cos[k] = wo.dot(sp.shading_normal);
+        lanes.sum.set(k, t.lights.ambient() * hit.material.albedo);
+    }
+    for index in 0..t.lights.len() {
+        let light = t.lights.positional(index).expect("`applies` checked every light is positional");
+        let mut visible = [0.0; PACKET_SIZE];
+        let mut tested = [false; PACKET_SIZE];
+        for (k, known) in known.iter().enumerate() {
+            if let Some(seen) = known.get(index) {
+                tested[k] = true;
+                visible[k] = seen as u32 as f32;
+            }
+        }
+        lanes.add(&light, &visible, &tested);
+    }
+    for (k, answer) in out.iter_mut().enumerate() {
+        *answer = lanes.matte[k].then(|| lanes.sum.get(k));
+    }
+}
+
+/// One value per hit of the packet.
+type PerHit = [f32; PACKET_SIZE];
+
+/// A vector per hit of the packet, by component.
+#[derive(Clone, Copy, Debug, Default)]
+struct PerHit3([PerHit; 3]);
+
+impl PerHit3 {
+    fn set(&mut self, k: usize, v: Vec3) {
+        (self.0[0][k], self.0[1][k], self.0[2][k]) = (v.x, v.y, v.z);
+    }
+
+    fn get(&self, k: usize) -> Vec3 {
+        Vec3::new(self.0[0][k], self.0[1][k], self.0[2][k])
+    }
+}
+
+/// The packet's hits as the light loop needs them (zeros for the hits that are not matte).
+#[derive(Clone, Copy, Debug, Default)]
+struct Lanes {
+    /// Whether the hit is matte (and every light so far had what it needed).
+    matte: [bool; PACKET_SIZE],
+    position: PerHit3,
+    geometric_normal: PerHit3,
+    shading_normal: PerHit3,
+    /// The Lambert BSDF's albedo.
+    albedo: PerHit3,
+    /// Cosine between the direction to the camera and the shading normal.
+    wo_cos: PerHit,
+    /// Light reflected so far.
+    sum: PerHit3,
+}
+
+impl Lanes {
+    /// Adds what `light` reflects at every hit, given whether it is `visible` there (1 or 0),
+    /// where that was `tested`: `Tracer::direct`'s arithmetic for one light sample, hit by hit.
+    fn add(&mut self, light: &Positional, visible: &PerHit, tested: &[bool; PACKET_SIZE]) {
+        let max = |a: f32, b: f32| if a > b { a } else { b };
+        let [px, py, pz] = &self.position.0;
+        let [gx, gy, gz] = &self.geometric_normal.0;
+        let [nx, ny, nz] = &self.shading_normal.0;
+        let mut distance = [0.0; PACKET_SIZE];
+        let mut wi = PerHit3::default();
+        for k in 0..PACKET_SIZE {
+            let (dx, dy, dz) = (light.position.x - px[k], light.position.y - py[k], light.position.z - pz[k]);
+            distance[k] = ((dx * dx) + (dy * dy) + (dz * dz)).sqrt();
+            (wi.0[0][k], wi.0[1][k], wi.0[2][k]) = (dx / distance[k], dy / distance[k], dz / distance[k]);
+        }
+        // A point light's fade is 1, which leaves its intensity as it is.
+        let fade: PerHit = match light.cone {
+            None => [1.0; PACKET_SIZE],
+            Some(cone) => std::array::from_fn(|k| cone.fade(wi.get(k))),
+        };
+        let [wx, wy, wz] = &wi.0;
+        for k in 0..PACKET_SIZE {
+            let d2 = distance[k] * distance[k];
+            let weighted = [light.intensity.x * fade[k] / d2, light.intensity.y * fade[k] / d2, light.intensity.z * fade[k] / d2];
+            let wi_cos = (wx[k] * nx[k]) + (wy[k] * ny[k]) + (wz[k] * nz[k]);
+            // (`&`, not `&&`: every test is cheap, and a packet's worth of them runs side by side.)
+            let lit = (distance[k] > 0.0)
+                & distance[k].is_finite()
+                & (max(max(weighted[0], weighted[1]), weighted[2]) > 0.0)
+                & ((gx[k] * wx[k]) + (gy[k] * wy[k]) + (gz[k] * wz[k]) > 0.0)
+                & (self.wo_cos[k] > 0.0)
+                & (wi_cos > 0.0);
+            // Lit, by rounding, from a side the shadow packet took for turned away: the
+            // recursion traces this shadow ray itself.
+            self.matte[k] &= tested[k] | !lit;
+            let f = wi_cos * FRAC_1_PI;
+            for (c, weighted) in weighted.into_iter().enumerate() {
+                let reflected = self.albedo.0[c][k] * f * weighted * visible[k];
+                self.sum.0[c][k] += if lit { reflected } else { 0.0 };
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{Affine3A, Quat};
+    use raystage_demo::shading::{box_mesh, sphere_mesh};
+    use raystage_scene::{Camera, Light, Mesh, ObjectKind, ParamValue, Scene, ShaderId};
+
+    use super::*;
+    use crate::effects::EffectSet;
+    use crate::integrator::recursive;
+    use crate::lights::SceneLights;
+    use crate::material::Materials;
+    use crate::sampler::PixelSampler;
+    use crate::stats::RayCounts;
+    use crate::{Integrator, RenderSettings};
+
+    fn place(scene: &mut Scene, mesh: Mesh, shader: ShaderId, to_world: Affine3A) {
+        let object = scene.add_object(ObjectKind::Static, mesh.with_shader(shader)).unwrap();
+        scene.add_instance(object, to_world).unwrap();
+    }
+
+    /// Matte spheres and a matte floor on a rotated, scaled instance, a Phong and a mirror
+    /// sphere among them, lit by a point light, a spot light whose cone edge crosses the floor
+    /// and an ambient light.
+    fn scene() -> Scene {
+        let mut scene = Scene::new();
+        let mut shader = |class: &str, colour: Vec3| {
+            let id = scene.add_shader(class).unwrap();
+            let name = if class == "Mirror" { "reflectance" } else { "diffuse" };
+            scene.set_param(id, name, ParamValue::Color(colour)).unwrap();
+            id
+        };
+        let (red, grey, phong, mirror) =
+            (shader("Diffuse", Vec3::new(0.8, 0.2, 0.1)), shader("Diffuse", Vec3::splat(0.6)), shader("Phong", Vec3::splat(0.5)), shader("Mirror", Vec3::splat(0.9)));
+        place(&mut scene, sphere_mesh(Vec3::new(-1.2, 0.0, 0.0), 0.8, 24, 12), red, Affine3A::IDENTITY);
+        place(&mut scene, sphere_mesh(Vec3::new(1.2, 0.0, 0.0), 0.8, 24, 12), phong, Affine3A::IDENTITY);
+        place(&mut scene, sphere_mesh(Vec3::new(0.0, 0.3, -1.5), 0.7, 24, 12), mirror, Affine3A::IDENTITY);
+        let tilted = Affine3A::from_scale_rotation_translation(Vec3::new(3.0, 0.5, 2.0), Quat::from_rotation_y(0.4), Vec3::new(0.0, -1.3, 0.0));
+        place(&mut scene, box_mesh(Vec3::new(-2.0, -1.0, -2.0), Vec3::new(2.0, 0.0, 2.0)), grey, tilted);
+        scene.add_light(Light::Point { position: Vec3::new(2.0, 4.0, 3.0), intensity: Vec3::splat(30.0) }).unwrap();
+        let spot = Light::Spot { position: Vec3::new(-2.0, 3.0, 1.0), direction: Vec3::new(0.5, -1.0, -0.2), intensity: Vec3::new(20.0, 15.0, 10.0), cone_degrees: 30.0, falloff_degrees: 20.0 };
+        scene.add_light(spot).unwrap();
+        scene.add_light(Light::Ambient { intensity: Vec3::splat(0.05) }).unwrap();
+        scene.set_camera(Camera::look_at(Vec3::new(0.0, 1.5, 6.0), Vec3::new(0.0, -0.3, 0.0), Vec3::Y, 50.0).unwrap()).unwrap();
+        scene
+    }
+
+    /// Every matte first hit the packet shades gets bit for bit the colour the recursion gives
+    /// it, and the hits it leaves to the recursion are the ones that are not matte.
+    #[test]
+    fn matte_first_hits_shade_exactly_as_the_recursion_shades_them() {
+        let scene = scene();
+        let frame = scene.frame();
+        let settings = RenderSettings { integrator: Integrator::Whitted, ..RenderSettings::default() };
+        let t = Tracer { frame: &frame, lights: SceneLights::of(&frame, 1), materials: Materials::of(&frame), effects: EffectSet::of(&frame, Integrator::Whitted, 1), settings: &settings };
+        assert!(applies(&t), "point, spot and ambient lights only");
+        let (width, height) = (96, 64);
+        let camera = frame.camera().rays(width, height);
+        let (mut matte, mut left) = (0, 0);
+        for y in (0..height).step_by(2) {
+            for x in (0..width).step_by(4) {
+                let pixels: Vec<(u32, u32)> = (0..8).map(|i| (x + i % 4, y + i / 4)).collect();
+                let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); PACKET_SIZE];
+                camera.centre_rays(&pixels, &mut rays);
+                let mut hits = [None; PACKET_SIZE];
+                frame.intersect_many(&rays, &mut hits, 0.0);
+                let mut resolved = [None; PACKET_SIZE];
+                t.resolve_packet(&rays, &hits, 0.0, &mut resolved);
+                let mut counts = RayCounts::default();
+                let mut known = [KnownShadows::NONE; PACKET_SIZE];
+                first_shadows::trace(&t, &resolved, 0.0, &mut counts, &mut known);
+                let mut shaded = [None; PACKET_SIZE];
+                shade(&t, &rays, &resolved, &known, &mut shaded);
+                for k in 0..PACKET_SIZE {
+                    let Some(hit) = &resolved[k] else {
+                        assert_eq!(shaded[k], None, "a miss is not matte");
+                        continue;
+                    };
+                    let is_matte = matches!(hit.material.bsdf, Some(Bsdf::Lambert { .. }));
+                    let Some(colour) = shaded[k] else {
+                        assert!(!is_matte, "pixel {:?}: a matte hit left to the recursion", pixels[k]);
+                        left += 1;
+                        continue;
+                    };
+                    let mut sampler = PixelSampler::new(pixels[k].0, pixels[k].1, settings.seed, 0);
+                    let expected = recursive::shade::<true, true, false>(&t, &rays[k], hit, 0.0, known[k], &mut sampler, &mut counts);
+                    assert_eq!(colour.to_array().map(f32::to_bits), expected.to_array().map(f32::to_bits), "pixel {:?}", pixels[k]);
+                    matte += 1;
+                }
+            }
+        }
+        assert!(matte > 2000 && left > 200, "{matte} matte hits shaded in packets, {left} left to the recursion");
+    }
+}
