@@ -1,6 +1,7 @@
 //! The kernel benchmark: build time and single-ray throughput on the probe's standard scenes,
 //! for raystage and (with the `embree` feature) Embree 3, on identical rays in the same run.
 
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use raystage_demo::{Mesh, StandardScene};
@@ -66,8 +67,22 @@ pub enum Api {
     Packets,
 }
 
-/// Traces `rays` on `threads` threads, each taking one contiguous chunk (as the probe splits rows).
-pub fn trace_all(tracer: &dyn Tracer, rays: &[Ray], threads: usize, api: Api) -> Traced {
+/// How the rays are shared out between threads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Schedule {
+    /// Each thread takes one contiguous chunk, as the probe splits the image's rows: faithful to
+    /// the probe, but a thread with the cheaper half (more sky) then waits for the other.
+    Halves,
+    /// Threads take runs of [`SHARED_RUN`] rays in turn until none are left, balanced as the
+    /// renderer's work stealing balances its bands.
+    Shared,
+}
+
+/// Rays a thread takes at a time with [`Schedule::Shared`]: 64 packets.
+pub const SHARED_RUN: usize = 64 * PACKET_SIZE;
+
+/// Traces `rays` on `threads` threads, shared out by `schedule`.
+pub fn trace_all(tracer: &dyn Tracer, rays: &[Ray], threads: usize, api: Api, schedule: Schedule) -> Traced {
     let chunk = |rays: &[Ray]| {
         let (mut hits, mut tsum) = (0u64, 0f64);
         let mut count = |t: Option<f32>| {
@@ -92,11 +107,33 @@ pub fn trace_all(tracer: &dyn Tracer, rays: &[Ray], threads: usize, api: Api) ->
     let parts: Vec<(u64, f64)> = if threads <= 1 {
         vec![chunk(rays)]
     } else {
-        let per = rays.len().div_ceil(threads).next_multiple_of(PACKET_SIZE);
-        std::thread::scope(|s| {
-            let handles: Vec<_> = rays.chunks(per.max(1)).map(|c| s.spawn(move || chunk(c))).collect();
-            handles.into_iter().map(|h| h.join().expect("trace thread panicked")).collect()
-        })
+        match schedule {
+            Schedule::Halves => {
+                let per = rays.len().div_ceil(threads).next_multiple_of(PACKET_SIZE);
+                std::thread::scope(|s| {
+                    let handles: Vec<_> = rays.chunks(per.max(1)).map(|c| s.spawn(move || chunk(c))).collect();
+                    handles.into_iter().map(|h| h.join().expect("trace thread panicked")).collect()
+                })
+            }
+            Schedule::Shared => {
+                let next = AtomicUsize::new(0);
+                let runs = || {
+                    let mut sums = (0u64, 0f64);
+                    loop {
+                        let start = next.fetch_add(SHARED_RUN, Ordering::Relaxed);
+                        if start >= rays.len() {
+                            break sums;
+                        }
+                        let (hits, tsum) = chunk(&rays[start..(start + SHARED_RUN).min(rays.len())]);
+                        sums = (sums.0 + hits, sums.1 + tsum);
+                    }
+                };
+                std::thread::scope(|s| {
+                    let handles: Vec<_> = (0..threads).map(|_| s.spawn(runs)).collect();
+                    handles.into_iter().map(|h| h.join().expect("trace thread panicked")).collect()
+                })
+            }
+        }
     };
     let seconds = start.elapsed().as_secs_f64();
     let (hits, tsum) = parts.iter().fold((0, 0.0), |(h, t), p| (h + p.0, t + p.1));
@@ -217,7 +254,7 @@ pub fn trace_interleaved(tracers: &[&dyn Tracer], sets: &RaySets, threads: usize
     for (set, (rays, api)) in plan.iter().enumerate() {
         for slice in rays.chunks(SLICE) {
             for (k, tracer) in tracers.iter().enumerate() {
-                totals[k][set] = totals[k][set].plus(trace_all(*tracer, slice, threads, *api));
+                totals[k][set] = totals[k][set].plus(trace_all(*tracer, slice, threads, *api, Schedule::Halves));
             }
         }
     }

@@ -2,7 +2,9 @@
 //! shading kernel to the frame's effect set saves, and how fast the path tracer converges.
 //!
 //! *Shading cost*: on the probe's sphere grid at 1920×1080, the kernel's bare primary rays (in
-//! 4×2 packets, as the renderer traces camera rays) against whole frames through the renderer:
+//! 4×2 packets, as the renderer traces camera rays, and balanced between threads as the
+//! renderer balances its bands, not split in halves as the probe splits its rows, which leaves
+//! one thread idle once it is through the sky) against whole frames through the renderer:
 //! the eye-light preview, and Whitted with one point light and shadows. *Specialisation*: a
 //! Whitted frame of the same purely diffuse grid under its own two directional lights (whose
 //! shadows every hit traces through the recursion, where reflection and refraction code would
@@ -25,7 +27,7 @@ use raystage_render::{Film, FrameStats, Integrator, Progressive, RayCounts, Rend
 use raystage_scene::{Light, LightId, Scene};
 use serde::Serialize;
 
-use crate::kernel::{Api, build_raystage, median, trace_all};
+use crate::kernel::{Api, Schedule, build_raystage, median, trace_all};
 use crate::rays::{self, HEIGHT, WIDTH};
 
 /// The light of the shading measurements, replacing the sphere scene's two directional lights:
@@ -312,7 +314,7 @@ pub fn run_shading(threads: usize, reps: usize, mut progress: impl FnMut(&str)) 
 
 /// Traces the primary rays, in 4×2 packets, through `bvh` on `threads` threads.
 fn measure_kernel(bvh: &Bvh8, packets: &[raystage_kernel::Ray], threads: usize) -> Measured {
-    let traced = trace_all(bvh, packets, threads, Api::Packets);
+    let traced = trace_all(bvh, packets, threads, Api::Packets, Schedule::Shared);
     Measured { seconds: traced.seconds, rays: RayCounts { primary: packets.len() as u64, ..RayCounts::default() } }
 }
 

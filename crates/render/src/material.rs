@@ -62,9 +62,17 @@ impl<'f> Materials<'f> {
         self.resolved(sp.shader_id).apply(sp.local_position, sp.uv, sp.color)
     }
 
-    /// The material at a preview point.
-    pub fn at_preview(&self, pp: &PreviewPoint<'_>) -> Material {
-        self.resolved(pp.shader_id).apply(pp.local_position, pp.uv, pp.color)
+    /// What a preview shows at a preview point: the surface's albedo (textured, vertex
+    /// coloured) and `true` for the models that reflect light, or the emitted or constant
+    /// colour and `false` for those that do not. The parts of [`Materials::at`] a preview needs,
+    /// without making the whole material.
+    #[inline(always)]
+    pub fn preview_colour(&self, pp: &PreviewPoint<'_>) -> (Vec3, bool) {
+        let r = self.resolved(pp.shader_id);
+        match r.base.model {
+            ShadingModel::Constant | ShadingModel::Emissive => (r.base.emission, false),
+            _ => (r.scale(pp.local_position, pp.uv, pp.color).map_or(r.base.albedo, |s| r.base.albedo * s), true),
+        }
     }
 
     fn resolved(&self, id: Option<raystage_scene::ShaderId>) -> &Resolved<'f> {
@@ -120,17 +128,24 @@ impl<'f> Resolved<'f> {
         Resolved { base: m, texture }
     }
 
+    /// What scales the albedo at a point (see [`Resolved::apply`]): the texture, or the vertex
+    /// colour of a `VertexColor` surface; nothing otherwise.
+    #[inline(always)]
+    fn scale(&self, local_position: Vec3, uv: Option<Vec2>, color: Option<Vec3>) -> Option<Vec3> {
+        match (self.texture, self.base.model) {
+            (Some(t), _) => Some(texture::lookup(t, local_position, uv)),
+            (None, ShadingModel::VertexColor) => Some(color.unwrap_or(Vec3::ONE)),
+            (None, _) => None,
+        }
+    }
+
     /// The material at a point with object-space position `local_position` and the mesh's
     /// interpolated texture coordinates and colour, if it has them: the diffuse albedo scaled by
     /// the texture or the vertex colour.
     #[inline(always)]
     fn apply(&self, local_position: Vec3, uv: Option<Vec2>, color: Option<Vec3>) -> Material {
         let mut m = self.base;
-        let scale = match (self.texture, m.model) {
-            (Some(t), _) => texture::lookup(t, local_position, uv),
-            (None, ShadingModel::VertexColor) => color.unwrap_or(Vec3::ONE),
-            (None, _) => return m,
-        };
+        let Some(scale) = self.scale(local_position, uv, color) else { return m };
         m.albedo *= scale;
         m.bsdf = match m.bsdf {
             Some(Bsdf::Lambert { .. }) => Some(Bsdf::Lambert { albedo: m.albedo }),

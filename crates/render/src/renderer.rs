@@ -364,7 +364,7 @@ struct TileWork {
 
 impl TileWork {
     fn new(tile: &Tile) -> TileWork {
-        let order: Vec<(u32, u32)> = packet_order(tile).into_iter().map(|i| tile.pixel(i)).collect();
+        let order = packet_order(tile);
         let n = order.len();
         TileWork {
             order,
@@ -526,17 +526,17 @@ fn sample_pixel(t: &Tracer<'_, '_>, ray: &Ray, time: f32, first: FirstHit<'_, '_
         }
 }
 
-/// The tile's pixel indices grouped in blocks of 4×2 pixels (fewer at the tile's edges), so that
-/// every [`PACKET_SIZE`] consecutive rays are neighbours.
-fn packet_order(tile: &Tile) -> Vec<usize> {
+/// The tile's pixels (image coordinates) grouped in blocks of 4×2 pixels (fewer at the tile's
+/// edges), so that every [`PACKET_SIZE`] consecutive rays are neighbours.
+fn packet_order(tile: &Tile) -> Vec<(u32, u32)> {
     const BLOCK: (u32, u32) = (4, 2);
     const _: () = assert!((BLOCK.0 * BLOCK.1) as usize == PACKET_SIZE);
-    let (w, h) = (tile.width, tile.height);
+    let (x1, y1) = (tile.x0 + tile.width, tile.y0 + tile.height);
     let mut order = Vec::with_capacity(tile.len());
-    for by in (0..h).step_by(BLOCK.1 as usize) {
-        for bx in (0..w).step_by(BLOCK.0 as usize) {
-            for y in by..(by + BLOCK.1).min(h) {
-                order.extend((bx..(bx + BLOCK.0).min(w)).map(|x| (y * w + x) as usize));
+    for by in (tile.y0..y1).step_by(BLOCK.1 as usize) {
+        for bx in (tile.x0..x1).step_by(BLOCK.0 as usize) {
+            for y in by..(by + BLOCK.1).min(y1) {
+                order.extend((bx..(bx + BLOCK.0).min(x1)).map(|x| (x, y)));
             }
         }
     }
@@ -552,11 +552,11 @@ mod tests {
         for (width, height) in [(16, 16), (5, 3), (1, 1), (7, 16)] {
             let tile = Tile { x0: 3, y0: 5, width, height };
             let mut order = packet_order(&tile);
-            order.sort_unstable();
-            assert_eq!(order, (0..tile.len()).collect::<Vec<_>>(), "{width}×{height}");
+            order.sort_unstable_by_key(|&(x, y)| (y, x));
+            assert_eq!(order, (0..tile.len()).map(|i| tile.pixel(i)).collect::<Vec<_>>(), "{width}×{height}");
         }
         let order = packet_order(&Tile { x0: 0, y0: 0, width: 16, height: 16 });
-        assert_eq!(&order[..8], &[0, 1, 2, 3, 16, 17, 18, 19]);
+        assert_eq!(&order[..8], &[(0, 0), (1, 0), (2, 0), (3, 0), (0, 1), (1, 1), (2, 1), (3, 1)]);
     }
 
     #[test]

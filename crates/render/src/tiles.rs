@@ -32,6 +32,7 @@ impl Tile {
     }
 
     /// Image coordinates of the pixel at `index` in the tile's row-major order.
+    #[cfg(test)]
     pub fn pixel(&self, index: usize) -> (u32, u32) {
         (self.x0 + index as u32 % self.width, self.y0 + index as u32 / self.width)
     }

@@ -404,6 +404,16 @@ impl<'a> Frame<'a> {
         let n = rays.len();
         let all = (1u32 << n) - 1;
         let prepared = PreparedRay::packet(rays);
+        if let [only] = &self.instances[..]
+            && only.placed_at(time).identity
+        {
+            // One instance in place: as in `intersect_touched`, the packet goes straight in.
+            let reached = || (0..n).any(|i| self.boxes[0].intersect(&prepared[i], rays[i].tfar).is_some());
+            if !only.object.is_built() && !reached() {
+                return 0;
+            }
+            return only.object.accel(&self.counters).occluded_packet_prepared(&prepared[..n]);
+        }
         // The rays among `candidates` whose segment touches the box of instance `item`.
         let mut touch = |item: u32, candidates: u32| {
             let b = &self.boxes[item as usize];
@@ -431,18 +441,12 @@ impl<'a> Frame<'a> {
             }
             let fi = &self.instances[item as usize];
             let placed = fi.placed_at(time);
-            let accel = fi.object.accel(&self.counters);
-            if placed.identity && live == all {
-                // Every ray goes in as it is (a single mesh, typically): nothing to copy.
-                open &= !accel.occluded_packet_prepared(&prepared[..n]);
-                continue;
-            }
             for (i, ray) in rays.iter().enumerate() {
                 // Rays that are blocked already or miss the box get an empty segment.
                 let tfar = if live & (1 << i) == 0 { ray.tnear } else { ray.tfar };
                 local[i] = if placed.identity { prepared[i].with_tfar(tfar) } else { PreparedRay::new(&Ray { tfar, ..placed.ray_to_object(ray) }) };
             }
-            open &= !(accel.occluded_packet_prepared(&local[..n]) & live);
+            open &= !(fi.object.accel(&self.counters).occluded_packet_prepared(&local[..n]) & live);
         }
         all & !open
     }

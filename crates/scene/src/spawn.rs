@@ -83,6 +83,7 @@ fn transform_with_error(t: &Affine3A, p: Vec3, error: Vec3) -> (Vec3, Vec3) {
 }
 
 /// `x` moved to the next representable number in the direction of `sign` (none for 0).
+#[inline]
 fn nudge(x: f32, sign: f32) -> f32 {
     if sign > 0.0 {
         x.next_up()
@@ -98,6 +99,7 @@ impl SurfacePoint<'_> {
     /// geometric normal, to the side `dir` points to, far enough that no rounding of the point
     /// or of the ray can put it back on the surface (pbrt-v4's `OffsetRayOrigin`). Rays that
     /// start here never re-hit the triangle they leave, on either side.
+    #[inline]
     pub fn spawn_origin(&self, dir: Vec3) -> Vec3 {
         let n = self.geometric_normal;
         let distance = n.abs().dot(self.position_error);

@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 use raystage_kernel::Ray;
-use raystage_scene::{SceneHit, ShadingModel};
+use raystage_scene::SceneHit;
 
 use super::Tracer;
 use crate::lights::Seen;
@@ -20,26 +20,35 @@ const AMBIENT: f32 = 0.15;
 pub(crate) fn shade(t: &Tracer<'_, '_>, rays: &[Ray], hits: &[Option<SceneHit>], out: &mut [Vec3]) {
     const N: usize = raystage_kernel::PACKET_SIZE;
     assert!(rays.len() == hits.len() && hits.len() == out.len() && hits.len() <= N, "a colour per ray, at most a packet");
-    // Per ray: the surface's colour, whether the eye light shades it, and its normal.
+    // Per ray: the surface's colour, whether the eye light shades it, and its normal and the
+    // ray's direction by component (zeros where nothing is lit).
     let mut colour = [Vec3::ZERO; N];
     let mut lit = [false; N];
-    let mut normal = [Vec3::ZERO; N];
+    let mut normal = [[0.0f32; N]; 3];
+    let mut dir = [[0.0f32; N]; 3];
     for (k, (ray, hit)) in rays.iter().zip(hits).enumerate() {
         let Some(hit) = hit else {
             colour[k] = t.background(ray.dir, Seen::Directly);
             continue;
         };
         let point = t.frame.preview(ray, hit);
-        let m = t.materials.at_preview(&point);
-        match m.model {
-            ShadingModel::Constant | ShadingModel::Emissive => colour[k] = m.emission,
-            _ => (colour[k], lit[k], normal[k]) = (m.albedo, true, point.normal),
+        (colour[k], lit[k]) = t.materials.preview_colour(&point);
+        for axis in 0..3 {
+            normal[axis][k] = point.normal[axis];
+            dir[axis][k] = ray.dir[axis];
         }
     }
-    for (k, (ray, c)) in rays.iter().zip(out.iter_mut()).enumerate() {
-        // Camera rays have unit directions (`CameraRays::ray`), and the preview shades nothing
-        // else.
-        let cos = normal[k].normalize_or_zero().dot(ray.dir).abs();
-        *c = if lit[k] { colour[k] * (AMBIENT + (1.0 - AMBIENT) * cos) } else { colour[k] };
+    // `normalize_or_zero`, `dot` and `abs` of each lane, side by side. Camera rays have unit
+    // directions (`CameraRays::ray`), and the preview shades nothing else.
+    let mut shade = [0.0f32; N];
+    for (k, shade) in shade.iter_mut().enumerate() {
+        let (x, y, z) = (normal[0][k], normal[1][k], normal[2][k]);
+        let rcp = 1.0 / ((x * x) + (y * y) + (z * z)).sqrt();
+        let (x, y, z) = if rcp.is_finite() && rcp > 0.0 { (x * rcp, y * rcp, z * rcp) } else { (0.0, 0.0, 0.0) };
+        let cos = ((x * dir[0][k]) + (y * dir[1][k]) + (z * dir[2][k])).abs();
+        *shade = AMBIENT + (1.0 - AMBIENT) * cos;
+    }
+    for (k, c) in out.iter_mut().enumerate() {
+        *c = if lit[k] { colour[k] * shade[k] } else { colour[k] };
     }
 }
