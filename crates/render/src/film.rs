@@ -1,6 +1,7 @@
 //! The film: the frame's pixels in linear light, and their encoding as sRGB RGBA8 and PNG.
 
 use std::path::Path;
+use std::sync::Mutex;
 
 use glam::Vec3;
 use image::ImageEncoder;
@@ -18,6 +19,37 @@ pub struct Film {
     width: u32,
     height: u32,
     pixels: Vec<Vec3>,
+}
+
+/// The pixel buffer of the film dropped last, kept for the next frame: a 1080p film is 24 MB,
+/// which a fresh allocation faults in (and the kernel clears) on every frame of a render loop,
+/// on one thread before the frame can start.
+static SPARE: Mutex<Vec<Vec3>> = Mutex::new(Vec::new());
+
+/// `n` black pixels for a frame to accumulate into: the spare buffer of a dropped film if it
+/// fits (neither too small nor more than twice too large), cleared on every thread of the
+/// current rayon pool; else new storage on huge pages, which the kernel hands out cleared.
+pub(crate) fn black_pixels(n: usize) -> Vec<Vec3> {
+    let spare = SPARE.lock().map(|mut spare| std::mem::take(&mut *spare)).unwrap_or_default();
+    if (n..=2 * n).contains(&spare.capacity()) {
+        let mut pixels = spare;
+        pixels.truncate(n);
+        pixels.par_chunks_mut(1 << 14).for_each(|chunk| chunk.fill(Vec3::ZERO));
+        pixels.resize(n, Vec3::ZERO);
+        return pixels;
+    }
+    let mut pixels = raystage_kernel::huge_page_vec(n);
+    pixels.resize(n, Vec3::ZERO);
+    pixels
+}
+
+impl Drop for Film {
+    /// Keeps the pixel buffer as the spare for the next frame.
+    fn drop(&mut self) {
+        if let Ok(mut spare) = SPARE.lock() {
+            *spare = std::mem::take(&mut self.pixels);
+        }
+    }
 }
 
 impl Film {
@@ -111,6 +143,18 @@ mod tests {
             .flat_map(|y| (0..width).map(move |x| Vec3::new(x as f32 / width as f32, y as f32 / height as f32, ((x + y) % 2) as f32)))
             .collect();
         Film::from_pixels(width, height, pixels)
+    }
+
+    #[test]
+    fn a_frame_after_a_dropped_film_starts_black() {
+        // Sizes no other test renders, so that the spare is this test's own.
+        for n in [1000, 999, 1500, 1000] {
+            let pixels = black_pixels(n);
+            assert_eq!(pixels.len(), n);
+            assert!(pixels.iter().all(|p| *p == Vec3::ZERO), "{n} pixels");
+            drop(Film::from_pixels(n as u32, 1, vec![Vec3::ONE; n]));
+            drop(Film::from_pixels(n as u32, 1, pixels.into_iter().map(|_| Vec3::splat(7.0)).collect()));
+        }
     }
 
     #[test]

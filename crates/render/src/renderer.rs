@@ -232,10 +232,7 @@ impl Progressive {
     fn without_variance(settings: RenderSettings) -> Result<Progressive, Error> {
         settings.validate()?;
         let n = settings.width as usize * settings.height as usize;
-        // Cleared on huge pages: a 1080p frame faults in a dozen of them, not six thousand.
-        let mut sum = raystage_kernel::huge_page_vec(n);
-        sum.resize(n, Vec3::ZERO);
-        Ok(Progressive { settings, sum, sum_sq: None, samples: 0 })
+        Ok(Progressive { settings, sum: crate::film::black_pixels(n), sum_sq: None, samples: 0 })
     }
 
     /// The settings this accumulation renders with.
