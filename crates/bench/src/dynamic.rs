@@ -4,7 +4,8 @@
 //! Every frame both systems take the same instance transforms and vertex positions, then trace
 //! the same 1280×720 primary rays and, from each primary hit, one shadow ray towards the sun;
 //! each system traces the primary rays once one by one and once in 4×2-pixel packets (the
-//! renderer's camera rays; Embree's `rtcIntersect8`), the shadow rays one by one.
+//! renderer's camera rays; Embree's `rtcIntersect8`), and the shadow rays alike: one by one, or
+//! a packet's together (parallel rays from neighbouring hits; Embree's `rtcOccluded8`).
 //! *Update* is what a system spends bringing its acceleration structures up to date (raystage:
 //! setting transforms, the top-level build and the lazy object builds and refits; Embree: setting
 //! transforms and committing geometry and scenes). *Trace* is the rest of the frame. Frame 0
@@ -121,6 +122,8 @@ pub struct Queries<'a> {
     pub closest_packet: PacketQuery<'a>,
     /// Whether a segment is blocked.
     pub occluded: &'a (dyn Fn(&Ray) -> bool + Sync),
+    /// Which of up to a packet of segments are blocked (bit `i` for ray `i`).
+    pub occluded_packet: &'a (dyn Fn(&[Ray]) -> u32 + Sync),
 }
 
 /// The system name of a run: `base`, with `-packets` when primary rays go in packets.
@@ -140,7 +143,7 @@ fn rays_for(camera: &Camera, api: Api) -> Vec<Ray> {
     }
 }
 
-/// Traces primary rays (one by one, or in packets with `api`) and a shadow ray per hit, on
+/// Traces primary rays and a shadow ray per hit (one by one, or in packets with `api`), on
 /// `threads` threads; returns (rays traced, primary hits).
 fn trace_frame(rays: &[Ray], sun: glam::Vec3, threads: usize, api: Api, queries: &Queries<'_>) -> (u64, u64) {
     let chunk = |rays: &[Ray]| {
@@ -153,13 +156,22 @@ fn trace_frame(rays: &[Ray], sun: glam::Vec3, threads: usize, api: Api, queries:
                 Api::Single => found[0] = (queries.closest)(&rays[0]),
                 Api::Packets => (queries.closest_packet)(rays, found),
             }
+            let mut shadows = [Ray::new(sun, sun); PACKET_SIZE];
+            let mut n = 0;
             for (ray, t) in rays.iter().zip(found.iter()) {
                 traced += 1;
                 if let Some(t) = t {
                     hits += 1;
                     traced += 1;
-                    std::hint::black_box((queries.occluded)(&shadow_ray(ray, *t, sun)));
+                    shadows[n] = shadow_ray(ray, *t, sun);
+                    n += 1;
                 }
+            }
+            match api {
+                Api::Single => shadows[..n].iter().for_each(|s| _ = std::hint::black_box((queries.occluded)(s))),
+                // The packet's shadow rays, parallel towards the sun from neighbouring hits.
+                Api::Packets if n > 0 => _ = std::hint::black_box((queries.occluded_packet)(&shadows[..n])),
+                Api::Packets => {}
             }
         }
         (traced, hits)
@@ -194,7 +206,12 @@ pub fn run_raystage(animation: &dyn Animation, frames: u32, threads: usize, api:
             frame.intersect_many(rays, &mut hits[..rays.len()], 0.0);
             found.iter_mut().zip(hits).for_each(|(f, h)| *f = h.map(|h| h.t));
         };
-        let queries = Queries { closest: &|r| frame.intersect(r, 0.0).map(|h| h.t), closest_packet: &closest_packet, occluded: &|r| frame.occluded(r, 0.0) };
+        let queries = Queries {
+            closest: &|r| frame.intersect(r, 0.0).map(|h| h.t),
+            closest_packet: &closest_packet,
+            occluded: &|r| frame.occluded(r, 0.0),
+            occluded_packet: &|rays| frame.occluded_many(rays, 0.0),
+        };
         let (traced, hits) = pool.install(|| trace_frame(&rays, sun, threads, api, &queries));
         let traced_seconds = trace_start.elapsed().as_secs_f64();
         // Lazy builds and refits happened inside the trace; count them as update.
@@ -230,7 +247,12 @@ pub fn run_embree(animation: &dyn Animation, frames: u32, threads: usize, unstru
     for f in 0..=frames {
         let update = if f == 0 { built } else { scene.update(&animation.instances(f), &animation.deform(f)) };
         let start = Instant::now();
-        let queries = Queries { closest: &|r| scene.intersect(r), closest_packet: &|rays, found| scene.intersect8(rays, found), occluded: &|r| scene.occluded(r) };
+        let queries = Queries {
+            closest: &|r| scene.intersect(r),
+            closest_packet: &|rays, found| scene.intersect8(rays, found),
+            occluded: &|r| scene.occluded(r),
+            occluded_packet: &|rays| scene.occluded8(rays),
+        };
         let (traced, hits) = trace_frame(&rays, view.sun, threads, api, &queries);
         let time = FrameTime { update, trace: start.elapsed().as_secs_f64(), rays: traced, hits };
         if f == 0 { run.first = time } else { run.frames.push(time) }

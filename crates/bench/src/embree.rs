@@ -69,6 +69,19 @@ struct RtcRayHit8 {
     inst_id: [u32; 8],
 }
 
+/// Eight rays, structure of arrays (`RTCRay8`): the first half of [`RtcRayHit8`].
+#[repr(C, align(32))]
+struct RtcRay8 {
+    org: [[f32; 8]; 3],
+    tnear: [f32; 8],
+    dir: [[f32; 8]; 3],
+    time: [f32; 8],
+    tfar: [f32; 8],
+    mask: [u32; 8],
+    id: [u32; 8],
+    flags: [u32; 8],
+}
+
 /// The packet's valid mask (−1 active, 0 inactive), aligned as Embree requires.
 #[repr(C, align(32))]
 struct Valid8([i32; 8]);
@@ -116,6 +129,7 @@ unsafe extern "C" {
     fn rtcSetGeometryTransform(geometry: RtcGeometry, time_step: u32, format: u32, xfm: *const c_void);
     fn rtcUpdateGeometryBuffer(geometry: RtcGeometry, kind: u32, slot: u32);
     fn rtcIntersect8(valid: *const i32, scene: RtcScene, context: *mut RtcIntersectContext, rayhit: *mut RtcRayHit8);
+    fn rtcOccluded8(valid: *const i32, scene: RtcScene, context: *mut RtcIntersectContext, ray: *mut RtcRay8);
 }
 
 /// Embree's BVH build quality.
@@ -282,6 +296,29 @@ fn intersect8(scene: RtcScene, rays: &[Ray], out: &mut [Option<f32>]) {
     }
 }
 
+/// `rtcOccluded8` on a committed scene: whether each of up to eight segments is blocked (bit
+/// `i` for `rays[i]`).
+fn occluded8(scene: RtcScene, rays: &[Ray]) -> u32 {
+    assert!(!rays.is_empty() && rays.len() <= 8, "one to eight rays");
+    let valid = Valid8(std::array::from_fn(|i| if i < rays.len() { -1 } else { 0 }));
+    let lane = |i: usize| &rays[i.min(rays.len() - 1)];
+    let mut r = RtcRay8 {
+        org: std::array::from_fn(|a| std::array::from_fn(|i| lane(i).origin[a])),
+        tnear: std::array::from_fn(|i| lane(i).tnear),
+        dir: std::array::from_fn(|a| std::array::from_fn(|i| lane(i).dir[a])),
+        time: [0.0; 8],
+        tfar: std::array::from_fn(|i| lane(i).tfar),
+        mask: [u32::MAX; 8],
+        id: [0; 8],
+        flags: [0; 8],
+    };
+    let mut context = RtcIntersectContext::new();
+    // SAFETY: committed scene; `valid` and the packet are 32-byte aligned as Embree requires.
+    unsafe { rtcOccluded8(valid.0.as_ptr(), scene, &mut context, &mut r) };
+    // Embree marks an occluded ray by setting its tfar to −∞.
+    (0..rays.len()).filter(|&i| r.tfar[i] == f32::NEG_INFINITY).fold(0, |m, i| m | 1 << i)
+}
+
 impl Drop for Scene {
     fn drop(&mut self) {
         // SAFETY: created by rtcNewScene, released once.
@@ -441,6 +478,12 @@ impl InstancedScene {
     /// `rtcIntersect8` on the top level: closest-hit distances of up to eight rays as a packet.
     pub fn intersect8(&self, rays: &[Ray], out: &mut [Option<f32>]) {
         intersect8(self.top, rays, out);
+    }
+
+    /// `rtcOccluded8` on the top level: which of up to eight segments are blocked (bit `i` for
+    /// `rays[i]`).
+    pub fn occluded8(&self, rays: &[Ray]) -> u32 {
+        occluded8(self.top, rays)
     }
 
     /// `rtcOccluded1` on the top level: whether anything blocks the segment.

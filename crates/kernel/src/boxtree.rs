@@ -114,6 +114,25 @@ impl BoxTree {
         }
     }
 
+    /// An any-hit walk for up to [`crate::PACKET_SIZE`] rays at once: `block(item, rays)` is
+    /// called with the rays (bit `i` for `rays[i]`), not blocked yet, that may touch the box
+    /// (the caller tests each box itself, as for [`BoxTree::touched`]), and returns those it
+    /// blocks; the walk skips the rest of the tree for blocked rays and ends once all are.
+    /// Returns the blocked rays. Rays that travel as a packet (see [`BoxTree::touched`]) walk
+    /// the tree together; others one by one.
+    ///
+    /// # Panics
+    /// If `rays` holds more than [`crate::PACKET_SIZE`] rays.
+    pub fn occluded_by(&self, rays: &[PreparedRay], mut block: impl FnMut(u32, u32) -> u32) -> u32 {
+        assert!(rays.len() <= crate::PACKET_SIZE, "at most a packet");
+        match self.isa {
+            // SAFETY: as in `closest`.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 if !rays.is_empty() => unsafe { traverse::avx2::boxes_occluded(self, rays, block) },
+            _ => (0..rays.len()).filter(|&i| traverse::portable::boxes_any(self, &rays[i], |item| block(item, 1 << i) != 0)).fold(0, |m, i| m | 1 << i),
+        }
+    }
+
     /// The items of a leaf link.
     pub(crate) fn leaf_items(&self, link: u32) -> &[u32] {
         let [first, count] = self.leaves[(link & !LEAF) as usize];

@@ -104,4 +104,12 @@ impl PreparedRay {
     pub fn with_tfar(self, tfar: f32) -> PreparedRay {
         PreparedRay { tfar, ..self }
     }
+
+    /// A ray in the same direction from `origin` over `(tnear, tfar]`: exactly
+    /// [`PreparedRay::new`] of that ray, without computing again what only the direction
+    /// decides (rays towards a distant light share it).
+    #[inline]
+    pub fn moved(self, origin: glam::Vec3, tnear: f32, tfar: f32) -> PreparedRay {
+        PreparedRay { org: origin.to_array(), tnear, tfar, ..self }
+    }
 }

@@ -152,11 +152,29 @@ fn coherent_rays() -> impl Strategy<Value = Vec<Ray>> {
         })
 }
 
+/// Parallel rays from origins scattered around a point, towards a random direction (shadow
+/// rays towards a distant light from neighbouring hits): packets of a common direction, with
+/// now and then a ray that breaks the packet (another direction) or an empty segment.
+fn parallel_rays() -> impl Strategy<Value = Vec<Ray>> {
+    let origin = (uniform(-1.0, 1.0), uniform(-1.0, 1.0), uniform(-1.0, 1.0), prop::bool::weighted(0.1), prop::bool::weighted(0.2))
+        .prop_map(|(x, y, z, other, empty)| (Vec3::new(x, y, z), other, empty));
+    (point(), direction(), direction(), prop_oneof![Just(0.0f32), uniform(0.0, 0.05), uniform(0.0, 2.0), uniform(0.0, 8.0)], prop::collection::vec(origin, 1..=20), prop_oneof![3 => Just(f32::INFINITY), 1 => uniform(1.0, 20.0)])
+        .prop_map(|(o, d, other_d, spread, origins, tfar)| {
+            origins.iter().map(|&(e, other, empty)| Ray::segment(o + e * spread, if other { other_d } else { d }, 0.0, if empty { 0.0 } else { tfar })).collect()
+        })
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
 
     #[test]
     fn packets_equal_single_rays(tris in soup(), rays in coherent_rays(), leaf in 1usize..=8) {
+        let (_, bvh8s) = layouts(&tris, leaf);
+        check_packets(&tris, &bvh8s, &rays)?;
+    }
+
+    #[test]
+    fn parallel_packets_equal_single_rays(tris in soup(), rays in parallel_rays(), leaf in 1usize..=8) {
         let (_, bvh8s) = layouts(&tris, leaf);
         check_packets(&tris, &bvh8s, &rays)?;
     }

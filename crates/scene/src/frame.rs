@@ -378,9 +378,11 @@ impl<'a> Frame<'a> {
 
     /// Which of up to [`PACKET_SIZE`] rays are blocked in `(tnear, tfar]` at shutter time `time`:
     /// bit `i` for `rays[i]`, exactly what [`Frame::occluded`] says of each. Rays that share
-    /// their origin (shadow rays traced from a point light towards the points it lights) go
-    /// through each instance they touch as a packet, sharing the object tree's node tests; an
-    /// object is built only if a ray not yet blocked reaches its box, as for single rays.
+    /// their origin (shadow rays traced from a point light towards the points it lights) or
+    /// their direction (shadow rays towards a distant light) walk the top level and go through
+    /// each instance they touch as a packet, sharing the trees' node tests, and stop walking
+    /// once all are blocked; an object is built only if a ray not yet blocked reaches its box,
+    /// as for single rays.
     ///
     /// # Panics
     /// If `rays` holds more than [`PACKET_SIZE`] rays.
@@ -390,18 +392,6 @@ impl<'a> Frame<'a> {
         if n == 0 {
             return 0;
         }
-        thread_local! {
-            /// The instances the rays touch: item, and the rays that touch its box (bit i for
-            /// ray i). Reused from packet to packet.
-            static TOUCHED: std::cell::RefCell<Vec<(u32, u32)>> = const { std::cell::RefCell::new(Vec::new()) };
-        }
-        TOUCHED.with_borrow_mut(|touched| self.occluded_touched(rays, time, touched))
-    }
-
-    /// [`Frame::occluded_many`] with a scratch list for the instances touched.
-    fn occluded_touched(&self, rays: &[Ray], time: f32, touched: &mut Vec<(u32, u32)>) -> u32 {
-        touched.clear();
-        let n = rays.len();
         let all = (1u32 << n) - 1;
         let prepared = PreparedRay::packet(rays);
         if let [only] = &self.instances[..]
@@ -414,41 +404,39 @@ impl<'a> Frame<'a> {
             }
             return only.object.accel(&self.counters).occluded_packet_prepared(&prepared[..n]);
         }
-        // The rays among `candidates` whose segment touches the box of instance `item`.
-        let mut touch = |item: u32, candidates: u32| {
-            let b = &self.boxes[item as usize];
-            let mask = (0..n).filter(|&i| candidates & (1 << i) != 0 && b.intersect(&prepared[i], rays[i].tfar).is_some()).fold(0, |m, i| m | 1 << i);
-            if mask != 0 {
-                touched.push((item, mask));
-            }
-        };
-        if self.instances.len() <= LIST_TOP_LEVEL {
-            (0..self.instances.len() as u32).for_each(|item| touch(item, all));
-        } else if !self.top.touched(&prepared[..n], touch) {
-            // The rays went one by one: merge what each found of the same instance.
-            touched.sort_unstable_by_key(|&(item, _)| item);
-            touched.dedup_by(|later, kept| later.0 == kept.0 && {
-                kept.1 |= later.1;
-                true
-            });
-        }
-        let mut open = all;
         let mut local = prepared;
-        for &(item, touching) in touched.iter() {
-            let live = touching & open;
+        // Shadow rays towards a distant light are parallel: in each instance their direction
+        // is carried into the object, and prepared, once.
+        let parallel = rays.iter().all(|r| r.dir.to_array().map(f32::to_bits) == rays[0].dir.to_array().map(f32::to_bits));
+        // The rays among `candidates` that instance `item` blocks: those whose segment touches
+        // its box, traced through it together.
+        let block = |item: u32, candidates: u32| -> u32 {
+            let b = &self.boxes[item as usize];
+            let live = (0..n).filter(|&i| candidates & (1 << i) != 0 && b.intersect(&prepared[i], rays[i].tfar).is_some()).fold(0, |m, i| m | 1 << i);
             if live == 0 {
-                continue;
+                return 0;
             }
             let fi = &self.instances[item as usize];
             let placed = fi.placed_at(time);
+            let first = (parallel && !placed.identity).then(|| PreparedRay::new(&placed.ray_to_object(&rays[0])));
             for (i, ray) in rays.iter().enumerate() {
                 // Rays that are blocked already or miss the box get an empty segment.
                 let tfar = if live & (1 << i) == 0 { ray.tnear } else { ray.tfar };
-                local[i] = if placed.identity { prepared[i].with_tfar(tfar) } else { PreparedRay::new(&Ray { tfar, ..placed.ray_to_object(ray) }) };
+                local[i] = match first {
+                    _ if placed.identity => prepared[i].with_tfar(tfar),
+                    Some(first) => first.moved(placed.to_object.transform_point3(ray.origin), ray.tnear, tfar),
+                    None => PreparedRay::new(&Ray { tfar, ..placed.ray_to_object(ray) }),
+                };
             }
-            open &= !(fi.object.accel(&self.counters).occluded_packet_prepared(&local[..n]) & live);
+            fi.object.accel(&self.counters).occluded_packet_prepared(&local[..n]) & live
+        };
+        if self.instances.len() <= LIST_TOP_LEVEL {
+            let mut block = block;
+            (0..self.instances.len() as u32).fold(0, |blocked, item| if blocked == all { blocked } else { blocked | block(item, all & !blocked) })
+        } else {
+            // The walk leaves the rest of the top level to the rays no instance blocked yet.
+            self.top.occluded_by(&prepared[..n], block)
         }
-        all & !open
     }
 
     /// Everything a shader needs to know about `hit` of `ray` (at shutter time `time`).

@@ -380,7 +380,8 @@ proptest! {
 /// Packets through the top level return exactly the single-ray hits and occlusion: random
 /// instances of two objects (some overlapping, some mirrored, sometimes two coincident so that
 /// ties between instances occur), packets of rays sharing an origin as camera rays (and shadow
-/// rays from a light) do, fanning out by different amounts around the first instance.
+/// rays from a light) do, fanning out by different amounts around the first instance, and
+/// parallel rays from their hits towards a distant light.
 #[test]
 fn packets_through_the_top_level_hit_and_are_blocked_as_single_rays() {
     let strategy = (
@@ -429,6 +430,19 @@ fn packets_through_the_top_level_hit_and_are_blocked_as_single_rays() {
         let blocked = frame.occluded_many(&segments, 0.0);
         for (i, segment) in segments.iter().enumerate() {
             prop_assert_eq!(blocked & (1 << i) != 0, frame.occluded(segment, 0.0), "segment {}", i);
+        }
+        // Parallel rays towards a distant light from the hits (or points along the misses),
+        // some stopping short: one packet of a common direction, blocked exactly as one by one.
+        let sun = (eye - first).normalize_or(Vec3::Y);
+        let towards_sun: Vec<Ray> = rays
+            .iter()
+            .zip(&many)
+            .enumerate()
+            .map(|(i, (ray, hit))| Ray::segment(ray.at(hit.map_or(50.0, |h| h.t) * 0.999), sun, 0.0, if i % 4 == 3 { 5.0 } else { f32::INFINITY }))
+            .collect();
+        let blocked = frame.occluded_many(&towards_sun, 0.0);
+        for (i, ray) in towards_sun.iter().enumerate() {
+            prop_assert_eq!(blocked & (1 << i) != 0, frame.occluded(ray, 0.0), "ray {} towards the sun", i);
         }
         hits.set(hits.get() + many.iter().filter(|h| h.is_some()).count());
         Ok(())

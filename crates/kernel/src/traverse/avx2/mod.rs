@@ -14,7 +14,7 @@ mod packet;
 mod single;
 
 pub(crate) use boxes::{boxes_any, boxes_closest};
-pub(crate) use packet::{boxes_touched, intersect_packet, occluded_packet};
+pub(crate) use packet::{boxes_occluded, boxes_touched, intersect_packet, occluded_packet};
 pub(crate) use single::{intersect, occluded};
 
 use std::arch::x86_64::*;

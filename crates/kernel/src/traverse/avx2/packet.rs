@@ -35,22 +35,41 @@ const PACKET: usize = crate::bvh8::PACKET_SIZE;
 /// A subtree needed by no more than this many rays of a packet is finished by them alone.
 const FEW: u32 = 1;
 
-/// Whether the rays can travel as one packet: a common origin, the same direction sign on every
-/// axis, and no zero direction component (whose infinite reciprocal has no useful interval).
-fn is_packet(rays: &[PreparedRay]) -> bool {
-    let Some(first) = rays.first() else { return false };
-    let org = first.org.map(f32::to_bits);
-    rays.len() <= PACKET
-        && rays.iter().all(|r| {
-            let finite = (0..3).all(|a| r.inv[a].is_finite() && r.inv_far[a].is_finite());
-            r.org.map(f32::to_bits) == org && r.neg == first.neg && finite
-        })
+/// Whether the rays can travel as one packet: a common origin (camera rays, rays from a point
+/// light) or a common direction (rays towards a distant light), the same direction sign on
+/// every axis, and no zero direction component (whose infinite reciprocal has no useful
+/// interval). `Some(parallel)` if they can, `parallel` when their origins differ: the walks
+/// are compiled for each case, so that shared-origin packets keep the frustum's registers for
+/// one origin.
+fn packet_kind(rays: &[PreparedRay]) -> Option<bool> {
+    let first = rays.first()?;
+    let bits = |v: [f32; 3]| v.map(f32::to_bits);
+    let (org, inv) = (bits(first.org), bits(first.inv));
+    let (mut same_origin, mut same_direction) = (true, true);
+    for r in rays {
+        let finite = (0..3).all(|a| r.inv[a].is_finite() && r.inv_far[a].is_finite());
+        if r.neg != first.neg || !finite {
+            return None;
+        }
+        same_origin &= bits(r.org) == org;
+        // The widened reciprocal follows from the reciprocal.
+        same_direction &= bits(r.inv) == inv;
+    }
+    (rays.len() <= PACKET && (same_origin || same_direction)).then_some(!same_origin)
 }
 
-/// The packet's frustum broadcast to the eight children lanes of a node: the common origin and,
-/// per axis, the smallest and largest reciprocal direction (and its widened twin for far planes).
+/// The packet's frustum broadcast to the eight children lanes of a node: per axis, the origin
+/// its near and its far planes are measured from, and the smallest and largest reciprocal
+/// direction (and its widened twin for far planes).
+///
+/// Every ray's own distances to a box's planes lie between the frustum's: with a common origin
+/// the products of a plane's offset with the reciprocals' ends bound those with each ray's
+/// reciprocal; with a common direction the offsets from the origins' extremes bound each ray's
+/// own (the near plane's from the origin farthest along the ray, the far plane's from the one
+/// farthest back), and rounding keeps both orders.
 struct Frustum {
-    org: [__m256; 3],
+    org_near: [__m256; 3],
+    org_far: [__m256; 3],
     inv_lo: [__m256; 3],
     inv_hi: [__m256; 3],
     far_lo: [__m256; 3],
@@ -63,11 +82,12 @@ struct Frustum {
 impl Frustum {
     #[target_feature(enable = "avx2,fma")]
     #[inline]
-    fn new(rays: &[PreparedRay]) -> Frustum {
+    fn new<const PARALLEL: bool>(rays: &[PreparedRay]) -> Frustum {
         // One pass over the rays, written out: a frustum is set up for every packet that enters
         // an instance, which for small objects costs as much as the walk.
         let (mut inv_lo, mut inv_hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
         let (mut far_lo, mut far_hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+        let (mut org_lo, mut org_hi) = (rays[0].org, rays[0].org);
         let mut tnear = f32::INFINITY;
         for r in rays {
             for a in 0..3 {
@@ -75,18 +95,27 @@ impl Frustum {
                 inv_hi[a] = inv_hi[a].max(r.inv[a]);
                 far_lo[a] = far_lo[a].min(r.inv_far[a]);
                 far_hi[a] = far_hi[a].max(r.inv_far[a]);
+                if PARALLEL {
+                    org_lo[a] = org_lo[a].min(r.org[a]);
+                    org_hi[a] = org_hi[a].max(r.org[a]);
+                }
             }
             tnear = tnear.min(r.tnear);
         }
+        // Along an axis the rays travel towards +∞ on, the near plane is nearest from the
+        // origin farthest up and the far plane farthest from the one farthest down.
+        let neg = rays[0].neg;
+        let pick = |up: [f32; 3], down: [f32; 3]| std::array::from_fn(|a| if neg[a] { down[a] } else { up[a] });
         Frustum {
-            org: splat3(rays[0].org),
+            org_near: splat3(pick(org_hi, org_lo)),
+            org_far: splat3(pick(org_lo, org_hi)),
             inv_lo: splat3(inv_lo),
             inv_hi: splat3(inv_hi),
             far_lo: splat3(far_lo),
             far_hi: splat3(far_hi),
             tnear: _mm256_set1_ps(tnear),
-            near: plane_rows(rays[0].neg, false),
-            far: plane_rows(rays[0].neg, true),
+            near: plane_rows(neg, false),
+            far: plane_rows(neg, true),
         }
     }
 
@@ -94,16 +123,16 @@ impl Frustum {
     /// of their entry distances.
     #[target_feature(enable = "avx2,fma")]
     #[inline]
-    fn child_hits(&self, node: &Node8, tfar_wide: __m256) -> (u32, __m256) {
+    fn child_hits<const PARALLEL: bool>(&self, node: &Node8, tfar_wide: __m256) -> (u32, __m256) {
         let plane = |row: usize| unsafe { _mm256_load_ps(node.planes.as_ptr().add(row).cast::<f32>()) };
         let mut tn = self.tnear;
         let mut tf = tfar_wide;
         for axis in 0..3 {
             // All reciprocals are finite, so no product is NaN, and every ray's own rounded
             // product lies between the products with the interval's ends.
-            let d = _mm256_sub_ps(plane(self.near[axis]), self.org[axis]);
+            let d = _mm256_sub_ps(plane(self.near[axis]), self.org_near[axis]);
             tn = _mm256_max_ps(_mm256_min_ps(_mm256_mul_ps(d, self.inv_lo[axis]), _mm256_mul_ps(d, self.inv_hi[axis])), tn);
-            let d = _mm256_sub_ps(plane(self.far[axis]), self.org[axis]);
+            let d = _mm256_sub_ps(plane(self.far[axis]), if PARALLEL { self.org_far[axis] } else { self.org_near[axis] });
             tf = _mm256_min_ps(_mm256_max_ps(_mm256_mul_ps(d, self.far_lo[axis]), _mm256_mul_ps(d, self.far_hi[axis])), tf);
         }
         (_mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(tn, tf)) as u32, tn)
@@ -112,7 +141,10 @@ impl Frustum {
 
 /// The rays across the lanes (one ray per lane), for testing one box against all of them.
 struct RayLanes {
+    /// The first ray's origin, shared by all in a packet of a common origin.
     org: [f32; 3],
+    /// Every ray's origin.
+    orgs: [__m256; 3],
     near: [usize; 3],
     far: [usize; 3],
     inv: [__m256; 3],
@@ -123,12 +155,15 @@ struct RayLanes {
 impl RayLanes {
     #[target_feature(enable = "avx2,fma")]
     #[inline]
-    fn new(rays: &[PreparedRay]) -> RayLanes {
+    fn new<const PARALLEL: bool>(rays: &[PreparedRay]) -> RayLanes {
         // Lanes past the last ray repeat the first; they are masked out of every result.
-        let (mut inv, mut inv_far, mut tnear) = ([[0f32; PACKET]; 3], [[0f32; PACKET]; 3], [0f32; PACKET]);
+        let (mut org, mut inv, mut inv_far, mut tnear) = ([[0f32; PACKET]; 3], [[0f32; PACKET]; 3], [[0f32; PACKET]; 3], [0f32; PACKET]);
         for lane in 0..PACKET {
             let r = rays.get(lane).unwrap_or(&rays[0]);
             for a in 0..3 {
+                if PARALLEL {
+                    org[a][lane] = r.org[a];
+                }
                 inv[a][lane] = r.inv[a];
                 inv_far[a][lane] = r.inv_far[a];
             }
@@ -137,6 +172,7 @@ impl RayLanes {
         let load = |v: &[f32; PACKET]| unsafe { _mm256_loadu_ps(v.as_ptr()) };
         RayLanes {
             org: rays[0].org,
+            orgs: [load(&org[0]), load(&org[1]), load(&org[2])],
             near: plane_rows(rays[0].neg, false),
             far: plane_rows(rays[0].neg, true),
             inv: [load(&inv[0]), load(&inv[1]), load(&inv[2])],
@@ -149,12 +185,16 @@ impl RayLanes {
     /// their entry distances: the single-ray test's arithmetic, one ray per lane.
     #[target_feature(enable = "avx2,fma")]
     #[inline]
-    fn hit_child(&self, node: &Node8, lane: usize, tfar_wide: __m256) -> (u32, __m256) {
+    fn hit_child<const PARALLEL: bool>(&self, node: &Node8, lane: usize, tfar_wide: __m256) -> (u32, __m256) {
         let mut tn = self.tnear;
         let mut tf = tfar_wide;
         for axis in 0..3 {
-            let near = _mm256_set1_ps(node.planes[self.near[axis]][lane] - self.org[axis]);
-            let far = _mm256_set1_ps(node.planes[self.far[axis]][lane] - self.org[axis]);
+            let (near, far) = (node.planes[self.near[axis]][lane], node.planes[self.far[axis]][lane]);
+            let (near, far) = if PARALLEL {
+                (_mm256_sub_ps(_mm256_set1_ps(near), self.orgs[axis]), _mm256_sub_ps(_mm256_set1_ps(far), self.orgs[axis]))
+            } else {
+                (_mm256_set1_ps(near - self.org[axis]), _mm256_set1_ps(far - self.org[axis]))
+            };
             tn = _mm256_max_ps(_mm256_mul_ps(near, self.inv[axis]), tn);
             tf = _mm256_min_ps(_mm256_mul_ps(far, self.inv_far[axis]), tf);
         }
@@ -217,20 +257,28 @@ impl Rays {
 }
 
 /// Closest hits of a packet of rays, written to `out` (one per ray). Rays that do not form a
-/// packet (see `is_packet`) are traced one by one.
+/// packet (see `packet_kind`) are traced one by one.
 ///
 /// # Safety
 /// The CPU must support AVX2 and FMA.
 #[target_feature(enable = "avx2,fma")]
 pub(crate) unsafe fn intersect_packet(bvh: &Bvh8, rays: &[PreparedRay], out: &mut [Option<Hit>]) {
-    if !is_packet(rays) {
-        for (ray, hit) in rays.iter().zip(out.iter_mut()) {
-            *hit = unsafe { super::intersect(bvh, ray) };
+    match packet_kind(rays) {
+        None => {
+            for (ray, hit) in rays.iter().zip(out.iter_mut()) {
+                *hit = unsafe { super::intersect(bvh, ray) };
+            }
         }
-        return;
+        Some(false) => unsafe { intersect_beam::<false>(bvh, rays, out) },
+        Some(true) => unsafe { intersect_beam::<true>(bvh, rays, out) },
     }
-    let frustum = Frustum::new(rays);
-    let lanes = RayLanes::new(rays);
+}
+
+/// [`intersect_packet`] of a packet of a common origin, or of `PARALLEL` rays.
+#[target_feature(enable = "avx2,fma")]
+unsafe fn intersect_beam<const PARALLEL: bool>(bvh: &Bvh8, rays: &[PreparedRay], out: &mut [Option<Hit>]) {
+    let frustum = Frustum::new::<PARALLEL>(rays);
+    let lanes = RayLanes::new::<PARALLEL>(rays);
     let best: [Best; PACKET] = std::array::from_fn(|i| Best::none(rays.get(i).map_or(f32::NEG_INFINITY, |r| r.tfar)));
     let widened: [f32; PACKET] = std::array::from_fn(|i| widen(best[i].t));
     let mut state = Rays { best, tfar: unsafe { _mm256_loadu_ps(widened.as_ptr()) } };
@@ -254,12 +302,12 @@ pub(crate) unsafe fn intersect_packet(bvh: &Bvh8, rays: &[PreparedRay], out: &mu
         } else if e.link & LEAF == 0 {
             // SAFETY: inner links written by the collapse are valid node indices.
             let node = unsafe { bvh.nodes.get_unchecked(e.link as usize) };
-            let (mask, tn) = frustum.child_hits(node, state.farthest());
+            let (mask, tn) = frustum.child_hits::<PARALLEL>(node, state.farthest());
             let mut dist = [0f32; WIDTH];
             unsafe { _mm256_storeu_ps(dist.as_mut_ptr(), tn) };
             let base = sp;
             for lane in Lanes(mask) {
-                let (hit, entry) = lanes.hit_child(node, lane, state.tfar);
+                let (hit, entry) = lanes.hit_child::<PARALLEL>(node, lane, state.tfar);
                 if hit & live != 0 {
                     prefetch(bvh, node.child[lane]);
                     stack[sp].write(Entry { link: node.child[lane], dist: dist[lane], rays: hit & live, entry });
@@ -296,18 +344,25 @@ pub(crate) unsafe fn intersect_packet(bvh: &Bvh8, rays: &[PreparedRay], out: &mu
 
 /// Which rays of a packet hit anything in their segment `(tnear, tfar]`: bit `i` for `rays[i]`,
 /// exactly as [`super::occluded`] finds ray by ray. Rays that do not form a packet (see
-/// `is_packet`) are traced one by one. Children are visited in slot order, as by single rays.
+/// `packet_kind`) are traced one by one. Children are visited in slot order, as by single rays.
 ///
 /// # Safety
 /// The CPU must support AVX2 and FMA.
 #[target_feature(enable = "avx2,fma")]
 pub(crate) unsafe fn occluded_packet(bvh: &Bvh8, rays: &[PreparedRay]) -> u32 {
-    let all = (1u32 << rays.len()) - 1;
-    if !is_packet(rays) {
-        return (0..rays.len()).filter(|&i| occluded_below(bvh, &rays[i], bvh.root)).fold(0, |m, i| m | 1 << i);
+    match packet_kind(rays) {
+        None => (0..rays.len()).filter(|&i| occluded_below(bvh, &rays[i], bvh.root)).fold(0, |m, i| m | 1 << i),
+        Some(false) => unsafe { occluded_beam::<false>(bvh, rays) },
+        Some(true) => unsafe { occluded_beam::<true>(bvh, rays) },
     }
-    let frustum = Frustum::new(rays);
-    let lanes = RayLanes::new(rays);
+}
+
+/// [`occluded_packet`] of a packet of a common origin, or of `PARALLEL` rays.
+#[target_feature(enable = "avx2,fma")]
+unsafe fn occluded_beam<const PARALLEL: bool>(bvh: &Bvh8, rays: &[PreparedRay]) -> u32 {
+    let all = (1u32 << rays.len()) - 1;
+    let frustum = Frustum::new::<PARALLEL>(rays);
+    let lanes = RayLanes::new::<PARALLEL>(rays);
     let widened: [f32; PACKET] = std::array::from_fn(|i| rays.get(i).map_or(f32::NEG_INFINITY, |r| widen(r.tfar)));
     let tfar = unsafe { _mm256_loadu_ps(widened.as_ptr()) };
     let farthest = _mm256_set1_ps(widened.iter().copied().fold(f32::NEG_INFINITY, f32::max));
@@ -334,9 +389,9 @@ pub(crate) unsafe fn occluded_packet(bvh: &Bvh8, rays: &[PreparedRay]) -> u32 {
         } else if link & LEAF == 0 {
             // SAFETY: inner links written by the collapse are valid node indices.
             let node = unsafe { bvh.nodes.get_unchecked(link as usize) };
-            let (mask, _) = frustum.child_hits(node, farthest);
+            let (mask, _) = frustum.child_hits::<PARALLEL>(node, farthest);
             for lane in Lanes(mask) {
-                let (hit, _) = lanes.hit_child(node, lane, tfar);
+                let (hit, _) = lanes.hit_child::<PARALLEL>(node, lane, tfar);
                 if hit & live != 0 {
                     stack[sp].write((node.child[lane], hit & live));
                     sp += 1;
@@ -355,6 +410,63 @@ pub(crate) unsafe fn occluded_packet(bvh: &Bvh8, rays: &[PreparedRay]) -> u32 {
     all & !open
 }
 
+/// [`BoxTree::occluded_by`]: the packet walks the tree as in [`boxes_touched`], carrying the
+/// rays still open, and hands each leaf's boxes to `block` with the open rays that reached it.
+///
+/// # Safety
+/// The CPU must support AVX2 and FMA.
+#[target_feature(enable = "avx2,fma")]
+pub(crate) unsafe fn boxes_occluded(tree: &BoxTree, rays: &[PreparedRay], mut block: impl FnMut(u32, u32) -> u32) -> u32 {
+    match packet_kind(rays) {
+        None => (0..rays.len()).filter(|&i| unsafe { super::boxes_any(tree, &rays[i], |item| block(item, 1 << i) != 0) }).fold(0, |m, i| m | 1 << i),
+        Some(false) => unsafe { boxes_occluded_beam::<false>(tree, rays, block) },
+        Some(true) => unsafe { boxes_occluded_beam::<true>(tree, rays, block) },
+    }
+}
+
+/// [`boxes_occluded`] of a packet of a common origin, or of `PARALLEL` rays.
+#[target_feature(enable = "avx2,fma")]
+unsafe fn boxes_occluded_beam<const PARALLEL: bool>(tree: &BoxTree, rays: &[PreparedRay], mut block: impl FnMut(u32, u32) -> u32) -> u32 {
+    let all = (1u32 << rays.len()) - 1;
+    let frustum = Frustum::new::<PARALLEL>(rays);
+    let lanes = RayLanes::new::<PARALLEL>(rays);
+    let widened: [f32; PACKET] = std::array::from_fn(|i| rays.get(i).map_or(f32::NEG_INFINITY, |r| widen(r.tfar)));
+    let tfar = unsafe { _mm256_loadu_ps(widened.as_ptr()) };
+    let farthest = _mm256_set1_ps(widened.iter().copied().fold(f32::NEG_INFINITY, f32::max));
+    let mut open = all;
+    let mut stack = [MaybeUninit::<(u32, u32)>::uninit(); STACK_SIZE];
+    stack[0].write((tree.root, all));
+    let mut sp = 1usize;
+    while sp > 0 && open != 0 {
+        sp -= 1;
+        // SAFETY: every entry below `sp` was written before.
+        let (link, needing) = unsafe { stack[sp].assume_init() };
+        let live = needing & open;
+        if live == 0 {
+            continue;
+        }
+        if link & LEAF == 0 {
+            let node = &tree.nodes[link as usize];
+            let (mask, _) = frustum.child_hits::<PARALLEL>(node, farthest);
+            for lane in Lanes(mask) {
+                let (hit, _) = lanes.hit_child::<PARALLEL>(node, lane, tfar);
+                if hit & live != 0 {
+                    stack[sp].write((node.child[lane], hit & live));
+                    sp += 1;
+                }
+            }
+        } else if link != EMPTY {
+            for &item in tree.leaf_items(link) {
+                open &= !block(item, live & open);
+                if live & open == 0 {
+                    break;
+                }
+            }
+        }
+    }
+    all & !open
+}
+
 /// The boxes of `tree` that the segments of a packet of rays touch: `visit(item, rays)` with
 /// the rays (bit `i` for `rays[i]`) whose own segment may touch it, in no particular order.
 /// Each ray is told of every box it touches (what `super::boxes_any` finds for it when no visit
@@ -366,19 +478,28 @@ pub(crate) unsafe fn occluded_packet(bvh: &Bvh8, rays: &[PreparedRay]) -> u32 {
 /// The CPU must support AVX2 and FMA.
 #[target_feature(enable = "avx2,fma")]
 pub(crate) unsafe fn boxes_touched(tree: &BoxTree, rays: &[PreparedRay], mut visit: impl FnMut(u32, u32)) -> bool {
-    if !is_packet(rays) {
-        for (i, ray) in rays.iter().enumerate() {
-            unsafe {
-                super::boxes_any(tree, ray, |item| {
-                    visit(item, 1 << i);
-                    false
-                })
-            };
+    match packet_kind(rays) {
+        None => {
+            for (i, ray) in rays.iter().enumerate() {
+                unsafe {
+                    super::boxes_any(tree, ray, |item| {
+                        visit(item, 1 << i);
+                        false
+                    })
+                };
+            }
+            rays.len() <= 1
         }
-        return rays.len() <= 1;
+        Some(false) => unsafe { boxes_touched_beam::<false>(tree, rays, visit) },
+        Some(true) => unsafe { boxes_touched_beam::<true>(tree, rays, visit) },
     }
-    let frustum = Frustum::new(rays);
-    let lanes = RayLanes::new(rays);
+}
+
+/// [`boxes_touched`] of a packet of a common origin, or of `PARALLEL` rays.
+#[target_feature(enable = "avx2,fma")]
+unsafe fn boxes_touched_beam<const PARALLEL: bool>(tree: &BoxTree, rays: &[PreparedRay], mut visit: impl FnMut(u32, u32)) -> bool {
+    let frustum = Frustum::new::<PARALLEL>(rays);
+    let lanes = RayLanes::new::<PARALLEL>(rays);
     let widened: [f32; PACKET] = std::array::from_fn(|i| rays.get(i).map_or(f32::NEG_INFINITY, |r| widen(r.tfar)));
     let tfar = unsafe { _mm256_loadu_ps(widened.as_ptr()) };
     let farthest = _mm256_set1_ps(widened.iter().copied().fold(f32::NEG_INFINITY, f32::max));
@@ -391,9 +512,9 @@ pub(crate) unsafe fn boxes_touched(tree: &BoxTree, rays: &[PreparedRay], mut vis
         let (link, needing) = unsafe { stack[sp].assume_init() };
         if link & LEAF == 0 {
             let node = &tree.nodes[link as usize];
-            let (mask, _) = frustum.child_hits(node, farthest);
+            let (mask, _) = frustum.child_hits::<PARALLEL>(node, farthest);
             for lane in Lanes(mask) {
-                let (hit, _) = lanes.hit_child(node, lane, tfar);
+                let (hit, _) = lanes.hit_child::<PARALLEL>(node, lane, tfar);
                 if hit & needing != 0 {
                     stack[sp].write((node.child[lane], hit & needing));
                     sp += 1;
