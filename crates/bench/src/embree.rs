@@ -53,14 +53,7 @@ struct RtcRayHit {
 /// Eight rays and their hits, structure of arrays (`RTCRayHit8`).
 #[repr(C, align(32))]
 struct RtcRayHit8 {
-    org: [[f32; 8]; 3],
-    tnear: [f32; 8],
-    dir: [[f32; 8]; 3],
-    time: [f32; 8],
-    tfar: [f32; 8],
-    mask: [u32; 8],
-    id: [u32; 8],
-    flags: [u32; 8],
+    ray: RtcRay8,
     ng: [[f32; 8]; 3],
     u: [f32; 8],
     v: [f32; 8],
@@ -80,6 +73,27 @@ struct RtcRay8 {
     mask: [u32; 8],
     id: [u32; 8],
     flags: [u32; 8],
+}
+
+impl RtcRay8 {
+    /// Up to eight rays as a packet, lanes past the last repeating it, and the packet's valid
+    /// mask.
+    fn of(rays: &[Ray]) -> (Valid8, RtcRay8) {
+        assert!(!rays.is_empty() && rays.len() <= 8, "one to eight rays");
+        let valid = Valid8(std::array::from_fn(|i| if i < rays.len() { -1 } else { 0 }));
+        let lane = |i: usize| &rays[i.min(rays.len() - 1)];
+        let ray = RtcRay8 {
+            org: std::array::from_fn(|a| std::array::from_fn(|i| lane(i).origin[a])),
+            tnear: std::array::from_fn(|i| lane(i).tnear),
+            dir: std::array::from_fn(|a| std::array::from_fn(|i| lane(i).dir[a])),
+            time: [0.0; 8],
+            tfar: std::array::from_fn(|i| lane(i).tfar),
+            mask: [u32::MAX; 8],
+            id: [0; 8],
+            flags: [0; 8],
+        };
+        (valid, ray)
+    }
 }
 
 /// The packet's valid mask (−1 active, 0 inactive), aligned as Embree requires.
@@ -269,18 +283,10 @@ impl Scene {
 
 /// `rtcIntersect8` on a committed scene: closest-hit distances of up to eight rays.
 fn intersect8(scene: RtcScene, rays: &[Ray], out: &mut [Option<f32>]) {
-    assert!(rays.len() <= 8 && rays.len() == out.len(), "up to eight rays, one result each");
-    let valid = Valid8(std::array::from_fn(|i| if i < rays.len() { -1 } else { 0 }));
-    let lane = |i: usize| &rays[i.min(rays.len() - 1)];
+    assert!(rays.len() == out.len(), "one result per ray");
+    let (valid, ray) = RtcRay8::of(rays);
     let mut rh = RtcRayHit8 {
-        org: std::array::from_fn(|a| std::array::from_fn(|i| lane(i).origin[a])),
-        tnear: std::array::from_fn(|i| lane(i).tnear),
-        dir: std::array::from_fn(|a| std::array::from_fn(|i| lane(i).dir[a])),
-        time: [0.0; 8],
-        tfar: std::array::from_fn(|i| lane(i).tfar),
-        mask: [u32::MAX; 8],
-        id: [0; 8],
-        flags: [0; 8],
+        ray,
         ng: [[0.0; 8]; 3],
         u: [0.0; 8],
         v: [0.0; 8],
@@ -292,26 +298,14 @@ fn intersect8(scene: RtcScene, rays: &[Ray], out: &mut [Option<f32>]) {
     // SAFETY: committed scene; `valid` and the packet are 32-byte aligned as Embree requires.
     unsafe { rtcIntersect8(valid.0.as_ptr(), scene, &mut context, &mut rh) };
     for (i, o) in out.iter_mut().enumerate() {
-        *o = (rh.geom_id[i] != INVALID_GEOMETRY_ID).then_some(rh.tfar[i]);
+        *o = (rh.geom_id[i] != INVALID_GEOMETRY_ID).then_some(rh.ray.tfar[i]);
     }
 }
 
 /// `rtcOccluded8` on a committed scene: whether each of up to eight segments is blocked (bit
 /// `i` for `rays[i]`).
 fn occluded8(scene: RtcScene, rays: &[Ray]) -> u32 {
-    assert!(!rays.is_empty() && rays.len() <= 8, "one to eight rays");
-    let valid = Valid8(std::array::from_fn(|i| if i < rays.len() { -1 } else { 0 }));
-    let lane = |i: usize| &rays[i.min(rays.len() - 1)];
-    let mut r = RtcRay8 {
-        org: std::array::from_fn(|a| std::array::from_fn(|i| lane(i).origin[a])),
-        tnear: std::array::from_fn(|i| lane(i).tnear),
-        dir: std::array::from_fn(|a| std::array::from_fn(|i| lane(i).dir[a])),
-        time: [0.0; 8],
-        tfar: std::array::from_fn(|i| lane(i).tfar),
-        mask: [u32::MAX; 8],
-        id: [0; 8],
-        flags: [0; 8],
-    };
+    let (valid, mut r) = RtcRay8::of(rays);
     let mut context = RtcIntersectContext::new();
     // SAFETY: committed scene; `valid` and the packet are 32-byte aligned as Embree requires.
     unsafe { rtcOccluded8(valid.0.as_ptr(), scene, &mut context, &mut r) };

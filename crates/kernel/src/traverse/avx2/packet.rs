@@ -358,8 +358,37 @@ pub(crate) unsafe fn occluded_packet(bvh: &Bvh8, rays: &[PreparedRay]) -> u32 {
 }
 
 /// [`occluded_packet`] of a packet of a common origin, or of `PARALLEL` rays.
+///
+/// # Safety
+/// The CPU must support AVX2 and FMA.
 #[target_feature(enable = "avx2,fma")]
 unsafe fn occluded_beam<const PARALLEL: bool>(bvh: &Bvh8, rays: &[PreparedRay]) -> u32 {
+    let finish = |link: u32, live: u32| {
+        if live.count_ones() <= FEW {
+            Some(Lanes(live).filter(|&i| occluded_below(bvh, &rays[i], link)).fold(0, |m, i| m | 1 << i))
+        } else if link & LEAF == 0 {
+            None
+        } else if link == EMPTY {
+            Some(0)
+        } else {
+            // SAFETY: leaf links written by the collapse are valid block indices.
+            let block = unsafe { bvh.blocks.get_unchecked((link & !LEAF) as usize) };
+            Some(Lanes(live).filter(|&i| block_any(block, &rays[i], &LeafLanes::new(&rays[i]))).fold(0, |m, i| m | 1 << i))
+        }
+    };
+    unsafe { walk_any::<PARALLEL>(&bvh.nodes, bvh.root, rays, finish) }
+}
+
+/// The any-hit walk of a packet down `nodes` from `root` (an object's tree or the top level),
+/// carrying the rays still open: `finish(link, rays)` is offered every subtree the open rays
+/// among `rays` reach, and either finishes it, returning the rays it blocks, or leaves it to
+/// the walk (`None`, for an inner node). Ends once every ray is blocked; returns the blocked.
+///
+/// # Safety
+/// The CPU must support AVX2 and FMA; inner links must be valid indices into `nodes`.
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+unsafe fn walk_any<const PARALLEL: bool>(nodes: &[Node8], root: u32, rays: &[PreparedRay], mut finish: impl FnMut(u32, u32) -> Option<u32>) -> u32 {
     let all = (1u32 << rays.len()) - 1;
     let frustum = Frustum::new::<PARALLEL>(rays);
     let lanes = RayLanes::new::<PARALLEL>(rays);
@@ -370,7 +399,7 @@ unsafe fn occluded_beam<const PARALLEL: bool>(bvh: &Bvh8, rays: &[PreparedRay]) 
     let mut open = all;
     // Deferred children with the rays that hit their boxes.
     let mut stack = [MaybeUninit::<(u32, u32)>::uninit(); STACK_SIZE];
-    stack[0].write((bvh.root, all));
+    stack[0].write((root, all));
     let mut sp = 1usize;
     while sp > 0 && open != 0 {
         sp -= 1;
@@ -380,30 +409,18 @@ unsafe fn occluded_beam<const PARALLEL: bool>(bvh: &Bvh8, rays: &[PreparedRay]) 
         if live == 0 {
             continue;
         }
-        if live.count_ones() <= FEW {
-            for i in Lanes(live) {
-                if occluded_below(bvh, &rays[i], link) {
-                    open &= !(1 << i);
-                }
-            }
-        } else if link & LEAF == 0 {
-            // SAFETY: inner links written by the collapse are valid node indices.
-            let node = unsafe { bvh.nodes.get_unchecked(link as usize) };
-            let (mask, _) = frustum.child_hits::<PARALLEL>(node, farthest);
-            for lane in Lanes(mask) {
-                let (hit, _) = lanes.hit_child::<PARALLEL>(node, lane, tfar);
-                if hit & live != 0 {
-                    stack[sp].write((node.child[lane], hit & live));
-                    sp += 1;
-                }
-            }
-        } else if link != EMPTY {
-            // SAFETY: leaf links written by the collapse are valid block indices.
-            let block = unsafe { bvh.blocks.get_unchecked((link & !LEAF) as usize) };
-            for i in Lanes(live) {
-                if block_any(block, &rays[i], &LeafLanes::new(&rays[i])) {
-                    open &= !(1 << i);
-                }
+        if let Some(blocked) = finish(link, live) {
+            open &= !blocked;
+            continue;
+        }
+        // SAFETY: the caller vouches for inner links.
+        let node = unsafe { nodes.get_unchecked(link as usize) };
+        let (mask, _) = frustum.child_hits::<PARALLEL>(node, farthest);
+        for lane in Lanes(mask) {
+            let (hit, _) = lanes.hit_child::<PARALLEL>(node, lane, tfar);
+            if hit & live != 0 {
+                stack[sp].write((node.child[lane], hit & live));
+                sp += 1;
             }
         }
     }
@@ -425,46 +442,28 @@ pub(crate) unsafe fn boxes_occluded(tree: &BoxTree, rays: &[PreparedRay], mut bl
 }
 
 /// [`boxes_occluded`] of a packet of a common origin, or of `PARALLEL` rays.
+///
+/// # Safety
+/// The CPU must support AVX2 and FMA.
 #[target_feature(enable = "avx2,fma")]
 unsafe fn boxes_occluded_beam<const PARALLEL: bool>(tree: &BoxTree, rays: &[PreparedRay], mut block: impl FnMut(u32, u32) -> u32) -> u32 {
-    let all = (1u32 << rays.len()) - 1;
-    let frustum = Frustum::new::<PARALLEL>(rays);
-    let lanes = RayLanes::new::<PARALLEL>(rays);
-    let widened: [f32; PACKET] = std::array::from_fn(|i| rays.get(i).map_or(f32::NEG_INFINITY, |r| widen(r.tfar)));
-    let tfar = unsafe { _mm256_loadu_ps(widened.as_ptr()) };
-    let farthest = _mm256_set1_ps(widened.iter().copied().fold(f32::NEG_INFINITY, f32::max));
-    let mut open = all;
-    let mut stack = [MaybeUninit::<(u32, u32)>::uninit(); STACK_SIZE];
-    stack[0].write((tree.root, all));
-    let mut sp = 1usize;
-    while sp > 0 && open != 0 {
-        sp -= 1;
-        // SAFETY: every entry below `sp` was written before.
-        let (link, needing) = unsafe { stack[sp].assume_init() };
-        let live = needing & open;
-        if live == 0 {
-            continue;
-        }
+    let finish = |link: u32, live: u32| {
         if link & LEAF == 0 {
-            let node = &tree.nodes[link as usize];
-            let (mask, _) = frustum.child_hits::<PARALLEL>(node, farthest);
-            for lane in Lanes(mask) {
-                let (hit, _) = lanes.hit_child::<PARALLEL>(node, lane, tfar);
-                if hit & live != 0 {
-                    stack[sp].write((node.child[lane], hit & live));
-                    sp += 1;
-                }
-            }
-        } else if link != EMPTY {
+            return None;
+        }
+        let mut blocked = 0;
+        if link != EMPTY {
             for &item in tree.leaf_items(link) {
-                open &= !block(item, live & open);
-                if live & open == 0 {
+                blocked |= block(item, live & !blocked);
+                if live & !blocked == 0 {
                     break;
                 }
             }
         }
-    }
-    all & !open
+        Some(blocked)
+    };
+    // SAFETY: inner links of a box tree are valid node indices.
+    unsafe { walk_any::<PARALLEL>(&tree.nodes, tree.root, rays, finish) }
 }
 
 /// The boxes of `tree` that the segments of a packet of rays touch: `visit(item, rays)` with
