@@ -6,11 +6,11 @@
 //! renderer balances its bands, not split in halves as the probe splits its rows, which leaves
 //! one thread idle once it is through the sky) against whole frames through the renderer:
 //! the eye-light preview, and Whitted with one point light and shadows. *Specialisation*: a
-//! Whitted frame of the same purely diffuse grid under its own two directional lights (whose
-//! shadows every hit traces through the recursion, where reflection and refraction code would
-//! sit; the point-lit frame shades its matte first hits in packets, with no recursion at all)
-//! through the kernel compiled for its effect set and through the general one with reflection
-//! and refraction compiled in, which must give the identical image. All systems take turns
+//! Whitted frame of the same purely diffuse grid under an area light (sampled at its centre,
+//! with a shadow ray from every hit, all through the recursion, where reflection and refraction
+//! code would sit; under delta lights the matte first hits are shaded in packets with no
+//! recursion at all) through the kernel compiled for its effect set and through the general one
+//! with reflection and refraction compiled in, which must give the identical image. All systems take turns
 //! within each repetition, on the same thread count; times are medians over repetitions, ratios
 //! the medians of each repetition's ratio.
 //! *Convergence*: the path tracer on the closed Cornell room, accumulated progressively to 1, 2,
@@ -34,14 +34,24 @@ use crate::rays::{self, HEIGHT, WIDTH};
 /// above and in front of the grid, bright enough that the middle rows are lit like under the sun.
 pub const POINT_LIGHT: Light = Light::Point { position: Vec3::new(0.0, 20.0, 5.0), intensity: Vec3::splat(1800.0) };
 
+/// The light of the specialisation measurement: a 4 × 4 square where [`POINT_LIGHT`] is, facing
+/// down, about as bright.
+pub const AREA_LIGHT: Light =
+    Light::Area { corner: Vec3::new(-2.0, 20.0, 3.0), edge_u: Vec3::new(4.0, 0.0, 0.0), edge_v: Vec3::new(0.0, 0.0, 4.0), radiance: Vec3::splat(112.0) };
+
 /// The probe's sphere grid as a retained scene lit by [`POINT_LIGHT`] alone.
 pub fn point_lit_spheres() -> Scene {
+    spheres_lit_by(POINT_LIGHT)
+}
+
+/// The probe's sphere grid lit by `light` alone (instead of its two directional lights).
+fn spheres_lit_by(light: Light) -> Scene {
     let mut scene = StandardScene::Spheres.scene().expect("the standard scene is valid");
     let suns: Vec<LightId> = scene.lights().map(|(id, _)| id).collect();
     for id in suns {
         scene.remove_light(id).expect("the light was just listed");
     }
-    scene.add_light(POINT_LIGHT).expect("the point light is valid");
+    scene.add_light(light).expect("the light is valid");
     scene
 }
 
@@ -54,16 +64,16 @@ pub enum System {
     EyeLight,
     /// A whole Whitted frame (one point light, shadows).
     Whitted,
-    /// A whole Whitted frame of the sun-lit grid through the kernel specialised for the frame's
-    /// effect set: no reflection or refraction code.
-    SunSpecialised,
+    /// A whole Whitted frame of the area-lit grid through the kernel specialised for the
+    /// frame's effect set: no reflection or refraction code.
+    AreaSpecialised,
     /// The same frame through the general kernel, reflection and refraction compiled in.
-    SunGeneral,
+    AreaGeneral,
 }
 
 impl System {
     /// Every system, in the order of the first repetition.
-    pub const ALL: [System; 5] = [System::Kernel, System::EyeLight, System::Whitted, System::SunSpecialised, System::SunGeneral];
+    pub const ALL: [System; 5] = [System::Kernel, System::EyeLight, System::Whitted, System::AreaSpecialised, System::AreaGeneral];
 
     /// Its name in tables and JSON.
     pub fn name(self) -> &'static str {
@@ -71,8 +81,8 @@ impl System {
             System::Kernel => "kernel",
             System::EyeLight => "eyelight",
             System::Whitted => "whitted",
-            System::SunSpecialised => "whitted-sun",
-            System::SunGeneral => "whitted-sun-general",
+            System::AreaSpecialised => "whitted-area",
+            System::AreaGeneral => "whitted-area-general",
         }
     }
 
@@ -82,14 +92,14 @@ impl System {
         match self {
             System::Kernel => None,
             System::EyeLight => Some(frame(Integrator::EyeLight, true)),
-            System::Whitted | System::SunSpecialised => Some(frame(Integrator::Whitted, true)),
-            System::SunGeneral => Some(frame(Integrator::Whitted, false)),
+            System::Whitted | System::AreaSpecialised => Some(frame(Integrator::Whitted, true)),
+            System::AreaGeneral => Some(frame(Integrator::Whitted, false)),
         }
     }
 
-    /// Whether its frame is of the sun-lit grid (else of the point-lit one).
-    fn sun_lit(self) -> bool {
-        matches!(self, System::SunSpecialised | System::SunGeneral)
+    /// Whether its frame is of the area-lit grid (else of the point-lit one).
+    fn area_lit(self) -> bool {
+        matches!(self, System::AreaSpecialised | System::AreaGeneral)
     }
 }
 
@@ -189,9 +199,9 @@ impl ShadingRun {
             measurement: "specialisation",
             scene: StandardScene::Spheres.name(),
             threads: self.threads,
-            specialised_ms: self.median_seconds(System::SunSpecialised) * 1e3,
-            general_ms: self.median_seconds(System::SunGeneral) * 1e3,
-            general_over_specialised: self.ratio(System::SunGeneral, System::SunSpecialised),
+            specialised_ms: self.median_seconds(System::AreaSpecialised) * 1e3,
+            general_ms: self.median_seconds(System::AreaGeneral) * 1e3,
+            general_over_specialised: self.ratio(System::AreaGeneral, System::AreaSpecialised),
             difference: self.specialisation_difference,
         };
         (shading, specialisation)
@@ -270,15 +280,15 @@ fn assert_no_tree_work(stats: &FrameStats) {
 pub fn run_shading(threads: usize, reps: usize, mut progress: impl FnMut(&str)) -> ShadingRun {
     let reps = reps.max(1);
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
-    progress("shading: building the point-lit and the sun-lit sphere scenes and the kernel's BVH");
-    let (point_lit, sun_lit) = (point_lit_spheres(), StandardScene::Spheres.scene().expect("the standard scene is valid"));
+    progress("shading: building the point-lit and the area-lit sphere scenes and the kernel's BVH");
+    let (point_lit, area_lit) = (point_lit_spheres(), spheres_lit_by(AREA_LIGHT));
     let mesh = StandardScene::Spheres.mesh();
     let (bvh, kernel_build) = build_raystage(&mesh, threads);
     progress(&format!("shading: kernel BVH built in {kernel_build:.3} s"));
     let packets = rays::in_packets(&rays::primary(StandardScene::Spheres, WIDTH, HEIGHT), WIDTH, HEIGHT);
     let warm_up = System::EyeLight.settings().expect("a rendered system");
     let (_, stats) = pool.install(|| raystage_render::render(&point_lit.frame(), &warm_up)).expect("valid settings");
-    pool.install(|| raystage_render::render(&sun_lit.frame(), &warm_up)).expect("valid settings");
+    pool.install(|| raystage_render::render(&area_lit.frame(), &warm_up)).expect("valid settings");
     progress(&format!("shading: warm-up frames built each scene's {} object tree(s) in {:.3} s", stats.work.built, stats.work.build_seconds));
     let mut samples: Vec<(System, Vec<Measured>)> = System::ALL.iter().map(|&s| (s, Vec::new())).collect();
     let mut last_films: Vec<Option<Film>> = vec![None; System::ALL.len()];
@@ -289,7 +299,7 @@ pub fn run_shading(threads: usize, reps: usize, mut progress: impl FnMut(&str)) 
             let measured = match system.settings() {
                 None => measure_kernel(&bvh, &packets, threads),
                 Some(settings) => {
-                    let scene = if system.sun_lit() { &sun_lit } else { &point_lit };
+                    let scene = if system.area_lit() { &area_lit } else { &point_lit };
                     let (measured, film) = pool.install(|| render_timed(scene, &settings));
                     last_films[index] = Some(film);
                     measured
@@ -308,7 +318,7 @@ pub fn run_shading(threads: usize, reps: usize, mut progress: impl FnMut(&str)) 
         triangles: mesh.indices.len(),
         object_build_seconds: stats.work.build_seconds,
         samples,
-        specialisation_difference: compare(film(System::SunSpecialised), film(System::SunGeneral)),
+        specialisation_difference: compare(film(System::AreaSpecialised), film(System::AreaGeneral)),
     }
 }
 

@@ -139,7 +139,7 @@ pub fn shading_table(run: &ShadingRun) -> String {
     let reps = run.samples.first().map_or(0, |(_, m)| m.len());
     let _ = writeln!(
         out,
-        "shading: sphere grid, {} triangles, {}x{}, one point light (the whitted-sun frames: its two directional lights); {} thread(s), median of {reps}; object trees built once beforehand ({:.3} s)",
+        "shading: sphere grid, {} triangles, {}x{}, one point light (the whitted-area frames: an area light); {} thread(s), median of {reps}; object trees built once beforehand ({:.3} s)",
         run.triangles,
         crate::rays::WIDTH,
         crate::rays::HEIGHT,
@@ -162,8 +162,8 @@ pub fn shading_table(run: &ShadingRun) -> String {
     }
     let _ = writeln!(out, "  eyelight / kernel:     {:.2}x (target <= 1.2)", run.ratio(System::EyeLight, System::Kernel));
     let _ = writeln!(out, "  point light / kernel:  {:.2}x (target <= 2.2)", run.ratio(System::Whitted, System::Kernel));
-    let general = run.ratio(System::SunGeneral, System::SunSpecialised);
-    let _ = writeln!(out, "specialisation: whitted, purely diffuse scene under two directional lights (every hit through the recursion)");
+    let general = run.ratio(System::AreaGeneral, System::AreaSpecialised);
+    let _ = writeln!(out, "specialisation: whitted, purely diffuse scene under an area light (every hit through the recursion)");
     let _ = writeln!(out, "  general / specialised: {general:.3}x (target <= 1.05: reflection and refraction code costs a diffuse scene at most 5 %)");
     let d = run.specialisation_difference;
     if d.differing == 0 {

@@ -55,6 +55,15 @@ pub(crate) struct SceneLights<'f> {
     samples: f32,
 }
 
+/// A light every point sees from one direction only (a delta light).
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Delta {
+    /// A point or a spot.
+    Positional(Positional),
+    /// A distant light: the unit direction towards it, and its irradiance facing it.
+    Directional { towards: Vec3, intensity: Vec3 },
+}
+
 /// A point or spot light: where it is, its intensity and, for a spot, its cone.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Positional {
@@ -163,13 +172,14 @@ impl<'f> SceneLights<'f> {
         matches!(self.lights[index], Prepared::Area { .. } | Prepared::Environment { .. })
     }
 
-    /// Light `index` if it is a point or a spot: every shadow ray towards it ends at its
-    /// position, so rays of neighbouring points can be traced from it as a packet, and
-    /// neighbouring points can be lit by it together.
-    pub fn positional(&self, index: usize) -> Option<Positional> {
+    /// Light `index` if it is a point, spot or directional light: every shadow ray towards it
+    /// ends at its position or leaves in its direction, so rays of neighbouring points can be
+    /// traced as a packet, and neighbouring points can be lit by it together.
+    pub fn delta(&self, index: usize) -> Option<Delta> {
         match self.lights[index] {
-            Prepared::Point { position, intensity } => Some(Positional { position, intensity, cone: None }),
-            Prepared::Spot { position, intensity, cone } => Some(Positional { position, intensity, cone: Some(cone) }),
+            Prepared::Point { position, intensity } => Some(Delta::Positional(Positional { position, intensity, cone: None })),
+            Prepared::Spot { position, intensity, cone } => Some(Delta::Positional(Positional { position, intensity, cone: Some(cone) })),
+            Prepared::Directional { towards, intensity } => Some(Delta::Directional { towards, intensity }),
             _ => None,
         }
     }

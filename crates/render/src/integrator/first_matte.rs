@@ -1,7 +1,7 @@
-//! Camera rays' first hits on matte surfaces under point and spot lights, shaded a packet at a
-//! time.
+//! Camera rays' first hits on matte surfaces under point, spot and directional lights, shaded
+//! a packet at a time.
 //!
-//! In a Whitted or distribution frame lit only by point and spot lights, a matte (Lambert)
+//! In a Whitted or distribution frame lit only by such delta lights, a matte (Lambert)
 //! first hit's colour is its ambient term plus, for each light it sees, the light's irradiance
 //! times the BSDF's cosine-weighted value, and the packets of [`first_shadows`] already know
 //! which lights it sees. That is what [`Tracer::direct`] computes for one hit at a time; here a
@@ -19,14 +19,14 @@ use raystage_scene::ShadingModel;
 use super::first_shadows::{self, KnownShadows, MAX_LIGHTS};
 use super::{Hit, Tracer};
 use crate::bsdf::Bsdf;
-use crate::lights::Positional;
+use crate::lights::Delta;
 
 /// Whether this frame's matte first hits are shaded here: their shadows go in packets, and
-/// every light is a point or a spot among the first [`MAX_LIGHTS`] (so every shadow is known,
-/// and no light is extended, directional or met by rays).
+/// every light is a point, spot or directional light among the first [`MAX_LIGHTS`] (so every
+/// shadow is known, and no light is extended or met by rays).
 pub(crate) fn applies(t: &Tracer<'_, '_>) -> bool {
     let n = t.lights.len();
-    first_shadows::applies(t) && n <= MAX_LIGHTS && (0..n).all(|i| t.lights.positional(i).is_some())
+    first_shadows::applies(t) && n <= MAX_LIGHTS && (0..n).all(|i| t.lights.delta(i).is_some())
 }
 
 /// The colours of the matte hits among up to [`PACKET_SIZE`] first hits `hits` of camera rays
@@ -55,7 +55,7 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, rays: &[Ray], hits: &[Option<Hit<'_>>], 
         lanes.sum.set(k, t.lights.ambient() * hit.material.albedo);
     }
     for index in 0..t.lights.len() {
-        let light = t.lights.positional(index).expect("`applies` checked every light is positional");
+        let light = t.lights.delta(index).expect("`applies` checked every light is a delta light");
         let mut visible = [0.0; PACKET_SIZE];
         let mut tested = [false; PACKET_SIZE];
         for (k, known) in known.iter().enumerate() {
@@ -107,32 +107,58 @@ struct Lanes {
 impl Lanes {
     /// Adds what `light` reflects at every hit, given whether it is `visible` there (1 or 0),
     /// where that was `tested`: `Tracer::direct`'s arithmetic for one light sample, hit by hit.
-    fn add(&mut self, light: &Positional, visible: &PerHit, tested: &[bool; PACKET_SIZE]) {
+    fn add(&mut self, light: &Delta, visible: &PerHit, tested: &[bool; PACKET_SIZE]) {
+        // Per hit: the unit direction to the light, the light arriving (irradiance facing it),
+        // and whether the sample exists at all (a point light not at the hit itself).
+        let mut wi = PerHit3::default();
+        let mut weighted = PerHit3::default();
+        let mut exists = [true; PACKET_SIZE];
+        match *light {
+            Delta::Positional(light) => {
+                let [px, py, pz] = &self.position.0;
+                let mut distance = [0.0; PACKET_SIZE];
+                for k in 0..PACKET_SIZE {
+                    let (dx, dy, dz) = (light.position.x - px[k], light.position.y - py[k], light.position.z - pz[k]);
+                    distance[k] = ((dx * dx) + (dy * dy) + (dz * dz)).sqrt();
+                    (wi.0[0][k], wi.0[1][k], wi.0[2][k]) = (dx / distance[k], dy / distance[k], dz / distance[k]);
+                }
+                // A point light's fade is 1, which leaves its intensity as it is.
+                let fade: PerHit = match light.cone {
+                    None => [1.0; PACKET_SIZE],
+                    Some(cone) => std::array::from_fn(|k| cone.fade(wi.get(k))),
+                };
+                for k in 0..PACKET_SIZE {
+                    let d2 = distance[k] * distance[k];
+                    for c in 0..3 {
+                        weighted.0[c][k] = light.intensity[c] * fade[k] / d2;
+                    }
+                    exists[k] = distance[k] > 0.0 && distance[k].is_finite();
+                }
+            }
+            Delta::Directional { towards, intensity } => {
+                for k in 0..PACKET_SIZE {
+                    wi.set(k, towards);
+                    weighted.set(k, intensity);
+                }
+            }
+        }
+        self.reflect(&wi, &weighted, &exists, visible, tested);
+    }
+
+    /// Adds at every hit the light `weighted` arriving from unit direction `wi`, if the sample
+    /// `exists` and reaches the surface's front, as the Lambert BSDF reflects it towards the
+    /// camera.
+    fn reflect(&mut self, wi: &PerHit3, weighted: &PerHit3, exists: &[bool; PACKET_SIZE], visible: &PerHit, tested: &[bool; PACKET_SIZE]) {
         let max = |a: f32, b: f32| if a > b { a } else { b };
-        let [px, py, pz] = &self.position.0;
         let [gx, gy, gz] = &self.geometric_normal.0;
         let [nx, ny, nz] = &self.shading_normal.0;
-        let mut distance = [0.0; PACKET_SIZE];
-        let mut wi = PerHit3::default();
-        for k in 0..PACKET_SIZE {
-            let (dx, dy, dz) = (light.position.x - px[k], light.position.y - py[k], light.position.z - pz[k]);
-            distance[k] = ((dx * dx) + (dy * dy) + (dz * dz)).sqrt();
-            (wi.0[0][k], wi.0[1][k], wi.0[2][k]) = (dx / distance[k], dy / distance[k], dz / distance[k]);
-        }
-        // A point light's fade is 1, which leaves its intensity as it is.
-        let fade: PerHit = match light.cone {
-            None => [1.0; PACKET_SIZE],
-            Some(cone) => std::array::from_fn(|k| cone.fade(wi.get(k))),
-        };
         let [wx, wy, wz] = &wi.0;
         for k in 0..PACKET_SIZE {
-            let d2 = distance[k] * distance[k];
-            let weighted = [light.intensity.x * fade[k] / d2, light.intensity.y * fade[k] / d2, light.intensity.z * fade[k] / d2];
+            let w = weighted.get(k);
             let wi_cos = (wx[k] * nx[k]) + (wy[k] * ny[k]) + (wz[k] * nz[k]);
             // (`&`, not `&&`: every test is cheap, and a packet's worth of them runs side by side.)
-            let lit = (distance[k] > 0.0)
-                & distance[k].is_finite()
-                & (max(max(weighted[0], weighted[1]), weighted[2]) > 0.0)
+            let lit = exists[k]
+                & (max(max(w.x, w.y), w.z) > 0.0)
                 & ((gx[k] * wx[k]) + (gy[k] * wy[k]) + (gz[k] * wz[k]) > 0.0)
                 & (self.wo_cos[k] > 0.0)
                 & (wi_cos > 0.0);
@@ -140,7 +166,7 @@ impl Lanes {
             // recursion traces this shadow ray itself.
             self.matte[k] &= tested[k] | !lit;
             let f = wi_cos * FRAC_1_PI;
-            for (c, weighted) in weighted.into_iter().enumerate() {
+            for (c, weighted) in w.to_array().into_iter().enumerate() {
                 let reflected = self.albedo.0[c][k] * f * weighted * visible[k];
                 self.sum.0[c][k] += if lit { reflected } else { 0.0 };
             }
@@ -169,8 +195,8 @@ mod tests {
     }
 
     /// Matte spheres and a matte floor on a rotated, scaled instance, a Phong and a mirror
-    /// sphere among them, lit by a point light, a spot light whose cone edge crosses the floor
-    /// and an ambient light.
+    /// sphere among them, lit by a point light, a spot light whose cone edge crosses the floor,
+    /// a directional light and an ambient light.
     fn scene() -> Scene {
         let mut scene = Scene::new();
         let mut shader = |class: &str, colour: Vec3| {
@@ -189,6 +215,7 @@ mod tests {
         scene.add_light(Light::Point { position: Vec3::new(2.0, 4.0, 3.0), intensity: Vec3::splat(30.0) }).unwrap();
         let spot = Light::Spot { position: Vec3::new(-2.0, 3.0, 1.0), direction: Vec3::new(0.5, -1.0, -0.2), intensity: Vec3::new(20.0, 15.0, 10.0), cone_degrees: 30.0, falloff_degrees: 20.0 };
         scene.add_light(spot).unwrap();
+        scene.add_light(Light::Directional { direction: Vec3::new(-0.4, -1.0, -0.3), intensity: Vec3::new(0.6, 0.55, 0.5) }).unwrap();
         scene.add_light(Light::Ambient { intensity: Vec3::splat(0.05) }).unwrap();
         scene.set_camera(Camera::look_at(Vec3::new(0.0, 1.5, 6.0), Vec3::new(0.0, -0.3, 0.0), Vec3::Y, 50.0).unwrap()).unwrap();
         scene
@@ -202,10 +229,10 @@ mod tests {
         let frame = scene.frame();
         let settings = RenderSettings { integrator: Integrator::Whitted, ..RenderSettings::default() };
         let t = Tracer { frame: &frame, lights: SceneLights::of(&frame, 1), materials: Materials::of(&frame), effects: EffectSet::of(&frame, Integrator::Whitted, 1), settings: &settings };
-        assert!(applies(&t), "point, spot and ambient lights only");
+        assert!(applies(&t), "point, spot, directional and ambient lights only");
         let (width, height) = (96, 64);
         let camera = frame.camera().rays(width, height);
-        let (mut matte, mut left) = (0, 0);
+        let (mut matte, mut left, mut suns) = (0, 0, 0);
         for y in (0..height).step_by(2) {
             for x in (0..width).step_by(4) {
                 let pixels: Vec<(u32, u32)> = (0..8).map(|i| (x + i % 4, y + i / 4)).collect();
@@ -218,6 +245,15 @@ mod tests {
                 let mut counts = RayCounts::default();
                 let mut known = [KnownShadows::NONE; PACKET_SIZE];
                 first_shadows::trace(&t, &resolved, 0.0, &mut counts, &mut known);
+                // The shadows towards the directional light are the recursion's own rays.
+                let sun = 2;
+                for (hit, known) in resolved.iter().zip(&known) {
+                    let (Some(hit), Some(visible)) = (hit, known.get(sun)) else { continue };
+                    let ls = t.lights.sample(sun, hit.surface.position, hit.surface.shading_normal, [0.5, 0.5], true).expect("a sun sample");
+                    let through = t.transmittance(&hit.surface, ls.wi, ls.distance, 0.0, &mut counts);
+                    assert_eq!(through, Vec3::splat(visible as u32 as f32), "shadow towards the sun");
+                    suns += 1;
+                }
                 let mut shaded = [None; PACKET_SIZE];
                 shade(&t, &rays, &resolved, &known, &mut shaded);
                 for k in 0..PACKET_SIZE {
@@ -238,6 +274,6 @@ mod tests {
                 }
             }
         }
-        assert!(matte > 2000 && left > 200, "{matte} matte hits shaded in packets, {left} left to the recursion");
+        assert!(matte > 2000 && left > 200 && suns > 2000, "{matte} matte hits shaded in packets, {left} left to the recursion, {suns} sun shadows");
     }
 }

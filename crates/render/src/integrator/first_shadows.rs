@@ -1,11 +1,13 @@
-//! Shadow rays from camera rays' first hits towards point and spot lights, traced in packets.
+//! Shadow rays from camera rays' first hits towards point, spot and directional lights, traced
+//! in packets.
 //!
 //! Whitted's and Cook's recursions send a shadow ray from every lit hit to every light. Towards
 //! a point or spot light, the rays of neighbouring pixels all end at one point, the light:
 //! traced backwards from it, they share their origin and go through the scene as one packet
-//! ([`raystage_scene::Frame::occluded_many`]), sharing its node tests, as camera rays do. The
-//! recursion then looks up the answer at its first hit instead of tracing the ray there (deeper
-//! hits, fewer and incoherent, trace their own).
+//! ([`raystage_scene::Frame::occluded_many`]), sharing its node tests, as camera rays do.
+//! Towards a directional light they are parallel, which makes a packet as well; they are the
+//! very rays the recursion would trace. The recursion then looks up the answer at its first hit
+//! instead of tracing the ray there (deeper hits, fewer and incoherent, trace their own).
 //!
 //! A backward ray covers the forward ray's segment: it starts a ten-thousandth of the distance
 //! from the light, where the forward ray stops (see `shorten`), and stops the same fraction
@@ -18,6 +20,7 @@ use raystage_scene::ShadingModel;
 
 use super::{Hit, Tracer, offset};
 use crate::Integrator;
+use crate::lights::Delta;
 use crate::stats::RayCounts;
 
 /// The fraction of a shadow segment left off at each end.
@@ -44,16 +47,16 @@ impl KnownShadows {
     }
 }
 
-/// Whether this frame's first hits get their point- and spot-light shadows in packets: opaque
-/// shadows (transparent ones are traced through glass ray by ray), one shutter time for all
-/// rays, a recursive integrator, and a positional light among the first [`MAX_LIGHTS`].
+/// Whether this frame's first hits get their shadows in packets: opaque shadows (transparent
+/// ones are traced through glass ray by ray), one shutter time for all rays, a recursive
+/// integrator, and a point, spot or directional light among the first [`MAX_LIGHTS`].
 pub(crate) fn applies(t: &Tracer<'_, '_>) -> bool {
     let e = t.effects;
     e.shadows
         && !e.transparent_shadows
         && !e.motion_blur
         && matches!(t.settings.integrator, Integrator::Whitted | Integrator::Distribution)
-        && (0..t.lights.len().min(MAX_LIGHTS)).any(|i| t.lights.positional(i).is_some())
+        && (0..t.lights.len().min(MAX_LIGHTS)).any(|i| t.lights.delta(i).is_some())
 }
 
 /// The shadows of up to [`PACKET_SIZE`] first hits (at shutter time `time`) towards every point
@@ -63,8 +66,8 @@ pub(crate) fn trace(t: &Tracer<'_, '_>, hits: &[Option<Hit<'_>>], time: f32, ray
     assert!(hits.len() <= PACKET_SIZE && hits.len() == out.len(), "one answer per hit, at most a packet");
     out.fill(KnownShadows::NONE);
     for light in 0..t.lights.len().min(MAX_LIGHTS) {
-        let Some(position) = t.lights.positional(light).map(|l| l.position) else { continue };
-        let mut segments = [Ray::new(position, Vec3::X); PACKET_SIZE];
+        let Some(delta) = t.lights.delta(light) else { continue };
+        let mut segments = [Ray::new(Vec3::ZERO, Vec3::X); PACKET_SIZE];
         let mut owners = [0usize; PACKET_SIZE];
         let mut n = 0;
         for (k, hit) in hits.iter().enumerate() {
@@ -73,16 +76,27 @@ pub(crate) fn trace(t: &Tracer<'_, '_>, hits: &[Option<Hit<'_>>], time: f32, ray
                 continue;
             }
             let sp = &hit.surface;
-            // The direction need not be a unit vector: only its side of the surface matters,
-            // to `direct` and to the spawned origin. A ray traced for a light that `direct`
-            // then finds dark (a spot light's cone facing away) is wasted, never wrong: `direct`
-            // traces whatever it needs and finds no answer for.
-            let towards = position - sp.position;
-            if sp.geometric_normal.dot(towards) <= 0.0 {
-                continue;
-            }
-            let origin = offset(sp, towards);
-            segments[n] = Ray::segment(position, origin - position, END_GAP, 1.0 - END_GAP);
+            segments[n] = match delta {
+                Delta::Positional(light) => {
+                    // The direction need not be a unit vector: only its side of the surface
+                    // matters, to `direct` and to the spawned origin. A ray traced for a light
+                    // that `direct` then finds dark (a spot light's cone facing away) is wasted,
+                    // never wrong: `direct` traces whatever it needs and finds no answer for.
+                    let towards = light.position - sp.position;
+                    if sp.geometric_normal.dot(towards) <= 0.0 {
+                        continue;
+                    }
+                    let origin = offset(sp, towards);
+                    Ray::segment(light.position, origin - light.position, END_GAP, 1.0 - END_GAP)
+                }
+                // The ray `Tracer::transmittance` traces, for the hits `direct` traces it from.
+                Delta::Directional { towards, .. } => {
+                    if sp.geometric_normal.dot(towards) <= 0.0 {
+                        continue;
+                    }
+                    Ray::segment(offset(sp, towards), towards, 0.0, f32::INFINITY)
+                }
+            };
             owners[n] = k;
             n += 1;
         }
