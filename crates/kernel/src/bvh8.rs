@@ -29,33 +29,31 @@ pub(crate) struct TriBlock {
 }
 
 impl TriBlock {
-    fn new(tris: &(impl TriangleSource + ?Sized), prims: &[u32]) -> TriBlock {
+    /// A block to fill.
+    const EMPTY: TriBlock = TriBlock { v: [[0.0; WIDTH]; 9], prim: [0; WIDTH] };
+
+    /// Gathers triangles `prims` (lanes past the last repeating it) into the block, in place
+    /// (a block built elsewhere and copied in is read back before its stores have settled), and
+    /// returns the box around them.
+    fn fill(&mut self, tris: &(impl TriangleSource + ?Sized), prims: &[u32]) -> Aabb {
         debug_assert!(!prims.is_empty() && prims.len() <= WIDTH);
-        let mut block = TriBlock { v: [[0.0; WIDTH]; 9], prim: [0; WIDTH] };
-        for lane in 0..WIDTH {
-            let prim = prims[lane.min(prims.len() - 1)];
+        let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+        let last = prims.len() - 1;
+        let mut lanes = [0u32; WIDTH];
+        for (lane, prim) in lanes.iter_mut().enumerate() {
+            *prim = prims[lane.min(last)];
+        }
+        for (lane, &prim) in lanes.iter().enumerate() {
             let tri = tris.triangle(prim);
             for (vertex, p) in tri.iter().enumerate() {
                 for (axis, c) in p.to_array().into_iter().enumerate() {
-                    block.v[3 * vertex + axis][lane] = c;
+                    self.v[3 * vertex + axis][lane] = c;
+                    lo[axis] = lo[axis].min(c);
+                    hi[axis] = hi[axis].max(c);
                 }
             }
-            block.prim[lane] = prim;
         }
-        block
-    }
-
-    /// The box around the block's triangles.
-    fn bounds(&self) -> Aabb {
-        let mut lo = [f32::INFINITY; 3];
-        let mut hi = [f32::NEG_INFINITY; 3];
-        for (row, values) in self.v.iter().enumerate() {
-            let axis = row % 3;
-            for &x in values {
-                lo[axis] = lo[axis].min(x);
-                hi[axis] = hi[axis].max(x);
-            }
-        }
+        self.prim = lanes;
         Aabb { min: glam::Vec3::from_array(lo), max: glam::Vec3::from_array(hi) }
     }
 
@@ -141,7 +139,8 @@ impl Bvh8 {
         });
         // Gathering the triangles into blocks reads the vertices in tree order, at random in
         // memory: done in parallel, it is no longer the slowest part of a fast build.
-        ranges.par_iter().map(|&(first, count)| TriBlock::new(tris, &bvh2.prims[first as usize..(first + count) as usize])).collect_into_vec(&mut blocks);
+        blocks.resize(ranges.len(), TriBlock::EMPTY);
+        blocks.par_iter_mut().zip(&ranges).for_each(|(block, &(first, count))| _ = block.fill(tris, &bvh2.prims[first as usize..(first + count) as usize]));
         let bounds = bvh2.bounds();
         Bvh8 {
             built_cost: box_cost(&wide.nodes, &bounds),
@@ -275,26 +274,35 @@ impl Bvh8 {
     /// whole-tree cost also catches children that swell together with their parent, as scattered
     /// triangles make them.
     pub fn refit(&mut self, tris: &(impl TriangleSource + ?Sized)) -> f32 {
-        self.blocks.par_iter_mut().with_min_len(1024).for_each(|b| *b = TriBlock::new(tris, &b.prim));
+        // Each block's box comes with its triangles, so the walk up the tree reads no vertices.
+        let mut leaf_bounds = Vec::with_capacity(self.blocks.len());
+        self.blocks
+            .par_iter_mut()
+            .with_min_len(1024)
+            .map(|b| {
+                let prims = b.prim;
+                b.fill(tris, &prims)
+            })
+            .collect_into_vec(&mut leaf_bounds);
         if self.root == EMPTY {
             return 0.0;
         }
-        self.bounds = self.refit_below(self.root);
+        self.bounds = self.refit_below(self.root, &leaf_bounds);
         let cost = box_cost(&self.nodes, &self.bounds);
         if self.built_cost > 0.0 { cost / self.built_cost - 1.0 } else { 0.0 }
     }
 
-    /// Refits the subtree under `link`; returns its box.
-    fn refit_below(&mut self, link: u32) -> Aabb {
+    /// Refits the subtree under `link`, whose blocks' boxes are `leaf_bounds`; returns its box.
+    fn refit_below(&mut self, link: u32, leaf_bounds: &[Aabb]) -> Aabb {
         if link & LEAF != 0 {
-            return self.blocks[(link & !LEAF) as usize].bounds();
+            return leaf_bounds[(link & !LEAF) as usize];
         }
         let node = link as usize;
         let mut bounds = Aabb::EMPTY;
         for lane in 0..WIDTH {
             let child = self.nodes[node].child[lane];
             if child != EMPTY {
-                let b = self.refit_below(child);
+                let b = self.refit_below(child, leaf_bounds);
                 self.nodes[node].set_child(lane, &b, child);
                 bounds = bounds.union(b);
             }
