@@ -7,7 +7,7 @@ use std::collections::HashSet;
 use std::time::Instant;
 
 use glam::{Vec2, Vec3};
-use raystage_kernel::{Aabb, BoxTree, PACKET_SIZE, PreparedRay, Ray};
+use raystage_kernel::{Aabb, BoxTree, PACKET_SIZE, PreparedRay, Ray, RayPacket};
 
 use crate::camera::Camera;
 use crate::ids::{InstanceId, ObjectId, ShaderId};
@@ -296,14 +296,10 @@ impl<'a> Frame<'a> {
         }
         // The rays among `candidates` whose segment touches the box of instance `item`, and the
         // nearest entry among them.
+        let lanes = RayPacket::new(&prepared);
+        let segments: [f32; PACKET_SIZE] = std::array::from_fn(|i| rays[i].tfar);
         let mut touch = |item: u32, candidates: u32| {
-            let (mut nearest, mut mask) = (f32::INFINITY, 0u32);
-            for i in (0..PACKET_SIZE).filter(|&i| candidates & (1 << i) != 0) {
-                if let Some(entry) = self.boxes[item as usize].intersect(&prepared[i], rays[i].tfar) {
-                    nearest = nearest.min(entry);
-                    mask |= 1 << i;
-                }
-            }
+            let (mask, nearest) = lanes.touching(&self.boxes[item as usize], &segments, candidates);
             if mask != 0 {
                 touched.push((nearest, item, mask));
             }
@@ -327,12 +323,7 @@ impl<'a> Frame<'a> {
             let tfar: [f32; PACKET_SIZE] = std::array::from_fn(|i| hits[i].map_or(rays[i].tfar, |h| h.t));
             // An object no ray has needed yet is built only if some ray reaches its box before
             // its closest hit so far, as a single ray would; a built one culls rays itself.
-            let mask = if fi.object.is_built() {
-                touching
-            } else {
-                let b = &self.boxes[item as usize];
-                (0..PACKET_SIZE).filter(|&i| touching & (1 << i) != 0 && b.intersect(&prepared[i], tfar[i]).is_some()).fold(0u32, |m, i| m | 1 << i)
-            };
+            let mask = if fi.object.is_built() { touching } else { lanes.touching(&self.boxes[item as usize], &tfar, touching).0 };
             if mask == 0 {
                 continue;
             }
@@ -410,9 +401,10 @@ impl<'a> Frame<'a> {
         let parallel = rays.iter().all(|r| r.dir.to_array().map(f32::to_bits) == rays[0].dir.to_array().map(f32::to_bits));
         // The rays among `candidates` that instance `item` blocks: those whose segment touches
         // its box, traced through it together.
+        let lanes = RayPacket::new(&prepared[..n]);
+        let segments: [f32; PACKET_SIZE] = std::array::from_fn(|i| rays[i.min(n - 1)].tfar);
         let block = |item: u32, candidates: u32| -> u32 {
-            let b = &self.boxes[item as usize];
-            let live = (0..n).filter(|&i| candidates & (1 << i) != 0 && b.intersect(&prepared[i], rays[i].tfar).is_some()).fold(0, |m, i| m | 1 << i);
+            let live = lanes.touching(&self.boxes[item as usize], &segments, candidates).0;
             if live == 0 {
                 return 0;
             }

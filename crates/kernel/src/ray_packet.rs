@@ -1,0 +1,167 @@
+//! A packet of prepared rays laid across SIMD lanes, for testing boxes against all of its rays at
+//! once: the instance boxes a two-level scene's packet meets one after the other, where eight
+//! single-ray slab tests per box cost more than the walk of a small instance's own tree.
+
+use crate::PACKET_SIZE;
+use crate::aabb::Aabb;
+use crate::isa::Isa;
+use crate::prepared::{PreparedRay, widen};
+
+/// Up to [`PACKET_SIZE`] prepared rays, component by component.
+#[derive(Clone, Debug)]
+pub struct RayPacket {
+    org: [[f32; PACKET_SIZE]; 3],
+    inv: [[f32; PACKET_SIZE]; 3],
+    inv_far: [[f32; PACKET_SIZE]; 3],
+    /// All bits set in lane `i` of axis `a` if ray `i` travels towards −∞ on it.
+    neg: [[u32; PACKET_SIZE]; 3],
+    tnear: [f32; PACKET_SIZE],
+    /// Bit `i` for each ray there is.
+    rays: u32,
+    isa: Isa,
+}
+
+impl RayPacket {
+    /// The packet of `rays`.
+    ///
+    /// # Panics
+    /// If there are more than [`PACKET_SIZE`] rays.
+    pub fn new(rays: &[PreparedRay]) -> RayPacket {
+        assert!(rays.len() <= PACKET_SIZE, "at most a packet");
+        let mut p = RayPacket {
+            org: [[0.0; PACKET_SIZE]; 3],
+            inv: [[0.0; PACKET_SIZE]; 3],
+            inv_far: [[0.0; PACKET_SIZE]; 3],
+            neg: [[0; PACKET_SIZE]; 3],
+            tnear: [0.0; PACKET_SIZE],
+            rays: (1u32 << rays.len()) - 1,
+            isa: Isa::best(),
+        };
+        for (lane, r) in rays.iter().enumerate() {
+            for a in 0..3 {
+                p.org[a][lane] = r.org[a];
+                p.inv[a][lane] = r.inv[a];
+                p.inv_far[a][lane] = r.inv_far[a];
+                p.neg[a][lane] = if r.neg[a] { u32::MAX } else { 0 };
+            }
+            p.tnear[lane] = r.tnear;
+        }
+        p
+    }
+
+    /// The rays among `candidates` (bit `i` for ray `i`) whose segment `(tnear, tfar[i]]` touches
+    /// `b`, and the nearest entry distance among them (∞ if none): exactly what
+    /// [`Aabb::intersect`] says of each.
+    pub fn touching(&self, b: &Aabb, tfar: &[f32; PACKET_SIZE], candidates: u32) -> (u32, f32) {
+        let candidates = candidates & self.rays;
+        let mut entry = [0.0f32; PACKET_SIZE];
+        let hits = match self.isa {
+            // SAFETY: `isa` is only ever a flavour `is_supported` confirmed on this CPU.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => unsafe { self.touching_avx2(b, tfar, &mut entry) },
+            _ => self.touching_portable(b, tfar, &mut entry),
+        } & candidates;
+        let nearest = (0..PACKET_SIZE).filter(|&i| hits & (1 << i) != 0).map(|i| entry[i]).fold(f32::INFINITY, f32::min);
+        (hits, nearest)
+    }
+
+    /// [`RayPacket::touching`] of every lane, one by one; entry distances into `entry`.
+    fn touching_portable(&self, b: &Aabb, tfar: &[f32; PACKET_SIZE], entry: &mut [f32; PACKET_SIZE]) -> u32 {
+        let mut hits = 0;
+        for (lane, e) in entry.iter_mut().enumerate() {
+            let ray = |a: usize| (self.org[a][lane], self.inv[a][lane], self.inv_far[a][lane], self.neg[a][lane] != 0);
+            let (mut tn, mut tf) = (self.tnear[lane], widen(tfar[lane]));
+            for a in 0..3 {
+                let (org, inv, inv_far, neg) = ray(a);
+                let (near, far) = if neg { (b.max[a], b.min[a]) } else { (b.min[a], b.max[a]) };
+                tn = ((near - org) * inv).max(tn);
+                tf = ((far - org) * inv_far).min(tf);
+            }
+            *e = tn;
+            if tn <= tf {
+                hits |= 1 << lane;
+            }
+        }
+        hits
+    }
+
+    /// [`RayPacket::touching`] of all lanes at once: the slab test's arithmetic, one ray per
+    /// lane. (`max`/`min` return their second operand for a NaN, a ray in a slab's plane, as
+    /// `f32::max`/`min` return the other operand.)
+    ///
+    /// # Safety
+    /// The CPU must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn touching_avx2(&self, b: &Aabb, tfar: &[f32; PACKET_SIZE], entry: &mut [f32; PACKET_SIZE]) -> u32 {
+        use std::arch::x86_64::*;
+        let load = |v: &[f32; PACKET_SIZE]| unsafe { _mm256_loadu_ps(v.as_ptr()) };
+        let widened = tfar.map(widen);
+        let (mut tn, mut tf) = (load(&self.tnear), load(&widened));
+        for a in 0..3 {
+            let (lo, hi) = (_mm256_set1_ps(b.min[a]), _mm256_set1_ps(b.max[a]));
+            let neg = unsafe { _mm256_castsi256_ps(_mm256_loadu_si256(self.neg[a].as_ptr().cast())) };
+            let (near, far) = (_mm256_blendv_ps(lo, hi, neg), _mm256_blendv_ps(hi, lo, neg));
+            let org = load(&self.org[a]);
+            tn = _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(near, org), load(&self.inv[a])), tn);
+            tf = _mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(far, org), load(&self.inv_far[a])), tf);
+        }
+        unsafe { _mm256_storeu_ps(entry.as_mut_ptr(), tn) };
+        _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(tn, tf)) as u32
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::*;
+    use crate::Ray;
+
+    /// Every lane's answer is the single-ray slab test's, on boxes the rays hit, miss, graze and
+    /// lie in the faces of, with ±0 direction components.
+    #[test]
+    fn lanes_answer_as_single_rays_do() {
+        let mut seed = 0x2545_F491_4F6C_DD1Du64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 40) as f32 / (1u64 << 24) as f32 * 4.0 - 2.0
+        };
+        let pick = |x: f32| if x.abs() < 0.3 { if x < 0.0 { -0.0 } else { 0.0 } } else { x };
+        let (mut hits, mut misses) = (0, 0);
+        for round in 0..2000 {
+            let n = 1 + round % PACKET_SIZE;
+            // A box, flat now and then, and rays from around it towards points near it, some
+            // along axes or in its faces' planes.
+            let lo = Vec3::new(next().round() * 0.5, next(), next());
+            let depth = if next() > 1.0 { 0.0 } else { next().abs() };
+            let b = Aabb { min: lo, max: lo + Vec3::new(next().abs(), next().abs(), depth) };
+            let rays: Vec<PreparedRay> = (0..n)
+                .map(|_| {
+                    let o = Vec3::new(next().round() * 0.5, next(), next()) * 2.0;
+                    let target = b.min + (b.max - b.min) * Vec3::new(next(), next(), next()).abs() * 0.7;
+                    let d = target - o;
+                    let d = Vec3::new(pick(d.x), pick(d.y), pick(d.z));
+                    let d = if d == Vec3::ZERO { Vec3::X } else { d };
+                    PreparedRay::new(&Ray::segment(o, d, next().abs() * 0.1, if next() > 1.5 { 0.5 } else { f32::INFINITY }))
+                })
+                .collect();
+            let tfar: [f32; PACKET_SIZE] = std::array::from_fn(|i| rays.get(i).map_or(0.0, |r| r.tfar));
+            let packet = RayPacket::new(&rays);
+            let candidates = (next().abs() * 1000.0) as u32 | 1;
+            let (mask, nearest) = packet.touching(&b, &tfar, candidates);
+            let mut expected = (0u32, f32::INFINITY);
+            for (i, r) in rays.iter().enumerate().filter(|&(i, _)| candidates & (1 << i) != 0) {
+                if let Some(t) = b.intersect(r, tfar[i]) {
+                    expected = (expected.0 | 1 << i, expected.1.min(t));
+                }
+            }
+            assert_eq!((mask, nearest.to_bits()), (expected.0, expected.1.to_bits()), "round {round}");
+            hits += mask.count_ones();
+            misses += (candidates & ((1 << n) - 1) & !mask).count_ones();
+        }
+        assert!(hits > 500 && misses > 500, "{hits} hits, {misses} misses");
+    }
+}
