@@ -60,3 +60,22 @@ pub fn read_file(path: &Path, limits: &Limits) -> Result<Import, ImportError> {
     let bytes = std::fs::read(path).map_err(|source| ImportError::Io { path: path.to_owned(), source })?;
     read(&bytes, Some(path.parent().unwrap_or(Path::new("."))), limits)
 }
+
+/// A binary glTF (`.glb`) of a JSON document and its binary buffer, as [`read`] takes it: the
+/// 12-byte header, then the JSON chunk padded with spaces and the binary chunk padded with
+/// zeros to four bytes each (glTF 2.0, §4.4).
+pub fn glb(json: &[u8], bin: &[u8]) -> Vec<u8> {
+    let pad = |len: usize| len.next_multiple_of(4);
+    let total = 12 + 8 + pad(json.len()) + 8 + pad(bin.len());
+    let mut out = Vec::with_capacity(total);
+    out.extend(b"glTF");
+    out.extend(2u32.to_le_bytes());
+    out.extend((total as u32).to_le_bytes());
+    for (chunk, kind, fill) in [(json, b"JSON", b' '), (bin, b"BIN\0", 0)] {
+        out.extend((pad(chunk.len()) as u32).to_le_bytes());
+        out.extend(kind);
+        out.extend(chunk);
+        out.resize(out.len() + pad(chunk.len()) - chunk.len(), fill);
+    }
+    out
+}

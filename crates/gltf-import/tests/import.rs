@@ -55,24 +55,9 @@ fn red() -> Value {
     json!([{ "pbrMetallicRoughness": { "baseColorFactor": [1, 0, 0, 1], "metallicFactor": 0, "roughnessFactor": 1 } }])
 }
 
-/// A binary glTF: the JSON chunk padded with spaces, the binary chunk with zeros.
+/// A binary glTF of `document` and `bin`.
 fn glb(document: &Value, bin: &[u8]) -> Vec<u8> {
-    let mut json = serde_json::to_vec(document).unwrap();
-    json.resize(json.len().next_multiple_of(4), b' ');
-    let mut bin = bin.to_vec();
-    bin.resize(bin.len().next_multiple_of(4), 0);
-    let total = 12 + 8 + json.len() + 8 + bin.len();
-    let mut out = Vec::new();
-    out.extend(b"glTF");
-    out.extend(2u32.to_le_bytes());
-    out.extend((total as u32).to_le_bytes());
-    out.extend((json.len() as u32).to_le_bytes());
-    out.extend(b"JSON");
-    out.extend(json);
-    out.extend((bin.len() as u32).to_le_bytes());
-    out.extend(b"BIN\0");
-    out.extend(bin);
-    out
+    raystage_gltf_import::glb(&serde_json::to_vec(document).unwrap(), bin)
 }
 
 fn import(document: &Value) -> Result<raystage_gltf_import::Import, ImportError> {

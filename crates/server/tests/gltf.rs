@@ -55,21 +55,7 @@ fn embedded() -> Vec<u8> {
 }
 
 fn glb() -> Vec<u8> {
-    let mut json = serde_json::to_vec(&document(None)).unwrap();
-    json.resize(json.len().next_multiple_of(4), b' ');
-    let mut bin = square_buffer();
-    bin.resize(bin.len().next_multiple_of(4), 0);
-    let mut out = Vec::new();
-    out.extend(b"glTF");
-    out.extend(2u32.to_le_bytes());
-    out.extend(((28 + json.len() + bin.len()) as u32).to_le_bytes());
-    out.extend((json.len() as u32).to_le_bytes());
-    out.extend(b"JSON");
-    out.extend(json);
-    out.extend((bin.len() as u32).to_le_bytes());
-    out.extend(b"BIN\0");
-    out.extend(bin);
-    out
+    raystage_gltf_import::glb(&serde_json::to_vec(&document(None)).unwrap(), &square_buffer())
 }
 
 async fn upload(app: &axum::Router, uri: &str, body: Vec<u8>, content_type: &str) -> (StatusCode, Value) {
