@@ -7,7 +7,7 @@ use std::collections::HashSet;
 use std::time::Instant;
 
 use glam::{Vec2, Vec3};
-use raystage_kernel::{Aabb, BoxTree, PACKET_SIZE, PreparedRay, Ray, RayPacket};
+use raystage_kernel::{Aabb, BoxTree, Bvh8, PACKET_SIZE, PreparedRay, Ray, RayPacket};
 
 use crate::camera::Camera;
 use crate::ids::{InstanceId, ObjectId, ShaderId};
@@ -276,19 +276,11 @@ impl<'a> Frame<'a> {
     fn intersect_touched(&self, rays: &[Ray], hits: &mut [Option<SceneHit>], time: f32, touched: &mut Vec<(f32, u32, u32)>) {
         touched.clear();
         let prepared = PreparedRay::packet(rays);
-        if let [only] = &self.instances[..]
-            && only.placed_at(time).identity
-        {
-            // One instance in place (a single mesh): the packet goes straight into its tree,
-            // whose root box culls the rays that miss it; a tree not built yet is built only if
-            // some ray reaches its box.
-            let reached = || (0..PACKET_SIZE).any(|i| self.boxes[0].intersect(&prepared[i], rays[i].tfar).is_some());
-            if !only.object.is_built() && !reached() {
-                hits.fill(None);
-                return;
-            }
+        if let Some((only, tree)) = self.only_in_place(&prepared, rays, time) {
             let mut found = [None; PACKET_SIZE];
-            only.object.accel(&self.counters).intersect_packet_prepared(&prepared, &mut found);
+            if let Some(tree) = tree {
+                tree.intersect_packet_prepared(&prepared, &mut found);
+            }
             for (hit, h) in hits.iter_mut().zip(found) {
                 *hit = h.map(|h| SceneHit { t: h.t, instance: only.id, object: only.object_id, prim: h.prim, u: h.u, v: h.v, ng: h.ng, item: 0 });
             }
@@ -385,15 +377,8 @@ impl<'a> Frame<'a> {
         }
         let all = (1u32 << n) - 1;
         let prepared = PreparedRay::packet(rays);
-        if let [only] = &self.instances[..]
-            && only.placed_at(time).identity
-        {
-            // One instance in place: as in `intersect_touched`, the packet goes straight in.
-            let reached = || (0..n).any(|i| self.boxes[0].intersect(&prepared[i], rays[i].tfar).is_some());
-            if !only.object.is_built() && !reached() {
-                return 0;
-            }
-            return only.object.accel(&self.counters).occluded_packet_prepared(&prepared[..n]);
+        if let Some((_, tree)) = self.only_in_place(&prepared[..n], rays, time) {
+            return tree.map_or(0, |tree| tree.occluded_packet_prepared(&prepared[..n]));
         }
         let mut local = prepared;
         // Shadow rays towards a distant light are parallel: in each instance their direction
@@ -429,6 +414,19 @@ impl<'a> Frame<'a> {
             // The walk leaves the rest of the top level to the rays no instance blocked yet.
             self.top.occluded_by(&prepared[..n], block)
         }
+    }
+
+    /// For a packet of `rays`, prepared as `prepared`, in a frame whose only instance sits where
+    /// its object is (a single mesh): that instance, and its tree if the packet needs it. The
+    /// packet then goes straight into the tree, whose root box culls the rays that miss it; a
+    /// tree not built yet is built only if some ray reaches its box. `None` for other frames.
+    fn only_in_place(&self, prepared: &[PreparedRay], rays: &[Ray], time: f32) -> Option<(&FrameInstance<'a>, Option<&Bvh8>)> {
+        let [only] = &self.instances[..] else { return None };
+        if !only.placed_at(time).identity {
+            return None;
+        }
+        let reached = || prepared.iter().zip(rays).any(|(p, r)| self.boxes[0].intersect(p, r.tfar).is_some());
+        Some((only, (only.object.is_built() || reached()).then(|| only.object.accel(&self.counters))))
     }
 
     /// Everything a shader needs to know about `hit` of `ray` (at shutter time `time`).
