@@ -497,34 +497,18 @@ pub(crate) unsafe fn boxes_touched(tree: &BoxTree, rays: &[PreparedRay], mut vis
 /// [`boxes_touched`] of a packet of a common origin, or of `PARALLEL` rays.
 #[target_feature(enable = "avx2,fma")]
 unsafe fn boxes_touched_beam<const PARALLEL: bool>(tree: &BoxTree, rays: &[PreparedRay], mut visit: impl FnMut(u32, u32)) -> bool {
-    let frustum = Frustum::new::<PARALLEL>(rays);
-    let lanes = RayLanes::new::<PARALLEL>(rays);
-    let widened: [f32; PACKET] = std::array::from_fn(|i| rays.get(i).map_or(f32::NEG_INFINITY, |r| widen(r.tfar)));
-    let tfar = unsafe { _mm256_loadu_ps(widened.as_ptr()) };
-    let farthest = _mm256_set1_ps(widened.iter().copied().fold(f32::NEG_INFINITY, f32::max));
-    let mut stack = [MaybeUninit::<(u32, u32)>::uninit(); STACK_SIZE];
-    stack[0].write((tree.root, (1u32 << rays.len()) - 1));
-    let mut sp = 1usize;
-    while sp > 0 {
-        sp -= 1;
-        // SAFETY: every entry below `sp` was written before.
-        let (link, needing) = unsafe { stack[sp].assume_init() };
+    // The any-hit walk with nothing ever blocked: every leaf the rays reach is visited.
+    let finish = |link: u32, live: u32| {
         if link & LEAF == 0 {
-            let node = &tree.nodes[link as usize];
-            let (mask, _) = frustum.child_hits::<PARALLEL>(node, farthest);
-            for lane in Lanes(mask) {
-                let (hit, _) = lanes.hit_child::<PARALLEL>(node, lane, tfar);
-                if hit & needing != 0 {
-                    stack[sp].write((node.child[lane], hit & needing));
-                    sp += 1;
-                }
-            }
-        } else if link != EMPTY {
-            for &item in tree.leaf_items(link) {
-                visit(item, needing);
-            }
+            return None;
         }
-    }
+        if link != EMPTY {
+            tree.leaf_items(link).iter().for_each(|&item| visit(item, live));
+        }
+        Some(0)
+    };
+    // SAFETY: inner links of a box tree are valid node indices.
+    unsafe { walk_any::<PARALLEL>(&tree.nodes, tree.root, rays, finish) };
     true
 }
 
