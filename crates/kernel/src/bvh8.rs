@@ -112,7 +112,7 @@ impl Bvh8 {
         *self = Bvh8::collapsed(&Bvh2::build(tris, opts), tris, storage);
     }
 
-    /// Collapses a binary BVH into eight lanes (see [`crate::wide`]'s collapse) and copies the
+    /// Collapses a binary BVH into eight lanes (the kernel's `wide` collapse) and copies the
     /// triangles into leaf blocks.
     pub fn from_bvh2(bvh2: &Bvh2, tris: &(impl TriangleSource + ?Sized)) -> Bvh8 {
         Bvh8::collapsed(bvh2, tris, (Vec::new(), Vec::new()))
