@@ -45,7 +45,7 @@ pub use build::{BuildOptions, BuildQuality, MAX_BINS, MAX_LEAF_SIZE};
 pub use bvh2::Bvh2;
 pub use bvh8::{Bvh8, Bvh8Stats, PACKET_SIZE};
 pub use isa::Isa;
-pub use memory::huge_page_vec;
+pub use memory::{huge_page_vec, prefetch, reciprocal_sqrt8};
 pub use prepared::PreparedRay;
 pub use ray::{Hit, Ray};
 pub use ray_packet::RayPacket;

@@ -30,3 +30,41 @@ pub fn huge_page_vec<T>(capacity: usize) -> Vec<T> {
     }
     v
 }
+
+/// Starts loading `items[index]` into the cache, if it exists: a hint that costs the caller
+/// nothing to wait for. Renderers call it for per-triangle data (shader ids, vertex indices) of
+/// a packet's hits as they come out of the kernel, so that shading, which reads them a little
+/// later, finds them in cache.
+#[inline]
+pub fn prefetch<T>(items: &[T], index: usize) {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(item) = items.get(index) {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        // SAFETY: SSE is part of every x86-64 CPU; a prefetch reads nothing the program sees.
+        unsafe { _mm_prefetch::<_MM_HINT_T0>((item as *const T).cast::<i8>()) };
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (items, index);
+}
+
+/// `1 / sqrt(x)` of eight lanes, each exactly as `1.0 / x.sqrt()` rounds it, computed four at a
+/// time (the compiler otherwise often does them one by one).
+#[inline]
+pub fn reciprocal_sqrt8(x: [f32; 8]) -> [f32; 8] {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_div_ps, _mm_loadu_ps, _mm_set1_ps, _mm_sqrt_ps, _mm_storeu_ps};
+        let mut out = [0.0f32; 8];
+        for half in 0..2 {
+            // SAFETY: SSE is part of every x86-64 CPU; the loads and stores stay inside the
+            // arrays (four lanes from 0 or 4).
+            unsafe {
+                let v = _mm_loadu_ps(x.as_ptr().add(4 * half));
+                _mm_storeu_ps(out.as_mut_ptr().add(4 * half), _mm_div_ps(_mm_set1_ps(1.0), _mm_sqrt_ps(v)));
+            }
+        }
+        out
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    x.map(|v| 1.0 / v.sqrt())
+}

@@ -4,7 +4,7 @@
 //! texture and its vertex colours.
 
 use glam::{Vec2, Vec3};
-use raystage_scene::{Frame, PreviewPoint, Shader, ShadingModel, SurfacePoint, Texture};
+use raystage_scene::{Frame, PreviewAttributes, PreviewPoint, Shader, ShadingModel, SurfacePoint, Texture};
 
 use crate::bsdf::Bsdf;
 use crate::texture;
@@ -65,13 +65,18 @@ impl<'f> Materials<'f> {
     /// What a preview shows at a preview point: the surface's albedo (textured, vertex
     /// coloured) and `true` for the models that reflect light, or the emitted or constant
     /// colour and `false` for those that do not. The parts of [`Materials::at`] a preview needs,
-    /// without making the whole material.
+    /// without making the whole material; `attributes` is asked only by surfaces whose colour
+    /// varies.
     #[inline(always)]
-    pub fn preview_colour(&self, pp: &PreviewPoint<'_>) -> (Vec3, bool) {
+    pub fn preview_colour(&self, pp: &PreviewPoint<'_>, attributes: impl FnOnce() -> PreviewAttributes) -> (Vec3, bool) {
         let r = self.resolved(pp.shader_id);
         match r.base.model {
             ShadingModel::Constant | ShadingModel::Emissive => (r.base.emission, false),
-            _ => (r.scale(pp.local_position, pp.uv, pp.color).map_or(r.base.albedo, |s| r.base.albedo * s), true),
+            _ if r.texture.is_none() && r.base.model != ShadingModel::VertexColor => (r.base.albedo, true),
+            _ => {
+                let a = attributes();
+                (r.scale(a.local_position, a.uv, a.color).map_or(r.base.albedo, |s| r.base.albedo * s), true)
+            }
         }
     }
 

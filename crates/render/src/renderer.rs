@@ -269,11 +269,12 @@ impl Progressive {
         let counts = std::sync::Mutex::new(Counts::default());
         let (sum, sum_sq) = (&mut self.sum, self.sum_sq.as_deref_mut());
         let add = |tile: &Tile, band: &mut Band<'_>| {
-            let mut work = TileWork::new(tile);
+            let mut work = TileWork::for_tile(tile);
             for index in first_index..first_index + samples {
                 work.sample(&tracer, &camera, index, band);
             }
             counts.lock().unwrap_or_else(|e| e.into_inner()).add(work.counts);
+            work.recycle();
         };
         render_tiles_with(s.width, s.height, sum, sum_sq, add, finished);
         self.samples += samples;
@@ -348,10 +349,20 @@ impl Counts {
     }
 }
 
-/// A tile's pixels in packet order and the buffers its samples reuse.
+thread_local! {
+    /// The buffers of the tile this thread rendered last, for its next one.
+    static SPARE_WORK: std::cell::Cell<Option<TileWork>> = const { std::cell::Cell::new(None) };
+}
+
+/// A tile's pixels in packet order and the buffers its samples reuse (kept by each render
+/// thread from tile to tile).
+#[derive(Default)]
 struct TileWork {
     /// The tile's pixels, in 4×2 blocks (see [`packet_order`]).
     order: Vec<(u32, u32)>,
+    /// Per pixel, its sampler and its ray's shutter time, once the camera ray took samples
+    /// (both empty for rays through pixel centres at the shutter's opening: those pixels'
+    /// samplers start fresh where they are needed).
     samplers: Vec<PixelSampler>,
     rays: Vec<Ray>,
     times: Vec<f32>,
@@ -360,17 +371,20 @@ struct TileWork {
 }
 
 impl TileWork {
-    fn new(tile: &Tile) -> TileWork {
-        let order = packet_order(tile);
-        let n = order.len();
-        TileWork {
-            order,
-            samplers: Vec::with_capacity(n),
-            rays: Vec::with_capacity(n),
-            times: Vec::with_capacity(n),
-            hits: vec![None; n],
-            counts: Counts::default(),
-        }
+    /// The work of `tile`, in the buffers this thread used for its last tile if it is not
+    /// using them (a render thread that waits on a lazy tree build may start another tile).
+    fn for_tile(tile: &Tile) -> TileWork {
+        let mut work = SPARE_WORK.with(|spare| spare.take()).unwrap_or_default();
+        packet_order(tile, &mut work.order);
+        // Every slot is written by the tile's camera rays before it is read.
+        work.hits.resize(work.order.len(), None);
+        work.counts = Counts::default();
+        work
+    }
+
+    /// Hands the buffers back to this thread for its next tile.
+    fn recycle(self) {
+        SPARE_WORK.with(|spare| spare.set(Some(self)));
     }
 
     /// One sample (number `index`) of every pixel of the tile, added to the tile's sums. A
@@ -391,8 +405,6 @@ impl TileWork {
             for (pixels, out) in self.order.chunks(PACKET_SIZE).zip(rays.chunks_mut(PACKET_SIZE)) {
                 camera.centre_rays(pixels, out);
             }
-            times.resize(self.order.len(), shutter[0]);
-            samplers.extend(self.order.iter().map(|&(x, y)| PixelSampler::new(x, y, s.seed, index)));
         } else {
             for &(x, y) in &self.order {
                 let mut sampler = PixelSampler::new(x, y, s.seed, index);
@@ -455,7 +467,11 @@ impl TileWork {
                     colour
                 } else {
                     let first = FirstHit { hit: self.hits[k], resolved: resolved[k - start].as_ref(), shadows: known[k - start] };
-                    sample_pixel(t, &rays[k], times[k], first, &mut samplers[k], &mut self.counts.rays)
+                    let (x, y) = self.order[k];
+                    let mut fresh = PixelSampler::new(x, y, s.seed, index);
+                    let sampler = samplers.get_mut(k).unwrap_or(&mut fresh);
+                    let time = times.get(k).copied().unwrap_or(shutter[0]);
+                    sample_pixel(t, &rays[k], time, first, sampler, &mut self.counts.rays)
                 };
                 // A NaN or infinite sample would poison the pixel for good: drop it (it counts
                 // as black).
@@ -523,13 +539,13 @@ fn sample_pixel(t: &Tracer<'_, '_>, ray: &Ray, time: f32, first: FirstHit<'_, '_
         }
 }
 
-/// The tile's pixels (image coordinates) grouped in blocks of 4×2 pixels (fewer at the tile's
-/// edges), so that every [`PACKET_SIZE`] consecutive rays are neighbours.
-fn packet_order(tile: &Tile) -> Vec<(u32, u32)> {
+/// The tile's pixels (image coordinates) into `order`, grouped in blocks of 4×2 pixels (fewer at
+/// the tile's edges), so that every [`PACKET_SIZE`] consecutive rays are neighbours.
+fn packet_order(tile: &Tile, order: &mut Vec<(u32, u32)>) {
     const BLOCK: (u32, u32) = (4, 2);
     const _: () = assert!((BLOCK.0 * BLOCK.1) as usize == PACKET_SIZE);
     let (x1, y1) = (tile.x0 + tile.width, tile.y0 + tile.height);
-    let mut order = Vec::with_capacity(tile.len());
+    order.clear();
     for by in (tile.y0..y1).step_by(BLOCK.1 as usize) {
         for bx in (tile.x0..x1).step_by(BLOCK.0 as usize) {
             for y in by..(by + BLOCK.1).min(y1) {
@@ -537,7 +553,6 @@ fn packet_order(tile: &Tile) -> Vec<(u32, u32)> {
             }
         }
     }
-    order
 }
 
 #[cfg(test)]
@@ -548,11 +563,13 @@ mod tests {
     fn packet_order_visits_every_pixel_once_in_4x2_blocks() {
         for (width, height) in [(16, 16), (5, 3), (1, 1), (7, 16)] {
             let tile = Tile { x0: 3, y0: 5, width, height };
-            let mut order = packet_order(&tile);
+            let mut order = Vec::new();
+            packet_order(&tile, &mut order);
             order.sort_unstable_by_key(|&(x, y)| (y, x));
             assert_eq!(order, (0..tile.len()).map(|i| tile.pixel(i)).collect::<Vec<_>>(), "{width}×{height}");
         }
-        let order = packet_order(&Tile { x0: 0, y0: 0, width: 16, height: 16 });
+        let mut order = Vec::new();
+        packet_order(&Tile { x0: 0, y0: 0, width: 16, height: 16 }, &mut order);
         assert_eq!(&order[..8], &[(0, 0), (1, 0), (2, 0), (3, 0), (0, 1), (1, 1), (2, 1), (3, 1)]);
     }
 

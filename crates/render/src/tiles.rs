@@ -29,6 +29,7 @@ pub(crate) struct Tile {
 
 impl Tile {
     /// Number of pixels.
+    #[cfg(test)]
     pub fn len(&self) -> usize {
         (self.width * self.height) as usize
     }

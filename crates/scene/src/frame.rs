@@ -110,15 +110,21 @@ pub struct PreviewPoint<'a> {
     /// Shading normal in the world, on either side of the surface, not normalised (a preview
     /// normalises the normals of a packet of hits together).
     pub normal: Vec3,
+    /// The triangle's shader, and its id (`None` for the scene's default shader).
+    pub shader: &'a Shader,
+    pub shader_id: Option<ShaderId>,
+}
+
+/// What a textured or vertex-coloured surface needs of a hit point besides its normal (see
+/// [`Frame::preview_attributes`]).
+#[derive(Clone, Copy, Debug)]
+pub struct PreviewAttributes {
     /// The point in the object's own space, from the ray (for solid textures).
     pub local_position: Vec3,
     /// Interpolated vertex colour, if the mesh has colours.
     pub color: Option<Vec3>,
     /// Interpolated texture coordinates, if the mesh has them.
     pub uv: Option<Vec2>,
-    /// The triangle's shader, and its id (`None` for the scene's default shader).
-    pub shader: &'a Shader,
-    pub shader_id: Option<ShaderId>,
 }
 
 /// Tree work done for a frame so far.
@@ -281,8 +287,13 @@ impl<'a> Frame<'a> {
             if let Some(tree) = tree {
                 tree.intersect_packet_prepared(&prepared, &mut found);
             }
+            let mesh = &only.object.mesh;
             for (hit, h) in hits.iter_mut().zip(found) {
-                *hit = h.map(|h| SceneHit { t: h.t, instance: only.id, object: only.object_id, prim: h.prim, u: h.u, v: h.v, ng: h.ng, item: 0 });
+                *hit = h.map(|h| {
+                    raystage_kernel::prefetch(&mesh.shaders, h.prim as usize);
+                    raystage_kernel::prefetch(&mesh.indices, h.prim as usize);
+                    SceneHit { t: h.t, instance: only.id, object: only.object_id, prim: h.prim, u: h.u, v: h.v, ng: h.ng, item: 0 }
+                });
             }
             return;
         }
@@ -474,37 +485,35 @@ impl<'a> Frame<'a> {
         }
     }
 
-    /// What a preview needs of `hit` of `ray`: its shading normal (facing either way), the
-    /// interpolated attributes the mesh has, an approximate object-space point, and the shader.
-    /// Unlike [`Frame::surface`] it computes no robust hit point, so a mesh without per-vertex
-    /// attributes is not read at all: the normal comes with the hit.
-    pub fn preview(&self, ray: &Ray, hit: &SceneHit) -> PreviewPoint<'a> {
+    /// What a preview needs of `hit`: its shading normal (facing either way) and its shader.
+    /// Unlike [`Frame::surface`] it computes no hit point, so a mesh without vertex normals is
+    /// read only for the triangle's shader: the normal comes with the hit. Surfaces whose colour
+    /// varies add [`Frame::preview_attributes`].
+    #[inline]
+    pub fn preview(&self, hit: &SceneHit) -> PreviewPoint<'a> {
         let fi = &self.instances[hit.item as usize];
-        let placed = &fi.placed;
         let mesh = &fi.object.mesh;
-        let (w0, w1, w2) = (1.0 - hit.u - hit.v, hit.u, hit.v);
-        let corners = || mesh.indices[hit.prim as usize].map(|i| i as usize);
         let normal = if mesh.normals.is_empty() {
             hit.ng
         } else {
-            let [a, b, c] = corners();
-            mesh.normals[a] * w0 + mesh.normals[b] * w1 + mesh.normals[c] * w2
+            let (w, [a, b, c]) = barycentrics(mesh, hit);
+            mesh.normals[a] * w[0] + mesh.normals[b] * w[1] + mesh.normals[c] * w[2]
         };
-        let position = ray.at(hit.t);
         let (shader, shader_id) = self.shader_of(mesh, hit.prim);
-        PreviewPoint {
-            normal: placed.normal_to_world(normal),
-            local_position: if placed.identity { position } else { placed.to_object.transform_point3(position) },
-            color: (!mesh.colors.is_empty()).then(|| {
-                let [a, b, c] = corners();
-                mesh.colors[a] * w0 + mesh.colors[b] * w1 + mesh.colors[c] * w2
-            }),
-            uv: (!mesh.uvs.is_empty()).then(|| {
-                let [a, b, c] = corners();
-                mesh.uvs[a] * w0 + mesh.uvs[b] * w1 + mesh.uvs[c] * w2
-            }),
-            shader,
-            shader_id,
+        PreviewPoint { normal: fi.placed.normal_to_world(normal), shader, shader_id }
+    }
+
+    /// The interpolated attributes the mesh of `hit` of `ray` has, and an approximate
+    /// object-space point from the ray: what textures and vertex colours of a preview read.
+    pub fn preview_attributes(&self, ray: &Ray, hit: &SceneHit) -> PreviewAttributes {
+        let fi = &self.instances[hit.item as usize];
+        let mesh = &fi.object.mesh;
+        let (w, [a, b, c]) = barycentrics(mesh, hit);
+        let position = ray.at(hit.t);
+        PreviewAttributes {
+            local_position: if fi.placed.identity { position } else { fi.placed.to_object.transform_point3(position) },
+            color: (!mesh.colors.is_empty()).then(|| mesh.colors[a] * w[0] + mesh.colors[b] * w[1] + mesh.colors[c] * w[2]),
+            uv: (!mesh.uvs.is_empty()).then(|| mesh.uvs[a] * w[0] + mesh.uvs[b] * w[1] + mesh.uvs[c] * w[2]),
         }
     }
 
@@ -596,6 +605,12 @@ impl<'a> Frame<'a> {
             build_seconds: self.counters.nanos.load(Relaxed) as f64 * 1e-9,
         }
     }
+}
+
+/// The barycentric weights of `hit`'s three vertices and their indices in `mesh`.
+#[inline]
+fn barycentrics(mesh: &crate::Mesh, hit: &SceneHit) -> ([f32; 3], [usize; 3]) {
+    ([1.0 - hit.u - hit.v, hit.u, hit.v], mesh.indices[hit.prim as usize].map(|i| i as usize))
 }
 
 /// Merges the entries of [`Frame::intersect_many`]'s touched list that name the same instance:

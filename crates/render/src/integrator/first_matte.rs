@@ -20,6 +20,7 @@ use super::first_shadows::{self, KnownShadows, MAX_LIGHTS};
 use super::{Hit, Tracer};
 use crate::bsdf::Bsdf;
 use crate::lights::Delta;
+use crate::sky;
 
 /// Whether this frame's matte first hits are shaded here: their shadows go in packets, and
 /// every light is a point, spot or directional light among the first [`MAX_LIGHTS`] (so every
@@ -30,9 +31,9 @@ pub(crate) fn applies(t: &Tracer<'_, '_>) -> bool {
 }
 
 /// The colours of the matte hits among up to [`PACKET_SIZE`] first hits `hits` of camera rays
-/// `rays`, whose shadows are `known`: `out[k]` for `hits[k]`, `None` where the hit is not
-/// matte (or a rounding corner case needs a shadow that was not traced), for the recursion to
-/// shade.
+/// `rays`, whose shadows are `known`, and of the rays that hit nothing: `out[k]` for `hits[k]`,
+/// `None` where the hit is not matte (or a rounding corner case needs a shadow that was not
+/// traced), for the recursion to shade.
 pub(crate) fn shade(t: &Tracer<'_, '_>, rays: &[Ray], hits: &[Option<Hit<'_>>], known: &[KnownShadows], out: &mut [Option<Vec3>]) {
     let n = hits.len();
     assert!(n <= PACKET_SIZE && rays.len() == n && known.len() == n && out.len() == n, "one ray, shadow set and answer per hit");
@@ -66,8 +67,12 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, rays: &[Ray], hits: &[Option<Hit<'_>>], 
         }
         lanes.add(&light, &visible, &tested);
     }
+    // Rays that hit nothing see the sky, as in the recursion (no light is met on the way).
+    let missed = hits.iter().enumerate().filter(|(_, h)| h.is_none()).fold(0, |m, (k, _)| m | 1 << k);
+    let sky_shows = missed != 0 && !t.lights.has_environment() && !t.lights.has_area();
+    let skies = if sky_shows { sky::skies(rays, missed) } else { [Vec3::ZERO; PACKET_SIZE] };
     for (k, answer) in out.iter_mut().enumerate() {
-        *answer = lanes.matte[k].then(|| lanes.sum.get(k));
+        *answer = if sky_shows && missed & (1 << k) != 0 { Some(skies[k]) } else { lanes.matte[k].then(|| lanes.sum.get(k)) };
     }
 }
 
@@ -183,7 +188,7 @@ mod tests {
     use super::*;
     use crate::effects::EffectSet;
     use crate::integrator::recursive;
-    use crate::lights::SceneLights;
+    use crate::lights::{SceneLights, Seen};
     use crate::material::Materials;
     use crate::sampler::PixelSampler;
     use crate::stats::RayCounts;
@@ -221,8 +226,9 @@ mod tests {
         scene
     }
 
-    /// Every matte first hit the packet shades gets bit for bit the colour the recursion gives
-    /// it, and the hits it leaves to the recursion are the ones that are not matte.
+    /// Every matte first hit the packet shades, and every miss, gets bit for bit the colour the
+    /// recursion gives it, and the hits it leaves to the recursion are the ones that are not
+    /// matte.
     #[test]
     fn matte_first_hits_shade_exactly_as_the_recursion_shades_them() {
         let scene = scene();
@@ -232,7 +238,7 @@ mod tests {
         assert!(applies(&t), "point, spot, directional and ambient lights only");
         let (width, height) = (96, 64);
         let camera = frame.camera().rays(width, height);
-        let (mut matte, mut left, mut suns) = (0, 0, 0);
+        let (mut matte, mut left, mut suns, mut skies) = (0, 0, 0, 0);
         for y in (0..height).step_by(2) {
             for x in (0..width).step_by(4) {
                 let pixels: Vec<(u32, u32)> = (0..8).map(|i| (x + i % 4, y + i / 4)).collect();
@@ -258,7 +264,10 @@ mod tests {
                 shade(&t, &rays, &resolved, &known, &mut shaded);
                 for k in 0..PACKET_SIZE {
                     let Some(hit) = &resolved[k] else {
-                        assert_eq!(shaded[k], None, "a miss is not matte");
+                        let expected = t.background(rays[k].dir, Seen::Directly);
+                        let colour = shaded[k].expect("a miss shows the sky");
+                        assert_eq!(colour.to_array().map(f32::to_bits), expected.to_array().map(f32::to_bits), "pixel {:?}", pixels[k]);
+                        skies += 1;
                         continue;
                     };
                     let is_matte = matches!(hit.material.bsdf, Some(Bsdf::Lambert { .. }));
@@ -274,6 +283,6 @@ mod tests {
                 }
             }
         }
-        assert!(matte > 2000 && left > 200 && suns > 2000, "{matte} matte hits shaded in packets, {left} left to the recursion, {suns} sun shadows");
+        assert!(matte > 2000 && left > 200 && suns > 2000 && skies > 100, "{matte} matte hits shaded in packets, {left} left to the recursion, {suns} sun shadows, {skies} skies");
     }
 }

@@ -132,9 +132,8 @@ impl<'f> Tracer<'_, 'f> {
     /// light, so only camera rays and rays that mirrors and glass bent on their way from the
     /// camera show it.
     pub fn background(&self, dir: Vec3, seen: Seen) -> Vec3 {
-        let dir = dir.normalize();
         if self.lights.has_environment() {
-            self.lights.environment(dir, seen)
+            self.lights.environment(dir.normalize(), seen)
         } else if matches!(seen, Seen::Directly) {
             sky(dir)
         } else {
