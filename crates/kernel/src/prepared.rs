@@ -88,15 +88,20 @@ impl PreparedRay {
         } else {
             2
         };
-        let mut kx = (kz + 1) % 3;
-        let mut ky = (kx + 1) % 3;
-        if dir[kz] < 0.0 {
-            std::mem::swap(&mut kx, &mut ky);
-        }
+        // The next two axes in turn, swapped when the ray runs towards −kz; each case names its
+        // components directly (indexing by a computed axis goes through memory).
+        let (k, [sx, sy, sz]) = match (kz, negative_along(dir, kz)) {
+            (0, false) => ([1, 2, 0], [dir[1] * inv[0], dir[2] * inv[0], inv[0]]),
+            (0, true) => ([2, 1, 0], [dir[2] * inv[0], dir[1] * inv[0], inv[0]]),
+            (1, false) => ([2, 0, 1], [dir[2] * inv[1], dir[0] * inv[1], inv[1]]),
+            (1, true) => ([0, 2, 1], [dir[0] * inv[1], dir[2] * inv[1], inv[1]]),
+            (_, false) => ([0, 1, 2], [dir[0] * inv[2], dir[1] * inv[2], inv[2]]),
+            (_, true) => ([1, 0, 2], [dir[1] * inv[2], dir[0] * inv[2], inv[2]]),
+        };
         // Multiplying by the reciprocal rather than dividing twice more: any shear is watertight
         // as long as every triangle of the query uses the same one.
-        let shear = [dir[kx] * inv[kz], dir[ky] * inv[kz], inv[kz]];
-        PreparedRay { org, inv, inv_far, neg, tnear: ray.tnear, tfar: ray.tfar, k: [kx, ky, kz], shear }
+        let shear = [sx, sy, sz];
+        PreparedRay { org, inv, inv_far, neg, tnear: ray.tnear, tfar: ray.tfar, k, shear }
     }
 
     /// The same ray with its segment ending at `tfar` instead.
@@ -111,5 +116,15 @@ impl PreparedRay {
     #[inline]
     pub fn moved(self, origin: glam::Vec3, tnear: f32, tfar: f32) -> PreparedRay {
         PreparedRay { org: origin.to_array(), tnear, tfar, ..self }
+    }
+}
+
+/// Whether `dir` runs towards −∞ along `axis`.
+#[inline(always)]
+fn negative_along(dir: [f32; 3], axis: usize) -> bool {
+    match axis {
+        0 => dir[0] < 0.0,
+        1 => dir[1] < 0.0,
+        _ => dir[2] < 0.0,
     }
 }

@@ -54,21 +54,18 @@ impl RayPacket {
     /// [`Aabb::intersect`] says of each.
     pub fn touching(&self, b: &Aabb, tfar: &[f32; PACKET_SIZE], candidates: u32) -> (u32, f32) {
         let candidates = candidates & self.rays;
-        let mut entry = [0.0f32; PACKET_SIZE];
-        let hits = match self.isa {
+        match self.isa {
             // SAFETY: `isa` is only ever a flavour `is_supported` confirmed on this CPU.
             #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 => unsafe { self.touching_avx2(b, tfar, &mut entry) },
-            _ => self.touching_portable(b, tfar, &mut entry),
-        } & candidates;
-        let nearest = (0..PACKET_SIZE).filter(|&i| hits & (1 << i) != 0).map(|i| entry[i]).fold(f32::INFINITY, f32::min);
-        (hits, nearest)
+            Isa::Avx2 => unsafe { self.touching_avx2(b, tfar, candidates) },
+            _ => self.touching_portable(b, tfar, candidates),
+        }
     }
 
-    /// [`RayPacket::touching`] of every lane, one by one; entry distances into `entry`.
-    fn touching_portable(&self, b: &Aabb, tfar: &[f32; PACKET_SIZE], entry: &mut [f32; PACKET_SIZE]) -> u32 {
-        let mut hits = 0;
-        for (lane, e) in entry.iter_mut().enumerate() {
+    /// [`RayPacket::touching`], lane by lane.
+    fn touching_portable(&self, b: &Aabb, tfar: &[f32; PACKET_SIZE], candidates: u32) -> (u32, f32) {
+        let (mut hits, mut nearest) = (0, f32::INFINITY);
+        for lane in (0..PACKET_SIZE).filter(|&lane| candidates & (1 << lane) != 0) {
             let ray = |a: usize| (self.org[a][lane], self.inv[a][lane], self.inv_far[a][lane], self.neg[a][lane] != 0);
             let (mut tn, mut tf) = (self.tnear[lane], widen(tfar[lane]));
             for a in 0..3 {
@@ -77,27 +74,27 @@ impl RayPacket {
                 tn = ((near - org) * inv).max(tn);
                 tf = ((far - org) * inv_far).min(tf);
             }
-            *e = tn;
             if tn <= tf {
                 hits |= 1 << lane;
+                nearest = nearest.min(tn);
             }
         }
-        hits
+        (hits, nearest)
     }
 
     /// [`RayPacket::touching`] of all lanes at once: the slab test's arithmetic, one ray per
-    /// lane. (`max`/`min` return their second operand for a NaN, a ray in a slab's plane, as
-    /// `f32::max`/`min` return the other operand.)
+    /// lane, and the nearest entry by a horizontal minimum. (`max`/`min` return their second
+    /// operand for a NaN, a ray in a slab's plane, as `f32::max`/`min` return the other
+    /// operand.)
     ///
     /// # Safety
     /// The CPU must support AVX2.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn touching_avx2(&self, b: &Aabb, tfar: &[f32; PACKET_SIZE], entry: &mut [f32; PACKET_SIZE]) -> u32 {
+    unsafe fn touching_avx2(&self, b: &Aabb, tfar: &[f32; PACKET_SIZE], candidates: u32) -> (u32, f32) {
         use std::arch::x86_64::*;
         let load = |v: &[f32; PACKET_SIZE]| unsafe { _mm256_loadu_ps(v.as_ptr()) };
-        let widened = tfar.map(widen);
-        let (mut tn, mut tf) = (load(&self.tnear), load(&widened));
+        let (mut tn, mut tf) = (load(&self.tnear), _mm256_mul_ps(load(tfar), _mm256_set1_ps(crate::prepared::ROBUST_FAR)));
         for a in 0..3 {
             let (lo, hi) = (_mm256_set1_ps(b.min[a]), _mm256_set1_ps(b.max[a]));
             let neg = unsafe { _mm256_castsi256_ps(_mm256_loadu_si256(self.neg[a].as_ptr().cast())) };
@@ -106,8 +103,19 @@ impl RayPacket {
             tn = _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(near, org), load(&self.inv[a])), tn);
             tf = _mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(far, org), load(&self.inv_far[a])), tf);
         }
-        unsafe { _mm256_storeu_ps(entry.as_mut_ptr(), tn) };
-        _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(tn, tf)) as u32
+        let bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+        let wanted = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(candidates as i32), bits), bits);
+        let hit = _mm256_and_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(tn, tf), _mm256_castsi256_ps(wanted));
+        let hits = _mm256_movemask_ps(hit) as u32;
+        if hits == 0 {
+            return (0, f32::INFINITY);
+        }
+        // The smallest entry among the lanes that hit.
+        let entry = _mm256_blendv_ps(_mm256_set1_ps(f32::INFINITY), tn, hit);
+        let m = _mm_min_ps(_mm256_castps256_ps128(entry), _mm256_extractf128_ps::<1>(entry));
+        let m = _mm_min_ps(m, _mm_movehl_ps(m, m));
+        let m = _mm_min_ss(m, _mm_shuffle_ps::<0b01>(m, m));
+        (hits, _mm_cvtss_f32(m))
     }
 }
 
@@ -118,7 +126,7 @@ mod tests {
     use super::*;
     use crate::Ray;
 
-    /// Every lane's answer is the single-ray slab test's, on boxes the rays hit, miss, graze and
+    /// Every lane's answer is the single-ray slab test's (with either instruction set), on boxes the rays hit, miss, graze and
     /// lie in the faces of, with ±0 direction components.
     #[test]
     fn lanes_answer_as_single_rays_do() {
@@ -159,6 +167,8 @@ mod tests {
                 }
             }
             assert_eq!((mask, nearest.to_bits()), (expected.0, expected.1.to_bits()), "round {round}");
+            let (portable_mask, portable_nearest) = packet.touching_portable(&b, &tfar, candidates & packet.rays);
+            assert_eq!((portable_mask, portable_nearest.to_bits()), (mask, nearest.to_bits()), "round {round}: the portable lanes");
             hits += mask.count_ones();
             misses += (candidates & ((1 << n) - 1) & !mask).count_ones();
         }

@@ -324,9 +324,10 @@ impl<'a> Frame<'a> {
         for &(_, item, touching) in touched.iter() {
             let fi = &self.instances[item as usize];
             let tfar: [f32; PACKET_SIZE] = std::array::from_fn(|i| hits[i].map_or(rays[i].tfar, |h| h.t));
-            // An object no ray has needed yet is built only if some ray reaches its box before
-            // its closest hit so far, as a single ray would; a built one culls rays itself.
-            let mask = if fi.object.is_built() { touching } else { lanes.touching(&self.boxes[item as usize], &tfar, touching).0 };
+            // Only rays that reach the box before their closest hit so far go in: instances
+            // behind the hits are skipped without carrying the rays into them, and an object no
+            // ray has needed yet is built only if some ray reaches it, as a single ray would.
+            let mask = lanes.touching(&self.boxes[item as usize], &tfar, touching).0;
             if mask == 0 {
                 continue;
             }
