@@ -49,4 +49,4 @@ pub use memory::{huge_page_vec, prefetch, reciprocal_sqrt8};
 pub use prepared::PreparedRay;
 pub use ray::{Hit, Ray};
 pub use ray_packet::RayPacket;
-pub use triangle::{IndexedMesh, TriangleSource, geometric_normal, is_degenerate};
+pub use triangle::{IndexedMesh, TriangleSource, geometric_normal, is_degenerate, prefetch_indexed};

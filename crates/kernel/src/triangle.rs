@@ -20,6 +20,26 @@ pub trait TriangleSource: Sync {
     fn triangle_count(&self) -> usize;
     /// The three vertices of triangle `index` (`index < triangle_count()`).
     fn triangle(&self, index: u32) -> [Vec3; 3];
+
+    /// A hint that triangle `index` is read soon, in two stages for sources that find a
+    /// triangle's vertices through an index buffer: `vertices` false starts loading its
+    /// indices, true (issued later) its vertices. Builders and refits gather triangles in tree
+    /// order, at random in memory, and issue these a few blocks ahead. The default does nothing.
+    #[inline]
+    fn prefetch(&self, index: u32, vertices: bool) {
+        let _ = (index, vertices);
+    }
+}
+
+/// [`TriangleSource::prefetch`] for a source that finds the vertices of triangle `index`
+/// through `indices`.
+#[inline]
+pub fn prefetch_indexed(vertices: &[Vec3], indices: &[[u32; 3]], index: u32, load_vertices: bool) {
+    if !load_vertices {
+        crate::prefetch(indices, index as usize);
+    } else if let Some(corners) = indices.get(index as usize) {
+        corners.iter().for_each(|&v| crate::prefetch(vertices, v as usize));
+    }
 }
 
 /// A borrowed indexed triangle mesh.
@@ -40,6 +60,11 @@ impl TriangleSource for IndexedMesh<'_> {
     fn triangle(&self, index: u32) -> [Vec3; 3] {
         let [a, b, c] = self.indices[index as usize];
         [self.vertices[a as usize], self.vertices[b as usize], self.vertices[c as usize]]
+    }
+
+    #[inline]
+    fn prefetch(&self, index: u32, vertices: bool) {
+        prefetch_indexed(self.vertices, self.indices, index, vertices);
     }
 }
 

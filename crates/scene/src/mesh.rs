@@ -109,4 +109,9 @@ impl TriangleSource for Mesh {
     fn triangle(&self, index: u32) -> [Vec3; 3] {
         Mesh::triangle(self, index)
     }
+
+    #[inline]
+    fn prefetch(&self, index: u32, vertices: bool) {
+        raystage_kernel::prefetch_indexed(&self.positions, &self.indices, index, vertices);
+    }
 }
