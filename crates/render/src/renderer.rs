@@ -449,6 +449,8 @@ impl TileWork {
             let mut resolved: [Option<Hit<'_>>; PACKET_SIZE] = [None; PACKET_SIZE];
             let mut known = [KnownShadows::NONE; PACKET_SIZE];
             if packed_shadows {
+                let next = (end + PACKET_SIZE).min(self.order.len());
+                t.frame.prefetch_surfaces(&self.hits[end..next]);
                 t.resolve_packet(&rays[start..end], &self.hits[start..end], shutter[0], &mut resolved[..end - start]);
                 first_shadows::trace(t, &resolved[..end - start], shutter[0], &mut self.counts.rays, &mut known[..end - start]);
             }
