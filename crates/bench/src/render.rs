@@ -289,9 +289,9 @@ pub fn run_shading(threads: usize, reps: usize, mut progress: impl FnMut(&str)) 
     let warm_up = System::EyeLight.settings().expect("a rendered system");
     let (_, stats) = pool.install(|| raystage_render::render(&point_lit.frame(), &warm_up)).expect("valid settings");
     pool.install(|| raystage_render::render(&area_lit.frame(), &warm_up)).expect("valid settings");
+    measure_kernel(&bvh, &packets, threads);
     progress(&format!("shading: warm-up frames built each scene's {} object tree(s) in {:.3} s", stats.work.built, stats.work.build_seconds));
     let mut samples: Vec<(System, Vec<Measured>)> = System::ALL.iter().map(|&s| (s, Vec::new())).collect();
-    let mut last_films: Vec<Option<Film>> = vec![None; System::ALL.len()];
     for rep in 0..reps {
         for k in 0..System::ALL.len() {
             let index = (k + rep) % System::ALL.len();
@@ -300,25 +300,24 @@ pub fn run_shading(threads: usize, reps: usize, mut progress: impl FnMut(&str)) 
                 None => measure_kernel(&bvh, &packets, threads),
                 Some(settings) => {
                     let scene = if system.area_lit() { &area_lit } else { &point_lit };
-                    let (measured, film) = pool.install(|| render_timed(scene, &settings));
-                    last_films[index] = Some(film);
-                    measured
+                    // Each film is dropped at once, so that its buffer goes back to the renderer
+                    // for the next frame as it would in an application (a film kept here would
+                    // make a later frame map fresh pages and time the page faults).
+                    pool.install(|| render_timed(scene, &settings)).0
                 }
             };
             progress(&format!("shading: rep {}/{reps} {}: {:.1} ms", rep + 1, system.name(), measured.seconds * 1e3));
             samples[index].1.push(measured);
         }
     }
-    let film = |system: System| {
-        let index = System::ALL.iter().position(|&s| s == system).expect("a listed system");
-        last_films[index].as_ref().expect("rendered at least once")
-    };
+    // The specialisation's two images, compared once the timing is done.
+    let film = |system: System| pool.install(|| render_timed(&area_lit, &system.settings().expect("a rendered system")).1);
     ShadingRun {
         threads,
         triangles: mesh.indices.len(),
         object_build_seconds: stats.work.build_seconds,
         samples,
-        specialisation_difference: compare(film(System::AreaSpecialised), film(System::AreaGeneral)),
+        specialisation_difference: compare(&film(System::AreaSpecialised), &film(System::AreaGeneral)),
     }
 }
 
