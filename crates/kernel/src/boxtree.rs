@@ -65,24 +65,22 @@ impl BoxTree {
     /// beyond the closest hit are skipped, with the kernel's conservative rounding (a box that
     /// starts exactly at `tfar` is still visited, so ties can be resolved by the caller).
     pub fn closest(&self, ray: &PreparedRay, visit: impl FnMut(u32, f32) -> f32) {
-        let pre = *ray;
         match self.isa {
             // SAFETY: `isa` is only ever set to a flavour `is_supported` confirmed on this CPU.
             #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 => unsafe { traverse::avx2::boxes_closest(self, &pre, visit) },
-            _ => traverse::portable::boxes_closest(self, &pre, visit),
+            Isa::Avx2 => unsafe { traverse::avx2::boxes_closest(self, ray, visit) },
+            _ => traverse::portable::boxes_closest(self, ray, visit),
         }
     }
 
     /// An any-hit walk: `visit(item)` is called for the boxes the ray's segment touches until it
     /// returns `true`; returns whether it did.
     pub fn any(&self, ray: &PreparedRay, visit: impl FnMut(u32) -> bool) -> bool {
-        let pre = *ray;
         match self.isa {
             // SAFETY: as in `closest`.
             #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 => unsafe { traverse::avx2::boxes_any(self, &pre, visit) },
-            _ => traverse::portable::boxes_any(self, &pre, visit),
+            Isa::Avx2 => unsafe { traverse::avx2::boxes_any(self, ray, visit) },
+            _ => traverse::portable::boxes_any(self, ray, visit),
         }
     }
 
