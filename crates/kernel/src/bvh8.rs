@@ -226,12 +226,11 @@ impl Bvh8 {
     /// [`Bvh8::intersect`] for a ray prepared once for several trees.
     #[inline]
     pub fn intersect_prepared(&self, pre: &PreparedRay) -> Option<Hit> {
-        let pre = *pre;
         match self.isa {
             // SAFETY: `isa` is only ever set to a flavour `is_supported` confirmed on this CPU.
             #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 => unsafe { traverse::avx2::intersect(self, &pre) },
-            _ => traverse::portable::intersect(self, &pre),
+            Isa::Avx2 => unsafe { traverse::avx2::intersect(self, pre) },
+            _ => traverse::portable::intersect(self, pre),
         }
     }
 
@@ -280,12 +279,11 @@ impl Bvh8 {
     /// [`Bvh8::occluded`] for a ray prepared once for several trees.
     #[inline]
     pub fn occluded_prepared(&self, pre: &PreparedRay) -> bool {
-        let pre = *pre;
         match self.isa {
             // SAFETY: as in `intersect`.
             #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 => unsafe { traverse::avx2::occluded(self, &pre) },
-            _ => traverse::portable::occluded(self, &pre),
+            Isa::Avx2 => unsafe { traverse::avx2::occluded(self, pre) },
+            _ => traverse::portable::occluded(self, pre),
         }
     }
 
