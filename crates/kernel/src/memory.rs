@@ -1,4 +1,4 @@
-//! Allocation of the traversal arrays on 2 MiB pages.
+//! Memory: allocation of the traversal arrays on 2 MiB pages, and cache prefetch hints.
 //!
 //! A BVH over a million triangles spans tens of megabytes; incoherent rays touch it at random, so
 //! with 4 KiB pages most node visits also miss the TLB. Embree backs its BVHs with transparent huge
@@ -45,26 +45,4 @@ pub fn prefetch<T>(items: &[T], index: usize) {
     }
     #[cfg(not(target_arch = "x86_64"))]
     let _ = (items, index);
-}
-
-/// `1 / sqrt(x)` of eight lanes, each exactly as `1.0 / x.sqrt()` rounds it, computed four at a
-/// time (the compiler otherwise often does them one by one).
-#[inline]
-pub fn reciprocal_sqrt8(x: [f32; 8]) -> [f32; 8] {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use std::arch::x86_64::{_mm_div_ps, _mm_loadu_ps, _mm_set1_ps, _mm_sqrt_ps, _mm_storeu_ps};
-        let mut out = [0.0f32; 8];
-        for half in 0..2 {
-            // SAFETY: SSE is part of every x86-64 CPU; the loads and stores stay inside the
-            // arrays (four lanes from 0 or 4).
-            unsafe {
-                let v = _mm_loadu_ps(x.as_ptr().add(4 * half));
-                _mm_storeu_ps(out.as_mut_ptr().add(4 * half), _mm_div_ps(_mm_set1_ps(1.0), _mm_sqrt_ps(v)));
-            }
-        }
-        out
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    x.map(|v| 1.0 / v.sqrt())
 }
