@@ -21,8 +21,9 @@ const FONT_FILES: [&str; 3] = [
     "/usr/share/fonts/truetype/liberation/LiberationSans-Regular.ttf",
 ];
 
-/// Registers the first font of [`FONT_FILES`] that exists as plotters' sans-serif; returns
-/// whether there was one (without, plots must be drawn without text).
+/// Registers the first of the system's sans-serif fonts this module looks for (DejaVu, then
+/// Liberation) as plotters' sans-serif; returns whether there was one (without, plots must be
+/// drawn without text).
 pub fn register_system_font() -> bool {
     FONT_FILES.into_iter().any(|path| {
         let Ok(bytes) = std::fs::read(path) else { return false };

@@ -6,7 +6,7 @@
 //! per area light, Russian roulette, the integrator — measuring wall time and the error against
 //! the reference (RMSE, relative MSE, mean absolute error), and compares the BVH builders at the
 //! kernel level (build time against trace time on the scene's own rays). [`run`] computes a
-//! [`Report`]; [`write`] turns it into `report.md` (a table and a reading per knob), log-log
+//! [`Report`]; [`write()`] turns it into `report.md` (a table and a reading per knob), log-log
 //! plots of error against time, and a strip of the images side by side.
 //!
 //! Not in here: the renderer and kernel it measures, and the command line (the `raystage`
@@ -66,7 +66,7 @@ pub enum Error {
     },
 }
 
-/// The files [`write`] makes in its directory.
+/// The files [`write()`] makes in its directory.
 pub const FILES: [&str; 4] = ["report.md", "error_vs_time.png", "strip.png", "reference.png"];
 
 /// Writes the report into `dir` (created if needed): `report.md`, `error_vs_time.png` (every
