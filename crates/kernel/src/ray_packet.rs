@@ -28,6 +28,17 @@ impl RayPacket {
     /// If there are more than [`PACKET_SIZE`] rays.
     pub fn new(rays: &[PreparedRay]) -> RayPacket {
         assert!(rays.len() <= PACKET_SIZE, "at most a packet");
+        let isa = Isa::best();
+        match isa {
+            // SAFETY: `isa` is a flavour `is_supported` confirmed on this CPU.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 if rays.len() == PACKET_SIZE => unsafe { RayPacket::gathered(rays.try_into().expect("a full packet"), isa) },
+            _ => RayPacket::lane_by_lane(rays, isa),
+        }
+    }
+
+    /// [`RayPacket::new`], one lane at a time.
+    fn lane_by_lane(rays: &[PreparedRay], isa: Isa) -> RayPacket {
         let mut p = RayPacket {
             org: [[0.0; PACKET_SIZE]; 3],
             inv: [[0.0; PACKET_SIZE]; 3],
@@ -35,7 +46,7 @@ impl RayPacket {
             neg: [[0; PACKET_SIZE]; 3],
             tnear: [0.0; PACKET_SIZE],
             rays: (1u32 << rays.len()) - 1,
-            isa: Isa::best(),
+            isa,
         };
         for (lane, r) in rays.iter().enumerate() {
             for a in 0..3 {
@@ -47,6 +58,41 @@ impl RayPacket {
             p.tnear[lane] = r.tnear;
         }
         p
+    }
+
+    /// [`RayPacket::new`] of a full packet, each component of the eight rays gathered into one
+    /// register and stored whole (lane-by-lane stores would make the box tests' wide loads wait
+    /// for them).
+    ///
+    /// # Safety
+    /// The CPU must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn gathered(rays: &[PreparedRay; PACKET_SIZE], isa: Isa) -> RayPacket {
+        use std::arch::x86_64::*;
+        const STRIDE: i32 = (size_of::<PreparedRay>() / 4) as i32;
+        const _: () = assert!(size_of::<PreparedRay>().is_multiple_of(4), "prepared rays are whole floats apart");
+        let index = _mm256_mullo_epi32(_mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), _mm256_set1_epi32(STRIDE));
+        let base = rays.as_ptr().cast::<f32>();
+        // SAFETY: every offset is a float field of one of the eight rays.
+        let gather = |offset: usize| unsafe { _mm256_i32gather_ps::<4>(base.byte_add(offset), index) };
+        let store = |v: __m256| {
+            let mut out = [0.0f32; PACKET_SIZE];
+            unsafe { _mm256_storeu_ps(out.as_mut_ptr(), v) };
+            out
+        };
+        let (org, inv, inv_far) = (std::mem::offset_of!(PreparedRay, org), std::mem::offset_of!(PreparedRay, inv), std::mem::offset_of!(PreparedRay, inv_far));
+        let inv_lanes = [0, 1, 2].map(|a| gather(inv + 4 * a));
+        RayPacket {
+            org: [0, 1, 2].map(|a| store(gather(org + 4 * a))),
+            inv: inv_lanes.map(store),
+            inv_far: [0, 1, 2].map(|a| store(gather(inv_far + 4 * a))),
+            // `PreparedRay::neg` is `inv < 0`.
+            neg: inv_lanes.map(|v| store(_mm256_cmp_ps::<_CMP_LT_OQ>(v, _mm256_setzero_ps())).map(f32::to_bits)),
+            tnear: store(gather(std::mem::offset_of!(PreparedRay, tnear))),
+            rays: (1u32 << PACKET_SIZE) - 1,
+            isa,
+        }
     }
 
     /// The rays among `candidates` (bit `i` for ray `i`) whose segment `(tnear, tfar[i]]` touches
@@ -158,6 +204,9 @@ mod tests {
                 .collect();
             let tfar: [f32; PACKET_SIZE] = std::array::from_fn(|i| rays.get(i).map_or(0.0, |r| r.tfar));
             let packet = RayPacket::new(&rays);
+            let by_lane = RayPacket::lane_by_lane(&rays, packet.isa);
+            let bits = |p: &RayPacket| -> Vec<u32> { p.org.iter().chain(&p.inv).chain(&p.inv_far).chain([&p.tnear]).flatten().map(|v| v.to_bits()).collect() };
+            assert_eq!((bits(&packet), packet.neg, packet.rays), (bits(&by_lane), by_lane.neg, by_lane.rays), "round {round}: gathered lanes");
             let candidates = (next().abs() * 1000.0) as u32 | 1;
             let (mask, nearest) = packet.touching(&b, &tfar, candidates);
             let mut expected = (0u32, f32::INFINITY);
