@@ -70,12 +70,8 @@ impl RayPacket {
     #[target_feature(enable = "avx2")]
     unsafe fn gathered(rays: &[PreparedRay; PACKET_SIZE], isa: Isa) -> RayPacket {
         use std::arch::x86_64::*;
-        const STRIDE: i32 = (size_of::<PreparedRay>() / 4) as i32;
-        const _: () = assert!(size_of::<PreparedRay>().is_multiple_of(4), "prepared rays are whole floats apart");
-        let index = _mm256_mullo_epi32(_mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), _mm256_set1_epi32(STRIDE));
-        let base = rays.as_ptr().cast::<f32>();
-        // SAFETY: every offset is a float field of one of the eight rays.
-        let gather = |offset: usize| unsafe { _mm256_i32gather_ps::<4>(base.byte_add(offset), index) };
+        // SAFETY: the offsets are of `f32` fields of `PreparedRay`, and the packet is full.
+        let gather = |offset: usize| unsafe { crate::traverse::avx2::gather_lanes(rays, offset) };
         let store = |v: __m256| {
             let mut out = [0.0f32; PACKET_SIZE];
             unsafe { _mm256_storeu_ps(out.as_mut_ptr(), v) };

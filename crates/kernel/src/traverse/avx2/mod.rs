@@ -247,6 +247,26 @@ unsafe fn written<T>(entries: &mut [MaybeUninit<T>]) -> &mut [T] {
     unsafe { &mut *(entries as *mut [MaybeUninit<T>] as *mut [T]) }
 }
 
+/// One float field of up to eight prepared rays across the lanes, at byte `offset` in each
+/// (`offset_of!` a component), lanes past the last ray repeating the first: one gather instead
+/// of eight scalar stores, which the wide loads after them would wait on.
+///
+/// # Safety
+/// The CPU must support AVX2; `rays` must hold one to eight rays, and `offset` must be that of
+/// an `f32` inside `PreparedRay`.
+#[target_feature(enable = "avx2")]
+#[inline]
+pub(crate) unsafe fn gather_lanes(rays: &[PreparedRay], offset: usize) -> __m256 {
+    const STRIDE: i32 = (size_of::<PreparedRay>() / 4) as i32;
+    const _: () = assert!(size_of::<PreparedRay>().is_multiple_of(4), "prepared rays are whole floats apart");
+    debug_assert!(!rays.is_empty() && rays.len() <= 8);
+    let lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    let present = _mm256_cmpgt_epi32(_mm256_set1_epi32(rays.len() as i32), lane);
+    let index = _mm256_mullo_epi32(_mm256_and_si256(lane, present), _mm256_set1_epi32(STRIDE));
+    // SAFETY: every index names ray 0 to `rays.len() - 1`; the caller vouches for `offset`.
+    unsafe { _mm256_i32gather_ps::<4>(rays.as_ptr().cast::<f32>().byte_add(offset), index) }
+}
+
 /// Starts loading a deferred child into L1 (Embree prefetches every child it will visit): by the
 /// time it is popped, its lines are usually there.
 #[target_feature(enable = "avx2,fma")]

@@ -18,10 +18,10 @@
 //! from a point light towards the points it lights share the light as their origin.
 
 use std::arch::x86_64::*;
-use std::mem::MaybeUninit;
+use std::mem::{MaybeUninit, offset_of};
 
 use super::single::{closest_below, occluded_below};
-use super::{LeafLanes, block_any, block_closest, plane_rows, prefetch, sort_farthest_first, splat3, written};
+use super::{LeafLanes, block_any, block_closest, gather_lanes, plane_rows, prefetch, sort_farthest_first, splat3, written};
 use crate::boxtree::BoxTree;
 use crate::bvh8::Bvh8;
 use crate::wide::{EMPTY, LEAF, Node8, STACK_SIZE, WIDTH};
@@ -157,27 +157,19 @@ impl RayLanes {
     #[inline]
     fn new<const PARALLEL: bool>(rays: &[PreparedRay]) -> RayLanes {
         // Lanes past the last ray repeat the first; they are masked out of every result.
-        let (mut org, mut inv, mut inv_far, mut tnear) = ([[0f32; PACKET]; 3], [[0f32; PACKET]; 3], [[0f32; PACKET]; 3], [0f32; PACKET]);
-        for lane in 0..PACKET {
-            let r = rays.get(lane).unwrap_or(&rays[0]);
-            for a in 0..3 {
-                if PARALLEL {
-                    org[a][lane] = r.org[a];
-                }
-                inv[a][lane] = r.inv[a];
-                inv_far[a][lane] = r.inv_far[a];
-            }
-            tnear[lane] = r.tnear;
-        }
-        let load = |v: &[f32; PACKET]| unsafe { _mm256_loadu_ps(v.as_ptr()) };
+        // SAFETY: the offsets are of `f32` fields of `PreparedRay`, and a packet holds one to
+        // eight rays.
+        let component = |field: usize, a: usize| unsafe { gather_lanes(rays, field + 4 * a) };
+        let (org, inv, inv_far) = (offset_of!(PreparedRay, org), offset_of!(PreparedRay, inv), offset_of!(PreparedRay, inv_far));
         RayLanes {
             org: rays[0].org,
-            orgs: [load(&org[0]), load(&org[1]), load(&org[2])],
+            // Only parallel rays have origins of their own.
+            orgs: [0, 1, 2].map(|a| if PARALLEL { component(org, a) } else { _mm256_setzero_ps() }),
             near: plane_rows(rays[0].neg, false),
             far: plane_rows(rays[0].neg, true),
-            inv: [load(&inv[0]), load(&inv[1]), load(&inv[2])],
-            inv_far: [load(&inv_far[0]), load(&inv_far[1]), load(&inv_far[2])],
-            tnear: load(&tnear),
+            inv: [0, 1, 2].map(|a| component(inv, a)),
+            inv_far: [0, 1, 2].map(|a| component(inv_far, a)),
+            tnear: component(offset_of!(PreparedRay, tnear), 0),
         }
     }
 
