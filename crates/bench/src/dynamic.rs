@@ -204,7 +204,7 @@ pub fn run_raystage(animation: &dyn Animation, frames: u32, threads: usize, api:
         let closest_packet = |rays: &[Ray], found: &mut [Option<f32>]| {
             let mut hits = [None; PACKET_SIZE];
             frame.intersect_many(rays, &mut hits[..rays.len()], 0.0);
-            found.iter_mut().zip(hits).for_each(|(f, h)| *f = h.map(|h| h.t));
+            found.iter_mut().zip(&hits).for_each(|(f, h)| *f = h.map(|h| h.t));
         };
         let queries = Queries {
             closest: &|r| frame.intersect(r, 0.0).map(|h| h.t),

@@ -28,7 +28,7 @@ impl Tracer for Bvh8 {
     fn trace_packet(&self, rays: &[Ray], out: &mut [Option<f32>]) {
         let mut hits = [None; PACKET_SIZE];
         self.intersect_packets(rays, &mut hits[..rays.len()]);
-        for (o, h) in out.iter_mut().zip(hits) {
+        for (o, h) in out.iter_mut().zip(&hits) {
             *o = h.map(|h| h.t);
         }
     }

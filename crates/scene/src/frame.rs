@@ -288,7 +288,7 @@ impl<'a> Frame<'a> {
                 tree.intersect_packet_prepared(&prepared, &mut found);
             }
             let mesh = &only.object.mesh;
-            for (hit, h) in hits.iter_mut().zip(found) {
+            for (hit, h) in hits.iter_mut().zip(&found) {
                 *hit = h.map(|h| {
                     raystage_kernel::prefetch(&mesh.shaders, h.prim as usize);
                     raystage_kernel::prefetch(&mesh.indices, h.prim as usize);
