@@ -372,7 +372,8 @@ struct TileWork {
 
 impl TileWork {
     /// The work of `tile`, in the buffers this thread used for its last tile if it is not
-    /// using them (a render thread that waits on a lazy tree build may start another tile).
+    /// using them still (a thread building a tree lazily may start another tile while the
+    /// build's parallel parts run: that tile gets buffers of its own).
     fn for_tile(tile: &Tile) -> TileWork {
         let mut work = SPARE_WORK.with(|spare| spare.take()).unwrap_or_default();
         packet_order(tile, &mut work.order);
