@@ -66,34 +66,36 @@ impl TriBlock {
     }
 }
 
-/// Up to a block's triangles: the lanes and how many of them are used.
-type Lanes = ([u32; WIDTH], usize);
-
 /// Blocks filled one after the other by one thread (runs of them go to threads in parallel).
 const FILL_RUN: usize = 256;
 /// How many blocks ahead the vertices of a block are prefetched (and twice that, its indices).
 const PREFETCH_BLOCKS: usize = 2;
 
-/// Fills every block `i` of `blocks` with the triangles `prims(i, &blocks[i])` (see
-/// [`TriBlock::fill`]), putting each block's box in `bounds[i]` if asked. The triangles are
-/// gathered in tree order, at random in memory, so each run of blocks prefetches the indices and
-/// then the vertices of the blocks a little ahead of the one it fills.
-fn fill_blocks<T, P>(blocks: &mut [TriBlock], tris: &T, prims: P, bounds: Option<&mut [Aabb]>)
+/// Fills every block `i` of `blocks` with the triangles `prims[first..first + count]`, where
+/// `(first, count) = ranges(i)` (see [`TriBlock::fill`]), putting each block's box in
+/// `bounds[i]` if asked. The triangles are gathered in tree order, at random in memory, so each
+/// run of blocks prefetches the indices and then the vertices of the blocks a little ahead of
+/// the one it fills.
+fn fill_blocks<T, R>(blocks: &mut [TriBlock], tris: &T, prims: &[u32], ranges: R, bounds: Option<&mut [Aabb]>)
 where
     T: TriangleSource + ?Sized,
-    P: Fn(usize, &TriBlock) -> Lanes + Sync,
+    R: Fn(usize) -> (usize, usize) + Sync,
 {
+    let of = |i: usize| {
+        let (first, count) = ranges(i);
+        &prims[first..first + count]
+    };
+    let total = blocks.len();
     let fill_run = |run: usize, blocks: &mut [TriBlock], mut bounds: Option<&mut [Aabb]>| {
         let first = run * FILL_RUN;
-        for j in 0..blocks.len() {
+        for (j, block) in blocks.iter_mut().enumerate() {
+            let i = first + j;
             for (ahead, vertices) in [(2 * PREFETCH_BLOCKS, false), (PREFETCH_BLOCKS, true)] {
-                if let Some(block) = blocks.get(j + ahead) {
-                    let (lanes, count) = prims(first + j + ahead, block);
-                    lanes[..count].iter().for_each(|&p| tris.prefetch(p, vertices));
+                if i + ahead < total {
+                    of(i + ahead).iter().for_each(|&p| tris.prefetch(p, vertices));
                 }
             }
-            let (lanes, count) = prims(first + j, &blocks[j]);
-            let b = blocks[j].fill(tris, &lanes[..count]);
+            let b = block.fill(tris, of(i));
             if let Some(bounds) = bounds.as_deref_mut() {
                 bounds[j] = b;
             }
@@ -179,13 +181,7 @@ impl Bvh8 {
         // Gathering the triangles into blocks reads the vertices in tree order, at random in
         // memory: done in parallel, it is no longer the slowest part of a fast build.
         blocks.resize(ranges.len(), TriBlock::EMPTY);
-        let prims = |i: usize, _: &TriBlock| {
-            let (first, count) = ranges[i];
-            let mut lanes = [0u32; WIDTH];
-            lanes[..count as usize].copy_from_slice(&bvh2.prims[first as usize..(first + count) as usize]);
-            (lanes, count as usize)
-        };
-        fill_blocks(&mut blocks, tris, prims, None);
+        fill_blocks(&mut blocks, tris, &bvh2.prims, |i| (ranges[i].0 as usize, ranges[i].1 as usize), None);
         let bounds = bvh2.bounds();
         Bvh8 {
             built_cost: box_cost(&wide.nodes, &bounds),
@@ -319,7 +315,9 @@ impl Bvh8 {
     pub fn refit(&mut self, tris: &(impl TriangleSource + ?Sized)) -> f32 {
         // Each block's box comes with its triangles, so the walk up the tree reads no vertices.
         let mut leaf_bounds = vec![Aabb::EMPTY; self.blocks.len()];
-        fill_blocks(&mut self.blocks, tris, |_, b: &TriBlock| (b.prim, WIDTH), Some(&mut leaf_bounds));
+        // The blocks' own triangles, lanes as they are (the last repeated to fill a block).
+        let prims: Vec<u32> = self.blocks.iter().flat_map(|b| b.prim).collect();
+        fill_blocks(&mut self.blocks, tris, &prims, |i| (WIDTH * i, WIDTH), Some(&mut leaf_bounds));
         if self.root == EMPTY {
             return 0.0;
         }
