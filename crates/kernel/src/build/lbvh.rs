@@ -57,21 +57,25 @@ fn interleave(v: u32) -> u32 {
     (x | x << 2) & 0x0924_9249
 }
 
-/// Stable least-significant-digit radix sort on the 30-bit keys, 10 bits per pass.
+/// Stable least-significant-digit radix sort on the 30-bit keys, 10 bits per pass (the three
+/// digits' counts taken in one read of the keys).
 fn radix_sort<T: Copy>(mut items: Vec<(u32, T)>) -> Vec<(u32, T)> {
+    const DIGITS: usize = 1 << 10;
+    let digit = |key: u32, pass: usize| ((key >> (10 * pass)) & 0x3ff) as usize;
+    let mut offsets = vec![[0usize; 3]; DIGITS + 1];
+    for (key, _) in &items {
+        for pass in 0..3 {
+            offsets[digit(*key, pass) + 1][pass] += 1;
+        }
+    }
+    for d in 1..offsets.len() {
+        let below = offsets[d - 1];
+        offsets[d].iter_mut().zip(below).for_each(|(o, b)| *o += b);
+    }
     let mut scratch = items.clone();
     for pass in 0..3 {
-        let shift = pass * 10;
-        let digit = |key: u32| ((key >> shift) & 0x3ff) as usize;
-        let mut offsets = vec![0usize; 1025];
-        for (key, _) in &items {
-            offsets[digit(*key) + 1] += 1;
-        }
-        for d in 1..offsets.len() {
-            offsets[d] += offsets[d - 1];
-        }
         for item in &items {
-            let slot = &mut offsets[digit(item.0)];
+            let slot = &mut offsets[digit(item.0, pass)][pass];
             scratch[*slot] = *item;
             *slot += 1;
         }
