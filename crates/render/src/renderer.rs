@@ -396,17 +396,18 @@ impl TileWork {
         let shutter = t.frame.camera().shutter;
         let (samplers, rays, times) = (&mut self.samplers, &mut self.rays, &mut self.times);
         samplers.clear();
-        rays.clear();
         times.clear();
         let e = t.effects;
         if !e.multisampling && !e.depth_of_field && !e.motion_blur {
             // One sample per pixel, through its centre, at the shutter's opening: each
-            // packet's camera rays are made together.
+            // packet's camera rays are made together, over the last tile's (so that a tile of
+            // the same size writes each ray once).
             rays.resize(self.order.len(), Ray::new(Vec3::ZERO, Vec3::Z));
             for (pixels, out) in self.order.chunks(PACKET_SIZE).zip(rays.chunks_mut(PACKET_SIZE)) {
                 camera.centre_rays(pixels, out);
             }
         } else {
+            rays.clear();
             for &(x, y) in &self.order {
                 let mut sampler = PixelSampler::new(x, y, s.seed, index);
                 let [dx, dy] = if e.multisampling { s.filter.offset(sampler.next_2d()) } else { [0.5, 0.5] };
