@@ -215,6 +215,8 @@ pub fn render_frame(frame: &Frame<'_>, width: u32, height: u32) -> (Film, FrameS
 #[derive(Clone, Debug)]
 pub struct Progressive {
     settings: RenderSettings,
+    /// Per pixel, the sum of its samples. Before the first pass (`samples` 0) the buffers hold
+    /// whatever an old image left there; the first pass writes every pixel.
     sum: Vec<Vec3>,
     /// Sum of squared luminances, for the variance estimate (not kept by one-pass renders).
     sum_sq: Option<Vec<f32>>,
@@ -232,7 +234,7 @@ impl Progressive {
     fn without_variance(settings: RenderSettings) -> Result<Progressive, Error> {
         settings.validate()?;
         let n = settings.width as usize * settings.height as usize;
-        Ok(Progressive { settings, sum: crate::film::black_pixels(n), sum_sq: None, samples: 0 })
+        Ok(Progressive { settings, sum: crate::film::reused_pixels(n), sum_sq: None, samples: 0 })
     }
 
     /// The settings this accumulation renders with.
@@ -247,8 +249,7 @@ impl Progressive {
 
     /// Drops every sample: the next call to [`Progressive::add`] starts a new image.
     pub fn reset(&mut self) {
-        self.sum.iter_mut().for_each(|s| *s = Vec3::ZERO);
-        self.sum_sq.iter_mut().flatten().for_each(|s| *s = 0.0);
+        // The next pass writes every pixel over what the sums hold.
         self.samples = 0;
     }
 
@@ -271,7 +272,8 @@ impl Progressive {
         let add = |tile: &Tile, band: &mut Band<'_>| {
             let mut work = TileWork::for_tile(tile);
             for index in first_index..first_index + samples {
-                work.sample(&tracer, &camera, index, band);
+                // The first pass writes every pixel over what the buffers held.
+                work.sample(&tracer, &camera, index, index == 0, band);
             }
             counts.lock().unwrap_or_else(|e| e.into_inner()).add(work.counts);
             work.recycle();
@@ -296,16 +298,20 @@ impl Progressive {
 
     /// The image: every pixel's mean so far.
     pub fn film(&self) -> Film {
-        let n = self.samples.max(1) as f32;
+        if self.samples == 0 {
+            return Film::new(self.settings.width, self.settings.height);
+        }
+        let n = self.samples as f32;
         Film::from_pixels(self.settings.width, self.settings.height, self.sum.iter().map(|s| *s / n).collect())
     }
 
     /// The image, taking the accumulation's memory instead of copying it.
     pub fn into_film(self) -> Film {
-        let n = self.samples.max(1) as f32;
         let mut pixels = self.sum;
-        if n != 1.0 {
-            pixels.iter_mut().for_each(|p| *p /= n);
+        match self.samples {
+            0 => pixels.iter_mut().for_each(|p| *p = Vec3::ZERO),
+            1 => {}
+            n => pixels.iter_mut().for_each(|p| *p /= n as f32),
         }
         Film::from_pixels(self.settings.width, self.settings.height, pixels)
     }
@@ -391,7 +397,7 @@ impl TileWork {
     /// One sample (number `index`) of every pixel of the tile, added to the tile's sums. A
     /// frame of one sample per pixel looks through pixel centres; with more, samples spread
     /// over the pixel by the filter.
-    fn sample(&mut self, t: &Tracer<'_, '_>, camera: &CameraRays, index: u32, band: &mut Band<'_>) {
+    fn sample(&mut self, t: &Tracer<'_, '_>, camera: &CameraRays, index: u32, first: bool, band: &mut Band<'_>) {
         let s = t.settings;
         let shutter = t.frame.camera().shutter;
         let (samplers, rays, times) = (&mut self.samplers, &mut self.rays, &mut self.times);
@@ -482,9 +488,17 @@ impl TileWork {
                 let colour = if colour.is_finite() { colour } else { Vec3::ZERO };
                 let (x, y) = self.order[k];
                 let at = band.index(x, y);
-                band.sum[at] += colour;
-                if let Some(sum_sq) = band.sum_sq.as_deref_mut() {
-                    sum_sq[at] += luminance(colour) * luminance(colour);
+                let square = luminance(colour) * luminance(colour);
+                if first {
+                    band.sum[at] = colour;
+                    if let Some(sum_sq) = band.sum_sq.as_deref_mut() {
+                        sum_sq[at] = square;
+                    }
+                } else {
+                    band.sum[at] += colour;
+                    if let Some(sum_sq) = band.sum_sq.as_deref_mut() {
+                        sum_sq[at] += square;
+                    }
                 }
             }
         }
