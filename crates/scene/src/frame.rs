@@ -459,8 +459,7 @@ impl<'a> Frame<'a> {
         let fi = &self.instances[hit.item as usize];
         let placed = fi.placed_at(time);
         let mesh = &fi.object.mesh;
-        let corners = mesh.indices[hit.prim as usize].map(|i| i as usize);
-        let w = [1.0 - hit.u - hit.v, hit.u, hit.v];
+        let (w, corners) = barycentrics(mesh, hit);
         let outward = placed.normal_to_world(hit.ng).normalize_or_zero();
         let front_face = outward.dot(ray.dir) < 0.0;
         let geometric_normal = if front_face { outward } else { -outward };

@@ -11,7 +11,7 @@
 use glam::Vec3;
 use raystage_kernel::{PACKET_SIZE, Ray};
 
-use super::{Frame, Geometry, SceneHit, SurfacePoint};
+use super::{Frame, Geometry, SceneHit, SurfacePoint, barycentrics};
 use crate::spawn::{ERROR_FACTORS, placed_hit_point};
 
 /// One value per lane of a packet.
@@ -42,14 +42,13 @@ impl<'a> Frame<'a> {
             let fi = &self.instances[hit.item as usize];
             let mesh = &fi.object.mesh;
             let here = fi.placed_at(time);
-            let corners = mesh.indices[hit.prim as usize];
-            let w = [1.0 - hit.u - hit.v, hit.u, hit.v];
+            let (w, corners) = barycentrics(mesh, hit);
             let world_normal = here.normal_to_world(hit.ng);
             for axis in 0..3 {
                 normal[axis][k] = world_normal[axis];
                 dir[axis][k] = rays[k].dir[axis];
                 for corner in 0..3 {
-                    vertices[corner][axis][k] = mesh.positions[corners[corner] as usize][axis];
+                    vertices[corner][axis][k] = mesh.positions[corners[corner]][axis];
                     weights[corner][k] = w[corner];
                 }
             }
@@ -65,8 +64,8 @@ impl<'a> Frame<'a> {
                 let (position, local_position, position_error) = placed_hit_point(at(&local), at(&local_error), &placed);
                 let geometry = Geometry { position, position_error, local_position, geometric_normal: at(&outward), front_face: front_face[k] };
                 let mesh = &fi.object.mesh;
-                let corners = mesh.indices[hit.prim as usize].map(|i| i as usize);
-                found(k, self.complete(mesh, &placed, hit.prim, corners, [weights[0][k], weights[1][k], weights[2][k]], geometry));
+                let (w, corners) = barycentrics(mesh, hit);
+                found(k, self.complete(mesh, &placed, hit.prim, corners, w, geometry));
             }
         }
     }
