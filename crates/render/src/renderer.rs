@@ -272,8 +272,7 @@ impl Progressive {
         let add = |tile: &Tile, band: &mut Band<'_>| {
             let mut work = TileWork::for_tile(tile);
             for index in first_index..first_index + samples {
-                // The first pass writes every pixel over what the buffers held.
-                work.sample(&tracer, &camera, index, index == 0, band);
+                work.sample(&tracer, &camera, index, band);
             }
             counts.lock().unwrap_or_else(|e| e.into_inner()).add(work.counts);
             work.recycle();
@@ -394,11 +393,13 @@ impl TileWork {
         SPARE_WORK.with(|spare| spare.set(Some(self)));
     }
 
-    /// One sample (number `index`) of every pixel of the tile, added to the tile's sums. A
-    /// frame of one sample per pixel looks through pixel centres; with more, samples spread
-    /// over the pixel by the filter.
-    fn sample(&mut self, t: &Tracer<'_, '_>, camera: &CameraRays, index: u32, first: bool, band: &mut Band<'_>) {
+    /// One sample (number `index`) of every pixel of the tile, added to the tile's sums (sample
+    /// 0 is written over them). A frame of one sample per pixel looks through pixel centres;
+    /// with more, samples spread over the pixel by the filter.
+    fn sample(&mut self, t: &Tracer<'_, '_>, camera: &CameraRays, index: u32, band: &mut Band<'_>) {
         let s = t.settings;
+        // The first sample writes every pixel over what the buffers held.
+        let first = index == 0;
         let shutter = t.frame.camera().shutter;
         let (samplers, rays, times) = (&mut self.samplers, &mut self.rays, &mut self.times);
         samplers.clear();
