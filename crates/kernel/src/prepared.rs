@@ -89,8 +89,10 @@ impl PreparedRay {
             2
         };
         // The next two axes in turn, swapped when the ray runs towards −kz; each case names its
-        // components directly (indexing by a computed axis goes through memory).
-        let (k, [sx, sy, sz]) = match (kz, negative_along(dir, kz)) {
+        // components directly (indexing by a computed axis goes through memory). Multiplying by
+        // the reciprocal rather than dividing twice more: any shear is watertight as long as
+        // every triangle of the query uses the same one.
+        let (k, shear) = match (kz, negative_along(dir, kz)) {
             (0, false) => ([1, 2, 0], [dir[1] * inv[0], dir[2] * inv[0], inv[0]]),
             (0, true) => ([2, 1, 0], [dir[2] * inv[0], dir[1] * inv[0], inv[0]]),
             (1, false) => ([2, 0, 1], [dir[2] * inv[1], dir[0] * inv[1], inv[1]]),
@@ -98,9 +100,6 @@ impl PreparedRay {
             (_, false) => ([0, 1, 2], [dir[0] * inv[2], dir[1] * inv[2], inv[2]]),
             (_, true) => ([1, 0, 2], [dir[1] * inv[2], dir[0] * inv[2], inv[2]]),
         };
-        // Multiplying by the reciprocal rather than dividing twice more: any shear is watertight
-        // as long as every triangle of the query uses the same one.
-        let shear = [sx, sy, sz];
         PreparedRay { org, inv, inv_far, neg, tnear: ray.tnear, tfar: ray.tfar, k, shear }
     }
 
