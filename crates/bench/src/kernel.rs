@@ -107,33 +107,29 @@ pub fn trace_all(tracer: &dyn Tracer, rays: &[Ray], threads: usize, api: Api, sc
     let parts: Vec<(u64, f64)> = if threads <= 1 {
         vec![chunk(rays)]
     } else {
-        match schedule {
-            Schedule::Halves => {
-                let per = rays.len().div_ceil(threads).next_multiple_of(PACKET_SIZE);
-                std::thread::scope(|s| {
-                    let handles: Vec<_> = rays.chunks(per.max(1)).map(|c| s.spawn(move || chunk(c))).collect();
-                    handles.into_iter().map(|h| h.join().expect("trace thread panicked")).collect()
-                })
+        // Shared: runs taken in turn from the next unclaimed ray.
+        let next = AtomicUsize::new(0);
+        let runs = || {
+            let mut sums = (0u64, 0f64);
+            loop {
+                let start = next.fetch_add(SHARED_RUN, Ordering::Relaxed);
+                if start >= rays.len() {
+                    break sums;
+                }
+                let (hits, tsum) = chunk(&rays[start..(start + SHARED_RUN).min(rays.len())]);
+                sums = (sums.0 + hits, sums.1 + tsum);
             }
-            Schedule::Shared => {
-                let next = AtomicUsize::new(0);
-                let runs = || {
-                    let mut sums = (0u64, 0f64);
-                    loop {
-                        let start = next.fetch_add(SHARED_RUN, Ordering::Relaxed);
-                        if start >= rays.len() {
-                            break sums;
-                        }
-                        let (hits, tsum) = chunk(&rays[start..(start + SHARED_RUN).min(rays.len())]);
-                        sums = (sums.0 + hits, sums.1 + tsum);
-                    }
-                };
-                std::thread::scope(|s| {
-                    let handles: Vec<_> = (0..threads).map(|_| s.spawn(runs)).collect();
-                    handles.into_iter().map(|h| h.join().expect("trace thread panicked")).collect()
-                })
-            }
-        }
+        };
+        std::thread::scope(|s| {
+            let handles: Vec<_> = match schedule {
+                Schedule::Halves => {
+                    let per = rays.len().div_ceil(threads).next_multiple_of(PACKET_SIZE);
+                    rays.chunks(per.max(1)).map(|c| s.spawn(move || chunk(c))).collect()
+                }
+                Schedule::Shared => (0..threads).map(|_| s.spawn(runs)).collect(),
+            };
+            handles.into_iter().map(|h| h.join().expect("trace thread panicked")).collect()
+        })
     };
     let seconds = start.elapsed().as_secs_f64();
     let (hits, tsum) = parts.iter().fold((0, 0.0), |(h, t), p| (h + p.0, t + p.1));
