@@ -10,9 +10,9 @@
 //! with a shadow ray from every hit, all through the recursion, where reflection and refraction
 //! code would sit; under delta lights the matte first hits are shaded in packets with no
 //! recursion at all) through the kernel compiled for its effect set and through the general one
-//! with reflection and refraction compiled in, which must give the identical image. All systems take turns
-//! within each repetition, on the same thread count; times are medians over repetitions, ratios
-//! the medians of each repetition's ratio.
+//! with reflection and refraction compiled in, which must give the identical image. All
+//! systems take turns within each repetition, on the same thread count; times are medians over
+//! repetitions, ratios the medians of each repetition's ratio.
 //! *Convergence*: the path tracer on the closed Cornell room, accumulated progressively to 1, 2,
 //! 4, … samples per pixel and compared with a high-sample reference of another seed; the RMSE
 //! should fall at least as 1/√spp, a slope of −0.5 on log-log axes (faster while the sampler's

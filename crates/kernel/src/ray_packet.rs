@@ -168,8 +168,8 @@ mod tests {
     use super::*;
     use crate::Ray;
 
-    /// Every lane's answer is the single-ray slab test's (with either instruction set), on boxes the rays hit, miss, graze and
-    /// lie in the faces of, with ±0 direction components.
+    /// Every lane's answer is the single-ray slab test's (with either instruction set), on boxes
+    /// the rays hit, miss, graze and lie in the faces of, with ±0 direction components.
     #[test]
     fn lanes_answer_as_single_rays_do() {
         let mut seed = 0x2545_F491_4F6C_DD1Du64;
