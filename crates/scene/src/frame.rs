@@ -169,9 +169,10 @@ impl<'a> Frame<'a> {
         let boxes: Vec<_> = instances
             .iter()
             .map(|fi| {
-                let b = world_bounds(&fi.object.bounds, &fi.instance.start);
+                let (bounds, cover) = (&fi.object.bounds, &fi.object.cover[..]);
+                let b = world_bounds(bounds, cover, &fi.instance.start);
                 match fi.instance.end {
-                    Some(end) => b.union(world_bounds(&fi.object.bounds, &end)),
+                    Some(end) => b.union(world_bounds(bounds, cover, &end)),
                     None => b,
                 }
             })

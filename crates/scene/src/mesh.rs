@@ -1,11 +1,14 @@
 //! Triangle meshes as the scene stores them: positions and indices, optional per-vertex normals,
 //! colours and texture coordinates, and a shader per triangle.
 
-use glam::{Vec2, Vec3};
+use glam::{UVec3, Vec2, Vec3};
 use raystage_kernel::{Aabb, TriangleSource};
 
 use crate::error::SceneError;
 use crate::ids::ShaderId;
+
+/// Cells per axis of the grid whose occupied cells make a mesh's cover ([`Mesh::cover`]).
+const COVER_CELLS: u32 = 4;
 
 /// An indexed triangle mesh with its attributes.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -82,6 +85,29 @@ impl Mesh {
         }
         // No triangles leave it empty: `Aabb::EMPTY` is exactly this infinite inside-out box.
         Aabb { min: lo, max: hi }
+    }
+
+    /// Boxes that together hold every vertex the triangles use: the vertices' own box in each
+    /// occupied cell of a [`COVER_CELLS`]³ grid over `bounds` (the mesh's [`Mesh::bounds`]).
+    /// Turned by a rotation, the box around these is much tighter than the box around the
+    /// turned `bounds`, whose corners stick out past the geometry.
+    pub(crate) fn cover(&self, bounds: &Aabb) -> Vec<Aabb> {
+        const N: u32 = COVER_CELLS;
+        if bounds.is_empty() {
+            return Vec::new();
+        }
+        // A flat side has one layer of cells (the guard keeps the scale finite).
+        let scale = Vec3::splat(N as f32) / bounds.extent().max(Vec3::splat(f32::MIN_POSITIVE));
+        let mut cells = [Aabb::EMPTY; (N * N * N) as usize];
+        for corners in &self.indices {
+            for &v in corners {
+                let p = self.positions[v as usize];
+                let cell = ((p - bounds.min) * scale).as_uvec3().min(UVec3::splat(N - 1));
+                let slot = &mut cells[(cell.x + N * (cell.y + N * cell.z)) as usize];
+                *slot = slot.grow(p);
+            }
+        }
+        cells.into_iter().filter(|c| !c.is_empty()).collect()
     }
 
     /// The vertices of triangle `prim`.

@@ -64,12 +64,21 @@ fn shaders_of(mesh: &Mesh) -> (Vec<crate::ShaderId>, bool) {
     (used, mesh.shaders.is_empty())
 }
 
+/// The cover of an object of `kind` (see [`Object::cover`]).
+fn cover_of(kind: ObjectKind, mesh: &Mesh, bounds: &Aabb) -> Vec<Aabb> {
+    if kind == ObjectKind::Unstructured { Vec::new() } else { mesh.cover(bounds) }
+}
+
 /// An object: its mesh, its kind, and its acceleration structure once a ray needed it.
 #[derive(Debug)]
 pub(crate) struct Object {
     pub mesh: Mesh,
     pub kind: ObjectKind,
     pub bounds: Aabb,
+    /// Boxes around parts of the geometry ([`Mesh::cover`]) that give a turned instance a
+    /// tight world box; empty for unstructured objects, whose geometry changes too often for
+    /// the extra pass over it to pay (they keep the box around their turned `bounds`).
+    pub cover: Vec<Aabb>,
     /// The distinct shaders its triangles use, and whether some use the scene's default.
     pub shaders_used: Vec<crate::ShaderId>,
     pub uses_default_shader: bool,
@@ -106,8 +115,10 @@ impl Object {
     /// A new object; nothing is built yet.
     pub fn new(kind: ObjectKind, mesh: Mesh) -> Object {
         let (shaders_used, uses_default_shader) = shaders_of(&mesh);
+        let bounds = mesh.bounds();
         Object {
-            bounds: mesh.bounds(),
+            bounds,
+            cover: cover_of(kind, &mesh, &bounds),
             shaders_used,
             uses_default_shader,
             mesh,
@@ -132,6 +143,7 @@ impl Object {
         self.retire_tree(true);
         // Same triangles, same shaders: only the bounds move.
         self.bounds = mesh.bounds();
+        self.cover = cover_of(self.kind, &mesh, &self.bounds);
         self.mesh = mesh;
     }
 
@@ -140,6 +152,7 @@ impl Object {
     fn replace(&mut self, mesh: Mesh, same_triangles: bool) {
         self.retire_tree(same_triangles);
         self.bounds = mesh.bounds();
+        self.cover = cover_of(self.kind, &mesh, &self.bounds);
         (self.shaders_used, self.uses_default_shader) = shaders_of(&mesh);
         self.mesh = mesh;
     }
