@@ -64,6 +64,16 @@ impl PreparedRay {
     #[inline]
     pub fn packet(rays: &[Ray]) -> [PreparedRay; PACKET_SIZE] {
         assert!(!rays.is_empty() && rays.len() <= PACKET_SIZE, "one to a packet of rays");
+        #[cfg(target_arch = "x86_64")]
+        if crate::Isa::best() == crate::Isa::Avx2 {
+            // SAFETY: `best` only picks AVX2 where the CPU has it; the packet size was checked.
+            return unsafe { crate::traverse::avx2::prepare_packet(rays) };
+        }
+        PreparedRay::packet_one_by_one(rays)
+    }
+
+    /// [`PreparedRay::packet`] without SIMD: each lane through [`PreparedRay::new`].
+    pub(crate) fn packet_one_by_one(rays: &[Ray]) -> [PreparedRay; PACKET_SIZE] {
         let last = rays.len() - 1;
         let mut prepared = [PreparedRay::new(&rays[0]); PACKET_SIZE];
         for (i, lane) in prepared.iter_mut().enumerate().skip(1) {
@@ -125,5 +135,48 @@ fn negative_along(dir: [f32; 3], axis: usize) -> bool {
         0 => dir[0] < 0.0,
         1 => dir[1] < 0.0,
         _ => dir[2] < 0.0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+    use proptest::prelude::*;
+
+    use super::*;
+
+    /// Every field of a prepared ray as bits, to compare two exactly.
+    fn bits(p: &PreparedRay) -> Vec<u32> {
+        let floats = p.org.iter().chain(&p.inv).chain(&p.inv_far).chain(&p.shear).chain([&p.tnear, &p.tfar]);
+        floats.map(|v| v.to_bits()).chain(p.neg.map(u32::from)).chain(p.k.map(|k| k as u32)).collect()
+    }
+
+    /// A direction component: any float, or one of the values that make the axis choice tie
+    /// or the signs subtle (±0, ±1, ±2).
+    fn component() -> impl Strategy<Value = f32> {
+        prop_oneof![-1e6f32..1e6, prop::sample::select(vec![0.0f32, -0.0, 1.0, -1.0, 2.0, -2.0, 1e-30, -1e-30])]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 2048, ..ProptestConfig::default() })]
+
+        /// A packet prepared eight at a time is, lane for lane and bit for bit, each ray
+        /// prepared alone, for full packets and short ones.
+        #[test]
+        fn a_prepared_packet_is_its_rays_prepared_one_by_one(
+            rays in prop::collection::vec(((-10.0f32..10.0, -10.0f32..10.0, -10.0f32..10.0), (component(), component(), component()), 0.0f32..1.0, 1.0f32..1e3), 1..=PACKET_SIZE),
+        ) {
+            let rays: Vec<Ray> = rays
+                .iter()
+                .map(|&((ox, oy, oz), (dx, dy, dz), tnear, tfar)| {
+                    let dir = Vec3::new(dx, dy, dz);
+                    Ray::segment(Vec3::new(ox, oy, oz), if dir == Vec3::ZERO { Vec3::NEG_Y } else { dir }, tnear, tfar)
+                })
+                .collect();
+            let (packet, one_by_one) = (PreparedRay::packet(&rays), PreparedRay::packet_one_by_one(&rays));
+            for (lane, (a, b)) in packet.iter().zip(&one_by_one).enumerate() {
+                prop_assert_eq!(bits(a), bits(b), "lane {}", lane);
+            }
+        }
     }
 }

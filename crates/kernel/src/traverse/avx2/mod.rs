@@ -7,14 +7,17 @@
 //! or triangle tests), so results are bit-identical.
 //!
 //! This module holds the node and leaf tests; `single` walks the tree with one ray, `packet` with
-//! a packet of rays that share an origin, `boxes` walks a box tree for a caller's closure.
+//! a packet of rays that share an origin, `boxes` walks a box tree for a caller's closure, and
+//! `prepare` computes a packet's per-ray constants across the lanes.
 
 mod boxes;
 mod packet;
+mod prepare;
 mod single;
 
 pub(crate) use boxes::{boxes_any, boxes_closest};
 pub(crate) use packet::{boxes_occluded, boxes_touched, intersect_packet, occluded_packet};
+pub(crate) use prepare::prepare_packet;
 pub(crate) use single::{intersect, occluded};
 
 use std::arch::x86_64::*;
