@@ -146,12 +146,12 @@ pub fn shading_table(run: &ShadingRun) -> String {
         run.threads,
         run.object_build_seconds
     );
-    let _ = writeln!(out, "  {:<18} {:>9} {:>10} {:>13} {:>13} {:>9}", "system", "ms", "vs kernel", "primary rays", "shadow rays", "Mrays/s");
+    let _ = writeln!(out, "  {:<20} {:>9} {:>10} {:>13} {:>13} {:>9}", "system", "ms", "vs kernel", "primary rays", "shadow rays", "Mrays/s");
     for system in System::ALL {
         let (seconds, rays) = (run.median_seconds(system), run.rays(system));
         let _ = writeln!(
             out,
-            "  {:<18} {:>9.1} {:>9.2}x {:>13} {:>13} {:>9.1}",
+            "  {:<20} {:>9.1} {:>9.2}x {:>13} {:>13} {:>9.1}",
             system.name(),
             seconds * 1e3,
             run.ratio(system, System::Kernel),
