@@ -205,3 +205,46 @@ impl Animation for Still {
         View { eye, target, fov_y_degrees: 60.0, sun: Vec3::new(-0.5, -1.0, -0.4) }
     }
 }
+
+/// An animation's first frame baked into world space: every instance's triangles copied into one
+/// static object under one identity instance. The same geometry as the animation without the
+/// instancing, so that a benchmark can tell what instancing costs from what the geometry does.
+pub struct Baked {
+    name: String,
+    mesh: Mesh,
+    view: View,
+}
+
+impl Baked {
+    /// Bakes frame 0 of `animation`.
+    pub fn new(animation: &dyn Animation) -> Baked {
+        let objects = animation.objects();
+        let mut mesh = Mesh::default();
+        for (object, t) in animation.instances(0) {
+            mesh.append(&objects[object].mesh, t);
+        }
+        Baked { name: format!("{}-baked", animation.name()), mesh, view: animation.view() }
+    }
+}
+
+impl Animation for Baked {
+    fn name(&self) -> String {
+        self.name.clone()
+    }
+
+    fn objects(&self) -> Vec<AnimatedObject> {
+        vec![AnimatedObject { kind: ObjectKind::Static, mesh: self.mesh.clone() }]
+    }
+
+    fn instances(&self, _frame: u32) -> Vec<(usize, Affine3A)> {
+        vec![(0, Affine3A::IDENTITY)]
+    }
+
+    fn deform(&self, _frame: u32) -> Vec<(usize, Vec<Vec3>)> {
+        Vec::new()
+    }
+
+    fn view(&self) -> View {
+        self.view
+    }
+}
