@@ -83,8 +83,9 @@ impl Placed {
 /// 45° gets a box 1.4 times as wide as its crown): rays pass through that slack and enter the
 /// instance for nothing. So a turned object with a `cover` (boxes around its parts) gets the box
 /// around its turned parts instead, each part's the tight box of a turned box (Arvo 1990),
-/// padded by a few ulps for the rounding. Without a cover, or unturned, it gets the box around
-/// the eight turned corners of `bounds` (the seed's conservative instance bounds, DIGEST §1.3).
+/// padded by a few ulps of the terms a turned vertex sums, for the rounding. Without a cover,
+/// or unturned, it gets the box around the eight turned corners of `bounds` (the seed's
+/// conservative instance bounds, DIGEST §1.3).
 pub(crate) fn world_bounds(bounds: &Aabb, cover: &[Aabb], t: &Affine3A) -> Aabb {
     if bounds.is_empty() {
         return Aabb::EMPTY;
@@ -101,8 +102,10 @@ pub(crate) fn world_bounds(bounds: &Aabb, cover: &[Aabb], t: &Affine3A) -> Aabb 
     let reach = glam::Mat3A::from_cols(m.x_axis.abs(), m.y_axis.abs(), m.z_axis.abs());
     cover.iter().fold(Aabb::EMPTY, |b, part| {
         let centre = t.transform_point3a(Vec3A::from(part.center()));
-        let half = reach * Vec3A::from(part.extent() * 0.5);
-        let half = half + (centre.abs() + half) * (4.0 * f32::EPSILON);
+        let half = Vec3A::from(part.extent() * 0.5);
+        // Rounding in transforming a vertex is relative to the terms it sums, not to the sum.
+        let terms = reach * (Vec3A::from(part.center().abs()) + half) + t.translation.abs();
+        let half = reach * half + terms * (8.0 * f32::EPSILON);
         b.union(Aabb { min: (centre - half).into(), max: (centre + half).into() })
     })
 }
