@@ -9,31 +9,34 @@ use crate::traverse;
 use crate::wide::{LEAF, Node8, collapse};
 
 /// A tree over boxes, built with the seed's fast top-level heuristic (see `build::top_level`)
-/// and collapsed to eight lanes. Each leaf names one box by its index in the slice it was built
-/// from; what is inside a box (an instance of an object, say) the caller intersects itself.
+/// and collapsed to eight lanes. Each leaf holds one box, and its link names the box by its
+/// index in the slice the tree was built from (`LEAF | index`), so that a walk reaches the box
+/// without a further load; what is inside a box (an instance of an object, say) the caller
+/// intersects itself.
 #[derive(Clone, Debug)]
 pub struct BoxTree {
     pub(crate) nodes: Vec<Node8>,
-    /// Per leaf: the first entry in `items` and the number of entries.
-    pub(crate) leaves: Vec<[u32; 2]>,
-    /// Box indices in leaf order.
-    pub(crate) items: Vec<u32>,
     pub(crate) root: u32,
+    /// Boxes in the tree.
+    len: usize,
     bounds: Aabb,
     isa: Isa,
 }
 
 impl BoxTree {
     /// Builds the tree over `boxes`; empty or non-finite boxes are left out (no ray reaches them).
+    ///
+    /// # Panics
+    /// If there are 2³¹ − 1 boxes or more (their indices would not fit a leaf link).
     pub fn build(boxes: &[Aabb]) -> BoxTree {
+        assert!(boxes.len() < (!LEAF) as usize, "too many boxes for leaf links");
         let built = build_over_boxes(boxes, 1);
-        let mut leaves = Vec::with_capacity(built.prims.len());
         let wide = collapse(&built.nodes, Vec::new(), |first, count| {
-            leaves.push([first, count]);
-            LEAF | (leaves.len() - 1) as u32
+            debug_assert_eq!(count, 1, "a leaf of one box");
+            LEAF | built.prims[first as usize]
         });
         let bounds = built.nodes.first().map_or(Aabb::EMPTY, |n| n.bounds);
-        BoxTree { nodes: wide.nodes, leaves, items: built.prims, root: wide.root, bounds, isa: Isa::best() }
+        BoxTree { nodes: wide.nodes, root: wide.root, len: built.prims.len(), bounds, isa: Isa::best() }
     }
 
     /// The same tree traversed with the given instruction set, or `None` if this CPU lacks it.
@@ -51,12 +54,12 @@ impl BoxTree {
 
     /// Number of boxes in the tree.
     pub fn len(&self) -> usize {
-        self.items.len()
+        self.len
     }
 
     /// Whether the tree holds no box.
     pub fn is_empty(&self) -> bool {
-        self.items.is_empty()
+        self.len == 0
     }
 
     /// A closest-hit walk, near-first: `visit(item, tfar)` is called for every box the ray's
@@ -131,9 +134,9 @@ impl BoxTree {
         }
     }
 
-    /// The items of a leaf link.
-    pub(crate) fn leaf_items(&self, link: u32) -> &[u32] {
-        let [first, count] = self.leaves[(link & !LEAF) as usize];
-        &self.items[first as usize..(first + count) as usize]
+    /// The box a leaf link (not `EMPTY`) names.
+    #[inline]
+    pub(crate) fn leaf_item(link: u32) -> u32 {
+        link & !LEAF
     }
 }

@@ -111,9 +111,7 @@ pub(crate) fn boxes_closest(tree: &BoxTree, ray: &PreparedRay, mut visit: impl F
             }
             stack[base..sp].sort_unstable_by(|a, b| b.1.total_cmp(&a.1));
         } else if link != EMPTY {
-            for &item in tree.leaf_items(link) {
-                tfar = visit(item, tfar);
-            }
+            tfar = visit(BoxTree::leaf_item(link), tfar);
         }
         while sp > 0 {
             sp -= 1;
@@ -142,7 +140,7 @@ pub(crate) fn boxes_any(tree: &BoxTree, ray: &PreparedRay, mut visit: impl FnMut
                     sp += 1;
                 }
             }
-        } else if link != EMPTY && tree.leaf_items(link).iter().any(|&item| visit(item)) {
+        } else if link != EMPTY && visit(BoxTree::leaf_item(link)) {
             return true;
         }
     }

@@ -43,9 +43,7 @@ pub(crate) unsafe fn boxes_closest(tree: &BoxTree, ray: &PreparedRay, mut visit:
             // SAFETY: entries base..sp were just written.
             sort_farthest_first(unsafe { written(&mut stack[base..sp]) }, |e| e.dist);
         } else if link != EMPTY {
-            for &item in tree.leaf_items(link) {
-                tfar = visit(item, tfar);
-            }
+            tfar = visit(BoxTree::leaf_item(link), tfar);
         }
         loop {
             if sp == 0 {
@@ -86,7 +84,7 @@ pub(crate) unsafe fn boxes_any(tree: &BoxTree, ray: &PreparedRay, mut visit: imp
                 stack[sp].write(node.child[lane]);
                 sp += 1;
             }
-        } else if link != EMPTY && tree.leaf_items(link).iter().any(|&item| visit(item)) {
+        } else if link != EMPTY && visit(BoxTree::leaf_item(link)) {
             return true;
         }
     }

@@ -443,16 +443,7 @@ unsafe fn boxes_occluded_beam<const PARALLEL: bool>(tree: &BoxTree, rays: &[Prep
         if link & LEAF == 0 {
             return None;
         }
-        let mut blocked = 0;
-        if link != EMPTY {
-            for &item in tree.leaf_items(link) {
-                blocked |= block(item, live & !blocked);
-                if live & !blocked == 0 {
-                    break;
-                }
-            }
-        }
-        Some(blocked)
+        Some(if link == EMPTY { 0 } else { block(BoxTree::leaf_item(link), live) })
     };
     // SAFETY: inner links of a box tree are valid node indices.
     unsafe { walk_any::<PARALLEL>(&tree.nodes, tree.root, rays, finish) }
@@ -495,7 +486,7 @@ unsafe fn boxes_touched_beam<const PARALLEL: bool>(tree: &BoxTree, rays: &[Prepa
             return None;
         }
         if link != EMPTY {
-            tree.leaf_items(link).iter().for_each(|&item| visit(item, live));
+            visit(BoxTree::leaf_item(link), live);
         }
         Some(0)
     };
