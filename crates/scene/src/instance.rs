@@ -100,12 +100,13 @@ pub(crate) fn world_bounds(bounds: &Aabb, cover: &[Aabb], t: &Affine3A) -> Aabb 
         });
     }
     let reach = glam::Mat3A::from_cols(m.x_axis.abs(), m.y_axis.abs(), m.z_axis.abs());
+    // Rounding in transforming a vertex is relative to the terms it sums, not to the sum; the
+    // terms of the vertices farthest out bound those of every part's.
+    let terms = reach * Vec3A::from(bounds.min.abs().max(bounds.max.abs())) + t.translation.abs();
+    let pad = terms * (8.0 * f32::EPSILON);
     cover.iter().fold(Aabb::EMPTY, |b, part| {
         let centre = t.transform_point3a(Vec3A::from(part.center()));
-        let half = Vec3A::from(part.extent() * 0.5);
-        // Rounding in transforming a vertex is relative to the terms it sums, not to the sum.
-        let terms = reach * (Vec3A::from(part.center().abs()) + half) + t.translation.abs();
-        let half = reach * half + terms * (8.0 * f32::EPSILON);
+        let half = reach * Vec3A::from(part.extent() * 0.5) + pad;
         b.union(Aabb { min: (centre - half).into(), max: (centre + half).into() })
     })
 }
