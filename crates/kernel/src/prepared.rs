@@ -28,30 +28,35 @@ pub(crate) fn widen(t: f32) -> f32 {
 /// transform of the watertight triangle test (Woop, Benthin, Wald 2013). Preparing costs a few
 /// divisions; a caller that traces the same ray through several trees (the instances of a
 /// two-level scene that share world space, say) prepares it once.
+///
+/// The fields are laid out in two halves of 32 bytes, one cache line in all: the origin, `tnear`,
+/// the reciprocal and `tfar`, then the widened reciprocal, the shear and the axis and sign bytes,
+/// so that a packet's rays can be written from its lanes with two transposes.
+#[repr(C, align(64))]
 #[derive(Clone, Copy, Debug)]
 pub struct PreparedRay {
     /// Origin components.
     pub(crate) org: [f32; 3],
+    /// Start of the segment.
+    pub(crate) tnear: f32,
     /// Exact IEEE reciprocal of the direction: `±∞` for a `±0` component. The box tests then
     /// follow Williams et al. 2005 (seed DIGEST §3.1): the sign of the reciprocal picks the near
     /// plane, so `+0` and `−0` are told apart, and a ray lying exactly in a slab plane produces
     /// `0 · ∞ = NaN` for that plane, which the tests' NaN-ignoring `min`/`max` skip, leaving the
     /// axis unconstrained: such a ray counts as inside the slab for every `t`, as it is.
     pub(crate) inv: [f32; 3],
-    /// The reciprocal widened by [`ROBUST_FAR`], for far distances.
-    pub(crate) inv_far: [f32; 3],
-    /// Per axis: does the ray travel towards −∞ (then a box's near plane is its max)?
-    pub(crate) neg: [bool; 3],
-    /// Start of the segment.
-    pub(crate) tnear: f32,
     /// End of the segment as given by the caller.
     pub(crate) tfar: f32,
-    /// Woop's axis permutation: `kz` is the dominant direction axis, `kx`, `ky` the others,
-    /// swapped when `dir[kz] < 0` to keep the triangle winding.
-    pub(crate) k: [usize; 3],
+    /// The reciprocal widened by [`ROBUST_FAR`], for far distances.
+    pub(crate) inv_far: [f32; 3],
     /// Woop's shear constants `Sx = dx/dz`, `Sy = dy/dz`, `Sz = 1/dz` in the permuted frame
     /// (`dx·(1/dz)`, rounded twice).
     pub(crate) shear: [f32; 3],
+    /// Woop's axis permutation: `kz` is the dominant direction axis, `kx`, `ky` the others,
+    /// swapped when `dir[kz] < 0` to keep the triangle winding (see [`PreparedRay::axes`]).
+    pub(crate) k: [u8; 3],
+    /// Per axis: does the ray travel towards −∞ (then a box's near plane is its max)?
+    pub(crate) neg: [bool; 3],
 }
 
 impl PreparedRay {
@@ -111,6 +116,12 @@ impl PreparedRay {
             (_, true) => ([1, 0, 2], [dir[1] * inv[2], dir[0] * inv[2], inv[2]]),
         };
         PreparedRay { org, inv, inv_far, neg, tnear: ray.tnear, tfar: ray.tfar, k, shear }
+    }
+
+    /// Woop's axis permutation `[kx, ky, kz]` as indices.
+    #[inline(always)]
+    pub(crate) fn axes(&self) -> [usize; 3] {
+        self.k.map(usize::from)
     }
 
     /// The same ray with its segment ending at `tfar` instead.

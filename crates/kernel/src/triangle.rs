@@ -126,7 +126,7 @@ pub(crate) struct TriangleHit {
 /// hit.
 #[inline]
 pub(crate) fn intersect(ray: &PreparedRay, v: &[[f32; 3]; 3], tfar: f32) -> Option<TriangleHit> {
-    let [kx, ky, kz] = ray.k;
+    let [kx, ky, kz] = ray.axes();
     let [sx, sy, sz] = ray.shear;
     // Vertices relative to the origin, in the permuted frame.
     let rel = |p: &[f32; 3]| [p[kx] - ray.org[kx], p[ky] - ray.org[ky], p[kz] - ray.org[kz]];

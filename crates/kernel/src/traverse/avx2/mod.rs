@@ -82,7 +82,7 @@ impl LeafLanes {
     #[inline]
     fn new(ray: &PreparedRay) -> LeafLanes {
         LeafLanes {
-            korg: splat3(ray.k.map(|k| ray.org[k])),
+            korg: splat3(ray.axes().map(|k| ray.org[k])),
             shear: splat3(ray.shear),
             tnear: _mm256_set1_ps(ray.tnear),
         }
@@ -122,7 +122,7 @@ struct BlockEdges {
 #[target_feature(enable = "avx2,fma")]
 #[inline]
 fn block_edges(block: &TriBlock, ray: &PreparedRay, r: &LeafLanes) -> BlockEdges {
-    let [kx, ky, kz] = ray.k;
+    let [kx, ky, kz] = ray.axes();
     let row = |i: usize| unsafe { _mm256_load_ps(block.v.as_ptr().add(i).cast::<f32>()) };
     // Vertex `i` relative to the origin, sheared: (x, y, z) in the ray's frame.
     let vertex = |i: usize| {

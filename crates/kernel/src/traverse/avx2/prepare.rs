@@ -1,12 +1,22 @@
 //! A packet's rays prepared eight at a time: the divisions, sign tests and Woop's axis choice of
 //! [`PreparedRay::new`] run once across the lanes instead of once per ray (one ray at a time,
-//! the three divisions per ray queue up on the divider).
+//! the three divisions per ray queue up on the divider), and the prepared rays are written from
+//! the lanes with two transposes (each half of a [`PreparedRay`] is eight lanes wide).
 
 use std::arch::x86_64::*;
+use std::mem::{MaybeUninit, offset_of};
 
 use crate::PACKET_SIZE;
 use crate::prepared::{PreparedRay, ROBUST_FAR};
 use crate::ray::Ray;
+
+// The layouts the transposes read and write.
+const _: () = {
+    assert!(size_of::<Ray>() == 32 && offset_of!(Ray, tnear) == 12 && offset_of!(Ray, dir) == 16 && offset_of!(Ray, tfar) == 28);
+    assert!(size_of::<PreparedRay>() == 64 && offset_of!(PreparedRay, tnear) == 12 && offset_of!(PreparedRay, inv) == 16);
+    assert!(offset_of!(PreparedRay, tfar) == 28 && offset_of!(PreparedRay, inv_far) == 32 && offset_of!(PreparedRay, shear) == 44);
+    assert!(offset_of!(PreparedRay, k) == 56 && offset_of!(PreparedRay, neg) == 59);
+};
 
 /// [`PreparedRay::packet`], bit for bit: the same operations on the same values, lane by lane.
 ///
@@ -16,13 +26,10 @@ use crate::ray::Ray;
 pub(crate) unsafe fn prepare_packet(rays: &[Ray]) -> [PreparedRay; PACKET_SIZE] {
     debug_assert!(!rays.is_empty() && rays.len() <= PACKET_SIZE);
     let last = rays.len() - 1;
-    // Scalar loads, not a gather: the caller has usually just written the rays, and a gather
-    // waits for those stores to retire where a scalar load takes its value straight from them.
-    let lane = |i: usize| rays[i.min(last)].dir;
-    let dir: [__m256; 3] = std::array::from_fn(|axis| {
-        let c = |i: usize| lane(i)[axis];
-        _mm256_setr_ps(c(0), c(1), c(2), c(3), c(4), c(5), c(6), c(7))
-    });
+    // SAFETY: a ray is eight floats (checked above).
+    let ray = |i: usize| unsafe { _mm256_loadu_ps((&rays[i.min(last)] as *const Ray).cast::<f32>()) };
+    let [ox, oy, oz, tnear, dx, dy, dz, tfar] = transpose(std::array::from_fn(ray));
+    let dir = [dx, dy, dz];
     let zero = _mm256_setzero_ps();
     let inv = dir.map(|d| _mm256_div_ps(_mm256_set1_ps(1.0), d));
     let inv_far = inv.map(|i| _mm256_mul_ps(i, _mm256_set1_ps(ROBUST_FAR)));
@@ -34,42 +41,45 @@ pub(crate) unsafe fn prepare_packet(rays: &[Ray]) -> [PreparedRay; PACKET_SIZE] 
     // The two other axes in turn (y, z after x; z, x after y; x, y after z), swapped when the
     // ray runs towards −kz.
     let negative = _mm256_cmp_ps::<_CMP_LT_OQ>(pick(dir[0], dir[1], dir[2]), zero);
-    let (first, second) = (pick(dir[1], dir[2], dir[0]), pick(dir[2], dir[0], dir[1]));
-    let (first, second) = (_mm256_blendv_ps(first, second, negative), _mm256_blendv_ps(second, first, negative));
+    let swap = |a: __m256, b: __m256| (_mm256_blendv_ps(a, b, negative), _mm256_blendv_ps(b, a, negative));
+    let (first, second) = swap(pick(dir[1], dir[2], dir[0]), pick(dir[2], dir[0], dir[1]));
     let inv_kz = pick(inv[0], inv[1], inv[2]);
     let shear = [_mm256_mul_ps(first, inv_kz), _mm256_mul_ps(second, inv_kz), inv_kz];
+    // The axis and sign bytes, four to a float's bits: `k` then `neg[0]`, then `neg[1..]`.
+    let index = |i: i32| _mm256_castsi256_ps(_mm256_set1_epi32(i));
+    let (kx, ky) = swap(pick(index(1), index(2), index(0)), pick(index(2), index(0), index(1)));
+    let kz = pick(index(0), index(1), index(2));
+    let sign = inv.map(|i| _mm256_srli_epi32::<31>(_mm256_castps_si256(_mm256_cmp_ps::<_CMP_LT_OQ>(i, zero))));
+    let byte = |v: __m256i, at: i32| _mm256_sllv_epi32(v, _mm256_set1_epi32(8 * at));
+    let bytes = |v: [__m256i; 4]| _mm256_castsi256_ps(_mm256_or_si256(_mm256_or_si256(v[0], byte(v[1], 1)), _mm256_or_si256(byte(v[2], 2), byte(v[3], 3))));
+    let [kx, ky, kz] = [kx, ky, kz].map(|v| _mm256_castps_si256(v));
+    let axes = bytes([kx, ky, kz, sign[0]]);
+    let signs = bytes([sign[1], sign[2], _mm256_setzero_si256(), _mm256_setzero_si256()]);
 
-    let lanes = |v: __m256| {
-        let mut out = [0f32; PACKET_SIZE];
-        // SAFETY: `out` holds eight floats.
-        unsafe { _mm256_storeu_ps(out.as_mut_ptr(), v) };
-        out
-    };
-    let (inv, inv_far, shear) = (inv.map(lanes), inv_far.map(lanes), shear.map(lanes));
-    let bits = |m: __m256| _mm256_movemask_ps(m) as u32;
-    let (x_dominant, y_dominant, negative) = (bits(x_dominant), bits(y_dominant), bits(negative));
-    std::array::from_fn(|lane| {
-        let ray = &rays[lane.min(last)];
-        let bit = |mask: u32| mask >> lane & 1 != 0;
-        let kz = if bit(x_dominant) { 0 } else if bit(y_dominant) { 1 } else { 2 };
-        let k = match (kz, bit(negative)) {
-            (0, false) => [1, 2, 0],
-            (0, true) => [2, 1, 0],
-            (1, false) => [2, 0, 1],
-            (1, true) => [0, 2, 1],
-            (_, false) => [0, 1, 2],
-            (_, true) => [1, 0, 2],
-        };
-        let inv = [inv[0][lane], inv[1][lane], inv[2][lane]];
-        PreparedRay {
-            org: ray.origin.to_array(),
-            inv,
-            inv_far: [inv_far[0][lane], inv_far[1][lane], inv_far[2][lane]],
-            neg: inv.map(|i| i < 0.0),
-            tnear: ray.tnear,
-            tfar: ray.tfar,
-            k,
-            shear: [shear[0][lane], shear[1][lane], shear[2][lane]],
+    let front = transpose([ox, oy, oz, tnear, inv[0], inv[1], inv[2], tfar]);
+    let back = transpose([inv_far[0], inv_far[1], inv_far[2], shear[0], shear[1], shear[2], axes, signs]);
+    let mut out = MaybeUninit::<[PreparedRay; PACKET_SIZE]>::uninit();
+    let base = out.as_mut_ptr().cast::<f32>();
+    for lane in 0..PACKET_SIZE {
+        // SAFETY: each prepared ray is 16 floats, 64-byte aligned; both halves are written.
+        unsafe {
+            _mm256_store_ps(base.add(16 * lane), front[lane]);
+            _mm256_store_ps(base.add(16 * lane + 8), back[lane]);
         }
-    })
+    }
+    // SAFETY: every byte was written, the axis bytes with 0 to 2 and the sign bytes with 0 or 1.
+    unsafe { out.assume_init() }
+}
+
+/// Eight rows of eight floats transposed: row `i` of the result holds lane `i` of every row.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn transpose(r: [__m256; 8]) -> [__m256; 8] {
+    // Pairs, then quads within each 128-bit half, then the halves.
+    let pairs = [0, 2, 4, 6].map(|i| (_mm256_unpacklo_ps(r[i], r[i + 1]), _mm256_unpackhi_ps(r[i], r[i + 1])));
+    let quads = |a: (__m256, __m256), b: (__m256, __m256)| {
+        [_mm256_shuffle_ps::<0x44>(a.0, b.0), _mm256_shuffle_ps::<0xEE>(a.0, b.0), _mm256_shuffle_ps::<0x44>(a.1, b.1), _mm256_shuffle_ps::<0xEE>(a.1, b.1)]
+    };
+    let (low, high) = (quads(pairs[0], pairs[1]), quads(pairs[2], pairs[3]));
+    std::array::from_fn(|i| if i < 4 { _mm256_permute2f128_ps::<0x20>(low[i], high[i]) } else { _mm256_permute2f128_ps::<0x31>(low[i - 4], high[i - 4]) })
 }
