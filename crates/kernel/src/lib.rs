@@ -52,3 +52,15 @@ pub use prepared::PreparedRay;
 pub use ray::{Hit, Ray};
 pub use ray_packet::RayPacket;
 pub use triangle::{IndexedMesh, TriangleSource, geometric_normal, is_degenerate, prefetch_indexed};
+
+/// Uniform floats in `[0, 1)` from a xorshift sequence started at `seed`: the unit tests' cheap,
+/// repeatable randomness.
+#[cfg(test)]
+pub(crate) fn unit_floats(mut seed: u64) -> impl FnMut() -> f32 {
+    move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 40) as f32 / (1u64 << 24) as f32
+    }
+}

@@ -172,13 +172,8 @@ mod tests {
     /// the rays hit, miss, graze and lie in the faces of, with ±0 direction components.
     #[test]
     fn lanes_answer_as_single_rays_do() {
-        let mut seed = 0x2545_F491_4F6C_DD1Du64;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 40) as f32 / (1u64 << 24) as f32 * 4.0 - 2.0
-        };
+        let mut unit = crate::unit_floats(0x2545_F491_4F6C_DD1D);
+        let mut next = move || unit() * 4.0 - 2.0;
         let pick = |x: f32| if x.abs() < 0.3 { if x < 0.0 { -0.0 } else { 0.0 } } else { x };
         let (mut hits, mut misses) = (0, 0);
         for round in 0..2000 {

@@ -559,13 +559,7 @@ mod tests {
         if !crate::Isa::Avx2.is_supported() {
             return;
         }
-        let mut seed = 0x9E37_79B9_7F4A_7C15u64;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = crate::unit_floats(0x9E37_79B9_7F4A_7C15);
         let mut kinds = [0usize; 3];
         for round in 0..20_000 {
             let n = 1 + round % PACKET_SIZE;
