@@ -32,7 +32,7 @@ impl BoxTree {
         assert!(boxes.len() < (!LEAF) as usize, "too many boxes for leaf links");
         let built = build_over_boxes(boxes, 1);
         let wide = collapse(&built.nodes, Vec::new(), |first, count| {
-            debug_assert_eq!(count, 1, "a leaf of one box");
+            assert_eq!(count, 1, "the top-level builder makes leaves of one box");
             LEAF | built.prims[first as usize]
         });
         let bounds = built.nodes.first().map_or(Aabb::EMPTY, |n| n.bounds);
