@@ -399,7 +399,7 @@ impl TileWork {
     fn sample(&mut self, t: &Tracer<'_, '_>, camera: &CameraRays, index: u32, band: &mut Band<'_>) {
         let s = t.settings;
         // The first sample writes every pixel over what the buffers held.
-        let first = index == 0;
+        let first_pass = index == 0;
         let shutter = t.frame.camera().shutter;
         let (samplers, rays, times) = (&mut self.samplers, &mut self.rays, &mut self.times);
         samplers.clear();
@@ -472,13 +472,13 @@ impl TileWork {
                 eyelight::shade(t, &rays[start..end], &self.hits[start..end], &mut previewed[..end - start]);
             }
             for k in start..end {
+                let (x, y) = self.order[k];
                 let colour = if preview {
                     previewed[k - start]
                 } else if let Some(colour) = matte[k - start] {
                     colour
                 } else {
                     let first = FirstHit { hit: self.hits[k], resolved: resolved[k - start].as_ref(), shadows: known[k - start] };
-                    let (x, y) = self.order[k];
                     let mut fresh = PixelSampler::new(x, y, s.seed, index);
                     let sampler = samplers.get_mut(k).unwrap_or(&mut fresh);
                     let time = times.get(k).copied().unwrap_or(shutter[0]);
@@ -487,19 +487,11 @@ impl TileWork {
                 // A NaN or infinite sample would poison the pixel for good: drop it (it counts
                 // as black).
                 let colour = if colour.is_finite() { colour } else { Vec3::ZERO };
-                let (x, y) = self.order[k];
                 let at = band.index(x, y);
-                let square = luminance(colour) * luminance(colour);
-                if first {
-                    band.sum[at] = colour;
-                    if let Some(sum_sq) = band.sum_sq.as_deref_mut() {
-                        sum_sq[at] = square;
-                    }
-                } else {
-                    band.sum[at] += colour;
-                    if let Some(sum_sq) = band.sum_sq.as_deref_mut() {
-                        sum_sq[at] += square;
-                    }
+                band.sum[at] = if first_pass { colour } else { band.sum[at] + colour };
+                if let Some(sum_sq) = band.sum_sq.as_deref_mut() {
+                    let square = luminance(colour) * luminance(colour);
+                    sum_sq[at] = if first_pass { square } else { sum_sq[at] + square };
                 }
             }
         }
