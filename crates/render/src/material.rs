@@ -68,7 +68,7 @@ impl<'f> Materials<'f> {
     /// without making the whole material; `attributes` is asked only by surfaces whose colour
     /// varies.
     #[inline(always)]
-    pub fn preview_colour(&self, pp: &PreviewPoint<'_>, attributes: impl FnOnce() -> PreviewAttributes) -> (Vec3, bool) {
+    pub fn preview_colour(&self, pp: &PreviewPoint, attributes: impl FnOnce() -> PreviewAttributes) -> (Vec3, bool) {
         let r = self.resolved(pp.shader_id);
         match r.base.model {
             ShadingModel::Constant | ShadingModel::Emissive => (r.base.emission, false),

@@ -14,7 +14,7 @@ use crate::lights::{SceneLights, Seen};
 use crate::material::Materials;
 use crate::sampler::PixelSampler;
 use crate::stats::{FrameStats, PhaseTimes, RayCounts};
-use crate::tiles::{Band, Tile, render_tiles_with};
+use crate::tiles::{Band, Tile, luminance, render_tiles_with};
 use crate::{Error, Film};
 
 /// Largest image width or height.
@@ -333,11 +333,6 @@ impl Progressive {
     }
 }
 
-/// Relative luminance of linear RGB (Rec. 709).
-fn luminance(c: Vec3) -> f32 {
-    c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
-}
-
 /// Counts a tile gathers and the frame sums.
 #[derive(Clone, Copy, Debug, Default)]
 struct Counts {
@@ -363,8 +358,12 @@ thread_local! {
 /// thread from tile to tile).
 #[derive(Default)]
 struct TileWork {
+    /// The tile being rendered.
+    tile: Tile,
     /// The tile's pixels, in 4×2 blocks (see [`packet_order`]).
     order: Vec<(u32, u32)>,
+    /// This pass's sample of each pixel, in the tile's row-major order.
+    samples: Vec<Vec3>,
     /// Per pixel, its sampler and its ray's shutter time, once the camera ray took samples
     /// (both empty for rays through pixel centres at the shutter's opening: those pixels'
     /// samplers start fresh where they are needed).
@@ -381,7 +380,9 @@ impl TileWork {
     /// build's parallel parts run: that tile gets buffers of its own).
     fn for_tile(tile: &Tile) -> TileWork {
         let mut work = SPARE_WORK.with(|spare| spare.take()).unwrap_or_default();
+        work.tile = *tile;
         packet_order(tile, &mut work.order);
+        work.samples.resize(tile.len(), Vec3::ZERO);
         // Every slot is written by the tile's camera rays before it is read.
         work.hits.resize(work.order.len(), None);
         work.counts = Counts::default();
@@ -397,15 +398,28 @@ impl TileWork {
     /// 0 is written over them). A frame of one sample per pixel looks through pixel centres;
     /// with more, samples spread over the pixel by the filter.
     fn sample(&mut self, t: &Tracer<'_, '_>, camera: &CameraRays, index: u32, band: &mut Band<'_>) {
-        let s = t.settings;
+        let e = t.effects;
+        if !e.multisampling && !e.depth_of_field && !e.motion_blur && previews_packets(t) {
+            self.preview_centres(t, camera);
+        } else {
+            self.trace_and_shade(t, camera, index);
+        }
         // The first sample writes every pixel over what the buffers held.
-        let first_pass = index == 0;
+        band.add_tile(&self.tile, &self.samples, index == 0);
+    }
+
+    /// [`TileWork::sample`] of any frame: the tile's camera rays traced together, then shaded
+    /// packet by packet.
+    fn trace_and_shade(&mut self, t: &Tracer<'_, '_>, camera: &CameraRays, index: u32) {
+        let s = t.settings;
         let shutter = t.frame.camera().shutter;
+        let e = t.effects;
+        let centres = !e.multisampling && !e.depth_of_field && !e.motion_blur;
+        let preview = previews_packets(t);
         let (samplers, rays, times) = (&mut self.samplers, &mut self.rays, &mut self.times);
         samplers.clear();
         times.clear();
-        let e = t.effects;
-        if !e.multisampling && !e.depth_of_field && !e.motion_blur {
+        if centres {
             // One sample per pixel, through its centre, at the shutter's opening: each
             // packet's camera rays are made together, over the last tile's (so that a tile of
             // the same size writes each ray once).
@@ -448,9 +462,6 @@ impl TileWork {
         self.counts.rays.primary += rays.len() as u64;
         let packed_shadows = first_shadows::applies(t);
         let packed_matte = packed_shadows && first_matte::applies(t);
-        // The preview of a frame without area lights (whose light camera rays can meet)
-        // shades each packet at once.
-        let preview = s.integrator == Integrator::EyeLight && !t.lights.has_area();
         for start in (0..self.order.len()).step_by(PACKET_SIZE) {
             let end = (start + PACKET_SIZE).min(self.order.len());
             // The first hits of a packet's camera rays, resolved together when their shadows
@@ -469,7 +480,7 @@ impl TileWork {
             }
             let mut previewed = [Vec3::ZERO; PACKET_SIZE];
             if preview {
-                eyelight::shade(t, &rays[start..end], &self.hits[start..end], &mut previewed[..end - start]);
+                eyelight::shade(t, &rays[start..end], &self.hits[start..end], |k, colour| previewed[k] = colour);
             }
             for k in start..end {
                 let (x, y) = self.order[k];
@@ -484,18 +495,38 @@ impl TileWork {
                     let time = times.get(k).copied().unwrap_or(shutter[0]);
                     sample_pixel(t, &rays[k], time, first, sampler, &mut self.counts.rays)
                 };
-                // A NaN or infinite sample would poison the pixel for good: drop it (it counts
-                // as black).
-                let colour = if colour.is_finite() { colour } else { Vec3::ZERO };
-                let at = band.index(x, y);
-                band.sum[at] = if first_pass { colour } else { band.sum[at] + colour };
-                if let Some(sum_sq) = band.sum_sq.as_deref_mut() {
-                    let square = luminance(colour) * luminance(colour);
-                    sum_sq[at] = if first_pass { square } else { sum_sq[at] + square };
-                }
+                place(&mut self.samples, &self.tile, (x, y), colour);
             }
         }
     }
+
+    /// [`TileWork::sample`] of the eye-light preview through pixel centres: packet by packet,
+    /// each packet's camera rays made, traced, shaded and written while they are in cache.
+    fn preview_centres(&mut self, t: &Tracer<'_, '_>, camera: &CameraRays) {
+        let time = t.frame.camera().shutter[0];
+        let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); PACKET_SIZE];
+        let mut hits = [None; PACKET_SIZE];
+        for pixels in self.order.chunks(PACKET_SIZE) {
+            let n = pixels.len();
+            camera.centre_rays(pixels, &mut rays[..n]);
+            t.frame.intersect_many(&rays[..n], &mut hits[..n], time);
+            eyelight::shade(t, &rays[..n], &hits[..n], |k, colour| place(&mut self.samples, &self.tile, pixels[k], colour));
+        }
+        self.counts.rays.primary += self.order.len() as u64;
+    }
+}
+
+/// Whether the frame is an eye-light preview without area lights (whose light camera rays can
+/// meet), which shades each packet of camera rays at once.
+fn previews_packets(t: &Tracer<'_, '_>) -> bool {
+    t.settings.integrator == Integrator::EyeLight && !t.lights.has_area()
+}
+
+/// Puts `colour`, the sample of `pixel`, in its place among the samples of `tile`. A NaN or
+/// infinite sample would poison the pixel for good: it counts as black.
+#[inline]
+fn place(samples: &mut [Vec3], tile: &Tile, (x, y): (u32, u32), colour: Vec3) {
+    samples[tile.index(x, y)] = if colour.is_finite() { colour } else { Vec3::ZERO };
 }
 
 /// What is known of a camera ray's first hit before it is shaded.
@@ -517,9 +548,9 @@ fn sample_pixel(t: &Tracer<'_, '_>, ray: &Ray, time: f32, first: FirstHit<'_, '_
     let e = t.effects;
     let (reflection, refraction) = if t.settings.specialize { (e.reflection, e.refraction) } else { (true, true) };
     if t.settings.integrator == Integrator::EyeLight {
-        let mut colour = [Vec3::ZERO];
-        eyelight::shade(t, std::slice::from_ref(ray), &[Some(scene_hit)], &mut colour);
-        return emitted + colour[0];
+        let mut colour = Vec3::ZERO;
+        eyelight::shade(t, std::slice::from_ref(ray), &[Some(scene_hit)], |_, seen| colour = seen);
+        return emitted + colour;
     }
     // Resolved here unless it was for the packet's shadows.
     let resolved_here;

@@ -15,7 +15,7 @@ use rayon::prelude::*;
 pub const TILE_SIZE: u32 = 32;
 
 /// A rectangle of pixels: `x0..x0 + width` × `y0..y0 + height`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub(crate) struct Tile {
     /// Left column.
     pub x0: u32,
@@ -29,9 +29,13 @@ pub(crate) struct Tile {
 
 impl Tile {
     /// Number of pixels.
-    #[cfg(test)]
     pub fn len(&self) -> usize {
         (self.width * self.height) as usize
+    }
+
+    /// Where pixel `(x, y)` of the image is in the tile's row-major order.
+    pub fn index(&self, x: u32, y: u32) -> usize {
+        ((y - self.y0) * self.width + (x - self.x0)) as usize
     }
 
     /// Image coordinates of the pixel at `index` in the tile's row-major order.
@@ -56,6 +60,39 @@ impl Band<'_> {
     pub fn index(&self, x: u32, y: u32) -> usize {
         ((y - self.y0) * self.width + x) as usize
     }
+
+    /// Adds one sample of every pixel of `tile`, `samples` in the tile's row-major order, to the
+    /// band's sums (and their squared luminances, if kept); the first pass writes them over the
+    /// sums instead.
+    ///
+    /// The samples are gathered per tile rather than stored pixel by pixel as they are shaded:
+    /// a frame's sums are far larger than the caches, and each store that misses them holds up
+    /// the stores behind it (the next packet's camera rays, its shading), where row by row the
+    /// misses come together.
+    pub fn add_tile(&mut self, tile: &Tile, samples: &[Vec3], first_pass: bool) {
+        assert_eq!(samples.len(), tile.len(), "a sample per pixel of the tile");
+        let width = tile.width as usize;
+        for (row, samples) in samples.chunks(width).enumerate() {
+            let at = self.index(tile.x0, tile.y0 + row as u32);
+            let sum = &mut self.sum[at..at + width];
+            if first_pass {
+                sum.copy_from_slice(samples);
+            } else {
+                sum.iter_mut().zip(samples).for_each(|(sum, sample)| *sum += *sample);
+            }
+            if let Some(sum_sq) = self.sum_sq.as_deref_mut() {
+                for (sum_sq, sample) in sum_sq[at..at + width].iter_mut().zip(samples) {
+                    let square = luminance(*sample) * luminance(*sample);
+                    *sum_sq = if first_pass { square } else { *sum_sq + square };
+                }
+            }
+        }
+    }
+}
+
+/// Relative luminance of linear RGB (Rec. 709).
+pub(crate) fn luminance(c: Vec3) -> f32 {
+    c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
 }
 
 /// Runs `add` over every tile of a `width × height` image, bands of tiles in parallel on the
@@ -124,6 +161,25 @@ mod tests {
             for (i, p) in sum.iter().enumerate() {
                 assert_eq!(*p, Vec3::new((i as u32 % width) as f32, (i as u32 / width) as f32, 1.0), "{width}×{height}");
             }
+        }
+    }
+
+    #[test]
+    fn a_tile_s_samples_are_written_then_added_with_their_squares() {
+        let (width, height) = (70, 40);
+        let n = (width * height) as usize;
+        let (mut sum, mut sum_sq) = (vec![Vec3::splat(9.0); n], vec![9.0; n]);
+        let sample = |x: u32, y: u32| Vec3::new(x as f32, y as f32, 1.0);
+        for pass in 0..2 {
+            render_tiles_with(width, height, &mut sum, Some(&mut sum_sq), |tile, band| {
+                let samples: Vec<Vec3> = (0..tile.len()).map(|i| sample(tile.pixel(i).0, tile.pixel(i).1)).collect();
+                band.add_tile(tile, &samples, pass == 0);
+            }, |_, _| {});
+        }
+        for (i, (s, sq)) in sum.iter().zip(&sum_sq).enumerate() {
+            let one = sample(i as u32 % width, i as u32 / width);
+            assert_eq!(*s, 2.0 * one, "pixel {i}");
+            assert_eq!(*sq, 2.0 * luminance(one) * luminance(one), "pixel {i}");
         }
     }
 

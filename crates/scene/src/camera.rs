@@ -1,6 +1,6 @@
 //! The camera: a pinhole looking from an eye point at a target.
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 use raystage_kernel::Ray;
 
 use crate::error::SceneError;
@@ -161,9 +161,9 @@ impl CameraRays {
     }
 
     /// The rays through pixel centres `(x + 0.5, y + 0.5)` of up to eight `pixels`, into
-    /// `out`: exactly [`CameraRays::ray`] of each (lens centre), computed side by side (the
-    /// normalisations, whose latency dominates a camera ray, overlap, and the compiler can
-    /// vectorise them).
+    /// `out`: exactly [`CameraRays::ray`] of each (lens centre), computed four at a time with
+    /// the same correctly rounded operations (the square roots and divisions of the
+    /// normalisations dominate a camera ray).
     ///
     /// # Panics
     /// If `out` is shorter than `pixels`, or either holds more than eight.
@@ -176,11 +176,26 @@ impl CameraRays {
             }
             return;
         }
-        let dirs: [Vec3; N] = std::array::from_fn(|k| pixels.get(k).map_or(self.forward, |&(x, y)| self.pinhole_direction(x as f32 + 0.5, y as f32 + 0.5)));
-        // `Vec3::normalize`, written out so that the eight run side by side.
-        let scale: [f32; N] = std::array::from_fn(|k| 1.0 / dirs[k].length());
+        // `pinhole_direction`: each pixel's offsets from the image centre (zero in unused
+        // lanes, whose direction is then `forward`), then each coordinate of the directions.
+        let (mut across, mut down) = ([0.0f32; N], [0.0f32; N]);
+        for (k, &(x, y)) in pixels.iter().enumerate() {
+            across[k] = (x as f32 + 0.5) - self.centre.x;
+            down[k] = self.centre.y - (y as f32 + 0.5);
+        }
+        let (mut x, mut y, mut z) = ([0.0f32; N], [0.0f32; N], [0.0f32; N]);
+        for lane in (0..N).step_by(4) {
+            let (a, d) = (Vec4::from_slice(&across[lane..]), Vec4::from_slice(&down[lane..]));
+            let coordinate = |f: f32, r: f32, u: f32| (Vec4::splat(f) + Vec4::splat(r) * a) + Vec4::splat(u) * d;
+            let (cx, cy, cz) = (coordinate(self.forward.x, self.right.x, self.up.x), coordinate(self.forward.y, self.right.y, self.up.y), coordinate(self.forward.z, self.right.z, self.up.z));
+            // `Vec3::normalize`: the reciprocal of the length, then the scaled coordinates.
+            let scale = ((cx * cx + cy * cy) + cz * cz).sqrt().recip();
+            (cx * scale).write_to_slice(&mut x[lane..]);
+            (cy * scale).write_to_slice(&mut y[lane..]);
+            (cz * scale).write_to_slice(&mut z[lane..]);
+        }
         for (k, ray) in out.iter_mut().take(pixels.len()).enumerate() {
-            *ray = Ray::new(self.eye, dirs[k] * scale[k]);
+            *ray = Ray::new(self.eye, Vec3::new(x[k], y[k], z[k]));
         }
     }
 

@@ -106,12 +106,12 @@ pub struct SurfacePoint<'a> {
 
 /// What the eye-light preview needs of a hit point (see [`Frame::preview`]).
 #[derive(Clone, Copy, Debug)]
-pub struct PreviewPoint<'a> {
+pub struct PreviewPoint {
     /// Shading normal in the world, on either side of the surface, not normalised (a preview
     /// normalises the normals of a packet of hits together).
     pub normal: Vec3,
-    /// The triangle's shader, and its id (`None` for the scene's default shader).
-    pub shader: &'a Shader,
+    /// The id of the triangle's shader, `None` if the triangle has none. A shader that the
+    /// scene has removed since stands for the default shader, as in [`SurfacePoint`].
     pub shader_id: Option<ShaderId>,
 }
 
@@ -504,7 +504,7 @@ impl<'a> Frame<'a> {
     /// read only for the triangle's shader: the normal comes with the hit. Surfaces whose colour
     /// varies add [`Frame::preview_attributes`].
     #[inline]
-    pub fn preview(&self, hit: &SceneHit) -> PreviewPoint<'a> {
+    pub fn preview(&self, hit: &SceneHit) -> PreviewPoint {
         let fi = &self.instances[hit.item as usize];
         let mesh = &fi.object.mesh;
         let normal = if mesh.normals.is_empty() {
@@ -513,8 +513,7 @@ impl<'a> Frame<'a> {
             let (w, [a, b, c]) = barycentrics(mesh, hit);
             mesh.normals[a] * w[0] + mesh.normals[b] * w[1] + mesh.normals[c] * w[2]
         };
-        let (shader, shader_id) = self.shader_of(mesh, hit.prim);
-        PreviewPoint { normal: fi.placed.normal_to_world(normal), shader, shader_id }
+        PreviewPoint { normal: fi.placed.normal_to_world(normal), shader_id: mesh.shaders.get(hit.prim as usize).copied() }
     }
 
     /// The interpolated attributes the mesh of `hit` of `ray` has, and an approximate

@@ -2,7 +2,7 @@
 //! clearly with no lights or materials set up, and a frame costs little more than its primary
 //! rays.
 
-use glam::Vec3;
+use glam::{BVec4A, Vec3, Vec4};
 use raystage_kernel::Ray;
 use raystage_scene::SceneHit;
 
@@ -13,47 +13,58 @@ use crate::sky;
 /// Light reaching a surface seen edge-on, so that silhouettes stay visible.
 const AMBIENT: f32 = 0.15;
 
-/// The colours of up to a packet of camera rays under the eye light, `out[k]` for `rays[k]`
-/// whose first hit is `hits[k]`, light from area lights met on the way excluded (see
+/// The colours of up to a packet of camera rays under the eye light, `found(k, colour)` for
+/// `rays[k]` whose first hit is `hits[k]`, light from area lights met on the way excluded (see
 /// `Tracer::emission`). Only the normal and the material of a hit are looked up (no hit point),
-/// which keeps the preview close to the cost of its camera rays; the normals of the hits and
-/// the directions of the misses (for the sky) are normalised side by side.
-pub(crate) fn shade(t: &Tracer<'_, '_>, rays: &[Ray], hits: &[Option<SceneHit>], out: &mut [Vec3]) {
+/// which keeps the preview close to the cost of its camera rays; the cosines between normals and
+/// rays are computed four at a time.
+pub(crate) fn shade(t: &Tracer<'_, '_>, rays: &[Ray], hits: &[Option<SceneHit>], mut found: impl FnMut(usize, Vec3)) {
     const N: usize = raystage_kernel::PACKET_SIZE;
-    assert!(rays.len() == hits.len() && hits.len() == out.len() && hits.len() <= N, "a colour per ray, at most a packet");
-    // Per hit: the surface's colour, whether the eye light shades it, and its normal.
+    assert!(rays.len() == hits.len() && hits.len() <= N, "a ray per hit, at most a packet");
+    // Per hit: the surface's colour and its normal's coordinates (zero for misses); the hits the
+    // eye light shades (not emitters or constant colours), and the misses, a bit per ray.
     let mut colour = [Vec3::ZERO; N];
-    let mut lit = [false; N];
-    let mut normal = [Vec3::ZERO; N];
-    let mut missed = 0;
+    let (mut nx, mut ny, mut nz) = ([0.0f32; N], [0.0f32; N], [0.0f32; N]);
+    let (mut lit, mut missed) = ([false; N], 0u32);
     for (k, (ray, hit)) in rays.iter().zip(hits).enumerate() {
-        match hit {
-            Some(hit) => {
-                let point = t.frame.preview(hit);
-                (colour[k], lit[k]) = t.materials.preview_colour(&point, || t.frame.preview_attributes(ray, hit));
-                normal[k] = point.normal;
-            }
-            None => missed |= 1 << k,
-        }
+        let Some(hit) = hit else {
+            missed |= 1 << k;
+            continue;
+        };
+        let point = t.frame.preview(hit);
+        (colour[k], lit[k]) = t.materials.preview_colour(&point, || t.frame.preview_attributes(ray, hit));
+        (nx[k], ny[k], nz[k]) = (point.normal.x, point.normal.y, point.normal.z);
     }
-    // `Vec3::length` of each normal, then its reciprocal, side by side.
-    let rcp = raystage_kernel::reciprocal_sqrt8(normal.map(Vec3::length_squared));
+    let (mut dx, mut dy, mut dz) = ([0.0f32; N], [0.0f32; N], [0.0f32; N]);
+    for (k, ray) in rays.iter().enumerate() {
+        (dx[k], dy[k], dz[k]) = (ray.dir.x, ray.dir.y, ray.dir.z);
+    }
+    // The light's factor on each colour: `normalize_or_zero` of the normal, `dot` with the ray
+    // and `abs` give the cosine (the same correctly rounded operations as one by one; camera
+    // rays have unit directions, see `CameraRays::ray`, and the preview shades nothing else),
+    // and hits the light does not shade keep their colour.
+    let mut factor = [1.0f32; N];
+    for lane in (0..N).step_by(4) {
+        let quad = |a: &[f32; N]| Vec4::from_slice(&a[lane..]);
+        let (x, y, z) = (quad(&nx), quad(&ny), quad(&nz));
+        let rcp = ((x * x + y * y) + z * z).sqrt().recip();
+        let normalisable = rcp.is_finite_mask() & rcp.cmpgt(Vec4::ZERO);
+        let unit = |v: Vec4| Vec4::select(normalisable, v * rcp, Vec4::ZERO);
+        let cos = ((unit(x) * quad(&dx) + unit(y) * quad(&dy)) + unit(z) * quad(&dz)).abs();
+        let shaded = BVec4A::new(lit[lane], lit[lane + 1], lit[lane + 2], lit[lane + 3]);
+        Vec4::select(shaded, Vec4::splat(AMBIENT) + Vec4::splat(1.0 - AMBIENT) * cos, Vec4::ONE).write_to_slice(&mut factor[lane..]);
+    }
     let environment = t.lights.has_environment();
     // What `Tracer::background` shows camera rays without an environment.
     let skies = if missed != 0 && !environment { sky::skies(rays, missed) } else { [Vec3::ZERO; N] };
-    for (k, (ray, hit)) in rays.iter().zip(hits).enumerate() {
-        let v = normal[k];
-        out[k] = match hit {
-            None if environment => t.background(ray.dir, Seen::Directly),
-            None => skies[k],
-            // `normalize_or_zero`, `dot` and `abs`. Camera rays have unit directions
-            // (`CameraRays::ray`), and the preview shades nothing else.
-            Some(_) if lit[k] => {
-                let (x, y, z) = if rcp[k].is_finite() && rcp[k] > 0.0 { (v.x * rcp[k], v.y * rcp[k], v.z * rcp[k]) } else { (0.0, 0.0, 0.0) };
-                let cos = ((x * ray.dir.x) + (y * ray.dir.y) + (z * ray.dir.z)).abs();
-                colour[k] * (AMBIENT + (1.0 - AMBIENT) * cos)
-            }
-            Some(_) => colour[k],
+    for (k, ray) in rays.iter().enumerate() {
+        let seen = if missed & (1 << k) == 0 {
+            colour[k] * factor[k]
+        } else if environment {
+            t.background(ray.dir, Seen::Directly)
+        } else {
+            skies[k]
         };
+        found(k, seen);
     }
 }
