@@ -37,6 +37,7 @@ impl FrameInstance<'_> {
     /// The placement at shutter time `time`.
     /// (Borrowed for a still instance: the placement is two matrices, and rays look it up on
     /// every visit.)
+    #[inline]
     fn placed_at(&self, time: f32) -> Cow<'_, Placed> {
         if self.instance.end.is_some() && time != 0.0 { Cow::Owned(Placed::at(&self.instance, time)) } else { Cow::Borrowed(&self.placed) }
     }

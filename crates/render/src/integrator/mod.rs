@@ -251,6 +251,7 @@ impl<'f> Tracer<'_, 'f> {
 /// `OffsetRayOrigin`, see [`SurfacePoint::spawn_origin`]): a few ulps of the point's own
 /// coordinates, so the ray neither re-hits the surface it starts on nor skips a wall next to it,
 /// at a millimetre or a million units from the origin.
+#[inline]
 pub(crate) fn offset(sp: &SurfacePoint<'_>, dir: Vec3) -> Vec3 {
     sp.spawn_origin(dir)
 }
