@@ -12,7 +12,7 @@
 
 use std::f32::consts::FRAC_1_PI;
 
-use glam::Vec3;
+use glam::{BVec4A, Vec3, Vec4};
 use raystage_kernel::{PACKET_SIZE, Ray};
 use raystage_scene::ShadingModel;
 
@@ -111,7 +111,8 @@ struct Lanes {
 
 impl Lanes {
     /// Adds what `light` reflects at every hit, given whether it is `visible` there (1 or 0),
-    /// where that was `tested`: `Tracer::direct`'s arithmetic for one light sample, hit by hit.
+    /// where that was `tested`: `Tracer::direct`'s arithmetic for one light sample, hit by hit,
+    /// four hits at a time (the same correctly rounded operations in the same order).
     fn add(&mut self, light: &Delta, visible: &PerHit, tested: &[bool; PACKET_SIZE]) {
         // Per hit: the unit direction to the light, the light arriving (irradiance facing it),
         // and whether the sample exists at all (a point light not at the hit itself).
@@ -120,24 +121,27 @@ impl Lanes {
         let mut exists = [true; PACKET_SIZE];
         match *light {
             Delta::Positional(light) => {
-                let [px, py, pz] = &self.position.0;
                 let mut distance = [0.0; PACKET_SIZE];
-                for k in 0..PACKET_SIZE {
-                    let (dx, dy, dz) = (light.position.x - px[k], light.position.y - py[k], light.position.z - pz[k]);
-                    distance[k] = ((dx * dx) + (dy * dy) + (dz * dz)).sqrt();
-                    (wi.0[0][k], wi.0[1][k], wi.0[2][k]) = (dx / distance[k], dy / distance[k], dz / distance[k]);
+                for lane in quads() {
+                    let [dx, dy, dz] = [0, 1, 2].map(|c| Vec4::splat(light.position[c]) - quad(&self.position.0[c], lane));
+                    let d = ((dx * dx) + (dy * dy) + (dz * dz)).sqrt();
+                    for (c, v) in [dx, dy, dz].into_iter().enumerate() {
+                        (v / d).write_to_slice(&mut wi.0[c][lane..]);
+                    }
+                    d.write_to_slice(&mut distance[lane..]);
+                    unpack(d.cmpgt(Vec4::ZERO) & d.is_finite_mask(), &mut exists, lane);
                 }
                 // A point light's fade is 1, which leaves its intensity as it is.
                 let fade: PerHit = match light.cone {
                     None => [1.0; PACKET_SIZE],
                     Some(cone) => std::array::from_fn(|k| cone.fade(wi.get(k))),
                 };
-                for k in 0..PACKET_SIZE {
-                    let d2 = distance[k] * distance[k];
+                for lane in quads() {
+                    let d = quad(&distance, lane);
+                    let d2 = d * d;
                     for c in 0..3 {
-                        weighted.0[c][k] = light.intensity[c] * fade[k] / d2;
+                        ((Vec4::splat(light.intensity[c]) * quad(&fade, lane)) / d2).write_to_slice(&mut weighted.0[c][lane..]);
                     }
-                    exists[k] = distance[k] > 0.0 && distance[k].is_finite();
                 }
             }
             Delta::Directional { towards, intensity } => {
@@ -154,28 +158,49 @@ impl Lanes {
     /// `exists` and reaches the surface's front, as the Lambert BSDF reflects it towards the
     /// camera.
     fn reflect(&mut self, wi: &PerHit3, weighted: &PerHit3, exists: &[bool; PACKET_SIZE], visible: &PerHit, tested: &[bool; PACKET_SIZE]) {
-        let max = |a: f32, b: f32| if a > b { a } else { b };
-        let [gx, gy, gz] = &self.geometric_normal.0;
-        let [nx, ny, nz] = &self.shading_normal.0;
-        let [wx, wy, wz] = &wi.0;
-        for k in 0..PACKET_SIZE {
-            let w = weighted.get(k);
-            let wi_cos = (wx[k] * nx[k]) + (wy[k] * ny[k]) + (wz[k] * nz[k]);
-            // (`&`, not `&&`: every test is cheap, and a packet's worth of them runs side by side.)
-            let lit = exists[k]
-                & (max(max(w.x, w.y), w.z) > 0.0)
-                & ((gx[k] * wx[k]) + (gy[k] * wy[k]) + (gz[k] * wz[k]) > 0.0)
-                & (self.wo_cos[k] > 0.0)
-                & (wi_cos > 0.0);
+        let q3 = |v: &PerHit3, lane: usize| [0, 1, 2].map(|c| quad(&v.0[c], lane));
+        for lane in quads() {
+            let ([gx, gy, gz], [nx, ny, nz], [wx, wy, wz]) = (q3(&self.geometric_normal, lane), q3(&self.shading_normal, lane), q3(wi, lane));
+            let w = q3(weighted, lane);
+            let wi_cos = (wx * nx) + (wy * ny) + (wz * nz);
+            // `max` as `if a > b { a } else { b }`, which `Vec4::max` is.
+            let lit = pack(exists, lane)
+                & w[0].max(w[1]).max(w[2]).cmpgt(Vec4::ZERO)
+                & ((gx * wx) + (gy * wy) + (gz * wz)).cmpgt(Vec4::ZERO)
+                & quad(&self.wo_cos, lane).cmpgt(Vec4::ZERO)
+                & wi_cos.cmpgt(Vec4::ZERO);
             // Lit, by rounding, from a side the shadow packet took for turned away: the
             // recursion traces this shadow ray itself.
-            self.matte[k] &= tested[k] | !lit;
-            let f = wi_cos * FRAC_1_PI;
-            for (c, weighted) in w.to_array().into_iter().enumerate() {
-                let reflected = self.albedo.0[c][k] * f * weighted * visible[k];
-                self.sum.0[c][k] += if lit { reflected } else { 0.0 };
+            unpack(pack(&self.matte, lane) & (pack(tested, lane) | !lit), &mut self.matte, lane);
+            let f = wi_cos * Vec4::splat(FRAC_1_PI);
+            for (c, weighted) in w.into_iter().enumerate() {
+                let reflected = quad(&self.albedo.0[c], lane) * f * weighted * quad(visible, lane);
+                (quad(&self.sum.0[c], lane) + Vec4::select(lit, reflected, Vec4::ZERO)).write_to_slice(&mut self.sum.0[c][lane..]);
             }
         }
+    }
+}
+
+/// The first lane of each group of four in a packet.
+fn quads() -> std::iter::StepBy<std::ops::Range<usize>> {
+    (0..PACKET_SIZE).step_by(4)
+}
+
+/// Lanes `lane..lane + 4` of `values`.
+fn quad(values: &PerHit, lane: usize) -> Vec4 {
+    Vec4::from_slice(&values[lane..])
+}
+
+/// Lanes `lane..lane + 4` of `flags`, as a mask.
+fn pack(flags: &[bool; PACKET_SIZE], lane: usize) -> BVec4A {
+    BVec4A::new(flags[lane], flags[lane + 1], flags[lane + 2], flags[lane + 3])
+}
+
+/// Writes `mask` over lanes `lane..lane + 4` of `flags`.
+fn unpack(mask: BVec4A, flags: &mut [bool; PACKET_SIZE], lane: usize) {
+    let bits = mask.bitmask();
+    for (i, flag) in flags[lane..lane + 4].iter_mut().enumerate() {
+        *flag = bits & (1 << i) != 0;
     }
 }
 
