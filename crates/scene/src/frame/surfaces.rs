@@ -37,19 +37,24 @@ impl<'a> Frame<'a> {
         let mut dir: Lanes3 = [[0.0; PACKET_SIZE]; 3];
         let mut vertices: [Lanes3; 3] = [[[0.0; PACKET_SIZE]; 3]; 3];
         let mut weights: Lanes3 = [[0.0; PACKET_SIZE]; 3];
+        // Each hit's triangle (its corners' vertex indices), for the second pass.
+        let mut triangles = [[0usize; 3]; PACKET_SIZE];
         for (k, hit) in hits.iter().enumerate() {
             let Some(hit) = hit else { continue };
             let fi = &self.instances[hit.item as usize];
             let mesh = &fi.object.mesh;
-            let here = fi.placed_at(time);
             let (w, corners) = barycentrics(mesh, hit);
-            let world_normal = here.normal_to_world(hit.ng);
+            let world_normal = fi.placed_at(time).normal_to_world(hit.ng);
+            let positions = corners.map(|i| mesh.positions[i]);
+            triangles[k] = corners;
+            for corner in 0..3 {
+                weights[corner][k] = w[corner];
+            }
             for axis in 0..3 {
                 normal[axis][k] = world_normal[axis];
                 dir[axis][k] = rays[k].dir[axis];
                 for corner in 0..3 {
-                    vertices[corner][axis][k] = mesh.positions[corners[corner]][axis];
-                    weights[corner][k] = w[corner];
+                    vertices[corner][axis][k] = positions[corner][axis];
                 }
             }
         }
@@ -63,9 +68,8 @@ impl<'a> Frame<'a> {
                 let at = |v: &Lanes3| Vec3::new(v[0][k], v[1][k], v[2][k]);
                 let (position, local_position, position_error) = placed_hit_point(at(&local), at(&local_error), &placed);
                 let geometry = Geometry { position, position_error, local_position, geometric_normal: at(&outward), front_face: front_face[k] };
-                let mesh = &fi.object.mesh;
-                let (w, corners) = barycentrics(mesh, hit);
-                found(k, self.complete(mesh, &placed, hit.prim, corners, w, geometry));
+                let w = [weights[0][k], weights[1][k], weights[2][k]];
+                found(k, self.complete(&fi.object.mesh, &placed, hit.prim, triangles[k], w, geometry));
             }
         }
     }
