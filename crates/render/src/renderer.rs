@@ -398,8 +398,7 @@ impl TileWork {
     /// 0 is written over them). A frame of one sample per pixel looks through pixel centres;
     /// with more, samples spread over the pixel by the filter.
     fn sample(&mut self, t: &Tracer<'_, '_>, camera: &CameraRays, index: u32, band: &mut Band<'_>) {
-        let e = t.effects;
-        if !e.multisampling && !e.depth_of_field && !e.motion_blur && previews_packets(t) {
+        if through_centres(t) && previews_packets(t) {
             self.preview_centres(t, camera);
         } else {
             self.trace_and_shade(t, camera, index);
@@ -414,12 +413,11 @@ impl TileWork {
         let s = t.settings;
         let shutter = t.frame.camera().shutter;
         let e = t.effects;
-        let centres = !e.multisampling && !e.depth_of_field && !e.motion_blur;
         let preview = previews_packets(t);
         let (samplers, rays, times) = (&mut self.samplers, &mut self.rays, &mut self.times);
         samplers.clear();
         times.clear();
-        if centres {
+        if through_centres(t) {
             // One sample per pixel, through its centre, at the shutter's opening: each
             // packet's camera rays are made together, over the last tile's (so that a tile of
             // the same size writes each ray once).
@@ -514,6 +512,13 @@ impl TileWork {
         }
         self.counts.rays.primary += self.order.len() as u64;
     }
+}
+
+/// Whether the frame's camera rays go through pixel centres at the shutter's opening, one per
+/// pixel and pass: no samples over the pixel, the lens or the shutter interval.
+fn through_centres(t: &Tracer<'_, '_>) -> bool {
+    let e = t.effects;
+    !e.multisampling && !e.depth_of_field && !e.motion_blur
 }
 
 /// Whether the frame is an eye-light preview without area lights (whose light camera rays can

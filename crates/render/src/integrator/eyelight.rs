@@ -2,11 +2,12 @@
 //! clearly with no lights or materials set up, and a frame costs little more than its primary
 //! rays.
 
-use glam::{BVec4A, Vec3, Vec4};
+use glam::{Vec3, Vec4};
 use raystage_kernel::Ray;
 use raystage_scene::SceneHit;
 
 use super::Tracer;
+use super::quads::{pack, quad, quads};
 use crate::lights::Seen;
 use crate::sky;
 
@@ -44,15 +45,14 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, rays: &[Ray], hits: &[Option<SceneHit>],
     // rays have unit directions, see `CameraRays::ray`, and the preview shades nothing else),
     // and hits the light does not shade keep their colour.
     let mut factor = [1.0f32; N];
-    for lane in (0..N).step_by(4) {
-        let quad = |a: &[f32; N]| Vec4::from_slice(&a[lane..]);
-        let (x, y, z) = (quad(&nx), quad(&ny), quad(&nz));
+    for lane in quads() {
+        let at = |values: &[f32; N]| quad(values, lane);
+        let (x, y, z) = (at(&nx), at(&ny), at(&nz));
         let rcp = ((x * x + y * y) + z * z).sqrt().recip();
         let normalisable = rcp.is_finite_mask() & rcp.cmpgt(Vec4::ZERO);
         let unit = |v: Vec4| Vec4::select(normalisable, v * rcp, Vec4::ZERO);
-        let cos = ((unit(x) * quad(&dx) + unit(y) * quad(&dy)) + unit(z) * quad(&dz)).abs();
-        let shaded = BVec4A::new(lit[lane], lit[lane + 1], lit[lane + 2], lit[lane + 3]);
-        Vec4::select(shaded, Vec4::splat(AMBIENT) + Vec4::splat(1.0 - AMBIENT) * cos, Vec4::ONE).write_to_slice(&mut factor[lane..]);
+        let cos = ((unit(x) * at(&dx) + unit(y) * at(&dy)) + unit(z) * at(&dz)).abs();
+        Vec4::select(pack(&lit, lane), Vec4::splat(AMBIENT) + Vec4::splat(1.0 - AMBIENT) * cos, Vec4::ONE).write_to_slice(&mut factor[lane..]);
     }
     let environment = t.lights.has_environment();
     // What `Tracer::background` shows camera rays without an environment.

@@ -12,11 +12,12 @@
 
 use std::f32::consts::FRAC_1_PI;
 
-use glam::{BVec4A, Vec3, Vec4};
+use glam::{Vec3, Vec4};
 use raystage_kernel::{PACKET_SIZE, Ray};
 use raystage_scene::ShadingModel;
 
 use super::first_shadows::{self, KnownShadows, MAX_LIGHTS};
+use super::quads::{pack, quad, quads, unpack};
 use super::{Hit, Tracer};
 use crate::bsdf::Bsdf;
 use crate::lights::Delta;
@@ -178,29 +179,6 @@ impl Lanes {
                 (quad(&self.sum.0[c], lane) + Vec4::select(lit, reflected, Vec4::ZERO)).write_to_slice(&mut self.sum.0[c][lane..]);
             }
         }
-    }
-}
-
-/// The first lane of each group of four in a packet.
-fn quads() -> std::iter::StepBy<std::ops::Range<usize>> {
-    (0..PACKET_SIZE).step_by(4)
-}
-
-/// Lanes `lane..lane + 4` of `values`.
-fn quad(values: &PerHit, lane: usize) -> Vec4 {
-    Vec4::from_slice(&values[lane..])
-}
-
-/// Lanes `lane..lane + 4` of `flags`, as a mask.
-fn pack(flags: &[bool; PACKET_SIZE], lane: usize) -> BVec4A {
-    BVec4A::new(flags[lane], flags[lane + 1], flags[lane + 2], flags[lane + 3])
-}
-
-/// Writes `mask` over lanes `lane..lane + 4` of `flags`.
-fn unpack(mask: BVec4A, flags: &mut [bool; PACKET_SIZE], lane: usize) {
-    let bits = mask.bitmask();
-    for (i, flag) in flags[lane..lane + 4].iter_mut().enumerate() {
-        *flag = bits & (1 << i) != 0;
     }
 }
 

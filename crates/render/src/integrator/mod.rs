@@ -13,6 +13,7 @@ pub(crate) mod eyelight;
 pub(crate) mod first_matte;
 pub(crate) mod first_shadows;
 pub(crate) mod path;
+mod quads;
 pub(crate) mod recursive;
 
 use glam::Vec3;
