@@ -80,6 +80,14 @@ impl<'f> Materials<'f> {
         }
     }
 
+    /// The albedo of a shader that is plain matte, an untextured `Diffuse` (its material is
+    /// the same at every point); `None` for every other shader.
+    #[inline]
+    pub fn plain_matte(&self, id: Option<raystage_scene::ShaderId>) -> Option<Vec3> {
+        let r = self.resolved(id);
+        (r.base.model == ShadingModel::Diffuse && r.texture.is_none()).then_some(r.base.albedo)
+    }
+
     fn resolved(&self, id: Option<raystage_scene::ShaderId>) -> &Resolved<'f> {
         id.and_then(|id| self.by_id.get(id.0 as usize)?.as_ref()).unwrap_or(&self.default)
     }

@@ -9,6 +9,7 @@ use raystage_scene::{CameraRays, Frame, SceneHit};
 
 use crate::effects::EffectSet;
 use crate::integrator::first_shadows::{self, KnownShadows};
+use crate::integrator::first_hits::FirstHits;
 use crate::integrator::{Hit, Tracer, eyelight, first_matte, path, recursive};
 use crate::lights::{SceneLights, Seen};
 use crate::material::Materials;
@@ -460,21 +461,21 @@ impl TileWork {
         self.counts.rays.primary += rays.len() as u64;
         let packed_shadows = first_shadows::applies(t);
         let packed_matte = packed_shadows && first_matte::applies(t);
+        let mut first = FirstHits::new();
         for start in (0..self.order.len()).step_by(PACKET_SIZE) {
             let end = (start + PACKET_SIZE).min(self.order.len());
             // The first hits of a packet's camera rays, resolved together when their shadows
             // go in packets too (else each where it is shaded).
-            let mut resolved: [Option<Hit<'_>>; PACKET_SIZE] = [None; PACKET_SIZE];
             let mut known = [KnownShadows::NONE; PACKET_SIZE];
             if packed_shadows {
                 let next = (end + PACKET_SIZE).min(self.order.len());
                 t.frame.prefetch_surfaces(&self.hits[end..next]);
-                t.resolve_packet(&rays[start..end], &self.hits[start..end], shutter[0], &mut resolved[..end - start]);
-                first_shadows::trace(t, &resolved[..end - start], shutter[0], &mut self.counts.rays, &mut known[..end - start]);
+                first.resolve(t, &rays[start..end], &self.hits[start..end], shutter[0]);
+                first_shadows::trace(t, &first, shutter[0], &mut self.counts.rays, &mut known[..end - start]);
             }
             let mut matte = [None; PACKET_SIZE];
             if packed_matte {
-                first_matte::shade(t, &rays[start..end], &resolved[..end - start], &known[..end - start], &mut matte[..end - start]);
+                first_matte::shade(t, &rays[start..end], &first, &known[..end - start], &mut matte[..end - start]);
             }
             let mut previewed = [Vec3::ZERO; PACKET_SIZE];
             if preview {
@@ -487,7 +488,7 @@ impl TileWork {
                 } else if let Some(colour) = matte[k - start] {
                     colour
                 } else {
-                    let first = FirstHit { hit: self.hits[k], resolved: resolved[k - start].as_ref(), shadows: known[k - start] };
+                    let first = FirstHit { hit: self.hits[k], resolved: first.resolved[k - start].as_ref(), shadows: known[k - start] };
                     let mut fresh = PixelSampler::new(x, y, s.seed, index);
                     let sampler = samplers.get_mut(k).unwrap_or(&mut fresh);
                     let time = times.get(k).copied().unwrap_or(shutter[0]);

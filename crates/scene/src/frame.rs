@@ -19,6 +19,8 @@ use crate::shader::{Shader, ShadingModel};
 
 mod surfaces;
 
+pub use surfaces::SurfaceLanes;
+
 /// Up to this many instances the top level is a list of boxes tested one by one: setting up a
 /// tree walk costs more than it saves.
 const LIST_TOP_LEVEL: usize = 4;
@@ -478,13 +480,6 @@ impl<'a> Frame<'a> {
         let Geometry { position, position_error, local_position, geometric_normal, front_face } = geometry;
         let [a, b, c] = corners;
         let [w0, w1, w2] = w;
-        let shading_normal = if mesh.normals.is_empty() {
-            geometric_normal
-        } else {
-            let n = mesh.normals[a] * w0 + mesh.normals[b] * w1 + mesh.normals[c] * w2;
-            let n = placed.normal_to_world(n).normalize_or_zero();
-            if n.dot(geometric_normal) < 0.0 { -n } else { n }
-        };
         let (shader, shader_id) = self.shader_of(mesh, prim);
         SurfacePoint {
             position,
@@ -492,7 +487,7 @@ impl<'a> Frame<'a> {
             local_position,
             geometric_normal,
             front_face,
-            shading_normal,
+            shading_normal: shading_normal(mesh, placed, corners, w, geometric_normal),
             color: (!mesh.colors.is_empty()).then(|| mesh.colors[a] * w0 + mesh.colors[b] * w1 + mesh.colors[c] * w2),
             uv: (!mesh.uvs.is_empty()).then(|| mesh.uvs[a] * w0 + mesh.uvs[b] * w1 + mesh.uvs[c] * w2),
             shader,
@@ -619,6 +614,20 @@ impl<'a> Frame<'a> {
             build_seconds: self.counters.nanos.load(Relaxed) as f64 * 1e-9,
         }
     }
+}
+
+/// The unit shading normal at barycentrics `w` of the triangle with vertices `corners` of
+/// `mesh`, on an instance placed by `placed`, turned to the side of `geometric_normal`: the
+/// interpolated vertex normals, or the geometric normal if the mesh has none.
+#[inline(always)]
+fn shading_normal(mesh: &crate::Mesh, placed: &Placed, corners: [usize; 3], w: [f32; 3], geometric_normal: Vec3) -> Vec3 {
+    if mesh.normals.is_empty() {
+        return geometric_normal;
+    }
+    let [a, b, c] = corners;
+    let n = mesh.normals[a] * w[0] + mesh.normals[b] * w[1] + mesh.normals[c] * w[2];
+    let n = placed.normal_to_world(n).normalize_or_zero();
+    if n.dot(geometric_normal) < 0.0 { -n } else { n }
 }
 
 /// The barycentric weights of `hit`'s three vertices and their indices in `mesh`.

@@ -30,7 +30,7 @@ mod texture;
 
 pub use camera::{Camera, CameraRays};
 pub use error::SceneError;
-pub use frame::{Frame, FrameWork, PreviewAttributes, PreviewPoint, SceneHit, SurfacePoint};
+pub use frame::{Frame, FrameWork, PreviewAttributes, PreviewPoint, SceneHit, SurfaceLanes, SurfacePoint};
 pub use ids::{InstanceId, LightId, ObjectId, ShaderId, TextureId};
 pub use light::Light;
 pub use mesh::Mesh;

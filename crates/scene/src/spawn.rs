@@ -82,6 +82,17 @@ fn transform_with_error(t: &Affine3A, p: Vec3, error: Vec3) -> (Vec3, Vec3) {
     (t.transform_point3(p), carried + rounded)
 }
 
+/// [`SurfacePoint::spawn_origin`] of a point at `position`, off by at most `position_error`, on
+/// a surface with unit geometric normal `n`.
+#[inline]
+pub(crate) fn spawn_origin(position: Vec3, position_error: Vec3, n: Vec3, dir: Vec3) -> Vec3 {
+    let distance = n.abs().dot(position_error);
+    let offset = if n.dot(dir) < 0.0 { -n * distance } else { n * distance };
+    let moved = position + offset;
+    // Rounding the sum may undo part of the push: round away from the surface instead.
+    Vec3::new(nudge(moved.x, offset.x), nudge(moved.y, offset.y), nudge(moved.z, offset.z))
+}
+
 /// `x` moved to the next representable number in the direction of `sign` (none for 0).
 #[inline]
 fn nudge(x: f32, sign: f32) -> f32 {
@@ -101,12 +112,7 @@ impl SurfacePoint<'_> {
     /// start here never re-hit the triangle they leave, on either side.
     #[inline]
     pub fn spawn_origin(&self, dir: Vec3) -> Vec3 {
-        let n = self.geometric_normal;
-        let distance = n.abs().dot(self.position_error);
-        let offset = if n.dot(dir) < 0.0 { -n * distance } else { n * distance };
-        let moved = self.position + offset;
-        // Rounding the sum may undo part of the push: round away from the surface instead.
-        Vec3::new(nudge(moved.x, offset.x), nudge(moved.y, offset.y), nudge(moved.z, offset.z))
+        spawn_origin(self.position, self.position_error, self.geometric_normal, dir)
     }
 
     /// An unbounded ray leaving the surface in direction `dir` (reflection, refraction,

@@ -4,7 +4,7 @@
 use glam::{Affine3A, Quat, Vec3};
 use proptest::prelude::*;
 use raystage_kernel::Ray;
-use raystage_scene::{Camera, Frame, Mesh, ObjectId, ObjectKind, ParamValue, Scene, SceneError};
+use raystage_scene::{Camera, Frame, Mesh, ObjectId, ObjectKind, ParamValue, Scene, SceneError, SurfaceLanes};
 
 /// A square of side 2 centred at `centre` in the plane z = centre.z, facing +z.
 fn square(centre: Vec3) -> Mesh {
@@ -315,20 +315,11 @@ proptest! {
     }
 }
 
-/// The bits of everything a surface point holds, to compare two points exactly.
-fn surface_bits(sp: &raystage_scene::SurfacePoint<'_>) -> Vec<u32> {
-    let vectors = [sp.position, sp.position_error, sp.local_position, sp.geometric_normal, sp.shading_normal, sp.color.unwrap_or(Vec3::NAN)];
-    let mut bits: Vec<u32> = vectors.iter().flat_map(|v| v.to_array()).map(f32::to_bits).collect();
-    bits.extend(sp.uv.map_or([f32::NAN; 2], |uv| uv.to_array()).map(f32::to_bits));
-    bits.extend([sp.front_face as u32, sp.shader_id.map_or(u32::MAX, |id| id.0)]);
-    bits
-}
-
 proptest! {
     #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
 
-    /// `Frame::surfaces` computes, side by side, bit for bit the points `Frame::surface`
-    /// computes one by one: on instances with random transforms (mirrored ones too) of a mesh
+    /// `Frame::surface_lanes` computes, side by side, bit for bit the geometry `Frame::surface`
+    /// computes one by one (and the same spawned origins): on instances with random transforms (mirrored ones too) of a mesh
     /// with or without per-vertex normals, colours and texture coordinates, for packets of rays
     /// that hit, miss, and meet triangles from the back.
     #[test]
@@ -367,11 +358,17 @@ proptest! {
                 .collect();
             let mut hits = vec![None; 8];
             frame.intersect_many(&rays, &mut hits, 0.0);
-            let mut together = vec![None; 8];
-            frame.surfaces(&rays, &hits, 0.0, |k, sp| together[k] = Some(surface_bits(&sp)));
+            let mut lanes = SurfaceLanes::default();
+            frame.surface_lanes(&rays, &hits, 0.0, &mut lanes);
             for (k, hit) in hits.iter().enumerate() {
-                let alone = hit.map(|h| surface_bits(&frame.surface(&rays[k], &h, 0.0)));
-                prop_assert_eq!(&together[k], &alone, "ray {} of packet {}", k, packet);
+                prop_assert_eq!(lanes.hits & (1 << k) != 0, hit.is_some(), "ray {} of packet {}", k, packet);
+                let Some(hit) = hit else { continue };
+                let alone = frame.surface(&rays[k], hit, 0.0);
+                let dir = rays[k].dir;
+                let lane = [lanes.position(k), lanes.geometric_normal(k), lanes.shading_normal(k), lanes.spawn_origin(k, dir), lanes.spawn_origin(k, -dir)];
+                let one = [alone.position, alone.geometric_normal, alone.shading_normal, alone.spawn_origin(dir), alone.spawn_origin(-dir)];
+                prop_assert_eq!(lane.map(|v| v.to_array().map(f32::to_bits)), one.map(|v| v.to_array().map(f32::to_bits)), "ray {} of packet {}", k, packet);
+                prop_assert_eq!((lanes.front_face(k), lanes.shader_id(k)), (alone.front_face, alone.shader_id), "ray {} of packet {}", k, packet);
             }
         }
     }

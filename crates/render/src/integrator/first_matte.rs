@@ -14,12 +14,11 @@ use std::f32::consts::FRAC_1_PI;
 
 use glam::{Vec3, Vec4};
 use raystage_kernel::{PACKET_SIZE, Ray};
-use raystage_scene::ShadingModel;
 
+use super::Tracer;
+use super::first_hits::FirstHits;
 use super::first_shadows::{self, KnownShadows, MAX_LIGHTS};
 use super::quads::{pack, quad, quads, unpack};
-use super::{Hit, Tracer};
-use crate::bsdf::Bsdf;
 use crate::lights::Delta;
 use crate::sky;
 
@@ -31,30 +30,28 @@ pub(crate) fn applies(t: &Tracer<'_, '_>) -> bool {
     first_shadows::applies(t) && n <= MAX_LIGHTS && (0..n).all(|i| t.lights.delta(i).is_some())
 }
 
-/// The colours of the matte hits among up to [`PACKET_SIZE`] first hits `hits` of camera rays
-/// `rays`, whose shadows are `known`, and of the rays that hit nothing: `out[k]` for `hits[k]`,
+/// The colours of the matte hits among up to [`PACKET_SIZE`] first hits `first` of camera rays
+/// `rays`, whose shadows are `known`, and of the rays that hit nothing: `out[k]` for lane `k`,
 /// `None` where the hit is not matte (or a rounding corner case needs a shadow that was not
 /// traced), for the recursion to shade.
-pub(crate) fn shade(t: &Tracer<'_, '_>, rays: &[Ray], hits: &[Option<Hit<'_>>], known: &[KnownShadows], out: &mut [Option<Vec3>]) {
-    let n = hits.len();
-    assert!(n <= PACKET_SIZE && rays.len() == n && known.len() == n && out.len() == n, "one ray, shadow set and answer per hit");
+pub(crate) fn shade(t: &Tracer<'_, '_>, rays: &[Ray], first: &FirstHits<'_>, known: &[KnownShadows], out: &mut [Option<Vec3>]) {
+    let n = rays.len();
+    assert!(n <= PACKET_SIZE && known.len() == n && out.len() == n, "one ray, shadow set and answer per hit");
     let mut lanes = Lanes::default();
-    for (k, (hit, ray)) in hits.iter().zip(rays).enumerate() {
-        let Some(hit) = hit else { continue };
-        let (ShadingModel::Diffuse | ShadingModel::VertexColor, Some(Bsdf::Lambert { albedo })) = (hit.material.model, hit.material.bsdf) else {
-            continue;
-        };
-        let sp = &hit.surface;
+    let surfaces = &first.surfaces;
+    for (k, ray) in rays.iter().enumerate() {
+        let Some(albedo) = first.matte[k] else { continue };
+        let shading_normal = surfaces.shading_normal(k);
         // As the recursion has it: `wo` from the ray, its cosine in the shading frame, and the
         // ambient term first.
         let wo = -ray.dir.normalize();
         lanes.matte[k] = true;
-        lanes.position.set(k, sp.position);
-        lanes.geometric_normal.set(k, sp.geometric_normal);
-        lanes.shading_normal.set(k, sp.shading_normal);
+        lanes.position.set(k, surfaces.position(k));
+        lanes.geometric_normal.set(k, surfaces.geometric_normal(k));
+        lanes.shading_normal.set(k, shading_normal);
         lanes.albedo.set(k, albedo);
-        lanes.wo_cos[k] = wo.dot(sp.shading_normal);
-        lanes.sum.set(k, t.lights.ambient() * hit.material.albedo);
+        lanes.wo_cos[k] = wo.dot(shading_normal);
+        lanes.sum.set(k, t.lights.ambient() * albedo);
     }
     for index in 0..t.lights.len() {
         let light = t.lights.delta(index).expect("`applies` checked every light is a delta light");
@@ -69,7 +66,7 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, rays: &[Ray], hits: &[Option<Hit<'_>>], 
         lanes.add(&light, &visible, &tested);
     }
     // Rays that hit nothing see the sky, as in the recursion (no light is met on the way).
-    let missed = hits.iter().enumerate().filter(|(_, h)| h.is_none()).fold(0, |m, (k, _)| m | 1 << k);
+    let missed = !surfaces.hits & ((1 << n) - 1);
     let sky_shows = missed != 0 && !t.lights.has_environment() && !t.lights.has_area();
     let skies = if sky_shows { sky::skies(rays, missed) } else { [Vec3::ZERO; PACKET_SIZE] };
     for (k, answer) in out.iter_mut().enumerate() {
@@ -186,11 +183,12 @@ impl Lanes {
 mod tests {
     use glam::{Affine3A, Quat};
     use raystage_demo::shading::{box_mesh, sphere_mesh};
-    use raystage_scene::{Camera, Light, Mesh, ObjectKind, ParamValue, Scene, ShaderId};
+    use raystage_scene::{Camera, Light, Mesh, ObjectKind, ParamValue, Scene, ShaderId, Texture};
 
     use super::*;
+    use crate::bsdf::Bsdf;
     use crate::effects::EffectSet;
-    use crate::integrator::recursive;
+    use crate::integrator::{Hit, recursive};
     use crate::lights::{SceneLights, Seen};
     use crate::material::Materials;
     use crate::sampler::PixelSampler;
@@ -202,7 +200,7 @@ mod tests {
         scene.add_instance(object, to_world).unwrap();
     }
 
-    /// Matte spheres and a matte floor on a rotated, scaled instance, a Phong and a mirror
+    /// Matte spheres and a textured matte floor on a rotated, scaled instance, a Phong and a mirror
     /// sphere among them, lit by a point light, a spot light whose cone edge crosses the floor,
     /// a directional light and an ambient light.
     fn scene() -> Scene {
@@ -215,6 +213,9 @@ mod tests {
         };
         let (red, grey, phong, mirror) =
             (shader("Diffuse", Vec3::new(0.8, 0.2, 0.1)), shader("Diffuse", Vec3::splat(0.6)), shader("Phong", Vec3::splat(0.5)), shader("Mirror", Vec3::splat(0.9)));
+        // The floor is textured: matte, but not plain matte, so its hits are resolved in full.
+        let checker = scene.add_texture(Texture::Checker { a: Vec3::splat(0.9), b: Vec3::splat(0.3), scale: 2.0 }).unwrap();
+        scene.set_param(grey, "diffuse_texture", ParamValue::Texture(Some(checker))).unwrap();
         place(&mut scene, sphere_mesh(Vec3::new(-1.2, 0.0, 0.0), 0.8, 24, 12), red, Affine3A::IDENTITY);
         place(&mut scene, sphere_mesh(Vec3::new(1.2, 0.0, 0.0), 0.8, 24, 12), phong, Affine3A::IDENTITY);
         place(&mut scene, sphere_mesh(Vec3::new(0.0, 0.3, -1.5), 0.7, 24, 12), mirror, Affine3A::IDENTITY);
@@ -241,7 +242,7 @@ mod tests {
         assert!(applies(&t), "point, spot, directional and ambient lights only");
         let (width, height) = (96, 64);
         let camera = frame.camera().rays(width, height);
-        let (mut matte, mut left, mut suns, mut skies) = (0, 0, 0, 0);
+        let (mut matte, mut textured, mut left, mut suns, mut skies) = (0, 0, 0, 0, 0);
         for y in (0..height).step_by(2) {
             for x in (0..width).step_by(4) {
                 let pixels: Vec<(u32, u32)> = (0..8).map(|i| (x + i % 4, y + i / 4)).collect();
@@ -249,11 +250,13 @@ mod tests {
                 camera.centre_rays(&pixels, &mut rays);
                 let mut hits = [None; PACKET_SIZE];
                 frame.intersect_many(&rays, &mut hits, 0.0);
-                let mut resolved = [None; PACKET_SIZE];
-                t.resolve_packet(&rays, &hits, 0.0, &mut resolved);
+                // Each hit resolved in full, as the recursion resolves it.
+                let resolved: Vec<Option<Hit<'_>>> = hits.iter().zip(&rays).map(|(hit, ray)| hit.map(|hit| t.resolve(ray, hit, 0.0))).collect();
+                let mut first = FirstHits::new();
+                first.resolve(&t, &rays, &hits, 0.0);
                 let mut counts = RayCounts::default();
                 let mut known = [KnownShadows::NONE; PACKET_SIZE];
-                first_shadows::trace(&t, &resolved, 0.0, &mut counts, &mut known);
+                first_shadows::trace(&t, &first, 0.0, &mut counts, &mut known);
                 // The shadows towards the directional light are the recursion's own rays.
                 let sun = 2;
                 for (hit, known) in resolved.iter().zip(&known) {
@@ -264,7 +267,7 @@ mod tests {
                     suns += 1;
                 }
                 let mut shaded = [None; PACKET_SIZE];
-                shade(&t, &rays, &resolved, &known, &mut shaded);
+                shade(&t, &rays, &first, &known, &mut shaded);
                 for k in 0..PACKET_SIZE {
                     let Some(hit) = &resolved[k] else {
                         let expected = t.background(rays[k].dir, Seen::Directly);
@@ -283,9 +286,13 @@ mod tests {
                     let expected = recursive::shade::<true, true, false>(&t, &rays[k], hit, 0.0, known[k], &mut sampler, &mut counts);
                     assert_eq!(colour.to_array().map(f32::to_bits), expected.to_array().map(f32::to_bits), "pixel {:?}", pixels[k]);
                     matte += 1;
+                    textured += first.resolved[k].is_some() as u32;
                 }
             }
         }
-        assert!(matte > 2000 && left > 200 && suns > 2000 && skies > 100, "{matte} matte hits shaded in packets, {left} left to the recursion, {suns} sun shadows, {skies} skies");
+        assert!(
+            matte > 2000 && textured > 1000 && matte - textured > 150 && left > 200 && suns > 2000 && skies > 100,
+            "{matte} matte hits shaded in packets ({textured} textured), {left} left to the recursion, {suns} sun shadows, {skies} skies"
+        );
     }
 }

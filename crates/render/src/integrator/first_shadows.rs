@@ -16,9 +16,9 @@
 
 use glam::Vec3;
 use raystage_kernel::{PACKET_SIZE, Ray};
-use raystage_scene::ShadingModel;
 
-use super::{Hit, Tracer, offset};
+use super::Tracer;
+use super::first_hits::FirstHits;
 use crate::Integrator;
 use crate::lights::Delta;
 use crate::stats::RayCounts;
@@ -60,41 +60,41 @@ pub(crate) fn applies(t: &Tracer<'_, '_>) -> bool {
 }
 
 /// The shadows of up to [`PACKET_SIZE`] first hits (at shutter time `time`) towards every point
-/// and spot light, `out[k]` for `hits[k]`: each light's rays traced as one packet, only from
-/// hits whose material takes direct light and that face the light.
-pub(crate) fn trace(t: &Tracer<'_, '_>, hits: &[Option<Hit<'_>>], time: f32, rays: &mut RayCounts, out: &mut [KnownShadows]) {
-    assert!(hits.len() <= PACKET_SIZE && hits.len() == out.len(), "one answer per hit, at most a packet");
+/// and spot light, `out[k]` for lane `k` of `first`: each light's rays traced as one packet,
+/// only from hits whose material takes direct light and that face the light.
+pub(crate) fn trace(t: &Tracer<'_, '_>, first: &FirstHits<'_>, time: f32, rays: &mut RayCounts, out: &mut [KnownShadows]) {
+    assert!(out.len() <= PACKET_SIZE, "at most a packet");
     out.fill(KnownShadows::NONE);
+    let lanes = &first.surfaces;
     for light in 0..t.lights.len().min(MAX_LIGHTS) {
         let Some(delta) = t.lights.delta(light) else { continue };
         let mut segments = [Ray::new(Vec3::ZERO, Vec3::X); PACKET_SIZE];
         let mut owners = [0usize; PACKET_SIZE];
         let mut n = 0;
-        for (k, hit) in hits.iter().enumerate() {
-            let Some(hit) = hit else { continue };
-            if !takes_direct_light(hit.material.model) {
+        for k in 0..out.len() {
+            if first.lit & (1 << k) == 0 {
                 continue;
             }
-            let sp = &hit.surface;
+            let normal = lanes.geometric_normal(k);
             segments[n] = match delta {
                 Delta::Positional(light) => {
                     // The direction need not be a unit vector: only its side of the surface
                     // matters, to `direct` and to the spawned origin. A ray traced for a light
                     // that `direct` then finds dark (a spot light's cone facing away) is wasted,
                     // never wrong: `direct` traces whatever it needs and finds no answer for.
-                    let towards = light.position - sp.position;
-                    if sp.geometric_normal.dot(towards) <= 0.0 {
+                    let towards = light.position - lanes.position(k);
+                    if normal.dot(towards) <= 0.0 {
                         continue;
                     }
-                    let origin = offset(sp, towards);
+                    let origin = lanes.spawn_origin(k, towards);
                     Ray::segment(light.position, origin - light.position, END_GAP, 1.0 - END_GAP)
                 }
                 // The ray `Tracer::transmittance` traces, for the hits `direct` traces it from.
                 Delta::Directional { towards, .. } => {
-                    if sp.geometric_normal.dot(towards) <= 0.0 {
+                    if normal.dot(towards) <= 0.0 {
                         continue;
                     }
-                    Ray::segment(offset(sp, towards), towards, 0.0, f32::INFINITY)
+                    Ray::segment(lanes.spawn_origin(k, towards), towards, 0.0, f32::INFINITY)
                 }
             };
             owners[n] = k;
@@ -112,9 +112,4 @@ pub(crate) fn trace(t: &Tracer<'_, '_>, hits: &[Option<Hit<'_>>], time: f32, ray
             }
         }
     }
-}
-
-/// The shading models whose hits the recursion lights with `Tracer::direct`.
-fn takes_direct_light(model: ShadingModel) -> bool {
-    matches!(model, ShadingModel::Diffuse | ShadingModel::VertexColor | ShadingModel::Phong | ShadingModel::Glossy)
 }

@@ -10,6 +10,7 @@
 //!   and Russian roulette.
 
 pub(crate) mod eyelight;
+pub(crate) mod first_hits;
 pub(crate) mod first_matte;
 pub(crate) mod first_shadows;
 pub(crate) mod path;
@@ -115,17 +116,6 @@ impl<'f> Tracer<'_, 'f> {
         let surface = self.frame.surface(ray, &hit, time);
         let material = self.materials.at(&surface);
         Hit { hit, surface, material }
-    }
-
-    /// [`Tracer::resolve`] of up to a packet of hits of `rays` at once (`out[k]` for `hits[k]`),
-    /// their surface points computed side by side.
-    pub fn resolve_packet(&self, rays: &[Ray], hits: &[Option<SceneHit>], time: f32, out: &mut [Option<Hit<'f>>]) {
-        assert_eq!(hits.len(), out.len(), "one answer per hit");
-        out.fill(None);
-        self.frame.surfaces(rays, hits, time, |k, surface| {
-            let hit = hits[k].expect("surfaces come only for hits");
-            out[k] = Some(Hit { hit, surface, material: self.materials.at(&surface) });
-        });
     }
 
     /// What a ray in direction `dir` that hits nothing brings back, as it was `seen`: the

@@ -1,18 +1,20 @@
-//! The surface points of a packet of hits, computed side by side.
+//! The surface geometry of a packet of hits, computed side by side.
 //!
 //! [`Frame::surface`] of one hit is a chain of dependent steps: fetch the triangle, normalise
 //! its normal (a square root and a division), interpolate the point and bound its error. A
-//! packet's hits do not depend on each other, so [`Frame::surfaces`] gathers every hit's
+//! packet's hits do not depend on each other, so [`Frame::surface_lanes`] gathers every hit's
 //! triangle first, letting the loads overlap, then runs each arithmetic step across all the
 //! hits at once, in loops over the lanes that the compiler turns into vector instructions,
-//! with exactly the operations of the scalar path in the same order: the points are bit for bit
-//! the same.
+//! with exactly the operations of the scalar path in the same order: the geometry is bit for bit
+//! the same. The lanes stay lanes for whoever lights the hits next (shadow rays, matte shading),
+//! so no hit is copied into a [`SurfacePoint`](super::SurfacePoint) it does not need.
 
 use glam::Vec3;
 use raystage_kernel::{PACKET_SIZE, Ray};
 
-use super::{Frame, Geometry, SceneHit, SurfacePoint, barycentrics};
-use crate::spawn::{ERROR_FACTORS, placed_hit_point};
+use super::{Frame, SceneHit, barycentrics, shading_normal};
+use crate::ids::ShaderId;
+use crate::spawn::{ERROR_FACTORS, placed_hit_point, spawn_origin};
 
 /// One value per lane of a packet.
 type Lanes = [f32; PACKET_SIZE];
@@ -20,16 +22,77 @@ type Lanes = [f32; PACKET_SIZE];
 /// Three components per lane.
 type Lanes3 = [Lanes; 3];
 
+/// The vector of lane `k`.
+#[inline(always)]
+fn at(v: &Lanes3, k: usize) -> Vec3 {
+    Vec3::new(v[0][k], v[1][k], v[2][k])
+}
+
+/// The geometry of up to [`PACKET_SIZE`] hits, lane `k` for `hits[k]`: of each hit, exactly
+/// the position, error bound, normals, side and shader id that [`Frame::surface`] computes.
+/// Lanes without a hit hold zeros.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SurfaceLanes {
+    /// The lanes that hold a hit: bit `k` for `hits[k]`.
+    pub hits: u32,
+    position: Lanes3,
+    position_error: Lanes3,
+    geometric_normal: Lanes3,
+    shading_normal: Lanes3,
+    front_face: [bool; PACKET_SIZE],
+    shader_id: [Option<ShaderId>; PACKET_SIZE],
+}
+
+impl SurfaceLanes {
+    /// The hit point of lane `k` (see [`SurfacePoint::position`](super::SurfacePoint::position)).
+    #[inline]
+    pub fn position(&self, k: usize) -> Vec3 {
+        at(&self.position, k)
+    }
+
+    /// The unit geometric normal of lane `k`, facing the side the ray came from.
+    #[inline]
+    pub fn geometric_normal(&self, k: usize) -> Vec3 {
+        at(&self.geometric_normal, k)
+    }
+
+    /// The unit shading normal of lane `k`, on the geometric normal's side.
+    #[inline]
+    pub fn shading_normal(&self, k: usize) -> Vec3 {
+        at(&self.shading_normal, k)
+    }
+
+    /// Whether the ray of lane `k` hit the triangle's front.
+    #[inline]
+    pub fn front_face(&self, k: usize) -> bool {
+        self.front_face[k]
+    }
+
+    /// The id of the shader of the triangle of lane `k`, `None` if it has none. A shader the
+    /// scene has removed since stands for the default shader, as in
+    /// [`PreviewPoint`](super::PreviewPoint).
+    #[inline]
+    pub fn shader_id(&self, k: usize) -> Option<ShaderId> {
+        self.shader_id[k]
+    }
+
+    /// Where a ray leaving lane `k`'s surface in direction `dir` starts: exactly
+    /// [`SurfacePoint::spawn_origin`](super::SurfacePoint::spawn_origin) of its point.
+    #[inline]
+    pub fn spawn_origin(&self, k: usize, dir: Vec3) -> Vec3 {
+        spawn_origin(self.position(k), at(&self.position_error, k), self.geometric_normal(k), dir)
+    }
+}
+
 impl<'a> Frame<'a> {
-    /// [`Frame::surface`] of up to [`PACKET_SIZE`] hits at shutter time `time`, bit for bit
-    /// what `surface` returns for each: `found(k, point)` for each hit `hits[k]` of `rays[k]`
-    /// (handed over rather than returned, so that the caller can put each where it belongs
-    /// without copying it again).
+    /// The geometry of up to [`PACKET_SIZE`] hits `hits` of `rays` at shutter time `time`, bit
+    /// for bit what [`Frame::surface`] computes of each, written over `lanes` (a caller that
+    /// resolves packet after packet keeps one set of lanes, rather than copying each packet's
+    /// half a kilobyte out of a return value).
     ///
     /// # Panics
     /// If there are more than [`PACKET_SIZE`] hits, or not one ray per hit.
-    #[inline]
-    pub fn surfaces(&self, rays: &[Ray], hits: &[Option<SceneHit>], time: f32, mut found: impl FnMut(usize, SurfacePoint<'a>)) {
+    pub fn surface_lanes(&self, rays: &[Ray], hits: &[Option<SceneHit>], time: f32, lanes: &mut SurfaceLanes) {
         let n = hits.len();
         assert!(n <= PACKET_SIZE && rays.len() == n, "one ray per hit, at most a packet");
         // Gathered lane by lane; lanes without a hit keep zeros, computed on and ignored.
@@ -39,14 +102,17 @@ impl<'a> Frame<'a> {
         let mut weights: Lanes3 = [[0.0; PACKET_SIZE]; 3];
         // Each hit's triangle (its corners' vertex indices), for the second pass.
         let mut triangles = [[0usize; 3]; PACKET_SIZE];
+        *lanes = SurfaceLanes::default();
         for (k, hit) in hits.iter().enumerate() {
             let Some(hit) = hit else { continue };
+            lanes.hits |= 1 << k;
             let fi = &self.instances[hit.item as usize];
             let mesh = &fi.object.mesh;
             let (w, corners) = barycentrics(mesh, hit);
             let world_normal = fi.placed_at(time).normal_to_world(hit.ng);
             let positions = corners.map(|i| mesh.positions[i]);
             triangles[k] = corners;
+            lanes.shader_id[k] = mesh.shaders.get(hit.prim as usize).copied();
             for corner in 0..3 {
                 weights[corner][k] = w[corner];
             }
@@ -58,18 +124,20 @@ impl<'a> Frame<'a> {
                 }
             }
         }
-        let (outward, front_face) = facing_normals(&normal, &dir);
+        (lanes.geometric_normal, lanes.front_face) = facing_normals(&normal, &dir);
         let (local, local_error) = interpolated_points(&vertices, &weights);
         for (k, hit) in hits.iter().enumerate() {
-            if let Some(hit) = hit {
-                let fi = &self.instances[hit.item as usize];
-                // A still instance's placement is borrowed; a moving one's is computed again.
-                let placed = fi.placed_at(time);
-                let at = |v: &Lanes3| Vec3::new(v[0][k], v[1][k], v[2][k]);
-                let (position, local_position, position_error) = placed_hit_point(at(&local), at(&local_error), &placed);
-                let geometry = Geometry { position, position_error, local_position, geometric_normal: at(&outward), front_face: front_face[k] };
-                let w = [weights[0][k], weights[1][k], weights[2][k]];
-                found(k, self.complete(&fi.object.mesh, &placed, hit.prim, triangles[k], w, geometry));
+            let Some(hit) = hit else { continue };
+            let fi = &self.instances[hit.item as usize];
+            // A still instance's placement is borrowed; a moving one's is computed again.
+            let placed = fi.placed_at(time);
+            let (position, _, position_error) = placed_hit_point(at(&local, k), at(&local_error, k), &placed);
+            let w = [weights[0][k], weights[1][k], weights[2][k]];
+            let shading = shading_normal(&fi.object.mesh, &placed, triangles[k], w, lanes.geometric_normal(k));
+            for axis in 0..3 {
+                lanes.position[axis][k] = position[axis];
+                lanes.position_error[axis][k] = position_error[axis];
+                lanes.shading_normal[axis][k] = shading[axis];
             }
         }
     }

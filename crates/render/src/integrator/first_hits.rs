@@ -1,0 +1,66 @@
+//! The first hits of a packet of camera rays, resolved only as far as their shadows and their
+//! shading need.
+//!
+//! The geometry of every hit comes from [`Frame::surface_lanes`](raystage_scene::Frame::surface_lanes),
+//! computed side by side and kept in lanes for [`first_shadows`](super::first_shadows) and
+//! [`first_matte`](super::first_matte). A hit on a plain matte surface (an untextured `Diffuse`
+//! shader, the common case) needs nothing more: its albedo is the shader's. Every other hit is
+//! resolved in full, as the recursion that shades it needs it.
+
+use glam::Vec3;
+use raystage_kernel::{PACKET_SIZE, Ray};
+use raystage_scene::{SceneHit, ShadingModel, SurfaceLanes};
+
+use super::{Hit, Tracer};
+use crate::bsdf::Bsdf;
+
+/// Up to [`PACKET_SIZE`] first hits, lane `k` for the hit of camera ray `k` (the lanes past
+/// the packet's rays hold nothing).
+pub(crate) struct FirstHits<'f> {
+    /// The geometry of every hit.
+    pub surfaces: SurfaceLanes,
+    /// The hits resolved in full: those whose material is not plain matte.
+    pub resolved: [Option<Hit<'f>>; PACKET_SIZE],
+    /// The hits whose material is lit by `Tracer::direct` (bit `k` for lane `k`).
+    pub lit: u32,
+    /// The albedo of the hits on Lambertian surfaces (`Diffuse` and `VertexColor`, textured
+    /// or not): the colour of both their ambient term and their BSDF.
+    pub matte: [Option<Vec3>; PACKET_SIZE],
+}
+
+impl<'f> FirstHits<'f> {
+    /// No hits yet: a buffer that [`FirstHits::resolve`] fills packet after packet.
+    pub fn new() -> FirstHits<'f> {
+        FirstHits { surfaces: SurfaceLanes::default(), resolved: [None; PACKET_SIZE], lit: 0, matte: [None; PACKET_SIZE] }
+    }
+
+    /// The first hits `hits` of camera rays `rays` at shutter time `time`, in place of the
+    /// last packet's.
+    pub fn resolve(&mut self, t: &Tracer<'_, 'f>, rays: &[Ray], hits: &[Option<SceneHit>], time: f32) {
+        t.frame.surface_lanes(rays, hits, time, &mut self.surfaces);
+        self.lit = 0;
+        for (k, hit) in hits.iter().enumerate() {
+            self.resolved[k] = None;
+            self.matte[k] = None;
+            let Some(hit) = hit else { continue };
+            if let Some(albedo) = t.materials.plain_matte(self.surfaces.shader_id(k)) {
+                self.lit |= 1 << k;
+                self.matte[k] = Some(albedo);
+                continue;
+            }
+            let full = t.resolve(&rays[k], *hit, time);
+            if takes_direct_light(full.material.model) {
+                self.lit |= 1 << k;
+            }
+            if let (ShadingModel::Diffuse | ShadingModel::VertexColor, Some(Bsdf::Lambert { albedo })) = (full.material.model, full.material.bsdf) {
+                self.matte[k] = Some(albedo);
+            }
+            self.resolved[k] = Some(full);
+        }
+    }
+}
+
+/// The shading models whose hits the recursion lights with `Tracer::direct`.
+fn takes_direct_light(model: ShadingModel) -> bool {
+    matches!(model, ShadingModel::Diffuse | ShadingModel::VertexColor | ShadingModel::Phong | ShadingModel::Glossy)
+}
