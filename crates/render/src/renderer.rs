@@ -468,8 +468,6 @@ impl TileWork {
             // go in packets too (else each where it is shaded).
             let mut known = [KnownShadows::NONE; PACKET_SIZE];
             if packed_shadows {
-                let next = (end + PACKET_SIZE).min(self.order.len());
-                t.frame.prefetch_surfaces(&self.hits[end..next]);
                 first.resolve(t, &rays[start..end], &self.hits[start..end], shutter[0]);
                 first_shadows::trace(t, &first, shutter[0], &mut self.counts.rays, &mut known[..end - start]);
             }

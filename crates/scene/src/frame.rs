@@ -445,19 +445,6 @@ impl<'a> Frame<'a> {
         Some((only, (only.object.is_built() || reached()).then(|| only.object.accel(&self.counters))))
     }
 
-    /// Starts loading what [`Frame::surfaces`] reads of `hits` (the vertices of their
-    /// triangles), so that a caller resolving packets one after the other can ask for the next
-    /// packet's while it shades this one.
-    pub fn prefetch_surfaces(&self, hits: &[Option<SceneHit>]) {
-        for hit in hits.iter().flatten() {
-            let mesh = &self.instances[hit.item as usize].object.mesh;
-            raystage_kernel::prefetch_indexed(&mesh.positions, &mesh.indices, hit.prim, true);
-            if !mesh.normals.is_empty() {
-                raystage_kernel::prefetch_indexed(&mesh.normals, &mesh.indices, hit.prim, true);
-            }
-        }
-    }
-
     /// Everything a shader needs to know about `hit` of `ray` (at shutter time `time`).
     pub fn surface(&self, ray: &Ray, hit: &SceneHit, time: f32) -> SurfacePoint<'a> {
         let fi = &self.instances[hit.item as usize];
