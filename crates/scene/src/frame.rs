@@ -486,7 +486,7 @@ impl<'a> Frame<'a> {
     /// Unlike [`Frame::surface`] it computes no hit point, so a mesh without vertex normals is
     /// read only for the triangle's shader: the normal comes with the hit. Surfaces whose colour
     /// varies add [`Frame::preview_attributes`].
-    #[inline]
+    #[inline(always)]
     pub fn preview(&self, hit: &SceneHit) -> PreviewPoint {
         let fi = &self.instances[hit.item as usize];
         let mesh = &fi.object.mesh;
