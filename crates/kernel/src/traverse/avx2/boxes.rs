@@ -3,17 +3,10 @@
 use std::arch::x86_64::*;
 use std::mem::MaybeUninit;
 
-use super::{BoxLanes, child_hits, sort_farthest_first, written};
+use super::{BoxLanes, Entry, child_hits, near_first};
 use crate::boxtree::BoxTree;
 use crate::prepared::{PreparedRay, widen};
-use crate::wide::{EMPTY, LEAF, STACK_SIZE, WIDTH};
-
-/// A deferred child: its link and entry distance.
-#[derive(Clone, Copy)]
-struct Entry {
-    link: u32,
-    dist: f32,
-}
+use crate::wide::{EMPTY, LEAF, STACK_SIZE};
 
 /// Near-first closest-hit walk; see [`BoxTree::closest`].
 ///
@@ -30,18 +23,10 @@ pub(crate) unsafe fn boxes_closest(tree: &BoxTree, ray: &PreparedRay, mut visit:
         if link & LEAF == 0 {
             let node = &tree.nodes[link as usize];
             let (mask, tn) = child_hits(node, &r, _mm256_set1_ps(widen(tfar)));
-            let mut dist = [0f32; WIDTH];
-            unsafe { _mm256_storeu_ps(dist.as_mut_ptr(), tn) };
-            let base = sp;
-            let mut rest = mask;
-            while rest != 0 {
-                let lane = rest.trailing_zeros() as usize;
-                rest &= rest - 1;
-                stack[sp].write(Entry { link: node.child[lane], dist: dist[lane] });
-                sp += 1;
+            if mask != 0 {
+                link = near_first(node, mask, tn, &mut stack, &mut sp, |_| {});
+                continue;
             }
-            // SAFETY: entries base..sp were just written.
-            sort_farthest_first(unsafe { written(&mut stack[base..sp]) }, |e| e.dist);
         } else if link != EMPTY {
             tfar = visit(BoxTree::leaf_item(link), tfar);
         }

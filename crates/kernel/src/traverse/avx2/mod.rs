@@ -225,6 +225,58 @@ fn block_any(block: &TriBlock, ray: &PreparedRay, r: &LeafLanes) -> bool {
     false
 }
 
+/// A deferred child of a single-ray walk: its link and entry distance.
+#[derive(Clone, Copy)]
+struct Entry {
+    link: u32,
+    dist: f32,
+}
+
+/// The near-first step of a single-ray closest-hit walk at `node`, whose children `mask` (not
+/// empty) the ray enters at distances `tn` (the Embree BVH8 single-ray scheme): returns the
+/// child to visit next; the others go on `stack` above `sp`, farthest deepest. One hit child is
+/// followed directly, two are ordered by one comparison, more are pushed and insertion-sorted.
+/// `pushed` sees every link pushed (to prefetch it, say).
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn near_first(node: &Node8, mask: u32, tn: __m256, stack: &mut [MaybeUninit<Entry>], sp: &mut usize, mut pushed: impl FnMut(u32)) -> u32 {
+    let mut dist = [0f32; WIDTH];
+    unsafe { _mm256_storeu_ps(dist.as_mut_ptr(), tn) };
+    let c0 = mask.trailing_zeros() as usize;
+    let rest = mask & (mask - 1);
+    if rest == 0 {
+        return node.child[c0];
+    }
+    let c1 = rest.trailing_zeros() as usize;
+    let mut rest = rest & (rest - 1);
+    if rest == 0 {
+        let (near, far) = if dist[c0] <= dist[c1] { (c0, c1) } else { (c1, c0) };
+        pushed(node.child[far]);
+        stack[*sp].write(Entry { link: node.child[far], dist: dist[far] });
+        *sp += 1;
+        return node.child[near];
+    }
+    // Three or more: push all, insertion-sort them farthest-first, take the nearest.
+    let base = *sp;
+    let mut push = |lane: usize| {
+        pushed(node.child[lane]);
+        stack[*sp].write(Entry { link: node.child[lane], dist: dist[lane] });
+        *sp += 1;
+    };
+    push(c0);
+    push(c1);
+    while rest != 0 {
+        let lane = rest.trailing_zeros() as usize;
+        rest &= rest - 1;
+        push(lane);
+    }
+    // SAFETY: entries base..sp were just written.
+    let entries = unsafe { written(&mut stack[base..*sp]) };
+    sort_farthest_first(entries, |e| e.dist);
+    *sp -= 1;
+    entries[entries.len() - 1].link
+}
+
 /// Insertion sort, farthest first: the handful of children just pushed, so that the nearest one
 /// is on top of the stack.
 #[inline]

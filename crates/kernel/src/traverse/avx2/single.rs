@@ -3,19 +3,12 @@
 use std::arch::x86_64::*;
 use std::mem::MaybeUninit;
 
-use super::{BoxLanes, LeafLanes, block_any, block_closest, child_hits, prefetch, sort_farthest_first, written};
+use super::{BoxLanes, Entry, LeafLanes, block_any, block_closest, child_hits, near_first, prefetch};
 use crate::bvh8::Bvh8;
-use crate::wide::{EMPTY, LEAF, STACK_SIZE, WIDTH};
+use crate::wide::{EMPTY, LEAF, STACK_SIZE};
 use crate::prepared::{PreparedRay, widen};
 use crate::ray::Hit;
 use crate::traverse::Best;
-
-/// A deferred child: its link and entry distance.
-#[derive(Clone, Copy)]
-struct Entry {
-    link: u32,
-    dist: f32,
-}
 
 /// Closest hit, near-first (the Embree BVH8 single-ray scheme: one hit child is followed
 /// directly, two are ordered by one comparison, more are pushed and sorted by distance).
@@ -44,43 +37,7 @@ pub(super) fn closest_below(bvh: &Bvh8, ray: &PreparedRay, link: u32, best: Best
             let node = unsafe { bvh.nodes.get_unchecked(link as usize) };
             let (mask, tn) = child_hits(node, &r, tfar_wide);
             if mask != 0 {
-                let mut dist = [0f32; WIDTH];
-                unsafe { _mm256_storeu_ps(dist.as_mut_ptr(), tn) };
-                let c0 = mask.trailing_zeros() as usize;
-                let rest = mask & (mask - 1);
-                if rest == 0 {
-                    link = node.child[c0];
-                    continue;
-                }
-                let c1 = rest.trailing_zeros() as usize;
-                let mut rest = rest & (rest - 1);
-                if rest == 0 {
-                    let (near, far) = if dist[c0] <= dist[c1] { (c0, c1) } else { (c1, c0) };
-                    prefetch(bvh, node.child[far]);
-                    stack[sp].write(Entry { link: node.child[far], dist: dist[far] });
-                    sp += 1;
-                    link = node.child[near];
-                    continue;
-                }
-                // Three or more: push all, insertion-sort them farthest-first, take the nearest.
-                let base = sp;
-                for lane in [c0, c1] {
-                    prefetch(bvh, node.child[lane]);
-                    stack[sp].write(Entry { link: node.child[lane], dist: dist[lane] });
-                    sp += 1;
-                }
-                while rest != 0 {
-                    let lane = rest.trailing_zeros() as usize;
-                    rest &= rest - 1;
-                    prefetch(bvh, node.child[lane]);
-                    stack[sp].write(Entry { link: node.child[lane], dist: dist[lane] });
-                    sp += 1;
-                }
-                // SAFETY: entries base..sp were just written.
-                let pushed = unsafe { written(&mut stack[base..sp]) };
-                sort_farthest_first(pushed, |e| e.dist);
-                sp -= 1;
-                link = pushed[pushed.len() - 1].link;
+                link = near_first(node, mask, tn, &mut stack, &mut sp, |link| prefetch(bvh, link));
                 continue;
             }
         } else if link != EMPTY {
