@@ -14,8 +14,9 @@ use raystage_scene::{SceneHit, ShadingModel, SurfaceLanes};
 use super::{Hit, Tracer};
 use crate::bsdf::Bsdf;
 
-/// Up to [`PACKET_SIZE`] first hits, lane `k` for the hit of camera ray `k` (the lanes past
-/// the packet's rays hold nothing).
+/// Up to [`PACKET_SIZE`] first hits, lane `k` for the hit of camera ray `k`. Of a packet shorter
+/// than [`PACKET_SIZE`] rays, only the lanes of its rays are read: the others may still hold an
+/// earlier packet's materials.
 pub(crate) struct FirstHits<'f> {
     /// The geometry of every hit.
     pub surfaces: SurfaceLanes,
