@@ -67,16 +67,6 @@ pub struct SceneHit {
     item: u32,
 }
 
-/// The geometric part of a surface point (see [`SurfacePoint`]).
-#[derive(Clone, Copy, Debug)]
-struct Geometry {
-    position: Vec3,
-    position_error: Vec3,
-    local_position: Vec3,
-    geometric_normal: Vec3,
-    front_face: bool,
-}
-
 /// What a shader needs to know about a hit point, in world space.
 #[derive(Clone, Copy, Debug)]
 pub struct SurfacePoint<'a> {
@@ -455,26 +445,16 @@ impl<'a> Frame<'a> {
         let front_face = outward.dot(ray.dir) < 0.0;
         let geometric_normal = if front_face { outward } else { -outward };
         let (position, local_position, position_error) = crate::spawn::hit_point(&corners.map(|i| mesh.positions[i]), w, &placed);
-        let geometry = Geometry { position, position_error, local_position, geometric_normal, front_face };
-        self.complete(mesh, &placed, hit.prim, corners, w, geometry)
-    }
-
-    /// The surface point of triangle `prim` of `mesh` (vertices `corners`) at barycentrics `w`,
-    /// on an instance placed by `placed`, whose `geometry` is known: its shading normal,
-    /// interpolated attributes and shader added.
-    #[inline(always)]
-    fn complete(&self, mesh: &crate::Mesh, placed: &Placed, prim: u32, corners: [usize; 3], w: [f32; 3], geometry: Geometry) -> SurfacePoint<'a> {
-        let Geometry { position, position_error, local_position, geometric_normal, front_face } = geometry;
         let [a, b, c] = corners;
         let [w0, w1, w2] = w;
-        let (shader, shader_id) = self.shader_of(mesh, prim);
+        let (shader, shader_id) = self.shader_of(mesh, hit.prim);
         SurfacePoint {
             position,
             position_error,
             local_position,
             geometric_normal,
             front_face,
-            shading_normal: shading_normal(mesh, placed, corners, w, geometric_normal),
+            shading_normal: shading_normal(mesh, &placed, corners, w, geometric_normal),
             color: (!mesh.colors.is_empty()).then(|| mesh.colors[a] * w0 + mesh.colors[b] * w1 + mesh.colors[c] * w2),
             uv: (!mesh.uvs.is_empty()).then(|| mesh.uvs[a] * w0 + mesh.uvs[b] * w1 + mesh.uvs[c] * w2),
             shader,
