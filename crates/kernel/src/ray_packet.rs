@@ -32,7 +32,7 @@ impl RayPacket {
         match isa {
             // SAFETY: `isa` is a flavour `is_supported` confirmed on this CPU.
             #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 if rays.len() == PACKET_SIZE => unsafe { RayPacket::gathered(rays.try_into().expect("a full packet"), isa) },
+            Isa::Avx2 if rays.len() == PACKET_SIZE => unsafe { RayPacket::transposed(rays.try_into().expect("a full packet"), isa) },
             _ => RayPacket::lane_by_lane(rays, isa),
         }
     }
@@ -60,32 +60,32 @@ impl RayPacket {
         p
     }
 
-    /// [`RayPacket::new`] of a full packet, each component of the eight rays gathered into one
-    /// register and stored whole (lane-by-lane stores would make the box tests' wide loads wait
-    /// for them).
+    /// [`RayPacket::new`] of a full packet, the rays' fields transposed into lanes and stored
+    /// whole (lane-by-lane stores would make the box tests' wide loads wait for them).
     ///
     /// # Safety
     /// The CPU must support AVX2.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn gathered(rays: &[PreparedRay; PACKET_SIZE], isa: Isa) -> RayPacket {
+    unsafe fn transposed(rays: &[PreparedRay; PACKET_SIZE], isa: Isa) -> RayPacket {
         use std::arch::x86_64::*;
-        // SAFETY: the offsets are of `f32` fields of `PreparedRay`, and the packet is full.
-        let gather = |offset: usize| unsafe { crate::traverse::avx2::gather_lanes(rays, offset) };
+        // SAFETY: the packet is full.
+        let fields = unsafe { crate::traverse::avx2::ray_fields(rays) };
+        let field = |offset: usize| fields[offset / 4];
         let store = |v: __m256| {
             let mut out = [0.0f32; PACKET_SIZE];
             unsafe { _mm256_storeu_ps(out.as_mut_ptr(), v) };
             out
         };
         let (org, inv, inv_far) = (std::mem::offset_of!(PreparedRay, org), std::mem::offset_of!(PreparedRay, inv), std::mem::offset_of!(PreparedRay, inv_far));
-        let inv_lanes = [0, 1, 2].map(|a| gather(inv + 4 * a));
+        let inv_lanes = [0, 1, 2].map(|a| field(inv + 4 * a));
         RayPacket {
-            org: [0, 1, 2].map(|a| store(gather(org + 4 * a))),
+            org: [0, 1, 2].map(|a| store(field(org + 4 * a))),
             inv: inv_lanes.map(store),
-            inv_far: [0, 1, 2].map(|a| store(gather(inv_far + 4 * a))),
+            inv_far: [0, 1, 2].map(|a| store(field(inv_far + 4 * a))),
             // `PreparedRay::neg` is `inv < 0`.
             neg: inv_lanes.map(|v| store(_mm256_cmp_ps::<_CMP_LT_OQ>(v, _mm256_setzero_ps())).map(f32::to_bits)),
-            tnear: store(gather(std::mem::offset_of!(PreparedRay, tnear))),
+            tnear: store(field(std::mem::offset_of!(PreparedRay, tnear))),
             rays: (1u32 << PACKET_SIZE) - 1,
             isa,
         }
@@ -197,7 +197,7 @@ mod tests {
             let packet = RayPacket::new(&rays);
             let by_lane = RayPacket::lane_by_lane(&rays, packet.isa);
             let bits = |p: &RayPacket| -> Vec<u32> { p.org.iter().chain(&p.inv).chain(&p.inv_far).chain([&p.tnear]).flatten().map(|v| v.to_bits()).collect() };
-            assert_eq!((bits(&packet), packet.neg, packet.rays), (bits(&by_lane), by_lane.neg, by_lane.rays), "round {round}: gathered lanes");
+            assert_eq!((bits(&packet), packet.neg, packet.rays), (bits(&by_lane), by_lane.neg, by_lane.rays), "round {round}: transposed lanes");
             let candidates = (next().abs() * 1000.0) as u32 | 1;
             let (mask, nearest) = packet.touching(&b, &tfar, candidates);
             let mut expected = (0u32, f32::INFINITY);

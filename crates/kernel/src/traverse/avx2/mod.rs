@@ -302,24 +302,38 @@ unsafe fn written<T>(entries: &mut [MaybeUninit<T>]) -> &mut [T] {
     unsafe { &mut *(entries as *mut [MaybeUninit<T>] as *mut [T]) }
 }
 
-/// One float field of up to eight prepared rays across the lanes, at byte `offset` in each
-/// (`offset_of!` a component), lanes past the last ray repeating the first: one gather instead
-/// of eight scalar stores, which the wide loads after them would wait on.
+/// Every float of up to eight prepared rays across the lanes: row `f` holds float `f` of each
+/// ray (`offset_of!` a component ÷ 4), ray `i` in lane `i`, lanes past the last ray repeating
+/// the first. Each ray's two halves are loaded whole and the two 8×8 blocks transposed: a
+/// gather per field costs several times more, and its single-float loads wait on the wide
+/// stores that wrote the rays.
 ///
 /// # Safety
-/// The CPU must support AVX2; `rays` must hold one to eight rays, and `offset` must be that of
-/// an `f32` inside `PreparedRay`.
+/// The CPU must support AVX2; `rays` must hold one to eight rays.
 #[target_feature(enable = "avx2")]
 #[inline]
-pub(crate) unsafe fn gather_lanes(rays: &[PreparedRay], offset: usize) -> __m256 {
-    const STRIDE: i32 = (size_of::<PreparedRay>() / 4) as i32;
-    const _: () = assert!(size_of::<PreparedRay>().is_multiple_of(4), "prepared rays are whole floats apart");
+pub(crate) unsafe fn ray_fields(rays: &[PreparedRay]) -> [__m256; 16] {
+    const _: () = assert!(size_of::<PreparedRay>() == 64 && align_of::<PreparedRay>() == 64, "a prepared ray is two aligned halves");
     debug_assert!(!rays.is_empty() && rays.len() <= 8);
-    let lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-    let present = _mm256_cmpgt_epi32(_mm256_set1_epi32(rays.len() as i32), lane);
-    let index = _mm256_mullo_epi32(_mm256_and_si256(lane, present), _mm256_set1_epi32(STRIDE));
-    // SAFETY: every index names ray 0 to `rays.len() - 1`; the caller vouches for `offset`.
-    unsafe { _mm256_i32gather_ps::<4>(rays.as_ptr().cast::<f32>().byte_add(offset), index) }
+    let ray = |i: usize| if i < rays.len() { &rays[i] } else { &rays[0] };
+    // SAFETY: each prepared ray is sixteen floats, 64-byte aligned.
+    let half = |i: usize, h: usize| unsafe { _mm256_load_ps((ray(i) as *const PreparedRay).cast::<f32>().add(8 * h)) };
+    let front = transpose(std::array::from_fn(|i| half(i, 0)));
+    let back = transpose(std::array::from_fn(|i| half(i, 1)));
+    std::array::from_fn(|f| if f < 8 { front[f] } else { back[f - 8] })
+}
+
+/// Eight rows of eight floats transposed: row `i` of the result holds lane `i` of every row.
+#[target_feature(enable = "avx2")]
+#[inline]
+pub(crate) fn transpose(r: [__m256; 8]) -> [__m256; 8] {
+    // Pairs, then quads within each 128-bit half, then the halves.
+    let pairs = [0, 2, 4, 6].map(|i| (_mm256_unpacklo_ps(r[i], r[i + 1]), _mm256_unpackhi_ps(r[i], r[i + 1])));
+    let quads = |a: (__m256, __m256), b: (__m256, __m256)| {
+        [_mm256_shuffle_ps::<0x44>(a.0, b.0), _mm256_shuffle_ps::<0xEE>(a.0, b.0), _mm256_shuffle_ps::<0x44>(a.1, b.1), _mm256_shuffle_ps::<0xEE>(a.1, b.1)]
+    };
+    let (low, high) = (quads(pairs[0], pairs[1]), quads(pairs[2], pairs[3]));
+    std::array::from_fn(|i| if i < 4 { _mm256_permute2f128_ps::<0x20>(low[i], high[i]) } else { _mm256_permute2f128_ps::<0x31>(low[i - 4], high[i - 4]) })
 }
 
 /// Starts loading a deferred child into L1 (Embree prefetches every child it will visit): by the

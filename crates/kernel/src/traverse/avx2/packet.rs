@@ -21,7 +21,7 @@ use std::arch::x86_64::*;
 use std::mem::{MaybeUninit, offset_of};
 
 use super::single::{closest_below, occluded_below};
-use super::{LeafLanes, block_any, block_closest, gather_lanes, plane_rows, prefetch, sort_farthest_first, splat3, written};
+use super::{LeafLanes, block_any, block_closest, plane_rows, ray_fields, prefetch, sort_farthest_first, splat3, written};
 use crate::boxtree::BoxTree;
 use crate::bvh8::Bvh8;
 use crate::wide::{EMPTY, LEAF, Node8, STACK_SIZE, WIDTH};
@@ -101,25 +101,40 @@ impl Frustum {
     #[target_feature(enable = "avx2,fma")]
     #[inline]
     fn new<const PARALLEL: bool>(rays: &[PreparedRay]) -> Frustum {
-        // One pass over the rays, written out: a frustum is set up for every packet that enters
-        // an instance, which for small objects costs as much as the walk.
-        let (mut inv_lo, mut inv_hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-        let (mut far_lo, mut far_hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-        let (mut org_lo, mut org_hi) = (rays[0].org, rays[0].org);
-        let mut tnear = f32::INFINITY;
-        for r in rays {
-            for a in 0..3 {
-                inv_lo[a] = inv_lo[a].min(r.inv[a]);
-                inv_hi[a] = inv_hi[a].max(r.inv[a]);
-                far_lo[a] = far_lo[a].min(r.inv_far[a]);
-                far_hi[a] = far_hi[a].max(r.inv_far[a]);
-                if PARALLEL {
-                    org_lo[a] = org_lo[a].min(r.org[a]);
-                    org_hi[a] = org_hi[a].max(r.org[a]);
-                }
-            }
-            tnear = tnear.min(r.tnear);
+        // A frustum is set up for every packet that enters an instance, which for small objects
+        // costs as much as the walk: each ray's two halves are folded into the lowest and
+        // highest of every field at once, one wide minimum and maximum per half and ray.
+        // SAFETY: a prepared ray is two aligned halves of eight floats (see `ray_fields`).
+        let halves = |r: &PreparedRay| unsafe {
+            let p = (r as *const PreparedRay).cast::<f32>();
+            (_mm256_load_ps(p), _mm256_load_ps(p.add(8)))
+        };
+        let (front, back) = halves(&rays[0]);
+        let (mut front_lo, mut front_hi, mut back_lo, mut back_hi) = (front, front, back, back);
+        for r in &rays[1..] {
+            let (front, back) = halves(r);
+            front_lo = _mm256_min_ps(front_lo, front);
+            front_hi = _mm256_max_ps(front_hi, front);
+            back_lo = _mm256_min_ps(back_lo, back);
+            back_hi = _mm256_max_ps(back_hi, back);
         }
+        // The lowest and the highest of every float of a prepared ray.
+        let store = |front: __m256, back: __m256| {
+            let mut out = [0.0f32; 16];
+            unsafe {
+                _mm256_storeu_ps(out.as_mut_ptr(), front);
+                _mm256_storeu_ps(out.as_mut_ptr().add(8), back);
+            }
+            out
+        };
+        let (lo, hi) = (store(front_lo, back_lo), store(front_hi, back_hi));
+        let at = |floats: &[f32; 16], offset: usize| -> [f32; 3] { std::array::from_fn(|a| floats[offset / 4 + a]) };
+        let (org, inv, inv_far) = (offset_of!(PreparedRay, org), offset_of!(PreparedRay, inv), offset_of!(PreparedRay, inv_far));
+        // (A packet of a common origin has one origin, its lowest and highest.)
+        let (org_lo, org_hi) = (at(&lo, org), at(&hi, org));
+        let (inv_lo, inv_hi) = (at(&lo, inv), at(&hi, inv));
+        let (far_lo, far_hi) = (at(&lo, inv_far), at(&hi, inv_far));
+        let tnear = lo[offset_of!(PreparedRay, tnear) / 4];
         // Along an axis the rays travel towards +∞ on, the near plane is nearest from the
         // origin farthest up and the far plane farthest from the one farthest down.
         let neg = rays[0].neg;
@@ -175,9 +190,9 @@ impl RayLanes {
     #[inline]
     fn new<const PARALLEL: bool>(rays: &[PreparedRay]) -> RayLanes {
         // Lanes past the last ray repeat the first; they are masked out of every result.
-        // SAFETY: the offsets are of `f32` fields of `PreparedRay`, and a packet holds one to
-        // eight rays.
-        let component = |field: usize, a: usize| unsafe { gather_lanes(rays, field + 4 * a) };
+        // SAFETY: a packet holds one to eight rays.
+        let fields = unsafe { ray_fields(rays) };
+        let component = |field: usize, a: usize| fields[field / 4 + a];
         let (org, inv, inv_far) = (offset_of!(PreparedRay, org), offset_of!(PreparedRay, inv), offset_of!(PreparedRay, inv_far));
         RayLanes {
             org: rays[0].org,

@@ -10,6 +10,8 @@ use crate::PACKET_SIZE;
 use crate::prepared::{PreparedRay, ROBUST_FAR};
 use crate::ray::Ray;
 
+use super::transpose;
+
 // The layouts the transposes read and write.
 const _: () = {
     assert!(size_of::<Ray>() == 32 && offset_of!(Ray, tnear) == 12 && offset_of!(Ray, dir) == 16 && offset_of!(Ray, tfar) == 28);
@@ -69,17 +71,4 @@ pub(crate) unsafe fn prepare_packet(rays: &[Ray]) -> [PreparedRay; PACKET_SIZE] 
     }
     // SAFETY: every byte was written, the axis bytes with 0 to 2 and the sign bytes with 0 or 1.
     unsafe { out.assume_init() }
-}
-
-/// Eight rows of eight floats transposed: row `i` of the result holds lane `i` of every row.
-#[target_feature(enable = "avx2")]
-#[inline]
-fn transpose(r: [__m256; 8]) -> [__m256; 8] {
-    // Pairs, then quads within each 128-bit half, then the halves.
-    let pairs = [0, 2, 4, 6].map(|i| (_mm256_unpacklo_ps(r[i], r[i + 1]), _mm256_unpackhi_ps(r[i], r[i + 1])));
-    let quads = |a: (__m256, __m256), b: (__m256, __m256)| {
-        [_mm256_shuffle_ps::<0x44>(a.0, b.0), _mm256_shuffle_ps::<0xEE>(a.0, b.0), _mm256_shuffle_ps::<0x44>(a.1, b.1), _mm256_shuffle_ps::<0xEE>(a.1, b.1)]
-    };
-    let (low, high) = (quads(pairs[0], pairs[1]), quads(pairs[2], pairs[3]));
-    std::array::from_fn(|i| if i < 4 { _mm256_permute2f128_ps::<0x20>(low[i], high[i]) } else { _mm256_permute2f128_ps::<0x31>(low[i - 4], high[i - 4]) })
 }
