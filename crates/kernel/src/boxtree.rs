@@ -5,6 +5,7 @@ use crate::aabb::Aabb;
 use crate::build::build_over_boxes;
 use crate::isa::Isa;
 use crate::prepared::PreparedRay;
+use crate::ray_packet::Entries;
 use crate::traverse;
 use crate::wide::{LEAF, Node8, collapse};
 
@@ -17,6 +18,9 @@ use crate::wide::{LEAF, Node8, collapse};
 pub struct BoxTree {
     pub(crate) nodes: Vec<Node8>,
     pub(crate) root: u32,
+    /// The boxes the tree was built over, by index (the packet walks' answers are exact to
+    /// them).
+    boxes: Vec<Aabb>,
     /// Boxes in the tree.
     len: usize,
     bounds: Aabb,
@@ -36,7 +40,7 @@ impl BoxTree {
             LEAF | built.prims[first as usize]
         });
         let bounds = built.nodes.first().map_or(Aabb::EMPTY, |n| n.bounds);
-        BoxTree { nodes: wide.nodes, root: wide.root, len: built.prims.len(), bounds, isa: Isa::best() }
+        BoxTree { nodes: wide.nodes, root: wide.root, boxes: boxes.to_vec(), len: built.prims.len(), bounds, isa: Isa::best() }
     }
 
     /// The same tree traversed with the given instruction set, or `None` if this CPU lacks it.
@@ -88,50 +92,57 @@ impl BoxTree {
     }
 
     /// The boxes that the segments of up to [`crate::PACKET_SIZE`] rays touch: `visit(item,
-    /// rays)` with the rays (bit `i` for `rays[i]`) that may touch the box, in no particular
-    /// order; every ray is named for every box [`BoxTree::any`] would give it (and for a few it
-    /// only nearly touches, so the caller tests each box itself). Rays that share an origin and
-    /// octant (camera rays of neighbouring pixels) walk the tree as one packet, naming each box
-    /// once; others walk it one by one, and a box can come once per ray. Returns whether every
-    /// box was named at most once.
+    /// entries)` for each, in no particular order, with exactly the rays (bit `i` for
+    /// `rays[i]`) whose segment touches box `item` and where each enters it (what
+    /// [`Aabb::intersect`] says of each). Rays that share an origin or a direction and an
+    /// octant (camera rays of neighbouring pixels, shadow rays towards a light) walk the tree as
+    /// one packet, naming each box once; others walk it one by one, and a box can come once per
+    /// ray. Returns whether every box was named at most once.
     ///
     /// # Panics
     /// If `rays` holds more than [`crate::PACKET_SIZE`] rays.
-    pub fn touched(&self, rays: &[PreparedRay], mut visit: impl FnMut(u32, u32)) -> bool {
+    pub fn touched(&self, rays: &[PreparedRay], mut visit: impl FnMut(u32, &Entries)) -> bool {
         assert!(rays.len() <= crate::PACKET_SIZE, "at most a packet");
-        match self.isa {
-            // SAFETY: as in `closest`.
-            #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 if !rays.is_empty() => unsafe { traverse::avx2::boxes_touched(self, rays, visit) },
-            _ => {
-                for (i, ray) in rays.iter().enumerate() {
-                    traverse::portable::boxes_any(self, ray, |item| {
-                        visit(item, 1 << i);
-                        false
-                    });
-                }
-                rays.len() <= 1
-            }
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `isa` is only ever set to a flavour `is_supported` confirmed on this CPU; the
+        // root of a tree of two boxes or more is a node.
+        if self.isa == Isa::Avx2 && self.root & LEAF == 0 && !rays.is_empty() && unsafe { traverse::avx2::boxes_touched(self, rays, &mut visit) } {
+            return true;
         }
+        for (i, ray) in rays.iter().enumerate() {
+            self.any(ray, |item| {
+                if let Some(entry) = self.boxes[item as usize].intersect(ray, ray.tfar) {
+                    let mut entries = Entries { rays: 1 << i, ..Entries::NONE };
+                    entries.entry[i] = entry;
+                    visit(item, &entries);
+                }
+                false
+            });
+        }
+        rays.len() <= 1
     }
 
     /// An any-hit walk for up to [`crate::PACKET_SIZE`] rays at once: `block(item, rays)` is
-    /// called with the rays (bit `i` for `rays[i]`), not blocked yet, that may touch the box
-    /// (the caller tests each box itself, as for [`BoxTree::touched`]), and returns those it
-    /// blocks; the walk skips the rest of the tree for blocked rays and ends once all are.
-    /// Returns the blocked rays. Rays that travel as a packet (see [`BoxTree::touched`]) walk
-    /// the tree together; others one by one.
+    /// called with exactly the rays (bit `i` for `rays[i]`), not blocked yet, whose segment
+    /// touches box `item`, and returns those it blocks; the walk skips the rest of the tree for
+    /// blocked rays and ends once all are. Returns the blocked rays. Rays that travel as a
+    /// packet (see [`BoxTree::touched`]) walk the tree together; others one by one.
     ///
     /// # Panics
     /// If `rays` holds more than [`crate::PACKET_SIZE`] rays.
     pub fn occluded_by(&self, rays: &[PreparedRay], mut block: impl FnMut(u32, u32) -> u32) -> u32 {
         assert!(rays.len() <= crate::PACKET_SIZE, "at most a packet");
-        match self.isa {
-            // SAFETY: as in `closest`.
-            #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 if !rays.is_empty() => unsafe { traverse::avx2::boxes_occluded(self, rays, block) },
-            _ => (0..rays.len()).filter(|&i| traverse::portable::boxes_any(self, &rays[i], |item| block(item, 1 << i) != 0)).fold(0, |m, i| m | 1 << i),
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: as in `touched`.
+        if self.isa == Isa::Avx2
+            && self.root & LEAF == 0
+            && !rays.is_empty()
+            && let Some(blocked) = unsafe { traverse::avx2::boxes_occluded(self, rays, &mut block) }
+        {
+            return blocked;
         }
+        let touches = |item: u32, ray: &PreparedRay| self.boxes[item as usize].intersect(ray, ray.tfar).is_some();
+        (0..rays.len()).filter(|&i| self.any(&rays[i], |item| touches(item, &rays[i]) && block(item, 1 << i) != 0)).fold(0, |m, i| m | 1 << i)
     }
 
     /// The box a leaf link (not `EMPTY`) names.

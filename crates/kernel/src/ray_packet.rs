@@ -7,6 +7,36 @@ use crate::aabb::Aabb;
 use crate::isa::Isa;
 use crate::prepared::{PreparedRay, widen};
 
+/// Which rays of a packet touch a box, and where each enters it: what the packet box tests
+/// ([`RayPacket::touching`], [`crate::BoxTree::touched`]) find.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Entries {
+    /// Bit `i` for each ray `i` whose segment touches the box.
+    pub rays: u32,
+    /// `entry[i]`: where the segment of ray `i` in `rays` enters the box (what
+    /// [`Aabb::intersect`] returns for it); +∞ in the lanes of other rays.
+    pub entry: [f32; PACKET_SIZE],
+}
+
+impl Entries {
+    /// No ray touches the box.
+    pub const NONE: Entries = Entries { rays: 0, entry: [f32::INFINITY; PACKET_SIZE] };
+
+    /// The nearest entry of any ray (+∞ if none touches the box).
+    #[inline]
+    pub fn nearest(&self) -> f32 {
+        self.entry.iter().copied().fold(f32::INFINITY, f32::min)
+    }
+
+    /// The rays that still touch the box once the segment of each ray `i` ends at `tfar[i]`,
+    /// no later than the end it was tested with: those that enter the box by then (after the
+    /// widening of [`Aabb::intersect`], which this answers exactly as a new test would).
+    #[inline]
+    pub fn within(&self, tfar: &[f32; PACKET_SIZE]) -> u32 {
+        (0..PACKET_SIZE).fold(0, |rays, i| rays | u32::from(self.entry[i] <= widen(tfar[i])) << i) & self.rays
+    }
+}
+
 /// Up to [`PACKET_SIZE`] prepared rays, component by component.
 #[derive(Clone, Debug)]
 pub struct RayPacket {
@@ -92,9 +122,8 @@ impl RayPacket {
     }
 
     /// The rays among `candidates` (bit `i` for ray `i`) whose segment `(tnear, tfar[i]]` touches
-    /// `b`, and the nearest entry distance among them (∞ if none): exactly what
-    /// [`Aabb::intersect`] says of each.
-    pub fn touching(&self, b: &Aabb, tfar: &[f32; PACKET_SIZE], candidates: u32) -> (u32, f32) {
+    /// `b`, and where each enters it: exactly what [`Aabb::intersect`] says of each.
+    pub fn touching(&self, b: &Aabb, tfar: &[f32; PACKET_SIZE], candidates: u32) -> Entries {
         let candidates = candidates & self.rays;
         match self.isa {
             // SAFETY: `isa` is only ever a flavour `is_supported` confirmed on this CPU.
@@ -105,8 +134,8 @@ impl RayPacket {
     }
 
     /// [`RayPacket::touching`], lane by lane.
-    fn touching_portable(&self, b: &Aabb, tfar: &[f32; PACKET_SIZE], candidates: u32) -> (u32, f32) {
-        let (mut hits, mut nearest) = (0, f32::INFINITY);
+    fn touching_portable(&self, b: &Aabb, tfar: &[f32; PACKET_SIZE], candidates: u32) -> Entries {
+        let mut found = Entries::NONE;
         for lane in (0..PACKET_SIZE).filter(|&lane| candidates & (1 << lane) != 0) {
             let ray = |a: usize| (self.org[a][lane], self.inv[a][lane], self.inv_far[a][lane], self.neg[a][lane] != 0);
             let (mut tn, mut tf) = (self.tnear[lane], widen(tfar[lane]));
@@ -117,15 +146,15 @@ impl RayPacket {
                 tf = ((far - org) * inv_far).min(tf);
             }
             if tn <= tf {
-                hits |= 1 << lane;
-                nearest = nearest.min(tn);
+                found.rays |= 1 << lane;
+                found.entry[lane] = tn;
             }
         }
-        (hits, nearest)
+        found
     }
 
     /// [`RayPacket::touching`] of all lanes at once: the slab test's arithmetic, one ray per
-    /// lane, and the nearest entry by a horizontal minimum. (`max`/`min` return their second
+    /// lane. (`max`/`min` return their second
     /// operand for a NaN, a ray in a slab's plane, as `f32::max`/`min` return the other
     /// operand.)
     ///
@@ -133,7 +162,7 @@ impl RayPacket {
     /// The CPU must support AVX2.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn touching_avx2(&self, b: &Aabb, tfar: &[f32; PACKET_SIZE], candidates: u32) -> (u32, f32) {
+    unsafe fn touching_avx2(&self, b: &Aabb, tfar: &[f32; PACKET_SIZE], candidates: u32) -> Entries {
         use std::arch::x86_64::*;
         let load = |v: &[f32; PACKET_SIZE]| unsafe { _mm256_loadu_ps(v.as_ptr()) };
         let (mut tn, mut tf) = (load(&self.tnear), _mm256_mul_ps(load(tfar), _mm256_set1_ps(crate::prepared::ROBUST_FAR)));
@@ -148,16 +177,9 @@ impl RayPacket {
         let bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
         let wanted = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(candidates as i32), bits), bits);
         let hit = _mm256_and_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(tn, tf), _mm256_castsi256_ps(wanted));
-        let hits = _mm256_movemask_ps(hit) as u32;
-        if hits == 0 {
-            return (0, f32::INFINITY);
-        }
-        // The smallest entry among the lanes that hit.
-        let entry = _mm256_blendv_ps(_mm256_set1_ps(f32::INFINITY), tn, hit);
-        let m = _mm_min_ps(_mm256_castps256_ps128(entry), _mm256_extractf128_ps::<1>(entry));
-        let m = _mm_min_ps(m, _mm_movehl_ps(m, m));
-        let m = _mm_min_ss(m, _mm_shuffle_ps::<0b01>(m, m));
-        (hits, _mm_cvtss_f32(m))
+        let mut found = Entries { rays: _mm256_movemask_ps(hit) as u32, entry: [0.0; PACKET_SIZE] };
+        unsafe { _mm256_storeu_ps(found.entry.as_mut_ptr(), _mm256_blendv_ps(_mm256_set1_ps(f32::INFINITY), tn, hit)) };
+        found
     }
 }
 
@@ -199,18 +221,22 @@ mod tests {
             let bits = |p: &RayPacket| -> Vec<u32> { p.org.iter().chain(&p.inv).chain(&p.inv_far).chain([&p.tnear]).flatten().map(|v| v.to_bits()).collect() };
             assert_eq!((bits(&packet), packet.neg, packet.rays), (bits(&by_lane), by_lane.neg, by_lane.rays), "round {round}: transposed lanes");
             let candidates = (next().abs() * 1000.0) as u32 | 1;
-            let (mask, nearest) = packet.touching(&b, &tfar, candidates);
-            let mut expected = (0u32, f32::INFINITY);
+            let found = packet.touching(&b, &tfar, candidates);
+            let mut expected = Entries::NONE;
             for (i, r) in rays.iter().enumerate().filter(|&(i, _)| candidates & (1 << i) != 0) {
                 if let Some(t) = b.intersect(r, tfar[i]) {
-                    expected = (expected.0 | 1 << i, expected.1.min(t));
+                    expected.rays |= 1 << i;
+                    expected.entry[i] = t;
                 }
             }
-            assert_eq!((mask, nearest.to_bits()), (expected.0, expected.1.to_bits()), "round {round}");
-            let (portable_mask, portable_nearest) = packet.touching_portable(&b, &tfar, candidates & packet.rays);
-            assert_eq!((portable_mask, portable_nearest.to_bits()), (mask, nearest.to_bits()), "round {round}: the portable lanes");
-            hits += mask.count_ones();
-            misses += (candidates & ((1 << n) - 1) & !mask).count_ones();
+            let bits = |e: &Entries| (e.rays, e.entry.map(f32::to_bits));
+            assert_eq!(bits(&found), bits(&expected), "round {round}");
+            assert_eq!(bits(&packet.touching_portable(&b, &tfar, candidates & packet.rays)), bits(&found), "round {round}: the portable lanes");
+            // Shortened segments: `within` answers as a new test.
+            let shorter: [f32; PACKET_SIZE] = std::array::from_fn(|i| if next() > 0.0 { tfar[i] } else { tfar[i].min(found.entry[i].max(0.0) * (1.0 + next() * 0.01)) });
+            assert_eq!(found.within(&shorter), packet.touching(&b, &shorter, candidates).rays, "round {round}: within shortened segments");
+            hits += found.rays.count_ones();
+            misses += (candidates & ((1 << n) - 1) & !found.rays).count_ones();
         }
         assert!(hits > 500 && misses > 500, "{hits} hits, {misses} misses");
     }

@@ -6,7 +6,7 @@
 
 use glam::Vec3;
 use proptest::prelude::*;
-use raystage_kernel::{Aabb, BoxTree, BuildOptions, BuildQuality, Bvh2, Bvh8, Hit, Isa, PreparedRay, Ray, brute};
+use raystage_kernel::{Aabb, BoxTree, BuildOptions, BuildQuality, Bvh2, Bvh8, Hit, Isa, PACKET_SIZE, PreparedRay, Ray, brute};
 
 /// Checks one ray against every layout and instruction set, closest and any hit.
 fn check_ray(tris: &Vec<[Vec3; 3]>, bvh2: &Bvh2, bvh8s: &[Bvh8], ray: &Ray) -> Result<(), TestCaseError> {
@@ -228,6 +228,56 @@ proptest! {
                 prop_assert_eq!(best, brute::intersect(&tris, r), "{} box tree closest, ray {:?}", isa.name(), r);
                 let any = tree.any(&PreparedRay::new(r), |item| brute::occluded(&[tris[item as usize]][..], r));
                 prop_assert_eq!(any, brute::occluded(&tris, r));
+            }
+        }
+    }
+
+    #[test]
+    fn box_tree_packets_name_exactly_the_boxes_each_ray_touches(tris in soup(), coherent in coherent_rays(), parallel in parallel_rays()) {
+        // One box per triangle (a tree of one box now and then).
+        let boxes: Vec<Aabb> = tris.iter().map(|t| Aabb::from_points(t)).collect();
+        for isa in Isa::all() {
+            let Some(tree) = BoxTree::build(&boxes).with_isa(isa) else { continue };
+            for rays in coherent.chunks(PACKET_SIZE).chain(parallel.chunks(PACKET_SIZE)) {
+                let prepared: Vec<PreparedRay> = rays.iter().map(PreparedRay::new).collect();
+                // Every (box, ray) pair named, with its entry.
+                let mut named: Vec<(u32, usize, u32)> = Vec::new();
+                let mut boxes_named: Vec<u32> = Vec::new();
+                let once = tree.touched(&prepared, |item, entries| {
+                    boxes_named.push(item);
+                    for i in 0..PACKET_SIZE {
+                        if entries.rays & (1 << i) != 0 {
+                            named.push((item, i, entries.entry[i].to_bits()));
+                        } else {
+                            assert_eq!(entries.entry[i], f32::INFINITY, "lanes of other rays");
+                        }
+                    }
+                });
+                named.sort_unstable();
+                let entry = |item: u32, i: usize| boxes[item as usize].intersect(&prepared[i], rays[i].tfar);
+                let expected: Vec<(u32, usize, u32)> =
+                    (0..boxes.len() as u32).flat_map(|item| (0..rays.len()).filter_map(move |i| Some((item, i, entry(item, i)?.to_bits())))).collect();
+                prop_assert_eq!(&named, &expected, "{} touched, rays {:?}", isa.name(), rays);
+                if once {
+                    let count = boxes_named.len();
+                    boxes_named.sort_unstable();
+                    boxes_named.dedup();
+                    prop_assert_eq!(boxes_named.len(), count, "each box named once");
+                }
+                // Each triangle blocks the rays it occludes, and is offered only rays that touch
+                // its box.
+                let blocked = tree.occluded_by(&prepared, |item, offered| {
+                    let mut blocks = 0;
+                    for (i, r) in rays.iter().enumerate().filter(|&(i, _)| offered & (1 << i) != 0) {
+                        assert!(entry(item, i).is_some(), "offered a ray that misses the box");
+                        if brute::occluded(&[tris[item as usize]][..], r) {
+                            blocks |= 1 << i;
+                        }
+                    }
+                    blocks
+                });
+                let expected = rays.iter().enumerate().filter(|(_, r)| brute::occluded(&tris, r)).fold(0, |m, (i, _)| m | 1 << i);
+                prop_assert_eq!(blocked, expected, "{} occluded_by, rays {:?}", isa.name(), rays);
             }
         }
     }

@@ -7,7 +7,7 @@ use std::collections::HashSet;
 use std::time::Instant;
 
 use glam::{Vec2, Vec3};
-use raystage_kernel::{Aabb, BoxTree, Bvh8, PACKET_SIZE, PreparedRay, Ray, RayPacket};
+use raystage_kernel::{Aabb, BoxTree, Bvh8, Entries, PACKET_SIZE, PreparedRay, Ray, RayPacket};
 
 use crate::camera::Camera;
 use crate::ids::{InstanceId, ObjectId, ShaderId};
@@ -43,6 +43,15 @@ impl FrameInstance<'_> {
     fn placed_at(&self, time: f32) -> Cow<'_, Placed> {
         if self.instance.end.is_some() && time != 0.0 { Cow::Owned(Placed::at(&self.instance, time)) } else { Cow::Borrowed(&self.placed) }
     }
+}
+
+/// An instance a packet's rays touch: which rays, where each enters its box, and the nearest
+/// entry.
+#[derive(Clone, Copy)]
+struct Touched {
+    nearest: f32,
+    item: u32,
+    entries: Entries,
 }
 
 /// The closest hit of a ray in the scene.
@@ -261,9 +270,8 @@ impl<'a> Frame<'a> {
     /// ray limited to its closest hit so far.
     fn intersect_packet(&self, rays: &[Ray], hits: &mut [Option<SceneHit>], time: f32) {
         thread_local! {
-            /// The instances the rays touch: nearest entry of any ray, item, and the rays that
-            /// touch its box (bit i for ray i). Reused from packet to packet.
-            static TOUCHED: std::cell::RefCell<Vec<(f32, u32, u32)>> = const { std::cell::RefCell::new(Vec::new()) };
+            /// The instances the rays touch. Reused from packet to packet.
+            static TOUCHED: std::cell::RefCell<Vec<Touched>> = const { std::cell::RefCell::new(Vec::new()) };
         }
         TOUCHED.with_borrow_mut(|touched| self.intersect_touched(rays, hits, time, touched));
     }
@@ -273,7 +281,7 @@ impl<'a> Frame<'a> {
     /// Instances are visited in the order of the nearest entry of any ray into their boxes:
     /// every instance a ray reaches before its own closest hit is then also reached by that ray
     /// traced alone, so a packet builds no object that its rays alone would not.
-    fn intersect_touched(&self, rays: &[Ray], hits: &mut [Option<SceneHit>], time: f32, touched: &mut Vec<(f32, u32, u32)>) {
+    fn intersect_touched(&self, rays: &[Ray], hits: &mut [Option<SceneHit>], time: f32, touched: &mut Vec<Touched>) {
         touched.clear();
         let prepared = PreparedRay::packet(rays);
         if let Some((only, tree)) = self.only_in_place(&prepared, rays, time) {
@@ -291,37 +299,36 @@ impl<'a> Frame<'a> {
             }
             return;
         }
-        // The rays among `candidates` whose segment touches the box of instance `item`, and the
-        // nearest entry among them.
-        let lanes = RayPacket::new(&prepared);
-        let segments: [f32; PACKET_SIZE] = std::array::from_fn(|i| rays[i].tfar);
-        let mut touch = |item: u32, candidates: u32| {
-            let (mask, nearest) = lanes.touching(&self.boxes[item as usize], &segments, candidates);
-            if mask != 0 {
-                touched.push((nearest, item, mask));
-            }
-        };
+        let mut touch = |item: u32, entries: &Entries| touched.push(Touched { nearest: entries.nearest(), item, entries: *entries });
         let all = (1 << PACKET_SIZE) - 1;
         if self.instances.len() == 1 {
-            // The only instance: every ray (the object's own root test culls those that miss).
-            touched.push((0.0, 0, all));
+            // The only instance: every ray, entering at once (the object's own root test culls
+            // those that miss).
+            touch(0, &Entries { rays: all, entry: [f32::NEG_INFINITY; PACKET_SIZE] });
         } else if self.instances.len() <= LIST_TOP_LEVEL {
-            (0..self.instances.len() as u32).for_each(|item| touch(item, all));
+            let lanes = RayPacket::new(&prepared);
+            let segments: [f32; PACKET_SIZE] = std::array::from_fn(|i| rays[i].tfar);
+            for (item, b) in self.boxes.iter().enumerate() {
+                let entries = lanes.touching(b, &segments, all);
+                if entries.rays != 0 {
+                    touch(item as u32, &entries);
+                }
+            }
         } else if !self.top.touched(&prepared, touch) {
             // The rays went one by one: merge what each found of the same instance.
             merge_touched(touched);
         }
-        touched.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        touched.sort_unstable_by(|a, b| a.nearest.total_cmp(&b.nearest).then(a.item.cmp(&b.item)));
         hits.fill(None);
         let mut local = prepared;
         let mut found = [None; PACKET_SIZE];
-        for &(_, item, touching) in touched.iter() {
+        for &Touched { item, entries, .. } in touched.iter() {
             let fi = &self.instances[item as usize];
             let tfar: [f32; PACKET_SIZE] = std::array::from_fn(|i| hits[i].map_or(rays[i].tfar, |h| h.t));
             // Only rays that reach the box before their closest hit so far go in: instances
             // behind the hits are skipped without carrying the rays into them, and an object no
             // ray has needed yet is built only if some ray reaches it, as a single ray would.
-            let mask = lanes.touching(&self.boxes[item as usize], &tfar, touching).0;
+            let mask = entries.within(&tfar);
             if mask == 0 {
                 continue;
             }
@@ -390,15 +397,9 @@ impl<'a> Frame<'a> {
         // Shadow rays towards a distant light are parallel: in each instance their direction
         // is carried into the object, and prepared, once.
         let parallel = rays.iter().all(|r| r.dir.to_array().map(f32::to_bits) == rays[0].dir.to_array().map(f32::to_bits));
-        // The rays among `candidates` that instance `item` blocks: those whose segment touches
-        // its box, traced through it together.
-        let lanes = RayPacket::new(&prepared[..n]);
-        let segments: [f32; PACKET_SIZE] = std::array::from_fn(|i| rays[i.min(n - 1)].tfar);
-        let block = |item: u32, candidates: u32| -> u32 {
-            let live = lanes.touching(&self.boxes[item as usize], &segments, candidates).0;
-            if live == 0 {
-                return 0;
-            }
+        // The rays among `live` that instance `item` blocks, `live` being exactly the rays not
+        // blocked yet whose segment touches its box: those traced through it together.
+        let block = |item: u32, live: u32| -> u32 {
             let fi = &self.instances[item as usize];
             let placed = fi.placed_at(time);
             let first = (parallel && !placed.identity).then(|| PreparedRay::new(&placed.ray_to_object(&rays[0])));
@@ -414,8 +415,13 @@ impl<'a> Frame<'a> {
             fi.object.accel(&self.counters).occluded_packet_prepared(&local[..n]) & live
         };
         if self.instances.len() <= LIST_TOP_LEVEL {
+            let lanes = RayPacket::new(&prepared[..n]);
+            let segments: [f32; PACKET_SIZE] = std::array::from_fn(|i| rays[i.min(n - 1)].tfar);
             let mut block = block;
-            (0..self.instances.len() as u32).fold(0, |blocked, item| if blocked == all { blocked } else { blocked | block(item, all & !blocked) })
+            (0..self.instances.len() as u32).fold(0, |blocked, item| {
+                let live = if blocked == all { 0 } else { lanes.touching(&self.boxes[item as usize], &segments, all & !blocked).rays };
+                if live == 0 { blocked } else { blocked | block(item, live) }
+            })
         } else {
             // The walk leaves the rest of the top level to the rays no instance blocked yet.
             self.top.occluded_by(&prepared[..n], block)
@@ -603,14 +609,17 @@ fn barycentrics(mesh: &crate::Mesh, hit: &SceneHit) -> ([f32; 3], [usize; 3]) {
     ([1.0 - hit.u - hit.v, hit.u, hit.v], mesh.indices[hit.prim as usize].map(|i| i as usize))
 }
 
-/// Merges the entries of [`Frame::intersect_many`]'s touched list that name the same instance:
-/// the nearest entry, and every ray that touches it.
-fn merge_touched(touched: &mut Vec<(f32, u32, u32)>) {
-    touched.sort_unstable_by_key(|&(_, item, _)| item);
+/// Merges the entries of [`Frame::intersect_many`]'s touched list that name the same instance
+/// (each found by other rays): every ray that touches it, where each enters, the nearest entry.
+fn merge_touched(touched: &mut Vec<Touched>) {
+    touched.sort_unstable_by_key(|t| t.item);
     touched.dedup_by(|later, kept| {
-        later.1 == kept.1 && {
-            kept.0 = kept.0.min(later.0);
-            kept.2 |= later.2;
+        later.item == kept.item && {
+            kept.nearest = kept.nearest.min(later.nearest);
+            kept.entries.rays |= later.entries.rays;
+            for (kept, later) in kept.entries.entry.iter_mut().zip(later.entries.entry) {
+                *kept = kept.min(later);
+            }
             true
         }
     });

@@ -26,6 +26,7 @@ use crate::boxtree::BoxTree;
 use crate::bvh8::Bvh8;
 use crate::wide::{EMPTY, LEAF, Node8, STACK_SIZE, WIDTH};
 use crate::prepared::{PreparedRay, widen};
+use crate::ray_packet::Entries;
 use crate::ray::Hit;
 use crate::traverse::Best;
 
@@ -404,7 +405,7 @@ unsafe fn occluded_beam<const PARALLEL: bool>(bvh: &Bvh8, rays: &[PreparedRay]) 
     unsafe { walk_any::<PARALLEL>(&bvh.nodes, bvh.root, rays, finish) }
 }
 
-/// The any-hit walk of a packet down `nodes` from `root` (an object's tree or the top level),
+/// The any-hit walk of a packet down `nodes` from `root` (an object's tree),
 /// carrying the rays still open: `finish(link, rays)` is offered every subtree the open rays
 /// among `rays` reach, and either finishes it, returning the rays it blocks, or leaves it to
 /// the walk (`None`, for an inner node). Ends once every ray is blocked; returns the blocked.
@@ -452,80 +453,95 @@ unsafe fn walk_any<const PARALLEL: bool>(nodes: &[Node8], root: u32, rays: &[Pre
     all & !open
 }
 
-/// [`BoxTree::occluded_by`]: the packet walks the tree as in [`boxes_touched`], carrying the
-/// rays still open, and hands each leaf's boxes to `block` with the open rays that reached it.
+/// [`BoxTree::occluded_by`] of rays that travel as a packet (see `packet_kind`); `None` for
+/// others, which the caller walks one by one.
 ///
 /// # Safety
-/// The CPU must support AVX2 and FMA.
+/// The CPU must support AVX2 and FMA; the tree's root must be a node.
 #[target_feature(enable = "avx2,fma")]
-pub(crate) unsafe fn boxes_occluded(tree: &BoxTree, rays: &[PreparedRay], mut block: impl FnMut(u32, u32) -> u32) -> u32 {
-    match packet_kind(rays) {
-        None => (0..rays.len()).filter(|&i| unsafe { super::boxes_any(tree, &rays[i], |item| block(item, 1 << i) != 0) }).fold(0, |m, i| m | 1 << i),
-        Some(false) => unsafe { boxes_occluded_beam::<false>(tree, rays, block) },
-        Some(true) => unsafe { boxes_occluded_beam::<true>(tree, rays, block) },
+pub(crate) unsafe fn boxes_occluded(tree: &BoxTree, rays: &[PreparedRay], block: &mut impl FnMut(u32, u32) -> u32) -> Option<u32> {
+    let reach = |item: u32, rays: u32, _: __m256| block(item, rays);
+    match packet_kind(rays)? {
+        false => Some(unsafe { walk_boxes::<false>(tree, rays, reach) }),
+        true => Some(unsafe { walk_boxes::<true>(tree, rays, reach) }),
     }
 }
 
-/// [`boxes_occluded`] of a packet of a common origin, or of `PARALLEL` rays.
+/// [`BoxTree::touched`] of rays that travel as a packet (see `packet_kind`); returns `false`,
+/// having visited nothing, for others, which the caller walks one by one.
 ///
 /// # Safety
-/// The CPU must support AVX2 and FMA.
+/// The CPU must support AVX2 and FMA; the tree's root must be a node.
 #[target_feature(enable = "avx2,fma")]
-unsafe fn boxes_occluded_beam<const PARALLEL: bool>(tree: &BoxTree, rays: &[PreparedRay], mut block: impl FnMut(u32, u32) -> u32) -> u32 {
-    let finish = |link: u32, live: u32| {
-        if link & LEAF == 0 {
-            return None;
-        }
-        Some(if link == EMPTY { 0 } else { block(BoxTree::leaf_item(link), live) })
+pub(crate) unsafe fn boxes_touched(tree: &BoxTree, rays: &[PreparedRay], visit: &mut impl FnMut(u32, &Entries)) -> bool {
+    // Nothing is ever blocked: every box the rays touch is visited.
+    let reach = |item: u32, rays: u32, entry: __m256| {
+        let mut entries = Entries { rays, entry: [0.0; PACKET] };
+        // Lane `i` all ones if bit `i` of `rays` is set.
+        let bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+        let mask = _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(rays as i32), bits), bits));
+        unsafe { _mm256_storeu_ps(entries.entry.as_mut_ptr(), _mm256_blendv_ps(_mm256_set1_ps(f32::INFINITY), entry, mask)) };
+        visit(item, &entries);
+        0
     };
-    // SAFETY: inner links of a box tree are valid node indices.
-    unsafe { walk_any::<PARALLEL>(&tree.nodes, tree.root, rays, finish) }
-}
-
-/// The boxes of `tree` that the segments of a packet of rays touch: `visit(item, rays)` with
-/// the rays (bit `i` for `rays[i]`) whose own segment may touch it, in no particular order.
-/// Each ray is told of every box it touches (what `super::boxes_any` finds for it when no visit
-/// stops the walk), and of a few it only nearly touches: boxes in the same leaf, and a leaf at
-/// the root. Returns whether every box was named at most once: so it is when the rays travel as
-/// one packet; rays that do not walk the tree one by one, and a box can come once per ray.
-///
-/// # Safety
-/// The CPU must support AVX2 and FMA.
-#[target_feature(enable = "avx2,fma")]
-pub(crate) unsafe fn boxes_touched(tree: &BoxTree, rays: &[PreparedRay], mut visit: impl FnMut(u32, u32)) -> bool {
     match packet_kind(rays) {
-        None => {
-            for (i, ray) in rays.iter().enumerate() {
-                unsafe {
-                    super::boxes_any(tree, ray, |item| {
-                        visit(item, 1 << i);
-                        false
-                    })
-                };
-            }
-            rays.len() <= 1
-        }
-        Some(false) => unsafe { boxes_touched_beam::<false>(tree, rays, visit) },
-        Some(true) => unsafe { boxes_touched_beam::<true>(tree, rays, visit) },
-    }
-}
-
-/// [`boxes_touched`] of a packet of a common origin, or of `PARALLEL` rays.
-#[target_feature(enable = "avx2,fma")]
-unsafe fn boxes_touched_beam<const PARALLEL: bool>(tree: &BoxTree, rays: &[PreparedRay], mut visit: impl FnMut(u32, u32)) -> bool {
-    // The any-hit walk with nothing ever blocked: every leaf the rays reach is visited.
-    let finish = |link: u32, live: u32| {
-        if link & LEAF == 0 {
-            return None;
-        }
-        if link != EMPTY {
-            visit(BoxTree::leaf_item(link), live);
-        }
-        Some(0)
+        None => return false,
+        Some(false) => unsafe { walk_boxes::<false>(tree, rays, reach) },
+        Some(true) => unsafe { walk_boxes::<true>(tree, rays, reach) },
     };
-    // SAFETY: inner links of a box tree are valid node indices.
-    unsafe { walk_any::<PARALLEL>(&tree.nodes, tree.root, rays, finish) };
     true
+}
+
+/// The walk of a packet down a box tree, carrying the rays still open. Each box is handed to
+/// `reach(item, rays, entry)` as soon as the node holding it has been tested, with exactly the
+/// open rays whose segment touches it and (in their lanes) where each enters it: every box of
+/// the tree is nested in its parent's, so a ray that touches a box touched every box above it,
+/// and the single-ray test of its lane is [`crate::Aabb::intersect`]'s arithmetic. `reach`
+/// returns the rays the box blocks. Ends once every ray is blocked; returns the blocked.
+///
+/// # Safety
+/// The CPU must support AVX2 and FMA; the tree's root must be a node.
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+unsafe fn walk_boxes<const PARALLEL: bool>(tree: &BoxTree, rays: &[PreparedRay], mut reach: impl FnMut(u32, u32, __m256) -> u32) -> u32 {
+    let all = (1u32 << rays.len()) - 1;
+    let frustum = Frustum::new::<PARALLEL>(rays);
+    let lanes = RayLanes::new::<PARALLEL>(rays);
+    let widened: [f32; PACKET] = std::array::from_fn(|i| rays.get(i).map_or(f32::NEG_INFINITY, |r| widen(r.tfar)));
+    let tfar = unsafe { _mm256_loadu_ps(widened.as_ptr()) };
+    let farthest = _mm256_set1_ps(widened.iter().copied().fold(f32::NEG_INFINITY, f32::max));
+    // Rays not blocked yet.
+    let mut open = all;
+    // Deferred nodes with the rays that touch their boxes.
+    let mut stack = [MaybeUninit::<(u32, u32)>::uninit(); STACK_SIZE];
+    stack[0].write((tree.root, all));
+    let mut sp = 1usize;
+    while sp > 0 && open != 0 {
+        sp -= 1;
+        // SAFETY: every entry below `sp` was written before.
+        let (link, needing) = unsafe { stack[sp].assume_init() };
+        if needing & open == 0 {
+            continue;
+        }
+        // SAFETY: the root and every link pushed are inner links, valid node indices.
+        let node = unsafe { tree.nodes.get_unchecked(link as usize) };
+        let (mask, _) = frustum.child_hits::<PARALLEL>(node, farthest);
+        for lane in Lanes(mask) {
+            let (hit, entry) = lanes.hit_child::<PARALLEL>(node, lane, tfar);
+            let reached = hit & needing & open;
+            let child = node.child[lane];
+            if reached == 0 || child == EMPTY {
+                continue;
+            }
+            if child & LEAF == 0 {
+                stack[sp].write((child, reached));
+                sp += 1;
+            } else {
+                open &= !reach(BoxTree::leaf_item(child), reached, entry);
+            }
+        }
+    }
+    all & !open
 }
 
 /// The set bits of a mask, lowest first.
