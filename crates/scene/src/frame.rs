@@ -320,6 +320,15 @@ impl<'a> Frame<'a> {
         }
         touched.sort_unstable_by(|a, b| a.nearest.total_cmp(&b.nearest).then(a.item.cmp(&b.item)));
         hits.fill(None);
+        // Keeps the hits `found` in instance `item` that beat the closest so far.
+        let record = |hits: &mut [Option<SceneHit>], found: &[Option<raystage_kernel::Hit>; PACKET_SIZE], fi: &FrameInstance<'_>, item: u32| {
+            for (hit, h) in hits.iter_mut().zip(found) {
+                let Some(h) = h else { continue };
+                if hit.is_none_or(|b| h.t < b.t || (h.t == b.t && item < b.item)) {
+                    *hit = Some(SceneHit { t: h.t, instance: fi.id, object: fi.object_id, prim: h.prim, u: h.u, v: h.v, ng: h.ng, item });
+                }
+            }
+        };
         let mut local = prepared;
         let mut found = [None; PACKET_SIZE];
         for &Touched { item, entries, .. } in touched.iter() {
@@ -333,6 +342,13 @@ impl<'a> Frame<'a> {
                 continue;
             }
             let placed = fi.placed_at(time);
+            let tree = fi.object.accel(&self.counters);
+            if placed.identity && mask == all && hits.iter().all(Option::is_none) {
+                // Every ray, over its whole segment, in the world's own frame: as prepared.
+                tree.intersect_packet_prepared(&prepared, &mut found);
+                record(hits, &found, fi, item);
+                continue;
+            }
             // Camera rays share their origin: it is carried into the object once.
             let origin = (!placed.identity).then(|| placed.to_object.transform_point3(rays[0].origin));
             for (i, ray) in rays.iter().enumerate() {
@@ -346,13 +362,8 @@ impl<'a> Frame<'a> {
                     Some(_) => PreparedRay::new(&Ray { tfar, ..placed.ray_to_object(ray) }),
                 };
             }
-            fi.object.accel(&self.counters).intersect_packet_prepared(&local, &mut found);
-            for (i, h) in found.iter().enumerate() {
-                let Some(h) = h else { continue };
-                if hits[i].is_none_or(|b| h.t < b.t || (h.t == b.t && item < b.item)) {
-                    hits[i] = Some(SceneHit { t: h.t, instance: fi.id, object: fi.object_id, prim: h.prim, u: h.u, v: h.v, ng: h.ng, item });
-                }
-            }
+            tree.intersect_packet_prepared(&local, &mut found);
+            record(hits, &found, fi, item);
         }
     }
 
@@ -402,6 +413,11 @@ impl<'a> Frame<'a> {
         let block = |item: u32, live: u32| -> u32 {
             let fi = &self.instances[item as usize];
             let placed = fi.placed_at(time);
+            let tree = fi.object.accel(&self.counters);
+            if placed.identity && live == all {
+                // Every ray, over its whole segment, in the world's own frame: as prepared.
+                return tree.occluded_packet_prepared(&prepared[..n]);
+            }
             let first = (parallel && !placed.identity).then(|| PreparedRay::new(&placed.ray_to_object(&rays[0])));
             for (i, ray) in rays.iter().enumerate() {
                 // Rays that are blocked already or miss the box get an empty segment.
@@ -412,7 +428,7 @@ impl<'a> Frame<'a> {
                     None => PreparedRay::new(&Ray { tfar, ..placed.ray_to_object(ray) }),
                 };
             }
-            fi.object.accel(&self.counters).occluded_packet_prepared(&local[..n]) & live
+            tree.occluded_packet_prepared(&local[..n]) & live
         };
         if self.instances.len() <= LIST_TOP_LEVEL {
             let lanes = RayPacket::new(&prepared[..n]);
