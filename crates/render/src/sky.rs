@@ -51,14 +51,13 @@ fn sky_at(elevation: f32) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::srgb;
 
     #[test]
     fn the_sky_brightens_towards_the_horizon() {
         let (up, level, down) = (sky(Vec3::Y), sky(Vec3::new(1.0, 0.0, -1.0)), sky(-Vec3::Y));
         assert!(down.x > level.x && level.x > up.x && up.z > up.x);
         assert_eq!((up, down), (ZENITH, HORIZON));
-        let decoded = |c: [f32; 3]| Vec3::from_array(c).map(srgb::decode);
+        let decoded = |c: [f32; 3]| Vec3::from_array(c).map(raystage_scene::srgb_to_linear);
         assert!((decoded([0.42, 0.6, 0.88]) - ZENITH).abs().max_element() < 1e-6);
         assert!((decoded([0.88, 0.92, 0.97]) - HORIZON).abs().max_element() < 1e-6);
         assert_eq!(sky(Vec3::new(0.0, -0.9, 0.1)), down, "the gradient stops below the horizon");

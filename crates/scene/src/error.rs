@@ -71,6 +71,9 @@ pub enum SceneError {
         /// What the range is.
         message: String,
     },
+    /// Image bytes that could not be decoded, or pixels that do not make an image.
+    #[error("the image cannot be read: {0}")]
+    BadImage(String),
     /// A shader parameter written with the wrong type.
     #[error("parameter `{name}` of shader class `{class}` takes {expected}")]
     WrongParameterType {

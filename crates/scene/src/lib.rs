@@ -37,4 +37,4 @@ pub use mesh::Mesh;
 pub use object::{ObjectKind, REBUILD_DEGRADATION};
 pub use scene::Scene;
 pub use shader::{ParamDecl, ParamType, ParamValue, SHADER_CLASSES, Shader, ShaderClass, ShadingModel, shader_class};
-pub use texture::{Image, Texture};
+pub use texture::{Image, Texture, srgb_to_linear};

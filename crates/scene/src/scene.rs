@@ -212,22 +212,50 @@ impl Scene {
 
     // ----- textures -----
 
+    /// Reserves `n` consecutive texture ids (`rtGenTextures`); returns the first.
+    pub fn reserve_textures(&mut self, n: u32) -> TextureId {
+        TextureId(self.textures.reserve(n))
+    }
+
     /// Adds a texture.
     pub fn add_texture(&mut self, texture: Texture) -> Result<TextureId, SceneError> {
         texture.validate()?;
         Ok(TextureId(self.textures.insert(texture)))
     }
 
-    /// Replaces a texture: every shader using it changes with it.
-    pub fn set_texture(&mut self, id: TextureId, texture: Texture) -> Result<(), SceneError> {
+    /// Defines a reserved texture id, or replaces a texture: every shader and environment light
+    /// using it changes with it.
+    pub fn define_texture(&mut self, id: TextureId, texture: Texture) -> Result<(), SceneError> {
+        if !self.textures.is_reserved(id.0) {
+            return Err(SceneError::UnknownTexture(id));
+        }
         texture.validate()?;
-        *self.textures.get_mut(id.0).ok_or(SceneError::UnknownTexture(id))? = texture;
+        self.textures.set(id.0, texture);
         Ok(())
+    }
+
+    /// Replaces an existing texture: every shader and environment light using it changes with
+    /// it.
+    pub fn set_texture(&mut self, id: TextureId, texture: Texture) -> Result<(), SceneError> {
+        self.texture(id)?;
+        self.define_texture(id, texture)
     }
 
     /// A texture.
     pub fn texture(&self, id: TextureId) -> Result<&Texture, SceneError> {
         self.textures.get(id.0).ok_or(SceneError::UnknownTexture(id))
+    }
+
+    /// Every texture with its id, in id order.
+    pub fn textures(&self) -> impl Iterator<Item = (TextureId, &Texture)> + '_ {
+        self.textures.iter().map(|(id, t)| (TextureId(id), t))
+    }
+
+    /// Removes a texture (`rtDeleteTextures`). Shaders and environment lights refer to it by id
+    /// only: from the next frame on they look as if they had none. The id stays reserved:
+    /// [`Scene::define_texture`] can define it again.
+    pub fn remove_texture(&mut self, id: TextureId) -> Result<(), SceneError> {
+        self.textures.take(id.0).map(|_| ()).ok_or(SceneError::UnknownTexture(id))
     }
 
     /// Removes a shader (`rtDeleteShaders`). Triangles bound to it are shaded with the default

@@ -58,6 +58,36 @@ impl Image {
         Ok(Image { width, height, texels })
     }
 
+    /// An image from encoded bytes: PNG, JPEG or Radiance HDR (`.hdr`), told apart by their
+    /// first bytes. Integer channels are sRGB-encoded, as these files store them, and are decoded
+    /// to linear light; floating-point channels (HDR) are linear already. Grey images become
+    /// grey texels; alpha is dropped.
+    pub fn decode(bytes: &[u8]) -> Result<Image, SceneError> {
+        let decoded = image::load_from_memory(bytes).map_err(|e| SceneError::BadImage(e.to_string()))?;
+        let (width, height) = (decoded.width(), decoded.height());
+        let texels = match decoded {
+            image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_) => decoded.to_rgb32f().pixels().map(|p| Vec3::from_array(p.0)).collect(),
+            // 8- and 16-bit channels alike, as 16-bit values.
+            _ => decoded.to_rgb16().pixels().map(|p| Vec3::from_array(p.0.map(|c| srgb_to_linear(c as f32 / 65535.0)))).collect(),
+        };
+        Image::new(width, height, texels)
+    }
+
+    /// An image from `width × height` pixels of `channels` bytes each (1: grey, 3: RGB,
+    /// 4: RGBA, alpha dropped), row-major from the top row: `srgb` bytes are sRGB-encoded and
+    /// decoded to linear light, others are linear (`byte / 255`), as OpenGL reads `GL_SRGB8`
+    /// and `GL_RGB8` data.
+    pub fn from_bytes(width: u32, height: u32, channels: usize, bytes: &[u8], srgb: bool) -> Result<Image, SceneError> {
+        let level = |b: u8| if srgb { srgb_to_linear(b as f32 / 255.0) } else { b as f32 / 255.0 };
+        Image::new(width, height, texels_of(width, height, channels, bytes, level)?)
+    }
+
+    /// An image from `width × height` pixels of `channels` linear floats each (1: grey, 3: RGB,
+    /// 4: RGBA, alpha dropped), row-major from the top row.
+    pub fn from_floats(width: u32, height: u32, channels: usize, floats: &[f32]) -> Result<Image, SceneError> {
+        Image::new(width, height, texels_of(width, height, channels, floats, |f| f)?)
+    }
+
     /// Width in texels.
     pub fn width(&self) -> u32 {
         self.width
@@ -75,6 +105,27 @@ impl Image {
     }
 }
 
+/// The texels of `width × height` pixels of `channels` values each (1, 3 or 4), each value
+/// turned into linear light by `level`.
+fn texels_of<T: Copy>(width: u32, height: u32, channels: usize, values: &[T], level: impl Fn(T) -> f32) -> Result<Vec<Vec3>, SceneError> {
+    if !matches!(channels, 1 | 3 | 4) {
+        return Err(SceneError::OutOfRange { field: "image channels", message: format!("{channels} is not 1 (grey), 3 (RGB) or 4 (RGBA)") });
+    }
+    let expected = width as usize * height as usize * channels;
+    if values.len() != expected {
+        return Err(SceneError::WrongLength { field: "pixels", got: values.len(), expected });
+    }
+    Ok(values
+        .chunks_exact(channels)
+        .map(|p| if channels == 1 { Vec3::splat(level(p[0])) } else { Vec3::new(level(p[0]), level(p[1]), level(p[2])) })
+        .collect())
+}
+
+/// Decodes an sRGB-encoded value in `[0, 1]` to linear light (IEC 61966-2-1).
+pub fn srgb_to_linear(encoded: f32) -> f32 {
+    if encoded <= 0.040_45 { encoded / 12.92 } else { ((encoded + 0.055) / 1.055).powf(2.4) }
+}
+
 impl Texture {
     /// Checks the numbers of a procedural texture.
     pub fn validate(&self) -> Result<(), SceneError> {
@@ -90,5 +141,66 @@ impl Texture {
             }
             Texture::Image(_) => Ok(()),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `image` encoded in `format`.
+    fn encoded(image: &image::DynamicImage, format: image::ImageFormat) -> Vec<u8> {
+        let mut bytes = std::io::Cursor::new(Vec::new());
+        image.write_to(&mut bytes, format).unwrap();
+        bytes.into_inner()
+    }
+
+    #[test]
+    fn png_bytes_are_decoded_from_srgb_to_linear_light() {
+        let rgba = image::RgbaImage::from_fn(3, 2, |x, y| image::Rgba([(x * 100) as u8, (y * 255) as u8, 188, 7]));
+        let decoded = Image::decode(&encoded(&rgba.into(), image::ImageFormat::Png)).unwrap();
+        assert_eq!((decoded.width(), decoded.height()), (3, 2));
+        // sRGB 188 is linear 0.5 (to three digits); 255 is 1; alpha is dropped.
+        let t = decoded.texel(2, 1);
+        assert!((t.x - srgb_to_linear(200.0 / 255.0)).abs() < 1e-6 && t.y == 1.0 && (t.z - 0.5029).abs() < 1e-3, "{t}");
+        assert_eq!(decoded.texel(0, 0).x, 0.0);
+    }
+
+    #[test]
+    fn radiance_hdr_bytes_keep_their_linear_values_beyond_one() {
+        let hdr = image::Rgb32FImage::from_fn(4, 1, |x, _| image::Rgb([x as f32 * 2.0, 0.25, 10.0]));
+        let decoded = Image::decode(&encoded(&hdr.into(), image::ImageFormat::Hdr)).unwrap();
+        // Radiance's shared exponent keeps about 8 bits of each channel.
+        for x in 0..4 {
+            let t = decoded.texel(x, 0);
+            assert!((t - Vec3::new(x as f32 * 2.0, 0.25, 10.0)).abs().max_element() < 0.05, "texel {x}: {t}");
+        }
+    }
+
+    #[test]
+    fn bytes_that_are_not_an_image_are_refused_with_a_reason() {
+        let error = Image::decode(b"not an image at all").unwrap_err();
+        assert!(matches!(&error, SceneError::BadImage(reason) if !reason.is_empty()), "{error}");
+    }
+
+    #[test]
+    fn raw_pixels_follow_opengl_srgb_and_linear_formats() {
+        let grey = Image::from_bytes(2, 1, 1, &[0, 255], false).unwrap();
+        assert_eq!((grey.texel(0, 0), grey.texel(1, 0)), (Vec3::ZERO, Vec3::ONE));
+        let srgb = Image::from_bytes(1, 1, 4, &[188, 188, 188, 0], true).unwrap();
+        assert!((srgb.texel(0, 0) - Vec3::splat(0.5029)).abs().max_element() < 1e-3);
+        let linear = Image::from_bytes(1, 1, 3, &[51, 102, 255], false).unwrap();
+        assert_eq!(linear.texel(0, 0), Vec3::new(0.2, 0.4, 1.0));
+        let floats = Image::from_floats(1, 2, 3, &[4.0, 5.0, 6.0, 0.0, 0.5, 1.0]).unwrap();
+        assert_eq!((floats.texel(0, 0), floats.texel(0, 1)), (Vec3::new(4.0, 5.0, 6.0), Vec3::new(0.0, 0.5, 1.0)));
+    }
+
+    #[test]
+    fn raw_pixels_of_the_wrong_size_or_value_are_refused() {
+        assert!(matches!(Image::from_bytes(2, 2, 3, &[0; 11], true), Err(SceneError::WrongLength { field: "pixels", got: 11, expected: 12 })));
+        assert!(matches!(Image::from_bytes(1, 1, 2, &[0; 2], true), Err(SceneError::OutOfRange { field: "image channels", .. })));
+        assert!(matches!(Image::from_floats(0, 1, 3, &[]), Err(SceneError::OutOfRange { field: "image size", .. })));
+        assert!(matches!(Image::from_floats(1, 1, 3, &[0.0, f32::NAN, 0.0]), Err(SceneError::NotFinite { field: "texels", index: 0 })));
+        assert!(matches!(Image::from_floats(1, 1, 3, &[0.0, -1.0, 0.0]), Err(SceneError::NotFinite { field: "texels", index: 0 })));
     }
 }
