@@ -216,12 +216,14 @@ typedef int32_t RTint;
 #define RT_PER_VERTEX 36900
 
 /**
- * Four bytes per pixel: sRGB-encoded red, green, blue, and alpha 255.
+ * Four bytes per pixel: sRGB-encoded red, green, blue, and alpha 255. (As a texture's internal
+ * format in `rtTexImage2D`: 8-bit linear values, as in OpenGL.)
  */
 #define RT_RGBA8 32856
 
 /**
- * Four floats per pixel (native byte order): linear red, green, blue, and alpha 1.
+ * Four floats per pixel (native byte order): linear red, green, blue, and alpha 1. (As a
+ * texture's internal format in `rtTexImage2D`: linear floats.)
  */
 #define RT_RGBA32F 34836
 
@@ -229,6 +231,64 @@ typedef int32_t RTint;
  * Largest frame buffer width or height.
  */
 #define RT_MAX_FRAMEBUFFER_SIZE 16384
+
+/**
+ * The texture target of every texture call: raystage's textures are two-dimensional images or
+ * procedural textures looked up in object space.
+ */
+#define RT_TEXTURE_2D 3553
+
+/**
+ * `rtTexImage2D` pixel format: one grey value per pixel.
+ */
+#define RT_LUMINANCE 6409
+
+/**
+ * `rtTexImage2D` pixel format (and internal format): red, green and blue per pixel.
+ */
+#define RT_RGB 6407
+
+/**
+ * `rtTexImage2D` pixel format (and internal format): red, green, blue and alpha per pixel;
+ * alpha is ignored.
+ */
+#define RT_RGBA 6408
+
+/**
+ * `rtTexImage2D` internal format: 8-bit linear values (byte ÷ 255), as `RT_RGB`.
+ */
+#define RT_RGB8 32849
+
+/**
+ * `rtTexImage2D` internal format: 8-bit sRGB-encoded values, decoded to linear light (what
+ * photographs and PNG files hold).
+ */
+#define RT_SRGB8 35905
+
+/**
+ * `rtTexImage2D` internal format: as `RT_SRGB8`, with an alpha value per pixel (ignored).
+ */
+#define RT_SRGB8_ALPHA8 35907
+
+/**
+ * `rtTexImage2D` internal format: linear floats (high dynamic range), as `RT_RGB`.
+ */
+#define RT_RGB32F 34837
+
+/**
+ * `rtTexImage2D` pixel type: one unsigned byte per value.
+ */
+#define RT_UNSIGNED_BYTE 5121
+
+/**
+ * `rtTexImage2D` pixel type: one float per value (native byte order), linear.
+ */
+#define RT_FLOAT 5126
+
+/**
+ * Largest texture width or height.
+ */
+#define RT_MAX_TEXTURE_SIZE 16384
 
 /**
  * `rtRenderMode` (the default): `RT_WHITTED` if the scene has lights, else `RT_EYELIGHT`, so
@@ -308,7 +368,8 @@ typedef int32_t RTint;
 #define RT_MAX_LIGHT_SAMPLES 256
 
 /**
- * Most ids of each kind (objects, shaders, shader classes) that one context can generate.
+ * Most ids of each kind (objects, shaders, shader classes, textures) that one context can
+ * generate.
  */
 #define RT_MAX_IDS (1 << 20)
 
@@ -681,6 +742,15 @@ void rtParameter4f(RTint handle, RTfloat x, RTfloat y, RTfloat z, RTfloat w);
 void rtParameter3fv(RTint handle, const RTfloat *v);
 
 /**
+ * Makes parameter `handle` of the bound shader name texture `texture` (from `rtGenTextures`,
+ * with an image or procedural definition), or no texture for 0: "diffuse_texture" of a
+ * "Diffuse" shader, "map" of an "EnvironmentLight". The shader refers to the texture by id,
+ * so redefining the texture later changes it. Writing numbers to a texture parameter, or a
+ * texture to a number parameter, records `RT_INVALID_OPERATION`.
+ */
+void rtParameterTexture(RTint handle, RTuint texture);
+
+/**
  * Chooses how frames are rendered: `RT_AUTO` (the default: `RT_WHITTED` if the scene has lights,
  * else `RT_EYELIGHT`), `RT_EYELIGHT` (a preview lit from the eye), `RT_WHITTED` (shadows,
  * mirrors and glass), `RT_DISTRIBUTION` (soft shadows, glossy reflection, depth of field and
@@ -714,13 +784,15 @@ RTuint rtGenShaderClasses(RTsizei n);
  * OpenRT shader library to load it from; raystage's classes are built in, so it may be NULL and
  * is otherwise ignored. An unknown name records `RT_INVALID_VALUE` with the list of classes.
  *
- * Surface classes (parameters in brackets) include "Diffuse" ("diffuse"), "VertexColor"
+ * Surface classes (parameters in brackets) include "Diffuse" ("diffuse", and "diffuse_texture",
+ * a texture multiplying it, written with `rtParameterTexture`), "VertexColor"
  * ("diffuse", multiplied by the vertex colours) and "Constant" ("color"); the message of an
  * unknown name lists them all. Light classes, whose shaders light the scene while they exist
  * (world coordinates, colours linear RGB): "PointLight" ("position", "intensity"), "SpotLight"
  * ("position", "direction", "intensity", and "cone" and "falloff" half-angles in degrees),
  * "DirectionalLight" ("direction", "intensity"), "AmbientLight" ("intensity"), "AreaLight"
- * ("corner", "edge_u", "edge_v", "radiance") and "EnvironmentLight" ("radiance").
+ * ("corner", "edge_u", "edge_v", "radiance") and "EnvironmentLight" ("radiance", and "map", a
+ * texture whose latitude-longitude image the radiance scales).
  *
  * # Safety
  * `name` and `library` must each be NULL or a NUL-terminated string.
@@ -757,6 +829,79 @@ void rtBindShader(RTuint id);
  * generated (`rtNewShader` can define them again); a deleted bound shader is unbound.
  */
 void rtDeleteShaders(RTuint first, RTsizei n);
+
+/**
+ * Reserves `n` consecutive texture ids and returns the first (0 if `n` is 0 or on error).
+ */
+RTuint rtGenTextures(RTsizei n);
+
+/**
+ * Binds texture `texture` (from `rtGenTextures`) for the calls that define it: `rtTexImage2D`,
+ * `rtTexImageFile`, `rtTexChecker`, `rtTexNoise`. 0 unbinds. `target` is `RT_TEXTURE_2D`.
+ */
+void rtBindTexture(RTenum target, RTuint texture);
+
+/**
+ * Gives the bound texture an image of `width` × `height` pixels (each side 1 to
+ * `RT_MAX_TEXTURE_SIZE`), rows from the top, copied from `pixels`: OpenGL's call and meaning.
+ * `target` is `RT_TEXTURE_2D`, `level` and `border` 0. `format` is `RT_LUMINANCE`, `RT_RGB` or
+ * `RT_RGBA` (alpha ignored) and `type` `RT_UNSIGNED_BYTE` or `RT_FLOAT` (linear values, any
+ * non-negative number, for high dynamic range). Bytes are linear (byte ÷ 255) unless
+ * `internalformat` is `RT_SRGB8` or `RT_SRGB8_ALPHA8`, which decode sRGB-encoded bytes (as
+ * photographs hold them) to linear light; other internal formats: `RT_RGB`, `RT_RGBA`,
+ * `RT_RGB8`, `RT_RGBA8`, `RT_RGB32F`, `RT_RGBA32F`, `RT_LUMINANCE`.
+ *
+ * # Safety
+ * `pixels` must be NULL (an error) or point to `width × height` pixels of the given format and
+ * type, with no padding between rows.
+ */
+void rtTexImage2D(RTenum target,
+                  RTint level,
+                  RTint internalformat,
+                  RTsizei width,
+                  RTsizei height,
+                  RTint border,
+                  RTenum format,
+                  RTenum type,
+                  const void *pixels);
+
+/**
+ * Gives the bound texture the image in the file at `path`: PNG, JPEG or Radiance HDR
+ * (`.hdr`), told apart by their contents. PNG and JPEG values are sRGB-encoded and decoded to
+ * linear light; HDR values are linear. A file that cannot be read records `RT_IO_ERROR`; one
+ * that is not such an image, `RT_INVALID_VALUE`. `target` is `RT_TEXTURE_2D`.
+ *
+ * # Safety
+ * `path` must be NULL (an error) or a NUL-terminated string.
+ */
+void rtTexImageFile(RTenum target, const char *path);
+
+/**
+ * Makes the bound texture a 3D checkerboard of cubes of edge `1 / scale` alternating colours
+ * `a` and `b` (linear RGB), in texture coordinates where the mesh has them, else in object
+ * space. `scale` must be positive. `target` is `RT_TEXTURE_2D`.
+ *
+ * # Safety
+ * `a` and `b` must each be NULL (an error) or point to three floats.
+ */
+void rtTexChecker(RTenum target, const RTfloat *a, const RTfloat *b, RTfloat scale);
+
+/**
+ * Makes the bound texture solid noise (Perlin's gradient noise, several octaves) blending
+ * colour `a` into `b` (linear RGB), with `scale` features per unit length in object space.
+ * `scale` must be positive. `target` is `RT_TEXTURE_2D`.
+ *
+ * # Safety
+ * `a` and `b` must each be NULL (an error) or point to three floats.
+ */
+void rtTexNoise(RTenum target, const RTfloat *a, const RTfloat *b, RTfloat scale);
+
+/**
+ * Deletes the textures among ids `first` to `first + n - 1`: shaders and lights that use one
+ * look untextured from the next frame on. The ids stay generated (a `rtTex*` call can define
+ * them again); a deleted bound texture is unbound.
+ */
+void rtDeleteTextures(RTuint first, RTsizei n);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -9,6 +9,7 @@ use crate::geometry::CurrentVertex;
 use crate::matrix::Matrices;
 use crate::rendering::Rendering;
 use crate::shaders::Shaders;
+use crate::textures::Textures;
 
 /// Everything the `rt*` calls of one thread act on (see [`crate::boundary`] for why per thread).
 #[derive(Debug, Default)]
@@ -31,6 +32,8 @@ pub(crate) struct Context {
     pub flat: bool,
     /// Shader classes, shaders, the bindings and parameter handles.
     pub shaders: Shaders,
+    /// Texture ids and the bound texture.
+    pub textures: Textures,
     /// The application's frame buffer and the last frame rendered.
     pub frames: Frames,
     /// How `rtSwapBuffers` renders: the render mode and parameters.

@@ -82,6 +82,10 @@ impl From<SceneError> for Error {
             SceneError::UnknownObject(id) => Error::invalid_value(format!("object {} is not defined", ids::to_c(id.0))),
             SceneError::UnknownInstance(id) => Error::invalid_value(format!("instance {} does not exist", ids::to_c(id.0))),
             SceneError::UnknownShader(id) => Error::invalid_value(format!("shader {} is not defined", ids::to_c(id.0))),
+            SceneError::UnknownTexture(id) => Error::invalid_value(format!(
+                "texture {} has no image: give it one with rtTexImage2D, rtTexImageFile, rtTexChecker or rtTexNoise",
+                ids::to_c(id.0)
+            )),
             SceneError::UnknownLight(_) => Error::internal(format!("{e}: a light shader lost its light")),
             SceneError::EmptyMesh | SceneError::WrongParameterType { .. } => Error::invalid_operation(e.to_string()),
             // Every other refusal names a value out of range: an unknown name, a bad index, a

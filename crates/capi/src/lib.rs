@@ -7,8 +7,8 @@
 //! `rtSwapBuffers` to render a frame into memory it owns.
 //!
 //! This crate is the state machine behind those calls: the current object and primitive, the
-//! matrix stacks, the current vertex attributes, the bound shader class and shader, the frame
-//! buffer, the render settings and the error log. It records everything into a retained
+//! matrix stacks, the current vertex attributes, the bound shader class, shader and texture,
+//! the frame buffer, the render settings and the error log. It records everything into a retained
 //! [`raystage_scene::Scene`] and renders with [`raystage_render::render`]; references resolve
 //! when the frame starts, so a parameter written after the geometry still changes it (frame
 //! semantics).
@@ -39,3 +39,4 @@ mod objects;
 mod parameters;
 mod rendering;
 mod shaders;
+mod textures;

@@ -5,7 +5,7 @@
 //! `raystage-scene`. Positions and directions are in world space.
 
 use glam::Vec3;
-use raystage_scene::Light;
+use raystage_scene::{Light, TextureId};
 
 /// How a light parameter is written.
 #[derive(Clone, Copy, Debug)]
@@ -14,6 +14,8 @@ pub(crate) enum Setter {
     Number(fn(&mut Light, f32)),
     /// Three numbers: a position, a direction or a colour (`rtParameter3f`).
     Triple(fn(&mut Light, Vec3)),
+    /// A texture, or none (`rtParameterTexture`).
+    Texture(fn(&mut Light, Option<TextureId>)),
 }
 
 /// A parameter of a light class.
@@ -123,9 +125,10 @@ pub(crate) static LIGHT_CLASSES: &[LightClass] = &[
     },
     LightClass {
         name: "EnvironmentLight",
-        // "radiance": light arriving from every direction, default 1.
+        // "radiance": light arriving from every direction, default 1. "map": a texture whose
+        // latitude-longitude image (top row straight up, +y) the radiance scales; none by default.
         default: Light::Environment { radiance: Vec3::ONE, map: None },
-        params: &[triple!("radiance", Environment, radiance)],
+        params: &[triple!("radiance", Environment, radiance), LightParam { name: "map", set: Setter::Texture(field!(Environment, map)) }],
     },
 ];
 
@@ -142,6 +145,7 @@ mod tests {
         match class.params.iter().find(|p| p.name == name).expect("a parameter").set {
             Setter::Triple(set) => set(light, value),
             Setter::Number(set) => set(light, value.x),
+            Setter::Texture(_) => panic!("`{name}` takes a texture, not numbers"),
         }
     }
 
@@ -158,6 +162,17 @@ mod tests {
         let Light::Spot { cone_degrees, falloff_degrees, .. } = light else { panic!("a spot light") };
         assert_eq!((cone_degrees, falloff_degrees), (45.0, 25.0));
         assert!(light_class("Sun").is_none());
+    }
+
+    #[test]
+    fn an_environment_map_is_a_texture_parameter() {
+        let environment = light_class("EnvironmentLight").unwrap();
+        let Setter::Texture(set) = environment.params.iter().find(|p| p.name == "map").unwrap().set else { panic!("a texture parameter") };
+        let mut light = environment.default;
+        set(&mut light, Some(TextureId(3)));
+        assert_eq!(light, Light::Environment { radiance: Vec3::ONE, map: Some(TextureId(3)) });
+        set(&mut light, None);
+        assert_eq!(light, environment.default);
     }
 
     #[test]

@@ -8,10 +8,10 @@
 //! others, so only `RT_PER_SHADER` is accepted; the other scopes are refused with a clear error.
 
 use glam::Vec3;
-use raystage_scene::{ParamType, ParamValue};
+use raystage_scene::{ParamType, ParamValue, ShaderId};
 
 use crate::abi::enums::{RT_PER_OBJECT, RT_PER_SCENE, RT_PER_SHADER, RT_PER_TRIANGLE, RT_PER_VERTEX};
-use crate::abi::types::{RTenum, RTint};
+use crate::abi::types::{RTenum, RTint, RTuint};
 use crate::context::Context;
 use crate::error::{Error, finite};
 use crate::light_class::Setter;
@@ -58,15 +58,7 @@ impl Context {
     /// `rtParameter1f` … `rtParameter4f`: writes `values` to parameter `handle` of the bound
     /// shader. Ignored if the shader's class does not export the name.
     pub fn parameter(&mut self, handle: RTint, values: &[f32]) -> Result<(), Error> {
-        let name = usize::try_from(handle)
-            .ok()
-            .and_then(|h| self.shaders.handles.get(h.wrapping_sub(1)))
-            .ok_or_else(|| Error::invalid_value(format!("{handle} is not a parameter handle from rtParameterHandle")))?
-            .clone();
-        let (shader, slot) = self
-            .shaders
-            .bound()
-            .ok_or_else(|| Error::invalid_operation("no shader is bound: call rtNewShader or rtBindShader first"))?;
+        let (name, shader, slot) = self.parameter_target(handle)?;
         finite("the value", values)?;
         match slot {
             Slot::Surface => {
@@ -74,6 +66,9 @@ impl Context {
                 let Some(decl) = class.params.iter().find(|p| p.name == name) else {
                     return Ok(());
                 };
+                if decl.default.ty() == ParamType::Texture {
+                    return Err(takes_texture(&name, class.name));
+                }
                 let value = param_value(decl.default.ty(), values)
                     .ok_or_else(|| wrong_count(&name, class.name, decl.default.ty().describe(), values.len()))?;
                 self.scene.set_param(shader, &name, value)?;
@@ -89,6 +84,7 @@ impl Context {
                     (Setter::Triple(set), &[x, y, z]) => set(&mut changed, Vec3::new(x, y, z)),
                     (Setter::Number(_), _) => return Err(wrong_count(&name, class.name, "a number", values.len())),
                     (Setter::Triple(_), _) => return Err(wrong_count(&name, class.name, "three numbers", values.len())),
+                    (Setter::Texture(_), _) => return Err(takes_texture(&name, class.name)),
                 }
                 self.scene.set_light(light, changed)?;
             }
@@ -96,6 +92,64 @@ impl Context {
         }
         Ok(())
     }
+}
+
+impl Context {
+    /// `rtParameterTexture`: makes parameter `handle` of the bound shader name texture `texture`
+    /// (0: none). Ignored if the shader's class does not export the name.
+    pub fn parameter_texture(&mut self, handle: RTint, texture: RTuint) -> Result<(), Error> {
+        let (name, shader, slot) = self.parameter_target(handle)?;
+        let texture = if texture == 0 { None } else { Some(self.textures.texture_id(texture)?) };
+        match slot {
+            Slot::Surface => {
+                let class = self.scene.shader(shader)?.class();
+                let Some(decl) = class.params.iter().find(|p| p.name == name) else {
+                    return Ok(());
+                };
+                if decl.default.ty() != ParamType::Texture {
+                    return Err(Error::invalid_operation(format!(
+                        "parameter `{name}` of shader class `{}` takes {}, not a texture",
+                        class.name,
+                        decl.default.ty().describe()
+                    )));
+                }
+                self.scene.set_param(shader, &name, ParamValue::Texture(texture))?;
+            }
+            Slot::Light { light, class } => {
+                let Some(param) = class.params.iter().find(|p| p.name == name) else {
+                    return Ok(());
+                };
+                let Setter::Texture(set) = param.set else {
+                    return Err(Error::invalid_operation(format!("parameter `{name}` of shader class `{}` takes numbers, not a texture", class.name)));
+                };
+                let (_, &current) = self.scene.lights().find(|(id, _)| *id == light).expect("a light shader's light exists");
+                let mut changed = current;
+                set(&mut changed, texture);
+                self.scene.set_light(light, changed)?;
+            }
+            Slot::Generated | Slot::Fallback => unreachable!("only defined shaders are bound"),
+        }
+        Ok(())
+    }
+
+    /// The parameter name of `handle`, and the bound shader and what it holds.
+    fn parameter_target(&self, handle: RTint) -> Result<(String, ShaderId, Slot), Error> {
+        let name = usize::try_from(handle)
+            .ok()
+            .and_then(|h| self.shaders.handles.get(h.wrapping_sub(1)))
+            .ok_or_else(|| Error::invalid_value(format!("{handle} is not a parameter handle from rtParameterHandle")))?
+            .clone();
+        let (shader, slot) = self
+            .shaders
+            .bound()
+            .ok_or_else(|| Error::invalid_operation("no shader is bound: call rtNewShader or rtBindShader first"))?;
+        Ok((name, shader, slot))
+    }
+}
+
+/// The error of numbers written to texture parameter `name`.
+fn takes_texture(name: &str, class: &str) -> Error {
+    Error::invalid_operation(format!("parameter `{name}` of shader class `{class}` takes a texture: write it with rtParameterTexture"))
 }
 
 /// `values` as a value of type `ty`, if the count fits.

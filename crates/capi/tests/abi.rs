@@ -1,40 +1,11 @@
 //! The C ABI called in-process, as a C program would: frame semantics, picking, lights, errors.
 //! Each test runs on its own thread, so each has its own context.
 
-use std::ffi::CStr;
+mod common;
 
+
+use common::{assert_error, assert_no_error, handle, rgb, shader};
 use raystage_capi::abi::*;
-
-/// Takes the pending error with its message.
-fn error() -> (RTenum, String) {
-    let message = unsafe { CStr::from_ptr(rtGetErrorString()) }.to_string_lossy().into_owned();
-    (rtGetError(), message)
-}
-
-fn assert_no_error() {
-    let (code, message) = error();
-    assert_eq!(code, RT_NO_ERROR, "{message}");
-}
-
-#[track_caller]
-fn assert_error(expected: RTenum, fragment: &str) {
-    let (code, message) = error();
-    assert_eq!(code, expected, "{message}");
-    assert!(message.contains(fragment), "{message:?} does not mention {fragment:?}");
-}
-
-/// Defines a class by name and a shader of it; returns the shader.
-fn shader(class: &CStr) -> RTuint {
-    let cid = rtGenShaderClasses(1);
-    unsafe { rtNewShaderClass(cid, class.as_ptr(), std::ptr::null()) };
-    let sid = rtGenShaders(1);
-    rtNewShader(sid);
-    sid
-}
-
-fn handle(name: &CStr) -> RTint {
-    unsafe { rtParameterHandle(name.as_ptr()) }
-}
 
 /// A triangle of the unit square's size centred at (x, 0, 0), facing +z.
 fn triangle(x: f32) {
@@ -50,11 +21,6 @@ fn frame_buffer(w: usize, h: usize) -> Vec<u8> {
     let mut pixels = vec![0u8; w * h * 4];
     unsafe { rtFrameBuffer(pixels.as_mut_ptr().cast(), w, h, RT_RGBA8) };
     pixels
-}
-
-fn rgb(pixels: &[u8], w: usize, x: usize, y: usize) -> [u8; 3] {
-    let i = (y * w + x) * 4;
-    [pixels[i], pixels[i + 1], pixels[i + 2]]
 }
 
 #[test]

@@ -171,6 +171,25 @@ fn gears_are_red_green_and_blue() {
 }
 
 #[test]
+fn textures_show_a_picture_on_a_checkerboard_under_an_hdr_sky() {
+    for linking in [Linking::Shared, Linking::Static] {
+        let image = frame(&build_and_run("c/textures.c", linking, &[]), "textures.png");
+        assert_eq!(image.dimensions(), (240, 160));
+        // The picture: red above, a blue disc in the middle, yellow below.
+        let (top, middle, bottom) = (image.get_pixel(92, 36), image.get_pixel(120, 68), image.get_pixel(92, 100));
+        assert!(top[0] > 150 && top[1] < 80 && top[2] < 80, "{linking:?}: the picture's top is {top:?}, not red");
+        assert!(middle[2] > 150 && middle[0] < 80, "{linking:?}: its middle is {middle:?}, not blue");
+        assert!(bottom[0] > 150 && bottom[1] > 120 && bottom[2] < 80, "{linking:?}: its bottom is {bottom:?}, not yellow");
+        // The sky's map, bluer overhead, is seen above the panel.
+        assert!(is_sky(image.get_pixel(4, 2)), "{linking:?}: the corner sees the sky, not {:?}", image.get_pixel(4, 2));
+        // The floor's checkerboard: light and dark squares along its front row.
+        let row: Vec<u8> = (0..240).map(|x| image.get_pixel(x, 150)[0]).collect();
+        let (light, dark) = (row.iter().filter(|&&r| r > 150).count(), row.iter().filter(|&&r| r < 70).count());
+        assert!(light > 40 && dark > 40, "{linking:?}: {light} light and {dark} dark floor pixels in the front row");
+    }
+}
+
+#[test]
 fn three_kinds_of_objects_move_as_their_kinds_do() {
     for linking in [Linking::Shared, Linking::Static] {
         let dir = build_and_run("c/three_kinds.c", linking, &["3", "240", "135"]);

@@ -3,14 +3,10 @@
 //! finite matrices that overflow, singular instance transforms, whole meshes — each refused with
 //! `RT_INVALID_VALUE` and leaving the state as it was.
 
-use std::ffi::CStr;
+mod common;
 
+use common::error;
 use raystage_capi::abi::*;
-
-fn error() -> (RTenum, String) {
-    let message = unsafe { CStr::from_ptr(rtGetErrorString()) }.to_string_lossy().into_owned();
-    (rtGetError(), message)
-}
 
 #[track_caller]
 fn refused(what: &str) {

@@ -53,6 +53,12 @@ enum Call {
     DeleteShaders(RTuint, usize),
     ParameterHandle(String),
     Parameter(RTint, Vec<f32>),
+    GenTextures(usize),
+    BindTexture(RTenum, RTuint),
+    TexImage { size: [usize; 2], format: RTenum, pixels: Vec<f32> },
+    TexChecker([f32; 3], f32),
+    DeleteTextures(RTuint, usize),
+    ParameterTexture(RTint, RTuint),
     Swap,
     Pick(RTuint, RTuint),
 }
@@ -83,7 +89,8 @@ const SHADE: &[RTenum] = &[RT_FLAT, RT_SMOOTH];
 const LIGHTS: &[&str] = &["PointLight", "SpotLight", "DirectionalLight", "AmbientLight", "AreaLight", "EnvironmentLight"];
 const RENDER_MODES: &[RTenum] = &[RT_AUTO, RT_EYELIGHT, RT_WHITTED, RT_DISTRIBUTION, RT_PATH];
 const RENDER_PARAMETERS: &[RTenum] = &[RT_SAMPLES_PER_PIXEL, RT_RAY_DEPTH, RT_LIGHT_SAMPLES, RT_RUSSIAN_ROULETTE, RT_SEED];
-const PARAMS: &[&str] = &["diffuse", "color", "position", "intensity", "cone", "specularColor"];
+const PARAMS: &[&str] = &["diffuse", "color", "position", "intensity", "cone", "specularColor", "diffuse_texture", "map"];
+const PIXEL_FORMATS: &[RTenum] = &[RT_LUMINANCE, RT_RGB, RT_RGBA];
 
 /// Shutter times: mostly in [0, 1], sometimes not, or not numbers.
 fn time() -> impl Strategy<Value = f32> {
@@ -149,6 +156,13 @@ fn call() -> impl Strategy<Value = Call> {
         1 => proptest::sample::select(PARAMS).prop_map(|n| Call::ParameterHandle(n.to_string())),
         3 => (-1i32..8, proptest::collection::vec(prop_oneof![6 => 0.0f32..1.0, 1 => number()], 1..5))
             .prop_map(|(h, v)| Call::Parameter(h, v)),
+        1 => (0usize..3).prop_map(Call::GenTextures),
+        2 => (one_of(&[RT_TEXTURE_2D]), id()).prop_map(|(t, i)| Call::BindTexture(t, i)),
+        1 => ([0usize..3, 0usize..3], one_of(PIXEL_FORMATS), proptest::collection::vec(prop_oneof![6 => 0.0f32..4.0, 1 => number()], 0..40))
+            .prop_map(|(size, format, pixels)| Call::TexImage { size, format, pixels }),
+        1 => (vec3(), number()).prop_map(|(a, scale)| Call::TexChecker(a, scale)),
+        1 => (id(), 0usize..3).prop_map(|(i, n)| Call::DeleteTextures(i, n)),
+        2 => (-1i32..10, id()).prop_map(|(h, t)| Call::ParameterTexture(h, t)),
         1 => Just(Call::Swap),
         1 => (0u32..10, 0u32..10).prop_map(|(x, y)| Call::Pick(x, y)),
     ]
@@ -278,6 +292,12 @@ impl Model {
             DeleteObjects(..) | DeleteAllInstances | LoadIdentity | GenShaderClasses(_) | GenShaders(_) | DeleteShaders(..) => {
                 Code(RT_NO_ERROR)
             }
+            GenTextures(_) | DeleteTextures(..) => Code(RT_NO_ERROR),
+            BindTexture(target, _) if *target != RT_TEXTURE_2D => Code(RT_INVALID_ENUM),
+            BindTexture(_, 0) => Code(RT_NO_ERROR),
+            BindTexture(..) => OneOf(OK_OR_VALUE),
+            TexImage { format, .. } if !Model::valid(*format, PIXEL_FORMATS) => Code(RT_INVALID_ENUM),
+            TexImage { .. } | TexChecker(..) | ParameterTexture(..) => OneOf(OK_VALUE_OR_OPERATION),
             ParameterHandle(_) => Code(RT_NO_ERROR),
             Begin(_) if !self.defining => Code(RT_INVALID_OPERATION),
             Begin(mode) if !Model::valid(*mode, PRIMITIVES) => Code(RT_INVALID_ENUM),
@@ -409,15 +429,31 @@ fn perform(call: &Call) -> Option<RTint> {
             [x, y, z, w] => rtParameter4f(*h, *x, *y, *z, *w),
             _ => unreachable!("one to four values"),
         },
+        GenTextures(n) => drop(rtGenTextures(*n)),
+        BindTexture(target, id) => rtBindTexture(*target, *id),
+        // Floats of the texture's size, if there are enough of them (else NULL, an error).
+        TexImage { size: [w, h], format, pixels } => {
+            let channels = match *format {
+                RT_LUMINANCE => 1,
+                RT_RGBA => 4,
+                _ => 3,
+            };
+            let data: *const f32 = if pixels.len() >= w * h * channels { pixels.as_ptr() } else { null };
+            unsafe { rtTexImage2D(RT_TEXTURE_2D, 0, RT_RGB32F as RTint, *w, *h, 0, *format, RT_FLOAT, data.cast()) }
+        }
+        TexChecker(a, scale) => unsafe { rtTexChecker(RT_TEXTURE_2D, a.as_ptr(), [0.1f32; 3].as_ptr(), *scale) },
+        DeleteTextures(first, n) => rtDeleteTextures(*first, *n),
+        ParameterTexture(h, t) => rtParameterTexture(*h, *t),
         Swap => rtSwapBuffers(),
         Pick(x, y) => drop(unsafe { rtPick(*x, *y, std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut()) }),
     }
     None
 }
 
-/// A fresh context where ids 1 to 3 of objects, shader classes and shaders exist, the classes
-/// are defined (a surface class, a light class, another surface class) and handles 1 to 6 name
-/// parameters, so that random calls reach deep states often.
+/// A fresh context where ids 1 to 3 of objects, shader classes, shaders and textures exist, the
+/// classes are defined (a surface class, a light class, another surface class), handles 1 to 8
+/// name parameters and texture 1 is a checkerboard, so that random calls reach deep states
+/// often.
 fn prologue(model: &mut Model) {
     rtResetContext();
     rtGenObjects(3);
@@ -430,6 +466,9 @@ fn prologue(model: &mut Model) {
         let name = CString::new(*name).unwrap();
         unsafe { rtParameterHandle(name.as_ptr()) };
     }
+    rtGenTextures(3);
+    rtBindTexture(RT_TEXTURE_2D, 1);
+    unsafe { rtTexChecker(RT_TEXTURE_2D, [1.0f32; 3].as_ptr(), [0.0f32; 3].as_ptr(), 4.0) };
     assert_eq!(rtGetError(), RT_NO_ERROR, "{}", message());
     model.objects = 3;
     model.classes = 3;

@@ -86,12 +86,42 @@ pub const RT_PER_VERTEX: RTenum = 0x9024;
 
 // ----- frame buffers (rtFrameBuffer) -----
 
-/// Four bytes per pixel: sRGB-encoded red, green, blue, and alpha 255.
+/// Four bytes per pixel: sRGB-encoded red, green, blue, and alpha 255. (As a texture's internal
+/// format in `rtTexImage2D`: 8-bit linear values, as in OpenGL.)
 pub const RT_RGBA8: RTenum = 0x8058;
-/// Four floats per pixel (native byte order): linear red, green, blue, and alpha 1.
+/// Four floats per pixel (native byte order): linear red, green, blue, and alpha 1. (As a
+/// texture's internal format in `rtTexImage2D`: linear floats.)
 pub const RT_RGBA32F: RTenum = 0x8814;
 /// Largest frame buffer width or height.
 pub const RT_MAX_FRAMEBUFFER_SIZE: RTsizei = 16384;
+
+// ----- textures (rtBindTexture, rtTexImage2D) -----
+
+/// The texture target of every texture call: raystage's textures are two-dimensional images or
+/// procedural textures looked up in object space.
+pub const RT_TEXTURE_2D: RTenum = 0x0DE1;
+/// `rtTexImage2D` pixel format: one grey value per pixel.
+pub const RT_LUMINANCE: RTenum = 0x1909;
+/// `rtTexImage2D` pixel format (and internal format): red, green and blue per pixel.
+pub const RT_RGB: RTenum = 0x1907;
+/// `rtTexImage2D` pixel format (and internal format): red, green, blue and alpha per pixel;
+/// alpha is ignored.
+pub const RT_RGBA: RTenum = 0x1908;
+/// `rtTexImage2D` internal format: 8-bit linear values (byte ÷ 255), as `RT_RGB`.
+pub const RT_RGB8: RTenum = 0x8051;
+/// `rtTexImage2D` internal format: 8-bit sRGB-encoded values, decoded to linear light (what
+/// photographs and PNG files hold).
+pub const RT_SRGB8: RTenum = 0x8C41;
+/// `rtTexImage2D` internal format: as `RT_SRGB8`, with an alpha value per pixel (ignored).
+pub const RT_SRGB8_ALPHA8: RTenum = 0x8C43;
+/// `rtTexImage2D` internal format: linear floats (high dynamic range), as `RT_RGB`.
+pub const RT_RGB32F: RTenum = 0x8815;
+/// `rtTexImage2D` pixel type: one unsigned byte per value.
+pub const RT_UNSIGNED_BYTE: RTenum = 0x1401;
+/// `rtTexImage2D` pixel type: one float per value (native byte order), linear.
+pub const RT_FLOAT: RTenum = 0x1406;
+/// Largest texture width or height.
+pub const RT_MAX_TEXTURE_SIZE: RTsizei = 16384;
 
 // ----- rendering (rtRenderMode, rtRenderParameteri) -----
 
@@ -134,5 +164,6 @@ pub const RT_MAX_LIGHT_SAMPLES: RTint = 256;
 
 // ----- limits -----
 
-/// Most ids of each kind (objects, shaders, shader classes) that one context can generate.
+/// Most ids of each kind (objects, shaders, shader classes, textures) that one context can
+/// generate.
 pub const RT_MAX_IDS: RTsizei = 1 << 20;

@@ -14,6 +14,7 @@ pub mod objects;
 pub mod parameters;
 pub mod rendering;
 pub mod shaders;
+pub mod textures;
 pub mod types;
 
 pub use camera::*;
@@ -27,4 +28,5 @@ pub use objects::*;
 pub use parameters::*;
 pub use rendering::*;
 pub use shaders::*;
+pub use textures::*;
 pub use types::*;

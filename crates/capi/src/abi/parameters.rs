@@ -4,7 +4,7 @@
 
 use std::ffi::c_char;
 
-use crate::abi::types::{RTenum, RTfloat, RTint};
+use crate::abi::types::{RTenum, RTfloat, RTint, RTuint};
 use crate::boundary::{array, call, text};
 
 /// The handle of the parameter called `name` (1 to 255 bytes of UTF-8): the same name always
@@ -59,4 +59,14 @@ pub extern "C" fn rtParameter4f(handle: RTint, x: RTfloat, y: RTfloat, z: RTfloa
 pub unsafe extern "C" fn rtParameter3fv(handle: RTint, v: *const RTfloat) {
     // SAFETY: the caller's promise above.
     call("rtParameter3fv", |ctx| ctx.parameter(handle, &unsafe { array::<f32, 3>(v, "v")? }))
+}
+
+/// Makes parameter `handle` of the bound shader name texture `texture` (from `rtGenTextures`,
+/// with an image or procedural definition), or no texture for 0: "diffuse_texture" of a
+/// "Diffuse" shader, "map" of an "EnvironmentLight". The shader refers to the texture by id,
+/// so redefining the texture later changes it. Writing numbers to a texture parameter, or a
+/// texture to a number parameter, records `RT_INVALID_OPERATION`.
+#[unsafe(no_mangle)]
+pub extern "C" fn rtParameterTexture(handle: RTint, texture: RTuint) {
+    call("rtParameterTexture", |ctx| ctx.parameter_texture(handle, texture))
 }

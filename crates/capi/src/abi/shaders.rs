@@ -15,13 +15,15 @@ pub extern "C" fn rtGenShaderClasses(n: RTsizei) -> RTuint {
 /// OpenRT shader library to load it from; raystage's classes are built in, so it may be NULL and
 /// is otherwise ignored. An unknown name records `RT_INVALID_VALUE` with the list of classes.
 ///
-/// Surface classes (parameters in brackets) include "Diffuse" ("diffuse"), "VertexColor"
+/// Surface classes (parameters in brackets) include "Diffuse" ("diffuse", and "diffuse_texture",
+/// a texture multiplying it, written with `rtParameterTexture`), "VertexColor"
 /// ("diffuse", multiplied by the vertex colours) and "Constant" ("color"); the message of an
 /// unknown name lists them all. Light classes, whose shaders light the scene while they exist
 /// (world coordinates, colours linear RGB): "PointLight" ("position", "intensity"), "SpotLight"
 /// ("position", "direction", "intensity", and "cone" and "falloff" half-angles in degrees),
 /// "DirectionalLight" ("direction", "intensity"), "AmbientLight" ("intensity"), "AreaLight"
-/// ("corner", "edge_u", "edge_v", "radiance") and "EnvironmentLight" ("radiance").
+/// ("corner", "edge_u", "edge_v", "radiance") and "EnvironmentLight" ("radiance", and "map", a
+/// texture whose latitude-longitude image the radiance scales).
 ///
 /// # Safety
 /// `name` and `library` must each be NULL or a NUL-terminated string.
