@@ -1,17 +1,17 @@
 //! Applying edits. Every edit, whether it came alone (`POST /objects`) or in a batch
 //! (`POST /commands`), runs through [`execute`]: first each command is checked against the
 //! scene as the earlier commands will have left it (ids, labels, deletions, meshes,
-//! transforms, parameters, lights, camera), with no edit made; only when all pass are they
-//! applied. So a failed batch changes nothing, without copying the scene.
+//! transforms, parameters, lights, textures, camera), with no edit made; only when all pass
+//! are they applied. So a failed batch changes nothing, without copying the scene.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::{BTreeMap, HashMap, HashSet};
 
 use glam::{Affine3A, Vec3};
-use raystage_scene::{Camera, InstanceId, Light, LightId, Mesh, ObjectId, ObjectKind, ParamValue, Scene, SceneError, Shader, ShaderId};
+use raystage_scene::{Camera, InstanceId, Light, LightId, Mesh, ObjectId, ObjectKind, ParamValue, Scene, SceneError, Shader, ShaderId, Texture, TextureId};
 
 use crate::config::Limits;
 use crate::error::{ApiError, ApiResult};
-use crate::model::{Binding, Command, CommandResult, Kind as JsonKind, MeshSpec, ParamJson, Ref, decode_positions, param_value};
+use crate::model::{Binding, Command, CommandResult, Kind as JsonKind, LightSpec, MeshSpec, ParamJson, ParamWrite, Ref, decode_positions, param_value};
 
 /// The kinds of resources commands refer to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -20,6 +20,7 @@ enum Kind {
     Instance,
     Shader,
     Light,
+    Texture,
 }
 
 impl Kind {
@@ -29,6 +30,7 @@ impl Kind {
             Kind::Instance => "instance",
             Kind::Shader => "shader",
             Kind::Light => "light",
+            Kind::Texture => "texture",
         }
     }
 }
@@ -41,7 +43,14 @@ enum Target {
     New(usize),
 }
 
-/// A checked command, ready to apply.
+/// A checked shader parameter write: a value, or a texture that may be one the batch creates.
+enum Write {
+    Value(ParamValue),
+    Texture(Target),
+}
+
+/// A checked command, ready to apply. Lights carry their environment map apart, as it may be a
+/// texture the batch creates.
 enum Op {
     AddObject { kind: ObjectKind, mesh: Mesh, shaders: Binding<Target> },
     DefineObject { id: Target, kind: ObjectKind, mesh: Mesh, shaders: Binding<Target> },
@@ -50,13 +59,16 @@ enum Op {
     AddInstance { object: Target, start: Affine3A, end: Option<Affine3A> },
     SetInstance { id: Target, start: Affine3A, end: Option<Affine3A> },
     DeleteInstance(Target),
-    AddShader { class: String, params: Vec<(String, ParamValue)>, ignored: Vec<String> },
-    DefineShader { id: Target, class: String, params: Vec<(String, ParamValue)>, ignored: Vec<String> },
-    SetParams { id: Target, params: Vec<(String, ParamValue)>, ignored: Vec<String> },
+    AddShader { class: String, params: Vec<(String, Write)>, ignored: Vec<String> },
+    DefineShader { id: Target, class: String, params: Vec<(String, Write)>, ignored: Vec<String> },
+    SetParams { id: Target, params: Vec<(String, Write)>, ignored: Vec<String> },
     DeleteShader(Target),
-    AddLight(Light),
-    SetLight(Target, Light),
+    AddLight { light: Light, map: Option<Target> },
+    SetLight { id: Target, light: Light, map: Option<Target> },
     DeleteLight(Target),
+    AddTexture(Texture),
+    SetTexture(Target, Texture),
+    DeleteTexture(Target),
     SetCamera(Camera),
 }
 
@@ -171,7 +183,7 @@ impl<'s> Planner<'s> {
             }
             Command::AddShader(b) => {
                 let shader = Shader::new(&b.class).map_err(ApiError::from)?;
-                let (shader, params, ignored) = write_params(shader, b.params)?;
+                let (shader, params, ignored) = self.write_params(shader, b.params)?;
                 self.label(b.label, Kind::Shader, i)?;
                 self.shaders.insert(Target::New(i), shader);
                 Op::AddShader { class: b.class, params, ignored }
@@ -179,7 +191,7 @@ impl<'s> Planner<'s> {
             Command::DefineShader(d) => {
                 let id = self.resolve(&d.id, Kind::Shader, "id")?;
                 let shader = Shader::new(&d.class).map_err(ApiError::from)?;
-                let (shader, params, ignored) = write_params(shader, d.params)?;
+                let (shader, params, ignored) = self.write_params(shader, d.params)?;
                 self.shaders.insert(id, shader);
                 Op::DefineShader { id, class: d.class, params, ignored }
             }
@@ -190,7 +202,7 @@ impl<'s> Planner<'s> {
                     (None, Target::Existing(shader)) => self.scene.shader(ShaderId(shader))?.clone(),
                     (None, Target::New(_)) => unreachable!("shaders made by the batch are recorded"),
                 };
-                let (shader, params, ignored) = write_params(shader, s.params)?;
+                let (shader, params, ignored) = self.write_params(shader, s.params)?;
                 self.shaders.insert(id, shader);
                 Op::SetParams { id, params, ignored }
             }
@@ -201,24 +213,76 @@ impl<'s> Planner<'s> {
                 Op::DeleteShader(id)
             }
             Command::AddLight(spec) => {
-                let light = spec.to_light()?;
+                let (light, map) = self.light(&spec)?;
                 self.label(spec.label, Kind::Light, i)?;
-                Op::AddLight(light)
+                Op::AddLight { light, map }
             }
             Command::SetLight(s) => {
                 let id = self.resolve(&s.id, Kind::Light, "id")?;
-                Op::SetLight(id, s.light.to_light().map_err(|e| e.within("light"))?)
+                let (light, map) = self.light(&s.light).map_err(|e| e.within("light"))?;
+                Op::SetLight { id, light, map }
             }
             Command::DeleteLight(d) => {
                 let id = self.resolve(&d.id, Kind::Light, "id")?;
                 self.gone.insert((Kind::Light, id));
                 Op::DeleteLight(id)
             }
+            Command::AddTexture(spec) => {
+                let texture = spec.to_texture()?;
+                self.label(spec.label, Kind::Texture, i)?;
+                Op::AddTexture(texture)
+            }
+            Command::SetTexture(s) => {
+                let id = self.resolve(&s.id, Kind::Texture, "id")?;
+                Op::SetTexture(id, s.texture.to_texture().map_err(|e| e.within("texture"))?)
+            }
+            Command::DeleteTexture(d) => {
+                let id = self.resolve(&d.id, Kind::Texture, "id")?;
+                self.gone.insert((Kind::Texture, id));
+                Op::DeleteTexture(id)
+            }
             Command::SetCamera(patch) => {
                 self.camera = patch.apply(self.camera)?;
                 Op::SetCamera(self.camera)
             }
         })
+    }
+
+    /// A light checked, with its environment map resolved.
+    fn light(&mut self, spec: &LightSpec) -> ApiResult<(Light, Option<Target>)> {
+        let light = spec.to_light()?;
+        let map = spec.map.as_ref().map(|r| self.resolve(r, Kind::Texture, "map")).transpose()?;
+        Ok((light, map))
+    }
+
+    /// Writes parameters into a copy of a shader (checking each as the scene will, and
+    /// resolving textures); returns the shader, the writes to make, and the names the class
+    /// does not export.
+    #[allow(clippy::type_complexity)]
+    fn write_params(&mut self, mut shader: Shader, params: BTreeMap<String, ParamJson>) -> ApiResult<(Shader, Vec<(String, Write)>, Vec<String>)> {
+        let mut writes = Vec::new();
+        let mut ignored = Vec::new();
+        for (name, value) in params {
+            let field = format!("params.{name}");
+            match param_value(shader.class(), &name, value) {
+                None => ignored.push(name),
+                Some(ParamWrite::Value(value)) => {
+                    shader.set(&name, value).map_err(|e| {
+                        let mut e = ApiError::from(e);
+                        e.detail.field = Some(field);
+                        e
+                    })?;
+                    writes.push((name, Write::Value(value)));
+                }
+                // Only texture parameters take texture references, so the write has the right
+                // type; the copy, which checks later writes, need not know which texture it is.
+                Some(ParamWrite::Texture(texture)) => {
+                    let texture = self.resolve(&texture, Kind::Texture, &field)?;
+                    writes.push((name, Write::Texture(texture)));
+                }
+            }
+        }
+        Ok((shader, writes, ignored))
     }
 
     /// A mesh decoded and checked, with its shaders resolved.
@@ -297,6 +361,7 @@ impl<'s> Planner<'s> {
                 let scene = self.scene;
                 self.existing_lights.get_or_insert_with(|| scene.lights().map(|(id, _)| id.0).collect()).contains(&id)
             }
+            Kind::Texture => self.scene.texture(TextureId(id)).is_ok(),
         }
     }
 
@@ -305,29 +370,6 @@ impl<'s> Planner<'s> {
         let scene = self.scene;
         self.existing_instances.get_or_insert_with(|| scene.instances().map(|(i, o, _)| (i.0, o.0)).collect())
     }
-}
-
-/// Writes parameters into a copy of a shader (checking each as the scene will); returns the
-/// shader, the writes to make, and the names the class does not export.
-#[allow(clippy::type_complexity)]
-fn write_params(mut shader: Shader, params: std::collections::BTreeMap<String, ParamJson>) -> ApiResult<(Shader, Vec<(String, ParamValue)>, Vec<String>)> {
-    let mut writes = Vec::new();
-    let mut ignored = Vec::new();
-    for (name, value) in params {
-        let field = format!("params.{name}");
-        match param_value(shader.class(), &name, value) {
-            None => ignored.push(name),
-            Some(value) => {
-                shader.set(&name, value).map_err(|e| {
-                    let mut e = ApiError::from(e);
-                    e.detail.field = Some(field);
-                    e
-                })?;
-                writes.push((name, value));
-            }
-        }
-    }
-    Ok((shader, writes, ignored))
 }
 
 /// Applies checked commands in order.
@@ -359,11 +401,21 @@ fn apply_one(scene: &mut Scene, op: Op, ids: &[Option<u32>]) -> Result<CommandRe
     };
     let created = |id: u32| CommandResult { id: Some(id), ignored: Vec::new() };
     let done = CommandResult::default();
-    let write = |scene: &mut Scene, id: ShaderId, params: Vec<(String, ParamValue)>| -> Result<(), SceneError> {
-        for (name, value) in params {
+    let write = |scene: &mut Scene, id: ShaderId, params: Vec<(String, Write)>| -> Result<(), SceneError> {
+        for (name, write) in params {
+            let value = match write {
+                Write::Value(value) => value,
+                Write::Texture(t) => ParamValue::Texture(Some(TextureId(real(t)))),
+            };
             scene.set_param(id, &name, value)?;
         }
         Ok(())
+    };
+    let mapped = |mut light: Light, map: Option<Target>| {
+        if let (Light::Environment { map: slot, .. }, Some(t)) = (&mut light, map) {
+            *slot = Some(TextureId(real(t)));
+        }
+        light
     };
     Ok(match op {
         Op::AddObject { kind, mesh, shaders } => created(scene.add_object(kind, bind(mesh, shaders))?.0),
@@ -413,13 +465,22 @@ fn apply_one(scene: &mut Scene, op: Op, ids: &[Option<u32>]) -> Result<CommandRe
             scene.remove_shader(ShaderId(real(id)))?;
             done
         }
-        Op::AddLight(light) => created(scene.add_light(light)?.0),
-        Op::SetLight(id, light) => {
-            scene.set_light(LightId(real(id)), light)?;
+        Op::AddLight { light, map } => created(scene.add_light(mapped(light, map))?.0),
+        Op::SetLight { id, light, map } => {
+            scene.set_light(LightId(real(id)), mapped(light, map))?;
             done
         }
         Op::DeleteLight(id) => {
             scene.remove_light(LightId(real(id)))?;
+            done
+        }
+        Op::AddTexture(texture) => created(scene.add_texture(texture)?.0),
+        Op::SetTexture(id, texture) => {
+            scene.set_texture(TextureId(real(id)), texture)?;
+            done
+        }
+        Op::DeleteTexture(id) => {
+            scene.remove_texture(TextureId(real(id)))?;
             done
         }
         Op::SetCamera(camera) => {

@@ -29,13 +29,13 @@ pub struct ErrorBody {
 /// What went wrong.
 #[derive(Clone, Debug, PartialEq, Serialize, ToSchema)]
 pub struct ErrorDetail {
-    /// `bad_request`, `unauthorized`, `not_found`, `too_large`, `unprocessable`, `busy` or
-    /// `internal`.
+    /// `bad_request`, `unauthorized`, `not_found`, `too_large`, `unsupported_media_type`,
+    /// `unprocessable`, `busy` or `internal`.
     pub code: &'static str,
     /// What was wrong, for a person.
     pub message: String,
-    /// The part of the request at fault, as a path into the JSON body or a query parameter
-    /// (`commands[2].mesh.positions`, `width`), if one is.
+    /// The part of the request at fault, as a path into the JSON body, a query parameter or a
+    /// header (`commands[2].mesh.positions`, `width`, `content-type`), if one is.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub field: Option<String>,
 }
@@ -63,6 +63,12 @@ impl ApiError {
     /// 413: the request is larger than a limit allows.
     pub fn too_large(field: Option<String>, message: impl Into<String>) -> ApiError {
         ApiError::new(StatusCode::PAYLOAD_TOO_LARGE, "too_large", field, message)
+    }
+
+    /// 415: a body of a content type the route does not take; the error names the
+    /// `content-type` header.
+    pub fn unsupported_media_type(message: impl Into<String>) -> ApiError {
+        ApiError::new(StatusCode::UNSUPPORTED_MEDIA_TYPE, "unsupported_media_type", Some("content-type".into()), message)
     }
 
     /// 422: well-formed, but a value is not acceptable (NaN, out of range, singular, ...).
@@ -116,7 +122,8 @@ impl IntoResponse for ApiError {
 }
 
 impl From<SceneError> for ApiError {
-    /// Unknown ids are 404; every other refused edit is 422, naming the field the scene named.
+    /// Unknown ids are 404; every other refused edit is 422, naming the field the scene named
+    /// (image bytes that cannot be decoded are a body, not a field: they name none).
     fn from(e: SceneError) -> ApiError {
         let message = e.to_string();
         let field = |f: &str| Some(f.to_string());
@@ -133,6 +140,7 @@ impl From<SceneError> for ApiError {
             | SceneError::SingularTransform { field: f, .. }
             | SceneError::OutOfRange { field: f, .. } => ApiError::unprocessable(field(f), message),
             SceneError::WrongParameterType { ref name, .. } => ApiError::unprocessable(Some(format!("params.{name}")), message),
+            SceneError::BadImage(_) => ApiError::unprocessable(None, message),
         }
     }
 }

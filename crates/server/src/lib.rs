@@ -1,10 +1,11 @@
 //! # raystage-server
 //!
 //! raystage's HTTP/JSON API (axum on tokio): scenes and their objects, instances, shaders,
-//! lights and camera as resources, batches of edits that apply all or nothing, glTF uploads,
-//! PNG frames, picking, and a WebSocket stream of progressively refined frames. The OpenAPI
-//! description is generated from the handlers ([`openapi`]); `api/openapi.json` is a copy and
-//! `api/stream.md` describes the stream.
+//! textures (procedural, or uploaded PNG, JPEG and Radiance HDR images), lights and camera as
+//! resources, batches of edits that apply all or nothing, glTF uploads, PNG frames, picking,
+//! and a WebSocket stream of progressively refined frames. The OpenAPI description is
+//! generated from the handlers ([`openapi`]); `api/openapi.json` is a copy and `api/stream.md`
+//! describes the stream.
 //!
 //! [`router`] is the whole API as a tower service (tests drive it without a socket);
 //! [`serve`] runs it on a listener, refusing a non-loopback address without a token. Rendering

@@ -106,7 +106,7 @@ async fn unknown_ids_and_routes_are_404() {
 
 #[tokio::test]
 async fn oversized_requests_are_413() {
-    let limits = Limits { max_body_bytes: 4096, max_triangles: 4, max_commands: 3, ..Limits::default() };
+    let limits = Limits { max_body_bytes: 4096, max_triangles: 4, max_commands: 3, max_dimension: 16, ..Limits::default() };
     let app = router(AppState::new(Config { limits, ..Config::default() }));
     let s = new_scene(&app).await;
     let big = json!({ "mesh": { "positions": vec![[0.0, 0.0, 0.0]; 400] } });
@@ -117,6 +117,14 @@ async fn oversized_requests_are_413() {
     assert_eq!(fails(&app, "POST", &format!("/scenes/{s}/commands"), batch, StatusCode::PAYLOAD_TOO_LARGE).await, "commands");
     let (status, _, _) = send(&app, "POST", &format!("/scenes/{s}/gltf"), Body::from(vec![b' '; 5000]), &[]).await;
     assert_eq!(status, StatusCode::PAYLOAD_TOO_LARGE);
+    let (status, _, _) = send(&app, "POST", &format!("/scenes/{s}/textures"), Body::from(vec![0u8; 5000]), &[("content-type", "image/png")]).await;
+    assert_eq!(status, StatusCode::PAYLOAD_TOO_LARGE, "an image body over the body limit");
+    // A few hundred bytes of PNG that would decode to an image wider than the limit.
+    let mut wide = std::io::Cursor::new(Vec::new());
+    image::RgbImage::new(64, 2).write_to(&mut wide, image::ImageFormat::Png).unwrap();
+    let (status, _, body) = send(&app, "POST", &format!("/scenes/{s}/textures"), Body::from(wide.into_inner()), &[("content-type", "image/png")]).await;
+    assert_eq!(status, StatusCode::PAYLOAD_TOO_LARGE, "{}", String::from_utf8_lossy(&body));
+    assert_eq!(ok(&app, "GET", &format!("/scenes/{s}"), json!(null), StatusCode::OK).await["textures"], 0);
 }
 
 #[tokio::test]
@@ -181,6 +189,8 @@ async fn mangled_requests_never_fail_on_the_server_side() {
         (format!("/scenes/{s}/instances"), json!({ "object": 0, "transform": { "translate": [1, 2, 3], "rotate": { "axis": [0, 1, 0], "degrees": 30 }, "scale": 2 } })),
         (format!("/scenes/{s}/lights"), json!({ "class": "SpotLight", "position": [0, 5, 0], "direction": [0, -1, 0], "cone": 40, "falloff": 30 })),
         (format!("/scenes/{s}/commands"), json!({ "commands": [{ "add_shader": { "label": "x", "class": "Phong", "params": { "shininess": 10 } } }, { "set_camera": { "eye": [1, 2, 3] } }] })),
+        (format!("/scenes/{s}/textures"), json!({ "kind": "checker", "a": [1, 0, 0.5], "b": 0.25, "scale": 4 })),
+        (format!("/scenes/{s}/commands"), json!({ "commands": [{ "add_texture": { "label": "t", "kind": "noise" } }, { "add_shader": { "class": "Diffuse", "params": { "diffuse_texture": { "texture": "t" } } } }, { "add_light": { "class": "EnvironmentLight", "map": "t" } }] })),
     ];
     let mut rng = Lcg(7);
     for _ in 0..300 {

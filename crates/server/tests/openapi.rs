@@ -26,7 +26,7 @@ fn the_checked_in_description_is_current() {
 async fn the_server_serves_its_description_with_every_route() {
     let description = ok(&app(), "GET", "/openapi.json", json!(null), StatusCode::OK).await;
     let paths = description["paths"].as_object().unwrap();
-    for path in ["/scenes", "/scenes/{scene}/objects/{id}", "/scenes/{scene}/commands", "/scenes/{scene}/frame.png", "/scenes/{scene}/stream", "/scenes/{scene}/gltf"] {
+    for path in ["/scenes", "/scenes/{scene}/objects/{id}", "/scenes/{scene}/commands", "/scenes/{scene}/frame.png", "/scenes/{scene}/stream", "/scenes/{scene}/gltf", "/scenes/{scene}/textures", "/scenes/{scene}/textures/{id}"] {
         assert!(paths.contains_key(path), "{path} is not described");
     }
 }

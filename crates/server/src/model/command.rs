@@ -11,6 +11,7 @@ use crate::model::light::LightSpec;
 use crate::model::mesh::{Kind, MeshSpec};
 use crate::model::refs::Ref;
 use crate::model::shader::ParamJson;
+use crate::model::texture::TextureSpec;
 use crate::model::transform::Transform;
 
 /// A new object (`POST /scenes/{scene}/objects`, batch `add_object`).
@@ -177,6 +178,17 @@ pub struct SetLight {
     pub light: LightSpec,
 }
 
+/// Batch `set_texture`: texture `id` replaced by a procedural texture (every shader and
+/// environment light using it changes with it).
+#[derive(Clone, Debug, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SetTexture {
+    /// The texture.
+    pub id: Ref,
+    /// What it becomes.
+    pub texture: TextureSpec,
+}
+
 /// Batch `delete_*`: the resource to delete.
 #[derive(Clone, Debug, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
@@ -218,6 +230,13 @@ pub enum Command {
     SetLight(SetLight),
     /// Removes a light.
     DeleteLight(Delete),
+    /// Adds a procedural texture (image textures are uploaded to `/scenes/{scene}/textures`,
+    /// not sent in batches).
+    AddTexture(TextureSpec),
+    /// Replaces a texture with a procedural one.
+    SetTexture(SetTexture),
+    /// Removes a texture (shaders and lights using it render as if they had none).
+    DeleteTexture(Delete),
     /// Changes the camera (fields left out stay).
     SetCamera(CameraPatch),
 }
@@ -240,6 +259,9 @@ impl Command {
             Command::AddLight(_) => "add_light",
             Command::SetLight(_) => "set_light",
             Command::DeleteLight(_) => "delete_light",
+            Command::AddTexture(_) => "add_texture",
+            Command::SetTexture(_) => "set_texture",
+            Command::DeleteTexture(_) => "delete_texture",
             Command::SetCamera(_) => "set_camera",
         }
     }

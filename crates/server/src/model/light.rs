@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
 use crate::error::{ApiError, ApiResult};
+use crate::model::refs::Ref;
 
 /// A linear RGB colour: three numbers, or one for a grey.
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
@@ -18,7 +19,8 @@ pub enum Rgb {
 }
 
 impl Rgb {
-    fn vec(self) -> Vec3 {
+    /// The colour as a vector.
+    pub(crate) fn vec(self) -> Vec3 {
         match self {
             Rgb::Grey(g) => Vec3::splat(g),
             Rgb::Rgb(c) => Vec3::from(c),
@@ -33,7 +35,7 @@ pub const LIGHT_CLASSES: &[(&str, &[&str])] = &[
     ("DirectionalLight", &["direction", "intensity"]),
     ("AmbientLight", &["intensity"]),
     ("AreaLight", &["corner", "edge_u", "edge_v", "radiance"]),
-    ("EnvironmentLight", &["radiance"]),
+    ("EnvironmentLight", &["radiance", "map"]),
 ];
 
 /// A light: a class and the parameters it takes; parameters left out keep the class default
@@ -76,6 +78,12 @@ pub struct LightSpec {
     /// Area, environment: emitted radiance, linear RGB; default 1.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub radiance: Option<Rgb>,
+    /// Environment: a latitude-longitude image texture (`/scenes/{scene}/textures`) whose
+    /// colour, scaled by `radiance`, is the light arriving from each direction; by id, or in a
+    /// batch by the label of a texture an earlier command created. Default (and null): none,
+    /// the same radiance from everywhere.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub map: Option<Ref>,
 }
 
 /// A light with its id.
@@ -89,7 +97,8 @@ pub struct LightInfo {
 }
 
 impl LightSpec {
-    /// The scene's light, checked (422 naming the field).
+    /// The scene's light, checked (422 naming the field), without its map: `map` is a
+    /// reference, which the caller resolves (see [`crate::batch`]).
     pub fn to_light(&self) -> ApiResult<Light> {
         let Some((class, params)) = LIGHT_CLASSES.iter().find(|(name, _)| *name == self.class) else {
             let names: Vec<&str> = LIGHT_CLASSES.iter().map(|(n, _)| *n).collect();
@@ -134,7 +143,7 @@ impl LightSpec {
     }
 
     /// Which parameters were given.
-    fn given(&self) -> [(&'static str, bool); 9] {
+    fn given(&self) -> [(&'static str, bool); 10] {
         [
             ("position", self.position.is_some()),
             ("direction", self.direction.is_some()),
@@ -145,10 +154,11 @@ impl LightSpec {
             ("edge_u", self.edge_u.is_some()),
             ("edge_v", self.edge_v.is_some()),
             ("radiance", self.radiance.is_some()),
+            ("map", self.map.is_some()),
         ]
     }
 
-    /// A scene light as JSON (an environment light's image map is not shown).
+    /// A scene light as JSON.
     pub fn from_light(light: &Light) -> LightSpec {
         let a = |v: Vec3| Some(v.to_array());
         let c = |v: Vec3| Some(Rgb::Rgb(v.to_array()));
@@ -168,7 +178,7 @@ impl LightSpec {
             Light::Area { corner, edge_u, edge_v, radiance } => {
                 LightSpec { corner: a(corner), edge_u: a(edge_u), edge_v: a(edge_v), radiance: c(radiance), ..class("AreaLight") }
             }
-            Light::Environment { radiance, .. } => LightSpec { radiance: c(radiance), ..class("EnvironmentLight") },
+            Light::Environment { radiance, map } => LightSpec { radiance: c(radiance), map: map.map(|t| Ref::Id(t.0)), ..class("EnvironmentLight") },
         }
     }
 }
@@ -195,5 +205,14 @@ mod tests {
         assert_eq!(dark.to_light().unwrap_err().detail.field.as_deref(), Some("intensity"));
         let unknown = LightSpec { class: "Sun".into(), ..LightSpec::default() };
         assert_eq!(unknown.to_light().unwrap_err().detail.field.as_deref(), Some("class"));
+    }
+
+    #[test]
+    fn an_environment_map_is_shown_and_only_environment_lights_take_one() {
+        let mapped = Light::Environment { radiance: Vec3::splat(2.0), map: Some(raystage_scene::TextureId(4)) };
+        let json = serde_json::to_value(LightSpec::from_light(&mapped)).unwrap();
+        assert_eq!(json, serde_json::json!({ "class": "EnvironmentLight", "radiance": [2.0, 2.0, 2.0], "map": 4 }));
+        let point = LightSpec { class: "PointLight".into(), map: Some(Ref::Id(4)), ..LightSpec::default() };
+        assert_eq!(point.to_light().unwrap_err().detail.field.as_deref(), Some("map"));
     }
 }

@@ -7,17 +7,19 @@ mod light;
 mod mesh;
 mod refs;
 mod shader;
+mod texture;
 mod transform;
 
 pub use camera::{CameraJson, CameraPatch};
 pub use command::{
     Command, CommandResult, Commands, CommandsResult, Delete, DefineObject, DefineShader, InstanceBody, InstanceUpdate, ObjectBody,
-    ObjectUpdate, ParamsBody, PositionsBody, SetInstance, SetLight, SetParams, SetPositions, ShaderBody, ShaderUpdate,
+    ObjectUpdate, ParamsBody, PositionsBody, SetInstance, SetLight, SetParams, SetPositions, SetTexture, ShaderBody, ShaderUpdate,
 };
 pub use light::{LIGHT_CLASSES, LightInfo, LightSpec, Rgb};
 pub use mesh::{Kind, MeshSpec};
 pub use refs::Ref;
-pub use shader::{ParamJson, ParamOut, ShaderInfo};
+pub use shader::{ParamJson, ParamOut, ShaderInfo, TextureParam};
+pub use texture::{TextureDescription, TextureInfo, TextureKind, TextureSpec};
 pub use transform::{Rotation, Scale, Transform};
 
 /// A file or image in the body, as it is.
@@ -26,4 +28,5 @@ pub use transform::{Rotation, Scale, Transform};
 pub struct Binary(#[allow(dead_code, reason = "a schema only")] Vec<u8>);
 
 pub(crate) use mesh::{Binding, decode_positions};
-pub(crate) use shader::param_value;
+pub(crate) use shader::{ParamWrite, param_value};
+pub(crate) use texture::decode_image;

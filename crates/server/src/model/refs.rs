@@ -1,12 +1,12 @@
 //! References to resources: an id, or in a batch the label of a resource an earlier command of
 //! the same batch created.
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
 /// An existing resource's id, or the `label` an earlier command of the same batch gave the
 /// resource it created.
-#[derive(Clone, Debug, PartialEq, Eq, Hash, Deserialize, ToSchema)]
+#[derive(Clone, Debug, PartialEq, Eq, Hash, Deserialize, Serialize, ToSchema)]
 #[serde(untagged, expecting = "an id (a number) or the label of a resource created earlier in the same batch (a string)")]
 pub enum Ref {
     /// An id.

@@ -7,17 +7,30 @@ use raystage_scene::{ParamType, ParamValue, Shader, ShaderClass};
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
-/// A parameter value as sent: a number, a colour (three numbers) or null (no texture). A
-/// number written to a colour parameter sets all three channels.
-#[derive(Clone, Copy, Debug, PartialEq, Deserialize, ToSchema)]
-#[serde(untagged, expecting = "a number, three numbers (a colour) or null")]
+use crate::model::refs::Ref;
+
+/// A parameter value as sent: a number, a colour (three numbers), a texture
+/// (`{"texture": id}`, in a batch also the label of a texture an earlier command created) or
+/// null (no texture). A number written to a colour parameter sets all three channels.
+#[derive(Clone, Debug, PartialEq, Deserialize, ToSchema)]
+#[serde(untagged, expecting = "a number, three numbers (a colour), {\"texture\": id} or null")]
 pub enum ParamJson {
     /// A number.
     Number(f32),
     /// A linear RGB colour.
     Color([f32; 3]),
+    /// A texture, or none.
+    Texture(TextureParam),
     /// No texture.
     Null,
+}
+
+/// The value of a texture parameter: the texture, or null for none.
+#[derive(Clone, Debug, PartialEq, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TextureParam {
+    /// The texture's id (or, in a batch, its label), or null for none.
+    pub texture: Option<Ref>,
 }
 
 /// A parameter value as returned.
@@ -66,17 +79,27 @@ impl ShaderInfo {
     }
 }
 
-/// The scene's value for parameter `name` of `class` written as `value`: `None` if the class has
-/// no such parameter (the write is ignored, as in the C ABI). A value of the wrong type is
-/// passed on as it is, for the scene to refuse with a message naming the expected type.
-pub(crate) fn param_value(class: &ShaderClass, name: &str, value: ParamJson) -> Option<ParamValue> {
+/// A parameter write, converted: a value for the scene, or a texture reference for the caller
+/// to resolve (it may be the label of a texture the batch has not created yet).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum ParamWrite {
+    /// The value to write.
+    Value(ParamValue),
+    /// The texture to write, by id or label.
+    Texture(Ref),
+}
+
+/// The write of parameter `name` of `class` as `value`: `None` if the class has no such
+/// parameter (the write is ignored, as in the C ABI). A value of the wrong type is passed on as
+/// it is, for the scene to refuse with a message naming the expected type.
+pub(crate) fn param_value(class: &ShaderClass, name: &str, value: ParamJson) -> Option<ParamWrite> {
     let declared = class.params.iter().find(|p| p.name == name)?.default.ty();
     Some(match (declared, value) {
-        (ParamType::Color, ParamJson::Number(x)) => ParamValue::Color(Vec3::splat(x)),
-        (_, ParamJson::Number(x)) => ParamValue::Float(x),
-        (_, ParamJson::Color(c)) => ParamValue::Color(Vec3::from(c)),
-        (ParamType::Texture, ParamJson::Null) => ParamValue::Texture(None),
-        // Null for a number or colour: a type error the scene reports.
-        (_, ParamJson::Null) => ParamValue::Texture(None),
+        (ParamType::Texture, ParamJson::Texture(TextureParam { texture: Some(texture) })) => ParamWrite::Texture(texture),
+        (ParamType::Color, ParamJson::Number(x)) => ParamWrite::Value(ParamValue::Color(Vec3::splat(x))),
+        (_, ParamJson::Number(x)) => ParamWrite::Value(ParamValue::Float(x)),
+        (_, ParamJson::Color(c)) => ParamWrite::Value(ParamValue::Color(Vec3::from(c))),
+        // No texture; or, for a number or colour, a type error the scene reports.
+        (_, ParamJson::Null | ParamJson::Texture(_)) => ParamWrite::Value(ParamValue::Texture(None)),
     })
 }

@@ -12,6 +12,7 @@ mod objects;
 pub(crate) mod openapi;
 mod scenes;
 mod shaders;
+mod textures;
 
 use std::sync::Arc;
 
@@ -45,6 +46,8 @@ pub(crate) fn router(state: AppState) -> Router {
         .route("/scenes/{scene}/shaders/{id}", get(shaders::get).put(shaders::define).patch(shaders::set_params).delete(shaders::delete))
         .route("/scenes/{scene}/lights", get(lights::list).post(lights::add))
         .route("/scenes/{scene}/lights/{id}", get(lights::get).put(lights::set).delete(lights::delete))
+        .route("/scenes/{scene}/textures", get(textures::list).post(textures::add))
+        .route("/scenes/{scene}/textures/{id}", get(textures::get).put(textures::set).delete(textures::delete))
         .route("/scenes/{scene}/camera", get(camera::get).put(camera::set))
         .route("/scenes/{scene}/commands", axum::routing::post(commands::run))
         .route("/scenes/{scene}/gltf", axum::routing::post(gltf::upload))

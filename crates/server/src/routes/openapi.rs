@@ -25,6 +25,7 @@ use crate::stream::{ClientMessage, FrameMessage, ServerMessage};
         super::instances::list, super::instances::add, super::instances::get, super::instances::set, super::instances::delete,
         super::shaders::add, super::shaders::get, super::shaders::define, super::shaders::set_params, super::shaders::delete,
         super::lights::list, super::lights::add, super::lights::get, super::lights::set, super::lights::delete,
+        super::textures::list, super::textures::add, super::textures::get, super::textures::set, super::textures::delete,
         super::camera::get, super::camera::set,
         super::commands::run,
         super::gltf::upload,
@@ -33,6 +34,7 @@ use crate::stream::{ClientMessage, FrameMessage, ServerMessage};
     ),
     components(schemas(
         ErrorBody, ErrorDetail, FrameReport, RaysJson, Rgb, Transform, Rotation, Scale, Ref, ParamJson, ParamOut, Kind, MeshSpec,
+        TextureParam, TextureKind, TextureDescription,
         ClientMessage, ServerMessage, FrameMessage, Command, CommandResult,
     )),
     tags(
@@ -41,6 +43,7 @@ use crate::stream::{ClientMessage, FrameMessage, ServerMessage};
         (name = "instances", description = "Objects placed in the world"),
         (name = "shaders", description = "Surface shaders of the built-in classes"),
         (name = "lights", description = "Light sources"),
+        (name = "textures", description = "Procedural and image textures, for shaders' texture parameters and environment maps"),
         (name = "camera", description = "The camera"),
         (name = "commands", description = "Batches of edits, all or nothing"),
         (name = "frames", description = "Rendering: PNG frames, picking, the progressive stream"),

@@ -42,6 +42,8 @@ pub struct SceneInfo {
     pub instances: usize,
     /// Lights.
     pub lights: usize,
+    /// Textures.
+    pub textures: usize,
     /// Triangles over all objects (each object counted once).
     pub triangles: usize,
     /// The camera.
@@ -65,6 +67,7 @@ pub(crate) fn info_of(slot: &SceneSlot, scene: &Scene, version: u64) -> SceneInf
         objects: scene.object_ids().count(),
         instances: scene.instances().count(),
         lights: scene.lights().count(),
+        textures: scene.textures().count(),
         triangles: scene.object_ids().filter_map(|id| scene.mesh(id).ok()).map(|m| m.indices.len()).sum(),
         camera: CameraJson::from(scene.camera()),
     }
