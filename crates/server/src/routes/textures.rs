@@ -30,13 +30,14 @@ pub(crate) enum TextureBody {
 impl FromRequest<AppState> for TextureBody {
     type Rejection = ApiError;
 
-    /// JSON for `application/json` (or `…+json`, or no content type), an image for the image
-    /// types; 415 for any other.
+    /// JSON for `application/json` (or `…+json`, no content type, or curl's default for `-d`,
+    /// `application/x-www-form-urlencoded`, as every other route takes JSON), an image for the
+    /// image types; 415 for any other.
     async fn from_request(req: Request, state: &AppState) -> ApiResult<TextureBody> {
         let content_type = req.headers().get(header::CONTENT_TYPE).map(|v| v.to_str().unwrap_or("").to_string());
         // The media type without its parameters (`; charset=utf-8`).
         let essence = content_type.as_deref().map(|t| t.split(';').next().unwrap_or("").trim().to_ascii_lowercase());
-        if essence.as_deref().is_none_or(|t| t == "application/json" || t.ends_with("+json")) {
+        if essence.as_deref().is_none_or(|t| t == "application/json" || t.ends_with("+json") || t == "application/x-www-form-urlencoded") {
             return Ok(TextureBody::Procedural(JsonBody::from_request(req, state).await?.0));
         }
         if essence.as_deref().is_some_and(|t| IMAGE_TYPES.contains(&t)) {
