@@ -1,4 +1,5 @@
-//! The bytes of each buffer: the GLB binary chunk, a `data:` URI, or a file beside the glTF.
+//! The bytes of each buffer (and of images given by URI): the GLB binary chunk, a `data:` URI,
+//! or a file beside the glTF.
 
 use std::path::Path;
 
@@ -26,8 +27,8 @@ pub(crate) fn load(document: &Document, blob: Option<&[u8]>, base: Option<&Path>
         .collect()
 }
 
-/// The bytes a buffer URI names.
-fn from_uri(uri: &str, base: Option<&Path>, field: &str) -> Result<Vec<u8>, ImportError> {
+/// The bytes a buffer or image URI names; `field` is the part of the file that names it.
+pub(crate) fn from_uri(uri: &str, base: Option<&Path>, field: &str) -> Result<Vec<u8>, ImportError> {
     let field = format!("{field}.uri");
     if let Some(rest) = uri.strip_prefix("data:") {
         let (header, payload) = rest.split_once(',').ok_or_else(|| ImportError::invalid(&field, "a data URI without a comma"))?;
@@ -39,7 +40,7 @@ fn from_uri(uri: &str, base: Option<&Path>, field: &str) -> Result<Vec<u8>, Impo
             .map_err(|e| ImportError::invalid(field, format!("bad base64: {e}")));
     }
     let Some(base) = base else {
-        return Err(ImportError::invalid(field, "external buffers cannot be uploaded: send a .glb, or embed buffers as data: URIs"));
+        return Err(ImportError::invalid(field, "external files cannot be uploaded: send a .glb, or embed buffers and images as data: URIs"));
     };
     if uri.contains("://") {
         return Err(ImportError::invalid(field, format!("`{uri}` is not a relative path")));

@@ -3,18 +3,20 @@
 use std::path::Path;
 
 use glam::{Affine3A, Vec3};
-use raystage_scene::{Camera, InstanceId, Light, LightId, Mesh, ObjectId, ObjectKind, Scene, Shader, ShaderId};
+use raystage_scene::{Camera, Image, InstanceId, Light, LightId, Mesh, ObjectId, ObjectKind, ParamValue, Scene, Shader, ShaderId, Texture, TextureId};
 
 use crate::error::ImportError;
 use crate::material::{MaterialShaders, ShaderSpec};
 use crate::mesh::{Budget, read_mesh};
-use crate::{Limits, buffers, nodes};
+use crate::{Limits, buffers, images, nodes};
 
 /// A glTF file read and checked: shaders, objects, instances, lights and camera, not yet in any
 /// scene. See the crate documentation.
 #[derive(Debug)]
 pub struct Import {
     shaders: Vec<ShaderSpec>,
+    /// The images the shaders' textures use, each with its index in the file.
+    images: Vec<(usize, Image)>,
     /// One per glTF mesh (`None` for a mesh without triangles); `Mesh::shaders` hold indices
     /// into `shaders`.
     objects: Vec<Option<Mesh>>,
@@ -29,6 +31,8 @@ pub struct Import {
 pub struct Added {
     /// One shader per material (and vertex-colour use) of the file.
     pub shaders: Vec<ShaderId>,
+    /// One texture per image that a material's base colour uses.
+    pub textures: Vec<TextureId>,
     /// One object per glTF mesh that has triangles.
     pub objects: Vec<ObjectId>,
     /// One instance per node that holds such a mesh.
@@ -47,6 +51,13 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
     for (k, spec) in shaders.specs.iter().enumerate() {
         check_shader(spec).map_err(|e| ImportError::invalid(format!("materials (shader {k})"), e.to_string()))?;
     }
+    let mut used: Vec<usize> = shaders.specs.iter().filter_map(|s| s.texture).collect();
+    used.sort_unstable();
+    used.dedup();
+    let images = used
+        .into_iter()
+        .map(|i| Ok((i, images::load(&gltf.document, i, &buffers, base, limits)?)))
+        .collect::<Result<Vec<_>, ImportError>>()?;
     for (k, mesh) in objects.iter().enumerate() {
         if let Some(mesh) = mesh {
             mesh.validate().map_err(|e| ImportError::invalid(format!("meshes[{k}]"), e.to_string()))?;
@@ -59,7 +70,7 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
     if skipped > 0 {
         notes.push(format!("{skipped} meshes without triangles (points or lines) left out"));
     }
-    Ok(Import { shaders: shaders.specs, objects, instances, lights: placed.lights, camera: placed.camera, notes })
+    Ok(Import { shaders: shaders.specs, images, objects, instances, lights: placed.lights, camera: placed.camera, notes })
 }
 
 /// Checks a shader's class and parameters the way the scene will.
@@ -160,10 +171,19 @@ impl Import {
     /// [`crate::read`], so this cannot fail half-way except through a bug.
     pub fn add_to(self, scene: &mut Scene) -> Result<Added, ImportError> {
         let mut added = Added::default();
+        let mut textures = std::collections::HashMap::new();
+        for (index, image) in self.images {
+            let id = scene.add_texture(Texture::Image(image.into()))?;
+            textures.insert(index, id);
+            added.textures.push(id);
+        }
         for spec in &self.shaders {
             let id = scene.add_shader(spec.class)?;
             for &(name, value) in &spec.params {
                 scene.set_param(id, name, value)?;
+            }
+            if let Some(image) = spec.texture {
+                scene.set_param(id, "diffuse_texture", ParamValue::Texture(Some(textures[&image])))?;
             }
             added.shaders.push(id);
         }

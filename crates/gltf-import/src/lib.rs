@@ -4,19 +4,22 @@
 //! glTF mesh becomes one object (its primitives' triangles together, each bound to the shader of
 //! its material), each node that holds a mesh becomes an instance with the node's world
 //! transform, each material becomes a shader of the nearest built-in class (see
-//! [`shader_for`]), and `KHR_lights_punctual` lights and the first perspective camera come along.
+//! [`shader_for`]) and its base-colour image a texture, and `KHR_lights_punctual` lights and the
+//! first perspective camera come along.
 //!
 //! Reading and adding are two steps: [`read`] checks everything (buffer bounds, accessor types,
 //! indices, numbers, sizes) and returns an [`Import`] that no longer refers to the file, and
 //! [`Import::add_to`] puts it into a scene. A file that [`read`] accepted cannot fail half-way
 //! into a scene, and nothing a file contains can panic the reader.
 //!
-//! Not in here: textures (base-colour images are ignored; the factors shade), skins, morph
-//! targets, animations, points and lines.
+//! Not in here: textures other than base colour (normal, metallic-roughness, emissive and
+//! occlusion maps), texture samplers' filters and wrap modes (textures repeat and filter
+//! bilinearly), skins, morph targets, animations, points and lines.
 
 mod accessor;
 mod buffers;
 mod error;
+mod images;
 mod import;
 mod material;
 mod mesh;
@@ -37,12 +40,14 @@ pub struct Limits {
     pub max_vertices: usize,
     /// Most instances (nodes with a mesh, counted along every path from a root).
     pub max_instances: usize,
+    /// Most texels on either side of a texture's image.
+    pub max_image_side: usize,
 }
 
 impl Default for Limits {
-    /// Four million triangles and vertices, a million instances.
+    /// Four million triangles and vertices, a million instances, images of 8192 texels a side.
     fn default() -> Limits {
-        Limits { max_triangles: 4_000_000, max_vertices: 4_000_000, max_instances: 1_000_000 }
+        Limits { max_triangles: 4_000_000, max_vertices: 4_000_000, max_instances: 1_000_000, max_image_side: 8192 }
     }
 }
 

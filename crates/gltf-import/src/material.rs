@@ -11,6 +11,10 @@ pub struct ShaderSpec {
     pub class: &'static str,
     /// Parameters to write, by name.
     pub params: Vec<(&'static str, ParamValue)>,
+    /// The glTF image (by index in the file) whose colours multiply the diffuse colour: the
+    /// material's base-colour texture, written to `diffuse_texture` once the image is a texture
+    /// of the scene.
+    pub texture: Option<usize>,
 }
 
 /// The shader nearest to a glTF material (`None`: the primitive has no material), for a
@@ -21,10 +25,13 @@ pub struct ShaderSpec {
 /// - `KHR_materials_transmission` factor ≥ 0.5 → `Glass` with `KHR_materials_ior` (default 1.5);
 /// - metallic ≥ 0.5 → `Mirror` if roughness ≤ 0.05, else `Glossy` with α = roughness²;
 /// - vertex colours → `VertexColor` (the base colour multiplies them);
+/// - a base-colour texture (on the first set of texture coordinates) → `Diffuse` with the base
+///   colour multiplied by the texture;
 /// - roughness < 0.5 → `Phong` with a dielectric highlight (4 %, exponent 2/α² − 2);
 /// - otherwise `Diffuse` with the base colour.
 ///
-/// Base-colour alpha and textures are ignored.
+/// Base-colour alpha and the other textures (normal, metallic-roughness, emissive, occlusion)
+/// are ignored, and so is a base-colour texture on the shaders above the textured `Diffuse`.
 pub fn shader_for(material: Option<&gltf::Material<'_>>, vertex_colors: bool) -> ShaderSpec {
     let Some(m) = material else {
         return if vertex_colors { spec("VertexColor", vec![]) } else { spec("Diffuse", vec![]) };
@@ -35,6 +42,7 @@ pub fn shader_for(material: Option<&gltf::Material<'_>>, vertex_colors: bool) ->
     let roughness = clean(Vec3::splat(pbr.roughness_factor())).x.min(1.0);
     let alpha = (roughness * roughness).clamp(0.01, 1.0);
     let emission = clean(Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0));
+    let texture = pbr.base_color_texture().filter(|t| t.tex_coord() == 0).map(|t| t.texture().source().index());
     if m.unlit() {
         spec("Constant", vec![("color", base)])
     } else if emission.max_element() > 0.0 {
@@ -50,6 +58,8 @@ pub fn shader_for(material: Option<&gltf::Material<'_>>, vertex_colors: bool) ->
         }
     } else if vertex_colors {
         spec("VertexColor", vec![("diffuse", base)])
+    } else if texture.is_some() {
+        ShaderSpec { texture, ..spec("Diffuse", vec![("diffuse", base)]) }
     } else if roughness < 0.5 {
         let shininess = (2.0 / (alpha * alpha) - 2.0).clamp(1.0, 10_000.0);
         spec("Phong", vec![("diffuse", base), ("specular", ParamValue::Color(Vec3::splat(0.04))), ("shininess", ParamValue::Float(shininess))])
@@ -59,7 +69,7 @@ pub fn shader_for(material: Option<&gltf::Material<'_>>, vertex_colors: bool) ->
 }
 
 fn spec(class: &'static str, params: Vec<(&'static str, ParamValue)>) -> ShaderSpec {
-    ShaderSpec { class, params }
+    ShaderSpec { class, params, texture: None }
 }
 
 /// Finite and non-negative: a factor a file got wrong becomes 0 rather than an error.

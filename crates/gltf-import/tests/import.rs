@@ -5,7 +5,7 @@
 use base64::Engine;
 use glam::{Affine3A, Vec3};
 use raystage_gltf_import::{ImportError, Limits, read};
-use raystage_scene::{Light, ParamValue, Scene};
+use raystage_scene::{Light, ParamValue, Scene, Texture};
 use serde_json::{Value, json};
 
 /// A unit quad in the xy plane (two triangles) as a buffer: four positions, then six u16
@@ -224,4 +224,74 @@ fn node_cycles_and_singular_nodes_do_not_hang_or_fail() {
         }
         Err(err) => assert!(matches!(err, ImportError::Syntax(_)), "{err}"),
     }
+}
+
+/// A 2 × 1 PNG: a red texel, then a blue one.
+fn red_blue_png() -> Vec<u8> {
+    let image = image::RgbImage::from_fn(2, 1, |x, _| if x == 0 { image::Rgb([255, 0, 0]) } else { image::Rgb([0, 0, 255]) });
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    image.write_to(&mut bytes, image::ImageFormat::Png).unwrap();
+    bytes.into_inner()
+}
+
+/// [`quad_gltf`] with texture coordinates and a material whose base colour is texture 0, image
+/// `image` (given by a URI or a buffer view), on texture coordinates `tex_coord`.
+fn textured_quad(image: Value, tex_coord: u32, bin: &[u8]) -> Value {
+    let uvs: Vec<u8> = [[0.0f32, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]].iter().flatten().flat_map(|c| c.to_le_bytes()).collect();
+    let buffer = [quad_buffer(), uvs, bin.to_vec()].concat();
+    let material = json!([{ "pbrMetallicRoughness": { "baseColorFactor": [1, 1, 0.5, 1], "metallicFactor": 0, "baseColorTexture": { "index": 0, "texCoord": tex_coord } } }]);
+    let mut document = quad_gltf(Some(data_uri(&buffer)), material, json!([{ "mesh": 0 }]));
+    document["buffers"][0]["byteLength"] = json!(buffer.len());
+    document["bufferViews"].as_array_mut().unwrap().extend([
+        json!({ "buffer": 0, "byteOffset": 60, "byteLength": 32 }),
+        json!({ "buffer": 0, "byteOffset": 92, "byteLength": bin.len().max(1) }),
+    ]);
+    document["accessors"].as_array_mut().unwrap().push(json!({ "bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2" }));
+    document["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = json!(2);
+    document["images"] = json!([image]);
+    document["textures"] = json!([{ "source": 0 }]);
+    document
+}
+
+#[test]
+fn a_base_colour_image_becomes_the_texture_of_a_diffuse_shader() {
+    let png = red_blue_png();
+    let by_uri = textured_quad(json!({ "uri": format!("data:image/png;base64,{}", base64::engine::general_purpose::STANDARD.encode(&png)) }), 0, &[]);
+    let in_buffer = textured_quad(json!({ "bufferView": 3, "mimeType": "image/png" }), 0, &png);
+    for document in [by_uri, in_buffer] {
+        let mut scene = Scene::new();
+        let added = import(&document).unwrap().add_to(&mut scene).unwrap();
+        assert_eq!(added.textures.len(), 1);
+        let shader = scene.shader(added.shaders[0]).unwrap();
+        assert_eq!(shader.class().name, "Diffuse");
+        assert_eq!(shader.get("diffuse"), Some(ParamValue::Color(Vec3::new(1.0, 1.0, 0.5))), "the factor multiplies the texture");
+        assert_eq!(shader.get("diffuse_texture"), Some(ParamValue::Texture(Some(added.textures[0]))));
+        let Texture::Image(image) = scene.texture(added.textures[0]).unwrap() else { panic!("an image texture") };
+        assert_eq!((image.width(), image.height(), image.texel(0, 0), image.texel(1, 0)), (2, 1, Vec3::X, Vec3::Z));
+        let mesh = scene.mesh(added.objects[0]).unwrap();
+        assert_eq!(mesh.uvs.len(), 4, "texture coordinates come along");
+    }
+}
+
+#[test]
+fn textures_the_importer_cannot_use_are_left_out_or_refused() {
+    let png = red_blue_png();
+    // On the second set of texture coordinates, which the importer does not read: no texture.
+    let mut scene = Scene::new();
+    let added = import(&textured_quad(json!({ "bufferView": 3 }), 1, &png)).unwrap().add_to(&mut scene).unwrap();
+    assert!(added.textures.is_empty());
+    assert_eq!(scene.shader(added.shaders[0]).unwrap().get("diffuse_texture"), Some(ParamValue::Texture(None)));
+
+    let broken = textured_quad(json!({ "bufferView": 3 }), 0, b"not a png");
+    let err = refused(&broken);
+    assert_eq!(err.field(), Some("images[0]"), "{err}");
+    assert!(err.to_string().contains("the image cannot be read"), "{err}");
+
+    let limits = Limits { max_image_side: 1, ..Limits::default() };
+    let large = serde_json::to_vec(&textured_quad(json!({ "bufferView": 3 }), 0, &png)).unwrap();
+    let err = read(&large, None, &limits).unwrap_err();
+    assert!(matches!(err, ImportError::TooLarge { count: 2, limit: 1, .. }), "{err}");
+
+    let external = textured_quad(json!({ "uri": "wood.png" }), 0, &[]);
+    assert_eq!(refused(&external).field(), Some("images[0].uri"));
 }

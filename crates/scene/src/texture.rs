@@ -73,6 +73,15 @@ impl Image {
         Image::new(width, height, texels)
     }
 
+    /// The width and height of the image in encoded bytes (as [`Image::decode`] takes them),
+    /// read from its header alone: a caller can refuse an image too large to decode before
+    /// decoding it.
+    pub fn dimensions(bytes: &[u8]) -> Result<(u32, u32), SceneError> {
+        let unreadable = |e: image::ImageError| SceneError::BadImage(e.to_string());
+        let header = image::ImageReader::new(std::io::Cursor::new(bytes)).with_guessed_format().map_err(|e| unreadable(e.into()))?;
+        header.into_dimensions().map_err(unreadable)
+    }
+
     /// An image from `width × height` pixels of `channels` bytes each (1: grey, 3: RGB,
     /// 4: RGBA, alpha dropped), row-major from the top row: `srgb` bytes are sRGB-encoded and
     /// decoded to linear light, others are linear (`byte / 255`), as OpenGL reads `GL_SRGB8`
@@ -181,6 +190,15 @@ mod tests {
     fn bytes_that_are_not_an_image_are_refused_with_a_reason() {
         let error = Image::decode(b"not an image at all").unwrap_err();
         assert!(matches!(&error, SceneError::BadImage(reason) if !reason.is_empty()), "{error}");
+        assert!(matches!(Image::dimensions(b"not an image at all"), Err(SceneError::BadImage(_))));
+    }
+
+    #[test]
+    fn dimensions_come_from_the_header_alone() {
+        let png = encoded(&image::RgbImage::new(300, 20).into(), image::ImageFormat::Png);
+        assert_eq!(Image::dimensions(&png), Ok((300, 20)));
+        // The header is enough: the pixels may be cut off.
+        assert_eq!(Image::dimensions(&png[..40]), Ok((300, 20)));
     }
 
     #[test]

@@ -3,7 +3,7 @@
 //! as the bytes of a PNG, JPEG or Radiance HDR file, and are described by their size only.
 
 use glam::Vec3;
-use raystage_scene::{Image, SceneError, Texture};
+use raystage_scene::{Image, Texture};
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
@@ -124,9 +124,7 @@ impl TextureInfo {
 /// Decodes a PNG, JPEG or Radiance HDR file: 422 if it cannot be read, 413 if it is wider or
 /// taller than the limit on image sizes (checked from its header, before it is decoded).
 pub(crate) fn decode_image(bytes: &[u8], limits: &Limits) -> ApiResult<Image> {
-    let unreadable = |e: image::ImageError| ApiError::from(SceneError::BadImage(e.to_string()));
-    let header = image::ImageReader::new(std::io::Cursor::new(bytes)).with_guessed_format().map_err(|e| unreadable(e.into()))?;
-    let (width, height) = header.into_dimensions().map_err(unreadable)?;
+    let (width, height) = Image::dimensions(bytes)?;
     let max = limits.max_dimension;
     if width > max || height > max {
         return Err(ApiError::too_large(None, format!("the image is {width}×{height} texels: the limit is {max} a side")));

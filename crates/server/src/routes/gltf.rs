@@ -61,13 +61,14 @@ pub(crate) fn import_limits(limits: &Limits) -> raystage_gltf_import::Limits {
     raystage_gltf_import::Limits {
         max_triangles: limits.max_triangles,
         max_vertices: limits.max_vertices,
+        max_image_side: limits.max_dimension as usize,
         ..raystage_gltf_import::Limits::default()
     }
 }
 
 /// Adds a glTF 2.0 file (`.glb`, or `.gltf` with its buffers as `data:` URIs) to the scene:
-/// meshes become objects, nodes instances, materials shaders of the nearest class, punctual
-/// lights lights. The whole file is checked before anything is added.
+/// meshes become objects, nodes instances, materials shaders of the nearest class (base-colour
+/// images textures), punctual lights lights. The whole file is checked before anything is added.
 #[utoipa::path(post, path = "/scenes/{scene}/gltf", tag = "scenes",
     params(("scene" = u32, Path, description = "The scene's id"), GltfQuery),
     request_body(content((crate::model::Binary = "model/gltf-binary"), (crate::model::Binary = "model/gltf+json"))),
