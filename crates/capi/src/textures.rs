@@ -146,7 +146,12 @@ impl Context {
     pub fn tex_image_file(&mut self, target: RTenum, path: &Path) -> Result<(), Error> {
         check_target(target)?;
         let bytes = std::fs::read(path).map_err(|e| Error::io(format!("cannot read {}: {e}", path.display())))?;
-        let image = Image::decode(&bytes).map_err(|e| Error::invalid_value(format!("{}: {e}", path.display())))?;
+        let unreadable = |e: raystage_scene::SceneError| Error::invalid_value(format!("{}: {e}", path.display()));
+        // The size from the header first: an image past the limits is refused before it is decoded.
+        let (width, height) = Image::dimensions(&bytes).map_err(unreadable)?;
+        check_size("the image's width", width as RTsizei)?;
+        check_size("the image's height", height as RTsizei)?;
+        let image = Image::decode(&bytes).map_err(unreadable)?;
         self.define_bound_texture("rtTexImageFile", Texture::Image(Arc::new(image)))
     }
 

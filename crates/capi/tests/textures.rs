@@ -180,6 +180,13 @@ fn bad_texture_calls_are_refused_and_change_nothing() {
     unsafe { rtTexImageFile(RT_TEXTURE_2D, c_garbage.as_ptr()) };
     std::fs::remove_file(&garbage).unwrap();
     assert_error(RT_INVALID_VALUE, "the image cannot be read");
+    // Too wide to be a texture: refused from the header, before 16385 × 1 texels are decoded.
+    let wide = std::env::temp_dir().join(format!("raystage-capi-wide-{}.png", std::process::id()));
+    image::RgbImage::new(RT_MAX_TEXTURE_SIZE as u32 + 1, 1).save(&wide).unwrap();
+    let c_wide = CString::new(wide.to_str().unwrap()).unwrap();
+    unsafe { rtTexImageFile(RT_TEXTURE_2D, c_wide.as_ptr()) };
+    std::fs::remove_file(&wide).unwrap();
+    assert_error(RT_INVALID_VALUE, "the image's width is 16385: a texture side is 1 to 16384");
 
     // Nothing above defined the texture: shaders cannot name it yet.
     shader(c"Diffuse");

@@ -68,7 +68,8 @@ pub unsafe extern "C" fn rtTexImage2D(
 /// Gives the bound texture the image in the file at `path`: PNG, JPEG or Radiance HDR
 /// (`.hdr`), told apart by their contents. PNG and JPEG values are sRGB-encoded and decoded to
 /// linear light; HDR values are linear. A file that cannot be read records `RT_IO_ERROR`; one
-/// that is not such an image, `RT_INVALID_VALUE`. `target` is `RT_TEXTURE_2D`.
+/// that is not such an image, or is wider or taller than `RT_MAX_TEXTURE_SIZE`,
+/// `RT_INVALID_VALUE`. `target` is `RT_TEXTURE_2D`.
 ///
 /// # Safety
 /// `path` must be NULL (an error) or a NUL-terminated string.
