@@ -8,7 +8,7 @@
 //! others, so only `RT_PER_SHADER` is accepted; the other scopes are refused with a clear error.
 
 use glam::Vec3;
-use raystage_scene::{ParamType, ParamValue, ShaderId};
+use raystage_scene::{ParamType, ParamValue, ShaderId, TextureId};
 
 use crate::abi::enums::{RT_PER_OBJECT, RT_PER_SCENE, RT_PER_SHADER, RT_PER_TRIANGLE, RT_PER_VERTEX};
 use crate::abi::types::{RTenum, RTint, RTuint};
@@ -58,19 +58,38 @@ impl Context {
     /// `rtParameter1f` … `rtParameter4f`: writes `values` to parameter `handle` of the bound
     /// shader. Ignored if the shader's class does not export the name.
     pub fn parameter(&mut self, handle: RTint, values: &[f32]) -> Result<(), Error> {
+        self.write_parameter(handle, Written::Numbers(values))
+    }
+
+    /// `rtParameterTexture`: makes parameter `handle` of the bound shader name texture `texture`
+    /// (0: none). Ignored if the shader's class does not export the name.
+    pub fn parameter_texture(&mut self, handle: RTint, texture: RTuint) -> Result<(), Error> {
+        self.write_parameter(handle, Written::Texture(texture))
+    }
+
+    /// Writes `written` to parameter `handle` of the bound shader, a surface shader's or a
+    /// light's, if its class exports the name and the parameter takes what is written.
+    fn write_parameter(&mut self, handle: RTint, written: Written<'_>) -> Result<(), Error> {
         let (name, shader, slot) = self.parameter_target(handle)?;
-        finite("the value", values)?;
+        let written = match written {
+            Written::Numbers(values) => finite("the value", values).map(|()| Value::Numbers(values))?,
+            Written::Texture(0) => Value::Texture(None),
+            Written::Texture(id) => Value::Texture(Some(self.textures.texture_id(id)?)),
+        };
         match slot {
             Slot::Surface => {
                 let class = self.scene.shader(shader)?.class();
                 let Some(decl) = class.params.iter().find(|p| p.name == name) else {
                     return Ok(());
                 };
-                if decl.default.ty() == ParamType::Texture {
-                    return Err(takes_texture(&name, class.name));
-                }
-                let value = param_value(decl.default.ty(), values)
-                    .ok_or_else(|| wrong_count(&name, class.name, decl.default.ty().describe(), values.len()))?;
+                let value = match (decl.default.ty(), written) {
+                    (ParamType::Texture, Value::Texture(texture)) => ParamValue::Texture(texture),
+                    (ParamType::Texture, Value::Numbers(_)) => return Err(takes_texture(&name, class.name)),
+                    (ty, Value::Texture(_)) => return Err(takes_numbers(&name, class.name, ty.describe())),
+                    (ty, Value::Numbers(values)) => {
+                        param_value(ty, values).ok_or_else(|| wrong_count(&name, class.name, ty.describe(), values.len()))?
+                    }
+                };
                 self.scene.set_param(shader, &name, value)?;
             }
             Slot::Light { light, class } => {
@@ -79,52 +98,15 @@ impl Context {
                 };
                 let (_, &current) = self.scene.lights().find(|(id, _)| *id == light).expect("a light shader's light exists");
                 let mut changed = current;
-                match (param.set, values) {
-                    (Setter::Number(set), &[v]) => set(&mut changed, v),
-                    (Setter::Triple(set), &[x, y, z]) => set(&mut changed, Vec3::new(x, y, z)),
-                    (Setter::Number(_), _) => return Err(wrong_count(&name, class.name, "a number", values.len())),
-                    (Setter::Triple(_), _) => return Err(wrong_count(&name, class.name, "three numbers", values.len())),
-                    (Setter::Texture(_), _) => return Err(takes_texture(&name, class.name)),
+                match (param.set, written) {
+                    (Setter::Number(set), Value::Numbers(&[v])) => set(&mut changed, v),
+                    (Setter::Triple(set), Value::Numbers(&[x, y, z])) => set(&mut changed, Vec3::new(x, y, z)),
+                    (Setter::Texture(set), Value::Texture(texture)) => set(&mut changed, texture),
+                    (Setter::Number(_), Value::Numbers(values)) => return Err(wrong_count(&name, class.name, "a number", values.len())),
+                    (Setter::Triple(_), Value::Numbers(values)) => return Err(wrong_count(&name, class.name, "three numbers", values.len())),
+                    (Setter::Texture(_), Value::Numbers(_)) => return Err(takes_texture(&name, class.name)),
+                    (Setter::Number(_) | Setter::Triple(_), Value::Texture(_)) => return Err(takes_numbers(&name, class.name, "numbers")),
                 }
-                self.scene.set_light(light, changed)?;
-            }
-            Slot::Generated | Slot::Fallback => unreachable!("only defined shaders are bound"),
-        }
-        Ok(())
-    }
-}
-
-impl Context {
-    /// `rtParameterTexture`: makes parameter `handle` of the bound shader name texture `texture`
-    /// (0: none). Ignored if the shader's class does not export the name.
-    pub fn parameter_texture(&mut self, handle: RTint, texture: RTuint) -> Result<(), Error> {
-        let (name, shader, slot) = self.parameter_target(handle)?;
-        let texture = if texture == 0 { None } else { Some(self.textures.texture_id(texture)?) };
-        match slot {
-            Slot::Surface => {
-                let class = self.scene.shader(shader)?.class();
-                let Some(decl) = class.params.iter().find(|p| p.name == name) else {
-                    return Ok(());
-                };
-                if decl.default.ty() != ParamType::Texture {
-                    return Err(Error::invalid_operation(format!(
-                        "parameter `{name}` of shader class `{}` takes {}, not a texture",
-                        class.name,
-                        decl.default.ty().describe()
-                    )));
-                }
-                self.scene.set_param(shader, &name, ParamValue::Texture(texture))?;
-            }
-            Slot::Light { light, class } => {
-                let Some(param) = class.params.iter().find(|p| p.name == name) else {
-                    return Ok(());
-                };
-                let Setter::Texture(set) = param.set else {
-                    return Err(Error::invalid_operation(format!("parameter `{name}` of shader class `{}` takes numbers, not a texture", class.name)));
-                };
-                let (_, &current) = self.scene.lights().find(|(id, _)| *id == light).expect("a light shader's light exists");
-                let mut changed = current;
-                set(&mut changed, texture);
                 self.scene.set_light(light, changed)?;
             }
             Slot::Generated | Slot::Fallback => unreachable!("only defined shaders are bound"),
@@ -145,6 +127,26 @@ impl Context {
             .ok_or_else(|| Error::invalid_operation("no shader is bound: call rtNewShader or rtBindShader first"))?;
         Ok((name, shader, slot))
     }
+}
+
+/// What a parameter call writes, as the C call gives it.
+enum Written<'a> {
+    /// `rtParameter1f` … `rtParameter4f`.
+    Numbers(&'a [f32]),
+    /// `rtParameterTexture`: a C texture id, 0 for none.
+    Texture(RTuint),
+}
+
+/// What a parameter call writes, checked: finite numbers, or a generated texture (or none).
+#[derive(Clone, Copy)]
+enum Value<'a> {
+    Numbers(&'a [f32]),
+    Texture(Option<TextureId>),
+}
+
+/// The error of a texture written to parameter `name`, which takes `expected`.
+fn takes_numbers(name: &str, class: &str, expected: &str) -> Error {
+    Error::invalid_operation(format!("parameter `{name}` of shader class `{class}` takes {expected}, not a texture"))
 }
 
 /// The error of numbers written to texture parameter `name`.
