@@ -1,5 +1,6 @@
 //! The dynamic benchmark: animated scenes after BART (robots, museum, terrain), updated and
-//! traced frame by frame by raystage and (with the `embree` feature) Embree 3 in the same run.
+//! traced frame by frame by raystage and (with the `embree` feature) Embree 3 in the same run,
+//! taking turns frame by frame.
 //!
 //! Every frame both systems take the same instance transforms and vertex positions, then trace
 //! the same 1280×720 primary rays and, from each primary hit, one shadow ray towards the sun;
@@ -186,19 +187,47 @@ fn trace_frame(rays: &[Ray], sun: glam::Vec3, threads: usize, api: Api, queries:
     })
 }
 
-/// Runs raystage over frames 0..=`frames` of `animation`, primary rays handed over as `api`
-/// says (packets go through `Frame::intersect_many`, as the renderer's camera rays do).
-pub fn run_raystage(animation: &dyn Animation, frames: u32, threads: usize, api: Api) -> SystemRun {
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
-    let mut staged = Staged::new(animation).expect("the animation makes a valid scene");
-    let rays = rays_for(staged.scene.camera(), api);
-    let sun = animation.view().sun;
-    let mut run = SystemRun { system: system_name("raystage", api), ..SystemRun::default() };
-    for f in 0..=frames {
-        let (instances, deformed) = (animation.instances(f), animation.deform(f));
+/// One system of the benchmark, brought up to date and traced one frame at a time, so that
+/// several systems can take turns frame by frame (see [`run_in_turns`]).
+pub trait System {
+    /// Its name in the tables: `raystage` or `embree-<quality>`, with `-packets` when primary
+    /// rays go in packets.
+    fn name(&self) -> String;
+    /// Moves to frame `f` of the animation (frames come in order from 0) and traces it.
+    fn frame(&mut self, f: u32) -> FrameTime;
+}
+
+/// raystage on an animation: primary rays handed over as `api` says (packets go through
+/// `Frame::intersect_many`, as the renderer's camera rays do).
+pub struct Raystage<'a> {
+    animation: &'a dyn Animation,
+    staged: Staged,
+    rays: Vec<Ray>,
+    threads: usize,
+    api: Api,
+    pool: rayon::ThreadPool,
+}
+
+impl<'a> Raystage<'a> {
+    /// `animation` loaded at frame 0 (nothing built yet), to be traced on `threads` threads.
+    pub fn new(animation: &'a dyn Animation, threads: usize, api: Api) -> Raystage<'a> {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
+        let staged = Staged::new(animation).expect("the animation makes a valid scene");
+        let rays = rays_for(staged.scene.camera(), api);
+        Raystage { animation, staged, rays, threads, api, pool }
+    }
+}
+
+impl System for Raystage<'_> {
+    fn name(&self) -> String {
+        system_name("raystage", self.api)
+    }
+
+    fn frame(&mut self, f: u32) -> FrameTime {
+        let (instances, deformed) = (self.animation.instances(f), self.animation.deform(f));
         let start = Instant::now();
-        staged.advance(&instances, deformed).expect("valid frame");
-        let frame: Frame<'_> = staged.scene.frame();
+        self.staged.advance(&instances, deformed).expect("valid frame");
+        let frame: Frame<'_> = self.staged.scene.frame();
         let placed = start.elapsed().as_secs_f64();
         let trace_start = Instant::now();
         let closest_packet = |rays: &[Ray], found: &mut [Option<f32>]| {
@@ -212,52 +241,97 @@ pub fn run_raystage(animation: &dyn Animation, frames: u32, threads: usize, api:
             occluded: &|r| frame.occluded(r, 0.0),
             occluded_packet: &|rays| frame.occluded_many(rays, 0.0),
         };
-        let (traced, hits) = pool.install(|| trace_frame(&rays, sun, threads, api, &queries));
+        let sun = self.animation.view().sun;
+        let (traced, hits) = self.pool.install(|| trace_frame(&self.rays, sun, self.threads, self.api, &queries));
         let traced_seconds = trace_start.elapsed().as_secs_f64();
         // Lazy builds and refits happened inside the trace; count them as update.
         let built = frame.work().build_seconds.min(traced_seconds);
-        let time = FrameTime { update: placed + built, trace: traced_seconds - built, rays: traced, hits };
-        if f == 0 { run.first = time } else { run.frames.push(time) }
+        FrameTime { update: placed + built, trace: traced_seconds - built, rays: traced, hits }
     }
-    run
 }
 
-/// Runs Embree over frames 0..=`frames` of `animation`: objects at `object_quality` (static and
-/// animated objects at MEDIUM), unstructured ones at `unstructured_quality`, top level LOW;
-/// primary rays one by one (`rtcIntersect1`) or in packets (`rtcIntersect8`) as `api` says.
+/// Embree on an animation: objects at `object_quality` (static and animated objects at
+/// MEDIUM), unstructured ones at `unstructured_quality`, top level LOW; primary rays one by one
+/// (`rtcIntersect1`) or in packets (`rtcIntersect8`) as `api` says.
 #[cfg(feature = "embree")]
-pub fn run_embree(animation: &dyn Animation, frames: u32, threads: usize, unstructured_quality: crate::embree::Quality, api: Api) -> SystemRun {
-    use crate::embree::{Device, InstancedScene, Quality};
-    use raystage_scene::ObjectKind;
+pub struct Embree<'a> {
+    animation: &'a dyn Animation,
+    // Declared before the device, so dropped first.
+    scene: crate::embree::InstancedScene,
+    _device: crate::embree::Device,
+    /// Seconds of the initial commits, frame 0's update.
+    built: f64,
+    quality: crate::embree::Quality,
+    rays: Vec<Ray>,
+    threads: usize,
+    api: Api,
+}
 
-    let device = Device::new(threads).expect("Embree device");
-    let objects = animation.objects();
-    let specs: Vec<_> = objects
-        .iter()
-        .map(|o| match o.kind {
-            ObjectKind::Unstructured => (&o.mesh, unstructured_quality, true),
-            _ => (&o.mesh, Quality::Medium, false),
-        })
-        .collect();
-    let view = animation.view();
-    let camera = Camera::look_at(view.eye, view.target, glam::Vec3::Y, view.fov_y_degrees).expect("valid view");
-    let rays = rays_for(&camera, api);
-    let mut run = SystemRun { system: system_name(&format!("embree-{}", unstructured_quality.name().to_lowercase()), api), ..SystemRun::default() };
-    let (mut scene, built) = InstancedScene::build(&device, &specs, &animation.instances(0), Quality::Low);
-    for f in 0..=frames {
-        let update = if f == 0 { built } else { scene.update(&animation.instances(f), &animation.deform(f)) };
+#[cfg(feature = "embree")]
+impl<'a> Embree<'a> {
+    /// `animation` built at frame 0 with moving objects at `unstructured_quality`, to be traced
+    /// on `threads` threads.
+    pub fn new(animation: &'a dyn Animation, threads: usize, unstructured_quality: crate::embree::Quality, api: Api) -> Embree<'a> {
+        use crate::embree::{Device, InstancedScene, Quality};
+        use raystage_scene::ObjectKind;
+
+        let device = Device::new(threads).expect("Embree device");
+        let objects = animation.objects();
+        let specs: Vec<_> = objects
+            .iter()
+            .map(|o| match o.kind {
+                ObjectKind::Unstructured => (&o.mesh, unstructured_quality, true),
+                _ => (&o.mesh, Quality::Medium, false),
+            })
+            .collect();
+        let view = animation.view();
+        let camera = Camera::look_at(view.eye, view.target, glam::Vec3::Y, view.fov_y_degrees).expect("valid view");
+        let (scene, built) = InstancedScene::build(&device, &specs, &animation.instances(0), Quality::Low);
+        Embree { animation, scene, _device: device, built, quality: unstructured_quality, rays: rays_for(&camera, api), threads, api }
+    }
+}
+
+#[cfg(feature = "embree")]
+impl System for Embree<'_> {
+    fn name(&self) -> String {
+        system_name(&format!("embree-{}", self.quality.name().to_lowercase()), self.api)
+    }
+
+    fn frame(&mut self, f: u32) -> FrameTime {
+        let update = if f == 0 { self.built } else { self.scene.update(&self.animation.instances(f), &self.animation.deform(f)) };
         let start = Instant::now();
+        let scene = &self.scene;
         let queries = Queries {
             closest: &|r| scene.intersect(r),
             closest_packet: &|rays, found| scene.intersect8(rays, found),
             occluded: &|r| scene.occluded(r),
             occluded_packet: &|rays| scene.occluded8(rays),
         };
-        let (traced, hits) = trace_frame(&rays, view.sun, threads, api, &queries);
-        let time = FrameTime { update, trace: start.elapsed().as_secs_f64(), rays: traced, hits };
-        if f == 0 { run.first = time } else { run.frames.push(time) }
+        let (traced, hits) = trace_frame(&self.rays, self.animation.view().sun, self.threads, self.api, &queries);
+        FrameTime { update, trace: start.elapsed().as_secs_f64(), rays: traced, hits }
     }
-    run
+}
+
+/// Runs `systems` over frames 0..=`frames`, taking turns within each frame (the first to go
+/// rotating from frame to frame): a shared machine's speed drifts by tens of percent within a
+/// minute, and systems run one after the other would each meet a different phase of it.
+pub fn run_in_turns(systems: &mut [Box<dyn System + '_>], frames: u32) -> Vec<SystemRun> {
+    let mut runs: Vec<SystemRun> = systems.iter().map(|s| SystemRun { system: s.name(), ..SystemRun::default() }).collect();
+    for f in 0..=frames {
+        for k in 0..systems.len() {
+            let i = (k + f as usize) % systems.len();
+            let time = systems[i].frame(f);
+            if f == 0 { runs[i].first = time } else { runs[i].frames.push(time) }
+        }
+    }
+    runs
+}
+
+/// The median over frames 1..=N of `ours`' frame measure `of` over `theirs`' in the same
+/// frame (the two ran in turns, so each frame's pair met the same machine).
+pub fn paired_ratio(ours: &SystemRun, theirs: &SystemRun, of: fn(&FrameTime) -> f64) -> f64 {
+    let ratios: Vec<f64> = ours.frames.iter().zip(&theirs.frames).map(|(a, b)| of(a) / of(b)).collect();
+    median(&ratios)
 }
 
 /// Triangles after instancing.

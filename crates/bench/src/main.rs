@@ -140,18 +140,21 @@ fn main() {
                 let name = animation.name();
                 let mut runs = Vec::new();
                 for api in [Api::Single, Api::Packets] {
-                    eprintln!("{name}: raystage ({api:?})");
-                    runs.push(dynamic::run_raystage(animation.as_ref(), frames, threads.max(1), api));
+                    // The systems that hand rays over the same way take turns frame by frame.
+                    let threads = threads.max(1);
+                    let mut systems: Vec<Box<dyn dynamic::System + '_>> = vec![Box::new(dynamic::Raystage::new(animation.as_ref(), threads, api))];
                     #[cfg(feature = "embree")]
                     {
                         use raystage_bench::embree::Quality;
                         let moving = animation.objects().iter().any(|o| o.kind == raystage_scene::ObjectKind::Unstructured);
                         let qualities = if moving { vec![Quality::Low, Quality::Refit] } else { vec![Quality::Low] };
                         for q in qualities {
-                            eprintln!("{name}: embree {} ({api:?})", q.name());
-                            runs.push(dynamic::run_embree(animation.as_ref(), frames, threads.max(1), q, api));
+                            systems.push(Box::new(dynamic::Embree::new(animation.as_ref(), threads, q, api)));
                         }
                     }
+                    let names: Vec<String> = systems.iter().map(|s| s.name()).collect();
+                    eprintln!("{name}: {} in turns", names.join(", "));
+                    runs.extend(dynamic::run_in_turns(&mut systems, frames));
                 }
                 let triangles = dynamic::instanced_triangles(animation.as_ref());
                 let instances = animation.instances(0).len();

@@ -81,7 +81,8 @@ pub fn kernel_table(run: &SceneRun) -> String {
 }
 
 /// The dynamic benchmark of one scene as a table: one column per system, medians per frame,
-/// and each other system's frame time relative to raystage's (below 1 means raystage is faster).
+/// and raystage's frame times relative to each other system's, the median of the frames' ratios
+/// (below 1 means raystage is faster).
 pub fn dynamic_table(scene: &str, triangles: u64, instances: usize, frames: usize, threads: usize, runs: &[crate::dynamic::SystemRun]) -> String {
     let mut out = String::new();
     let _ = writeln!(
@@ -112,18 +113,20 @@ pub fn dynamic_table(scene: &str, triangles: u64, instances: usize, frames: usiz
         }
         let _ = writeln!(out);
     }
-    // Each raystage run against the Embree runs that hand rays over the same way.
-    let packets = |r: &crate::dynamic::DynamicReport| r.system.ends_with("-packets");
-    for ours in reports.iter().filter(|r| r.system.starts_with("raystage")) {
-        for theirs in reports.iter().filter(|r| !r.system.starts_with("raystage") && packets(r) == packets(ours)) {
+    // Each raystage run against the Embree runs that hand rays over the same way, frame by
+    // frame (they took turns).
+    let packets = |r: &crate::dynamic::SystemRun| r.system.ends_with("-packets");
+    for ours in runs.iter().filter(|r| r.system.starts_with("raystage")) {
+        for theirs in runs.iter().filter(|r| !r.system.starts_with("raystage") && packets(r) == packets(ours)) {
+            let ratio = |of: fn(&crate::dynamic::FrameTime) -> f64| crate::dynamic::paired_ratio(ours, theirs, of);
             let _ = writeln!(
                 out,
-                "  {} / {}: frame time {:.2}x, update {:.2}x, trace {:.2}x",
+                "  {} / {}: frame time {:.2}x, update {:.2}x, trace {:.2}x (medians of the frames' ratios)",
                 ours.system,
                 theirs.system,
-                ours.frame_ms / theirs.frame_ms,
-                ours.update_ms / theirs.update_ms,
-                ours.trace_ms / theirs.trace_ms
+                ratio(|f| f.update + f.trace),
+                ratio(|f| f.update),
+                ratio(|f| f.trace)
             );
         }
     }
