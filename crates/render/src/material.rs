@@ -36,10 +36,34 @@ struct Resolved<'f> {
     texture: Option<&'f Texture>,
 }
 
+/// What the eye-light preview shows of a shader, worked out when the frame starts: a hit on a
+/// surface whose colour does not vary then costs one small lookup.
+#[derive(Clone, Copy, Debug)]
+struct Preview {
+    /// The colour shown, unless it varies over the surface.
+    colour: Vec3,
+    /// Whether the eye light shades it (the models that reflect light).
+    lit: bool,
+    /// Whether the colour varies over the surface (a texture or vertex colours scale it).
+    varies: bool,
+}
+
+impl Preview {
+    fn of(r: &Resolved<'_>) -> Preview {
+        match r.base.model {
+            ShadingModel::Constant | ShadingModel::Emissive => Preview { colour: r.base.emission, lit: false, varies: false },
+            model => Preview { colour: r.base.albedo, lit: true, varies: r.texture.is_some() || model == ShadingModel::VertexColor },
+        }
+    }
+}
+
 /// The frame's shaders, resolved (indexed by shader id), and the default shader.
 pub(crate) struct Materials<'f> {
     by_id: Vec<Option<Resolved<'f>>>,
     default: Resolved<'f>,
+    /// Each shader's preview: the default shader's first, then by id (ids without a shader
+    /// have the default's).
+    previews: Vec<Preview>,
 }
 
 impl<'f> Materials<'f> {
@@ -53,7 +77,9 @@ impl<'f> Materials<'f> {
             }
             by_id[index] = Some(Resolved::of(frame, shader));
         }
-        Materials { by_id, default: Resolved::of(frame, frame.default_shader()) }
+        let default = Resolved::of(frame, frame.default_shader());
+        let previews = std::iter::once(Preview::of(&default)).chain(by_id.iter().map(|r| Preview::of(r.as_ref().unwrap_or(&default)))).collect();
+        Materials { by_id, default, previews }
     }
 
     /// The material at `sp`.
@@ -69,15 +95,14 @@ impl<'f> Materials<'f> {
     /// varies.
     #[inline(always)]
     pub fn preview_colour(&self, pp: &PreviewPoint, attributes: impl FnOnce() -> PreviewAttributes) -> (Vec3, bool) {
-        let r = self.resolved(pp.shader_id);
-        match r.base.model {
-            ShadingModel::Constant | ShadingModel::Emissive => (r.base.emission, false),
-            _ if r.texture.is_none() && r.base.model != ShadingModel::VertexColor => (r.base.albedo, true),
-            _ => {
-                let a = attributes();
-                (r.scale(a.local_position, a.uv, a.color).map_or(r.base.albedo, |s| r.base.albedo * s), true)
-            }
+        let index = pp.shader_id.map_or(0, |id| id.0 as usize + 1);
+        let preview = self.previews.get(index).unwrap_or(&self.previews[0]);
+        if !preview.varies {
+            return (preview.colour, preview.lit);
         }
+        let r = self.resolved(pp.shader_id);
+        let a = attributes();
+        (r.scale(a.local_position, a.uv, a.color).map_or(r.base.albedo, |s| r.base.albedo * s), true)
     }
 
     /// The albedo of a shader that is plain matte, an untextured `Diffuse` (its material is
