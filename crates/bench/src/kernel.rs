@@ -181,7 +181,7 @@ impl RaySets {
 /// One line of the JSON report: one system on one scene at one thread count (medians).
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct KernelReport {
-    /// `raystage` or `embree`.
+    /// `raystage`, `embree` or `embree-robust`.
     pub system: String,
     /// `sphere` or `soup`.
     pub scene: String,
@@ -336,8 +336,10 @@ pub fn run(scene: StandardScene, threads: usize, reps: usize, mut progress: impl
     let sets = RaySets::new(scene, &mesh, &bvhs[0]);
     #[allow(unused_mut)]
     let mut embree_medium_build = Vec::new();
+    // Per thread count: Embree at HIGH quality, built `reps` times (the build is measured), and
+    // the same in robust mode, built once.
     #[cfg(feature = "embree")]
-    let embree_scenes: Vec<crate::embree::Scene> = counts
+    let embree_scenes: Vec<(crate::embree::Scene, crate::embree::Scene)> = counts
         .iter()
         .map(|&t| {
             use crate::embree::{Device, Quality, Scene};
@@ -356,7 +358,10 @@ pub fn run(scene: StandardScene, threads: usize, reps: usize, mut progress: impl
                 kept = Some(s);
             }
             runs.push(("embree", t, samples));
-            kept.expect("reps >= 1")
+            let (robust, secs) = Scene::build_robust(&device, &mesh, Quality::High);
+            progress(&format!("{}: embree HIGH robust build, {t} thread(s): {secs:.3} s", scene.name()));
+            runs.push(("embree-robust", t, Samples { build: vec![secs], ..Samples::default() }));
+            (kept.expect("reps >= 1"), robust)
         })
         .collect();
     for rep in 0..reps {
@@ -364,7 +369,10 @@ pub fn run(scene: StandardScene, threads: usize, reps: usize, mut progress: impl
             #[allow(unused_mut)]
             let mut tracers: Vec<(&str, &dyn Tracer)> = vec![("raystage", &bvhs[i])];
             #[cfg(feature = "embree")]
-            tracers.push(("embree", &embree_scenes[i]));
+            {
+                tracers.push(("embree", &embree_scenes[i].0));
+                tracers.push(("embree-robust", &embree_scenes[i].1));
+            }
             let only: Vec<&dyn Tracer> = tracers.iter().map(|(_, tr)| *tr).collect();
             for ((name, _), traced) in tracers.iter().zip(trace_interleaved(&only, &sets, t)) {
                 let entry = runs.iter_mut().find(|(s, th, _)| s == name && *th == t).expect("run registered");

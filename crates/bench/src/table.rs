@@ -17,9 +17,10 @@ struct RaySet {
     rays: usize,
 }
 
-/// The kernel benchmark of one scene as a table: one column per system and the raystage/Embree
-/// ratio of each row (build: raystage's time over Embree's, below 1 is faster; throughput:
-/// raystage's rate over Embree's, above 1 is faster).
+/// The kernel benchmark of one scene as a table: one column per system (raystage, Embree, Embree
+/// in robust mode) and the raystage/Embree ratio of each row against both (build: raystage's
+/// time over Embree's, below 1 is faster; throughput: raystage's rate over Embree's, above 1 is
+/// faster).
 pub fn kernel_table(run: &SceneRun) -> String {
     let mut out = String::new();
     let reps = run.runs.first().map_or(0, |r| r.2.build.len());
@@ -42,20 +43,20 @@ pub fn kernel_table(run: &SceneRun) -> String {
     thread_counts.dedup();
     for threads in thread_counts {
         let find = |system: &str| run.runs.iter().find(|r| r.0 == system && r.1 == threads).map(|r| &r.2);
-        let (ours, theirs) = (find("raystage"), find("embree"));
-        let _ = writeln!(out, "  {threads} thread(s)              raystage      embree   ratio");
-        let row = |out: &mut String, name: &str, a: Option<f64>, b: Option<f64>, unit: &str| {
-            let fmt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));
-            let ratio = match (a, b) {
-                (Some(a), Some(b)) if b > 0.0 => format!("{:.2}x", a / b),
-                _ => "-".to_string(),
+        let (ours, theirs, robust) = (find("raystage"), find("embree"), find("embree-robust"));
+        let _ = writeln!(out, "  {threads} thread(s)              raystage      embree   ratio   robust   ratio");
+        let row = |out: &mut String, name: &str, a: Option<f64>, b: Option<f64>, c: Option<f64>, unit: &str| {
+            let fmt = |v: Option<f64>, width: usize| v.map_or(format!("{:>width$}", "-"), |v| format!("{v:>width$.3}"));
+            let ratio = |b: Option<f64>| match (a, b) {
+                (Some(a), Some(b)) if b > 0.0 => format!("{:>7}", format!("{:.2}x", a / b)),
+                _ => format!("{:>7}", "-"),
             };
-            let _ = writeln!(out, "  {name:<22} {:>9} {:>11} {ratio:>7}  {unit}", fmt(a), fmt(b));
+            let _ = writeln!(out, "  {name:<22} {} {} {} {} {}  {unit}", fmt(a, 9), fmt(b, 11), ratio(b), fmt(c, 8), ratio(c));
         };
         let build = |s: &Samples| median(&s.build);
-        row(&mut out, "build", ours.map(build), theirs.map(build), "s (Embree HIGH)");
+        row(&mut out, "build", ours.map(build), theirs.map(build), robust.map(build), "s (Embree HIGH)");
         if let Some((_, m)) = run.embree_medium_build.iter().find(|(t, _)| *t == threads) {
-            row(&mut out, "build", ours.map(build), Some(*m), "s (Embree MEDIUM)");
+            row(&mut out, "build", ours.map(build), Some(*m), None, "s (Embree MEDIUM)");
         }
         for set in &sets {
             let rate = |s: &Samples| mrays((set.runs)(s), set.rays);
@@ -63,18 +64,26 @@ pub fn kernel_table(run: &SceneRun) -> String {
                 "primary packets" => "Mrays/s (8 rays per call: rtcIntersect8)",
                 _ => "Mrays/s (1 ray per call: rtcIntersect1)",
             };
-            row(&mut out, set.name, ours.map(rate), theirs.map(rate), unit);
+            row(&mut out, set.name, ours.map(rate), theirs.map(rate), robust.map(rate), unit);
         }
-        let packets_vs_single = (ours.map(|s| mrays(&s.packets, run.sets.packets.len())), theirs.map(|s| mrays(&s.primary, run.sets.primary.len())));
-        if let (Some(a), Some(b)) = packets_vs_single {
-            row(&mut out, "raystage packets vs", Some(a), Some(b), "Mrays/s (Embree rtcIntersect1)");
+        let single = |s: &Samples| mrays(&s.primary, run.sets.primary.len());
+        if let Some(s) = ours {
+            let packets = Some(mrays(&s.packets, run.sets.packets.len()));
+            row(&mut out, "raystage packets vs", packets, theirs.map(single), robust.map(single), "Mrays/s (Embree rtcIntersect1)");
         }
         for set in &sets {
             let checksum = |s: Option<&Samples>| {
                 s.and_then(|s| (set.runs)(s).last().copied())
                     .map_or("-".to_string(), |t| format!("{} hits, sum t {:.1}", t.hits, t.tsum))
             };
-            let _ = writeln!(out, "    {:<20} raystage {} | embree {}", format!("{} checksum", set.name), checksum(ours), checksum(theirs));
+            let _ = writeln!(
+                out,
+                "    {:<20} raystage {} | embree {} | robust {}",
+                format!("{} checksum", set.name),
+                checksum(ours),
+                checksum(theirs),
+                checksum(robust)
+            );
         }
     }
     out
