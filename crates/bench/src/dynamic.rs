@@ -190,8 +190,8 @@ fn trace_frame(rays: &[Ray], sun: glam::Vec3, threads: usize, api: Api, queries:
 /// One system of the benchmark, brought up to date and traced one frame at a time, so that
 /// several systems can take turns frame by frame (see [`run_in_turns`]).
 pub trait System {
-    /// Its name in the tables: `raystage` or `embree-<quality>`, with `-packets` when primary
-    /// rays go in packets.
+    /// Its name in the tables: `raystage` or `embree-<quality>` (`-robust` in robust mode),
+    /// with `-packets` when primary rays go in packets.
     fn name(&self) -> String;
     /// Moves to frame `f` of the animation (frames come in order from 0) and traces it.
     fn frame(&mut self, f: u32) -> FrameTime;
@@ -262,6 +262,7 @@ pub struct Embree<'a> {
     /// Seconds of the initial commits, frame 0's update.
     built: f64,
     quality: crate::embree::Quality,
+    robust: bool,
     rays: Vec<Ray>,
     threads: usize,
     api: Api,
@@ -269,9 +270,10 @@ pub struct Embree<'a> {
 
 #[cfg(feature = "embree")]
 impl<'a> Embree<'a> {
-    /// `animation` built at frame 0 with moving objects at `unstructured_quality`, to be traced
-    /// on `threads` threads.
-    pub fn new(animation: &'a dyn Animation, threads: usize, unstructured_quality: crate::embree::Quality, api: Api) -> Embree<'a> {
+    /// `animation` built at frame 0 with moving objects at `unstructured_quality`, in robust
+    /// mode if `robust` (see [`crate::embree::Scene::build_robust`]), to be traced on `threads`
+    /// threads.
+    pub fn new(animation: &'a dyn Animation, threads: usize, unstructured_quality: crate::embree::Quality, robust: bool, api: Api) -> Embree<'a> {
         use crate::embree::{Device, InstancedScene, Quality};
         use raystage_scene::ObjectKind;
 
@@ -286,15 +288,16 @@ impl<'a> Embree<'a> {
             .collect();
         let view = animation.view();
         let camera = Camera::look_at(view.eye, view.target, glam::Vec3::Y, view.fov_y_degrees).expect("valid view");
-        let (scene, built) = InstancedScene::build(&device, &specs, &animation.instances(0), Quality::Low);
-        Embree { animation, scene, _device: device, built, quality: unstructured_quality, rays: rays_for(&camera, api), threads, api }
+        let (scene, built) = InstancedScene::build(&device, &specs, &animation.instances(0), Quality::Low, robust);
+        Embree { animation, scene, _device: device, built, quality: unstructured_quality, robust, rays: rays_for(&camera, api), threads, api }
     }
 }
 
 #[cfg(feature = "embree")]
 impl System for Embree<'_> {
     fn name(&self) -> String {
-        system_name(&format!("embree-{}", self.quality.name().to_lowercase()), self.api)
+        let robust = if self.robust { "-robust" } else { "" };
+        system_name(&format!("embree-{}{robust}", self.quality.name().to_lowercase()), self.api)
     }
 
     fn frame(&mut self, f: u32) -> FrameTime {

@@ -379,14 +379,17 @@ fn columns(t: &glam::Affine3A) -> [f32; 12] {
 
 impl InstancedScene {
     /// Builds every object with its quality (`dynamic` objects get Embree's dynamic flag) and
-    /// the top level (`top_quality`) over `instances` (object index, object to world); returns
-    /// the scene and the seconds Embree spent committing.
+    /// the top level (`top_quality`) over `instances` (object index, object to world), every
+    /// scene in robust mode if `robust` (see [`Scene::build_robust`]); returns the scene and the
+    /// seconds Embree spent committing.
     pub fn build(
         device: &Device,
         objects: &[(&Mesh, Quality, bool)],
         instances: &[(usize, glam::Affine3A)],
         top_quality: Quality,
+        robust: bool,
     ) -> (InstancedScene, f64) {
+        let robust_flag = if robust { SCENE_FLAG_ROBUST } else { 0 };
         let mut seconds = 0.0;
         // SAFETY: buffers are sized by Embree for exactly the items written; every handle is
         // released once, in `drop`.
@@ -395,9 +398,7 @@ impl InstancedScene {
                 .iter()
                 .map(|&(mesh, quality, dynamic)| {
                     let scene = rtcNewScene(device.raw);
-                    if dynamic {
-                        rtcSetSceneFlags(scene, SCENE_FLAG_DYNAMIC);
-                    }
+                    rtcSetSceneFlags(scene, robust_flag | if dynamic { SCENE_FLAG_DYNAMIC } else { 0 });
                     rtcSetSceneBuildQuality(scene, if quality == Quality::Refit { Quality::Low as u32 } else { quality as u32 });
                     let geometry = rtcNewGeometry(device.raw, GEOMETRY_TYPE_TRIANGLE);
                     rtcSetGeometryBuildQuality(geometry, quality as u32);
@@ -420,7 +421,7 @@ impl InstancedScene {
                 })
                 .collect();
             let top = rtcNewScene(device.raw);
-            rtcSetSceneFlags(top, SCENE_FLAG_DYNAMIC);
+            rtcSetSceneFlags(top, robust_flag | SCENE_FLAG_DYNAMIC);
             rtcSetSceneBuildQuality(top, top_quality as u32);
             let start = Instant::now();
             let instances = instances

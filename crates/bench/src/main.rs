@@ -149,8 +149,10 @@ fn main() {
                         let moving = animation.objects().iter().any(|o| o.kind == raystage_scene::ObjectKind::Unstructured);
                         let qualities = if moving { vec![Quality::Low, Quality::Refit] } else { vec![Quality::Low] };
                         for q in qualities {
-                            systems.push(Box::new(dynamic::Embree::new(animation.as_ref(), threads, q, api)));
+                            systems.push(Box::new(dynamic::Embree::new(animation.as_ref(), threads, q, false, api)));
                         }
+                        // Embree with raystage's guarantees (see `Scene::build_robust`).
+                        systems.push(Box::new(dynamic::Embree::new(animation.as_ref(), threads, Quality::Low, true, api)));
                     }
                     let names: Vec<String> = systems.iter().map(|s| s.name()).collect();
                     eprintln!("{name}: {} in turns", names.join(", "));
