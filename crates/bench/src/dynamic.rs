@@ -250,9 +250,9 @@ impl System for Raystage<'_> {
     }
 }
 
-/// Embree on an animation: objects at `object_quality` (static and animated objects at
-/// MEDIUM), unstructured ones at `unstructured_quality`, top level LOW; primary rays one by one
-/// (`rtcIntersect1`) or in packets (`rtcIntersect8`) as `api` says.
+/// Embree on an animation: static and animated objects at MEDIUM, unstructured ones at the
+/// quality [`Embree::new`] is given, top level LOW; primary rays one by one (`rtcIntersect1`) or
+/// in packets (`rtcIntersect8`) as `api` says.
 #[cfg(feature = "embree")]
 pub struct Embree<'a> {
     animation: &'a dyn Animation,
