@@ -17,7 +17,10 @@ mod serve;
 mod report;
 mod view;
 
-pub use render::{MAX_DIMENSION, MAX_THREADS, RenderJob, RenderReport, SceneSource, parse_demo, parse_integrator, render_scene};
+pub use render::{
+    Environment, EnvironmentSource, MAX_DIMENSION, MAX_THREADS, RenderJob, RenderReport, SceneSource, parse_background, parse_demo, parse_environment, parse_filter,
+    parse_integrator, parse_switch, render_scene,
+};
 pub use serve::{ServeJob, serve};
 pub use report::{ReportJob, run_report};
 pub use view::{ViewJob, view};

@@ -50,6 +50,38 @@ enum Command {
         /// Samples per pixel.
         #[arg(long, default_value_t = 1)]
         spp: u32,
+        /// Light from all around the scene: a radiance (R,G,B or one number) or an
+        /// equirectangular image (.hdr, .exr, .png, .jpg; its top row straight up), sampled by
+        /// brightness.
+        #[arg(long, value_parser = raystage::parse_environment, allow_hyphen_values = true)]
+        environment: Option<raystage::EnvironmentSource>,
+        /// Turns the environment about the up axis by this many degrees.
+        #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+        environment_rotate: f32,
+        /// Scales the environment's radiance.
+        #[arg(long, default_value_t = 1.0)]
+        environment_intensity: f32,
+        /// What camera rays that hit nothing show: sky, black or R,G,B [default: the
+        /// environment if there is one, the sky where the default lights the scene, else black].
+        #[arg(long, value_parser = raystage::parse_background, allow_hyphen_values = true)]
+        background: Option<raystage_scene::Background>,
+        /// Leave a scene that nothing lights dark, instead of lighting it by the default sky.
+        #[arg(long)]
+        no_default_lights: bool,
+        /// Longest path in segments, the camera ray included (as Mitsuba counts), or deepest
+        /// recursion: 1 to 64.
+        #[arg(long, default_value_t = raystage_render::RenderSettings::default().max_depth)]
+        max_depth: u32,
+        /// Whether the path tracer ends paths early by Russian roulette (unbiased): on or off.
+        #[arg(long, default_value = "on", value_parser = raystage::parse_switch, action = clap::ArgAction::Set)]
+        russian_roulette: bool,
+        /// The pixel filter: box (the plain average over the pixel's square), gaussian or
+        /// gaussian:RADIUS (in pixels, up to 4).
+        #[arg(long, default_value = "box", value_parser = raystage::parse_filter)]
+        filter: raystage_render::Filter,
+        /// Seed of the sample sequences.
+        #[arg(long, default_value_t = 0)]
+        seed: u32,
     },
     /// Serve the HTTP/JSON API: scenes, edits, PNG frames and a WebSocket stream.
     Serve {
@@ -105,9 +137,42 @@ enum Command {
 
 fn main() -> ExitCode {
     let result = match Cli::parse().command {
-        Command::Render { scene, demo, frame, out, width, height, threads, integrator, spp } => {
+        Command::Render {
+            scene,
+            demo,
+            frame,
+            out,
+            width,
+            height,
+            threads,
+            integrator,
+            spp,
+            environment,
+            environment_rotate,
+            environment_intensity,
+            background,
+            no_default_lights,
+            max_depth,
+            russian_roulette,
+            filter,
+            seed,
+        } => {
             let scene = SceneSource::from_args(scene, demo, frame).expect("clap requires a file or a demo");
-            let job = RenderJob { scene, width, height, threads, integrator, samples: spp, out };
+            let settings = raystage_render::RenderSettings {
+                width,
+                height,
+                samples_per_pixel: spp,
+                max_depth,
+                russian_roulette,
+                filter,
+                seed,
+                default_lights: !no_default_lights,
+                background,
+                ..Default::default()
+            };
+            let environment =
+                environment.map(|source| raystage::Environment { source, rotate_degrees: environment_rotate, intensity: environment_intensity });
+            let job = RenderJob { scene, threads, integrator, settings, environment, out };
             raystage::render_scene(&job, &mut std::io::stdout().lock()).map(|_| ())
         }
         Command::Serve { scene, demo, addr, token } => {

@@ -7,10 +7,11 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail, ensure};
+use glam::Vec3;
 use indicatif::{ProgressBar, ProgressStyle};
 use raystage_demo::animated::Demo;
-use raystage_render::{FrameStats, Integrator, Progressive, RenderSettings};
-use raystage_scene::Scene;
+use raystage_render::{Filter, FrameStats, Integrator, Progressive, RenderSettings};
+use raystage_scene::{Background, Image, Light, Scene, Texture};
 
 /// Largest accepted image width or height in pixels.
 pub const MAX_DIMENSION: u32 = 16_384;
@@ -69,19 +70,112 @@ impl SceneSource {
 pub struct RenderJob {
     /// The scene.
     pub scene: SceneSource,
-    /// Image width in pixels, `1..=MAX_DIMENSION`.
-    pub width: u32,
-    /// Image height in pixels, `1..=MAX_DIMENSION`.
-    pub height: u32,
     /// Threads for the BVH build and the render, `1..=MAX_THREADS`; `None` for one per core.
     pub threads: Option<usize>,
-    /// How pixels are shaded; `None` for Whitted's ray tracing if the scene has lights and the
-    /// eye-light preview if it has none.
+    /// How pixels are shaded; `None` for Whitted's ray tracing if anything lights the scene
+    /// (the default sky does, unless `settings.default_lights` is off) and the eye-light
+    /// preview if nothing does.
     pub integrator: Option<Integrator>,
-    /// Samples per pixel.
-    pub samples: u32,
+    /// Everything else about the frame: size (each side `1..=MAX_DIMENSION`), samples per
+    /// pixel, path length, filter, backdrop, default lights, seed. Its integrator is replaced by
+    /// `integrator`'s choice.
+    pub settings: RenderSettings,
+    /// An environment light to add to the scene.
+    pub environment: Option<Environment>,
     /// The PNG file to write (created or replaced).
     pub out: PathBuf,
+}
+
+/// An environment light as the command line asks for it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Environment {
+    /// Where its light comes from.
+    pub source: EnvironmentSource,
+    /// Turns it about the up axis (+y) by this many degrees.
+    pub rotate_degrees: f32,
+    /// Scales its radiance.
+    pub intensity: f32,
+}
+
+/// Light from all around: one radiance, or a latitude-longitude image.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EnvironmentSource {
+    /// The same radiance from every direction, linear RGB.
+    Uniform(Vec3),
+    /// An equirectangular image (Radiance HDR, OpenEXR, PNG or JPEG), its top row straight up.
+    Image(PathBuf),
+}
+
+/// Parses `R,G,B` (three numbers) or one number as a non-negative linear colour.
+fn parse_colour(text: &str) -> Option<Vec3> {
+    let numbers: Vec<f32> = text.split(',').map(|n| n.trim().parse().ok()).collect::<Option<_>>()?;
+    let colour = match numbers[..] {
+        [v] => Vec3::splat(v),
+        [r, g, b] => Vec3::new(r, g, b),
+        _ => return None,
+    };
+    (colour.is_finite() && colour.min_element() >= 0.0).then_some(colour)
+}
+
+/// Parses `--environment`: a radiance (`R,G,B` or one number) or an image file's path.
+pub fn parse_environment(text: &str) -> Result<EnvironmentSource> {
+    if let Some(colour) = parse_colour(text) {
+        return Ok(EnvironmentSource::Uniform(colour));
+    }
+    let path = PathBuf::from(text);
+    let known = ["hdr", "exr", "png", "jpg", "jpeg"];
+    match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase) {
+        Some(ext) if known.contains(&ext.as_str()) => Ok(EnvironmentSource::Image(path)),
+        _ => bail!("`{text}` is neither a radiance (R,G,B or one number, not negative) nor an image file (.hdr, .exr, .png, .jpg)"),
+    }
+}
+
+/// Parses `--background`: `sky`, `black` or a colour (`R,G,B` or one number).
+pub fn parse_background(text: &str) -> Result<Background> {
+    Ok(text.parse()?)
+}
+
+/// Parses `--filter`: `box` (the plain average of samples over the pixel's square) or
+/// `gaussian` with an optional radius in pixels (`gaussian:1.5`, 1.5 by default).
+pub fn parse_filter(text: &str) -> Result<Filter> {
+    Ok(text.parse()?)
+}
+
+/// Parses `on` or `off`.
+pub fn parse_switch(text: &str) -> Result<bool> {
+    match text {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        _ => bail!("expected on or off, got `{text}`"),
+    }
+}
+
+/// Adds `environment` to `scene`.
+fn add_environment(scene: &mut Scene, environment: &Environment) -> Result<()> {
+    let intensity = environment.intensity;
+    ensure!(intensity.is_finite() && intensity >= 0.0, "--environment-intensity must be a number not below 0, got {intensity}");
+    ensure!(environment.rotate_degrees.is_finite(), "--environment-rotate must be a number of degrees");
+    let light = match &environment.source {
+        EnvironmentSource::Uniform(radiance) => Light::Environment { radiance: *radiance * intensity, map: None },
+        EnvironmentSource::Image(path) => {
+            let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+            let image = Image::decode(&bytes).with_context(|| format!("cannot decode {}", path.display()))?;
+            let image = rotated_about_up(&image, environment.rotate_degrees);
+            let texture = scene.add_texture(Texture::Image(image.into()))?;
+            Light::Environment { radiance: Vec3::splat(intensity), map: Some(texture) }
+        }
+    };
+    scene.add_light(light)?;
+    Ok(())
+}
+
+/// A latitude-longitude image turned about the up axis by `degrees` (counter-clockwise seen
+/// from above): its columns shifted, to the nearest column.
+fn rotated_about_up(image: &Image, degrees: f32) -> Image {
+    let (w, h) = (image.width() as i64, image.height() as i64);
+    let shift = (degrees / 360.0 * w as f32).round() as i64;
+    let texels = (0..h).flat_map(|y| (0..w).map(move |x| image.texel((x + shift).rem_euclid(w), y))).collect();
+    Image::new(w as u32, h as u32, texels).expect("the same size as a valid image")
 }
 
 /// What a render cost.
@@ -118,7 +212,7 @@ pub fn parse_demo(name: &str) -> Result<Demo> {
 /// The job is checked first and the output file created before any work, so that bad arguments
 /// and unwritable paths fail at once rather than after the render.
 pub fn render_scene(job: &RenderJob, log: &mut impl Write) -> Result<RenderReport> {
-    for (name, value) in [("width", job.width), ("height", job.height)] {
+    for (name, value) in [("width", job.settings.width), ("height", job.settings.height)] {
         ensure!((1..=MAX_DIMENSION).contains(&value), "--{name} must be between 1 and {MAX_DIMENSION}, got {value}");
     }
     let mut pool = rayon::ThreadPoolBuilder::new();
@@ -129,24 +223,37 @@ pub fn render_scene(job: &RenderJob, log: &mut impl Write) -> Result<RenderRepor
     let pool = pool.build().context("cannot start the render threads")?;
     let mut out = File::create(&job.out).with_context(|| format!("cannot create {}", job.out.display()))?;
 
-    let scene = job.scene.load(log)?;
-    let integrator = job.integrator.unwrap_or(if scene.lights().next().is_some() { Integrator::Whitted } else { Integrator::EyeLight });
-    let settings = RenderSettings { width: job.width, height: job.height, integrator, samples_per_pixel: job.samples, ..RenderSettings::default() };
+    let mut scene = job.scene.load(log)?;
+    if let Some(environment) = &job.environment {
+        add_environment(&mut scene, environment)?;
+    }
+    // Whitted's ray tracing for anything lit (the default sky lights every scene that allows
+    // it); the preview for a scene that nothing lights.
+    let lit = scene.lights().next().is_some() || job.settings.default_lights || scene.shaders().any(|(_, s)| s.class().name == "Emissive");
+    let integrator = job.integrator.unwrap_or(if lit { Integrator::Whitted } else { Integrator::EyeLight });
+    let settings = RenderSettings { integrator, ..job.settings };
     let (png, frame) = pool.install(|| render_with_progress(&scene, &settings)).context("bad render settings")?;
     out.write_all(&png).with_context(|| format!("cannot write {}", job.out.display()))?;
 
     let triangles = scene.object_ids().map(|id| scene.mesh(id).map_or(0, |m| m.indices.len())).sum();
     let report = RenderReport { triangles, threads: pool.current_num_threads(), frame };
+    if frame.default_lights {
+        writeln!(log, "note: nothing in the scene gives light: the default sky lights it (--no-default-lights turns it off)")?;
+    }
+    if frame.non_finite > 0 {
+        writeln!(log, "warning: {} samples came out NaN or infinite and went in as black", frame.non_finite)?;
+    }
     writeln!(
         log,
-        "{}x{} {} ({} triangles), {} at {} spp [{}]: {:.3} s on {} {} (lazy BVH builds {:.3} s of it), {} rays ({} primary, {} shadow) at {:.1} Mrays/s -> {}",
-        job.width,
-        job.height,
+        "{}x{} {} ({} triangles), {} at {} spp [{}]{}: {:.3} s on {} {} (lazy BVH builds {:.3} s of it), {} rays ({} primary, {} shadow) at {:.1} Mrays/s -> {}",
+        settings.width,
+        settings.height,
         job.scene.name(),
         triangles,
         integrator.name(),
-        job.samples,
+        settings.samples_per_pixel,
         frame.effects.names().join(", "),
+        if frame.default_lights { ", default sky" } else { "" },
         frame.seconds,
         report.threads,
         if report.threads == 1 { "thread" } else { "threads" },
@@ -182,6 +289,7 @@ fn render_with_progress(scene: &Scene, settings: &RenderSettings) -> Result<(Vec
                 sum.rays += pass.rays;
                 sum.time_samples += pass.time_samples;
                 sum.lens_samples += pass.lens_samples;
+                sum.non_finite += pass.non_finite;
                 sum.phases.trace_and_shade += pass.phases.trace_and_shade;
                 FrameStats { effects: pass.effects, work: pass.work, accumulated_samples: pass.accumulated_samples, ..sum }
             }

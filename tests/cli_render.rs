@@ -3,6 +3,8 @@
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
+mod common;
+
 fn raystage(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_raystage")).args(args).output().expect("the raystage binary runs")
 }
@@ -122,4 +124,63 @@ fn an_unwritable_output_is_an_error() {
     let dir = env!("CARGO_TARGET_TMPDIR");
     let stderr = failure(&["render", "--demo", "soup", "--out", dir]);
     assert!(stderr.contains(&format!("cannot create {dir}")), "{stderr}");
+}
+
+/// The options that set a render up like another renderer's: environment, backdrop, default
+/// lights, path length, filter, roulette and seed, each reaching the image or its summary.
+#[test]
+fn lighting_options_reach_the_image() {
+    let render = |name: &str, extra: &[&str]| {
+        let out = out_path(name);
+        let mut args = vec!["render", "--demo", "spheres", "--out", out.to_str().unwrap(), "--width", "64", "--height", "36", "--threads", "2"];
+        args.extend_from_slice(extra);
+        let output = raystage(&args);
+        let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+        assert!(output.status.success(), "{extra:?}: {stdout}{}", String::from_utf8_lossy(&output.stderr));
+        (image::open(&out).unwrap().to_rgb8(), stdout)
+    };
+    // The sky shows above the spheres (the demo's own backdrop); a red background replaces it.
+    let (sky, _) = render("sky.png", &[]);
+    let top = |image: &image::RgbImage| image.get_pixel(32, 0).0;
+    assert!(top(&sky)[2] > 150, "{:?}", top(&sky));
+    let (red, _) = render("red.png", &["--background", "1,0,0"]);
+    assert_eq!(top(&red), [255, 0, 0]);
+    // A uniform environment adds light: the image brightens.
+    let (lit, stdout) = render("environment.png", &["--environment", "0.5", "--background", "black", "--integrator", "path", "--spp", "4", "--max-depth", "3", "--filter", "gaussian:1", "--russian-roulette", "off", "--seed", "7"]);
+    let sum = |image: &image::RgbImage| image.pixels().map(|p| p.0.iter().map(|&c| c as u64).sum::<u64>()).sum::<u64>();
+    assert!(sum(&lit) > sum(&red) - 255 * 64, "the environment lights the spheres");
+    assert!(stdout.contains("path at 4 spp [shadows, area-lights"), "{stdout}");
+
+    for (args, expected) in [
+        (&["--environment", "nowhere.xyz"][..], "neither a radiance"),
+        (&["--environment", "-1"][..], "neither a radiance"),
+        (&["--background", "blue"][..], "not sky, black or a colour"),
+        (&["--filter", "tent"][..], "not box, gaussian"),
+        (&["--max-depth", "0"][..], "max_depth"),
+        (&["--russian-roulette", "maybe"][..], "expected on or off"),
+        (&["--environment", "missing.hdr"][..], "cannot read missing.hdr"),
+    ] {
+        let out = out_path("bad.png");
+        let mut all = vec!["render", "--demo", "spheres", "--out", out.to_str().unwrap(), "--width", "8", "--height", "8"];
+        all.extend_from_slice(args);
+        let stderr = failure(&all);
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
+    }
+}
+
+/// A glTF file with neither lights nor emitting materials is lit by the default sky, and the
+/// summary says so; `--no-default-lights` leaves it dark.
+#[test]
+fn a_scene_nothing_lights_gets_the_default_sky_unless_told_not_to() {
+    let file = common::write_gltf();
+    let out = out_path("defaulted.png");
+    let args = ["render", file.to_str().unwrap(), "--out", out.to_str().unwrap(), "--width", "16", "--height", "16"];
+    let output = raystage(&args);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success() && stdout.contains("default sky") && stdout.contains("note: nothing in the scene gives light"), "{stdout}");
+    let mut dark = args.to_vec();
+    dark.push("--no-default-lights");
+    let output = raystage(&dark);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success() && !stdout.contains("default sky") && stdout.contains("eyelight"), "{stdout}");
 }

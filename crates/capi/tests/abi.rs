@@ -345,8 +345,7 @@ fn mean_red(pixels: &[u8], w: usize, rows: std::ops::Range<usize>) -> f64 {
     rows.flat_map(|y| (0..w).map(move |x| (x, y))).map(|(x, y)| rgb(pixels, w, x, y)[0] as f64).sum::<f64>() / n as f64
 }
 
-/// A diffuse floor under an emitting panel, with no light shader: only the path tracer sees the
-/// panel's light, as it reaches the floor by bounces.
+/// A diffuse floor under an emitting panel, with no light shader: the panel is the only light.
 fn floor_under_a_glowing_panel() {
     let floor = shader(c"Diffuse");
     let panel = shader(c"Emissive");
@@ -373,8 +372,10 @@ fn the_path_tracer_lights_the_floor_by_bounces_and_samples_reduce_its_noise() {
         mean_red(&pixels, w, 24..32)
     };
     rtRenderParameteri(RT_SAMPLES_PER_PIXEL, 16);
+    // The glowing panel is a light to both: Whitted samples it, the path tracer too, and the
+    // floor (lit by nothing else, the panel reflecting nothing) comes out the same in both.
     let (whitted, path) = (floor(RT_WHITTED), floor(RT_PATH));
-    assert!(whitted < 5.0 && path > whitted + 30.0, "the floor's red: {whitted} with Whitted, {path} path traced");
+    assert!(whitted > 30.0 && (path - whitted).abs() < 5.0, "the floor's red: {whitted} with Whitted, {path} path traced");
     rtRenderParameteri(RT_RAY_DEPTH, 1);
     assert!(floor(RT_PATH) < 5.0, "paths of one segment see the panel, not the light it sheds");
     rtRenderParameteri(RT_RAY_DEPTH, 6);

@@ -11,6 +11,7 @@
 //! Not in here: acceleration structures, shading arithmetic, frame loops.
 
 pub mod animated;
+pub mod cornell_box;
 pub mod probe_math;
 mod scenes;
 pub mod shading;

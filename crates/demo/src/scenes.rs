@@ -3,7 +3,7 @@
 //! sun and a fill light.
 
 use glam::{Affine3A, Vec3};
-use raystage_scene::{Camera, Light, Mesh as SceneMesh, ObjectKind, ParamValue, Scene, SceneError, ShaderId};
+use raystage_scene::{Background, Camera, Light, Mesh as SceneMesh, ObjectKind, ParamValue, Scene, SceneError, ShaderId};
 
 use crate::StandardScene;
 
@@ -44,6 +44,8 @@ impl StandardScene {
         };
         scene.set_camera(Camera::look_at(eye, target, Vec3::Y, 60.0)?)?;
         let pi = std::f32::consts::PI;
+        // Outdoors: the sky behind, as a backdrop (the sun and fill light it).
+        scene.set_background(Some(Background::Sky))?;
         scene.add_light(Light::Directional { direction: Vec3::new(-0.5, -1.0, -0.4), intensity: Vec3::splat(0.85 * pi) })?;
         scene.add_light(Light::Directional { direction: Vec3::new(0.6, -0.3, -1.0), intensity: Vec3::splat(0.3 * pi) })?;
         Ok(scene)

@@ -149,20 +149,13 @@ impl Import {
     }
 
     /// A new scene holding everything, seen through the file's camera or, if it has none, a
-    /// camera that frames every instance. A file without lights gets the demo scenes' two:
-    /// a sun from above and in front and a dimmer fill light, so that every integrator shows
-    /// something (the sky is a background, not a light).
+    /// camera that frames every instance. A file with neither lights nor emitting materials is
+    /// lit by the renderer's default (the sky as an environment light), not by the importer.
     pub fn into_scene(self) -> Result<Scene, ImportError> {
         let camera = self.camera.unwrap_or_else(|| self.framing_camera());
-        let unlit = self.lights.is_empty();
         let mut scene = Scene::new();
         self.add_to(&mut scene)?;
         scene.set_camera(camera)?;
-        if unlit {
-            let pi = std::f32::consts::PI;
-            scene.add_light(Light::Directional { direction: Vec3::new(-0.5, -1.0, -0.4), intensity: Vec3::splat(0.85 * pi) })?;
-            scene.add_light(Light::Directional { direction: Vec3::new(0.6, -0.3, -1.0), intensity: Vec3::splat(0.3 * pi) })?;
-        }
         Ok(scene)
     }
 

@@ -3,9 +3,10 @@
 //! without lights traces no shadow rays, an opaque scene no refraction code, a still scene no
 //! time samples.
 
-use raystage_scene::{Frame, Light, ShadingModel};
+use raystage_scene::{Frame, ShadingModel};
 
 use crate::Integrator;
+use crate::lights::SceneLights;
 
 /// The effects a frame simulates.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -18,7 +19,7 @@ pub struct EffectSet {
     pub refraction: bool,
     /// Shadows that let light through transmissive surfaces.
     pub transparent_shadows: bool,
-    /// Soft shadows: area or environment lights, sampled over their extent.
+    /// Soft shadows: area and environment lights and emitting surfaces, sampled over their extent.
     pub area_lights: bool,
     /// Depth of field: the camera has an aperture.
     pub depth_of_field: bool,
@@ -33,14 +34,15 @@ pub struct EffectSet {
 }
 
 impl EffectSet {
-    /// The effects `frame` calls for under `integrator` with `samples` samples per pixel.
-    pub fn of(frame: &Frame<'_>, integrator: Integrator, samples: u32) -> EffectSet {
+    /// The effects `frame`, lit by `lights`, calls for under `integrator` with `samples` samples
+    /// per pixel.
+    pub(crate) fn of(frame: &Frame<'_>, lights: &SceneLights<'_>, integrator: Integrator, samples: u32) -> EffectSet {
         let models = frame.shading_models();
         let uses = |f: fn(ShadingModel) -> bool| models.iter().any(|&m| f(m));
         let shading = integrator != Integrator::EyeLight;
         let has_geometry = frame.instance_count() > 0;
-        let lights = frame.lights();
-        let shadows = shading && has_geometry && lights.iter().any(Light::casts_shadows);
+        // Every light but the ambient term (which the list does not hold) casts shadows.
+        let shadows = shading && has_geometry && lights.len() > 0;
         let reflection = shading && uses(ShadingModel::reflects);
         let refraction = shading && uses(ShadingModel::refracts);
         let distributed = matches!(integrator, Integrator::Distribution | Integrator::Path);
@@ -50,7 +52,7 @@ impl EffectSet {
             reflection,
             refraction,
             transparent_shadows: shadows && refraction,
-            area_lights: distributed && lights.iter().any(Light::has_area),
+            area_lights: distributed && lights.has_extended(),
             depth_of_field: distributed && camera.has_depth_of_field(),
             motion_blur: distributed && camera.has_open_shutter() && frame.has_motion(),
             ambient_occlusion: shading && uses(|m| m == ShadingModel::AmbientOcclusion),

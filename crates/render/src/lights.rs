@@ -6,13 +6,24 @@
 //! without a shadow ray; area lights are sampled uniformly over their area; environments by
 //! the cosine around the normal, or, for an image, by the image's brightness (a piecewise-
 //! constant 2D distribution over the latitude-longitude map, as in pbrt's image infinite light).
+//!
+//! Geometry that emits is light too: every instanced triangle whose material emits joins one
+//! light, [`Emitters`], which picks a triangle in proportion to its power and a point uniformly
+//! on it. A scene that nothing lights (no light, no emitting surface) gets a default: the sky
+//! as an environment light, which lights open and enclosed scenes alike.
 
+use std::borrow::Cow;
 use std::f32::consts::{PI, TAU};
 
 use glam::Vec3;
-use raystage_scene::{Frame, Image, Light, Texture};
+use raystage_scene::{Frame, Image, Light, Texture, WorldTriangle};
 
+use crate::material::Materials;
 use crate::warp::{Frame3, cosine_hemisphere, power_heuristic};
+
+/// Texels of the default sky environment's latitude-longitude image: fine enough that its
+/// gradient lights as the analytic sky does, small enough to bake at every frame start.
+const DEFAULT_SKY_SIZE: (u32, u32) = (64, 32);
 
 /// Light arriving at a point from one sampled position of a light.
 #[derive(Clone, Copy, Debug)]
@@ -49,6 +60,10 @@ pub(crate) struct SceneLights<'f> {
     ambient: Vec3,
     environment: bool,
     area: bool,
+    /// The light of emitting triangles, by its index in `lights`.
+    emitters: Option<usize>,
+    /// Whether the scene had no light of its own and was given the default sky.
+    defaulted: bool,
     /// Samples taken of each extended light per shading point: the light-sampling density that
     /// multiple importance sampling weighs a BSDF sample against is this many times the
     /// density of one.
@@ -104,11 +119,85 @@ enum Prepared<'f> {
     Directional { towards: Vec3, intensity: Vec3 },
     Area { corner: Vec3, edge_u: Vec3, edge_v: Vec3, normal: Vec3, area: f32, radiance: Vec3 },
     Environment { radiance: Vec3, map: Option<EnvironmentMap<'f>> },
+    Emitters(Emitters),
+}
+
+/// Every emitting triangle of a frame as one light: a triangle is picked in proportion to its
+/// power (luminance of its radiance × area), then a point uniformly over its area. The density
+/// over the area of all of them is then the same for every point of one radiance, the
+/// triangle's luminance over the total power, which a ray that hits an emitter needs for
+/// multiple importance sampling without knowing which triangle of the list it hit.
+struct Emitters {
+    triangles: Vec<Emitter>,
+    /// Picks a triangle by power.
+    by_power: Distribution,
+}
+
+/// One emitting triangle in the world.
+struct Emitter {
+    corner: Vec3,
+    edge_u: Vec3,
+    edge_v: Vec3,
+    /// Unit normal of the side it emits from.
+    normal: Vec3,
+    area: f32,
+    radiance: Vec3,
+}
+
+impl Emitters {
+    /// The light of `triangles` and their radiances, or `None` if none emits.
+    fn new(triangles: Vec<(WorldTriangle, Vec3)>) -> Option<Emitters> {
+        let triangles: Vec<Emitter> = triangles
+            .into_iter()
+            .filter(|(_, radiance)| luminance(*radiance) > 0.0)
+            .map(|(t, radiance)| Emitter {
+                corner: t.corners[0],
+                edge_u: t.corners[1] - t.corners[0],
+                edge_v: t.corners[2] - t.corners[0],
+                normal: t.front,
+                area: t.area,
+                radiance,
+            })
+            .collect();
+        let by_power = Distribution::new(triangles.iter().map(|e| luminance(e.radiance) * e.area).collect());
+        (by_power.total > 0.0 && by_power.total.is_finite()).then_some(Emitters { triangles, by_power })
+    }
+
+    /// The density over area of the point of a triangle of `radiance`.
+    fn area_density(&self, radiance: Vec3) -> f32 {
+        luminance(radiance) / self.by_power.total
+    }
+
+    /// A point on a triangle picked by power as seen from `p`: its sample, unless the point
+    /// faces away.
+    fn sample(&self, p: Vec3, u: [f32; 2]) -> Option<LightSample> {
+        // The first number picks the triangle and, stretched over the triangle's share, the
+        // point's first coordinate (pbrt's reuse of a sample): one 2D sample does both.
+        let (index, u0) = self.by_power.pick(u[0]);
+        let e = &self.triangles[index];
+        // Uniform over the triangle: the square folded onto it along its diagonal.
+        let (mut a, mut b) = (u0, u[1]);
+        if a + b > 1.0 {
+            (a, b) = (1.0 - a, 1.0 - b);
+        }
+        let q = e.corner + e.edge_u * a + e.edge_v * b;
+        let (wi, distance) = towards(p, q)?;
+        let cos_light = e.normal.dot(-wi);
+        if cos_light <= 0.0 {
+            return None;
+        }
+        // The density the triangle was really picked with (its rounded share of the list),
+        // so that the estimate stays unbiased; hits weigh against [`Emitters::area_density`].
+        let pdf = self.by_power.density(index) / e.area * distance * distance / cos_light;
+        Some(LightSample { wi, distance, weighted: e.radiance / pdf, pdf })
+    }
 }
 
 impl<'f> SceneLights<'f> {
-    /// The lights of `frame`, each extended one sampled `samples` times per shading point.
-    pub fn of(frame: &Frame<'f>, samples: u32) -> SceneLights<'f> {
+    /// The lights of `frame`, the triangles whose `materials` emit among them, each extended
+    /// light sampled `samples` times per shading point. With `defaults`, a scene that nothing
+    /// lights gets the sky as an environment light.
+    pub fn of(frame: &Frame<'f>, materials: &Materials<'f>, samples: u32, defaults: bool) -> SceneLights<'f> {
         let mut ambient = Vec3::ZERO;
         let mut lights = Vec::new();
         for light in frame.lights() {
@@ -137,14 +226,61 @@ impl<'f> SceneLights<'f> {
                         Texture::Image(image) => Some(&**image),
                         _ => None,
                     });
-                    Prepared::Environment { radiance, map: image.and_then(EnvironmentMap::new) }
+                    Prepared::Environment { radiance, map: image.and_then(|i| EnvironmentMap::new(Cow::Borrowed(i))) }
                 }
             };
             lights.push(prepared);
         }
+        let emitting = frame.world_triangles(|id, _| materials.emission(id).is_some());
+        let emitters = Emitters::new(emitting.into_iter().filter_map(|t| Some((t, materials.emission(t.shader_id)?))).collect());
+        let emitters = emitters.map(|e| {
+            lights.push(Prepared::Emitters(e));
+            lights.len() - 1
+        });
+        let defaulted = defaults && lights.is_empty() && ambient == Vec3::ZERO;
+        if defaulted {
+            lights.push(Prepared::Environment { radiance: Vec3::ONE, map: EnvironmentMap::new(Cow::Owned(default_sky())) });
+        }
         let environment = lights.iter().any(|l| matches!(l, Prepared::Environment { .. }));
         let area = lights.iter().any(|l| matches!(l, Prepared::Area { .. }));
-        SceneLights { lights, ambient, environment, area, samples: samples as f32 }
+        SceneLights { lights, ambient, environment, area, emitters, defaulted, samples: samples as f32 }
+    }
+
+    /// Whether the scene had no light and was given the default sky.
+    pub fn defaulted(&self) -> bool {
+        self.defaulted
+    }
+
+    /// Whether some light has an extent (area, environment, emitting triangles), so that soft
+    /// shadows need it sampled over it.
+    pub fn has_extended(&self) -> bool {
+        (0..self.lights.len()).any(|i| self.is_extended(i))
+    }
+
+    /// Whether light `index` is the emitting triangles, which even Whitted's rays sample at
+    /// random points (they have no one centre).
+    pub fn is_emitters(&self, index: usize) -> bool {
+        self.emitters == Some(index)
+    }
+
+    /// Radiance `emitted` by a surface a ray of unit direction `dir` hit after `distance`, at
+    /// the cosine `cos_light` between the ray and the surface's normal on the side it emits
+    /// from, weighted by how the ray was `seen`: in full if directly, against the density with
+    /// which light sampling would have picked the point if scattered, not at all if its light
+    /// was sampled already. Nothing from the back of the surface.
+    pub fn surface_emission(&self, emitted: Vec3, distance: f32, cos_light: f32, seen: Seen) -> Vec3 {
+        if cos_light <= 0.0 {
+            return Vec3::ZERO;
+        }
+        match seen {
+            Seen::Directly => emitted,
+            Seen::Not => Vec3::ZERO,
+            Seen::Scattered { pdf, .. } => {
+                let Some(Prepared::Emitters(e)) = self.emitters.map(|i| &self.lights[i]) else { return emitted };
+                let light_pdf = e.area_density(emitted) * distance * distance / cos_light;
+                emitted * power_heuristic(pdf, self.samples * light_pdf)
+            }
+        }
     }
 
     /// How many lights there are to sample (the ambient term is not sampled).
@@ -169,7 +305,7 @@ impl<'f> SceneLights<'f> {
 
     /// Whether light `index` has an extent (so sampling it takes random numbers).
     pub fn is_extended(&self, index: usize) -> bool {
-        matches!(self.lights[index], Prepared::Area { .. } | Prepared::Environment { .. })
+        matches!(self.lights[index], Prepared::Area { .. } | Prepared::Environment { .. } | Prepared::Emitters(_))
     }
 
     /// Light `index` if it is a point, spot or directional light: every shadow ray towards it
@@ -222,6 +358,7 @@ impl<'f> SceneLights<'f> {
                 let emitted = *radiance * map.as_ref().map_or(Vec3::ONE, |m| m.radiance(wi));
                 LightSample { wi, distance: f32::INFINITY, weighted: emitted / pdf, pdf }
             }
+            Prepared::Emitters(emitters) => emitters.sample(p, u)?,
         };
         (sample.weighted.max_element() > 0.0).then_some(sample)
     }
@@ -299,7 +436,8 @@ fn hit_parallelogram(origin: Vec3, dir: Vec3, corner: Vec3, edge_u: Vec3, edge_v
 /// Row 0 looks straight up (+y); column `x` looks at azimuth `φ = 2π (x / width − 1/2)`
 /// measured from −z towards +x.
 struct EnvironmentMap<'f> {
-    image: &'f Image,
+    /// The scene's image, or one baked for the frame (the default sky).
+    image: Cow<'f, Image>,
     /// Rows by their total brightness.
     rows: Distribution,
     /// Within each row, columns by brightness.
@@ -308,7 +446,7 @@ struct EnvironmentMap<'f> {
 
 impl<'f> EnvironmentMap<'f> {
     /// The map of `image`, or `None` if it is black everywhere.
-    fn new(image: &'f Image) -> Option<EnvironmentMap<'f>> {
+    fn new(image: Cow<'f, Image>) -> Option<EnvironmentMap<'f>> {
         let (w, h) = (image.width() as usize, image.height() as usize);
         let columns: Vec<Distribution> = (0..h)
             .map(|y| {
@@ -368,16 +506,17 @@ struct Distribution {
 impl Distribution {
     /// The distribution proportional to `weights` (uniform if they are all zero).
     fn new(weights: Vec<f32>) -> Distribution {
-        let total: f32 = weights.iter().sum();
-        let n = weights.len() as f32;
+        // Summed in double precision: a list of a million triangles keeps each one's share.
+        let total: f64 = weights.iter().map(|&w| w as f64).sum();
+        let n = weights.len() as f64;
         let mut cdf = Vec::with_capacity(weights.len() + 1);
-        let mut running = 0.0;
+        let mut running = 0.0f64;
         cdf.push(0.0);
-        for (i, w) in weights.iter().enumerate() {
-            running += if total > 0.0 { w / total } else { 1.0 / n };
-            cdf.push(if i + 1 == weights.len() { 1.0 } else { running });
+        for (i, &w) in weights.iter().enumerate() {
+            running += if total > 0.0 { w as f64 / total } else { 1.0 / n };
+            cdf.push(if i + 1 == weights.len() { 1.0 } else { running as f32 });
         }
-        Distribution { cdf, total }
+        Distribution { cdf, total: total as f32 }
     }
 
     /// The probability of piece `i`.
@@ -385,15 +524,37 @@ impl Distribution {
         self.cdf[i + 1] - self.cdf[i]
     }
 
-    /// The piece `u` falls in and the point in [0, 1) it maps to.
-    fn sample(&self, u: f32) -> (usize, f32) {
+    /// The piece `u` falls in and where in the piece it falls, from 0 to 1.
+    fn pick(&self, u: f32) -> (usize, f32) {
         let pieces = self.cdf.len() - 1;
         let i = (self.cdf.partition_point(|&c| c <= u).max(1) - 1).min(pieces - 1);
         let width = self.density(i);
         let within = if width > 0.0 { ((u - self.cdf[i]) / width).clamp(0.0, 1.0) } else { 0.5 };
-        let x = ((i as f32 + within) / pieces as f32).min(1.0 - f32::EPSILON);
-        (i, x)
+        (i, within)
     }
+
+    /// The piece `u` falls in and the point in [0, 1) it maps to.
+    fn sample(&self, u: f32) -> (usize, f32) {
+        let (i, within) = self.pick(u);
+        let pieces = (self.cdf.len() - 1) as f32;
+        (i, ((i as f32 + within) / pieces).min(1.0 - f32::EPSILON))
+    }
+}
+
+/// The sky backdrop baked into a latitude-longitude image (each texel the sky at its centre),
+/// to light a scene that has no light of its own.
+fn default_sky() -> Image {
+    let (w, h) = DEFAULT_SKY_SIZE;
+    let texels = (0..h)
+        .flat_map(|y| {
+            let theta = PI * (y as f32 + 0.5) / h as f32;
+            (0..w).map(move |x| {
+                let phi = TAU * ((x as f32 + 0.5) / w as f32 - 0.5);
+                crate::sky(Vec3::new(theta.sin() * phi.sin(), theta.cos(), -theta.sin() * phi.cos()))
+            })
+        })
+        .collect();
+    Image::new(w, h, texels).expect("a valid sky image")
 }
 
 /// The luminance of a linear-RGB colour (Rec. 709 weights).
@@ -430,7 +591,7 @@ mod tests {
         let (w, h) = (16, 8);
         let texels = (0..w * h).map(|i| if i % w == 3 && i / w == 2 { Vec3::splat(50.0) } else { Vec3::splat(0.5) }).collect();
         let image = Image::new(w as u32, h as u32, texels).unwrap();
-        let map = EnvironmentMap::new(&image).unwrap();
+        let map = EnvironmentMap::new(Cow::Borrowed(&image)).unwrap();
         let n = 400;
         let mut integral = 0.0;
         for i in 0..n {

@@ -113,6 +113,13 @@ impl<'f> Materials<'f> {
         (r.base.model == ShadingModel::Diffuse && r.texture.is_none()).then_some(r.base.albedo)
     }
 
+    /// The radiance a shader emits if it is a light (an `Emissive` shader that emits something),
+    /// the same at every point of its surfaces.
+    pub fn emission(&self, id: Option<raystage_scene::ShaderId>) -> Option<Vec3> {
+        let m = &self.resolved(id).base;
+        (m.model == ShadingModel::Emissive && m.emission.max_element() > 0.0).then_some(m.emission)
+    }
+
     fn resolved(&self, id: Option<raystage_scene::ShaderId>) -> &Resolved<'f> {
         id.and_then(|id| self.by_id.get(id.0 as usize)?.as_ref()).unwrap_or(&self.default)
     }

@@ -5,14 +5,12 @@ use std::time::Instant;
 
 use glam::Vec3;
 use raystage_kernel::{PACKET_SIZE, Ray};
-use raystage_scene::{CameraRays, Frame, SceneHit};
+use raystage_scene::{Background, CameraRays, Frame, SceneHit};
 
-use crate::effects::EffectSet;
 use crate::integrator::first_shadows::{self, KnownShadows};
 use crate::integrator::first_hits::FirstHits;
 use crate::integrator::{Hit, Tracer, eyelight, first_matte, path, recursive};
-use crate::lights::{SceneLights, Seen};
-use crate::material::Materials;
+use crate::lights::Seen;
 use crate::sampler::PixelSampler;
 use crate::stats::{FrameStats, PhaseTimes, RayCounts};
 use crate::tiles::{Band, Tile, luminance, render_tiles_with};
@@ -76,6 +74,24 @@ pub enum Filter {
     },
 }
 
+impl std::str::FromStr for Filter {
+    type Err = Error;
+
+    /// `box`, `gaussian` (radius 1.5 pixels) or `gaussian:RADIUS`.
+    fn from_str(text: &str) -> Result<Filter, Error> {
+        let bad = |message: String| Error::Setting { field: "filter", message };
+        match text.split_once(':') {
+            None if text == "box" => Ok(Filter::Box),
+            None if text == "gaussian" => Ok(Filter::Gaussian { radius: 1.5 }),
+            Some(("gaussian", radius)) => match radius.parse::<f32>() {
+                Ok(radius) if radius > 0.0 && radius <= 4.0 => Ok(Filter::Gaussian { radius }),
+                _ => Err(bad(format!("the Gaussian's radius `{radius}` is not a number in (0, 4]"))),
+            },
+            _ => Err(bad(format!("`{text}` is not box, gaussian or gaussian:RADIUS"))),
+        }
+    }
+}
+
 impl Filter {
     /// The offset of a sample from the pixel's top-left corner, from two uniform numbers.
     fn offset(self, u: [f32; 2]) -> [f32; 2] {
@@ -102,7 +118,8 @@ pub struct RenderSettings {
     pub integrator: Integrator,
     /// Samples per pixel.
     pub samples_per_pixel: u32,
-    /// Deepest recursion (Whitted, distribution) or longest path (path tracer).
+    /// Deepest recursion (Whitted, distribution) or longest path (path tracer), the path in
+    /// segments with the camera ray, as Mitsuba counts them (1: emitters seen directly only).
     pub max_depth: u32,
     /// Shadow rays per area or environment light at each shading point, when soft shadows
     /// are simulated (more rays per point, less noise per sample).
@@ -114,6 +131,13 @@ pub struct RenderSettings {
     pub filter: Filter,
     /// Seed of the sample sequences.
     pub seed: u32,
+    /// Whether a scene that nothing lights (no light, no emitting surface, no environment) is
+    /// lit by the sky as an environment light, as the frame's statistics then say (the
+    /// default); off, it stays dark.
+    pub default_lights: bool,
+    /// What camera rays that hit nothing show; `None` for the scene's background if it sets
+    /// one, else the environment (the sky where the default lights it), else black.
+    pub background: Option<Background>,
     /// Whether to run the shading kernel compiled for the frame's effect set (the default).
     /// Off, every frame runs the general kernel with reflection and refraction compiled in, which
     /// computes the same image: the switch exists to measure what specialisation saves.
@@ -132,6 +156,8 @@ impl Default for RenderSettings {
             russian_roulette: true,
             filter: Filter::Box,
             seed: 0,
+            default_lights: true,
+            background: None,
             specialize: true,
         }
     }
@@ -156,6 +182,9 @@ impl RenderSettings {
         )?;
         if let Filter::Gaussian { radius } = self.filter {
             check(radius > 0.0 && radius <= 4.0, "filter.radius", format!("{radius} is not in (0, 4]"))?;
+        }
+        if let Some(Background::Color(c)) = self.background {
+            check(c.is_finite() && c.min_element() >= 0.0, "background", format!("{c} is not a finite, non-negative colour"))?;
         }
         Ok(())
     }
@@ -264,8 +293,8 @@ impl Progressive {
     fn add_with(&mut self, frame: &Frame<'_>, samples: u32, finished: impl Fn(u32, &[Vec3]) + Sync) -> FrameStats {
         let start = Instant::now();
         let s = self.settings;
-        let effects = EffectSet::of(frame, s.integrator, self.samples + samples);
-        let tracer = Tracer { frame, lights: SceneLights::of(frame, s.light_samples), materials: Materials::of(frame), effects, settings: &s };
+        let tracer = Tracer::new(frame, &s, self.samples + samples);
+        let effects = tracer.effects;
         let camera = frame.camera().rays(s.width, s.height);
         let first_index = self.samples;
         let counts = std::sync::Mutex::new(Counts::default());
@@ -285,6 +314,8 @@ impl Progressive {
         let seconds = start.elapsed().as_secs_f64();
         FrameStats {
             effects,
+            default_lights: tracer.lights.defaulted(),
+            non_finite: counts.non_finite,
             rays: counts.rays,
             samples_per_pixel: samples,
             accumulated_samples: self.samples,
@@ -340,6 +371,7 @@ struct Counts {
     rays: RayCounts,
     time_samples: u64,
     lens_samples: u64,
+    non_finite: u64,
 }
 
 impl Counts {
@@ -347,6 +379,7 @@ impl Counts {
         self.rays += o.rays;
         self.time_samples += o.time_samples;
         self.lens_samples += o.lens_samples;
+        self.non_finite += o.non_finite;
     }
 }
 
@@ -492,7 +525,7 @@ impl TileWork {
                     let time = times.get(k).copied().unwrap_or(shutter[0]);
                     sample_pixel(t, &rays[k], time, first, sampler, &mut self.counts.rays)
                 };
-                place(&mut self.samples, &self.tile, (x, y), colour);
+                place(&mut self.samples, &self.tile, (x, y), colour, &mut self.counts.non_finite);
             }
         }
     }
@@ -507,7 +540,7 @@ impl TileWork {
             let n = pixels.len();
             camera.centre_rays(pixels, &mut rays[..n]);
             t.frame.intersect_many(&rays[..n], &mut hits[..n], time);
-            eyelight::shade(t, &rays[..n], &hits[..n], |k, colour| place(&mut self.samples, &self.tile, pixels[k], colour));
+            eyelight::shade(t, &rays[..n], &hits[..n], |k, colour| place(&mut self.samples, &self.tile, pixels[k], colour, &mut self.counts.non_finite));
         }
         self.counts.rays.primary += self.order.len() as u64;
     }
@@ -527,10 +560,13 @@ fn previews_packets(t: &Tracer<'_, '_>) -> bool {
 }
 
 /// Puts `colour`, the sample of `pixel`, in its place among the samples of `tile`. A NaN or
-/// infinite sample would poison the pixel for good: it counts as black.
+/// infinite sample would poison the pixel for good: it goes in as black, and is counted in
+/// `non_finite` (the frame statistics report it, and tests fail on it: it is a bug).
 #[inline]
-fn place(samples: &mut [Vec3], tile: &Tile, (x, y): (u32, u32), colour: Vec3) {
-    samples[tile.index(x, y)] = if colour.is_finite() { colour } else { Vec3::ZERO };
+fn place(samples: &mut [Vec3], tile: &Tile, (x, y): (u32, u32), colour: Vec3, non_finite: &mut u64) {
+    let finite = colour.is_finite();
+    *non_finite += !finite as u64;
+    samples[tile.index(x, y)] = if finite { colour } else { Vec3::ZERO };
 }
 
 /// What is known of a camera ray's first hit before it is shaded.
@@ -545,9 +581,12 @@ struct FirstHit<'a, 'f> {
 
 /// The colour of one camera ray whose first hit is already known.
 fn sample_pixel(t: &Tracer<'_, '_>, ray: &Ray, time: f32, first: FirstHit<'_, '_>, sampler: &mut PixelSampler, rays: &mut RayCounts) -> Vec3 {
-    let emitted = t.emission(ray, first.hit.map(|h| h.t), Seen::Directly);
+    // Area lights in front of the first hit; the path tracer counts them itself, with the rest
+    // of the path.
+    let path = t.settings.integrator == Integrator::Path;
+    let emitted = if path { Vec3::ZERO } else { t.emission(ray, first.hit.map(|h| h.t), Seen::Directly) };
     let Some(scene_hit) = first.hit else {
-        return emitted + t.background(ray.dir, Seen::Directly);
+        return t.emission(ray, None, Seen::Directly) + t.background(ray.dir, Seen::Directly);
     };
     let e = t.effects;
     let (reflection, refraction) = if t.settings.specialize { (e.reflection, e.refraction) } else { (true, true) };

@@ -52,6 +52,10 @@ pub struct PhaseTimes {
 pub struct FrameStats {
     /// The effects the frame simulated.
     pub effects: EffectSet,
+    /// Whether the scene had no light of its own and the default sky lit it.
+    pub default_lights: bool,
+    /// Samples that came out NaN or infinite (a bug: they go into the image as black).
+    pub non_finite: u64,
     /// Rays traced, by kind.
     pub rays: RayCounts,
     /// Samples per pixel added by this frame.

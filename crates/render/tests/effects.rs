@@ -7,7 +7,7 @@ mod common;
 use common::{diffuse_scene, place, point_light, render_with, shader, sphere_scene};
 use glam::{Affine3A, Vec3};
 use raystage_demo::shading::box_mesh;
-use raystage_render::Integrator;
+use raystage_render::{Integrator, RenderSettings, render};
 use raystage_scene::{Camera, Light, ParamValue};
 
 #[test]
@@ -41,20 +41,39 @@ fn mirrors_and_glass_trace_what_they_need() {
 }
 
 #[test]
-fn a_scene_without_lights_traces_no_shadow_rays() {
+fn emitting_surfaces_are_lights_and_keep_the_defaults_away() {
     let mut scene = diffuse_scene();
     let lamp = shader(&mut scene, "Emissive", &[("emission", ParamValue::Color(Vec3::splat(5.0)))]);
     place(&mut scene, box_mesh(Vec3::new(-1.0, 3.0, -1.0), Vec3::new(1.0, 3.2, 1.0)), lamp);
-    for integrator in Integrator::ALL {
+    for integrator in [Integrator::Whitted, Integrator::Distribution, Integrator::Path] {
         let (film, stats) = render_with(&scene, integrator, 32, 24, 2);
-        assert!(!stats.effects.shadows, "{integrator:?}");
-        assert_eq!(stats.rays.shadow, 0, "{integrator:?}");
-        if integrator == Integrator::Path {
-            // Lit only by the emitting box, found by bounces.
-            let lit = (0..24).flat_map(|y| (0..32).map(move |x| (x, y))).filter(|&(x, y)| film.pixel(x, y).max_element() > 0.0).count();
-            assert!(lit > 100, "{lit} pixels lit");
-        }
+        assert!(!stats.default_lights, "{integrator:?}: the box lights the scene");
+        assert!(stats.effects.shadows && stats.rays.shadow > 0, "{integrator:?}: the box's light is sampled, with shadow rays");
+        assert_eq!(stats.non_finite, 0);
+        // The floor under the box is lit by it, in every integrator.
+        let lit = (0..24).flat_map(|y| (0..32).map(move |x| (x, y))).filter(|&(x, y)| film.pixel(x, y).max_element() > 0.0).count();
+        assert!(lit > 100, "{integrator:?}: {lit} pixels lit");
     }
+}
+
+#[test]
+fn a_scene_nothing_lights_gets_the_default_sky_and_says_so() {
+    let scene = diffuse_scene();
+    let (film, stats) = render_with(&scene, Integrator::Path, 32, 24, 2);
+    assert!(stats.default_lights && stats.effects.area_lights && stats.rays.shadow > 0);
+    assert!(film.pixel(16, 20).max_element() > 0.05, "the sky lights the floor");
+    // Turned off, nothing lights it: no shadow rays, and a black image (the backdrop is black
+    // too, the scene having no environment).
+    let settings = RenderSettings { width: 32, height: 24, integrator: Integrator::Whitted, default_lights: false, ..RenderSettings::default() };
+    let (film, stats) = render(&scene.frame(), &settings).unwrap();
+    assert!(!stats.default_lights && !stats.effects.shadows);
+    assert_eq!(stats.rays.shadow, 0);
+    assert!((0..24).all(|y| (0..32).all(|x| film.pixel(x, y) == Vec3::ZERO)));
+    // A light of the scene's own: no defaults.
+    let mut lit = diffuse_scene();
+    lit.add_light(point_light()).unwrap();
+    let (_, stats) = render_with(&lit, Integrator::Path, 16, 16, 1);
+    assert!(!stats.default_lights);
 }
 
 #[test]

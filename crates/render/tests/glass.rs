@@ -102,3 +102,53 @@ fn total_internal_reflection_turns_a_prism_into_a_mirror() {
         assert!(seen.y < 0.01, "{integrator:?}: light got through the hypotenuse: {seen}");
     }
 }
+
+/// 600 glass triangles at random around the origin, a point light among them, and the camera
+/// inside the cluster: every camera ray meets glass after glass.
+fn glass_cluster() -> Scene {
+    let mut scene = Scene::new();
+    let glass = shader(&mut scene, "Glass", &[("ior", ParamValue::Float(1.5))]);
+    // A small linear congruential generator: the same cluster every run.
+    let mut state = 12345u32;
+    let mut next = move || {
+        state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (state >> 8) as f32 / (1 << 24) as f32 * 2.0 - 1.0
+    };
+    let mut positions = Vec::new();
+    for _ in 0..600 {
+        let centre = Vec3::new(next(), next(), next());
+        positions.extend((0..3).map(|_| centre + Vec3::new(next(), next(), next())));
+    }
+    let indices = (0..600).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect();
+    place(&mut scene, Mesh::new(positions, indices), glass);
+    scene.add_light(Light::Point { position: Vec3::new(0.3, 0.2, 0.1), intensity: Vec3::ONE }).unwrap();
+    scene.set_camera(Camera::look_at(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), Vec3::Y, 60.0).unwrap()).unwrap();
+    scene
+}
+
+/// Whitted's glass traces both branches only for the first few bounces (then one, by Russian
+/// roulette) and drops rays of little weight, so the rays a frame traces grow with the depth
+/// limit linearly: at the deepest limit the cluster renders in bounded work, where splitting at
+/// every bounce would trace 2^64 rays per pixel.
+#[test]
+fn ray_trees_grow_linearly_with_the_depth_limit() {
+    let scene = glass_cluster();
+    let secondary = |max_depth: u32| {
+        let settings = raystage_render::RenderSettings {
+            width: 8,
+            height: 8,
+            integrator: Integrator::Whitted,
+            max_depth,
+            ..raystage_render::RenderSettings::default()
+        };
+        let (film, stats) = raystage_render::render(&scene.frame(), &settings).unwrap();
+        assert_eq!(stats.non_finite, 0);
+        assert!((0..8).all(|y| (0..8).all(|x| film.pixel(x, y).is_finite())));
+        stats.rays.reflection + stats.rays.refraction
+    };
+    let (shallow, deepest) = (secondary(8), secondary(raystage_render::MAX_DEPTH));
+    // At most 2^6 leaves of the split levels per pixel, each a chain of at most the depth limit.
+    eprintln!("{shallow} secondary rays at depth 8, {deepest} at depth 64");
+    assert!(deepest <= 64 * 64 * raystage_render::MAX_DEPTH as u64, "{deepest} rays at depth 64");
+    assert!(deepest < shallow * 16, "{shallow} rays at depth 8, {deepest} at depth 64");
+}

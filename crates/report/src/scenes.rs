@@ -64,7 +64,8 @@ pub enum SceneSource {
     /// A built-in scene.
     Builtin(BuiltinScene),
     /// A glTF 2.0 file (`.gltf` or `.glb`), seen through its camera or one that frames
-    /// everything, lit by its lights or, if it has none, by a sun and a fill light.
+    /// everything, lit by its lights and emitting materials or, if nothing lights it, by the
+    /// renderer's default sky.
     Gltf(PathBuf),
 }
 

@@ -14,7 +14,7 @@ use crate::ids::{InstanceId, ObjectId, ShaderId};
 use crate::instance::{Instance, Placed, world_bounds};
 use crate::light::Light;
 use crate::object::{BuildCounters, Object};
-use crate::scene::Scene;
+use crate::scene::{Background, Scene};
 use crate::shader::{Shader, ShadingModel};
 
 mod surfaces;
@@ -127,6 +127,20 @@ pub struct PreviewAttributes {
     pub color: Option<Vec3>,
     /// Interpolated texture coordinates, if the mesh has them.
     pub uv: Option<Vec2>,
+}
+
+/// A triangle of an instance, placed in the world (see [`Frame::world_triangles`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WorldTriangle {
+    /// Its corners in the world at the shutter's opening, in the mesh's order.
+    pub corners: [Vec3; 3],
+    /// The unit normal on its front (the side its counter-clockwise winding faces in the
+    /// object's own space, as [`SurfacePoint::front_face`] has it).
+    pub front: Vec3,
+    /// Its area in the world.
+    pub area: f32,
+    /// Its shader's id, `None` for the scene's default shader.
+    pub shader_id: Option<ShaderId>,
 }
 
 /// Tree work done for a frame so far.
@@ -522,6 +536,48 @@ impl<'a> Frame<'a> {
             Some(found) => found,
             None => (self.scene.default_shader(), None),
         }
+    }
+
+    /// Every triangle of every instance whose shader `select` picks (called once per shader an
+    /// object uses, with its id, `None` for the default shader), placed in the world at the
+    /// shutter's opening; triangles of no area are left out. Lights made of geometry (emitting
+    /// triangles) are gathered with it when a frame starts, so an object none of whose shaders
+    /// is picked costs nothing however many triangles it has.
+    pub fn world_triangles(&self, select: impl Fn(Option<ShaderId>, &Shader) -> bool) -> Vec<WorldTriangle> {
+        let mut out = Vec::new();
+        for fi in &self.instances {
+            let object = fi.object;
+            let picked = |id: Option<ShaderId>| match id {
+                Some(id) => self.scene.shader(id).is_ok_and(|s| select(Some(id), s)),
+                None => select(None, self.scene.default_shader()),
+            };
+            let shaders = object.shaders_used.iter().map(|&id| Some(id)).chain(object.uses_default_shader.then_some(None));
+            let chosen: Vec<Option<ShaderId>> = shaders.filter(|&id| picked(id)).collect();
+            if chosen.is_empty() {
+                continue;
+            }
+            let mesh = &object.mesh;
+            for prim in 0..mesh.indices.len() as u32 {
+                let (_, shader_id) = self.shader_of(mesh, prim);
+                if !chosen.contains(&shader_id) {
+                    continue;
+                }
+                let local = mesh.triangle(prim);
+                let corners = local.map(|p| fi.placed.to_world.transform_point3(p));
+                let area = 0.5 * (corners[1] - corners[0]).cross(corners[2] - corners[0]).length();
+                let front = fi.placed.normal_to_world((local[1] - local[0]).cross(local[2] - local[0])).normalize_or_zero();
+                if area > 0.0 && area.is_finite() && front != Vec3::ZERO {
+                    out.push(WorldTriangle { corners, front, area, shader_id });
+                }
+            }
+        }
+        out
+    }
+
+    /// What camera rays that leave the scene show, as the scene sets it (`None`: the renderer
+    /// decides).
+    pub fn background(&self) -> Option<Background> {
+        self.scene.background()
     }
 
     /// Every shader of the scene with its id (the scene's default shader is

@@ -30,11 +30,11 @@ mod texture;
 
 pub use camera::{Camera, CameraRays};
 pub use error::SceneError;
-pub use frame::{Frame, FrameWork, PreviewAttributes, PreviewPoint, SceneHit, SurfaceLanes, SurfacePoint};
+pub use frame::{Frame, FrameWork, PreviewAttributes, PreviewPoint, SceneHit, SurfaceLanes, SurfacePoint, WorldTriangle};
 pub use ids::{InstanceId, LightId, ObjectId, ShaderId, TextureId};
 pub use light::Light;
 pub use mesh::Mesh;
 pub use object::{ObjectKind, REBUILD_DEGRADATION};
-pub use scene::Scene;
+pub use scene::{Background, Scene};
 pub use shader::{ParamDecl, ParamType, ParamValue, SHADER_CLASSES, Shader, ShaderClass, ShadingModel, shader_class};
 pub use texture::{Image, Texture, srgb_to_linear};

@@ -115,15 +115,4 @@ impl Light {
             Light::Environment { radiance, .. } => power("light.radiance", radiance),
         }
     }
-
-    /// Whether the light casts shadows (every light that comes from somewhere does; the ambient
-    /// term does not).
-    pub fn casts_shadows(&self) -> bool {
-        !matches!(self, Light::Ambient { .. })
-    }
-
-    /// Whether the light has an extent, so soft shadows need it sampled over its area.
-    pub fn has_area(&self) -> bool {
-        matches!(self, Light::Area { .. } | Light::Environment { .. })
-    }
 }

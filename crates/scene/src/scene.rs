@@ -26,6 +26,53 @@ pub struct Scene {
     camera: Camera,
     /// Shades triangles that have no shader of their own.
     default_shader: Shader,
+    /// What camera rays that leave the scene show, if the scene says.
+    background: Option<Background>,
+}
+
+/// What camera rays that hit nothing show: a backdrop, which lights nothing (OpenGL's clear
+/// colour). Light from around the scene is an environment light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Background {
+    /// A soft gradient from a pale horizon to a blue zenith.
+    Sky,
+    /// One colour, linear RGB.
+    Color(glam::Vec3),
+}
+
+impl std::str::FromStr for Background {
+    type Err = SceneError;
+
+    /// `sky`, `black`, or a linear colour: `R,G,B` or one number for grey.
+    fn from_str(text: &str) -> Result<Background, SceneError> {
+        let bad = || SceneError::OutOfRange { field: "background", message: format!("`{text}` is not sky, black or a colour R,G,B") };
+        let background = match text {
+            "sky" => Background::Sky,
+            "black" => Background::Color(glam::Vec3::ZERO),
+            _ => {
+                let numbers: Vec<f32> = text.split(',').map(|n| n.trim().parse().map_err(|_| bad())).collect::<Result<_, _>>()?;
+                match numbers[..] {
+                    [v] => Background::Color(glam::Vec3::splat(v)),
+                    [r, g, b] => Background::Color(glam::Vec3::new(r, g, b)),
+                    _ => return Err(bad()),
+                }
+            }
+        };
+        background.validate()?;
+        Ok(background)
+    }
+}
+
+impl Background {
+    /// Checks a colour is finite and not negative.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        match self {
+            Background::Sky => Ok(()),
+            Background::Color(c) if !c.is_finite() => Err(SceneError::NotFinite { field: "background", index: 0 }),
+            Background::Color(c) if c.min_element() < 0.0 => Err(SceneError::OutOfRange { field: "background", message: "is negative".into() }),
+            Background::Color(_) => Ok(()),
+        }
+    }
 }
 
 impl Default for Scene {
@@ -45,6 +92,7 @@ impl Scene {
             textures: Table::default(),
             camera: Camera::default(),
             default_shader: Shader::new("Diffuse").expect("Diffuse is built in"),
+            background: None,
         }
     }
 
@@ -323,6 +371,21 @@ impl Scene {
     /// The camera.
     pub fn camera(&self) -> &Camera {
         &self.camera
+    }
+
+    /// Sets what camera rays that hit nothing show; `None` leaves it to the renderer (the
+    /// environment if there is one, else black).
+    pub fn set_background(&mut self, background: Option<Background>) -> Result<(), SceneError> {
+        if let Some(b) = &background {
+            b.validate()?;
+        }
+        self.background = background;
+        Ok(())
+    }
+
+    /// What camera rays that hit nothing show, if the scene says.
+    pub fn background(&self) -> Option<Background> {
+        self.background
     }
 
     // ----- frames -----

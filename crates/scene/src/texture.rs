@@ -58,9 +58,9 @@ impl Image {
         Ok(Image { width, height, texels })
     }
 
-    /// An image from encoded bytes: PNG, JPEG or Radiance HDR (`.hdr`), told apart by their
-    /// first bytes. Integer channels are sRGB-encoded, as these files store them, and are decoded
-    /// to linear light; floating-point channels (HDR) are linear already. Grey images become
+    /// An image from encoded bytes: PNG, JPEG, Radiance HDR (`.hdr`) or OpenEXR, told apart by
+    /// their first bytes. Integer channels are sRGB-encoded, as these files store them, and are
+    /// decoded to linear light; floating-point channels (HDR, EXR) are linear already. Grey images become
     /// grey texels; alpha is dropped.
     pub fn decode(bytes: &[u8]) -> Result<Image, SceneError> {
         let decoded = image::load_from_memory(bytes).map_err(|e| SceneError::BadImage(e.to_string()))?;

@@ -3,8 +3,8 @@
 
 use std::sync::Arc;
 
-use raystage_render::{Integrator, RenderSettings};
-use raystage_scene::Scene;
+use raystage_render::{Filter, Integrator, MAX_DEPTH, RenderSettings};
+use raystage_scene::{Background, Scene};
 use serde::Deserialize;
 use utoipa::IntoParams;
 
@@ -24,9 +24,51 @@ pub struct FrameQuery {
     pub height: Option<u32>,
     /// Samples per pixel; default 1.
     pub spp: Option<u32>,
-    /// `eyelight`, `whitted`, `distribution` or `path`; default `whitted` if the scene has
-    /// lights, else `eyelight`.
+    /// `eyelight`, `whitted`, `distribution` or `path`; default `whitted` if anything lights
+    /// the scene (the default sky does unless `default_lights` is false), else `eyelight`.
     pub integrator: Option<String>,
+    /// What camera rays that hit nothing show: `sky`, `black` or `R,G,B`; default the scene's
+    /// choice, else the environment, else the sky where the default lights the scene, else
+    /// black.
+    pub background: Option<String>,
+    /// Whether a scene that nothing lights (no light, no emitting surface) is lit by the
+    /// default sky; default true.
+    pub default_lights: Option<bool>,
+    /// Longest path in segments, the camera ray included, or deepest recursion: 1 to 64;
+    /// default 6.
+    pub max_depth: Option<u32>,
+    /// Whether the path tracer may end paths early by Russian roulette; default true.
+    pub russian_roulette: Option<bool>,
+    /// The pixel filter: `box`, `gaussian` or `gaussian:RADIUS`; default `box`.
+    pub filter: Option<String>,
+    /// Seed of the sample sequences; default 0.
+    pub seed: Option<u32>,
+}
+
+/// How a frame is set up beyond its size and integrator: what a render needs to match another
+/// renderer's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Setup {
+    pub background: Option<Background>,
+    pub default_lights: bool,
+    pub max_depth: u32,
+    pub russian_roulette: bool,
+    pub filter: Filter,
+    pub seed: u32,
+}
+
+impl Default for Setup {
+    fn default() -> Setup {
+        let s = RenderSettings::default();
+        Setup {
+            background: s.background,
+            default_lights: s.default_lights,
+            max_depth: s.max_depth,
+            russian_roulette: s.russian_roulette,
+            filter: s.filter,
+            seed: s.seed,
+        }
+    }
 }
 
 /// A frame request checked against the limits; the integrator is chosen once the scene is seen.
@@ -36,6 +78,7 @@ pub(crate) struct FrameRequest {
     pub height: u32,
     pub spp: u32,
     pub integrator: Option<Integrator>,
+    pub setup: Setup,
 }
 
 impl FrameQuery {
@@ -46,9 +89,30 @@ impl FrameQuery {
             height: self.height.unwrap_or(360),
             spp: self.spp.unwrap_or(1),
             integrator: self.integrator.as_deref().map(parse_integrator).transpose()?,
+            setup: self.setup()?,
         };
         request.check(limits)?;
         Ok(request)
+    }
+}
+
+impl FrameQuery {
+    /// The setup the query asks for (422 naming the parameter that is wrong).
+    fn setup(&self) -> ApiResult<Setup> {
+        let wrong = |field: &str, message: String| ApiError::unprocessable(Some(field.into()), message);
+        let d = Setup::default();
+        let max_depth = self.max_depth.unwrap_or(d.max_depth);
+        if !(1..=MAX_DEPTH).contains(&max_depth) {
+            return Err(wrong("max_depth", format!("max_depth {max_depth} is not in 1..={MAX_DEPTH}")));
+        }
+        Ok(Setup {
+            background: self.background.as_deref().map(str::parse).transpose().map_err(|e: raystage_scene::SceneError| wrong("background", e.to_string()))?,
+            default_lights: self.default_lights.unwrap_or(d.default_lights),
+            max_depth,
+            russian_roulette: self.russian_roulette.unwrap_or(d.russian_roulette),
+            filter: self.filter.as_deref().map(str::parse).transpose().map_err(|e: raystage_render::Error| wrong("filter", e.to_string()))?.unwrap_or(d.filter),
+            seed: self.seed.unwrap_or(d.seed),
+        })
     }
 }
 
@@ -87,16 +151,24 @@ impl FrameRequest {
             width: self.width,
             height: self.height,
             samples_per_pixel: self.spp,
-            integrator: self.integrator.unwrap_or_else(|| default_integrator(scene)),
+            integrator: self.integrator.unwrap_or_else(|| default_integrator(scene, self.setup.default_lights)),
+            background: self.setup.background,
+            default_lights: self.setup.default_lights,
+            max_depth: self.setup.max_depth,
+            russian_roulette: self.setup.russian_roulette,
+            filter: self.setup.filter,
+            seed: self.setup.seed,
             ..RenderSettings::default()
         }
     }
 }
 
-/// Whitted's ray tracing if the scene has lights, else the eye-light preview (so that an unlit
-/// scene is not black), as `raystage render` chooses.
-pub(crate) fn default_integrator(scene: &Scene) -> Integrator {
-    if scene.lights().next().is_some() { Integrator::Whitted } else { Integrator::EyeLight }
+/// Whitted's ray tracing if anything lights the scene (its lights, an emitting surface, or the
+/// default sky when `default_lights`), else the eye-light preview (so that an unlit scene is
+/// not black), as `raystage render` chooses.
+pub(crate) fn default_integrator(scene: &Scene, default_lights: bool) -> Integrator {
+    let lit = default_lights || scene.lights().next().is_some() || scene.shaders().any(|(_, s)| s.class().name == "Emissive");
+    if lit { Integrator::Whitted } else { Integrator::EyeLight }
 }
 
 /// A rendered frame.

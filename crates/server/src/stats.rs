@@ -36,6 +36,10 @@ pub struct FrameReport {
     pub accumulated_samples: u32,
     /// The effects simulated (only what the scene calls for).
     pub effects: Vec<String>,
+    /// Whether nothing in the scene gave light, so the renderer's default sky lit it.
+    pub default_lights: bool,
+    /// Samples that came out NaN or infinite (a bug; they went into the image as black).
+    pub non_finite_samples: u64,
     /// Rays traced.
     pub rays: RaysJson,
     /// Wall-clock seconds of the render, lazy tree builds included.
@@ -62,6 +66,8 @@ impl FrameReport {
             samples_per_pixel: stats.samples_per_pixel,
             accumulated_samples: stats.accumulated_samples,
             effects: stats.effects.names().into_iter().map(String::from).collect(),
+            default_lights: stats.default_lights,
+            non_finite_samples: stats.non_finite,
             rays: RaysJson { primary: r.primary, shadow: r.shadow, reflection: r.reflection, refraction: r.refraction, diffuse: r.diffuse, total: r.total() },
             render_seconds: stats.seconds,
             build_seconds: stats.work.build_seconds,

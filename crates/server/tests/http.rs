@@ -44,8 +44,11 @@ async fn lights_make_whitted_the_default_and_shade_diffuse_surfaces() {
     mesh["shader"] = grey["id"].clone();
     let object = ok(&app, "POST", &format!("/scenes/{s}/objects"), json!({ "mesh": mesh }), StatusCode::CREATED).await;
     ok(&app, "POST", &format!("/scenes/{s}/instances"), json!({ "object": object["id"] }), StatusCode::CREATED).await;
-    let dark = frame(&app, &format!("/scenes/{s}/frame.png?width=32&height=32&integrator=whitted")).await;
-    assert_eq!(&dark.get_pixel(16, 16).0[..3], &[0, 0, 0], "no light, no colour");
+    // Nothing lights it: the renderer's default sky does, and the statistics say so.
+    let sky_lit = frame(&app, &format!("/scenes/{s}/frame.png?width=32&height=32&integrator=whitted")).await;
+    assert!(sky_lit.get_pixel(16, 16).0[2] > 100, "the sky lights the square: {:?}", sky_lit.get_pixel(16, 16));
+    let stats = ok(&app, "GET", &format!("/scenes/{s}/stats"), json!(null), StatusCode::OK).await;
+    assert_eq!((&stats["last_frame"]["default_lights"], &stats["last_frame"]["non_finite_samples"]), (&json!(true), &json!(0)));
 
     let light = ok(&app, "POST", &format!("/scenes/{s}/lights"), json!({ "class": "DirectionalLight", "direction": [0, 0, -1], "intensity": 2.5 }), StatusCode::CREATED).await;
     let lit = frame(&app, &format!("/scenes/{s}/frame.png?width=32&height=32")).await;
@@ -54,6 +57,7 @@ async fn lights_make_whitted_the_default_and_shade_diffuse_surfaces() {
     assert!((168..=172).contains(&value), "{value}");
     let stats = ok(&app, "GET", &format!("/scenes/{s}/stats"), json!(null), StatusCode::OK).await;
     assert_eq!(stats["last_frame"]["integrator"], "whitted");
+    assert_eq!(stats["last_frame"]["default_lights"], json!(false));
     assert!(stats["last_frame"]["rays"]["shadow"].as_u64().unwrap() > 0);
 
     let lights = ok(&app, "GET", &format!("/scenes/{s}/lights"), json!(null), StatusCode::OK).await;

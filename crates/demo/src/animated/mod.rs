@@ -10,7 +10,7 @@ mod robots;
 mod terrain;
 
 use glam::{Affine3A, Vec3};
-use raystage_scene::{Camera, InstanceId, Light, Mesh as SceneMesh, ObjectId, ObjectKind, Scene, SceneError};
+use raystage_scene::{Background, Camera, InstanceId, Light, Mesh as SceneMesh, ObjectId, ObjectKind, Scene, SceneError};
 
 pub use museum::Museum;
 pub use robots::Robots;
@@ -81,6 +81,8 @@ impl Staged {
             .collect::<Result<Vec<_>, _>>()?;
         let view = animation.view();
         scene.set_camera(Camera::look_at(view.eye, view.target, Vec3::Y, view.fov_y_degrees)?)?;
+        // Outdoors: the sky behind, as a backdrop (the sun and fill light it).
+        scene.set_background(Some(Background::Sky))?;
         scene.add_light(Light::Directional { direction: view.sun, intensity: Vec3::splat(0.9 * std::f32::consts::PI) })?;
         scene.add_light(Light::Directional { direction: Vec3::new(0.4, -0.5, 1.0), intensity: Vec3::splat(0.25 * std::f32::consts::PI) })?;
         Ok(Staged { scene, objects, instances })

@@ -8,8 +8,6 @@ use raystage_scene::SceneHit;
 
 use super::Tracer;
 use super::quads::{pack, quad, quads};
-use crate::lights::Seen;
-use crate::sky;
 
 /// Light reaching a surface seen edge-on, so that silhouettes stay visible.
 const AMBIENT: f32 = 0.15;
@@ -54,17 +52,9 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, rays: &[Ray], hits: &[Option<SceneHit>],
         let cos = ((unit(x) * at(&dx) + unit(y) * at(&dy)) + unit(z) * at(&dz)).abs();
         Vec4::select(pack(&lit, lane), Vec4::splat(AMBIENT) + Vec4::splat(1.0 - AMBIENT) * cos, Vec4::ONE).write_to_slice(&mut factor[lane..]);
     }
-    let environment = t.lights.has_environment();
-    // What `Tracer::background` shows camera rays without an environment.
-    let skies = if missed != 0 && !environment { sky::skies(rays, missed) } else { [Vec3::ZERO; N] };
-    for (k, ray) in rays.iter().enumerate() {
-        let seen = if missed & (1 << k) == 0 {
-            colour[k] * factor[k]
-        } else if environment {
-            t.background(ray.dir, Seen::Directly)
-        } else {
-            skies[k]
-        };
+    let backdrops = if missed != 0 { t.backdrops(rays, missed) } else { [Vec3::ZERO; N] };
+    for (k, _) in rays.iter().enumerate() {
+        let seen = if missed & (1 << k) == 0 { colour[k] * factor[k] } else { backdrops[k] };
         found(k, seen);
     }
 }

@@ -20,7 +20,6 @@ use super::first_hits::FirstHits;
 use super::first_shadows::{self, KnownShadows, MAX_LIGHTS};
 use super::quads::{pack, quad, quads, unpack};
 use crate::lights::Delta;
-use crate::sky;
 
 /// Whether this frame's matte first hits are shaded here: their shadows go in packets, and
 /// every light is a point, spot or directional light among the first [`MAX_LIGHTS`] (so every
@@ -65,12 +64,13 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, rays: &[Ray], first: &FirstHits<'_>, kno
         }
         lanes.add(&light, &visible, &tested);
     }
-    // Rays that hit nothing see the sky, as in the recursion (no light is met on the way).
+    // Rays that hit nothing see the backdrop, as in the recursion, unless they meet an area
+    // light on the way.
     let missed = !surfaces.hits & ((1 << n) - 1);
-    let sky_shows = missed != 0 && !t.lights.has_environment() && !t.lights.has_area();
-    let skies = if sky_shows { sky::skies(rays, missed) } else { [Vec3::ZERO; PACKET_SIZE] };
+    let backdrop_only = missed != 0 && !t.lights.has_area();
+    let backdrops = if backdrop_only { t.backdrops(rays, missed) } else { [Vec3::ZERO; PACKET_SIZE] };
     for (k, answer) in out.iter_mut().enumerate() {
-        *answer = if sky_shows && missed & (1 << k) != 0 { Some(skies[k]) } else { lanes.matte[k].then(|| lanes.sum.get(k)) };
+        *answer = if backdrop_only && missed & (1 << k) != 0 { Some(backdrops[k]) } else { lanes.matte[k].then(|| lanes.sum.get(k)) };
     }
 }
 
@@ -183,14 +183,12 @@ impl Lanes {
 mod tests {
     use glam::{Affine3A, Quat};
     use raystage_demo::shading::{box_mesh, sphere_mesh};
-    use raystage_scene::{Camera, Light, Mesh, ObjectKind, ParamValue, Scene, ShaderId, Texture};
+    use raystage_scene::{Background, Camera, Light, Mesh, ObjectKind, ParamValue, Scene, ShaderId, Texture};
 
     use super::*;
     use crate::bsdf::Bsdf;
-    use crate::effects::EffectSet;
     use crate::integrator::{Hit, recursive};
-    use crate::lights::{SceneLights, Seen};
-    use crate::material::Materials;
+    use crate::lights::Seen;
     use crate::sampler::PixelSampler;
     use crate::stats::RayCounts;
     use crate::{Integrator, RenderSettings};
@@ -237,8 +235,8 @@ mod tests {
     fn matte_first_hits_shade_exactly_as_the_recursion_shades_them() {
         let scene = scene();
         let frame = scene.frame();
-        let settings = RenderSettings { integrator: Integrator::Whitted, ..RenderSettings::default() };
-        let t = Tracer { frame: &frame, lights: SceneLights::of(&frame, 1), materials: Materials::of(&frame), effects: EffectSet::of(&frame, Integrator::Whitted, 1), settings: &settings };
+        let settings = RenderSettings { integrator: Integrator::Whitted, background: Some(Background::Sky), ..RenderSettings::default() };
+        let t = Tracer::new(&frame, &settings, 1);
         assert!(applies(&t), "point, spot, directional and ambient lights only");
         let (width, height) = (96, 64);
         let camera = frame.camera().rays(width, height);

@@ -18,8 +18,8 @@ mod quads;
 pub(crate) mod recursive;
 
 use glam::Vec3;
-use raystage_kernel::Ray;
-use raystage_scene::{Frame, SceneHit, ShadingModel, SurfacePoint};
+use raystage_kernel::{PACKET_SIZE, Ray};
+use raystage_scene::{Background, Frame, SceneHit, ShadingModel, SurfacePoint};
 
 use crate::bsdf::{Bsdf, fresnel_dielectric};
 use crate::effects::EffectSet;
@@ -29,7 +29,8 @@ use crate::material::{Material, Materials};
 use crate::sampler::PixelSampler;
 use crate::stats::RayCounts;
 use crate::warp::{Frame3, cosine_hemisphere, power_heuristic};
-use crate::{RenderSettings, sky};
+use crate::sky::{self, sky};
+use crate::RenderSettings;
 
 /// The deepest nesting of transmissive media a path keeps track of.
 const MAX_MEDIA: usize = 4;
@@ -94,6 +95,18 @@ impl Media {
     }
 }
 
+/// What camera rays that hit nothing show, and rays that only mirrors and glass bent on their
+/// way from the camera.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Backdrop {
+    /// The environment light, as it lights the scene.
+    Environment,
+    /// The sky gradient.
+    Sky,
+    /// One colour (black for a scene that brings its own light and no environment).
+    Color(Vec3),
+}
+
 /// Access to the scene for the integrators.
 pub(crate) struct Tracer<'a, 'f> {
     pub frame: &'a Frame<'f>,
@@ -101,6 +114,28 @@ pub(crate) struct Tracer<'a, 'f> {
     pub materials: Materials<'f>,
     pub effects: EffectSet,
     pub settings: &'a RenderSettings,
+    pub backdrop: Backdrop,
+}
+
+impl<'a, 'f> Tracer<'a, 'f> {
+    /// Everything the integrators need of `frame`, resolved when the frame starts, for a pass
+    /// that brings the pixels to `samples` samples: its materials, its lights (emitting
+    /// triangles among them, and the default sky if nothing lights the scene and the settings
+    /// allow it), the effects they call for, and the backdrop: the settings', else the scene's,
+    /// else the sky where the default lights it, the environment where there is one, and black.
+    pub fn new(frame: &'a Frame<'f>, settings: &'a RenderSettings, samples: u32) -> Tracer<'a, 'f> {
+        let materials = Materials::of(frame);
+        let lights = SceneLights::of(frame, &materials, settings.light_samples, settings.default_lights);
+        let effects = EffectSet::of(frame, &lights, settings.integrator, samples);
+        let backdrop = match settings.background.or(frame.background()) {
+            Some(Background::Sky) => Backdrop::Sky,
+            Some(Background::Color(c)) => Backdrop::Color(c),
+            None if lights.defaulted() => Backdrop::Sky,
+            None if lights.has_environment() => Backdrop::Environment,
+            None => Backdrop::Color(Vec3::ZERO),
+        };
+        Tracer { frame, lights, materials, effects, settings, backdrop }
+    }
 }
 
 impl<'f> Tracer<'_, 'f> {
@@ -118,18 +153,39 @@ impl<'f> Tracer<'_, 'f> {
         Hit { hit, surface, material }
     }
 
-    /// What a ray in direction `dir` that hits nothing brings back, as it was `seen`: the
-    /// environment, if the scene has one; otherwise the sky, which is a backdrop and not a
-    /// light, so only camera rays and rays that mirrors and glass bent on their way from the
-    /// camera show it.
+    /// What a ray in direction `dir` that hits nothing brings back, as it was `seen`: seen
+    /// directly (a camera ray, or one that only mirrors and glass bent on its way from the
+    /// camera), the backdrop; otherwise the environment light, if there is one.
     pub fn background(&self, dir: Vec3, seen: Seen) -> Vec3 {
-        if self.lights.has_environment() {
-            self.lights.environment(dir.normalize(), seen)
-        } else if matches!(seen, Seen::Directly) {
-            sky(dir)
-        } else {
-            Vec3::ZERO
+        match (seen, self.backdrop) {
+            (Seen::Directly, Backdrop::Sky) => sky(dir),
+            (Seen::Directly, Backdrop::Color(c)) => c,
+            _ if self.lights.has_environment() => self.lights.environment(dir.normalize(), seen),
+            _ => Vec3::ZERO,
         }
+    }
+
+    /// [`Tracer::background`] of the camera rays among up to a packet of `rays` that hit
+    /// nothing (bit `k` of `missed` for `rays[k]`; the others get black), bit for bit, the sky's
+    /// colours computed side by side.
+    pub fn backdrops(&self, rays: &[Ray], missed: u32) -> [Vec3; PACKET_SIZE] {
+        match self.backdrop {
+            Backdrop::Sky => sky::skies(rays, missed),
+            _ => std::array::from_fn(|k| if missed & (1 << k) != 0 { self.background(rays[k].dir, Seen::Directly) } else { Vec3::ZERO }),
+        }
+    }
+
+    /// Light the surface at `hit` emits back along `ray`, as the ray was `seen` (see
+    /// [`SceneLights::surface_emission`]): emitting surfaces emit from their front only.
+    pub fn surface_emission(&self, ray: &Ray, hit: &Hit<'_>, seen: Seen) -> Vec3 {
+        let m = &hit.material;
+        if m.model != ShadingModel::Emissive || !hit.surface.front_face {
+            return Vec3::ZERO;
+        }
+        let length = ray.dir.length();
+        // The geometric normal faces the side the ray came from.
+        let cos = hit.surface.geometric_normal.dot(-ray.dir / length);
+        self.lights.surface_emission(m.emission, hit.hit.t * length, cos, seen)
     }
 
     /// Light from area lights that `ray` meets before its hit at `t` (infinitely far if it hits
@@ -193,9 +249,12 @@ impl<'f> Tracer<'_, 'f> {
         let random = self.effects.area_lights;
         for index in 0..self.lights.len() {
             let samples = if random && self.lights.is_extended(index) { self.settings.light_samples } else { 1 };
+            // Emitting triangles have no one centre to aim Whitted's rays at: they take random
+            // points even there.
+            let stochastic = (random && self.lights.is_extended(index)) || self.lights.is_emitters(index);
             let mut light = Vec3::ZERO;
             for _ in 0..samples {
-                let u = if samples > 1 || (random && self.lights.is_extended(index)) { sampler.next_2d() } else { [0.5, 0.5] };
+                let u = if stochastic { sampler.next_2d() } else { [0.5, 0.5] };
                 let Some(ls) = self.lights.sample(index, sp.position, sp.shading_normal, u, !random) else { continue };
                 if sp.geometric_normal.dot(ls.wi) <= 0.0 {
                     continue;

@@ -30,8 +30,6 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, ray: &Ray, first: Hit<'_>, time: f32, sa
     let mut media = Media::air();
     // How the current ray was chosen, which weighs the lights it meets.
     let mut seen = Seen::Directly;
-    // Whether every bounce so far was specular: the sky backdrop shows only along such paths.
-    let mut specular_chain = true;
     for depth in 0..t.settings.max_depth {
         let found = match first.take() {
             Some(hit) => Some(hit),
@@ -46,19 +44,22 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, ray: &Ray, first: Hit<'_>, time: f32, sa
         };
         radiance += throughput * t.emission(&ray, found.as_ref().map(|h| h.hit.t), seen);
         let Some(hit) = found else {
-            if specular_chain || t.lights.has_environment() {
-                radiance += throughput * t.background(ray.dir, seen) * media.attenuation(f32::INFINITY);
-            }
+            radiance += throughput * t.background(ray.dir, seen) * media.attenuation(f32::INFINITY);
             break;
         };
         throughput *= media.attenuation(hit.hit.t * ray.dir.length());
         let wo = -ray.dir.normalize();
         let m = &hit.material;
         match m.model {
-            // Emitting surfaces are not sampled as lights: paths find them only by scattering,
-            // so their emission counts in full.
-            ShadingModel::Constant | ShadingModel::Emissive => {
+            // A flat colour: what the path sees, whichever way it came.
+            ShadingModel::Constant => {
                 radiance += throughput * m.emission;
+                break;
+            }
+            // Emitting surfaces are lights, sampled at every bounce: what a scattered ray finds
+            // of them is weighed against that.
+            ShadingModel::Emissive => {
+                radiance += throughput * t.surface_emission(&ray, &hit, seen);
                 break;
             }
             ShadingModel::AmbientOcclusion => {
@@ -67,6 +68,11 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, ray: &Ray, first: Hit<'_>, time: f32, sa
                 break;
             }
             _ => {}
+        }
+        // The path has `depth + 1` segments: a light sampled from here, or a ray scattered on,
+        // would be one more (Mitsuba's `max_depth` counts them so: 1 sees emitters only).
+        if depth + 2 > t.settings.max_depth {
+            break;
         }
         let bsdf = if m.model == ShadingModel::Glass { media.glass(&hit) } else { m.bsdf.expect("scattering material") };
         if !bsdf.is_specular() {
@@ -77,7 +83,6 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, ray: &Ray, first: Hit<'_>, time: f32, sa
         let Some(s) = bsdf.sample(frame3.to_local(wo), u, choose) else { break };
         throughput *= s.weight;
         let specular = s.pdf == 0.0;
-        specular_chain &= specular;
         seen = if specular { Seen::Directly } else { Seen::Scattered { normal: hit.surface.shading_normal, pdf: s.pdf } };
         if t.settings.russian_roulette && depth + 1 >= ROULETTE_AFTER {
             let survive = throughput.max_element().min(0.95);

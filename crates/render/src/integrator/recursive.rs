@@ -31,6 +31,20 @@ use crate::warp::Frame3;
 /// Ambient-occlusion probes per hit for Whitted; the distributed variant takes one per sample.
 const WHITTED_OCCLUSION_PROBES: u32 = 16;
 
+/// Hall and Greenberg's adaptive tree depth control: a ray whose weight (the product of the
+/// Fresnel and colour factors from the camera to it) is below this is not traced, since it could
+/// change the pixel by at most this fraction of the light it meets. (Cut, not played by Russian
+/// roulette: a ray that survived would count a hundred times over, and Whitted's image would
+/// turn noisy where it is exact.)
+const MIN_WEIGHT: f32 = 1e-3;
+
+/// Bounces at which Whitted's glass traces both the reflected and the refracted ray; deeper,
+/// one of them is chosen by Russian roulette with the probability of its Fresnel weight (and
+/// counts for both: unbiased), so that the rays of a pixel are at most 2^this chains of at most
+/// the depth limit each, and a frame's cost grows with the depth limit linearly, not as 2 to
+/// its power.
+const SPLIT_DEPTH: u32 = 6;
+
 /// A secondary ray of the recursion and what it is for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Kind {
@@ -54,7 +68,7 @@ pub(crate) fn shade<const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED:
     sampler: &mut PixelSampler,
     rays: &mut RayCounts,
 ) -> Vec3 {
-    Recursion::<REFLECT, REFRACT, DISTRIBUTED> { t, time, first_hit_shadows: known, sampler, rays }.shade(ray, hit, Media::air(), 0)
+    Recursion::<REFLECT, REFRACT, DISTRIBUTED> { t, time, first_hit_shadows: known, sampler, rays }.shade(ray, hit, Seen::Directly, Media::air(), 0, 1.0)
 }
 
 /// One camera sample's recursion: what stays the same from bounce to bounce.
@@ -70,8 +84,11 @@ struct Recursion<'a, 't, 'f, const REFLECT: bool, const REFRACT: bool, const DIS
 
 impl<const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED: bool> Recursion<'_, '_, '_, REFLECT, REFRACT, DISTRIBUTED> {
     /// The radiance arriving along `ray`, traced for `kind`, in the media `media`, `depth`
-    /// bounces from the camera.
-    fn radiance(&mut self, ray: &Ray, kind: Kind, media: Media, depth: u32) -> Vec3 {
+    /// bounces from the camera, with weight `weight` in the pixel (see [`MIN_WEIGHT`]).
+    fn radiance(&mut self, ray: &Ray, kind: Kind, media: Media, depth: u32, weight: f32) -> Vec3 {
+        if weight < MIN_WEIGHT {
+            return Vec3::ZERO;
+        }
         let (counter, seen) = match kind {
             Kind::Reflection => (&mut self.rays.reflection, Seen::Directly),
             Kind::Refraction => (&mut self.rays.refraction, Seen::Directly),
@@ -79,36 +96,38 @@ impl<const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED: bool> Recursio
         };
         let found = self.t.trace(ray, self.time, counter);
         let emitted = self.t.emission(ray, found.as_ref().map(|h| h.hit.t), seen);
-        let Some(hit) = found else {
-            return emitted + self.t.background(ray.dir, seen) * media.attenuation(f32::INFINITY);
-        };
-        emitted + self.shade(ray, &hit, media, depth)
+        match found {
+            None => emitted + self.t.background(ray.dir, seen) * media.attenuation(f32::INFINITY),
+            Some(hit) => emitted + self.shade(ray, &hit, seen, media, depth, weight),
+        }
     }
 
-    /// The colour `ray` carries back from `hit`, `depth` bounces from the camera.
-    fn shade(&mut self, ray: &Ray, hit: &Hit<'_>, media: Media, depth: u32) -> Vec3 {
+    /// The colour `ray`, which was `seen` as it was, carries back from `hit`, `depth` bounces
+    /// from the camera, with weight `weight` in the pixel.
+    fn shade(&mut self, ray: &Ray, hit: &Hit<'_>, seen: Seen, media: Media, depth: u32, weight: f32) -> Vec3 {
         let t = self.t;
         let attenuation = media.attenuation(hit.hit.t * ray.dir.length());
         let wo = -ray.dir.normalize();
         let deeper = depth + 1 < t.settings.max_depth;
         let m = &hit.material;
         let colour = match m.model {
-            ShadingModel::Constant | ShadingModel::Emissive => m.emission,
+            ShadingModel::Constant => m.emission,
+            ShadingModel::Emissive => t.surface_emission(ray, hit, seen),
             ShadingModel::AmbientOcclusion => {
                 let probes = if DISTRIBUTED { 1 } else { WHITTED_OCCLUSION_PROBES };
                 let open = if t.effects.ambient_occlusion { t.occlusion(hit, self.time, probes, self.sampler, self.rays) } else { 1.0 };
                 m.albedo * open
             }
-            ShadingModel::Glass if (REFLECT || REFRACT) && deeper => self.glass(hit, wo, media, depth),
+            ShadingModel::Glass if (REFLECT || REFRACT) && deeper => self.glass(hit, wo, media, depth, weight),
             ShadingModel::Glass => Vec3::ZERO,
             ShadingModel::Mirror if REFLECT && deeper => {
-                m.albedo * self.trace_on(hit, reflect(wo, hit.surface.shading_normal), Kind::Reflection, media, depth)
+                m.albedo * self.trace_on(hit, reflect(wo, hit.surface.shading_normal), Kind::Reflection, media, depth, weight * m.albedo.max_element())
             }
             ShadingModel::Mirror => Vec3::ZERO,
             ShadingModel::Glossy => {
                 let bsdf = m.bsdf.expect("glossy materials scatter");
                 let direct = t.direct(hit, &bsdf, wo, self.time, self.known(depth), self.sampler, self.rays);
-                let reflected = if REFLECT && deeper { self.glossy_reflection(hit, &bsdf, wo, media, depth) } else { Vec3::ZERO };
+                let reflected = if REFLECT && deeper { self.glossy_reflection(hit, &bsdf, wo, media, depth, weight) } else { Vec3::ZERO };
                 direct + reflected
             }
             ShadingModel::Diffuse | ShadingModel::VertexColor | ShadingModel::Phong => {
@@ -124,47 +143,59 @@ impl<const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED: bool> Recursio
         if depth == 0 { self.first_hit_shadows } else { KnownShadows::NONE }
     }
 
-    /// Continues the recursion with a new ray leaving `hit` in direction `dir`.
-    fn trace_on(&mut self, hit: &Hit<'_>, dir: Vec3, kind: Kind, media: Media, depth: u32) -> Vec3 {
+    /// Continues the recursion with a new ray of weight `weight` leaving `hit` in direction
+    /// `dir`.
+    fn trace_on(&mut self, hit: &Hit<'_>, dir: Vec3, kind: Kind, media: Media, depth: u32, weight: f32) -> Vec3 {
         let sp = &hit.surface;
         let ray = Ray::new(offset(sp, dir), dir);
-        self.radiance(&ray, kind, media, depth + 1)
+        self.radiance(&ray, kind, media, depth + 1, weight)
     }
 
     /// Glossy reflection: Whitted takes the mirror direction scaled by the reflectance; the
     /// distributed variant samples the lobe.
-    fn glossy_reflection(&mut self, hit: &Hit<'_>, bsdf: &Bsdf, wo: Vec3, media: Media, depth: u32) -> Vec3 {
+    fn glossy_reflection(&mut self, hit: &Hit<'_>, bsdf: &Bsdf, wo: Vec3, media: Media, depth: u32, weight: f32) -> Vec3 {
         let n = hit.surface.shading_normal;
+        let albedo = hit.material.albedo;
         if !DISTRIBUTED {
-            return hit.material.albedo * self.trace_on(hit, reflect(wo, n), Kind::Glossy, media, depth);
+            return albedo * self.trace_on(hit, reflect(wo, n), Kind::Glossy, media, depth, weight * albedo.max_element());
         }
         let frame3 = Frame3::around(n);
         let (u, choose) = (self.sampler.next_2d(), self.sampler.next_1d());
         match bsdf.sample(frame3.to_local(wo), u, choose) {
-            Some(s) => s.weight * self.trace_on(hit, frame3.to_world(s.wi), Kind::Glossy, media, depth),
+            Some(s) => s.weight * self.trace_on(hit, frame3.to_world(s.wi), Kind::Glossy, media, depth, weight * s.weight.max_element()),
             None => Vec3::ZERO,
         }
     }
 
-    /// Glass: Fresnel-weighted reflection and refraction (Whitted traces both; the distributed
-    /// variant picks one by its weight), total internal reflection, and the media the refracted
-    /// ray enters or leaves.
-    fn glass(&mut self, hit: &Hit<'_>, wo: Vec3, media: Media, depth: u32) -> Vec3 {
+    /// Glass: Fresnel-weighted reflection and refraction (Whitted traces both for the first
+    /// [`SPLIT_DEPTH`] bounces, then one; the distributed variant always picks one by its
+    /// weight), total internal reflection, and the media the refracted ray enters or leaves.
+    fn glass(&mut self, hit: &Hit<'_>, wo: Vec3, media: Media, depth: u32, weight: f32) -> Vec3 {
         let n = hit.surface.shading_normal;
         let Bsdf::Glass { eta } = media.glass(hit) else { unreachable!("glass has a glass boundary") };
         let frame3 = Frame3::around(n);
         let wo_local = frame3.to_local(wo);
         let f = fresnel_dielectric(wo_local.z, eta);
         let refracted = refract(wo_local, eta).map(|d| frame3.to_world(d));
-        let reflected = |this: &mut Self, weight: f32| {
-            if REFLECT && weight > 0.0 { weight * this.trace_on(hit, reflect(wo, n), Kind::Reflection, media, depth) } else { Vec3::ZERO }
+        // Each branch scaled by its share of the light, which is also its weight in the pixel.
+        let reflected = |this: &mut Self, share: f32| {
+            if REFLECT && share > 0.0 {
+                share * this.trace_on(hit, reflect(wo, n), Kind::Reflection, media, depth, weight * share)
+            } else {
+                Vec3::ZERO
+            }
         };
-        let transmitted = |this: &mut Self, dir: Vec3, weight: f32| {
-            if REFRACT && weight > 0.0 { weight * this.trace_on(hit, dir, Kind::Refraction, media.crossed(hit), depth) } else { Vec3::ZERO }
+        let transmitted = |this: &mut Self, dir: Vec3, share: f32| {
+            if REFRACT && share > 0.0 {
+                share * this.trace_on(hit, dir, Kind::Refraction, media.crossed(hit), depth, weight * share)
+            } else {
+                Vec3::ZERO
+            }
         };
         match refracted {
             None => reflected(self, 1.0),
-            Some(dir) if DISTRIBUTED => {
+            Some(dir) if DISTRIBUTED || depth >= SPLIT_DEPTH => {
+                // One branch, chosen with the probability of its share, stands for both.
                 if self.sampler.next_1d() < f { reflected(self, 1.0) } else { transmitted(self, dir, 1.0) }
             }
             Some(dir) => reflected(self, f) + transmitted(self, dir, 1.0 - f),

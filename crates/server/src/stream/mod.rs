@@ -60,7 +60,7 @@ pub(crate) async fn stream(State(state): State<AppState>, target: Target, Params
 
 /// Checks a stream's settings as a frame request of `max_samples` samples per pixel.
 fn check(settings: &StreamSettings, limits: &Limits) -> ApiResult<()> {
-    let request = FrameRequest { width: settings.width, height: settings.height, spp: settings.max_samples, integrator: settings.integrator };
+    let request = FrameRequest { width: settings.width, height: settings.height, spp: settings.max_samples, integrator: settings.integrator, setup: Default::default() };
     request.check(limits).map_err(|mut e| {
         if e.detail.field.as_deref() == Some("spp") {
             e.detail.field = Some("max_samples".into());

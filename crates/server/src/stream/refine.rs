@@ -83,7 +83,7 @@ pub(crate) async fn refine(
             Some(a) if a.settings == wanted && a.version == version => a,
             _ => {
                 pass_samples = 1;
-                let integrator = wanted.integrator.unwrap_or_else(|| default_integrator(&scene));
+                let integrator = wanted.integrator.unwrap_or_else(|| default_integrator(&scene, true));
                 let render_settings = RenderSettings { width: wanted.width, height: wanted.height, integrator, ..RenderSettings::default() };
                 let Ok(progressive) = Progressive::new(render_settings) else {
                     return; // The settings were checked when they were received.

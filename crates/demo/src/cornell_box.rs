@@ -1,0 +1,142 @@
+//! The classic Cornell box as a glTF 2.0 file: the room measured at the Cornell Program of
+//! Computer Graphics (its published coordinates, in millimetres, here in metres), with the
+//! colours pbrt-v4's and Bitterli's versions of it use. Its only light is an emissive quad just
+//! under the ceiling, one-sided, facing down.
+//!
+//! This is the scene raystage is compared with other renderers on: the same file is read by
+//! raystage's importer and, by `scripts/references/cornell_box.py`, turned into a Mitsuba 3
+//! scene, so both render the very same arrays.
+
+use base64::Engine;
+use serde_json::json;
+
+/// Diffuse reflectance of the floor, ceiling, back wall and both blocks.
+pub const WHITE: [f32; 3] = [0.73, 0.73, 0.73];
+/// Diffuse reflectance of the left wall (as the camera sees it).
+pub const RED: [f32; 3] = [0.63, 0.065, 0.05];
+/// Diffuse reflectance of the right wall.
+pub const GREEN: [f32; 3] = [0.14, 0.45, 0.091];
+/// Radiance of the light.
+pub const LIGHT: [f32; 3] = [17.0, 12.0, 4.0];
+
+/// Height of the light under the ceiling's 548.8 mm: clear of the ceiling, so that the two
+/// never overlap.
+const LIGHT_HEIGHT: f32 = 548.0;
+
+/// The camera: where it is (mm), and its vertical field of view (a 35 mm lens over a 25 mm
+/// film, as measured).
+pub const EYE_MM: [f32; 3] = [278.0, 273.0, -800.0];
+/// The vertical field of view in degrees.
+pub const FOV_Y_DEGREES: f32 = 39.307_7;
+
+/// A surface of the room: quads (corners in order around them, mm) and what they are made of.
+struct Surface {
+    name: &'static str,
+    reflectance: [f32; 3],
+    emission: [f32; 3],
+    quads: Vec<[[f32; 3]; 4]>,
+}
+
+/// Every surface, with the published coordinates.
+fn surfaces() -> Vec<Surface> {
+    let y = LIGHT_HEIGHT;
+    let white = vec![
+        // Floor, ceiling, back wall.
+        [[552.8, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 559.2], [549.6, 0.0, 559.2]],
+        [[556.0, 548.8, 0.0], [556.0, 548.8, 559.2], [0.0, 548.8, 559.2], [0.0, 548.8, 0.0]],
+        [[549.6, 0.0, 559.2], [0.0, 0.0, 559.2], [0.0, 548.8, 559.2], [556.0, 548.8, 559.2]],
+        // The short block.
+        [[130.0, 165.0, 65.0], [82.0, 165.0, 225.0], [240.0, 165.0, 272.0], [290.0, 165.0, 114.0]],
+        [[290.0, 0.0, 114.0], [290.0, 165.0, 114.0], [240.0, 165.0, 272.0], [240.0, 0.0, 272.0]],
+        [[130.0, 0.0, 65.0], [130.0, 165.0, 65.0], [290.0, 165.0, 114.0], [290.0, 0.0, 114.0]],
+        [[82.0, 0.0, 225.0], [82.0, 165.0, 225.0], [130.0, 165.0, 65.0], [130.0, 0.0, 65.0]],
+        [[240.0, 0.0, 272.0], [240.0, 165.0, 272.0], [82.0, 165.0, 225.0], [82.0, 0.0, 225.0]],
+        // The tall block.
+        [[423.0, 330.0, 247.0], [265.0, 330.0, 296.0], [314.0, 330.0, 456.0], [472.0, 330.0, 406.0]],
+        [[423.0, 0.0, 247.0], [423.0, 330.0, 247.0], [472.0, 330.0, 406.0], [472.0, 0.0, 406.0]],
+        [[472.0, 0.0, 406.0], [472.0, 330.0, 406.0], [314.0, 330.0, 456.0], [314.0, 0.0, 456.0]],
+        [[314.0, 0.0, 456.0], [314.0, 330.0, 456.0], [265.0, 330.0, 296.0], [265.0, 0.0, 296.0]],
+        [[265.0, 0.0, 296.0], [265.0, 330.0, 296.0], [423.0, 330.0, 247.0], [423.0, 0.0, 247.0]],
+    ];
+    vec![
+        Surface { name: "white", reflectance: WHITE, emission: [0.0; 3], quads: white },
+        Surface {
+            name: "red",
+            reflectance: RED,
+            emission: [0.0; 3],
+            quads: vec![[[552.8, 0.0, 0.0], [549.6, 0.0, 559.2], [556.0, 548.8, 559.2], [556.0, 548.8, 0.0]]],
+        },
+        Surface {
+            name: "green",
+            reflectance: GREEN,
+            emission: [0.0; 3],
+            quads: vec![[[0.0, 0.0, 559.2], [0.0, 0.0, 0.0], [0.0, 548.8, 0.0], [0.0, 548.8, 559.2]]],
+        },
+        // Wound so that its front (counter-clockwise) faces down, into the room.
+        Surface {
+            name: "light",
+            reflectance: [0.0; 3],
+            emission: LIGHT,
+            quads: vec![[[343.0, y, 227.0], [343.0, y, 332.0], [213.0, y, 332.0], [213.0, y, 227.0]]],
+        },
+    ]
+}
+
+/// The room as a glTF 2.0 JSON document with its buffer inline (a `data:` URI): one mesh with a
+/// primitive per material, a node that holds it, and the camera, a node looking down +z. The
+/// light's material emits `LIGHT` as a unit colour times `KHR_materials_emissive_strength`.
+pub fn gltf() -> String {
+    let mut bin: Vec<u8> = Vec::new();
+    let mut buffer_views = Vec::new();
+    let mut accessors = Vec::new();
+    let mut materials = Vec::new();
+    let mut primitives = Vec::new();
+    for surface in surfaces() {
+        let positions: Vec<[f32; 3]> = surface.quads.iter().flatten().map(|p| p.map(|c| c / 1000.0)).collect();
+        let indices: Vec<u32> = (0..surface.quads.len() as u32).flat_map(|q| [0, 1, 2, 0, 2, 3].map(|i| 4 * q + i)).collect();
+        let (lo, hi) = positions.iter().fold(([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]), |(lo, hi), p| {
+            (std::array::from_fn(|i| lo[i].min(p[i])), std::array::from_fn(|i| hi[i].max(p[i])))
+        });
+        let position_view = buffer_views.len();
+        buffer_views.push(json!({ "buffer": 0, "byteOffset": bin.len(), "byteLength": positions.len() * 12 }));
+        bin.extend(positions.iter().flatten().flat_map(|c| c.to_le_bytes()));
+        let index_view = buffer_views.len();
+        buffer_views.push(json!({ "buffer": 0, "byteOffset": bin.len(), "byteLength": indices.len() * 4 }));
+        bin.extend(indices.iter().flat_map(|i| i.to_le_bytes()));
+        let position_accessor = accessors.len();
+        accessors.push(json!({ "bufferView": position_view, "componentType": 5126, "count": positions.len(), "type": "VEC3", "min": lo, "max": hi }));
+        accessors.push(json!({ "bufferView": index_view, "componentType": 5125, "count": indices.len(), "type": "SCALAR" }));
+        let [r, g, b] = surface.reflectance;
+        let mut material = json!({
+            "name": surface.name,
+            "pbrMetallicRoughness": { "baseColorFactor": [r, g, b, 1.0], "metallicFactor": 0.0, "roughnessFactor": 1.0 },
+        });
+        let strength = surface.emission.into_iter().fold(0.0f32, f32::max);
+        if strength > 0.0 {
+            material["emissiveFactor"] = json!(surface.emission.map(|c| c / strength));
+            material["extensions"] = json!({ "KHR_materials_emissive_strength": { "emissiveStrength": strength } });
+        }
+        primitives.push(json!({ "attributes": { "POSITION": position_accessor }, "indices": position_accessor + 1, "material": materials.len() }));
+        materials.push(material);
+    }
+    let uri = format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(&bin));
+    let eye = EYE_MM.map(|c| c / 1000.0);
+    let document = json!({
+        "asset": { "version": "2.0", "generator": "raystage-demo cornell_box" },
+        "extensionsUsed": ["KHR_materials_emissive_strength"],
+        "scene": 0,
+        "scenes": [{ "nodes": [0, 1] }],
+        // The camera node turned half a turn about y: glTF cameras look down their −z.
+        "nodes": [
+            { "name": "room", "mesh": 0 },
+            { "name": "camera", "camera": 0, "translation": eye, "rotation": [0.0, 1.0, 0.0, 0.0] },
+        ],
+        "cameras": [{ "type": "perspective", "perspective": { "yfov": FOV_Y_DEGREES.to_radians(), "aspectRatio": 1.0, "znear": 0.01 } }],
+        "meshes": [{ "name": "room", "primitives": primitives }],
+        "materials": materials,
+        "accessors": accessors,
+        "bufferViews": buffer_views,
+        "buffers": [{ "byteLength": bin.len(), "uri": uri }],
+    });
+    serde_json::to_string_pretty(&document).expect("JSON values serialise")
+}

@@ -1,0 +1,160 @@
+//! The classic Cornell box (`raystage_demo::cornell_box`), imported from its glTF file and path
+//! traced, against Mitsuba 3's rendering of the same file (`tests/references/cornell_box.pfm`,
+//! 64×64 at 32,768 samples per pixel, made by `scripts/references/cornell_box.py`). The room is
+//! lit by its emissive quad only: no default light may join it, and the light is counted once
+//! however a path finds it.
+//!
+//! The comparison is on means: each colour channel's mean over the pixels that are not the light
+//! (within 2 %), the light's own pixels (within 2 %), and the relative RMSE of 4×4-pixel block
+//! means, which averages the noise of a test-sized sample count down while keeping where the
+//! light falls. Broken variants fail it: paths cut short, a light that emits from its back,
+//! the light counted twice where it is seen. (So do a path tracer that counts the light a
+//! bounce finds in full besides sampling it, channel means 1.8× the reference's, and one that
+//! counts the light the camera sees twice, the light's pixels 2×: both measured by changing
+//! the code.)
+
+use glam::Vec3;
+use raystage_gltf_import::Limits;
+use raystage_render::{Film, Integrator, RenderSettings, render};
+use raystage_scene::{ObjectKind, Scene};
+
+/// The image side of the reference and of the test's renders.
+const SIZE: u32 = 64;
+/// Samples per pixel of the test's renders.
+const SPP: u32 = 256;
+/// Largest relative RMSE of 4×4 block means the comparison accepts: a little above the noise
+/// of `SPP` samples per pixel.
+const BLOCK_TOLERANCE: f32 = 0.03;
+/// Largest relative difference of channel means, and of the light's pixels.
+const MEAN_TOLERANCE: f32 = 0.02;
+
+/// Mitsuba's image, row by row from the top.
+fn reference() -> Vec<Vec3> {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/references/cornell_box.pfm");
+    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    // "PF\n<w> <h>\n<scale>\n", then little-endian floats, rows from the bottom.
+    let mut lines = bytes.splitn(4, |&b| b == b'\n');
+    assert_eq!(lines.next(), Some(&b"PF"[..]), "an RGB PFM");
+    let size = std::str::from_utf8(lines.next().unwrap()).unwrap();
+    assert_eq!(size, format!("{SIZE} {SIZE}"));
+    assert!(std::str::from_utf8(lines.next().unwrap()).unwrap().parse::<f32>().unwrap() < 0.0, "little-endian");
+    let floats: Vec<f32> = lines.next().unwrap().chunks_exact(4).map(|b| f32::from_le_bytes(b.try_into().unwrap())).collect();
+    let rows: Vec<Vec3> = floats.chunks_exact(3).map(Vec3::from_slice).collect();
+    rows.chunks_exact(SIZE as usize).rev().flatten().copied().collect()
+}
+
+/// The room as raystage imports it.
+fn room() -> Scene {
+    let import = raystage_gltf_import::read(raystage_demo::cornell_box::gltf().as_bytes(), None, &Limits::default()).unwrap();
+    assert!(import.lights().is_empty(), "the file has no punctual light");
+    import.into_scene().unwrap()
+}
+
+/// `scene` path traced as the reference was: box filter, paths of up to `max_depth` segments.
+fn render_room(scene: &Scene, max_depth: u32) -> Vec<Vec3> {
+    let settings = RenderSettings {
+        width: SIZE,
+        height: SIZE,
+        integrator: Integrator::Path,
+        samples_per_pixel: SPP,
+        max_depth,
+        ..RenderSettings::default()
+    };
+    let (film, stats) = render(&scene.frame(), &settings).unwrap();
+    assert!(!stats.default_lights, "the emissive quad lights the room");
+    assert_eq!(stats.non_finite, 0);
+    pixels(&film)
+}
+
+fn pixels(film: &Film) -> Vec<Vec3> {
+    (0..film.height()).flat_map(|y| (0..film.width()).map(move |x| (x, y))).map(|(x, y)| film.pixel(x, y)).collect()
+}
+
+/// How far an image is from the reference.
+#[derive(Debug)]
+struct Comparison {
+    /// Per channel, the image's mean over the pixels that are not the light, over the
+    /// reference's.
+    channel_ratio: Vec3,
+    /// The image's mean over the light's pixels, over the reference's.
+    light_ratio: f32,
+    /// RMSE of the 4×4 block means (blocks without light pixels), over the reference's mean.
+    block_rmse: f32,
+}
+
+impl Comparison {
+    fn of(image: &[Vec3], reference: &[Vec3]) -> Comparison {
+        let lum = |c: Vec3| c.dot(Vec3::new(0.2126, 0.7152, 0.0722));
+        // The light: pixels brighter than anything it lights (its radiance's luminance is 12.6;
+        // the brightest wall stays under 1), wholly inside it.
+        let light: Vec<bool> = reference.iter().map(|&c| lum(c) > 12.0).collect();
+        let mean = |img: &[Vec3], on: bool| {
+            let (sum, n) = img.iter().zip(&light).filter(|(_, l)| **l == on).fold((Vec3::ZERO, 0), |(s, n), (c, _)| (s + *c, n + 1));
+            sum / n as f32
+        };
+        let near_light: Vec<bool> = reference.iter().map(|&c| lum(c) > 1.0).collect();
+        let blocks = SIZE as usize / 4;
+        let (mut squares, mut sum, mut count) = (0.0f32, 0.0f32, 0);
+        for by in 0..blocks {
+            for bx in 0..blocks {
+                let indices: Vec<usize> = (0..16).map(|i| (by * 4 + i / 4) * SIZE as usize + bx * 4 + i % 4).collect();
+                if indices.iter().any(|&i| near_light[i]) {
+                    continue;
+                }
+                let block = |img: &[Vec3]| indices.iter().map(|&i| img[i]).sum::<Vec3>() / 16.0;
+                let (a, b) = (block(image), block(reference));
+                squares += (a - b).length_squared();
+                sum += b.x + b.y + b.z;
+                count += 3;
+            }
+        }
+        Comparison {
+            channel_ratio: mean(image, false) / mean(reference, false),
+            light_ratio: lum(mean(image, true)) / lum(mean(reference, true)),
+            block_rmse: (squares / count as f32).sqrt() / (sum / count as f32),
+        }
+    }
+
+    fn passes(&self) -> bool {
+        (self.channel_ratio - Vec3::ONE).abs().max_element() <= MEAN_TOLERANCE
+            && (self.light_ratio - 1.0).abs() <= MEAN_TOLERANCE
+            && self.block_rmse <= BLOCK_TOLERANCE
+    }
+}
+
+#[test]
+fn the_path_traced_room_matches_mitsuba() {
+    let reference = reference();
+    let comparison = Comparison::of(&render_room(&room(), 64), &reference);
+    eprintln!("raystage: {comparison:?}");
+    assert!(comparison.passes(), "{comparison:?}");
+}
+
+#[test]
+fn the_comparison_fails_broken_rooms() {
+    let reference = reference();
+    // Paths cut short: the light of the fourth bounce on is missing.
+    let short = Comparison::of(&render_room(&room(), 4), &reference);
+    eprintln!("paths of 4 segments: {short:?}");
+    assert!(!short.passes(), "{short:?}");
+    // The light's one side mistaken: it emits from its back, up into the ceiling.
+    let mut flipped = room();
+    for id in flipped.object_ids().collect::<Vec<_>>() {
+        let mut mesh = flipped.mesh(id).unwrap().clone();
+        for (prim, triangle) in mesh.indices.iter_mut().enumerate() {
+            if flipped.shader(mesh.shaders[prim]).unwrap().class().name == "Emissive" {
+                triangle.swap(1, 2);
+            }
+        }
+        flipped.define_object(id, ObjectKind::Static, mesh).unwrap();
+    }
+    let upside_down = Comparison::of(&render_room(&flipped, 64), &reference);
+    eprintln!("the light's back lit: {upside_down:?}");
+    assert!(!upside_down.passes(), "{upside_down:?}");
+    // The light counted twice where the camera sees it (the bug of a frame loop and an
+    // integrator both adding it): its pixels read double.
+    let mut doubled = render_room(&room(), 64);
+    doubled.iter_mut().zip(&reference).filter(|(_, r)| r.dot(Vec3::new(0.2126, 0.7152, 0.0722)) > 12.0).for_each(|(c, _)| *c *= 2.0);
+    let doubled = Comparison::of(&doubled, &reference);
+    assert!(!doubled.passes(), "{doubled:?}");
+}
