@@ -612,4 +612,81 @@ mod tests {
         }
         assert!(bright > 500, "{bright} of 1000 samples in the bright texel");
     }
+
+    /// Veach's test of multiple importance sampling: a small bright emitter and a large dim one
+    /// over a point, seen by a matte and by a glossy surface. Light sampling alone, BSDF
+    /// sampling alone (each ray looked up against the emitters by brute force) and the two
+    /// weighed by the power heuristic, with the density [`Emitters::area_density`] gives a
+    /// hit, must estimate the same direct light, within their noise.
+    #[test]
+    fn light_sampling_bsdf_sampling_and_mis_agree() {
+        use crate::bsdf::Bsdf;
+        let quad = |centre: Vec3, half: f32| {
+            let c = [Vec3::new(-half, 0.0, -half), Vec3::new(half, 0.0, -half), Vec3::new(half, 0.0, half), Vec3::new(-half, 0.0, half)].map(|d| centre + d);
+            // Wound to face down, towards the point below.
+            [[c[0], c[1], c[2]], [c[0], c[2], c[3]]].map(|corners| {
+                let front = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
+                WorldTriangle { corners, front: front.normalize(), area: front.length() / 2.0, shader_id: None }
+            })
+        };
+        let small = quad(Vec3::new(0.6, 2.0, 0.0), 0.05).map(|t| (t, Vec3::splat(400.0)));
+        let large = quad(Vec3::new(-1.0, 2.0, 0.0), 1.5).map(|t| (t, Vec3::splat(0.5)));
+        assert!(small.iter().all(|(t, _)| t.front.y < 0.0));
+        let emitters = Emitters::new(small.into_iter().chain(large).collect()).unwrap();
+        let (p, frame) = (Vec3::ZERO, Frame3::around(Vec3::Y));
+        // What a ray from `p` in direction `wi` meets first: the radiance, distance and cosine.
+        let meet = |wi: Vec3| -> Option<(Vec3, f32, f32)> {
+            emitters
+                .triangles
+                .iter()
+                .filter_map(|e| {
+                    let t = hit_parallelogram(p, wi, e.corner, e.edge_u, e.edge_v)?;
+                    let q = p + wi * t - e.corner;
+                    // Inside the triangle half of the parallelogram.
+                    let (uu, vv) = (e.edge_u.length_squared(), e.edge_v.length_squared());
+                    let uv = e.edge_u.dot(e.edge_v);
+                    let det = uu * vv - uv * uv;
+                    let a = (vv * q.dot(e.edge_u) - uv * q.dot(e.edge_v)) / det;
+                    let b = (uu * q.dot(e.edge_v) - uv * q.dot(e.edge_u)) / det;
+                    (a + b <= 1.0 && e.normal.dot(-wi) > 0.0).then_some((e.radiance, t, e.normal.dot(-wi)))
+                })
+                .min_by(|x, y| x.1.total_cmp(&y.1))
+        };
+        let wo = Vec3::new(-0.5, 0.7, 0.2).normalize();
+        for bsdf in [Bsdf::Lambert { albedo: Vec3::splat(0.8) }, Bsdf::Glossy { reflectance: Vec3::splat(0.9), alpha: 0.15 }] {
+            let n = 256;
+            let (mut light, mut scattered, mut mis) = (Vec::new(), Vec::new(), Vec::new());
+            for i in 0..n {
+                for j in 0..n {
+                    let u = [(i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32];
+                    let wo_local = frame.to_local(wo);
+                    let from_light = emitters.sample(p, u).map_or(0.0, |ls| {
+                        let f = bsdf.eval(wo_local, frame.to_local(ls.wi)).x;
+                        let weight = power_heuristic(ls.pdf, bsdf.pdf(wo_local, frame.to_local(ls.wi)));
+                        light.push(f * ls.weighted.x);
+                        f * ls.weighted.x * weight
+                    });
+                    let u2 = [u[1], u[0]];
+                    let from_bsdf = bsdf.sample(wo_local, u2, u[0]).and_then(|s| {
+                        let wi = frame.to_world(s.wi);
+                        let (radiance, t, cos) = meet(wi)?;
+                        let light_pdf = emitters.area_density(radiance) * t * t / cos;
+                        Some((s.weight.x * radiance.x, power_heuristic(s.pdf, light_pdf)))
+                    });
+                    scattered.push(from_bsdf.map_or(0.0, |(v, _)| v));
+                    mis.push(from_light + from_bsdf.map_or(0.0, |(v, w)| v * w));
+                }
+            }
+            light.resize(n * n, 0.0);
+            let stats = |v: &[f32]| {
+                let mean = v.iter().sum::<f32>() / v.len() as f32;
+                let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f32>() / (v.len() - 1) as f32;
+                (mean, (var / v.len() as f32).sqrt())
+            };
+            let ((a, ea), (b, eb), (c, ec)) = (stats(&light), stats(&scattered), stats(&mis));
+            let agree = |x: f32, ex: f32, y: f32, ey: f32| (x - y).abs() <= 4.0 * (ex * ex + ey * ey).sqrt() + 1e-3 * x.abs();
+            assert!(agree(a, ea, c, ec) && agree(b, eb, c, ec) && agree(a, ea, b, eb), "{bsdf:?}: light {a} ± {ea}, BSDF {b} ± {eb}, MIS {c} ± {ec}");
+            assert!(a > 0.1, "{bsdf:?}: the emitters light the point: {a}");
+        }
+    }
 }
