@@ -10,7 +10,7 @@ tracer (`max_depth` 64, Russian roulette from depth 5, unbiased) renders it thro
 of one pixel, and the image is written as a little-endian PFM of linear RGB.
 
     pip install mitsuba numpy
-    python3 scripts/references/cornell_box.py room.gltf out.pfm --size 64 --spp 16384
+    python3 scripts/references/cornell_box.py room.gltf out.pfm --size 64 --spp 32768
 
 Mitsuba's scalar variant needs nothing else; `--variant llvm_ad_rgb` needs LLVM (see the
 README's path-tracing benchmark).
@@ -24,6 +24,7 @@ import os
 import struct
 import sys
 import tempfile
+import time
 
 import numpy as np
 
@@ -129,17 +130,27 @@ def main():
     parser.add_argument("--spp", type=int, default=16384)
     parser.add_argument("--variant", default="scalar_rgb")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--threads", type=int, default=0, help="render threads (0: every core)")
+    parser.add_argument("--time", action="store_true", help="print the render's seconds (scene loading left out) as JSON")
     args = parser.parse_args()
     try:
         import mitsuba as mi
     except ImportError:
         sys.exit("Mitsuba 3 is not installed: pip install mitsuba numpy")
+    import drjit as dr
+
     mi.set_variant(args.variant)
+    if args.threads > 0:
+        dr.set_thread_count(args.threads)
     doc, data = read_gltf(args.gltf)
     with tempfile.TemporaryDirectory() as folder:
         scene = mi.load_dict(scene_dict(mi, doc, data, folder, args.size, args.spp))
+        start = time.perf_counter()
         image = np.array(mi.render(scene, seed=args.seed))
+        seconds = time.perf_counter() - start
     write_pfm(args.out, image[:, :, :3])
+    if args.time:
+        print(json.dumps({"seconds": seconds}))
 
 
 if __name__ == "__main__":

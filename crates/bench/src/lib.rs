@@ -11,6 +11,7 @@
 pub mod embree;
 pub mod dynamic;
 pub mod kernel;
+pub mod pathtrace;
 pub mod plot;
 pub mod rays;
 pub mod render;

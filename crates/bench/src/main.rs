@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
 use raystage_bench::kernel::Api;
-use raystage_bench::{dynamic, kernel, plot, render, table};
+use raystage_bench::{dynamic, kernel, pathtrace, plot, render, table};
 use raystage_demo::animated::{Animation, Baked, Museum, Robots, Still, Terrain};
 use raystage_demo::StandardScene;
 
@@ -73,10 +73,62 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// The path tracer against Mitsuba 3 on the classic Cornell box: time and error at each
+    /// sample count, both systems in turns on the same threads, and each one's time to 1 %
+    /// relative RMSE (issue 22).
+    Pathtrace {
+        /// Image side in pixels (a multiple of 4).
+        #[arg(long, default_value_t = 256)]
+        size: u32,
+        /// Sample counts to compare, comma-separated.
+        #[arg(long, default_value = "16,32,64,128,256,512,1024", value_delimiter = ',')]
+        spp: Vec<u32>,
+        /// Samples per pixel of Mitsuba's reference.
+        #[arg(long, default_value_t = 8192)]
+        reference_spp: u32,
+        /// Threads of every render.
+        #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
+        threads: usize,
+        /// Mitsuba variants to time, comma-separated (llvm_ad_rgb needs LLVM 19:
+        /// DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM-19.so).
+        #[arg(long, default_value = "scalar_rgb", value_delimiter = ',')]
+        variants: Vec<String>,
+        /// The Python interpreter that has the `mitsuba` package.
+        #[arg(long, default_value = "python3")]
+        python: String,
+        /// Where to write the scene, the reference and Mitsuba's images.
+        #[arg(long, default_value = "pathtrace")]
+        dir: PathBuf,
+        /// Print one JSON object per render, then one per system's time to 1 %.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 fn main() {
     match Cli::parse().command {
+        Command::Pathtrace { size, spp, reference_spp, threads, variants, python, dir, json } => {
+            let config = pathtrace::Config { size: size.max(4) / 4 * 4, spp, reference_spp, threads: threads.max(1), variants, python, dir };
+            let report = match pathtrace::run(&config, |line| eprintln!("{line}")) {
+                Ok(report) => report,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    std::process::exit(1);
+                }
+            };
+            let targets = report.times_to_target();
+            if json {
+                for p in &report.points {
+                    println!("{}", serde_json::to_string(p).expect("report serialises"));
+                }
+                for t in &targets {
+                    println!("{}", serde_json::to_string(t).expect("report serialises"));
+                }
+                println!("{}", serde_json::to_string(&report.scaling).expect("report serialises"));
+            } else {
+                print!("{}", table::pathtrace_table(&report, &targets));
+            }
+        }
         Command::Render { threads, reps, reference_spp, max_spp, plot: plot_path, json } => {
             let threads = threads.max(1);
             let shading = render::run_shading(threads, reps, |line| eprintln!("{line}"));

@@ -241,3 +241,28 @@ pub fn convergence_table(run: &ConvergenceRun) -> String {
     );
     out
 }
+
+/// The path-tracing benchmark's table: every render's time and error, each system's time to
+/// 1 % and raystage's ratio to it, and raystage's thread scaling.
+pub fn pathtrace_table(report: &crate::pathtrace::Report, targets: &[crate::pathtrace::TimeToTarget]) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "path tracing: classic Cornell box, reference {}", report.reference);
+    let _ = writeln!(out, "  {:<20} {:>6} {:>10} {:>10} {:>22}", "system", "spp", "seconds", "RMSE", "channel means / ref");
+    for p in &report.points {
+        let [r, g, b] = p.channel_ratio;
+        let _ = writeln!(out, "  {:<20} {:>6} {:>10.3} {:>10.5}   {r:.4} {g:.4} {b:.4}", p.system, p.spp, p.seconds, p.rmse);
+    }
+    let _ = writeln!(out, "time to {} % relative RMSE:", crate::pathtrace::TARGET_RMSE * 100.0);
+    for t in targets {
+        let seconds = t.seconds.map_or("not reached".to_string(), |s| format!("{s:.3} s{}", if t.extrapolated { " (extrapolated)" } else { "" }));
+        let ratio = t.raystage_ratio.map_or(String::new(), |r| format!("   raystage / this: {r:.2}x"));
+        let _ = writeln!(out, "  {:<20} {seconds}{ratio}", t.system);
+    }
+    let s = &report.scaling;
+    let _ = writeln!(
+        out,
+        "raystage thread scaling at {} spp: {:.3} s on 1 thread, {:.3} s on {}: {:.2}x; {} tasks a frame",
+        s.spp, s.one_thread_s, s.threads_s, s.threads, s.speedup, s.tasks
+    );
+    out
+}

@@ -13,7 +13,7 @@ use crate::integrator::{Hit, Tracer, eyelight, first_matte, path, recursive};
 use crate::lights::Seen;
 use crate::sampler::PixelSampler;
 use crate::stats::{FrameStats, PhaseTimes, RayCounts};
-use crate::tiles::{Band, Tile, luminance, render_tiles_with};
+use crate::tiles::{Sums, Tile, luminance, render_tiles_with};
 use crate::{Error, Film};
 
 /// Largest image width or height.
@@ -299,10 +299,10 @@ impl Progressive {
         let first_index = self.samples;
         let counts = std::sync::Mutex::new(Counts::default());
         let (sum, sum_sq) = (&mut self.sum, self.sum_sq.as_deref_mut());
-        let add = |tile: &Tile, band: &mut Band<'_>| {
+        let add = |tile: &Tile, sums: &Sums<'_>| {
             let mut work = TileWork::for_tile(tile);
             for index in first_index..first_index + samples {
-                work.sample(&tracer, &camera, index, band);
+                work.sample(&tracer, &camera, index, sums);
             }
             counts.lock().unwrap_or_else(|e| e.into_inner()).add(work.counts);
             work.recycle();
@@ -431,14 +431,14 @@ impl TileWork {
     /// One sample (number `index`) of every pixel of the tile, added to the tile's sums (sample
     /// 0 is written over them). A frame of one sample per pixel looks through pixel centres;
     /// with more, samples spread over the pixel by the filter.
-    fn sample(&mut self, t: &Tracer<'_, '_>, camera: &CameraRays, index: u32, band: &mut Band<'_>) {
+    fn sample(&mut self, t: &Tracer<'_, '_>, camera: &CameraRays, index: u32, sums: &Sums<'_>) {
         if through_centres(t) && previews_packets(t) {
             self.preview_centres(t, camera);
         } else {
             self.trace_and_shade(t, camera, index);
         }
         // The first sample writes every pixel over what the buffers held.
-        band.add_tile(&self.tile, &self.samples, index == 0);
+        sums.add_tile(&self.tile, &self.samples, index == 0);
     }
 
     /// [`TileWork::sample`] of any frame: the tile's camera rays traced together, then shaded

@@ -1,18 +1,43 @@
-//! The tiled frame loop: the image is cut into square tiles, rendered in parallel band by band.
+//! The tiled frame loop: the image is cut into square tiles, each one task, handed out
+//! dynamically by rayon's work stealing.
 //!
-//! Tiles rather than rows or single pixels: a 32×32 tile keeps neighbouring rays coherent in the
-//! BVH, traced one after the other while the tree's nodes are in cache (16×16 tiles made a
-//! point-lit 1080p frame 3 % slower), and is enough work to amortise its setup. The tiles of
-//! one band of 32 rows go to one thread in turn, and the bands (34 at 1080p) are shared out by
-//! rayon's work stealing, which
-//! balances cheap sky bands against expensive geometry bands. A band is a contiguous run of the
-//! image's rows, so each thread writes its pixels in place: no copies, no locks.
+//! Tiles rather than rows or single pixels: a tile keeps neighbouring rays coherent in the BVH,
+//! traced one after the other while the tree's nodes are in cache, and is enough work to
+//! amortise its setup. 32×32 tiles are best for a large frame (16×16 made a point-lit 1080p
+//! frame 3 % slower), but a frame must offer enough of them to keep many threads busy however
+//! unevenly its work is spread (a band of sky next to a band of glass): the tile side is the
+//! largest of 32, 16 and 8 that cuts the frame into at least [`MIN_TASKS`] tiles, so that every
+//! image of 128×128 or more keeps 64 threads busy with tasks of at most 1/256 of it. Rayon
+//! splits the row-major range of tiles in halves, so neighbouring tiles go to the same thread.
+//!
+//! Each tile writes its own pixels of the shared accumulation buffers in place (no copies, no
+//! locks; tiles are disjoint, so no two tasks touch one pixel), and the last tile to finish a
+//! band of rows hands the band on.
+
+use std::marker::PhantomData;
+use std::sync::atomic::{AtomicU32, Ordering};
 
 use glam::Vec3;
 use rayon::prelude::*;
 
-/// Edge length of a tile in pixels; tiles on the right and bottom border may be smaller.
+/// The tasks a frame is cut into at least, where its size allows tiles of 8 pixels a side.
+pub const MIN_TASKS: u32 = 256;
+
+/// Largest edge length of a tile in pixels; tiles on the right and bottom border may be
+/// smaller.
 pub const TILE_SIZE: u32 = 32;
+
+/// The edge length of the tiles of a `width × height` frame (see the module documentation).
+pub(crate) fn tile_size(width: u32, height: u32) -> u32 {
+    [TILE_SIZE, 16, 8].into_iter().find(|&side| width.div_ceil(side) * height.div_ceil(side) >= MIN_TASKS).unwrap_or(8)
+}
+
+/// How many tasks the frame loop cuts a `width × height` frame into: what keeps threads busy,
+/// reported by the benchmarks.
+pub fn tasks(width: u32, height: u32) -> usize {
+    let side = tile_size(width, height);
+    (width.div_ceil(side) * height.div_ceil(side)) as usize
+}
 
 /// A rectangle of pixels: `x0..x0 + width` × `y0..y0 + height`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -45,48 +70,61 @@ impl Tile {
     }
 }
 
-/// One band's part of the per-pixel accumulation buffers: whole image rows from `y0` on.
-pub(crate) struct Band<'a> {
-    /// Sum of the samples, per pixel.
-    pub sum: &'a mut [Vec3],
+/// The per-pixel accumulation buffers of a frame, shared by its tiles: each tile writes only its
+/// own pixels.
+pub(crate) struct Sums<'a> {
+    /// Sum of the samples, per pixel, row-major.
+    sum: *mut Vec3,
     /// Sum of the squared sample luminances, per pixel, if the variance is kept.
-    pub sum_sq: Option<&'a mut [f32]>,
+    sum_sq: Option<*mut f32>,
     width: u32,
-    y0: u32,
+    len: usize,
+    _borrow: PhantomData<&'a mut [Vec3]>,
 }
 
-impl Band<'_> {
-    /// Where pixel `(x, y)` of the image is in the band's buffers.
-    pub fn index(&self, x: u32, y: u32) -> usize {
-        ((y - self.y0) * self.width + x) as usize
-    }
+// Safety: tiles are disjoint and each is given to one task only (`render_tiles_with`), so the
+// threads sharing the buffers never write, or read, the same pixel at once.
+unsafe impl Sync for Sums<'_> {}
 
+impl Sums<'_> {
     /// Adds one sample of every pixel of `tile`, `samples` in the tile's row-major order, to the
-    /// band's sums (and their squared luminances, if kept); the first pass writes them over the
-    /// sums instead.
+    /// sums (and their squared luminances, if kept); the first pass writes them over the sums
+    /// instead. Only the task that was given `tile` may call it.
     ///
     /// The samples are gathered per tile rather than stored pixel by pixel as they are shaded:
     /// a frame's sums are far larger than the caches, and each store that misses them holds up
     /// the stores behind it (the next packet's camera rays, its shading), where row by row the
     /// misses come together.
-    pub fn add_tile(&mut self, tile: &Tile, samples: &[Vec3], first_pass: bool) {
+    pub fn add_tile(&self, tile: &Tile, samples: &[Vec3], first_pass: bool) {
         assert_eq!(samples.len(), tile.len(), "a sample per pixel of the tile");
         let width = tile.width as usize;
         for (row, samples) in samples.chunks(width).enumerate() {
-            let at = self.index(tile.x0, tile.y0 + row as u32);
-            let sum = &mut self.sum[at..at + width];
+            let at = ((tile.y0 as usize + row) * self.width as usize) + tile.x0 as usize;
+            assert!(tile.x0 + tile.width <= self.width && at + width <= self.len, "the tile lies in the image");
+            // Safety: in bounds (checked), and only this tile's task touches these pixels.
+            let sum = unsafe { std::slice::from_raw_parts_mut(self.sum.add(at), width) };
             if first_pass {
                 sum.copy_from_slice(samples);
             } else {
                 sum.iter_mut().zip(samples).for_each(|(sum, sample)| *sum += *sample);
             }
-            if let Some(sum_sq) = self.sum_sq.as_deref_mut() {
-                for (sum_sq, sample) in sum_sq[at..at + width].iter_mut().zip(samples) {
+            if let Some(sum_sq) = self.sum_sq {
+                // Safety: as above, the squared sums have one entry per pixel too.
+                let sum_sq = unsafe { std::slice::from_raw_parts_mut(sum_sq.add(at), width) };
+                for (sum_sq, sample) in sum_sq.iter_mut().zip(samples) {
                     let square = luminance(*sample) * luminance(*sample);
                     *sum_sq = if first_pass { square } else { *sum_sq + square };
                 }
             }
         }
+    }
+
+    /// The sums of rows `rows`, once every tile over them is done.
+    fn rows(&self, rows: std::ops::Range<u32>) -> &[Vec3] {
+        let (start, end) = (rows.start as usize * self.width as usize, rows.end as usize * self.width as usize);
+        assert!(end <= self.len);
+        // Safety: in bounds, and no task writes these rows any more (their tiles are done).
+        unsafe { std::slice::from_raw_parts(self.sum.add(start), end - start) }
     }
 }
 
@@ -95,37 +133,39 @@ pub(crate) fn luminance(c: Vec3) -> f32 {
     c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
 }
 
-/// Runs `add` over every tile of a `width × height` image, bands of tiles in parallel on the
-/// current rayon pool (run it inside `ThreadPool::install` to choose the number of threads),
-/// giving it the band of the per-pixel accumulation buffers (row-major, one entry per pixel;
-/// the squared sums only if kept) its tile lies in. Once every tile of a band is done,
+/// Runs `add` over every tile of a `width × height` image, each tile a task on the current
+/// rayon pool (run it inside `ThreadPool::install` to choose the number of threads), giving it
+/// the per-pixel accumulation buffers (row-major, one entry per pixel; the squared sums only if
+/// kept) to write its pixels into. Once every tile of a band of rows is done,
 /// `finished(first_row, sums)` is called with the band's rows of sums, on the thread that
-/// rendered them.
+/// finished its last tile.
 pub(crate) fn render_tiles_with(
     width: u32,
     height: u32,
     sum: &mut [Vec3],
     sum_sq: Option<&mut [f32]>,
-    add: impl Fn(&Tile, &mut Band<'_>) + Sync,
+    add: impl Fn(&Tile, &Sums<'_>) + Sync,
     finished: impl Fn(u32, &[Vec3]) + Sync,
 ) {
     if width == 0 || height == 0 {
         return;
     }
-    let band_len = (width * TILE_SIZE) as usize;
-    let bands = sum.len().div_ceil(band_len);
-    let sum_sq_bands: Vec<Option<&mut [f32]>> = match sum_sq {
-        Some(sum_sq) => sum_sq.chunks_mut(band_len).map(Some).collect(),
-        None => (0..bands).map(|_| None).collect(),
-    };
-    sum.par_chunks_mut(band_len).zip(sum_sq_bands).enumerate().for_each(|(b, (sum, sum_sq))| {
-        let y0 = b as u32 * TILE_SIZE;
-        let rows = TILE_SIZE.min(height - y0);
-        let mut band = Band { sum, sum_sq, width, y0 };
-        for x0 in (0..width).step_by(TILE_SIZE as usize) {
-            add(&Tile { x0, y0, width: TILE_SIZE.min(width - x0), height: rows }, &mut band);
+    let n = width as usize * height as usize;
+    assert!(sum.len() == n && sum_sq.as_ref().is_none_or(|s| s.len() == n), "one sum per pixel");
+    let side = tile_size(width, height);
+    let (columns, bands) = (width.div_ceil(side), height.div_ceil(side));
+    let sums = Sums { sum: sum.as_mut_ptr(), sum_sq: sum_sq.map(|s| s.as_mut_ptr()), width, len: n, _borrow: PhantomData };
+    // Tiles still to finish in each band: the one that brings it to 0 hands the band on.
+    let pending: Vec<AtomicU32> = (0..bands).map(|_| AtomicU32::new(columns)).collect();
+    (0..columns * bands).into_par_iter().for_each(|index| {
+        let (band, column) = (index / columns, index % columns);
+        let (x0, y0) = (column * side, band * side);
+        let tile = Tile { x0, y0, width: side.min(width - x0), height: side.min(height - y0) };
+        add(&tile, &sums);
+        // Release the tile's writes to, and acquire the others' for, whoever finishes the band.
+        if pending[band as usize].fetch_sub(1, Ordering::AcqRel) == 1 {
+            finished(y0, sums.rows(y0..y0 + tile.height));
         }
-        finished(y0, band.sum);
     });
 }
 
@@ -138,7 +178,7 @@ mod tests {
     const SIZES: [(u32, u32); 7] = [(1, 1), (16, 16), (17, 16), (16, 33), (35, 7), (160, 90), (3, 250)];
 
     /// Runs `add` over a fresh `width × height` image; returns the sums.
-    fn run(width: u32, height: u32, add: impl Fn(&Tile, &mut Band<'_>) + Sync) -> Vec<Vec3> {
+    fn run(width: u32, height: u32, add: impl Fn(&Tile, &Sums<'_>) + Sync) -> Vec<Vec3> {
         let n = (width * height) as usize;
         let (mut sum, mut sum_sq) = (vec![Vec3::ZERO; n], vec![0.0; n]);
         render_tiles_with(width, height, &mut sum, Some(&mut sum_sq), add, |_, _| {});
@@ -149,13 +189,13 @@ mod tests {
     fn every_pixel_is_visited_exactly_once_and_written_in_place() {
         for (width, height) in SIZES {
             let calls: Vec<AtomicU32> = (0..width * height).map(|_| AtomicU32::new(0)).collect();
-            let sum = run(width, height, |tile, band| {
+            let sum = run(width, height, |tile, sums| {
+                let samples: Vec<Vec3> = (0..tile.len()).map(|i| tile.pixel(i)).map(|(x, y)| Vec3::new(x as f32, y as f32, 1.0)).collect();
                 for i in 0..tile.len() {
                     let (x, y) = tile.pixel(i);
                     calls[(y * width + x) as usize].fetch_add(1, Ordering::Relaxed);
-                    let at = band.index(x, y);
-                    band.sum[at] = Vec3::new(x as f32, y as f32, 1.0);
                 }
+                sums.add_tile(tile, &samples, true);
             });
             assert!(calls.iter().all(|c| c.load(Ordering::Relaxed) == 1), "{width}×{height}");
             for (i, p) in sum.iter().enumerate() {
@@ -171,9 +211,9 @@ mod tests {
         let (mut sum, mut sum_sq) = (vec![Vec3::splat(9.0); n], vec![9.0; n]);
         let sample = |x: u32, y: u32| Vec3::new(x as f32, y as f32, 1.0);
         for pass in 0..2 {
-            render_tiles_with(width, height, &mut sum, Some(&mut sum_sq), |tile, band| {
+            render_tiles_with(width, height, &mut sum, Some(&mut sum_sq), |tile, sums| {
                 let samples: Vec<Vec3> = (0..tile.len()).map(|i| sample(tile.pixel(i).0, tile.pixel(i).1)).collect();
-                band.add_tile(tile, &samples, pass == 0);
+                sums.add_tile(tile, &samples, pass == 0);
             }, |_, _| {});
         }
         for (i, (s, sq)) in sum.iter().zip(&sum_sq).enumerate() {
@@ -186,13 +226,33 @@ mod tests {
     #[test]
     fn border_tiles_are_clipped_to_the_image() {
         let tiles = std::sync::Mutex::new(Vec::new());
-        let t = TILE_SIZE;
-        run(2 * t + 3, t + 1, |tile, _| tiles.lock().unwrap().push(*tile));
+        // 2040 tiles of 32 at 1080p; a 67 × 33 image gets tiles of 8 (9 × 5 of them).
+        assert_eq!((tile_size(1920, 1080), tasks(1920, 1080)), (32, 60 * 34));
+        assert_eq!((tile_size(256, 256), tasks(256, 256)), (16, 256));
+        assert_eq!(tile_size(67, 33), 8);
+        run(67, 33, |tile, _| tiles.lock().unwrap().push(*tile));
         let mut tiles = tiles.into_inner().unwrap();
         tiles.sort_by_key(|t| (t.y0, t.x0));
-        assert_eq!(tiles.len(), 3 * 2);
-        assert_eq!(tiles[2], Tile { x0: 2 * t, y0: 0, width: 3, height: t });
-        assert_eq!(tiles[5], Tile { x0: 2 * t, y0: t, width: 3, height: 1 });
+        assert_eq!(tiles.len(), 9 * 5);
+        assert_eq!(tiles[8], Tile { x0: 64, y0: 0, width: 3, height: 8 });
+        assert_eq!(tiles[44], Tile { x0: 64, y0: 32, width: 3, height: 1 });
+    }
+
+    /// Every band of rows is handed on once, whole, after all its tiles are written.
+    #[test]
+    fn each_band_is_finished_once_with_its_final_rows() {
+        let (width, height) = (100, 75);
+        let bands = std::sync::Mutex::new(Vec::new());
+        let mut sum = vec![Vec3::ZERO; (width * height) as usize];
+        render_tiles_with(width, height, &mut sum, None, |tile, sums| sums.add_tile(tile, &vec![Vec3::ONE; tile.len()], true), |y0, rows| {
+            assert!(rows.iter().all(|&p| p == Vec3::ONE), "band at {y0} complete");
+            bands.lock().unwrap().push((y0, rows.len() as u32 / width));
+        });
+        let mut bands = bands.into_inner().unwrap();
+        bands.sort_unstable();
+        let side = tile_size(width, height);
+        let expected: Vec<(u32, u32)> = (0..height).step_by(side as usize).map(|y0| (y0, side.min(height - y0))).collect();
+        assert_eq!(bands, expected);
     }
 
     #[test]
@@ -204,11 +264,7 @@ mod tests {
     fn runs_on_the_callers_pool() {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
         let sum = pool.install(|| {
-            run(40, 40, |tile, band| {
-                let (x, y) = tile.pixel(0);
-                let at = band.index(x, y);
-                band.sum[at] = Vec3::splat(rayon::current_num_threads() as f32);
-            })
+            run(40, 40, |tile, sums| sums.add_tile(tile, &vec![Vec3::splat(rayon::current_num_threads() as f32); tile.len()], true))
         });
         assert_eq!(sum[0], Vec3::ONE);
     }

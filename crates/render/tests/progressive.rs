@@ -50,3 +50,20 @@ fn a_frame_in_a_reused_buffer_shows_nothing_of_the_last_image() {
         assert_eq!(bits(&film), expected);
     }
 }
+
+/// Every pixel's samples are its own (seeded by the pixel and the sample's number), so a frame
+/// is bit for bit the same however many threads render its tiles, and in whatever order.
+#[test]
+fn frames_are_the_same_on_any_number_of_threads() {
+    let scene = raystage_demo::shading::materials().unwrap();
+    let frame = scene.frame();
+    for integrator in [Integrator::Whitted, Integrator::Path] {
+        let on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| bits(&render(&frame, &RenderSettings { width: 150, height: 70, ..settings(integrator, 2) }).unwrap().0))
+        };
+        let one = on(1);
+        assert_eq!(one, on(2), "{integrator:?}");
+        assert_eq!(one, on(7), "{integrator:?}");
+    }
+}
