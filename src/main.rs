@@ -82,6 +82,10 @@ enum Command {
         /// Seed of the sample sequences.
         #[arg(long, default_value_t = 0)]
         seed: u32,
+        /// Adaptive sampling: stop sampling a tile once each of its pixels' standard error is
+        /// below this fraction of its brightness (e.g. 0.01; after 16 samples).
+        #[arg(long)]
+        noise_threshold: Option<f32>,
     },
     /// Serve the HTTP/JSON API: scenes, edits, PNG frames and a WebSocket stream.
     Serve {
@@ -156,6 +160,7 @@ fn main() -> ExitCode {
             russian_roulette,
             filter,
             seed,
+            noise_threshold,
         } => {
             let scene = SceneSource::from_args(scene, demo, frame).expect("clap requires a file or a demo");
             let settings = raystage_render::RenderSettings {
@@ -166,6 +171,7 @@ fn main() -> ExitCode {
                 russian_roulette,
                 filter,
                 seed,
+                noise_threshold,
                 default_lights: !no_default_lights,
                 background,
                 ..Default::default()

@@ -232,13 +232,16 @@ pub fn render_scene(job: &RenderJob, log: &mut impl Write) -> Result<RenderRepor
     let lit = scene.lights().next().is_some() || job.settings.default_lights || scene.shaders().any(|(_, s)| s.class().name == "Emissive");
     let integrator = job.integrator.unwrap_or(if lit { Integrator::Whitted } else { Integrator::EyeLight });
     let settings = RenderSettings { integrator, ..job.settings };
-    let (png, frame) = pool.install(|| render_with_progress(&scene, &settings)).context("bad render settings")?;
+    let (png, frame, mean_samples) = pool.install(|| render_with_progress(&scene, &settings)).context("bad render settings")?;
     out.write_all(&png).with_context(|| format!("cannot write {}", job.out.display()))?;
 
     let triangles = scene.object_ids().map(|id| scene.mesh(id).map_or(0, |m| m.indices.len())).sum();
     let report = RenderReport { triangles, threads: pool.current_num_threads(), frame };
     if frame.default_lights {
         writeln!(log, "note: nothing in the scene gives light: the default sky lights it (--no-default-lights turns it off)")?;
+    }
+    if settings.noise_threshold.is_some() {
+        writeln!(log, "adaptive sampling: {mean_samples:.1} samples per pixel on average, of {}", settings.samples_per_pixel)?;
     }
     if frame.non_finite > 0 {
         writeln!(log, "warning: {} samples came out NaN or infinite and went in as black", frame.non_finite)?;
@@ -268,10 +271,11 @@ pub fn render_scene(job: &RenderJob, log: &mut impl Write) -> Result<RenderRepor
 }
 
 /// Renders `settings.samples_per_pixel` samples in passes (about a hundred at most), advancing
-/// a progress bar on standard error after each (drawn only on a terminal); returns the PNG and
-/// the statistics of the whole frame. The passes continue each pixel's sample sequence, so the
+/// a progress bar on standard error after each (drawn only on a terminal); returns the PNG, the
+/// statistics of the whole frame and the samples per pixel taken on average (fewer than asked
+/// for where adaptive sampling stopped tiles early). The passes continue each pixel's sample sequence, so the
 /// image is the one a single pass would give.
-fn render_with_progress(scene: &Scene, settings: &RenderSettings) -> Result<(Vec<u8>, FrameStats)> {
+fn render_with_progress(scene: &Scene, settings: &RenderSettings) -> Result<(Vec<u8>, FrameStats, f64)> {
     let start = Instant::now();
     let mut progressive = Progressive::new(*settings)?;
     let total = settings.samples_per_pixel;
@@ -286,20 +290,14 @@ fn render_with_progress(scene: &Scene, settings: &RenderSettings) -> Result<(Vec
         stats = Some(match stats {
             None => pass,
             Some(mut sum) => {
-                sum.rays += pass.rays;
-                sum.time_samples += pass.time_samples;
-                sum.lens_samples += pass.lens_samples;
-                sum.non_finite += pass.non_finite;
-                sum.phases.trace_and_shade += pass.phases.trace_and_shade;
-                FrameStats { effects: pass.effects, work: pass.work, accumulated_samples: pass.accumulated_samples, ..sum }
+                sum.merge(&pass);
+                sum
             }
         });
         bar.set_position(progressive.samples() as u64);
     }
     bar.finish_and_clear();
     let mut stats = stats.expect("at least one sample per pixel");
-    stats.samples_per_pixel = total;
-    stats.phases.object_builds = stats.work.build_seconds;
     stats.seconds = start.elapsed().as_secs_f64();
-    Ok((progressive.film().encode_png()?, stats))
+    Ok((progressive.film().encode_png()?, stats, progressive.mean_samples()))
 }

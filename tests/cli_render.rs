@@ -146,10 +146,10 @@ fn lighting_options_reach_the_image() {
     let (red, _) = render("red.png", &["--background", "1,0,0"]);
     assert_eq!(top(&red), [255, 0, 0]);
     // A uniform environment adds light: the image brightens.
-    let (lit, stdout) = render("environment.png", &["--environment", "0.5", "--background", "black", "--integrator", "path", "--spp", "4", "--max-depth", "3", "--filter", "gaussian:1", "--russian-roulette", "off", "--seed", "7"]);
+    let (lit, stdout) = render("environment.png", &["--environment", "0.5", "--background", "black", "--integrator", "path", "--spp", "4", "--max-depth", "3", "--filter", "gaussian:1", "--russian-roulette", "off", "--seed", "7", "--noise-threshold", "0.5"]);
     let sum = |image: &image::RgbImage| image.pixels().map(|p| p.0.iter().map(|&c| c as u64).sum::<u64>()).sum::<u64>();
     assert!(sum(&lit) > sum(&red) - 255 * 64, "the environment lights the spheres");
-    assert!(stdout.contains("path at 4 spp [shadows, area-lights"), "{stdout}");
+    assert!(stdout.contains("path at 4 spp [shadows, area-lights") && stdout.contains("adaptive sampling: 4.0 samples per pixel on average, of 4"), "{stdout}");
 
     for (args, expected) in [
         (&["--environment", "nowhere.xyz"][..], "neither a radiance"),
@@ -158,6 +158,7 @@ fn lighting_options_reach_the_image() {
         (&["--filter", "tent"][..], "not box, gaussian"),
         (&["--max-depth", "0"][..], "max_depth"),
         (&["--russian-roulette", "maybe"][..], "expected on or off"),
+        (&["--noise-threshold", "2"][..], "noise_threshold"),
         (&["--environment", "missing.hdr"][..], "cannot read missing.hdr"),
     ] {
         let out = out_path("bad.png");

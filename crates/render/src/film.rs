@@ -70,6 +70,11 @@ impl Film {
         self.height
     }
 
+    /// Every pixel's linear RGB, row by row from the top.
+    pub fn pixels(&self) -> &[Vec3] {
+        &self.pixels
+    }
+
     /// The linear RGB value of pixel `(x, y)`; panics outside the film.
     pub fn pixel(&self, x: u32, y: u32) -> Vec3 {
         assert!(x < self.width && y < self.height, "pixel ({x}, {y}) outside a {}×{} film", self.width, self.height);

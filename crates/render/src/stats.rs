@@ -75,6 +75,20 @@ pub struct FrameStats {
 }
 
 impl FrameStats {
+    /// Adds a later pass of the same frame: its rays, samples and time; the state it left
+    /// (effects, tree work, samples accumulated) replaces this one's.
+    pub fn merge(&mut self, pass: &FrameStats) {
+        self.rays += pass.rays;
+        self.time_samples += pass.time_samples;
+        self.lens_samples += pass.lens_samples;
+        self.non_finite += pass.non_finite;
+        self.samples_per_pixel += pass.samples_per_pixel;
+        self.phases.trace_and_shade += pass.phases.trace_and_shade;
+        self.seconds += pass.seconds;
+        self.phases.object_builds = pass.work.build_seconds;
+        (self.effects, self.work, self.accumulated_samples, self.default_lights) = (pass.effects, pass.work, pass.accumulated_samples, pass.default_lights);
+    }
+
     /// Tracing throughput in millions of rays per second, not counting lazy object builds.
     pub fn mrays_per_second(&self) -> f64 {
         let tracing = (self.phases.trace_and_shade - self.phases.object_builds).max(self.phases.trace_and_shade * 1e-3);

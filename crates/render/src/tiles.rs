@@ -119,6 +119,23 @@ impl Sums<'_> {
         }
     }
 
+    /// Whether every pixel of `tile`, with `samples` samples, has a standard error of its mean
+    /// luminance within `threshold` of the mean (a floor of 10⁻³ keeps black pixels from
+    /// dividing by zero). Only the task that was given `tile` may call it.
+    pub fn converged(&self, tile: &Tile, samples: u32, threshold: f32) -> bool {
+        let Some(sum_sq) = self.sum_sq else { return false };
+        (0..tile.height).all(|row| {
+            let at = ((tile.y0 + row) as usize * self.width as usize) + tile.x0 as usize;
+            assert!(at + tile.width as usize <= self.len, "the tile lies in the image");
+            // Safety: in bounds, and only this tile's task touches these pixels.
+            let (sums, squares) = unsafe { (std::slice::from_raw_parts(self.sum.add(at), tile.width as usize), std::slice::from_raw_parts(sum_sq.add(at), tile.width as usize)) };
+            sums.iter().zip(squares).all(|(s, sq)| {
+                let mean = luminance(*s) / samples as f32;
+                variance_of_mean(*s, *sq, samples).sqrt() <= threshold * mean.max(1e-3)
+            })
+        })
+    }
+
     /// The sums of rows `rows`, once every tile over them is done.
     fn rows(&self, rows: std::ops::Range<u32>) -> &[Vec3] {
         let (start, end) = (rows.start as usize * self.width as usize, rows.end as usize * self.width as usize);
@@ -126,6 +143,17 @@ impl Sums<'_> {
         // Safety: in bounds, and no task writes these rows any more (their tiles are done).
         unsafe { std::slice::from_raw_parts(self.sum.add(start), end - start) }
     }
+}
+
+/// The estimated variance of the mean luminance of a pixel whose `samples` samples sum to `sum`
+/// and their squared luminances to `sum_sq` (zero below two samples).
+pub(crate) fn variance_of_mean(sum: Vec3, sum_sq: f32, samples: u32) -> f32 {
+    if samples < 2 {
+        return 0.0;
+    }
+    let n = samples as f32;
+    let mean = luminance(sum) / n;
+    ((sum_sq / n - mean * mean) * n / (n - 1.0)).max(0.0) / n
 }
 
 /// Relative luminance of linear RGB (Rec. 709).

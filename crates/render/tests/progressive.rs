@@ -67,3 +67,39 @@ fn frames_are_the_same_on_any_number_of_threads() {
         assert_eq!(one, on(7), "{integrator:?}");
     }
 }
+
+/// Adaptive sampling: tiles of a flat, noiseless backdrop stop after the minimum while the
+/// path-traced room goes on, and the image is the one a full render converges to.
+#[test]
+fn adaptive_sampling_spends_samples_where_the_noise_is() {
+    let mut scene = raystage_demo::shading::cornell_room().unwrap();
+    // Half the view looks past the room at a flat backdrop.
+    let camera = raystage_scene::Camera::look_at(glam::Vec3::new(2.5, 1.0, 4.0), glam::Vec3::new(0.0, 1.0, 0.0), glam::Vec3::Y, 60.0).unwrap();
+    scene.set_camera(camera).unwrap();
+    scene.set_background(Some(raystage_scene::Background::Color(glam::Vec3::splat(0.5)))).unwrap();
+    let frame = scene.frame();
+    let adaptive = RenderSettings { width: 64, height: 48, noise_threshold: Some(0.05), ..settings(Integrator::Path, 128) };
+    let mut progressive = Progressive::new(adaptive).unwrap();
+    let mut stats = progressive.add(&frame, 16);
+    while progressive.samples() < 128 {
+        stats.merge(&progressive.add(&frame, progressive.samples()));
+    }
+    let mean = progressive.mean_samples();
+    assert!(mean > 16.0 && mean < 100.0, "{mean} samples per pixel on average");
+    assert!(stats.rays.primary < 64 * 48 * 100, "{} camera rays", stats.rays.primary);
+    // The same image as every pixel at 128 samples, within the noise.
+    let (full, _) = render(&frame, &RenderSettings { noise_threshold: None, ..adaptive }).unwrap();
+    let film = progressive.film();
+    let (mut diff, mut sum) = (0.0, 0.0);
+    for y in 0..48 {
+        for x in 0..64 {
+            diff += (film.pixel(x, y) - full.pixel(x, y)).abs().element_sum();
+            sum += full.pixel(x, y).element_sum();
+        }
+    }
+    assert!(diff / sum < 0.05, "relative difference {}", diff / sum);
+    // `render` with a threshold takes its passes itself.
+    let (once, once_stats) = render(&frame, &adaptive).unwrap();
+    assert_eq!(bits(&once), bits(&film));
+    assert_eq!(once_stats.rays.primary, stats.rays.primary);
+}

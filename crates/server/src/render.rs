@@ -43,6 +43,9 @@ pub struct FrameQuery {
     pub filter: Option<String>,
     /// Seed of the sample sequences; default 0.
     pub seed: Option<u32>,
+    /// Adaptive sampling: tiles stop taking samples once each pixel's standard error is below
+    /// this fraction of its brightness, in (0, 1]; default none (every pixel gets `spp`).
+    pub noise_threshold: Option<f32>,
 }
 
 /// How a frame is set up beyond its size and integrator: what a render needs to match another
@@ -55,6 +58,7 @@ pub(crate) struct Setup {
     pub russian_roulette: bool,
     pub filter: Filter,
     pub seed: u32,
+    pub noise_threshold: Option<f32>,
 }
 
 impl Default for Setup {
@@ -67,6 +71,7 @@ impl Default for Setup {
             russian_roulette: s.russian_roulette,
             filter: s.filter,
             seed: s.seed,
+            noise_threshold: s.noise_threshold,
         }
     }
 }
@@ -105,7 +110,11 @@ impl FrameQuery {
         if !(1..=MAX_DEPTH).contains(&max_depth) {
             return Err(wrong("max_depth", format!("max_depth {max_depth} is not in 1..={MAX_DEPTH}")));
         }
+        if let Some(threshold) = self.noise_threshold.filter(|t| !(*t > 0.0 && *t <= 1.0)) {
+            return Err(wrong("noise_threshold", format!("noise_threshold {threshold} is not in (0, 1]")));
+        }
         Ok(Setup {
+            noise_threshold: self.noise_threshold,
             background: self.background.as_deref().map(str::parse).transpose().map_err(|e: raystage_scene::SceneError| wrong("background", e.to_string()))?,
             default_lights: self.default_lights.unwrap_or(d.default_lights),
             max_depth,
@@ -158,6 +167,7 @@ impl FrameRequest {
             russian_roulette: self.setup.russian_roulette,
             filter: self.setup.filter,
             seed: self.setup.seed,
+            noise_threshold: self.setup.noise_threshold,
             ..RenderSettings::default()
         }
     }
