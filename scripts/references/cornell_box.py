@@ -86,7 +86,11 @@ def scene_dict(mi, doc, data, folder, size, spp):
         ply = os.path.join(folder, f"mesh{k}.ply")
         write_ply(ply, positions, indices)
         material = doc["materials"][prim["material"]]
-        base = material["pbrMetallicRoughness"]["baseColorFactor"][:3]
+        pbr = material["pbrMetallicRoughness"]
+        specular = material.get("extensions", {}).get("KHR_materials_specular", {}).get("specularFactor", 1.0)
+        if pbr.get("metallicFactor", 1.0) != 0.0 or specular != 0.0:
+            sys.exit(f"material {material.get('name')}: only Lambertian materials (metallic 0, KHR_materials_specular factor 0) are translated")
+        base = pbr["baseColorFactor"][:3]
         shape = {
             "type": "ply",
             "filename": ply,

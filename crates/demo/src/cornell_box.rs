@@ -85,7 +85,8 @@ fn surfaces() -> Vec<Surface> {
 
 /// The room as a glTF 2.0 JSON document with its buffer inline (a `data:` URI): one mesh with a
 /// primitive per material, a node that holds it, and the camera, a node looking down +z. The
-/// light's material emits `LIGHT` as a unit colour times `KHR_materials_emissive_strength`.
+/// materials are Lambertian (`KHR_materials_specular` factor 0); the light's emits `LIGHT` as a
+/// unit colour times `KHR_materials_emissive_strength`.
 pub fn gltf() -> String {
     let mut bin: Vec<u8> = Vec::new();
     let mut buffer_views = Vec::new();
@@ -108,14 +109,18 @@ pub fn gltf() -> String {
         accessors.push(json!({ "bufferView": position_view, "componentType": 5126, "count": positions.len(), "type": "VEC3", "min": lo, "max": hi }));
         accessors.push(json!({ "bufferView": index_view, "componentType": 5125, "count": indices.len(), "type": "SCALAR" }));
         let [r, g, b] = surface.reflectance;
+        // Lambertian walls, as the measured room has them: a dielectric without its specular
+        // layer.
         let mut material = json!({
             "name": surface.name,
             "pbrMetallicRoughness": { "baseColorFactor": [r, g, b, 1.0], "metallicFactor": 0.0, "roughnessFactor": 1.0 },
+            "doubleSided": true,
+            "extensions": { "KHR_materials_specular": { "specularFactor": 0.0 } },
         });
         let strength = surface.emission.into_iter().fold(0.0f32, f32::max);
         if strength > 0.0 {
             material["emissiveFactor"] = json!(surface.emission.map(|c| c / strength));
-            material["extensions"] = json!({ "KHR_materials_emissive_strength": { "emissiveStrength": strength } });
+            material["extensions"]["KHR_materials_emissive_strength"] = json!({ "emissiveStrength": strength });
         }
         primitives.push(json!({ "attributes": { "POSITION": position_accessor }, "indices": position_accessor + 1, "material": materials.len() }));
         materials.push(material);
@@ -124,7 +129,7 @@ pub fn gltf() -> String {
     let eye = EYE_MM.map(|c| c / 1000.0);
     let document = json!({
         "asset": { "version": "2.0", "generator": "raystage-demo cornell_box" },
-        "extensionsUsed": ["KHR_materials_emissive_strength"],
+        "extensionsUsed": ["KHR_materials_emissive_strength", "KHR_materials_specular"],
         "scene": 0,
         "scenes": [{ "nodes": [0, 1] }],
         // The camera node turned half a turn about y: glTF cameras look down their −z.

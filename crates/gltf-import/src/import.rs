@@ -51,7 +51,7 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
     for (k, spec) in shaders.specs.iter().enumerate() {
         check_shader(spec).map_err(|e| ImportError::invalid(format!("materials (shader {k})"), e.to_string()))?;
     }
-    let mut used: Vec<usize> = shaders.specs.iter().filter_map(|s| s.texture).collect();
+    let mut used: Vec<usize> = shaders.specs.iter().filter_map(|s| s.texture.map(|(_, image)| image)).collect();
     used.sort_unstable();
     used.dedup();
     let images = used
@@ -64,7 +64,8 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
         }
     }
     let placed = nodes::place(&gltf.document, limits)?;
-    let mut notes = placed.notes;
+    let mut notes = shaders.notes.clone();
+    notes.extend(placed.notes);
     let instances: Vec<(usize, Affine3A)> = placed.instances.into_iter().filter(|&(mesh, _)| objects[mesh].is_some()).collect();
     let skipped = objects.iter().filter(|o| o.is_none()).count();
     if skipped > 0 {
@@ -175,8 +176,8 @@ impl Import {
             for &(name, value) in &spec.params {
                 scene.set_param(id, name, value)?;
             }
-            if let Some(image) = spec.texture {
-                scene.set_param(id, "diffuse_texture", ParamValue::Texture(Some(textures[&image])))?;
+            if let Some((param, image)) = spec.texture {
+                scene.set_param(id, param, ParamValue::Texture(Some(textures[&image])))?;
             }
             added.shaders.push(id);
         }

@@ -3,9 +3,9 @@
 //! Reads a glTF 2.0 file (`.gltf` JSON or binary `.glb`) into raystage's retained scene: each
 //! glTF mesh becomes one object (its primitives' triangles together, each bound to the shader of
 //! its material), each node that holds a mesh becomes an instance with the node's world
-//! transform, each material becomes a shader of the nearest built-in class (see
-//! [`shader_for`]) and its base-colour image a texture, and `KHR_lights_punctual` lights and the
-//! first perspective camera come along.
+//! transform, each material becomes a `PhysicallyBased` shader (see [`shader_for`]) and its
+//! base-colour image a texture, and `KHR_lights_punctual` lights and the first perspective
+//! camera come along. What a material has that is not rendered yet is a note ([`notes`]).
 //!
 //! Reading and adding are two steps: [`read`] checks everything (buffer bounds, accessor types,
 //! indices, numbers, sizes) and returns an [`Import`] that no longer refers to the file, and
@@ -29,7 +29,7 @@ use std::path::Path;
 
 pub use error::ImportError;
 pub use import::{Added, Import};
-pub use material::{ShaderSpec, shader_for};
+pub use material::{ShaderSpec, notes, shader_for};
 
 /// Limits on what a file may ask for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

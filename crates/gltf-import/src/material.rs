@@ -1,5 +1,7 @@
-//! glTF materials as raystage shaders: the metallic-roughness model mapped onto the nearest
-//! built-in shader class.
+//! glTF materials as raystage shaders: glTF 2.0's metallic-roughness model is raystage's
+//! `PhysicallyBased` class, so every material maps onto it (unlit ones onto `Constant`, and
+//! transmissive ones, for now, onto `Glass`); what a material has that raystage does not render
+//! yet is said in a note.
 
 use glam::Vec3;
 use raystage_scene::ParamValue;
@@ -11,27 +13,22 @@ pub struct ShaderSpec {
     pub class: &'static str,
     /// Parameters to write, by name.
     pub params: Vec<(&'static str, ParamValue)>,
-    /// The glTF image (by index in the file) whose colours multiply the diffuse colour: the
-    /// material's base-colour texture, written to `diffuse_texture` once the image is a texture
-    /// of the scene.
-    pub texture: Option<usize>,
+    /// A texture parameter to set once the glTF image it names (by index in the file) is a
+    /// texture of the scene: the material's base-colour texture.
+    pub texture: Option<(&'static str, usize)>,
 }
 
-/// The shader nearest to a glTF material (`None`: the primitive has no material), for a
-/// primitive with or without vertex colours. In order of precedence:
+/// The shader for a glTF material (`None`: the primitive has no material; raystage gives it
+/// `Diffuse`, or `VertexColor` with vertex colours, as viewers do). In order of precedence:
 ///
 /// - `KHR_materials_unlit` → `Constant` with the base colour;
-/// - emissive (`emissiveFactor` × `KHR_materials_emissive_strength` > 0) → `Emissive`;
-/// - `KHR_materials_transmission` factor ≥ 0.5 → `Glass` with `KHR_materials_ior` (default 1.5);
-/// - metallic ≥ 0.5 → `Mirror` if roughness ≤ 0.05, else `Glossy` with α = roughness²;
-/// - vertex colours → `VertexColor` (the base colour multiplies them);
-/// - a base-colour texture (on the first set of texture coordinates) → `Diffuse` with the base
-///   colour multiplied by the texture;
-/// - roughness < 0.5 → `Phong` with a dielectric highlight (4 %, exponent 2/α² − 2);
-/// - otherwise `Diffuse` with the base colour.
+/// - `KHR_materials_transmission` factor ≥ 0.5 → `Glass` with `KHR_materials_ior` (default
+///   1.5);
+/// - everything else → `PhysicallyBased`: base colour (factor, texture on the first texture
+///   coordinates; vertex colours multiply it), metallic, roughness, `KHR_materials_ior`,
+///   `KHR_materials_specular`'s factor, and emissive factor × `KHR_materials_emissive_strength`.
 ///
-/// Base-colour alpha and the other textures (normal, metallic-roughness, emissive, occlusion)
-/// are ignored, and so is a base-colour texture on the shaders above the textured `Diffuse`.
+/// [`notes`] says what the material has beyond that.
 pub fn shader_for(material: Option<&gltf::Material<'_>>, vertex_colors: bool) -> ShaderSpec {
     let Some(m) = material else {
         return if vertex_colors { spec("VertexColor", vec![]) } else { spec("Diffuse", vec![]) };
@@ -39,33 +36,57 @@ pub fn shader_for(material: Option<&gltf::Material<'_>>, vertex_colors: bool) ->
     let pbr = m.pbr_metallic_roughness();
     let [r, g, b, _] = pbr.base_color_factor();
     let base = ParamValue::Color(clean(Vec3::new(r, g, b)).min(Vec3::ONE));
-    let roughness = clean(Vec3::splat(pbr.roughness_factor())).x.min(1.0);
-    let alpha = (roughness * roughness).clamp(0.01, 1.0);
-    let emission = clean(Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0));
-    let texture = pbr.base_color_texture().filter(|t| t.tex_coord() == 0).map(|t| t.texture().source().index());
+    let ior = m.ior().filter(|i| i.is_finite()).unwrap_or(1.5).clamp(1.0, 4.0);
     if m.unlit() {
-        spec("Constant", vec![("color", base)])
-    } else if emission.max_element() > 0.0 {
-        spec("Emissive", vec![("emission", ParamValue::Color(emission))])
-    } else if m.transmission().is_some_and(|t| t.transmission_factor() >= 0.5) {
-        let ior = m.ior().filter(|i| i.is_finite()).unwrap_or(1.5).clamp(1.0, 4.0);
-        spec("Glass", vec![("ior", ParamValue::Float(ior))])
-    } else if pbr.metallic_factor() >= 0.5 {
-        if roughness <= 0.05 {
-            spec("Mirror", vec![("reflectance", base)])
-        } else {
-            spec("Glossy", vec![("reflectance", base), ("roughness", ParamValue::Float(alpha))])
-        }
-    } else if vertex_colors {
-        spec("VertexColor", vec![("diffuse", base)])
-    } else if texture.is_some() {
-        ShaderSpec { texture, ..spec("Diffuse", vec![("diffuse", base)]) }
-    } else if roughness < 0.5 {
-        let shininess = (2.0 / (alpha * alpha) - 2.0).clamp(1.0, 10_000.0);
-        spec("Phong", vec![("diffuse", base), ("specular", ParamValue::Color(Vec3::splat(0.04))), ("shininess", ParamValue::Float(shininess))])
-    } else {
-        spec("Diffuse", vec![("diffuse", base)])
+        return spec("Constant", vec![("color", base)]);
     }
+    if m.transmission().is_some_and(|t| t.transmission_factor() >= 0.5) {
+        return spec("Glass", vec![("ior", ParamValue::Float(ior))]);
+    }
+    let fraction = |x: f32| if x.is_finite() { x.clamp(0.0, 1.0) } else { 0.0 };
+    let emission = clean(Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0));
+    let texture = pbr.base_color_texture().filter(|t| t.tex_coord() == 0).map(|t| ("base_color_texture", t.texture().source().index()));
+    ShaderSpec {
+        texture,
+        ..spec(
+            "PhysicallyBased",
+            vec![
+                ("base_color", base),
+                ("metallic", ParamValue::Float(fraction(pbr.metallic_factor()))),
+                ("roughness", ParamValue::Float(fraction(pbr.roughness_factor()))),
+                ("ior", ParamValue::Float(ior)),
+                ("specular", ParamValue::Float(m.specular().map_or(1.0, |s| fraction(s.specular_factor())))),
+                ("emissive", ParamValue::Color(emission)),
+            ],
+        )
+    }
+}
+
+/// What `material` has that its shader does not render, one note each.
+pub fn notes(material: &gltf::Material<'_>) -> Vec<String> {
+    let name = material.name().map_or_else(|| format!("material {}", material.index().map_or(-1, |i| i as i64)), |n| format!("material `{n}`"));
+    let pbr = material.pbr_metallic_roughness();
+    let mut left_out = Vec::new();
+    if pbr.base_color_texture().is_some_and(|t| t.tex_coord() != 0) {
+        left_out.push("a base-colour texture on a second set of texture coordinates".to_string());
+    }
+    for (present, what) in [
+        (pbr.metallic_roughness_texture().is_some(), "its metallic-roughness texture"),
+        (material.normal_texture().is_some(), "its normal texture"),
+        (material.occlusion_texture().is_some(), "its occlusion texture"),
+        (material.emissive_texture().is_some(), "its emissive texture"),
+        (material.alpha_mode() != gltf::material::AlphaMode::Opaque, "its alpha mode (rendered opaque)"),
+        (material.specular().is_some_and(|s| s.specular_texture().is_some() || s.specular_color_texture().is_some() || s.specular_color_factor() != [1.0; 3]), "its specular colour and textures"),
+        (!material.double_sided() && !material.unlit(), "single-sidedness (rendered double-sided)"),
+    ] {
+        if present {
+            left_out.push(what.to_string());
+        }
+    }
+    if material.transmission().is_some_and(|t| t.transmission_factor() >= 0.5) {
+        left_out.push("its physically based look under the transmission (rendered as clear glass)".to_string());
+    }
+    left_out.into_iter().map(|what| format!("{name}: {what} is not rendered yet")).collect()
 }
 
 fn spec(class: &'static str, params: Vec<(&'static str, ParamValue)>) -> ShaderSpec {
@@ -82,6 +103,8 @@ fn clean(v: Vec3) -> Vec3 {
 pub(crate) struct MaterialShaders {
     /// The shaders, by local index.
     pub specs: Vec<ShaderSpec>,
+    /// What the materials used have that is not rendered, once per material.
+    pub notes: Vec<String>,
     index: std::collections::HashMap<(Option<usize>, bool), u32>,
 }
 
@@ -95,6 +118,9 @@ impl MaterialShaders {
         }
         let i = self.specs.len() as u32;
         self.specs.push(shader_for(material.index().map(|_| material), vertex_colors));
+        if material.index().is_some() && !self.index.keys().any(|(m, _)| *m == material.index()) {
+            self.notes.extend(notes(material));
+        }
         self.index.insert(key, i);
         i
     }

@@ -82,7 +82,7 @@ fn a_node_hierarchy_becomes_instances_with_world_transforms() {
     let mesh = scene.mesh(added.objects[0]).unwrap();
     assert_eq!(mesh.indices, vec![[0, 1, 2], [0, 2, 3]]);
     let shader = scene.shader(mesh.shaders[0]).unwrap();
-    assert_eq!((shader.class().name, shader.color("diffuse")), ("Diffuse", Vec3::new(1.0, 0.0, 0.0)));
+    assert_eq!((shader.class().name, shader.color("base_color")), ("PhysicallyBased", Vec3::new(1.0, 0.0, 0.0)));
 }
 
 #[test]
@@ -94,14 +94,17 @@ fn a_glb_reads_its_binary_chunk() {
 }
 
 #[test]
-fn materials_map_to_the_nearest_shader_class() {
+fn materials_map_to_the_physically_based_class() {
     let cases = [
-        (json!({ "emissiveFactor": [1, 0.5, 0], "extensions": { "KHR_materials_emissive_strength": { "emissiveStrength": 4 } } }), "Emissive", "emission", ParamValue::Color(Vec3::new(4.0, 2.0, 0.0))),
+        // An emissive material is a light and still a surface: its emission is a parameter.
+        (json!({ "emissiveFactor": [1, 0.5, 0], "extensions": { "KHR_materials_emissive_strength": { "emissiveStrength": 4 } } }), "PhysicallyBased", "emissive", ParamValue::Color(Vec3::new(4.0, 2.0, 0.0))),
         (json!({ "extensions": { "KHR_materials_transmission": { "transmissionFactor": 1 }, "KHR_materials_ior": { "ior": 1.33 } } }), "Glass", "ior", ParamValue::Float(1.33)),
-        (json!({ "pbrMetallicRoughness": { "baseColorFactor": [1, 0.8, 0.2, 1], "metallicFactor": 1, "roughnessFactor": 0.5 } }), "Glossy", "roughness", ParamValue::Float(0.25)),
-        (json!({ "pbrMetallicRoughness": { "metallicFactor": 1, "roughnessFactor": 0 } }), "Mirror", "reflectance", ParamValue::Color(Vec3::ONE)),
+        (json!({ "pbrMetallicRoughness": { "baseColorFactor": [1, 0.8, 0.2, 1], "metallicFactor": 1, "roughnessFactor": 0.5 } }), "PhysicallyBased", "roughness", ParamValue::Float(0.5)),
+        (json!({ "pbrMetallicRoughness": { "baseColorFactor": [1, 0.8, 0.2, 1], "metallicFactor": 0.25 } }), "PhysicallyBased", "metallic", ParamValue::Float(0.25)),
+        // glTF's defaults: fully metallic, fully rough.
+        (json!({ "pbrMetallicRoughness": {} }), "PhysicallyBased", "metallic", ParamValue::Float(1.0)),
+        (json!({ "extensions": { "KHR_materials_ior": { "ior": 1.33 } } }), "PhysicallyBased", "ior", ParamValue::Float(1.33)),
         (json!({ "pbrMetallicRoughness": { "baseColorFactor": [0, 0, 1, 1] }, "extensions": { "KHR_materials_unlit": {} } }), "Constant", "color", ParamValue::Color(Vec3::Z)),
-        (json!({ "pbrMetallicRoughness": { "metallicFactor": 0, "roughnessFactor": 0.2 } }), "Phong", "specular", ParamValue::Color(Vec3::splat(0.04))),
     ];
     for (material, class, param, value) in cases {
         let file = import(&quad_gltf(Some(data_uri(&quad_buffer())), json!([material]), json!([{ "mesh": 0 }]))).unwrap();
@@ -256,7 +259,7 @@ fn textured_quad(image: Value, tex_coord: u32, bin: &[u8]) -> Value {
 }
 
 #[test]
-fn a_base_colour_image_becomes_the_texture_of_a_diffuse_shader() {
+fn a_base_colour_image_becomes_the_texture_of_a_physically_based_shader() {
     let png = red_blue_png();
     let by_uri = textured_quad(json!({ "uri": format!("data:image/png;base64,{}", base64::engine::general_purpose::STANDARD.encode(&png)) }), 0, &[]);
     let in_buffer = textured_quad(json!({ "bufferView": 3, "mimeType": "image/png" }), 0, &png);
@@ -265,9 +268,9 @@ fn a_base_colour_image_becomes_the_texture_of_a_diffuse_shader() {
         let added = import(&document).unwrap().add_to(&mut scene).unwrap();
         assert_eq!(added.textures.len(), 1);
         let shader = scene.shader(added.shaders[0]).unwrap();
-        assert_eq!(shader.class().name, "Diffuse");
-        assert_eq!(shader.get("diffuse"), Some(ParamValue::Color(Vec3::new(1.0, 1.0, 0.5))), "the factor multiplies the texture");
-        assert_eq!(shader.get("diffuse_texture"), Some(ParamValue::Texture(Some(added.textures[0]))));
+        assert_eq!(shader.class().name, "PhysicallyBased");
+        assert_eq!(shader.get("base_color"), Some(ParamValue::Color(Vec3::new(1.0, 1.0, 0.5))), "the factor multiplies the texture");
+        assert_eq!(shader.get("base_color_texture"), Some(ParamValue::Texture(Some(added.textures[0]))));
         let Texture::Image(image) = scene.texture(added.textures[0]).unwrap() else { panic!("an image texture") };
         assert_eq!((image.width(), image.height(), image.texel(0, 0), image.texel(1, 0)), (2, 1, Vec3::X, Vec3::Z));
         let mesh = scene.mesh(added.objects[0]).unwrap();
@@ -280,9 +283,11 @@ fn textures_the_importer_cannot_use_are_left_out_or_refused() {
     let png = red_blue_png();
     // On the second set of texture coordinates, which the importer does not read: no texture.
     let mut scene = Scene::new();
-    let added = import(&textured_quad(json!({ "bufferView": 3 }), 1, &png)).unwrap().add_to(&mut scene).unwrap();
+    let file = import(&textured_quad(json!({ "bufferView": 3 }), 1, &png)).unwrap();
+    assert!(file.notes().iter().any(|n| n.contains("second set of texture coordinates")), "{:?}", file.notes());
+    let added = file.add_to(&mut scene).unwrap();
     assert!(added.textures.is_empty());
-    assert_eq!(scene.shader(added.shaders[0]).unwrap().get("diffuse_texture"), Some(ParamValue::Texture(None)));
+    assert_eq!(scene.shader(added.shaders[0]).unwrap().get("base_color_texture"), Some(ParamValue::Texture(None)));
 
     let broken = textured_quad(json!({ "bufferView": 3 }), 0, b"not a png");
     let err = refused(&broken);
@@ -296,4 +301,18 @@ fn textures_the_importer_cannot_use_are_left_out_or_refused() {
 
     let external = textured_quad(json!({ "uri": "wood.png" }), 0, &[]);
     assert_eq!(refused(&external).field(), Some("images[0].uri"));
+}
+
+/// What a material has that raystage does not render yet is said, once per material, by name.
+#[test]
+fn what_a_material_leaves_out_is_a_note() {
+    let material = json!([{ "name": "leaves", "alphaMode": "MASK", "doubleSided": true, "normalTexture": { "index": 0 } }]);
+    let mut document = quad_gltf(Some(data_uri(&quad_buffer())), material, json!([{ "mesh": 0 }, { "mesh": 0 }]));
+    document["textures"] = json!([{ "source": 0 }]);
+    document["images"] = json!([{ "uri": "unused.png" }]);
+    let file = import(&document).unwrap();
+    let notes = file.notes().join("\n");
+    assert!(notes.contains("material `leaves`: its normal texture is not rendered yet"), "{notes}");
+    assert!(notes.contains("material `leaves`: its alpha mode (rendered opaque) is not rendered yet"), "{notes}");
+    assert_eq!(notes.matches("normal texture").count(), 1, "{notes}");
 }

@@ -52,7 +52,11 @@ impl Preview {
     fn of(r: &Resolved<'_>) -> Preview {
         match r.base.model {
             ShadingModel::Constant | ShadingModel::Emissive => Preview { colour: r.base.emission, lit: false, varies: false },
-            model => Preview { colour: r.base.albedo, lit: true, varies: r.texture.is_some() || model == ShadingModel::VertexColor },
+            model => Preview {
+                colour: r.base.albedo,
+                lit: true,
+                varies: r.texture.is_some() || matches!(model, ShadingModel::VertexColor | ShadingModel::PhysicallyBased),
+            },
         }
     }
 }
@@ -113,16 +117,23 @@ impl<'f> Materials<'f> {
         (r.base.model == ShadingModel::Diffuse && r.texture.is_none()).then_some(r.base.albedo)
     }
 
-    /// The radiance a shader emits if it is a light (an `Emissive` shader that emits something),
-    /// the same at every point of its surfaces.
+    /// The radiance a shader emits if it is a light (an `Emissive` shader, or a physically
+    /// based one with an emissive colour, that emits something), the same at every point of its
+    /// surfaces.
     pub fn emission(&self, id: Option<raystage_scene::ShaderId>) -> Option<Vec3> {
         let m = &self.resolved(id).base;
-        (m.model == ShadingModel::Emissive && m.emission.max_element() > 0.0).then_some(m.emission)
+        (emits(m.model) && m.emission.max_element() > 0.0).then_some(m.emission)
     }
 
     fn resolved(&self, id: Option<raystage_scene::ShaderId>) -> &Resolved<'f> {
         id.and_then(|id| self.by_id.get(id.0 as usize)?.as_ref()).unwrap_or(&self.default)
     }
+}
+
+/// Whether surfaces of `model` emit their material's `emission` as light (a `Constant`'s colour
+/// is a flat look, not light).
+pub(crate) fn emits(model: ShadingModel) -> bool {
+    matches!(model, ShadingModel::Emissive | ShadingModel::PhysicallyBased)
 }
 
 impl<'f> Resolved<'f> {
@@ -167,9 +178,27 @@ impl<'f> Resolved<'f> {
                 m.albedo = shader.color("diffuse");
                 m.occlusion_distance = shader.float("distance");
             }
+            ShadingModel::PhysicallyBased => {
+                m.albedo = shader.color("base_color");
+                m.emission = shader.color("emissive");
+                let roughness = shader.float("roughness");
+                let ior = shader.float("ior");
+                m.bsdf = Some(Bsdf::PhysicallyBased {
+                    base: m.albedo,
+                    metallic: shader.float("metallic"),
+                    // A mirror-smooth α of 0 would make the GGX lobe a delta: kept just above.
+                    alpha: (roughness * roughness).max(1e-3),
+                    f0: ((ior - 1.0) / (ior + 1.0)).powi(2) * shader.float("specular"),
+                    f90: shader.float("specular"),
+                });
+            }
         }
-        let textured = matches!(model, ShadingModel::Diffuse | ShadingModel::Phong);
-        let texture = if textured { shader.texture("diffuse_texture").and_then(|t| frame.texture(t)) } else { None };
+        let texture_param = match model {
+            ShadingModel::Diffuse | ShadingModel::Phong => Some("diffuse_texture"),
+            ShadingModel::PhysicallyBased => Some("base_color_texture"),
+            _ => None,
+        };
+        let texture = texture_param.and_then(|name| shader.texture(name)).and_then(|t| frame.texture(t));
         Resolved { base: m, texture }
     }
 
@@ -178,6 +207,11 @@ impl<'f> Resolved<'f> {
     #[inline(always)]
     fn scale(&self, local_position: Vec3, uv: Option<Vec2>, color: Option<Vec3>) -> Option<Vec3> {
         match (self.texture, self.base.model) {
+            // glTF: the base colour is factor × texture × vertex colour.
+            (texture, ShadingModel::PhysicallyBased) => match (texture.map(|t| texture::lookup(t, local_position, uv)), color) {
+                (Some(t), Some(c)) => Some(t * c),
+                (t, c) => t.or(c),
+            },
             (Some(t), _) => Some(texture::lookup(t, local_position, uv)),
             (None, ShadingModel::VertexColor) => Some(color.unwrap_or(Vec3::ONE)),
             (None, _) => None,
@@ -195,6 +229,7 @@ impl<'f> Resolved<'f> {
         m.bsdf = match m.bsdf {
             Some(Bsdf::Lambert { .. }) => Some(Bsdf::Lambert { albedo: m.albedo }),
             Some(Bsdf::Phong { specular, exponent, .. }) => Some(Bsdf::Phong { diffuse: m.albedo, specular, exponent }),
+            Some(Bsdf::PhysicallyBased { metallic, alpha, f0, f90, .. }) => Some(Bsdf::PhysicallyBased { base: m.albedo, metallic, alpha, f0, f90 }),
             other => other,
         };
         m

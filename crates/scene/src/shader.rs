@@ -104,12 +104,15 @@ pub enum ShadingModel {
     Emissive,
     /// Ambient occlusion: the albedo scaled by how much of the hemisphere is open.
     AmbientOcclusion,
+    /// glTF 2.0's metallic-roughness material: a diffuse base under a specular layer, or a
+    /// metal, and what it emits.
+    PhysicallyBased,
 }
 
 impl ShadingModel {
     /// Whether the surface reflects specularly, so that an integrator traces reflection rays.
     pub fn reflects(self) -> bool {
-        matches!(self, ShadingModel::Mirror | ShadingModel::Glossy | ShadingModel::Glass)
+        matches!(self, ShadingModel::Mirror | ShadingModel::Glossy | ShadingModel::Glass | ShadingModel::PhysicallyBased)
     }
 
     /// Whether the surface transmits light, so that an integrator traces refraction rays.
@@ -204,6 +207,20 @@ pub static SHADER_CLASSES: &[ShaderClass] = &[
         doc: "A surface that glows; it lights the scene through the path tracer's bounces.",
         model: ShadingModel::Emissive,
         params: &[ParamDecl { name: "emission", default: ParamValue::Color(Vec3::ONE), range: NON_NEGATIVE, doc: "Emitted radiance, linear RGB." }],
+    },
+    ShaderClass {
+        name: "PhysicallyBased",
+        doc: "glTF 2.0's metallic-roughness material, as ANARI's physicallyBased, OSPRay's principled and Cycles' Principled BSDF share it: a Lambertian base under a GGX specular layer (Fresnel from `ior`), blended by `metallic` with a GGX metal of the base colour; and light it emits. The defaults are glTF's: a white, fully metallic, fully rough surface.",
+        model: ShadingModel::PhysicallyBased,
+        params: &[
+            ParamDecl { name: "base_color", default: ParamValue::Color(Vec3::ONE), range: FRACTION, doc: "Base colour, linear RGB: the diffuse albedo of a dielectric, the reflectance of a metal." },
+            ParamDecl { name: "base_color_texture", default: ParamValue::Texture(None), range: NON_NEGATIVE, doc: "A texture whose colour multiplies `base_color` (and the mesh's vertex colours do too); none by default." },
+            ParamDecl { name: "metallic", default: ParamValue::Float(1.0), range: FRACTION, doc: "0 for a dielectric, 1 for a metal, blended between." },
+            ParamDecl { name: "roughness", default: ParamValue::Float(1.0), range: FRACTION, doc: "Perceptual roughness in [0, 1]; the microfacets' α is its square." },
+            ParamDecl { name: "ior", default: ParamValue::Float(1.5), range: [1.0, 4.0], doc: "The dielectric's index of refraction (1.5: 4 % reflected head-on)." },
+            ParamDecl { name: "specular", default: ParamValue::Float(1.0), range: FRACTION, doc: "Scales the dielectric's specular reflection (glTF's KHR_materials_specular factor): 0 leaves a pure Lambertian base." },
+            ParamDecl { name: "emissive", default: ParamValue::Color(Vec3::ZERO), range: NON_NEGATIVE, doc: "Emitted radiance, linear RGB (glTF's emissive factor × strength): an emitting surface is a light." },
+        ],
     },
     ShaderClass {
         name: "AmbientOcclusion",

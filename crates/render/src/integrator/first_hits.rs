@@ -63,5 +63,5 @@ impl<'f> FirstHits<'f> {
 
 /// The shading models whose hits the recursion lights with `Tracer::direct`.
 fn takes_direct_light(model: ShadingModel) -> bool {
-    matches!(model, ShadingModel::Diffuse | ShadingModel::VertexColor | ShadingModel::Phong | ShadingModel::Glossy)
+    matches!(model, ShadingModel::Diffuse | ShadingModel::VertexColor | ShadingModel::Phong | ShadingModel::Glossy | ShadingModel::PhysicallyBased)
 }

@@ -179,7 +179,7 @@ impl<'f> Tracer<'_, 'f> {
     /// [`SceneLights::surface_emission`]): emitting surfaces emit from their front only.
     pub fn surface_emission(&self, ray: &Ray, hit: &Hit<'_>, seen: Seen) -> Vec3 {
         let m = &hit.material;
-        if m.model != ShadingModel::Emissive || !hit.surface.front_face {
+        if !crate::material::emits(m.model) || m.emission == Vec3::ZERO || !hit.surface.front_face {
             return Vec3::ZERO;
         }
         let length = ray.dir.length();

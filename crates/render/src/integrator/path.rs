@@ -62,6 +62,8 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, ray: &Ray, first: Hit<'_>, time: f32, sa
                 radiance += throughput * t.surface_emission(&ray, &hit, seen);
                 break;
             }
+            // Physically based surfaces may emit, and scatter as well.
+            ShadingModel::PhysicallyBased => radiance += throughput * t.surface_emission(&ray, &hit, seen),
             ShadingModel::AmbientOcclusion => {
                 let open = t.occlusion(&hit, time, 1, sampler, rays);
                 radiance += throughput * m.albedo * open;
@@ -82,6 +84,10 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, ray: &Ray, first: Hit<'_>, time: f32, sa
         let (u, choose) = (sampler.next_2d(), sampler.next_1d());
         let Some(s) = bsdf.sample(frame3.to_local(wo), u, choose) else { break };
         throughput *= s.weight;
+        // A black surface (an emitter's, say) ends the path: nothing more can reach the camera.
+        if throughput == Vec3::ZERO {
+            break;
+        }
         let specular = s.pdf == 0.0;
         seen = if specular { Seen::Directly } else { Seen::Scattered { normal: hit.surface.shading_normal, pdf: s.pdf } };
         if t.settings.russian_roulette && depth + 1 >= ROULETTE_AFTER {

@@ -127,8 +127,20 @@ impl<const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED: bool> Recursio
             ShadingModel::Glossy => {
                 let bsdf = m.bsdf.expect("glossy materials scatter");
                 let direct = t.direct(hit, &bsdf, wo, self.time, self.known(depth), self.sampler, self.rays);
-                let reflected = if REFLECT && deeper { self.glossy_reflection(hit, &bsdf, wo, media, depth, weight) } else { Vec3::ZERO };
+                let reflected = if REFLECT && deeper { self.glossy_reflection(hit, &bsdf, m.albedo, wo, media, depth, weight) } else { Vec3::ZERO };
                 direct + reflected
+            }
+            ShadingModel::PhysicallyBased => {
+                // Lit by the lights through the whole BRDF; the specular layer reflects the
+                // scene too, as a glossy metal of the layer's colour does.
+                let bsdf = m.bsdf.expect("physically based materials scatter");
+                let emitted = t.surface_emission(ray, hit, seen);
+                let direct = t.direct(hit, &bsdf, wo, self.time, self.known(depth), self.sampler, self.rays);
+                let reflected = match bsdf.specular_layer(wo.dot(hit.surface.shading_normal)) {
+                    Some((layer, mirror)) if REFLECT && deeper => self.glossy_reflection(hit, &layer, mirror, wo, media, depth, weight),
+                    _ => Vec3::ZERO,
+                };
+                emitted + direct + reflected
             }
             ShadingModel::Diffuse | ShadingModel::VertexColor | ShadingModel::Phong => {
                 let bsdf = m.bsdf.expect("matte materials scatter");
@@ -151,13 +163,13 @@ impl<const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED: bool> Recursio
         self.radiance(&ray, kind, media, depth + 1, weight)
     }
 
-    /// Glossy reflection: Whitted takes the mirror direction scaled by the reflectance; the
-    /// distributed variant samples the lobe.
-    fn glossy_reflection(&mut self, hit: &Hit<'_>, bsdf: &Bsdf, wo: Vec3, media: Media, depth: u32, weight: f32) -> Vec3 {
+    /// Glossy reflection: Whitted takes the mirror direction scaled by `mirror`; the
+    /// distributed variant samples the lobe `bsdf`.
+    #[allow(clippy::too_many_arguments)]
+    fn glossy_reflection(&mut self, hit: &Hit<'_>, bsdf: &Bsdf, mirror: Vec3, wo: Vec3, media: Media, depth: u32, weight: f32) -> Vec3 {
         let n = hit.surface.shading_normal;
-        let albedo = hit.material.albedo;
         if !DISTRIBUTED {
-            return albedo * self.trace_on(hit, reflect(wo, n), Kind::Glossy, media, depth, weight * albedo.max_element());
+            return mirror * self.trace_on(hit, reflect(wo, n), Kind::Glossy, media, depth, weight * mirror.max_element());
         }
         let frame3 = Frame3::around(n);
         let (u, choose) = (self.sampler.next_2d(), self.sampler.next_1d());
