@@ -229,7 +229,7 @@ pub fn render_scene(job: &RenderJob, log: &mut impl Write) -> Result<RenderRepor
     }
     // Whitted's ray tracing for anything lit (the default sky lights every scene that allows
     // it); the preview for a scene that nothing lights.
-    let lit = scene.lights().next().is_some() || job.settings.default_lights || scene.shaders().any(|(_, s)| s.class().name == "Emissive");
+    let lit = scene.lights().next().is_some() || job.settings.default_lights || scene.shaders().any(|(_, s)| s.emits());
     let integrator = job.integrator.unwrap_or(if lit { Integrator::Whitted } else { Integrator::EyeLight });
     let settings = RenderSettings { integrator, ..job.settings };
     let (png, frame, mean_samples) = pool.install(|| render_with_progress(&scene, &settings)).context("bad render settings")?;

@@ -8,7 +8,7 @@ use raystage_render::{Integrator, RenderSettings};
 use raystage_scene::Frame;
 
 use crate::abi::enums::{
-    RT_AUTO, RT_DISTRIBUTION, RT_EYELIGHT, RT_LIGHT_SAMPLES, RT_MAX_LIGHT_SAMPLES, RT_MAX_RAY_DEPTH, RT_MAX_SAMPLES, RT_PATH,
+    RT_AUTO, RT_DEFAULT_LIGHTS, RT_DISTRIBUTION, RT_EYELIGHT, RT_LIGHT_SAMPLES, RT_MAX_LIGHT_SAMPLES, RT_MAX_RAY_DEPTH, RT_MAX_SAMPLES, RT_PATH,
     RT_RAY_DEPTH, RT_RENDER_MODE, RT_RUSSIAN_ROULETTE, RT_SAMPLES_PER_PIXEL, RT_SEED, RT_WHITTED,
 };
 use crate::abi::types::{RTenum, RTint};
@@ -34,10 +34,11 @@ pub(crate) struct Rendering {
 }
 
 impl Rendering {
-    /// The settings of a `width × height` frame of `frame`. `RT_AUTO` chooses as
-    /// [`raystage_render::render_frame`] does, so the default image is what it always was.
+    /// The settings of a `width × height` frame of `frame`. `RT_AUTO` chooses Whitted's ray
+    /// tracing for a scene with lights or emitting surfaces, else the eye-light preview (which
+    /// shows an unlit scene as the default image always has).
     pub fn settings(&self, frame: &Frame<'_>, width: u32, height: u32) -> RenderSettings {
-        let auto = || if frame.lights().is_empty() { Integrator::EyeLight } else { Integrator::Whitted };
+        let auto = || if frame.lights().is_empty() && !frame.has_emitters() { Integrator::EyeLight } else { Integrator::Whitted };
         RenderSettings { width, height, integrator: self.integrator.unwrap_or_else(auto), ..self.settings }
     }
 }
@@ -50,6 +51,7 @@ enum Setting {
     LightSamples,
     RussianRoulette,
     Seed,
+    DefaultLights,
 }
 
 impl Setting {
@@ -61,11 +63,12 @@ impl Setting {
             RT_LIGHT_SAMPLES => (Setting::LightSamples, "RT_LIGHT_SAMPLES", 1..=RT_MAX_LIGHT_SAMPLES),
             RT_RUSSIAN_ROULETTE => (Setting::RussianRoulette, "RT_RUSSIAN_ROULETTE", 0..=1),
             RT_SEED => (Setting::Seed, "RT_SEED", 0..=RTint::MAX),
+            RT_DEFAULT_LIGHTS => (Setting::DefaultLights, "RT_DEFAULT_LIGHTS", 0..=1),
             RT_RENDER_MODE => return Err(Error::invalid_enum("RT_RENDER_MODE is set with rtRenderMode")),
             _ => {
                 return Err(Error::invalid_enum(format!(
                     "{pname:#x} is not a render parameter (RT_SAMPLES_PER_PIXEL, RT_RAY_DEPTH, RT_LIGHT_SAMPLES, \
-                     RT_RUSSIAN_ROULETTE or RT_SEED)"
+                     RT_RUSSIAN_ROULETTE, RT_SEED or RT_DEFAULT_LIGHTS)"
                 )));
             }
         })
@@ -79,6 +82,7 @@ impl Setting {
             Setting::LightSamples => s.light_samples as RTint,
             Setting::RussianRoulette => s.russian_roulette as RTint,
             Setting::Seed => s.seed as RTint,
+            Setting::DefaultLights => s.default_lights as RTint,
         }
     }
 
@@ -91,6 +95,7 @@ impl Setting {
             Setting::LightSamples => s.light_samples = unsigned,
             Setting::RussianRoulette => s.russian_roulette = value == 1,
             Setting::Seed => s.seed = unsigned,
+            Setting::DefaultLights => s.default_lights = value == 1,
         }
     }
 }
@@ -142,7 +147,7 @@ mod tests {
     #[test]
     fn every_value_in_range_makes_valid_settings() {
         let mut ctx = Context::default();
-        for pname in [RT_SAMPLES_PER_PIXEL, RT_RAY_DEPTH, RT_LIGHT_SAMPLES, RT_RUSSIAN_ROULETTE, RT_SEED] {
+        for pname in [RT_SAMPLES_PER_PIXEL, RT_RAY_DEPTH, RT_LIGHT_SAMPLES, RT_RUSSIAN_ROULETTE, RT_SEED, RT_DEFAULT_LIGHTS] {
             let (_, _, range) = Setting::from_enum(pname).unwrap();
             for value in [*range.start(), *range.end()] {
                 ctx.render_parameter(pname, value).unwrap();

@@ -143,6 +143,15 @@ fn a_point_light_shader_lights_the_scene_until_deleted() {
     assert_eq!(render(16), eye_lit, "without lights, the eye light again");
     rtParameter3f(handle(c"position"), 0.0, 0.0, 1.0);
     assert_error(RT_INVALID_OPERATION, "no shader is bound");
+
+    // Ray traced with no light at all, the default sky lights the square, unless turned off.
+    rtRenderMode(RT_WHITTED);
+    assert!(render(16) > 100, "the sky lights an unlit scene");
+    rtRenderParameteri(RT_DEFAULT_LIGHTS, 0);
+    assert_eq!(render(16), 0, "left dark");
+    assert_eq!(rtGetRenderParameteri(RT_DEFAULT_LIGHTS), 0);
+    rtRenderParameteri(RT_DEFAULT_LIGHTS, 2);
+    assert_error(RT_INVALID_VALUE, "RT_DEFAULT_LIGHTS is 2");
 }
 
 #[test]

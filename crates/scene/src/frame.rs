@@ -611,6 +611,15 @@ impl<'a> Frame<'a> {
         models
     }
 
+    /// Whether some instanced triangle's shader emits light (an `Emissive` shader, or a
+    /// `PhysicallyBased` one with an emissive colour).
+    pub fn has_emitters(&self) -> bool {
+        self.instances.iter().any(|fi| {
+            fi.object.shaders_used.iter().any(|&id| self.scene.shader(id).is_ok_and(Shader::emits))
+                || (fi.object.uses_default_shader && self.scene.default_shader().emits())
+        })
+    }
+
     /// Whether any instance moves during the shutter (has an end transform unlike its start).
     pub fn has_motion(&self) -> bool {
         self.instances.iter().any(|fi| fi.instance.end.is_some_and(|end| end != fi.instance.start))

@@ -246,6 +246,16 @@ pub struct Shader {
 }
 
 impl Shader {
+    /// Whether surfaces of this shader emit light: an `Emissive` shader, or a `PhysicallyBased`
+    /// one with an emissive colour, that emits something.
+    pub fn emits(&self) -> bool {
+        match self.class.model {
+            ShadingModel::Emissive => self.color("emission").max_element() > 0.0,
+            ShadingModel::PhysicallyBased => self.color("emissive").max_element() > 0.0,
+            _ => false,
+        }
+    }
+
     /// A shader of the class called `class`, every parameter at its default.
     pub fn new(class: &str) -> Result<Shader, SceneError> {
         let class = shader_class(class).ok_or_else(|| SceneError::UnknownShaderClass(class.to_string()))?;

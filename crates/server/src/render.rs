@@ -177,7 +177,7 @@ impl FrameRequest {
 /// default sky when `default_lights`), else the eye-light preview (so that an unlit scene is
 /// not black), as `raystage render` chooses.
 pub(crate) fn default_integrator(scene: &Scene, default_lights: bool) -> Integrator {
-    let lit = default_lights || scene.lights().next().is_some() || scene.shaders().any(|(_, s)| s.class().name == "Emissive");
+    let lit = default_lights || scene.lights().next().is_some() || scene.shaders().any(|(_, s)| s.emits());
     if lit { Integrator::Whitted } else { Integrator::EyeLight }
 }
 

@@ -155,6 +155,9 @@ pub const RT_RUSSIAN_ROULETTE: RTenum = 0x9044;
 /// Render parameter: the seed of the sample sequences, 0 (the default) or more. Frames with the
 /// same seed and scene are the same image; frames with different seeds have independent noise.
 pub const RT_SEED: RTenum = 0x9045;
+/// Render parameter: 1 (the default) lights a scene that nothing lights (no light, no emitting
+/// surface) by the sky, as an environment light; 0 leaves it dark.
+pub const RT_DEFAULT_LIGHTS: RTenum = 0x9046;
 /// Largest `RT_SAMPLES_PER_PIXEL`.
 pub const RT_MAX_SAMPLES: RTint = 65536;
 /// Largest `RT_RAY_DEPTH`.

@@ -5,8 +5,8 @@
 use crate::abi::types::{RTenum, RTint};
 use crate::boundary::call;
 
-/// Chooses how frames are rendered: `RT_AUTO` (the default: `RT_WHITTED` if the scene has lights,
-/// else `RT_EYELIGHT`), `RT_EYELIGHT` (a preview lit from the eye), `RT_WHITTED` (shadows,
+/// Chooses how frames are rendered: `RT_AUTO` (the default: `RT_WHITTED` if the scene has lights
+/// or emitting surfaces, else `RT_EYELIGHT`), `RT_EYELIGHT` (a preview lit from the eye), `RT_WHITTED` (shadows,
 /// mirrors and glass), `RT_DISTRIBUTION` (soft shadows, glossy reflection, depth of field and
 /// motion blur) or `RT_PATH` (global illumination). The last two need several samples per pixel
 /// (`RT_SAMPLES_PER_PIXEL`) for a smooth image.
@@ -17,8 +17,8 @@ pub extern "C" fn rtRenderMode(mode: RTenum) {
 
 /// Sets render parameter `pname` to `value`: `RT_SAMPLES_PER_PIXEL` (1 to `RT_MAX_SAMPLES`,
 /// default 1), `RT_RAY_DEPTH` (1 to `RT_MAX_RAY_DEPTH`, default 6), `RT_LIGHT_SAMPLES` (1 to
-/// `RT_MAX_LIGHT_SAMPLES`, default 1), `RT_RUSSIAN_ROULETTE` (0 or 1, default 1) or `RT_SEED`
-/// (0 or more, default 0). Another `pname` records `RT_INVALID_ENUM`, a value out of range
+/// `RT_MAX_LIGHT_SAMPLES`, default 1), `RT_RUSSIAN_ROULETTE` (0 or 1, default 1), `RT_SEED`
+/// (0 or more, default 0) or `RT_DEFAULT_LIGHTS` (0 or 1, default 1). Another `pname` records `RT_INVALID_ENUM`, a value out of range
 /// `RT_INVALID_VALUE`.
 #[unsafe(no_mangle)]
 pub extern "C" fn rtRenderParameteri(pname: RTenum, value: RTint) {
