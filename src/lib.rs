@@ -19,7 +19,7 @@ mod view;
 
 pub use render::{
     Environment, EnvironmentSource, MAX_DIMENSION, MAX_THREADS, RenderJob, RenderReport, SceneSource, parse_background, parse_demo, parse_environment, parse_filter,
-    parse_integrator, parse_switch, render_scene,
+    parse_integrator, parse_switch, parse_tone_map, render_scene,
 };
 pub use serve::{ServeJob, serve};
 pub use report::{ReportJob, run_report};

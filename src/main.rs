@@ -31,7 +31,7 @@ enum Command {
         /// The frame of an animated demo.
         #[arg(long, default_value_t = 0)]
         frame: u32,
-        /// The PNG file to write.
+        /// The image file to write: .png (sRGB, tone-mapped), .exr or .pfm (linear light).
         #[arg(long)]
         out: PathBuf,
         /// Image width in pixels.
@@ -86,6 +86,13 @@ enum Command {
         /// below this fraction of its brightness (e.g. 0.01; after 16 samples).
         #[arg(long)]
         noise_threshold: Option<f32>,
+        /// Exposure in stops: the image is scaled by 2 to this power.
+        #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+        exposure: f32,
+        /// The tone curve of a PNG: clamp (light as it is, clipped at white) or neutral (the
+        /// Khronos PBR Neutral tone mapper).
+        #[arg(long, default_value = "clamp", value_parser = raystage::parse_tone_map)]
+        tonemap: raystage_render::ToneMap,
     },
     /// Serve the HTTP/JSON API: scenes, edits, PNG frames and a WebSocket stream.
     Serve {
@@ -161,6 +168,8 @@ fn main() -> ExitCode {
             filter,
             seed,
             noise_threshold,
+            exposure,
+            tonemap,
         } => {
             let scene = SceneSource::from_args(scene, demo, frame).expect("clap requires a file or a demo");
             let settings = raystage_render::RenderSettings {
@@ -178,7 +187,8 @@ fn main() -> ExitCode {
             };
             let environment =
                 environment.map(|source| raystage::Environment { source, rotate_degrees: environment_rotate, intensity: environment_intensity });
-            let job = RenderJob { scene, threads, integrator, settings, environment, out };
+            let look = raystage_render::Look { exposure, tone_map: tonemap };
+            let job = RenderJob { scene, threads, integrator, settings, environment, look, out };
             raystage::render_scene(&job, &mut std::io::stdout().lock()).map(|_| ())
         }
         Command::Serve { scene, demo, addr, token } => {

@@ -10,7 +10,7 @@ use anyhow::{Context, Result, bail, ensure};
 use glam::Vec3;
 use indicatif::{ProgressBar, ProgressStyle};
 use raystage_demo::animated::Demo;
-use raystage_render::{Filter, FrameStats, Integrator, Progressive, RenderSettings};
+use raystage_render::{Film, Filter, FrameStats, Integrator, Look, OutputFormat, Progressive, RenderSettings, ToneMap};
 use raystage_scene::{Background, Image, Light, Scene, Texture};
 
 /// Largest accepted image width or height in pixels.
@@ -82,7 +82,10 @@ pub struct RenderJob {
     pub settings: RenderSettings,
     /// An environment light to add to the scene.
     pub environment: Option<Environment>,
-    /// The PNG file to write (created or replaced).
+    /// How the image is graded for the file: exposure, and the tone curve of a PNG.
+    pub look: Look,
+    /// The image file to write (created or replaced): `.png` (sRGB, tone-mapped), `.exr` or
+    /// `.pfm` (linear, as rendered), told by the extension.
     pub out: PathBuf,
 }
 
@@ -138,6 +141,11 @@ pub fn parse_background(text: &str) -> Result<Background> {
 /// Parses `--filter`: `box` (the plain average of samples over the pixel's square) or
 /// `gaussian` with an optional radius in pixels (`gaussian:1.5`, 1.5 by default).
 pub fn parse_filter(text: &str) -> Result<Filter> {
+    Ok(text.parse()?)
+}
+
+/// Parses `--tonemap`: `clamp` (or `none`) or `neutral`.
+pub fn parse_tone_map(text: &str) -> Result<ToneMap> {
     Ok(text.parse()?)
 }
 
@@ -221,6 +229,8 @@ pub fn render_scene(job: &RenderJob, log: &mut impl Write) -> Result<RenderRepor
         pool = pool.num_threads(threads);
     }
     let pool = pool.build().context("cannot start the render threads")?;
+    let format = OutputFormat::from_path(&job.out)?;
+    ensure!(job.look.exposure.is_finite(), "--exposure must be a number of stops, got {}", job.look.exposure);
     let mut out = File::create(&job.out).with_context(|| format!("cannot create {}", job.out.display()))?;
 
     let mut scene = job.scene.load(log)?;
@@ -232,8 +242,9 @@ pub fn render_scene(job: &RenderJob, log: &mut impl Write) -> Result<RenderRepor
     let lit = scene.lights().next().is_some() || job.settings.default_lights || scene.shaders().any(|(_, s)| s.emits());
     let integrator = job.integrator.unwrap_or(if lit { Integrator::Whitted } else { Integrator::EyeLight });
     let settings = RenderSettings { integrator, ..job.settings };
-    let (png, frame, mean_samples) = pool.install(|| render_with_progress(&scene, &settings)).context("bad render settings")?;
-    out.write_all(&png).with_context(|| format!("cannot write {}", job.out.display()))?;
+    let (film, frame, mean_samples) = pool.install(|| render_with_progress(&scene, &settings)).context("bad render settings")?;
+    let encoded = film.encode(format, job.look).context("cannot encode the image")?;
+    out.write_all(&encoded).with_context(|| format!("cannot write {}", job.out.display()))?;
 
     let triangles = scene.object_ids().map(|id| scene.mesh(id).map_or(0, |m| m.indices.len())).sum();
     let report = RenderReport { triangles, threads: pool.current_num_threads(), frame };
@@ -275,7 +286,7 @@ pub fn render_scene(job: &RenderJob, log: &mut impl Write) -> Result<RenderRepor
 /// statistics of the whole frame and the samples per pixel taken on average (fewer than asked
 /// for where adaptive sampling stopped tiles early). The passes continue each pixel's sample sequence, so the
 /// image is the one a single pass would give.
-fn render_with_progress(scene: &Scene, settings: &RenderSettings) -> Result<(Vec<u8>, FrameStats, f64)> {
+fn render_with_progress(scene: &Scene, settings: &RenderSettings) -> Result<(Film, FrameStats, f64)> {
     let start = Instant::now();
     let mut progressive = Progressive::new(*settings)?;
     let total = settings.samples_per_pixel;
@@ -299,5 +310,5 @@ fn render_with_progress(scene: &Scene, settings: &RenderSettings) -> Result<(Vec
     bar.finish_and_clear();
     let mut stats = stats.expect("at least one sample per pixel");
     stats.seconds = start.elapsed().as_secs_f64();
-    Ok((progressive.film().encode_png()?, stats, progressive.mean_samples()))
+    Ok((progressive.film(), stats, progressive.mean_samples()))
 }

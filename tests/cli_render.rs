@@ -123,7 +123,7 @@ fn an_unwritable_output_is_an_error() {
     assert!(stderr.contains("cannot create /nonexistent-raystage-dir/frame.png"), "{stderr}");
     let dir = env!("CARGO_TARGET_TMPDIR");
     let stderr = failure(&["render", "--demo", "soup", "--out", dir]);
-    assert!(stderr.contains(&format!("cannot create {dir}")), "{stderr}");
+    assert!(stderr.contains(&format!("cannot write {dir}: its name must end in .png, .exr or .pfm")), "{stderr}");
 }
 
 /// The options that set a render up like another renderer's: environment, backdrop, default
@@ -160,6 +160,7 @@ fn lighting_options_reach_the_image() {
         (&["--russian-roulette", "maybe"][..], "expected on or off"),
         (&["--noise-threshold", "2"][..], "noise_threshold"),
         (&["--environment", "missing.hdr"][..], "cannot read missing.hdr"),
+        (&["--tonemap", "aces"][..], "not clamp (or none) or neutral"),
     ] {
         let out = out_path("bad.png");
         let mut all = vec!["render", "--demo", "spheres", "--out", out.to_str().unwrap(), "--width", "8", "--height", "8"];
@@ -184,4 +185,29 @@ fn a_scene_nothing_lights_gets_the_default_sky_unless_told_not_to() {
     let output = raystage(&dark);
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert!(output.status.success() && !stdout.contains("default sky") && stdout.contains("eyelight"), "{stdout}");
+}
+
+/// The output's extension chooses its format: linear OpenEXR and PFM keep light above white,
+/// the PNG is exposed and tone-mapped, and an extension raystage cannot write is an error
+/// before any rendering.
+#[test]
+fn the_extension_chooses_the_format() {
+    let render = |name: &str, extra: &[&str]| {
+        let out = out_path(name);
+        let mut args = vec!["render", "--demo", "cornell", "--out", out.to_str().unwrap(), "--width", "16", "--height", "12", "--threads", "2"];
+        args.extend_from_slice(extra);
+        let output = raystage(&args);
+        assert!(output.status.success(), "{name}: {}", String::from_utf8_lossy(&output.stderr));
+        std::fs::read(&out).unwrap()
+    };
+    let exr = image::load_from_memory(&render("frame.exr", &["--exposure", "2"])).unwrap().to_rgb32f();
+    assert!(exr.pixels().any(|p| p.0[0] > 1.0), "the exposed light is kept above 1");
+    assert!(render("frame.pfm", &[]).starts_with(b"PF\n16 12\n"));
+    let (plain, neutral) = (render("plain.png", &[]), render("neutral.png", &["--tonemap", "neutral", "--exposure", "-1"]));
+    assert_ne!(plain, neutral);
+    assert!(image::load_from_memory(&neutral).is_ok());
+    let out = out_path("frame.tiff");
+    let stderr = failure(&["render", "--demo", "cornell", "--out", out.to_str().unwrap(), "--width", "8", "--height", "8"]);
+    assert!(stderr.contains("its name must end in .png, .exr or .pfm"), "{stderr}");
+    assert!(!out.exists(), "nothing written");
 }

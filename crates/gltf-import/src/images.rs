@@ -1,6 +1,6 @@
 //! The images that textures of the file use: PNG or JPEG bytes in a buffer view, a `data:` URI
 //! or a file beside the glTF, decoded to linear light (their sRGB values decoded, as glTF's
-//! base-colour textures are sRGB).
+//! colour textures are sRGB) or, for data textures (metallic-roughness), as stored.
 
 use std::path::Path;
 
@@ -10,10 +10,10 @@ use raystage_scene::Image;
 use crate::error::ImportError;
 use crate::{Limits, buffers};
 
-/// Image `index` of `document`, decoded, from the buffers already loaded (`buffers`) or a URI
-/// resolved against `base`. Its header is read first, so that an image larger than the limits
-/// allow is refused before it is decoded.
-pub(crate) fn load(document: &Document, index: usize, buffers: &[Vec<u8>], base: Option<&Path>, limits: &Limits) -> Result<Image, ImportError> {
+/// Image `index` of `document`, decoded as `colour`s or as data, from the buffers already
+/// loaded (`buffers`) or a URI resolved against `base`. Its header is read first, so that an
+/// image larger than the limits allow is refused before it is decoded.
+pub(crate) fn load(document: &Document, index: usize, colour: bool, buffers: &[Vec<u8>], base: Option<&Path>, limits: &Limits) -> Result<Image, ImportError> {
     let field = format!("images[{index}]");
     // Read from the JSON itself: `gltf::Image::source` unwraps a `mimeType` that a file with a
     // buffer view may lack, and the format is told from the bytes anyway.
@@ -40,5 +40,5 @@ pub(crate) fn load(document: &Document, index: usize, buffers: &[Vec<u8>], base:
     if side > limits.max_image_side {
         return Err(ImportError::TooLarge { what: "texels on a side of an image", count: side, limit: limits.max_image_side });
     }
-    Image::decode(bytes).map_err(unreadable)
+    if colour { Image::decode(bytes) } else { Image::decode_data(bytes) }.map_err(unreadable)
 }

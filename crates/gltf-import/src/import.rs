@@ -15,8 +15,9 @@ use crate::{Limits, buffers, images, nodes};
 #[derive(Debug)]
 pub struct Import {
     shaders: Vec<ShaderSpec>,
-    /// The images the shaders' textures use, each with its index in the file.
-    images: Vec<(usize, Image)>,
+    /// The images the shaders' textures use, each with its index in the file and whether it
+    /// was decoded as colours or as data.
+    images: Vec<((usize, bool), Image)>,
     /// One per glTF mesh (`None` for a mesh without triangles); `Mesh::shaders` hold indices
     /// into `shaders`.
     objects: Vec<Option<Mesh>>,
@@ -31,7 +32,8 @@ pub struct Import {
 pub struct Added {
     /// One shader per material (and vertex-colour use) of the file.
     pub shaders: Vec<ShaderId>,
-    /// One texture per image that a material's base colour uses.
+    /// One texture per image that a material's base colour or metallic-roughness texture uses
+    /// (two if both use one image: as colours and as data).
     pub textures: Vec<TextureId>,
     /// One object per glTF mesh that has triangles.
     pub objects: Vec<ObjectId>,
@@ -51,12 +53,12 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
     for (k, spec) in shaders.specs.iter().enumerate() {
         check_shader(spec).map_err(|e| ImportError::invalid(format!("materials (shader {k})"), e.to_string()))?;
     }
-    let mut used: Vec<usize> = shaders.specs.iter().filter_map(|s| s.texture.map(|(_, image)| image)).collect();
+    let mut used: Vec<(usize, bool)> = shaders.specs.iter().flat_map(|s| s.textures.iter().map(|t| (t.image, t.colour))).collect();
     used.sort_unstable();
     used.dedup();
     let images = used
         .into_iter()
-        .map(|i| Ok((i, images::load(&gltf.document, i, &buffers, base, limits)?)))
+        .map(|(i, colour)| Ok(((i, colour), images::load(&gltf.document, i, colour, &buffers, base, limits)?)))
         .collect::<Result<Vec<_>, ImportError>>()?;
     for (k, mesh) in objects.iter().enumerate() {
         if let Some(mesh) = mesh {
@@ -176,8 +178,8 @@ impl Import {
             for &(name, value) in &spec.params {
                 scene.set_param(id, name, value)?;
             }
-            if let Some((param, image)) = spec.texture {
-                scene.set_param(id, param, ParamValue::Texture(Some(textures[&image])))?;
+            for t in &spec.textures {
+                scene.set_param(id, t.param, ParamValue::Texture(Some(textures[&(t.image, t.colour)])))?;
             }
             added.shaders.push(id);
         }

@@ -3,16 +3,17 @@
 //! Reads a glTF 2.0 file (`.gltf` JSON or binary `.glb`) into raystage's retained scene: each
 //! glTF mesh becomes one object (its primitives' triangles together, each bound to the shader of
 //! its material), each node that holds a mesh becomes an instance with the node's world
-//! transform, each material becomes a `PhysicallyBased` shader (see [`shader_for`]) and its
-//! base-colour image a texture, and `KHR_lights_punctual` lights and the first perspective
-//! camera come along. What a material has that is not rendered yet is a note ([`notes`]).
+//! transform, each material becomes a `PhysicallyBased` shader (see [`shader_for`]) with its
+//! base-colour and metallic-roughness images as textures, and `KHR_lights_punctual` lights and
+//! the first perspective camera come along. What a material has that is not rendered yet is a
+//! note ([`notes`]).
 //!
 //! Reading and adding are two steps: [`read`] checks everything (buffer bounds, accessor types,
 //! indices, numbers, sizes) and returns an [`Import`] that no longer refers to the file, and
 //! [`Import::add_to`] puts it into a scene. A file that [`read`] accepted cannot fail half-way
 //! into a scene, and nothing a file contains can panic the reader.
 //!
-//! Not in here: textures other than base colour (normal, metallic-roughness, emissive and
+//! Not in here: textures other than base colour and metallic-roughness (normal, emissive and
 //! occlusion maps), texture samplers' filters and wrap modes (textures repeat and filter
 //! bilinearly), skins, morph targets, animations, points and lines.
 
@@ -29,7 +30,7 @@ use std::path::Path;
 
 pub use error::ImportError;
 pub use import::{Added, Import};
-pub use material::{ShaderSpec, notes, shader_for};
+pub use material::{ShaderSpec, TextureUse, notes, shader_for};
 
 /// Limits on what a file may ask for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -13,9 +13,20 @@ pub struct ShaderSpec {
     pub class: &'static str,
     /// Parameters to write, by name.
     pub params: Vec<(&'static str, ParamValue)>,
-    /// A texture parameter to set once the glTF image it names (by index in the file) is a
-    /// texture of the scene: the material's base-colour texture.
-    pub texture: Option<(&'static str, usize)>,
+    /// Texture parameters to set once the glTF images they name are textures of the scene.
+    pub textures: Vec<TextureUse>,
+}
+
+/// A glTF image a shader's texture parameter uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TextureUse {
+    /// The parameter.
+    pub param: &'static str,
+    /// The image, by its index in the file.
+    pub image: usize,
+    /// Whether the image holds colours (sRGB-encoded, decoded to linear light) rather than data
+    /// (read as stored).
+    pub colour: bool,
 }
 
 /// The shader for a glTF material (`None`: the primitive has no material; raystage gives it
@@ -25,7 +36,8 @@ pub struct ShaderSpec {
 /// - `KHR_materials_transmission` factor ≥ 0.5 → `Glass` with `KHR_materials_ior` (default
 ///   1.5);
 /// - everything else → `PhysicallyBased`: base colour (factor, texture on the first texture
-///   coordinates; vertex colours multiply it), metallic, roughness, `KHR_materials_ior`,
+///   coordinates; vertex colours multiply it), metallic and roughness (factors, and their
+///   texture on the first coordinates), `KHR_materials_ior`,
 ///   `KHR_materials_specular`'s factor, and emissive factor × `KHR_materials_emissive_strength`.
 ///
 /// [`notes`] says what the material has beyond that.
@@ -45,9 +57,13 @@ pub fn shader_for(material: Option<&gltf::Material<'_>>, vertex_colors: bool) ->
     }
     let fraction = |x: f32| if x.is_finite() { x.clamp(0.0, 1.0) } else { 0.0 };
     let emission = clean(Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0));
-    let texture = pbr.base_color_texture().filter(|t| t.tex_coord() == 0).map(|t| ("base_color_texture", t.texture().source().index()));
+    let on_first_uvs = |t: Option<gltf::texture::Info<'_>>| t.filter(|t| t.tex_coord() == 0).map(|t| t.texture().source().index());
+    let textures = [
+        on_first_uvs(pbr.base_color_texture()).map(|image| TextureUse { param: "base_color_texture", image, colour: true }),
+        on_first_uvs(pbr.metallic_roughness_texture()).map(|image| TextureUse { param: "metallic_roughness_texture", image, colour: false }),
+    ];
     ShaderSpec {
-        texture,
+        textures: textures.into_iter().flatten().collect(),
         ..spec(
             "PhysicallyBased",
             vec![
@@ -70,8 +86,10 @@ pub fn notes(material: &gltf::Material<'_>) -> Vec<String> {
     if pbr.base_color_texture().is_some_and(|t| t.tex_coord() != 0) {
         left_out.push("a base-colour texture on a second set of texture coordinates".to_string());
     }
+    if pbr.metallic_roughness_texture().is_some_and(|t| t.tex_coord() != 0) {
+        left_out.push("a metallic-roughness texture on a second set of texture coordinates".to_string());
+    }
     for (present, what) in [
-        (pbr.metallic_roughness_texture().is_some(), "its metallic-roughness texture"),
         (material.normal_texture().is_some(), "its normal texture"),
         (material.occlusion_texture().is_some(), "its occlusion texture"),
         (material.emissive_texture().is_some(), "its emissive texture"),
@@ -90,7 +108,7 @@ pub fn notes(material: &gltf::Material<'_>) -> Vec<String> {
 }
 
 fn spec(class: &'static str, params: Vec<(&'static str, ParamValue)>) -> ShaderSpec {
-    ShaderSpec { class, params, texture: None }
+    ShaderSpec { class, params, textures: Vec::new() }
 }
 
 /// Finite and non-negative: a factor a file got wrong becomes 0 rather than an error.

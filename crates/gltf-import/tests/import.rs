@@ -316,3 +316,26 @@ fn what_a_material_leaves_out_is_a_note() {
     assert!(notes.contains("material `leaves`: its alpha mode (rendered opaque) is not rendered yet"), "{notes}");
     assert_eq!(notes.matches("normal texture").count(), 1, "{notes}");
 }
+
+/// The metallic-roughness texture is data: its values are read as stored, not sRGB-decoded,
+/// even from the very image the base colour reads as colours.
+#[test]
+fn a_metallic_roughness_image_is_read_as_data() {
+    let grey = image::RgbImage::from_pixel(1, 1, image::Rgb([128, 128, 128]));
+    let mut png = std::io::Cursor::new(Vec::new());
+    grey.write_to(&mut png, image::ImageFormat::Png).unwrap();
+    let png = png.into_inner();
+    let mut document = textured_quad(json!({ "uri": format!("data:image/png;base64,{}", base64::engine::general_purpose::STANDARD.encode(&png)) }), 0, &[]);
+    document["materials"][0]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = json!({ "index": 0 });
+    let mut scene = Scene::new();
+    let added = import(&document).unwrap().add_to(&mut scene).unwrap();
+    assert_eq!(added.textures.len(), 2, "one image, read as colours and as data");
+    let shader = scene.shader(added.shaders[0]).unwrap();
+    let texel = |param: &str| {
+        let Some(ParamValue::Texture(Some(id))) = shader.get(param) else { panic!("{param} is set") };
+        let Texture::Image(image) = scene.texture(id).unwrap() else { panic!("an image texture") };
+        image.texel(0, 0).x
+    };
+    assert!((texel("metallic_roughness_texture") - 128.0 / 255.0).abs() < 1e-3);
+    assert!((texel("base_color_texture") - 0.2158).abs() < 1e-3, "sRGB 128 is 0.216 in linear light");
+}

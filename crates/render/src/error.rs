@@ -6,8 +6,14 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     /// The image encoder rejected the film (for example a zero-sized image).
-    #[error("cannot encode PNG: {0}")]
+    #[error("cannot encode the image: {0}")]
     Encode(#[from] image::ImageError),
+    /// A file name whose extension names no format a film can be written as.
+    #[error("cannot write {}: its name must end in .png, .exr or .pfm", path.display())]
+    UnknownFormat {
+        /// The file.
+        path: PathBuf,
+    },
     /// A render setting outside its range.
     #[error("{field} is out of range: {message}")]
     Setting {

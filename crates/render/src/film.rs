@@ -1,4 +1,5 @@
-//! The film: the frame's pixels in linear light, and their encoding as sRGB RGBA8 and PNG.
+//! The film: the frame's pixels in linear light, and their encoding: sRGB RGBA8 and PNG (after
+//! an exposure and a tone curve), or linear OpenEXR and PFM for whoever grades the image.
 
 use std::path::Path;
 use std::sync::Mutex;
@@ -118,6 +119,139 @@ impl Film {
         let path = path.as_ref();
         std::fs::write(path, self.encode_png()?).map_err(|source| Error::Write { path: path.to_owned(), source })
     }
+
+    /// The film as `format` seen through `look`: PNG exposed, tone-mapped and sRGB-encoded;
+    /// OpenEXR (32-bit float RGB) and PFM exposed but otherwise linear and unclamped.
+    pub fn encode(&self, format: OutputFormat, look: Look) -> Result<Vec<u8>, Error> {
+        let scale = look.scale();
+        match format {
+            OutputFormat::Png => {
+                if look == Look::default() {
+                    return self.encode_png();
+                }
+                let graded: Vec<Vec3> = self.pixels.par_iter().map(|&p| look.tone_map.apply(p * scale)).collect();
+                Film::from_pixels(self.width, self.height, graded).encode_png()
+            }
+            OutputFormat::Exr => {
+                let floats: Vec<f32> = self.pixels.iter().flat_map(|p| (*p * scale).to_array()).collect();
+                let mut exr = std::io::Cursor::new(Vec::new());
+                image::codecs::openexr::OpenExrEncoder::new(&mut exr).write_image(
+                    bytemuck_f32(&floats),
+                    self.width,
+                    self.height,
+                    image::ExtendedColorType::Rgb32F,
+                )?;
+                Ok(exr.into_inner())
+            }
+            OutputFormat::Pfm => {
+                // "PF", the size, a negative scale for little-endian, then rows from the bottom.
+                let mut pfm = format!("PF\n{} {}\n-1.0\n", self.width, self.height).into_bytes();
+                for row in self.pixels.chunks(self.width as usize).rev() {
+                    pfm.extend(row.iter().flat_map(|p| (*p * scale).to_array()).flat_map(f32::to_le_bytes));
+                }
+                Ok(pfm)
+            }
+        }
+    }
+}
+
+/// The little-endian bytes of `floats`, as image encoders take float pixels.
+fn bytemuck_f32(floats: &[f32]) -> &[u8] {
+    // Safety: f32 has no padding and any byte pattern of its size is a valid u8 sequence; the
+    // slice covers exactly the floats' memory. (The machines this builds for are little-endian,
+    // as the encoders expect native order.)
+    unsafe { std::slice::from_raw_parts(floats.as_ptr().cast::<u8>(), std::mem::size_of_val(floats)) }
+}
+
+/// An image file format a film can be written as.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OutputFormat {
+    /// 8-bit sRGB PNG, tone-mapped.
+    Png,
+    /// OpenEXR, 32-bit float linear RGB.
+    Exr,
+    /// Portable float map, 32-bit float linear RGB.
+    Pfm,
+}
+
+impl OutputFormat {
+    /// The format a file name's extension asks for (`.png`, `.exr`, `.pfm`, in any case); an
+    /// error naming the extension for anything else.
+    pub fn from_path(path: &Path) -> Result<OutputFormat, Error> {
+        let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        match extension.as_deref() {
+            Some("png") => Ok(OutputFormat::Png),
+            Some("exr") => Ok(OutputFormat::Exr),
+            Some("pfm") => Ok(OutputFormat::Pfm),
+            _ => Err(Error::UnknownFormat { path: path.to_owned() }),
+        }
+    }
+}
+
+/// How linear light becomes what a display shows: an exposure, then a tone curve (for PNG).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Look {
+    /// Exposure in stops: the image is scaled by 2 to this power (every format).
+    pub exposure: f32,
+    /// The curve that brings light into [0, 1] for 8-bit images.
+    pub tone_map: ToneMap,
+}
+
+impl Look {
+    /// The factor the exposure scales the light by.
+    fn scale(&self) -> f32 {
+        self.exposure.exp2()
+    }
+}
+
+/// A tone curve.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ToneMap {
+    /// Each channel clipped to [0, 1]: light as it is, up to white (the default).
+    #[default]
+    Clamp,
+    /// The Khronos PBR Neutral tone mapper: colours below 0.76 as they are (base colours under
+    /// white light come out as authored), brighter ones compressed towards white without
+    /// shifting their hue.
+    Neutral,
+}
+
+impl std::str::FromStr for ToneMap {
+    type Err = Error;
+
+    fn from_str(text: &str) -> Result<ToneMap, Error> {
+        match text {
+            "clamp" | "none" => Ok(ToneMap::Clamp),
+            "neutral" => Ok(ToneMap::Neutral),
+            _ => Err(Error::Setting { field: "tonemap", message: format!("`{text}` is not clamp (or none) or neutral") }),
+        }
+    }
+}
+
+impl ToneMap {
+    /// The curve applied to linear colour `c`.
+    pub fn apply(self, c: Vec3) -> Vec3 {
+        match self {
+            ToneMap::Clamp => c.clamp(Vec3::ZERO, Vec3::ONE),
+            ToneMap::Neutral => {
+                // Khronos PBR Neutral (2024), as its reference code has it.
+                const START: f32 = 0.8 - 0.04;
+                const DESATURATION: f32 = 0.15;
+                let low = c.min_element();
+                let offset = if low < 0.08 { low - 6.25 * low * low } else { 0.04 };
+                let c = c - Vec3::splat(offset);
+                let peak = c.max_element();
+                if peak < START {
+                    return c.max(Vec3::ZERO);
+                }
+                let d = 1.0 - START;
+                let new_peak = 1.0 - d * d / (peak + d - START);
+                let c = c * (new_peak / peak);
+                let g = 1.0 - 1.0 / (DESATURATION * (peak - new_peak) + 1.0);
+                c.lerp(Vec3::splat(new_peak), g).clamp(Vec3::ZERO, Vec3::ONE)
+            }
+        }
+    }
 }
 
 /// Sums of `samples` samples per pixel as sRGB RGB8 bytes: the pixels are the sums divided by
@@ -200,5 +334,39 @@ mod tests {
     fn rgba8_is_srgb_encoded_and_opaque() {
         let film = Film::from_pixels(2, 1, vec![Vec3::new(0.0, 0.5, 1.0), Vec3::splat(2.0)]);
         assert_eq!(film.to_rgba8(), [0, 188, 255, 255, 255, 255, 255, 255]);
+    }
+}
+
+#[cfg(test)]
+mod format_tests {
+    use super::*;
+
+    #[test]
+    fn extensions_choose_the_format_and_others_are_refused() {
+        assert_eq!(OutputFormat::from_path(Path::new("a/frame.PNG")).unwrap(), OutputFormat::Png);
+        assert_eq!(OutputFormat::from_path(Path::new("frame.exr")).unwrap(), OutputFormat::Exr);
+        assert_eq!(OutputFormat::from_path(Path::new("frame.pfm")).unwrap(), OutputFormat::Pfm);
+        let err = OutputFormat::from_path(Path::new("frame.tiff")).unwrap_err().to_string();
+        assert_eq!(err, "cannot write frame.tiff: its name must end in .png, .exr or .pfm");
+        assert!(OutputFormat::from_path(Path::new("frame")).is_err());
+    }
+
+    /// Linear formats keep light above 1 (times the exposure), bit for bit; the PNG tone-maps.
+    #[test]
+    fn linear_formats_keep_the_light_and_png_grades_it() {
+        let film = Film::from_pixels(2, 1, vec![Vec3::new(4.0, 0.5, 0.25), Vec3::new(0.1, 0.2, 0.3)]);
+        let look = Look { exposure: 1.0, tone_map: ToneMap::Neutral };
+        let pfm = film.encode(OutputFormat::Pfm, look).unwrap();
+        assert!(pfm.starts_with(b"PF\n2 1\n-1.0\n"));
+        let first = f32::from_le_bytes(pfm[pfm.len() - 24..pfm.len() - 20].try_into().unwrap());
+        assert_eq!(first, 8.0, "4 exposed by one stop");
+        let exr = film.encode(OutputFormat::Exr, look).unwrap();
+        let decoded = image::load_from_memory(&exr).unwrap().to_rgb32f();
+        assert_eq!(decoded.get_pixel(0, 0).0, [8.0, 1.0, 0.5]);
+        // Neutral keeps dark colours as they are and brings bright ones under white, hue kept.
+        assert!((ToneMap::Neutral.apply(Vec3::new(0.5, 0.3, 0.2)) - Vec3::new(0.46, 0.26, 0.16)).abs().max_element() < 1e-5);
+        let bright = ToneMap::Neutral.apply(Vec3::new(8.0, 1.0, 0.5));
+        assert!(bright.max_element() <= 1.0 && bright.x > bright.y && bright.y > bright.z, "{bright}");
+        assert_ne!(film.encode(OutputFormat::Png, look).unwrap(), film.encode_png().unwrap());
     }
 }

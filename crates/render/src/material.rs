@@ -9,6 +9,10 @@ use raystage_scene::{Frame, PreviewAttributes, PreviewPoint, Shader, ShadingMode
 use crate::bsdf::Bsdf;
 use crate::texture;
 
+/// The smallest microfacet α of a physically based surface: a mirror-smooth α of 0 would make
+/// the GGX lobe a delta, which the BSDF cannot evaluate.
+const MIN_ALPHA: f32 = 1e-3;
+
 /// A hit point's material.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Material {
@@ -34,6 +38,9 @@ struct Resolved<'f> {
     base: Material,
     /// The diffuse texture, for the classes that have one and a shader that sets it.
     texture: Option<&'f Texture>,
+    /// A physically based shader's metallic-roughness texture, and its roughness factor (which
+    /// the texture's green channel scales before it is squared).
+    metallic_roughness: Option<(&'f Texture, f32)>,
 }
 
 /// What the eye-light preview shows of a shader, worked out when the frame starts: a hit on a
@@ -186,8 +193,7 @@ impl<'f> Resolved<'f> {
                 m.bsdf = Some(Bsdf::PhysicallyBased {
                     base: m.albedo,
                     metallic: shader.float("metallic"),
-                    // A mirror-smooth α of 0 would make the GGX lobe a delta: kept just above.
-                    alpha: (roughness * roughness).max(1e-3),
+                    alpha: (roughness * roughness).max(MIN_ALPHA),
                     f0: ((ior - 1.0) / (ior + 1.0)).powi(2) * shader.float("specular"),
                     f90: shader.float("specular"),
                 });
@@ -199,7 +205,11 @@ impl<'f> Resolved<'f> {
             _ => None,
         };
         let texture = texture_param.and_then(|name| shader.texture(name)).and_then(|t| frame.texture(t));
-        Resolved { base: m, texture }
+        let metallic_roughness = (model == ShadingModel::PhysicallyBased)
+            .then(|| shader.texture("metallic_roughness_texture").and_then(|t| frame.texture(t)))
+            .flatten()
+            .map(|t| (t, shader.float("roughness")));
+        Resolved { base: m, texture, metallic_roughness }
     }
 
     /// What scales the albedo at a point (see [`Resolved::apply`]): the texture, or the vertex
@@ -224,14 +234,65 @@ impl<'f> Resolved<'f> {
     #[inline(always)]
     fn apply(&self, local_position: Vec3, uv: Option<Vec2>, color: Option<Vec3>) -> Material {
         let mut m = self.base;
-        let Some(scale) = self.scale(local_position, uv, color) else { return m };
-        m.albedo *= scale;
+        let scale = self.scale(local_position, uv, color);
+        if scale.is_none() && self.metallic_roughness.is_none() {
+            return m;
+        }
+        if let Some(scale) = scale {
+            m.albedo *= scale;
+        }
         m.bsdf = match m.bsdf {
             Some(Bsdf::Lambert { .. }) => Some(Bsdf::Lambert { albedo: m.albedo }),
             Some(Bsdf::Phong { specular, exponent, .. }) => Some(Bsdf::Phong { diffuse: m.albedo, specular, exponent }),
-            Some(Bsdf::PhysicallyBased { metallic, alpha, f0, f90, .. }) => Some(Bsdf::PhysicallyBased { base: m.albedo, metallic, alpha, f0, f90 }),
+            Some(Bsdf::PhysicallyBased { metallic, alpha, f0, f90, .. }) => {
+                // glTF: blue is metalness, green roughness, each scaling its factor.
+                let (metallic, alpha) = match self.metallic_roughness {
+                    Some((t, roughness)) => {
+                        let texel = texture::lookup(t, local_position, uv);
+                        (metallic * texel.z.clamp(0.0, 1.0), (roughness * texel.y.clamp(0.0, 1.0)).powi(2).max(MIN_ALPHA))
+                    }
+                    None => (metallic, alpha),
+                };
+                Some(Bsdf::PhysicallyBased { base: m.albedo, metallic, alpha, f0, f90 })
+            }
             other => other,
         };
         m
+    }
+}
+
+
+#[cfg(test)]
+mod tests {
+    use glam::{Vec2, Vec3};
+    use raystage_scene::{Image, Texture};
+
+    use super::*;
+
+    /// A metallic-roughness texture's blue channel scales metalness and its green roughness,
+    /// point by point; the vertex colours scale the base colour.
+    #[test]
+    fn metallic_roughness_textures_vary_the_brdf_over_the_surface() {
+        // Left texel: metal, smooth; right: dielectric, rough.
+        let texture = Texture::Image(Image::new(2, 1, vec![Vec3::new(0.0, 0.2, 1.0), Vec3::new(0.0, 1.0, 0.0)]).unwrap().into());
+        let base = Material {
+            model: ShadingModel::PhysicallyBased,
+            bsdf: Some(Bsdf::PhysicallyBased { base: Vec3::ONE, metallic: 1.0, alpha: 0.25, f0: 0.04, f90: 1.0 }),
+            albedo: Vec3::ONE,
+            emission: Vec3::ZERO,
+            ior: 1.0,
+            absorption: Vec3::ZERO,
+            occlusion_distance: 0.0,
+        };
+        let resolved = Resolved { base, texture: None, metallic_roughness: Some((&texture, 0.5)) };
+        let at = |u: f32| match resolved.apply(Vec3::ZERO, Some(Vec2::new(u, 0.5)), Some(Vec3::new(1.0, 0.5, 0.25))).bsdf {
+            Some(Bsdf::PhysicallyBased { metallic, alpha, base, .. }) => (metallic, alpha, base),
+            other => panic!("{other:?}"),
+        };
+        let (metallic, alpha, base) = at(0.25);
+        assert_eq!((metallic, base), (1.0, Vec3::new(1.0, 0.5, 0.25)), "the vertex colour scales the base colour");
+        assert!((alpha - (0.5f32 * 0.2).powi(2)).abs() < 1e-6, "{alpha}");
+        let (metallic, alpha, _) = at(0.75);
+        assert_eq!((metallic, alpha), (0.0, 0.25));
     }
 }

@@ -217,6 +217,7 @@ pub static SHADER_CLASSES: &[ShaderClass] = &[
             ParamDecl { name: "base_color_texture", default: ParamValue::Texture(None), range: NON_NEGATIVE, doc: "A texture whose colour multiplies `base_color` (and the mesh's vertex colours do too); none by default." },
             ParamDecl { name: "metallic", default: ParamValue::Float(1.0), range: FRACTION, doc: "0 for a dielectric, 1 for a metal, blended between." },
             ParamDecl { name: "roughness", default: ParamValue::Float(1.0), range: FRACTION, doc: "Perceptual roughness in [0, 1]; the microfacets' α is its square." },
+            ParamDecl { name: "metallic_roughness_texture", default: ParamValue::Texture(None), range: NON_NEGATIVE, doc: "A texture whose blue channel multiplies `metallic` and green channel `roughness` (glTF's; its values are data, not sRGB colours); none by default." },
             ParamDecl { name: "ior", default: ParamValue::Float(1.5), range: [1.0, 4.0], doc: "The dielectric's index of refraction (1.5: 4 % reflected head-on)." },
             ParamDecl { name: "specular", default: ParamValue::Float(1.0), range: FRACTION, doc: "Scales the dielectric's specular reflection (glTF's KHR_materials_specular factor): 0 leaves a pure Lambertian base." },
             ParamDecl { name: "emissive", default: ParamValue::Color(Vec3::ZERO), range: NON_NEGATIVE, doc: "Emitted radiance, linear RGB (glTF's emissive factor × strength): an emitting surface is a light." },

@@ -63,12 +63,24 @@ impl Image {
     /// decoded to linear light; floating-point channels (HDR, EXR) are linear already. Grey images become
     /// grey texels; alpha is dropped.
     pub fn decode(bytes: &[u8]) -> Result<Image, SceneError> {
+        Image::decode_with(bytes, srgb_to_linear)
+    }
+
+    /// [`Image::decode`] for a texture of data rather than colour (glTF's metallic-roughness
+    /// and normal textures): integer channels are read as they are stored, `value / max`.
+    pub fn decode_data(bytes: &[u8]) -> Result<Image, SceneError> {
+        Image::decode_with(bytes, |v| v)
+    }
+
+    /// An image from encoded bytes, integer channels (as fractions of their maximum) mapped by
+    /// `level`.
+    fn decode_with(bytes: &[u8], level: fn(f32) -> f32) -> Result<Image, SceneError> {
         let decoded = image::load_from_memory(bytes).map_err(|e| SceneError::BadImage(e.to_string()))?;
         let (width, height) = (decoded.width(), decoded.height());
         let texels = match decoded {
             image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_) => decoded.to_rgb32f().pixels().map(|p| Vec3::from_array(p.0)).collect(),
             // 8- and 16-bit channels alike, as 16-bit values.
-            _ => decoded.to_rgb16().pixels().map(|p| Vec3::from_array(p.0.map(|c| srgb_to_linear(c as f32 / 65535.0)))).collect(),
+            _ => decoded.to_rgb16().pixels().map(|p| Vec3::from_array(p.0.map(|c| level(c as f32 / 65535.0)))).collect(),
         };
         Image::new(width, height, texels)
     }
