@@ -88,7 +88,7 @@ impl Film {
     pub fn rgb8_rows(&self, rows: std::ops::Range<u32>) -> Vec<u8> {
         assert!(rows.start <= rows.end && rows.end <= self.height, "rows {rows:?} outside a film of {} rows", self.height);
         let width = self.width as usize;
-        rgb8(&self.pixels[rows.start as usize * width..rows.end as usize * width], 1)
+        rgb8(&self.pixels[rows.start as usize * width..rows.end as usize * width], 1, Look::default())
     }
 
     /// The pixels as sRGB-encoded RGBA8 (opaque), row by row: the layout of an application's
@@ -254,14 +254,18 @@ impl ToneMap {
     }
 }
 
-/// Sums of `samples` samples per pixel as sRGB RGB8 bytes: the pixels are the sums divided by
-/// the count, exactly as a progressive film divides them.
-pub(crate) fn rgb8(sums: &[Vec3], samples: u32) -> Vec<u8> {
+/// Sums of `samples` samples per pixel as sRGB RGB8 bytes, seen through `look`: the pixels are
+/// the sums divided by the count, exactly as a progressive film divides them.
+pub(crate) fn rgb8(sums: &[Vec3], samples: u32, look: Look) -> Vec<u8> {
     let table = srgb::table();
     let n = samples.max(1) as f32;
+    let scale = look.scale();
     let mut bytes = vec![0u8; sums.len() * 3];
     for (out, s) in bytes.chunks_exact_mut(3).zip(sums) {
-        let p = if n != 1.0 { *s / n } else { *s };
+        let mut p = if n != 1.0 { *s / n } else { *s };
+        if look != Look::default() {
+            p = look.tone_map.apply(p * scale);
+        }
         out.copy_from_slice(&[srgb::encode_with(table, p.x), srgb::encode_with(table, p.y), srgb::encode_with(table, p.z)]);
     }
     bytes

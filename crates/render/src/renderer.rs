@@ -262,7 +262,13 @@ impl Rows<'_> {
     /// The rows as sRGB RGB8 bytes: exactly what [`Film::rgb8_rows`] gives for them once the
     /// frame is done.
     pub fn rgb8(&self) -> Vec<u8> {
-        crate::film::rgb8(self.sums, self.samples)
+        self.rgb8_with(crate::Look::default())
+    }
+
+    /// The rows as sRGB RGB8 bytes seen through `look` (exposed and tone-mapped), as
+    /// [`Film::encode`] makes a PNG's.
+    pub fn rgb8_with(&self, look: crate::Look) -> Vec<u8> {
+        crate::film::rgb8(self.sums, self.samples, look)
     }
 }
 

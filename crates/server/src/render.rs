@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use raystage_render::{Filter, Integrator, MAX_DEPTH, RenderSettings};
+use raystage_render::{Filter, Integrator, Look, MAX_DEPTH, RenderSettings};
 use raystage_scene::{Background, Scene};
 use serde::Deserialize;
 use utoipa::IntoParams;
@@ -46,6 +46,10 @@ pub struct FrameQuery {
     /// Adaptive sampling: tiles stop taking samples once each pixel's standard error is below
     /// this fraction of its brightness, in (0, 1]; default none (every pixel gets `spp`).
     pub noise_threshold: Option<f32>,
+    /// Exposure in stops: the image is scaled by 2 to this power; default 0.
+    pub exposure: Option<f32>,
+    /// The PNG's tone curve: `clamp` (the default) or `neutral` (Khronos PBR Neutral).
+    pub tonemap: Option<String>,
 }
 
 /// How a frame is set up beyond its size and integrator: what a render needs to match another
@@ -59,6 +63,8 @@ pub(crate) struct Setup {
     pub filter: Filter,
     pub seed: u32,
     pub noise_threshold: Option<f32>,
+    /// How the PNG is graded.
+    pub look: Look,
 }
 
 impl Default for Setup {
@@ -72,6 +78,7 @@ impl Default for Setup {
             filter: s.filter,
             seed: s.seed,
             noise_threshold: s.noise_threshold,
+            look: Look::default(),
         }
     }
 }
@@ -113,7 +120,13 @@ impl FrameQuery {
         if let Some(threshold) = self.noise_threshold.filter(|t| !(*t > 0.0 && *t <= 1.0)) {
             return Err(wrong("noise_threshold", format!("noise_threshold {threshold} is not in (0, 1]")));
         }
+        let exposure = self.exposure.unwrap_or(0.0);
+        if !exposure.is_finite() {
+            return Err(wrong("exposure", format!("exposure {exposure} is not a number of stops")));
+        }
+        let tone_map = self.tonemap.as_deref().map(str::parse).transpose().map_err(|e: raystage_render::Error| wrong("tonemap", e.to_string()))?;
         Ok(Setup {
+            look: Look { exposure, tone_map: tone_map.unwrap_or_default() },
             noise_threshold: self.noise_threshold,
             background: self.background.as_deref().map(str::parse).transpose().map_err(|e: raystage_scene::SceneError| wrong("background", e.to_string()))?,
             default_lights: self.default_lights.unwrap_or(d.default_lights),
@@ -195,7 +208,7 @@ pub(crate) async fn render_png(state: &AppState, slot: &Arc<SceneSlot>, request:
     let rendered = slot
         .read(move |scene, version| -> ApiResult<Rendered> {
             let settings = request.settings(scene);
-            let (png, stats, rendered, encoded) = crate::png::render_png(&scene.frame(), &settings)?;
+            let (png, stats, rendered, encoded) = crate::png::render_png(&scene.frame(), &settings, request.setup.look)?;
             let mut report = FrameReport::new(&settings, &stats, encoded, version);
             // The whole render, with the film's allocation and resolve, which the frame
             // statistics leave out.

@@ -151,3 +151,32 @@ async fn built_in_demos_load_by_name_and_everything_is_listed() {
     assert_eq!(status, StatusCode::NO_CONTENT);
     fails(&app, "GET", &format!("/scenes/{s}"), json!(null), StatusCode::NOT_FOUND).await;
 }
+
+/// The frame route takes the settings that set a render up like another renderer's, and the
+/// PNG's grading: each reaches the image, and a bad value is a 422 naming its parameter.
+#[tokio::test]
+async fn frame_settings_reach_the_image_and_bad_ones_are_named() {
+    let app = app();
+    let s = new_scene(&app).await;
+    let grey = ok(&app, "POST", &format!("/scenes/{s}/shaders"), json!({ "class": "Diffuse", "params": { "diffuse": 0.5 } }), StatusCode::CREATED).await;
+    let mut mesh = square(1.0);
+    mesh["shader"] = grey["id"].clone();
+    let object = ok(&app, "POST", &format!("/scenes/{s}/objects"), json!({ "mesh": mesh }), StatusCode::CREATED).await;
+    ok(&app, "POST", &format!("/scenes/{s}/instances"), json!({ "object": object["id"] }), StatusCode::CREATED).await;
+    let base = format!("/scenes/{s}/frame.png?width=32&height=32&integrator=path&spp=4");
+    let plain = frame(&app, &base).await;
+    let darker = frame(&app, &format!("{base}&exposure=-2&tonemap=neutral&max_depth=3&russian_roulette=false&filter=gaussian&seed=3")).await;
+    assert!(darker.get_pixel(16, 16).0[0] + 40 < plain.get_pixel(16, 16).0[0], "{:?} vs {:?}", darker.get_pixel(16, 16), plain.get_pixel(16, 16));
+    let red = frame(&app, &format!("{base}&background=1,0,0")).await;
+    assert_eq!(red.get_pixel(0, 0).0, [255, 0, 0, 255], "the backdrop behind the square");
+    for (query, field) in [
+        ("tonemap=aces", "tonemap"),
+        ("exposure=inf", "exposure"),
+        ("background=blue", "background"),
+        ("filter=tent", "filter"),
+        ("max_depth=0", "max_depth"),
+        ("noise_threshold=2", "noise_threshold"),
+    ] {
+        assert_eq!(fails(&app, "GET", &format!("{base}&{query}"), json!(null), StatusCode::UNPROCESSABLE_ENTITY).await, field, "{query}");
+    }
+}
