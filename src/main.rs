@@ -62,7 +62,8 @@ enum Command {
         #[arg(long, default_value_t = 1.0)]
         environment_intensity: f32,
         /// What camera rays that hit nothing show: sky, black or R,G,B [default: the
-        /// environment if there is one, the sky where the default lights the scene, else black].
+        /// environment if there is one, else the scene's backdrop, else the sky where the
+        /// default lights the scene, else black].
         #[arg(long, value_parser = raystage::parse_background, allow_hyphen_values = true)]
         background: Option<raystage_scene::Background>,
         /// Leave a scene that nothing lights dark, instead of lighting it by the default sky.

@@ -145,6 +145,9 @@ fn lighting_options_reach_the_image() {
     assert!(top(&sky)[2] > 150, "{:?}", top(&sky));
     let (red, _) = render("red.png", &["--background", "1,0,0"]);
     assert_eq!(top(&red), [255, 0, 0]);
+    // An environment light shows behind the scene, over the demo's own backdrop.
+    let (green, _) = render("green.png", &["--environment", "0,1,0"]);
+    assert_eq!(top(&green), [0, 255, 0]);
     // A uniform environment adds light: the image brightens.
     let (lit, stdout) = render("environment.png", &["--environment", "0.5", "--background", "black", "--integrator", "path", "--spp", "4", "--max-depth", "3", "--filter", "gaussian:1", "--russian-roulette", "off", "--seed", "7", "--noise-threshold", "0.5"]);
     let sum = |image: &image::RgbImage| image.pixels().map(|p| p.0.iter().map(|&c| c as u64).sum::<u64>()).sum::<u64>();

@@ -144,8 +144,9 @@ pub struct RenderSettings {
     /// lit by the sky as an environment light, as the frame's statistics then say (the
     /// default); off, it stays dark.
     pub default_lights: bool,
-    /// What camera rays that hit nothing show; `None` for the scene's background if it sets
-    /// one, else the environment (the sky where the default lights it), else black.
+    /// What camera rays that hit nothing show; `None` for the scene's environment light if it
+    /// has one, else the scene's background if it sets one, else the sky where the default
+    /// lights the scene, else black.
     pub background: Option<Background>,
     /// Whether to run the shading kernel compiled for the frame's effect set (the default).
     /// Off, every frame runs the general kernel with reflection and refraction compiled in, which

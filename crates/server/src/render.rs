@@ -27,9 +27,9 @@ pub struct FrameQuery {
     /// `eyelight`, `whitted`, `distribution` or `path`; default `whitted` if anything lights
     /// the scene (the default sky does unless `default_lights` is false), else `eyelight`.
     pub integrator: Option<String>,
-    /// What camera rays that hit nothing show: `sky`, `black` or `R,G,B`; default the scene's
-    /// choice, else the environment, else the sky where the default lights the scene, else
-    /// black.
+    /// What camera rays that hit nothing show: `sky`, `black` or `R,G,B`; default the
+    /// environment light if the scene has one, else the scene's choice, else the sky where the
+    /// default lights the scene, else black.
     pub background: Option<String>,
     /// Whether a scene that nothing lights (no light, no emitting surface) is lit by the
     /// default sky; default true.

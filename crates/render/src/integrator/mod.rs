@@ -121,13 +121,21 @@ impl<'a, 'f> Tracer<'a, 'f> {
     /// Everything the integrators need of `frame`, resolved when the frame starts, for a pass
     /// that brings the pixels to `samples` samples: its materials, its lights (emitting
     /// triangles among them, and the default sky if nothing lights the scene and the settings
-    /// allow it), the effects they call for, and the backdrop: the settings', else the scene's,
-    /// else the sky where the default lights it, the environment where there is one, and black.
+    /// allow it), the effects they call for, and the backdrop: the settings', else the scene's
+    /// environment light, else the scene's backdrop, else the sky where the default lights it,
+    /// and black.
     pub fn new(frame: &'a Frame<'f>, settings: &'a RenderSettings, samples: u32) -> Tracer<'a, 'f> {
         let materials = Materials::of(frame);
         let lights = SceneLights::of(frame, &materials, settings.light_samples, settings.default_lights);
         let effects = EffectSet::of(frame, &lights, settings.integrator, samples);
-        let backdrop = match settings.background.or(frame.background()) {
+        // An environment of the scene's own shows, as in Cycles and Mitsuba, unless the
+        // settings say otherwise; the scene's backdrop shows where there is none.
+        let chosen = match settings.background {
+            Some(b) => Some(b),
+            None if lights.has_environment() && !lights.defaulted() => None,
+            None => frame.background(),
+        };
+        let backdrop = match chosen {
             Some(Background::Sky) => Backdrop::Sky,
             Some(Background::Color(c)) => Backdrop::Color(c),
             None if lights.defaulted() => Backdrop::Sky,
