@@ -132,6 +132,7 @@ fn main() {
         Command::Render { threads, reps, reference_spp, max_spp, plot: plot_path, json } => {
             let threads = threads.max(1);
             let shading = render::run_shading(threads, reps, |line| eprintln!("{line}"));
+            let materials = render::run_material_cost(threads, reps, |line| eprintln!("{line}"));
             let convergence = render::run_convergence(threads, reference_spp.max(1), max_spp.max(1), |line| eprintln!("{line}"));
             let text = plot::register_system_font();
             if let Err(e) = plot::convergence(&plot_path, &convergence, text) {
@@ -147,8 +148,17 @@ fn main() {
                 for r in convergence.reports() {
                     println!("{}", serde_json::to_string(&r).expect("report serialises"));
                 }
+                for m in &materials {
+                    println!("{}", serde_json::to_string(m).expect("report serialises"));
+                }
             } else {
                 print!("{}", table::shading_table(&shading));
+                for m in &materials {
+                    println!(
+                        "material cost, {} at {}x{}, {} spp: Diffuse {:.1} ms, PhysicallyBased {:.1} ms: {:.2}x",
+                        m.integrator, m.width, m.height, m.spp, m.diffuse_ms, m.physically_based_ms, m.ratio
+                    );
+                }
                 print!("{}", table::convergence_table(&convergence));
             }
             let mut note = format!("convergence plot: {}", plot_path.display());

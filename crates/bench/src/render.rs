@@ -321,6 +321,79 @@ pub fn run_shading(threads: usize, reps: usize, mut progress: impl FnMut(&str)) 
     }
 }
 
+/// What the physically based material costs against `Diffuse` (issue 23): one integrator's
+/// frame of the point-lit sphere grid with every sphere `Diffuse`, and with every sphere
+/// `PhysicallyBased` of the same base colour (a dielectric of roughness 0.5), medians over the
+/// repetitions, the two taking turns.
+#[derive(Clone, Debug, Serialize)]
+pub struct MaterialCost {
+    /// The integrator.
+    pub integrator: &'static str,
+    /// Image size and samples per pixel.
+    pub width: u32,
+    pub height: u32,
+    pub spp: u32,
+    /// Median frame times.
+    pub diffuse_ms: f64,
+    pub physically_based_ms: f64,
+    /// The median of each repetition's physically based time over its diffuse time.
+    pub ratio: f64,
+}
+
+/// The point-lit sphere grid with every `Diffuse` shader turned `PhysicallyBased` of the same
+/// colour (metallic 0, roughness 0.5).
+fn physically_based_spheres() -> Scene {
+    let mut scene = point_lit_spheres();
+    let diffuse: Vec<(raystage_scene::ShaderId, Vec3)> =
+        scene.shaders().filter(|(_, s)| s.class().name == "Diffuse").map(|(id, s)| (id, s.color("diffuse"))).collect();
+    for (id, colour) in diffuse {
+        scene.define_shader(id, "PhysicallyBased").expect("a built-in class");
+        for (name, value) in [
+            ("base_color", raystage_scene::ParamValue::Color(colour)),
+            ("metallic", raystage_scene::ParamValue::Float(0.0)),
+            ("roughness", raystage_scene::ParamValue::Float(0.5)),
+        ] {
+            scene.set_param(id, name, value).expect("a parameter of the class");
+        }
+    }
+    scene
+}
+
+/// Measures [`MaterialCost`] for the eye-light preview (1 spp at 1920×1080) and the path
+/// tracer (4 spp at 960×540), `reps` times each on `threads` threads.
+pub fn run_material_cost(threads: usize, reps: usize, mut progress: impl FnMut(&str)) -> Vec<MaterialCost> {
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
+    let scenes = [point_lit_spheres(), physically_based_spheres()];
+    let cases = [(Integrator::EyeLight, WIDTH, HEIGHT, 1), (Integrator::Path, WIDTH / 2, HEIGHT / 2, 4)];
+    cases
+        .into_iter()
+        .map(|(integrator, width, height, spp)| {
+            let settings = RenderSettings { width, height, integrator, samples_per_pixel: spp, ..RenderSettings::default() };
+            // Warm-up frames build each scene's tree.
+            scenes.iter().for_each(|scene| drop(pool.install(|| raystage_render::render(&scene.frame(), &settings))));
+            let mut times = [Vec::new(), Vec::new()];
+            for rep in 0..reps.max(1) {
+                for k in 0..2 {
+                    let which = (k + rep) % 2;
+                    times[which].push(pool.install(|| render_timed(&scenes[which], &settings)).0.seconds);
+                }
+            }
+            let ratios: Vec<f64> = times[1].iter().zip(&times[0]).map(|(p, d)| p / d).collect();
+            let cost = MaterialCost {
+                integrator: integrator.name(),
+                width,
+                height,
+                spp,
+                diffuse_ms: median(&times[0]) * 1e3,
+                physically_based_ms: median(&times[1]) * 1e3,
+                ratio: median(&ratios),
+            };
+            progress(&format!("material cost, {}: Diffuse {:.1} ms, PhysicallyBased {:.1} ms, {:.2}x", cost.integrator, cost.diffuse_ms, cost.physically_based_ms, cost.ratio));
+            cost
+        })
+        .collect()
+}
+
 /// Traces the primary rays, in 4×2 packets, through `bvh` on `threads` threads.
 fn measure_kernel(bvh: &Bvh8, packets: &[raystage_kernel::Ray], threads: usize) -> Measured {
     let traced = trace_all(bvh, packets, threads, Api::Packets, Schedule::Shared);
