@@ -111,13 +111,7 @@ pub enum EnvironmentSource {
 
 /// Parses `R,G,B` (three numbers) or one number as a non-negative linear colour.
 fn parse_colour(text: &str) -> Option<Vec3> {
-    let numbers: Vec<f32> = text.split(',').map(|n| n.trim().parse().ok()).collect::<Option<_>>()?;
-    let colour = match numbers[..] {
-        [v] => Vec3::splat(v),
-        [r, g, b] => Vec3::new(r, g, b),
-        _ => return None,
-    };
-    (colour.is_finite() && colour.min_element() >= 0.0).then_some(colour)
+    raystage_scene::parse_color(text).filter(|c| c.is_finite() && c.min_element() >= 0.0)
 }
 
 /// Parses `--environment`: a radiance (`R,G,B` or one number) or an image file's path.

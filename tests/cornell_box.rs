@@ -33,15 +33,9 @@ const MEAN_TOLERANCE: f32 = 0.02;
 fn reference() -> Vec<Vec3> {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/references/cornell_box.pfm");
     let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    // "PF\n<w> <h>\n<scale>\n", then little-endian floats, rows from the bottom.
-    let mut lines = bytes.splitn(4, |&b| b == b'\n');
-    assert_eq!(lines.next(), Some(&b"PF"[..]), "an RGB PFM");
-    let size = std::str::from_utf8(lines.next().unwrap()).unwrap();
-    assert_eq!(size, format!("{SIZE} {SIZE}"));
-    assert!(std::str::from_utf8(lines.next().unwrap()).unwrap().parse::<f32>().unwrap() < 0.0, "little-endian");
-    let floats: Vec<f32> = lines.next().unwrap().chunks_exact(4).map(|b| f32::from_le_bytes(b.try_into().unwrap())).collect();
-    let rows: Vec<Vec3> = floats.chunks_exact(3).map(Vec3::from_slice).collect();
-    rows.chunks_exact(SIZE as usize).rev().flatten().copied().collect()
+    let film = Film::from_pfm(&bytes).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    assert_eq!((film.width(), film.height()), (SIZE, SIZE));
+    film.pixels().to_vec()
 }
 
 /// The room as raystage imports it.
@@ -64,11 +58,7 @@ fn render_room(scene: &Scene, max_depth: u32) -> Vec<Vec3> {
     let (film, stats) = render(&scene.frame(), &settings).unwrap();
     assert!(!stats.default_lights, "the emissive quad lights the room");
     assert_eq!(stats.non_finite, 0);
-    pixels(&film)
-}
-
-fn pixels(film: &Film) -> Vec<Vec3> {
-    (0..film.height()).flat_map(|y| (0..film.width()).map(move |x| (x, y))).map(|(x, y)| film.pixel(x, y)).collect()
+    film.pixels().to_vec()
 }
 
 /// `image` against the reference.

@@ -205,11 +205,7 @@ fn raystage_render(scene: &Scene, size: u32, spp: u32, seed: u32) -> (Vec<Vec3>,
     let frame = scene.frame();
     let start = Instant::now();
     let (film, _) = render(&frame, &settings).expect("valid settings");
-    (pixels(&film), start.elapsed().as_secs_f64())
-}
-
-fn pixels(film: &Film) -> Vec<Vec3> {
-    (0..film.height()).flat_map(|y| (0..film.width()).map(move |x| (x, y))).map(|(x, y)| film.pixel(x, y)).collect()
+    (film.pixels().to_vec(), start.elapsed().as_secs_f64())
 }
 
 /// Whether `python` can import Mitsuba.
@@ -235,20 +231,12 @@ fn mitsuba_render(config: &Config, gltf: &Path, variant: &str, spp: u32, seed: u
     }
     let timing: serde_json::Value = serde_json::from_slice(&output.stdout).map_err(|e| format!("Mitsuba's timing: {e}"))?;
     let seconds = timing["seconds"].as_f64().ok_or("Mitsuba printed no seconds")?;
-    Ok((read_pfm(&out, config.size)?, seconds))
-}
-
-/// A little-endian RGB PFM of `size × size` pixels, row by row from the top.
-fn read_pfm(path: &Path, size: u32) -> Result<Vec<Vec3>, String> {
-    let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut parts = bytes.splitn(4, |&b| b == b'\n');
-    let (kind, dims, scale, data) = (parts.next(), parts.next(), parts.next(), parts.next().unwrap_or_default());
-    let little = scale.and_then(|s| std::str::from_utf8(s).ok()?.trim().parse::<f32>().ok()).is_some_and(|s| s < 0.0);
-    if kind != Some(b"PF") || dims != Some(format!("{size} {size}").as_bytes()) || !little || data.len() != (size * size * 12) as usize {
-        return Err(format!("{} is not a little-endian {size}x{size} RGB PFM", path.display()));
+    let bytes = std::fs::read(&out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let film = Film::from_pfm(&bytes).map_err(|e| format!("{}: {e}", out.display()))?;
+    if (film.width(), film.height()) != (config.size, config.size) {
+        return Err(format!("{} is not {}x{}", out.display(), config.size, config.size));
     }
-    let texels: Vec<Vec3> = data.chunks_exact(12).map(|c| Vec3::from_array(std::array::from_fn(|i| f32::from_le_bytes(c[4 * i..4 * i + 4].try_into().unwrap())))).collect();
-    Ok(texels.chunks_exact(size as usize).rev().flatten().copied().collect())
+    Ok((film.pixels().to_vec(), seconds))
 }
 
 /// raystage's frame time on the room on one thread and on `config.threads`, at the first

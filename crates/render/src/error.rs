@@ -8,6 +8,9 @@ pub enum Error {
     /// The image encoder rejected the film (for example a zero-sized image).
     #[error("cannot encode the image: {0}")]
     Encode(#[from] image::ImageError),
+    /// Bytes that are not an image the film reads.
+    #[error("cannot read the image: {0}")]
+    Decode(String),
     /// A file name whose extension names no format a film can be written as.
     #[error("cannot write {}: its name must end in .png, .exr or .pfm", path.display())]
     UnknownFormat {

@@ -155,6 +155,29 @@ impl Film {
     }
 }
 
+impl Film {
+    /// A film from a little-endian RGB PFM (as [`Film::encode`] writes one, rows from the
+    /// bottom): an error naming what is wrong for anything else.
+    pub fn from_pfm(bytes: &[u8]) -> Result<Film, Error> {
+        let bad = |what: &str| Error::Decode(format!("not a little-endian RGB PFM: {what}"));
+        let mut parts = bytes.splitn(4, |&b| b == b'\n');
+        let (kind, dims, scale, data) = (parts.next(), parts.next(), parts.next(), parts.next().unwrap_or_default());
+        if kind != Some(b"PF") {
+            return Err(bad("no `PF` header"));
+        }
+        let dims = dims.and_then(|d| std::str::from_utf8(d).ok()).ok_or_else(|| bad("no size"))?;
+        let (width, height) = dims.split_once(' ').and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?))).ok_or_else(|| bad("no size"))?;
+        if !scale.and_then(|s| std::str::from_utf8(s).ok()?.trim().parse::<f32>().ok()).is_some_and(|s| s < 0.0) {
+            return Err(bad("not little-endian"));
+        }
+        if width == 0 || data.len() as u64 != width as u64 * height as u64 * 12 {
+            return Err(bad("the pixels do not match the size"));
+        }
+        let rows: Vec<Vec3> = data.chunks_exact(12).map(|c| Vec3::from_array(std::array::from_fn(|i| f32::from_le_bytes(c[4 * i..4 * i + 4].try_into().expect("4 bytes"))))).collect();
+        Ok(Film::from_pixels(width, height, rows.chunks_exact(width as usize).rev().flatten().copied().collect()))
+    }
+}
+
 /// The little-endian bytes of `floats`, as image encoders take float pixels.
 fn bytemuck_f32(floats: &[f32]) -> &[u8] {
     // Safety: f32 has no padding and any byte pattern of its size is a valid u8 sequence; the
@@ -372,5 +395,9 @@ mod format_tests {
         let bright = ToneMap::Neutral.apply(Vec3::new(8.0, 1.0, 0.5));
         assert!(bright.max_element() <= 1.0 && bright.x > bright.y && bright.y > bright.z, "{bright}");
         assert_ne!(film.encode(OutputFormat::Png, look).unwrap(), film.encode_png().unwrap());
+        // A PFM reads back as it was written.
+        let back = Film::from_pfm(&pfm).unwrap();
+        assert_eq!((back.width(), back.height(), back.pixel(0, 0), back.pixel(1, 0)), (2, 1, Vec3::new(8.0, 1.0, 0.5), Vec3::new(0.2, 0.4, 0.6)));
+        assert!(Film::from_pfm(&pfm[..pfm.len() - 1]).is_err() && Film::from_pfm(b"P6\n1 1\n255\n").is_err());
     }
 }

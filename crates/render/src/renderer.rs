@@ -341,9 +341,7 @@ impl Progressive {
     fn samples_of(&self, i: usize) -> u32 {
         let Some(tiles) = &self.tile_samples else { return self.samples };
         let (w, h) = (self.settings.width, self.settings.height);
-        let side = crate::tiles::tile_size(w, h);
-        let (x, y) = (i as u32 % w, i as u32 / w);
-        tiles[((y / side) * w.div_ceil(side) + x / side) as usize]
+        tiles[crate::tiles::tile_of(i as u32 % w, i as u32 / w, w, h)]
     }
 
     /// Adds `samples` samples per pixel of `frame`.
@@ -363,10 +361,9 @@ impl Progressive {
         let counts = std::sync::Mutex::new(Counts::default());
         // Adaptive sampling: each tile's count, the tile's task the only one to touch it.
         let tile_samples: Option<Vec<AtomicU32>> = self.tile_samples.as_ref().map(|t| t.iter().map(|&n| AtomicU32::new(n)).collect());
-        let side = crate::tiles::tile_size(s.width, s.height);
         let (sum, sum_sq) = (&mut self.sum, self.sum_sq.as_deref_mut());
         let add = |tile: &Tile, sums: &Sums<'_>| {
-            let slot = tile_samples.as_ref().map(|t| &t[((tile.y0 / side) * s.width.div_ceil(side) + tile.x0 / side) as usize]);
+            let slot = tile_samples.as_ref().map(|t| &t[crate::tiles::tile_of(tile.x0, tile.y0, s.width, s.height)]);
             let first = slot.map_or(first_index, |n| n.load(Relaxed));
             if let (Some(threshold), Some(_)) = (s.noise_threshold, slot)
                 && first >= MIN_ADAPTIVE_SAMPLES

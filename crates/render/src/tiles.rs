@@ -32,6 +32,12 @@ pub(crate) fn tile_size(width: u32, height: u32) -> u32 {
     [TILE_SIZE, 16, 8].into_iter().find(|&side| width.div_ceil(side) * height.div_ceil(side) >= MIN_TASKS).unwrap_or(8)
 }
 
+/// The index, row by row, of the tile of a `width × height` frame that pixel `(x, y)` lies in.
+pub(crate) fn tile_of(x: u32, y: u32, width: u32, height: u32) -> usize {
+    let side = tile_size(width, height);
+    ((y / side) * width.div_ceil(side) + x / side) as usize
+}
+
 /// How many tasks the frame loop cuts a `width × height` frame into: what keeps threads busy,
 /// reported by the benchmarks.
 pub fn tasks(width: u32, height: u32) -> usize {

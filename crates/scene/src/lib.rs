@@ -35,6 +35,6 @@ pub use ids::{InstanceId, LightId, ObjectId, ShaderId, TextureId};
 pub use light::Light;
 pub use mesh::Mesh;
 pub use object::{ObjectKind, REBUILD_DEGRADATION};
-pub use scene::{Background, Scene};
+pub use scene::{Background, Scene, parse_color};
 pub use shader::{ParamDecl, ParamType, ParamValue, SHADER_CLASSES, Shader, ShaderClass, ShadingModel, shader_class};
 pub use texture::{Image, Texture, srgb_to_linear};

@@ -40,6 +40,18 @@ pub enum Background {
     Color(glam::Vec3),
 }
 
+/// A colour written `R,G,B`, or one number for grey, as the command line and query strings
+/// take them; `None` for anything else. The numbers are not checked: callers say which they
+/// accept.
+pub fn parse_color(text: &str) -> Option<glam::Vec3> {
+    let numbers: Vec<f32> = text.split(',').map(|n| n.trim().parse().ok()).collect::<Option<_>>()?;
+    match numbers[..] {
+        [v] => Some(glam::Vec3::splat(v)),
+        [r, g, b] => Some(glam::Vec3::new(r, g, b)),
+        _ => None,
+    }
+}
+
 impl std::str::FromStr for Background {
     type Err = SceneError;
 
@@ -49,14 +61,7 @@ impl std::str::FromStr for Background {
         let background = match text {
             "sky" => Background::Sky,
             "black" => Background::Color(glam::Vec3::ZERO),
-            _ => {
-                let numbers: Vec<f32> = text.split(',').map(|n| n.trim().parse().map_err(|_| bad())).collect::<Result<_, _>>()?;
-                match numbers[..] {
-                    [v] => Background::Color(glam::Vec3::splat(v)),
-                    [r, g, b] => Background::Color(glam::Vec3::new(r, g, b)),
-                    _ => return Err(bad()),
-                }
-            }
+            _ => Background::Color(parse_color(text).ok_or_else(bad)?),
         };
         background.validate()?;
         Ok(background)
