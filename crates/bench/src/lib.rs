@@ -15,4 +15,5 @@ pub mod pathtrace;
 pub mod plot;
 pub mod rays;
 pub mod render;
+pub mod scaling;
 pub mod table;

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
 use raystage_bench::kernel::Api;
-use raystage_bench::{dynamic, kernel, pathtrace, plot, render, table};
+use raystage_bench::{dynamic, kernel, pathtrace, plot, render, scaling, table};
 use raystage_demo::animated::{Animation, Baked, Museum, Robots, Still, Terrain};
 use raystage_demo::StandardScene;
 
@@ -103,10 +103,52 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Frame time against threads (1, 2, 4, … up to `--threads`) for every integrator on the
+    /// sphere grid at 1920x1080 and the Cornell room at 256x256: speedup, lazy build time, and
+    /// the tasks a frame offers with the largest one's share of the work (issue 24).
+    Scaling {
+        /// Most threads.
+        #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
+        threads: usize,
+        /// `spheres`, `room` or `all`.
+        #[arg(long, default_value = "all")]
+        scene: String,
+        /// Integrators, comma-separated (eyelight, whitted, distribution, path).
+        #[arg(long, default_value = "eyelight,whitted,distribution,path", value_delimiter = ',')]
+        integrators: Vec<String>,
+        /// Warm frames per measurement; the best is reported.
+        #[arg(long, default_value_t = 2)]
+        reps: usize,
+        /// Print one JSON object per integrator, scene and thread count instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 fn main() {
     match Cli::parse().command {
+        Command::Scaling { threads, scene, integrators, reps, json } => {
+            let scenes = match scene.as_str() {
+                "all" => scaling::BenchScene::ALL.to_vec(),
+                name => match scaling::BenchScene::from_name(name) {
+                    Some(s) => vec![s],
+                    None => fail(&format!("unknown scene `{name}` (expected spheres, room or all)")),
+                },
+            };
+            let integrators = integrators
+                .iter()
+                .map(|name| raystage_render::Integrator::from_name(name).unwrap_or_else(|| fail(&format!("unknown integrator `{name}`"))))
+                .collect();
+            let config = scaling::Config { threads: scaling::thread_counts(threads.max(1)), scenes, integrators, reps };
+            let points = scaling::run(&config, |line| eprintln!("{line}"));
+            if json {
+                for p in &points {
+                    println!("{}", serde_json::to_string(p).expect("report serialises"));
+                }
+            } else {
+                print!("{}", table::scaling_table(&points));
+            }
+        }
         Command::Pathtrace { size, spp, reference_spp, threads, variants, python, dir, json } => {
             let config = pathtrace::Config { size: size.max(4) / 4 * 4, spp, reference_spp, threads: threads.max(1), variants, python, dir };
             let report = match pathtrace::run(&config, |line| eprintln!("{line}")) {
@@ -261,4 +303,10 @@ fn main() {
             }
         }
     }
+}
+
+/// Prints `message` as an error and exits with the status of a usage error.
+fn fail(message: &str) -> ! {
+    eprintln!("error: {message}");
+    std::process::exit(2);
 }

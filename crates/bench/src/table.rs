@@ -266,3 +266,32 @@ pub fn pathtrace_table(report: &crate::pathtrace::Report, targets: &[crate::path
     );
     out
 }
+
+/// The scaling benchmark: one row per integrator, scene and thread count.
+pub fn scaling_table(points: &[crate::scaling::Point]) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{:<13} {:<8} {:>9} {:>4} {:>7} {:>10} {:>8} {:>8} {:>10} {:>9} {:>6} {:>8}",
+        "integrator", "scene", "size", "spp", "threads", "frame s", "speedup", "effic.", "1st frame", "build s", "tasks", "largest"
+    );
+    for p in points {
+        let _ = writeln!(
+            out,
+            "{:<13} {:<8} {:>9} {:>4} {:>7} {:>10.3} {:>7.2}x {:>8.2} {:>10.3} {:>9.3} {:>6} {:>7.2}%",
+            p.integrator,
+            p.scene,
+            format!("{}x{}", p.width, p.height),
+            p.spp,
+            p.threads,
+            p.frame_s,
+            p.speedup,
+            p.efficiency,
+            p.first_frame_s,
+            p.build_s,
+            p.tasks,
+            100.0 * p.largest_task_share
+        );
+    }
+    out
+}

@@ -33,5 +33,5 @@ pub use error::Error;
 pub use film::{Film, Look, OutputFormat, ToneMap};
 pub use renderer::{Filter, Integrator, MAX_DEPTH, MAX_DIMENSION, MAX_LIGHT_SAMPLES, MAX_SAMPLES, MIN_ADAPTIVE_SAMPLES, Progressive, RenderSettings, Rows, render, render_frame, render_rows};
 pub use sky::sky;
-pub use stats::{FrameStats, PhaseTimes, RayCounts};
+pub use stats::{FrameStats, PhaseTimes, RayCounts, TaskTimes};
 pub use tiles::{TILE_SIZE, tasks};

@@ -14,7 +14,7 @@ use crate::integrator::first_hits::FirstHits;
 use crate::integrator::{Hit, Tracer, eyelight, first_matte, path, recursive};
 use crate::lights::Seen;
 use crate::sampler::PixelSampler;
-use crate::stats::{FrameStats, PhaseTimes, RayCounts};
+use crate::stats::{FrameStats, PhaseTimes, RayCounts, TaskTimes};
 use crate::tiles::{Sums, Tile, render_tiles_with};
 use crate::{Error, Film};
 
@@ -353,6 +353,7 @@ impl Progressive {
     /// samples are in.
     fn add_with(&mut self, frame: &Frame<'_>, samples: u32, finished: impl Fn(u32, &[Vec3]) + Sync) -> FrameStats {
         let start = Instant::now();
+        let built_before = frame.work().build_seconds;
         let s = self.settings;
         let tracer = Tracer::new(frame, &s, self.samples + samples);
         let effects = tracer.effects;
@@ -371,6 +372,7 @@ impl Progressive {
             {
                 return;
             }
+            let task_start = Instant::now();
             let mut work = TileWork::for_tile(tile);
             for index in first..first + samples {
                 work.sample(&tracer, &camera, index, sums);
@@ -378,6 +380,7 @@ impl Progressive {
             if let Some(n) = slot {
                 n.store(first + samples, Relaxed);
             }
+            work.counts.tasks = TaskTimes::one(task_start.elapsed().as_secs_f64());
             counts.lock().unwrap_or_else(|e| e.into_inner()).add(work.counts);
             work.recycle();
         };
@@ -398,7 +401,8 @@ impl Progressive {
             accumulated_samples: self.samples,
             time_samples: counts.time_samples,
             lens_samples: counts.lens_samples,
-            phases: PhaseTimes { top_level: frame.top_level_seconds(), object_builds: work.build_seconds, trace_and_shade: seconds },
+            phases: PhaseTimes { top_level: frame.top_level_seconds(), object_builds: work.build_seconds - built_before, trace_and_shade: seconds },
+            tasks: counts.tasks,
             seconds,
             work,
         }
@@ -448,6 +452,7 @@ struct Counts {
     time_samples: u64,
     lens_samples: u64,
     non_finite: u64,
+    tasks: TaskTimes,
 }
 
 impl Counts {
@@ -456,6 +461,7 @@ impl Counts {
         self.time_samples += o.time_samples;
         self.lens_samples += o.lens_samples;
         self.non_finite += o.non_finite;
+        self.tasks += o.tasks;
     }
 }
 

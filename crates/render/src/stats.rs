@@ -41,10 +41,43 @@ impl std::ops::AddAssign for RayCounts {
 pub struct PhaseTimes {
     /// Placing instances and building the top level.
     pub top_level: f64,
-    /// Building and refitting object trees (lazily, while tracing; summed over threads).
+    /// Building and refitting object trees (lazily, while tracing): the wall time during which
+    /// some build ran, part of `trace_and_shade`.
     pub object_builds: f64,
     /// Tracing and shading.
     pub trace_and_shade: f64,
+}
+
+/// How a frame's work was shared out: its tasks (tiles) and what they took.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TaskTimes {
+    /// Tasks run (tiles, once per pass).
+    pub count: u32,
+    /// Seconds of the longest task.
+    pub largest_seconds: f64,
+    /// Seconds of all tasks, summed over threads.
+    pub total_seconds: f64,
+}
+
+impl TaskTimes {
+    /// One task of `seconds`.
+    pub fn one(seconds: f64) -> TaskTimes {
+        TaskTimes { count: 1, largest_seconds: seconds, total_seconds: seconds }
+    }
+
+    /// The longest task's share of all the work: at most `1 / threads` lets every thread of a
+    /// pool be busy to the end (a frame of 1/256 or less feeds 64 threads with room to balance).
+    pub fn largest_share(&self) -> f64 {
+        if self.total_seconds > 0.0 { self.largest_seconds / self.total_seconds } else { 0.0 }
+    }
+}
+
+impl std::ops::AddAssign for TaskTimes {
+    fn add_assign(&mut self, o: TaskTimes) {
+        self.count += o.count;
+        self.largest_seconds = self.largest_seconds.max(o.largest_seconds);
+        self.total_seconds += o.total_seconds;
+    }
 }
 
 /// What a frame (or a progressive pass) cost and what it computed.
@@ -68,6 +101,8 @@ pub struct FrameStats {
     pub lens_samples: u64,
     /// Time by phase.
     pub phases: PhaseTimes,
+    /// The tasks the frame was cut into.
+    pub tasks: TaskTimes,
     /// Wall-clock seconds of the whole frame.
     pub seconds: f64,
     /// Object trees built, refitted or skipped.
@@ -84,12 +119,15 @@ impl FrameStats {
         self.non_finite += pass.non_finite;
         self.samples_per_pixel += pass.samples_per_pixel;
         self.phases.trace_and_shade += pass.phases.trace_and_shade;
+        self.phases.object_builds += pass.phases.object_builds;
         self.seconds += pass.seconds;
-        self.phases.object_builds = pass.work.build_seconds;
+        self.tasks += pass.tasks;
         (self.effects, self.work, self.accumulated_samples, self.default_lights) = (pass.effects, pass.work, pass.accumulated_samples, pass.default_lights);
     }
 
-    /// Tracing throughput in millions of rays per second, not counting lazy object builds.
+    /// Tracing throughput in millions of rays per second, not counting lazy object builds (the
+    /// wall time during which one ran: other threads may have traced meanwhile, so this errs
+    /// high by at most the share of the frame spent building).
     pub fn mrays_per_second(&self) -> f64 {
         let tracing = (self.phases.trace_and_shade - self.phases.object_builds).max(self.phases.trace_and_shade * 1e-3);
         self.rays.total() as f64 / tracing / 1e6

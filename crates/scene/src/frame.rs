@@ -4,6 +4,7 @@
 
 use std::borrow::Cow;
 use std::collections::HashSet;
+use std::sync::Arc;
 use std::time::Instant;
 
 use glam::{Vec2, Vec3};
@@ -13,7 +14,8 @@ use crate::camera::Camera;
 use crate::ids::{InstanceId, ObjectId, ShaderId};
 use crate::instance::{Instance, Placed, world_bounds};
 use crate::light::Light;
-use crate::object::{BuildCounters, Object};
+use crate::builds::BuildCounters;
+use crate::object::Object;
 use crate::scene::{Background, Scene};
 use crate::shader::{Shader, ShadingModel};
 
@@ -29,7 +31,7 @@ const LIST_TOP_LEVEL: usize = 4;
 struct FrameInstance<'a> {
     id: InstanceId,
     object_id: ObjectId,
-    object: &'a Object,
+    object: &'a Arc<Object>,
     instance: Instance,
     /// The placement at shutter time 0, used by every ray of a still instance.
     placed: Placed,
@@ -155,7 +157,7 @@ pub struct FrameWork {
     /// Instanced objects whose tree no ray has needed (and which were not built before): the
     /// work lazy building saved.
     pub skipped: u32,
-    /// Seconds spent building and refitting object trees (summed over threads).
+    /// Wall-clock seconds during which some object tree was being built or refitted.
     pub build_seconds: f64,
 }
 
@@ -665,7 +667,7 @@ impl<'a> Frame<'a> {
             refitted: self.counters.refitted.load(Relaxed),
             rebuilt: self.counters.rebuilt.load(Relaxed),
             skipped: pending.len() as u32,
-            build_seconds: self.counters.nanos.load(Relaxed) as f64 * 1e-9,
+            build_seconds: self.counters.wall_seconds(),
         }
     }
 }

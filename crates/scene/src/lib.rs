@@ -15,6 +15,7 @@
 //! Not in here: shading arithmetic and frame loops (`raystage-render`), the C ABI and HTTP
 //! server that edit scenes, and SIMD (the kernel's).
 
+mod builds;
 mod camera;
 mod error;
 mod frame;

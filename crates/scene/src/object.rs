@@ -1,12 +1,11 @@
 //! Objects: geometry with its own acceleration structure, built lazily, the first time a ray
 //! reaches the object (seed: Wald, *Handling Dynamic Scenes*, DIGEST §1.3 and §4).
 
-use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
-use std::time::Instant;
-use std::sync::{Mutex, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use raystage_kernel::{Aabb, BuildOptions, BuildQuality, Bvh8};
 
+use crate::builds::{BuildCounters, BuildOutcome};
 use crate::mesh::Mesh;
 
 /// How an object's geometry changes over time, which decides how its tree is built.
@@ -37,25 +36,6 @@ pub const REBUILD_DEGRADATION: f32 = 0.4;
 /// redefinitions apart, until a refit that holds brings them back to every redefinition.
 const MAX_REFIT_BACKOFF: u32 = 8;
 
-/// Counts of the tree work done while tracing a frame; objects no ray reached do none.
-#[derive(Debug, Default)]
-pub struct BuildCounters {
-    /// Trees built from scratch.
-    pub built: AtomicU32,
-    /// Trees refitted to moved geometry.
-    pub refitted: AtomicU32,
-    /// Refits abandoned for a rebuild because the tree had degraded too far.
-    pub rebuilt: AtomicU32,
-    /// Nanoseconds spent building and refitting, summed over threads.
-    pub nanos: AtomicU64,
-}
-
-impl BuildCounters {
-    fn add(counter: &AtomicU32) {
-        counter.fetch_add(1, Ordering::Relaxed);
-    }
-}
-
 /// The distinct shaders a mesh's triangles use, and whether some use none (the default).
 fn shaders_of(mesh: &Mesh) -> (Vec<crate::ShaderId>, bool) {
     let mut used = mesh.shaders.clone();
@@ -70,6 +50,10 @@ fn cover_of(kind: ObjectKind, mesh: &Mesh, bounds: &Aabb) -> Vec<Aabb> {
 }
 
 /// An object: its mesh, its kind, and its acceleration structure once a ray needed it.
+///
+/// Scenes hold objects behind `Arc`s, so that a frame renders from a snapshot of the scene while
+/// edits go on: an edit of an object a snapshot still holds works on a copy (see the `Clone`
+/// impl), and the copy shares the tree until its geometry changes.
 #[derive(Debug)]
 pub(crate) struct Object {
     pub mesh: Mesh,
@@ -82,18 +66,20 @@ pub(crate) struct Object {
     /// The distinct shaders its triangles use, and whether some use the scene's default.
     pub shaders_used: Vec<crate::ShaderId>,
     pub uses_default_shader: bool,
-    /// The tree for the current geometry, built by the first ray that needs it.
-    accel: OnceLock<Bvh8>,
+    /// The tree for the current geometry, built by the first ray that needs it; shared with
+    /// copies of the object that have the same geometry.
+    accel: Arc<OnceLock<Bvh8>>,
     /// An unstructured object's tree for earlier geometry with the same triangles, waiting to be
     /// refitted by the first ray that needs the new one, and how refits have fared.
     previous: Mutex<Refits>,
 }
 
 /// An unstructured object's refit state.
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default)]
 struct Refits {
-    /// The tree to refit, if the triangles are still the ones it was built over.
-    tree: Option<Bvh8>,
+    /// The tree to refit, if the triangles are still the ones it was built over (shared with a
+    /// snapshot that still renders the old geometry, in which case the refit works on a copy).
+    tree: Option<Arc<OnceLock<Bvh8>>>,
     /// Redefinitions still to rebuild without trying a refit (see [`MAX_REFIT_BACKOFF`]).
     skip: u32,
     /// How many the next failed refit makes that.
@@ -123,7 +109,7 @@ impl Object {
             uses_default_shader,
             mesh,
             kind,
-            accel: OnceLock::new(),
+            accel: Arc::default(),
             previous: Mutex::new(Refits::default()),
         }
     }
@@ -161,9 +147,10 @@ impl Object {
     /// unstructured and the triangles stay the same (`same_triangles`).
     fn retire_tree(&mut self, same_triangles: bool) {
         let previous = self.previous.get_mut().unwrap_or_else(|e| e.into_inner());
-        match (self.kind, same_triangles, self.accel.take()) {
-            (ObjectKind::Unstructured, true, Some(tree)) => previous.tree = Some(tree),
-            (ObjectKind::Unstructured, true, None) => {}
+        let tree = std::mem::take(&mut self.accel);
+        match (self.kind, same_triangles, tree.get().is_some()) {
+            (ObjectKind::Unstructured, true, true) => previous.tree = Some(tree),
+            (ObjectKind::Unstructured, true, false) => {}
             _ => *previous = Refits::default(),
         }
     }
@@ -174,26 +161,23 @@ impl Object {
     }
 
     /// The tree for the current geometry, building (or refitting) it now if no ray has needed it
-    /// yet. Exactly one thread builds; the others wait for it.
-    pub fn accel(&self, counters: &BuildCounters) -> &Bvh8 {
+    /// yet. Exactly one thread has it built, on the build pool with every core (see
+    /// [`crate::builds`]); the others wait for it.
+    pub fn accel<'o>(self: &'o Arc<Object>, counters: &BuildCounters) -> &'o Bvh8 {
         self.accel.get_or_init(|| {
-            let start = Instant::now();
-            let tree = self.build(counters);
-            counters.nanos.fetch_add(start.elapsed().as_nanos() as u64, Ordering::Relaxed);
-            tree
+            let object = Arc::clone(self);
+            counters.run(move || object.build())
         })
     }
 
-    fn build(&self, counters: &BuildCounters) -> Bvh8 {
+    fn build(&self) -> (Bvh8, BuildOutcome) {
         if self.kind != ObjectKind::Unstructured {
-            BuildCounters::add(&counters.built);
-            return Bvh8::build(&self.mesh, &BuildOptions::default());
+            return (Bvh8::build(&self.mesh, &BuildOptions::default()), BuildOutcome::Built);
         }
         let fast = BuildOptions { quality: BuildQuality::Fast, refittable: true, ..BuildOptions::default() };
         let mut refits = self.previous.lock().unwrap_or_else(|e| e.into_inner());
-        let Some(mut tree) = refits.tree.take() else {
-            BuildCounters::add(&counters.built);
-            return Bvh8::build(&self.mesh, &fast);
+        let Some(mut tree) = refits.tree.take().and_then(owned) else {
+            return (Bvh8::build(&self.mesh, &fast), BuildOutcome::Built);
         };
         if refits.skip > 0 {
             refits.skip -= 1;
@@ -205,15 +189,39 @@ impl Object {
                 refits.backoff = 0;
                 refits.since_build += 1;
                 refits.degradation = degradation;
-                BuildCounters::add(&counters.refitted);
-                return tree;
+                return (tree, BuildOutcome::Refitted);
             }
             refits.backoff = (2 * refits.backoff).clamp(1, MAX_REFIT_BACKOFF);
             refits.skip = refits.backoff;
         }
-        BuildCounters::add(&counters.rebuilt);
         tree.rebuild(&self.mesh, &fast);
         (refits.since_build, refits.degradation) = (0, 0.0);
-        tree
+        (tree, BuildOutcome::Rebuilt)
+    }
+}
+
+/// A tree to refit, owned: taken if nothing else holds it, else copied (a snapshot in flight
+/// still traces the old geometry with it).
+fn owned(tree: Arc<OnceLock<Bvh8>>) -> Option<Bvh8> {
+    match Arc::try_unwrap(tree) {
+        Ok(cell) => cell.into_inner(),
+        Err(shared) => shared.get().cloned(),
+    }
+}
+
+impl Clone for Object {
+    /// A copy for an edit while a snapshot holds the object: the same geometry, so the same
+    /// (shared) tree, and the same refit state.
+    fn clone(&self) -> Object {
+        Object {
+            mesh: self.mesh.clone(),
+            kind: self.kind,
+            bounds: self.bounds,
+            cover: self.cover.clone(),
+            shaders_used: self.shaders_used.clone(),
+            uses_default_shader: self.uses_default_shader,
+            accel: Arc::clone(&self.accel),
+            previous: Mutex::new(self.previous.lock().unwrap_or_else(|e| e.into_inner()).clone()),
+        }
     }
 }

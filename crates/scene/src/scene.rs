@@ -1,6 +1,8 @@
 //! The scene: the retained description every API edits. Objects, instances, shaders and lights
 //! refer to each other by id only; [`Scene::frame`] resolves the ids for rendering.
 
+use std::sync::Arc;
+
 use glam::Affine3A;
 
 use crate::camera::Camera;
@@ -16,13 +18,18 @@ use crate::texture::Texture;
 
 /// A retained two-level scene. Every edit is checked first and either happens entirely or
 /// returns an error and changes nothing.
-#[derive(Debug)]
+///
+/// A clone is a snapshot, and a cheap one: objects (with their trees), shaders and textures are
+/// shared, and an edit copies only what it changes. A renderer that must not hold up edits
+/// renders a clone (OpenRT's frame semantics: the frame sees the scene as it was when it
+/// started); trees that frame builds are kept by the scene too.
+#[derive(Clone, Debug)]
 pub struct Scene {
-    objects: Table<Object>,
+    objects: Table<Arc<Object>>,
     instances: Table<Instance>,
-    shaders: Table<Shader>,
+    shaders: Table<Arc<Shader>>,
     lights: Table<Light>,
-    textures: Table<Texture>,
+    textures: Table<Arc<Texture>>,
     camera: Camera,
     /// Shades triangles that have no shader of their own.
     default_shader: Shader,
@@ -112,7 +119,7 @@ impl Scene {
     /// Adds an object under a new id.
     pub fn add_object(&mut self, kind: ObjectKind, mesh: Mesh) -> Result<ObjectId, SceneError> {
         self.check_mesh(&mesh)?;
-        Ok(ObjectId(self.objects.insert(Object::new(kind, mesh))))
+        Ok(ObjectId(self.objects.insert(Arc::new(Object::new(kind, mesh)))))
     }
 
     /// Defines a reserved object id, or redefines an existing object: every instance of it
@@ -124,9 +131,9 @@ impl Scene {
         }
         self.check_mesh(&mesh)?;
         match self.objects.get_mut(id.0) {
-            Some(object) if object.kind == kind => object.redefine(mesh),
+            Some(object) if object.kind == kind => Arc::make_mut(object).redefine(mesh),
             _ => {
-                self.objects.set(id.0, Object::new(kind, mesh));
+                self.objects.set(id.0, Arc::new(Object::new(kind, mesh)));
             }
         }
         Ok(())
@@ -145,7 +152,7 @@ impl Scene {
             return Err(SceneError::NotFinite { field: "positions", index });
         }
         let object = self.objects.get_mut(id.0).expect("checked above");
-        object.move_vertices(positions);
+        Arc::make_mut(object).move_vertices(positions);
         Ok(())
     }
 
@@ -241,7 +248,7 @@ impl Scene {
 
     /// Adds a shader of class `class` under a new id.
     pub fn add_shader(&mut self, class: &str) -> Result<ShaderId, SceneError> {
-        Ok(ShaderId(self.shaders.insert(Shader::new(class)?)))
+        Ok(ShaderId(self.shaders.insert(Arc::new(Shader::new(class)?))))
     }
 
     /// Defines a reserved shader id as a shader of class `class` (parameters at their defaults),
@@ -250,7 +257,7 @@ impl Scene {
         if !self.shaders.is_reserved(id.0) {
             return Err(SceneError::UnknownShader(id));
         }
-        self.shaders.set(id.0, Shader::new(class)?);
+        self.shaders.set(id.0, Arc::new(Shader::new(class)?));
         Ok(())
     }
 
@@ -260,7 +267,7 @@ impl Scene {
         if let ParamValue::Texture(Some(texture)) = value {
             self.texture(texture)?;
         }
-        self.shaders.get_mut(id.0).ok_or(SceneError::UnknownShader(id))?.set(name, value)
+        Arc::make_mut(self.shaders.get_mut(id.0).ok_or(SceneError::UnknownShader(id))?).set(name, value)
     }
 
     // ----- textures -----
@@ -273,7 +280,7 @@ impl Scene {
     /// Adds a texture.
     pub fn add_texture(&mut self, texture: Texture) -> Result<TextureId, SceneError> {
         texture.validate()?;
-        Ok(TextureId(self.textures.insert(texture)))
+        Ok(TextureId(self.textures.insert(Arc::new(texture))))
     }
 
     /// Defines a reserved texture id, or replaces a texture: every shader and environment light
@@ -283,7 +290,7 @@ impl Scene {
             return Err(SceneError::UnknownTexture(id));
         }
         texture.validate()?;
-        self.textures.set(id.0, texture);
+        self.textures.set(id.0, Arc::new(texture));
         Ok(())
     }
 
@@ -296,12 +303,12 @@ impl Scene {
 
     /// A texture.
     pub fn texture(&self, id: TextureId) -> Result<&Texture, SceneError> {
-        self.textures.get(id.0).ok_or(SceneError::UnknownTexture(id))
+        self.textures.get(id.0).map(|t| &**t).ok_or(SceneError::UnknownTexture(id))
     }
 
     /// Every texture with its id, in id order.
     pub fn textures(&self) -> impl Iterator<Item = (TextureId, &Texture)> + '_ {
-        self.textures.iter().map(|(id, t)| (TextureId(id), t))
+        self.textures.iter().map(|(id, t)| (TextureId(id), &**t))
     }
 
     /// Removes a texture (`rtDeleteTextures`). Shaders and environment lights refer to it by id
@@ -320,12 +327,12 @@ impl Scene {
 
     /// A shader.
     pub fn shader(&self, id: ShaderId) -> Result<&Shader, SceneError> {
-        self.shaders.get(id.0).ok_or(SceneError::UnknownShader(id))
+        self.shaders.get(id.0).map(|s| &**s).ok_or(SceneError::UnknownShader(id))
     }
 
     /// Every shader with its id, in id order.
     pub fn shaders(&self) -> impl Iterator<Item = (ShaderId, &Shader)> + '_ {
-        self.shaders.iter().map(|(id, s)| (ShaderId(id), s))
+        self.shaders.iter().map(|(id, s)| (ShaderId(id), &**s))
     }
 
     /// The shader of triangles that have none.
@@ -401,7 +408,7 @@ impl Scene {
         Frame::new(self)
     }
 
-    pub(crate) fn object_record(&self, id: ObjectId) -> Option<&Object> {
+    pub(crate) fn object_record(&self, id: ObjectId) -> Option<&Arc<Object>> {
         self.objects.get(id.0)
     }
 

@@ -6,7 +6,7 @@ use std::sync::atomic::{AtomicBool, AtomicU32, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, RwLock};
 
 use raystage_scene::Scene;
-use tokio::sync::{OwnedRwLockReadGuard, Semaphore, SemaphorePermit, watch};
+use tokio::sync::{Semaphore, SemaphorePermit, watch};
 
 use crate::config::Config;
 use crate::error::{ApiError, ApiResult};
@@ -30,8 +30,13 @@ pub struct SceneSlot {
     pub(crate) id: u32,
     /// Where it came from (`empty`, `demo:spheres`, `gltf`, ...).
     pub(crate) origin: String,
-    /// The scene. Renders hold a read lock for their duration, edits a write lock.
+    /// The scene. Edits hold the write lock; renders take a snapshot under a brief read lock
+    /// and hold no lock while they run, so edits never wait for a frame.
     scene: Arc<tokio::sync::RwLock<Scene>>,
+    /// The last snapshot and its version, shared by every render of that version (a stream's
+    /// passes, frames asked for by several clients); dropped by the next edit, so that it does
+    /// not make the edit copy what it changes.
+    last_snapshot: Mutex<Option<(u64, Arc<Scene>)>>,
     /// The number of edits so far, changed only while the write lock is held.
     version: watch::Sender<u64>,
     /// The last frame rendered by `frame.png` or a stream.
@@ -66,6 +71,7 @@ impl AppState {
             scene: Arc::new(tokio::sync::RwLock::new(scene)),
             version: watch::Sender::new(0),
             last_frame: Mutex::new(None),
+            last_snapshot: Mutex::new(None),
             deleted: AtomicBool::new(false),
         };
         scenes.insert(id, Arc::new(slot));
@@ -127,6 +133,7 @@ impl SceneSlot {
         edit: impl FnOnce(&mut Scene) -> ApiResult<(R, bool)> + Send + 'static,
     ) -> ApiResult<(R, u64)> {
         let mut guard = self.scene.clone().write_owned().await;
+        *self.last_snapshot.lock().unwrap_or_else(|e| e.into_inner()) = None;
         let slot = self.clone();
         tokio::task::spawn_blocking(move || {
             let (result, changed) = edit(&mut guard)?;
@@ -139,19 +146,28 @@ impl SceneSlot {
         .map_err(|e| ApiError::internal(format!("an edit failed: {e}")))?
     }
 
-    /// Runs `read` on the scene under a read lock, on a blocking thread (it may trace rays or
-    /// build trees), with the version the scene had.
+    /// Runs `read` on a snapshot of the scene, on a blocking thread (it may trace rays or build
+    /// trees), with the version the scene had.
     pub(crate) async fn read<R: Send + 'static>(self: &Arc<Self>, read: impl FnOnce(&Scene, u64) -> R + Send + 'static) -> ApiResult<R> {
-        let (guard, version) = self.snapshot().await;
-        tokio::task::spawn_blocking(move || read(&guard, version)).await.map_err(|e| ApiError::internal(format!("a read failed: {e}")))
+        let (scene, version) = self.snapshot().await;
+        tokio::task::spawn_blocking(move || read(&scene, version)).await.map_err(|e| ApiError::internal(format!("a read failed: {e}")))
     }
 
-    /// A read lock on the scene, and its version (consistent: edits change both under the
-    /// write lock).
-    pub(crate) async fn snapshot(&self) -> (OwnedRwLockReadGuard<Scene>, u64) {
-        let guard = self.scene.clone().read_owned().await;
+    /// The scene as it is now, as an immutable snapshot, and its version (consistent: edits
+    /// change both under the write lock). Taking one holds the read lock only while the scene is
+    /// cloned, which shares its objects, trees, shaders and textures (see [`Scene`]).
+    pub(crate) async fn snapshot(&self) -> (Arc<Scene>, u64) {
+        let guard = self.scene.read().await;
         let version = *self.version.borrow();
-        (guard, version)
+        let mut last = self.last_snapshot.lock().unwrap_or_else(|e| e.into_inner());
+        match &*last {
+            Some((v, scene)) if *v == version => (Arc::clone(scene), version),
+            _ => {
+                let scene = Arc::new(guard.clone());
+                *last = Some((version, Arc::clone(&scene)));
+                (scene, version)
+            }
+        }
     }
 
     /// Whether the scene was deleted.

@@ -182,3 +182,22 @@ async fn frame_settings_reach_the_image_and_bad_ones_are_named() {
         assert_eq!(fails(&app, "GET", &format!("{base}&{query}"), json!(null), StatusCode::UNPROCESSABLE_ENTITY).await, field, "{query}");
     }
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_edit_is_applied_while_a_frame_renders() {
+    let app = app();
+    let created = ok(&app, "POST", "/scenes", json!({ "demo": "cornell" }), StatusCode::CREATED).await;
+    let s = created["id"].as_u64().unwrap();
+    // Seconds of path tracing, even on many cores in release.
+    let slow = tokio::spawn({
+        let app = app.clone();
+        async move { frame(&app, &format!("/scenes/{s}/frame.png?width=96&height=96&spp=512&integrator=path")).await }
+    });
+    tokio::time::sleep(std::time::Duration::from_millis(100)).await;
+    ok(&app, "PUT", &format!("/scenes/{s}/camera"), json!({ "fov_y_degrees": 30 }), StatusCode::OK).await;
+    let camera = ok(&app, "GET", &format!("/scenes/{s}/camera"), json!(null), StatusCode::OK).await;
+    assert_eq!(camera["fov_y_degrees"].as_f64(), Some(30.0));
+    // The edit did not wait for the frame: a render holds no lock on the scene.
+    assert!(!slow.is_finished(), "the frame finished before the edit: the test proves nothing");
+    slow.abort();
+}
