@@ -37,6 +37,7 @@ struct Primitive {
     positions: Vec<Vec3>,
     normals: Option<Vec<Vec3>>,
     uvs: Option<Vec<Vec2>>,
+    uvs1: Option<Vec<Vec2>>,
     colors: Option<Vec<Vec3>>,
     triangles: Vec<[u32; 3]>,
     shader: u32,
@@ -91,14 +92,13 @@ fn read_primitive(
         None => None,
     };
     let unit = [DataType::F32, DataType::U8, DataType::U16];
-    let uvs = match attribute(Semantic::TexCoords(0)) {
-        Some((f, a)) => {
-            let t: Vec<Vec2> = read_floats::<2>(&a, buffers, &unit, &f)?.into_iter().map(Vec2::from).collect();
-            same_length(&f, t.len())?;
-            Some(t)
-        }
-        None => None,
+    let read_uvs = |set: u32| -> Result<Option<Vec<Vec2>>, ImportError> {
+        let Some((f, a)) = attribute(Semantic::TexCoords(set)) else { return Ok(None) };
+        let t: Vec<Vec2> = read_floats::<2>(&a, buffers, &unit, &f)?.into_iter().map(Vec2::from).collect();
+        same_length(&f, t.len())?;
+        Ok(Some(t))
     };
+    let (uvs, uvs1) = (read_uvs(0)?, read_uvs(1)?);
     let colors = match attribute(Semantic::Colors(0)) {
         Some((f, a)) => {
             let c: Vec<Vec3> = if a.dimensions() == gltf::accessor::Dimensions::Vec4 {
@@ -124,7 +124,7 @@ fn read_primitive(
     };
     let triangles = assemble(primitive.mode(), &indices);
     let shader = shaders.get(&primitive.material(), colors.is_some());
-    Ok(Some(Primitive { positions, normals, uvs, colors, triangles, shader }))
+    Ok(Some(Primitive { positions, normals, uvs, uvs1, colors, triangles, shader }))
 }
 
 /// Triangles from an index list in the primitive's mode.
@@ -142,7 +142,7 @@ fn assemble(mode: Mode, indices: &[u32]) -> Vec<[u32; 3]> {
     }
 }
 
-/// One mesh of the primitives. Normals and texture coordinates are kept only if every
+/// One mesh of the primitives. Normals and each set of texture coordinates are kept only if every
 /// primitive has them; vertex colours if any has them (white elsewhere).
 fn merge(parts: Vec<Primitive>) -> Option<Mesh> {
     if parts.iter().all(|p| p.triangles.is_empty()) {
@@ -150,6 +150,7 @@ fn merge(parts: Vec<Primitive>) -> Option<Mesh> {
     }
     let all_normals = parts.iter().all(|p| p.normals.is_some());
     let all_uvs = parts.iter().all(|p| p.uvs.is_some());
+    let all_uvs1 = parts.iter().all(|p| p.uvs1.is_some());
     let any_colors = parts.iter().any(|p| p.colors.is_some());
     let mut mesh = Mesh::default();
     for part in parts {
@@ -163,6 +164,9 @@ fn merge(parts: Vec<Primitive>) -> Option<Mesh> {
         }
         if all_uvs {
             mesh.uvs.extend(part.uvs.into_iter().flatten());
+        }
+        if all_uvs1 {
+            mesh.uvs1.extend(part.uvs1.into_iter().flatten());
         }
         if any_colors {
             mesh.colors.extend(part.colors.unwrap_or_else(|| vec![Vec3::ONE; n]));

@@ -281,10 +281,10 @@ fn a_base_colour_image_becomes_the_texture_of_a_physically_based_shader() {
 #[test]
 fn textures_the_importer_cannot_use_are_left_out_or_refused() {
     let png = red_blue_png();
-    // On the second set of texture coordinates, which the importer does not read: no texture.
+    // On a third set of texture coordinates, which raystage's meshes do not have: no texture.
     let mut scene = Scene::new();
-    let file = import(&textured_quad(json!({ "bufferView": 3 }), 1, &png)).unwrap();
-    assert!(file.notes().iter().any(|n| n.contains("second set of texture coordinates")), "{:?}", file.notes());
+    let file = import(&textured_quad(json!({ "bufferView": 3 }), 2, &png)).unwrap();
+    assert!(file.notes().iter().any(|n| n.contains("third or later set of texture coordinates")), "{:?}", file.notes());
     let added = file.add_to(&mut scene).unwrap();
     assert!(added.textures.is_empty());
     assert_eq!(scene.shader(added.shaders[0]).unwrap().get("base_color_texture"), Some(ParamValue::Texture(None)));
@@ -338,4 +338,34 @@ fn a_metallic_roughness_image_is_read_as_data() {
     };
     assert!((texel("metallic_roughness_texture") - 128.0 / 255.0).abs() < 1e-3);
     assert!((texel("base_color_texture") - 0.2158).abs() < 1e-3, "sRGB 128 is 0.216 in linear light");
+}
+
+/// A texture's sampler (wrap modes, magnification filter), its texture coordinate set and its
+/// `KHR_texture_transform` become the parameters of its slot; a texture without them gets
+/// glTF's defaults.
+#[test]
+fn samplers_coordinate_sets_and_texture_transforms_become_slot_parameters() {
+    let png = red_blue_png();
+    let mut document = textured_quad(json!({ "bufferView": 3 }), 0, &png);
+    document["samplers"] = json!([{ "magFilter": 9728, "wrapS": 33071, "wrapT": 33648 }]);
+    document["textures"] = json!([{ "source": 0, "sampler": 0 }, { "source": 0 }]);
+    document["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = json!({
+        "KHR_texture_transform": { "offset": [0.25, -0.5], "rotation": 0.5, "scale": [2, 3], "texCoord": 1 }
+    });
+    document["materials"][0]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = json!({ "index": 1 });
+    // The second coordinates: the first ones again.
+    document["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_1"] = json!(2);
+    let mut scene = Scene::new();
+    let added = import(&document).unwrap().add_to(&mut scene).unwrap();
+    let shader = scene.shader(added.shaders[0]).unwrap();
+    let float = |name: &str| match shader.get(name) {
+        Some(ParamValue::Float(f)) => f,
+        other => panic!("{name}: {other:?}"),
+    };
+    let base = ["wrap_s", "wrap_t", "filter", "texcoord", "offset_u", "offset_v", "rotation", "scale_u", "scale_v"].map(|p| float(&format!("base_color_{p}")));
+    assert_eq!(base, [33071.0, 33648.0, 9728.0, 1.0, 0.25, -0.5, 0.5, 2.0, 3.0]);
+    let defaults = ["wrap_s", "wrap_t", "filter", "texcoord", "offset_u", "offset_v", "rotation", "scale_u", "scale_v"].map(|p| float(&format!("metallic_roughness_{p}")));
+    assert_eq!(defaults, [10497.0, 10497.0, 9729.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0]);
+    let mesh = scene.mesh(added.objects[0]).unwrap();
+    assert_eq!((mesh.uvs1.len(), mesh.uvs1[2]), (4, mesh.uvs[2]), "the second coordinates come along");
 }

@@ -3,11 +3,11 @@
 //! hit looks a parameter up by name); a hit then only applies what varies over the surface, its
 //! texture and its vertex colours.
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 use raystage_scene::{Frame, PreviewAttributes, PreviewPoint, Shader, ShadingModel, SurfacePoint, Texture};
 
 use crate::bsdf::Bsdf;
-use crate::texture;
+use crate::texture::{self, Sampler};
 
 /// The smallest microfacet α of a physically based surface: a mirror-smooth α of 0 would make
 /// the GGX lobe a delta, which the BSDF cannot evaluate.
@@ -32,15 +32,37 @@ pub(crate) struct Material {
     pub occlusion_distance: f32,
 }
 
+/// A texture a shader uses, and how it samples it.
+#[derive(Clone, Copy, Debug)]
+struct Slot<'f> {
+    texture: &'f Texture,
+    sampler: Sampler,
+}
+
+impl<'f> Slot<'f> {
+    /// Texture slot `slot` of `shader` (its `{slot}_texture` parameter and sampler), if the
+    /// shader sets a texture the frame has.
+    fn of(frame: &Frame<'f>, shader: &Shader, slot: &str) -> Option<Slot<'f>> {
+        let texture = frame.texture(shader.texture(&format!("{slot}_texture"))?)?;
+        Some(Slot { texture, sampler: Sampler::of(shader, slot) })
+    }
+
+    /// Colour and coverage at a point (see [`texture::sample`]).
+    #[inline(always)]
+    fn at(&self, local_position: Vec3, uvs: [Option<Vec2>; 2]) -> Vec4 {
+        texture::sample(self.texture, &self.sampler, local_position, uvs)
+    }
+}
+
 /// A shader resolved for a frame: its material before texturing and vertex colours.
 #[derive(Clone, Copy, Debug)]
 struct Resolved<'f> {
     base: Material,
     /// The diffuse texture, for the classes that have one and a shader that sets it.
-    texture: Option<&'f Texture>,
+    texture: Option<Slot<'f>>,
     /// A physically based shader's metallic-roughness texture, and its roughness factor (which
     /// the texture's green channel scales before it is squared).
-    metallic_roughness: Option<(&'f Texture, f32)>,
+    metallic_roughness: Option<(Slot<'f>, f32)>,
 }
 
 /// What the eye-light preview shows of a shader, worked out when the frame starts: a hit on a
@@ -96,7 +118,7 @@ impl<'f> Materials<'f> {
     /// The material at `sp`.
     #[inline(always)]
     pub fn at(&self, sp: &SurfacePoint<'_>) -> Material {
-        self.resolved(sp.shader_id).apply(sp.local_position, sp.uv, sp.color)
+        self.resolved(sp.shader_id).apply(sp.local_position, [sp.uv, sp.uv1], sp.color)
     }
 
     /// What a preview shows at a preview point: the surface's albedo (textured, vertex
@@ -113,7 +135,7 @@ impl<'f> Materials<'f> {
         }
         let r = self.resolved(pp.shader_id);
         let a = attributes();
-        (r.scale(a.local_position, a.uv, a.color).map_or(r.base.albedo, |s| r.base.albedo * s), true)
+        (r.scale(a.local_position, [a.uv, a.uv1], a.color).map_or(r.base.albedo, |s| r.base.albedo * s), true)
     }
 
     /// The albedo of a shader that is plain matte, an untextured `Diffuse` (its material is
@@ -199,14 +221,14 @@ impl<'f> Resolved<'f> {
                 });
             }
         }
-        let texture_param = match model {
-            ShadingModel::Diffuse | ShadingModel::Phong => Some("diffuse_texture"),
-            ShadingModel::PhysicallyBased => Some("base_color_texture"),
+        let texture_slot = match model {
+            ShadingModel::Diffuse | ShadingModel::Phong => Some("diffuse"),
+            ShadingModel::PhysicallyBased => Some("base_color"),
             _ => None,
         };
-        let texture = texture_param.and_then(|name| shader.texture(name)).and_then(|t| frame.texture(t));
+        let texture = texture_slot.and_then(|slot| Slot::of(frame, shader, slot));
         let metallic_roughness = (model == ShadingModel::PhysicallyBased)
-            .then(|| shader.texture("metallic_roughness_texture").and_then(|t| frame.texture(t)))
+            .then(|| Slot::of(frame, shader, "metallic_roughness"))
             .flatten()
             .map(|t| (t, shader.float("roughness")));
         Resolved { base: m, texture, metallic_roughness }
@@ -215,14 +237,14 @@ impl<'f> Resolved<'f> {
     /// What scales the albedo at a point (see [`Resolved::apply`]): the texture, or the vertex
     /// colour of a `VertexColor` surface; nothing otherwise.
     #[inline(always)]
-    fn scale(&self, local_position: Vec3, uv: Option<Vec2>, color: Option<Vec3>) -> Option<Vec3> {
+    fn scale(&self, local_position: Vec3, uvs: [Option<Vec2>; 2], color: Option<Vec3>) -> Option<Vec3> {
         match (self.texture, self.base.model) {
             // glTF: the base colour is factor × texture × vertex colour.
-            (texture, ShadingModel::PhysicallyBased) => match (texture.map(|t| texture::lookup(t, local_position, uv)), color) {
+            (texture, ShadingModel::PhysicallyBased) => match (texture.map(|t| t.at(local_position, uvs).truncate()), color) {
                 (Some(t), Some(c)) => Some(t * c),
                 (t, c) => t.or(c),
             },
-            (Some(t), _) => Some(texture::lookup(t, local_position, uv)),
+            (Some(t), _) => Some(t.at(local_position, uvs).truncate()),
             (None, ShadingModel::VertexColor) => Some(color.unwrap_or(Vec3::ONE)),
             (None, _) => None,
         }
@@ -232,9 +254,9 @@ impl<'f> Resolved<'f> {
     /// interpolated texture coordinates and colour, if it has them: the diffuse albedo scaled by
     /// the texture or the vertex colour.
     #[inline(always)]
-    fn apply(&self, local_position: Vec3, uv: Option<Vec2>, color: Option<Vec3>) -> Material {
+    fn apply(&self, local_position: Vec3, uvs: [Option<Vec2>; 2], color: Option<Vec3>) -> Material {
         let mut m = self.base;
-        let scale = self.scale(local_position, uv, color);
+        let scale = self.scale(local_position, uvs, color);
         if scale.is_none() && self.metallic_roughness.is_none() {
             return m;
         }
@@ -248,7 +270,7 @@ impl<'f> Resolved<'f> {
                 // glTF: blue is metalness, green roughness, each scaling its factor.
                 let (metallic, alpha) = match self.metallic_roughness {
                     Some((t, roughness)) => {
-                        let texel = texture::lookup(t, local_position, uv);
+                        let texel = t.at(local_position, uvs);
                         (metallic * texel.z.clamp(0.0, 1.0), (roughness * texel.y.clamp(0.0, 1.0)).powi(2).max(MIN_ALPHA))
                     }
                     None => (metallic, alpha),
@@ -284,8 +306,9 @@ mod tests {
             absorption: Vec3::ZERO,
             occlusion_distance: 0.0,
         };
-        let resolved = Resolved { base, texture: None, metallic_roughness: Some((&texture, 0.5)) };
-        let at = |u: f32| match resolved.apply(Vec3::ZERO, Some(Vec2::new(u, 0.5)), Some(Vec3::new(1.0, 0.5, 0.25))).bsdf {
+        let slot = Slot { texture: &texture, sampler: Sampler::DEFAULT };
+        let resolved = Resolved { base, texture: None, metallic_roughness: Some((slot, 0.5)) };
+        let at = |u: f32| match resolved.apply(Vec3::ZERO, [Some(Vec2::new(u, 0.5)), None], Some(Vec3::new(1.0, 0.5, 0.25))).bsdf {
             Some(Bsdf::PhysicallyBased { metallic, alpha, base, .. }) => (metallic, alpha, base),
             other => panic!("{other:?}"),
         };

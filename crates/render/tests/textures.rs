@@ -62,3 +62,59 @@ fn a_radiance_hdr_environment_map_is_seen_at_its_linear_values() {
         assert!((pixel - 2.0 * sky).abs().max_element() < 0.05, "{pixel}");
     }
 }
+
+/// What a row of a 32 × 32 eye-light image shows of a quad whose physically based shader samples
+/// a 2 × 1 texture (a red texel, then a green one) with `params`: the quad's texture coordinates
+/// run from 0 to 2 left to right (its second set from 0.5 to 2.5), so that its right half shows
+/// the texture's wrapping. The camera sees the whole quad, u ≈ 0.25 at pixel 7, 0.5 at 10, 1.25
+/// at 18 and 1.75 at 24.
+fn wrapped_row(params: &[(&str, ParamValue)]) -> Vec<Vec3> {
+    let mut scene = Scene::new();
+    let texture = scene.add_texture(Texture::Image(Image::new(2, 1, vec![Vec3::X, Vec3::Y]).unwrap().into())).unwrap();
+    let mut all = vec![("metallic", ParamValue::Float(0.0)), ("base_color_texture", ParamValue::Texture(Some(texture)))];
+    all.extend_from_slice(params);
+    let pbr = shader(&mut scene, "PhysicallyBased", &all);
+    let mut mesh = quad();
+    mesh.uvs.iter_mut().for_each(|uv| uv.x *= 2.0);
+    mesh.uvs1 = mesh.uvs.iter().map(|uv| *uv + Vec2::new(0.5, 0.0)).collect();
+    common::place(&mut scene, mesh, pbr);
+    scene.set_camera(Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y, 40.0).unwrap()).unwrap();
+    let (film, _) = render_with(&scene, Integrator::EyeLight, 32, 32, 1);
+    (0..32).map(|x| film.pixel(x, 16)).collect()
+}
+
+/// Whether `c` is red (`true`) or green (`false`), and clearly so.
+fn is_red(c: Vec3) -> bool {
+    assert!(c.z == 0.0 && (c.x - c.y).abs() > 0.5 * c.max_element(), "neither red nor green: {c}");
+    c.x > c.y
+}
+
+#[test]
+fn wrap_modes_filters_and_transforms_are_seen_on_pixels() {
+    let float = ParamValue::Float;
+    let nearest = ("base_color_filter", float(9728.0));
+    // Repeat (the default): u = 1.25 is red again, 1.75 green.
+    let repeat = wrapped_row(&[nearest]);
+    assert_eq!([7, 18, 24].map(|x| is_red(repeat[x])), [true, true, false]);
+    // Clamp to edge: beyond 1 the last texel, green.
+    let clamp = wrapped_row(&[nearest, ("base_color_wrap_s", float(33071.0))]);
+    assert_eq!([7, 18, 24].map(|x| is_red(clamp[x])), [true, false, false]);
+    // Mirrored repeat: the second copy runs green, then red.
+    let mirror = wrapped_row(&[nearest, ("base_color_wrap_s", float(33648.0))]);
+    assert_eq!([7, 18, 24].map(|x| is_red(mirror[x])), [true, false, true]);
+    // Bilinear magnification blends the two texels where they meet; nearest does not.
+    let blend = wrapped_row(&[])[10];
+    assert!((blend.x - blend.y).abs() < 0.1 * blend.x && blend.x > 0.2, "half red, half green: {blend}");
+    // (`is_red` asserts that the pixel is clearly one of the two.)
+    is_red(repeat[10]);
+    // KHR_texture_transform: an offset of half the texture moves green where red was.
+    let offset = wrapped_row(&[nearest, ("base_color_offset_u", float(0.5))]);
+    assert_eq!([7, 18, 24].map(|x| is_red(offset[x])), [false, false, true]);
+    // A scale of 0.5 shows the red half across the whole left half of the quad.
+    let scaled = wrapped_row(&[nearest, ("base_color_scale_u", float(0.5))]);
+    assert_eq!([7, 10, 14].map(|x| is_red(scaled[x])), [true, true, true]);
+    // The second texture coordinates (shifted by half the texture): as the offset.
+    let second = wrapped_row(&[nearest, ("base_color_texcoord", float(1.0))]);
+    let on_quad = |row: &[Vec3]| row[6..26].iter().map(|&c| is_red(c)).collect::<Vec<_>>();
+    assert_eq!(on_quad(&second), on_quad(&offset));
+}

@@ -101,6 +101,8 @@ pub struct SurfacePoint<'a> {
     pub color: Option<Vec3>,
     /// Interpolated texture coordinates, if the mesh has them.
     pub uv: Option<Vec2>,
+    /// Interpolated second texture coordinates, if the mesh has them.
+    pub uv1: Option<Vec2>,
     /// The triangle's shader, and its id (`None` for the scene's default shader).
     pub shader: &'a Shader,
     pub shader_id: Option<ShaderId>,
@@ -127,6 +129,8 @@ pub struct PreviewAttributes {
     pub color: Option<Vec3>,
     /// Interpolated texture coordinates, if the mesh has them.
     pub uv: Option<Vec2>,
+    /// Interpolated second texture coordinates, if the mesh has them.
+    pub uv1: Option<Vec2>,
 }
 
 /// A triangle of an instance, placed in the world (see [`Frame::world_triangles`]).
@@ -492,7 +496,8 @@ impl<'a> Frame<'a> {
             front_face,
             shading_normal: shading_normal(mesh, &placed, corners, w, geometric_normal),
             color: (!mesh.colors.is_empty()).then(|| mesh.colors[a] * w0 + mesh.colors[b] * w1 + mesh.colors[c] * w2),
-            uv: (!mesh.uvs.is_empty()).then(|| mesh.uvs[a] * w0 + mesh.uvs[b] * w1 + mesh.uvs[c] * w2),
+            uv: interpolated(&mesh.uvs, corners, w),
+            uv1: interpolated(&mesh.uvs1, corners, w),
             shader,
             shader_id,
         }
@@ -525,7 +530,8 @@ impl<'a> Frame<'a> {
         PreviewAttributes {
             local_position: if fi.placed.identity { position } else { fi.placed.to_object.transform_point3(position) },
             color: (!mesh.colors.is_empty()).then(|| mesh.colors[a] * w[0] + mesh.colors[b] * w[1] + mesh.colors[c] * w[2]),
-            uv: (!mesh.uvs.is_empty()).then(|| mesh.uvs[a] * w[0] + mesh.uvs[b] * w[1] + mesh.uvs[c] * w[2]),
+            uv: interpolated(&mesh.uvs, [a, b, c], w),
+            uv1: interpolated(&mesh.uvs1, [a, b, c], w),
         }
     }
 
@@ -682,6 +688,14 @@ fn shading_normal(mesh: &crate::Mesh, placed: &Placed, corners: [usize; 3], w: [
     let n = mesh.normals[a] * w[0] + mesh.normals[b] * w[1] + mesh.normals[c] * w[2];
     let n = placed.normal_to_world(n).normalize_or_zero();
     if n.dot(geometric_normal) < 0.0 { -n } else { n }
+}
+
+/// A per-vertex attribute at barycentrics `w` of the triangle with vertices `corners`, if the
+/// mesh has it.
+#[inline(always)]
+fn interpolated(values: &[Vec2], corners: [usize; 3], w: [f32; 3]) -> Option<Vec2> {
+    let [a, b, c] = corners;
+    (!values.is_empty()).then(|| values[a] * w[0] + values[b] * w[1] + values[c] * w[2])
 }
 
 /// The barycentric weights of `hit`'s three vertices and their indices in `mesh`.

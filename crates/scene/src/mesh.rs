@@ -23,6 +23,9 @@ pub struct Mesh {
     pub colors: Vec<Vec3>,
     /// Per-vertex texture coordinates; empty for none.
     pub uvs: Vec<Vec2>,
+    /// A second set of per-vertex texture coordinates (glTF's `TEXCOORD_1`), for textures that
+    /// ask for it; empty for none.
+    pub uvs1: Vec<Vec2>,
     /// The shader of each triangle; empty to shade every triangle with the scene's default.
     pub shaders: Vec<ShaderId>,
 }
@@ -53,7 +56,7 @@ impl Mesh {
             }
         }
         finite("positions", self.positions.iter().map(|p| p.is_finite()))?;
-        for (field, len) in [("normals", self.normals.len()), ("colors", self.colors.len()), ("uvs", self.uvs.len())] {
+        for (field, len) in [("normals", self.normals.len()), ("colors", self.colors.len()), ("uvs", self.uvs.len()), ("uvs1", self.uvs1.len())] {
             if len != 0 && len != vertices {
                 return Err(SceneError::WrongLength { field, got: len, expected: vertices });
             }
@@ -61,6 +64,7 @@ impl Mesh {
         finite("normals", self.normals.iter().map(|n| n.is_finite()))?;
         finite("colors", self.colors.iter().map(|c| c.is_finite()))?;
         finite("uvs", self.uvs.iter().map(|t| t.is_finite()))?;
+        finite("uvs1", self.uvs1.iter().map(|t| t.is_finite()))?;
         if !self.shaders.is_empty() && self.shaders.len() != self.indices.len() {
             return Err(SceneError::WrongLength {
                 field: "shaders",
