@@ -38,7 +38,8 @@ pub struct TextureUse {
 ///   1.5);
 /// - everything else → `PhysicallyBased`: base colour (factor, texture; vertex colours
 ///   multiply it), metallic and roughness (factors, and their texture), `KHR_materials_ior`,
-///   `KHR_materials_specular`'s factor, and emissive factor × `KHR_materials_emissive_strength`.
+///   `KHR_materials_specular`'s factor, emissive factor × `KHR_materials_emissive_strength`,
+///   and the normal texture with its scale.
 ///   Each texture keeps its sampler (wrap modes, magnification filter), its texture coordinate
 ///   set (the first or second) and its `KHR_texture_transform`.
 ///
@@ -71,7 +72,16 @@ pub fn shader_for(material: Option<&gltf::Material<'_>>, vertex_colors: bool) ->
         ],
     );
     let info = |t: gltf::texture::Info<'_>| TextureRef::of(t.texture(), t.tex_coord(), t.extension_value(TRANSFORM));
-    for (slot, texture, colour) in [("base_color", pbr.base_color_texture().map(info), true), ("metallic_roughness", pbr.metallic_roughness_texture().map(info), false)] {
+    let normal = m.normal_texture();
+    if let Some(n) = &normal {
+        shader.params.push(("normal_scale", ParamValue::Float(finite_or(n.scale(), 1.0))));
+    }
+    let normal = normal.map(|n| TextureRef::of(n.texture(), n.tex_coord(), n.extension_value(TRANSFORM)));
+    for (slot, texture, colour) in [
+        ("base_color", pbr.base_color_texture().map(info), true),
+        ("metallic_roughness", pbr.metallic_roughness_texture().map(info), false),
+        ("normal", normal, false),
+    ] {
         if let Some(texture) = texture {
             shader.add_texture(slot, &texture, colour);
         }
@@ -170,8 +180,10 @@ pub fn notes(material: &gltf::Material<'_>) -> Vec<String> {
     if beyond_second(pbr.metallic_roughness_texture()) {
         left_out.push("a metallic-roughness texture on a third or later set of texture coordinates".to_string());
     }
+    if material.normal_texture().is_some_and(|t| coordinate_set(t.tex_coord(), t.extension_value(TRANSFORM)) > 1) {
+        left_out.push("a normal texture on a third or later set of texture coordinates".to_string());
+    }
     for (present, what) in [
-        (material.normal_texture().is_some(), "its normal texture"),
         (material.occlusion_texture().is_some(), "its occlusion texture"),
         (material.emissive_texture().is_some(), "its emissive texture"),
         (material.alpha_mode() != gltf::material::AlphaMode::Opaque, "its alpha mode (rendered opaque)"),
@@ -190,6 +202,11 @@ pub fn notes(material: &gltf::Material<'_>) -> Vec<String> {
 
 fn spec(class: &'static str, params: Vec<(&'static str, ParamValue)>) -> ShaderSpec {
     ShaderSpec { class, params, textures: Vec::new() }
+}
+
+/// `x`, or `default` where it is not finite.
+fn finite_or(x: f32, default: f32) -> f32 {
+    if x.is_finite() { x } else { default }
 }
 
 /// Finite and non-negative: a factor a file got wrong becomes 0 rather than an error.

@@ -306,15 +306,15 @@ fn textures_the_importer_cannot_use_are_left_out_or_refused() {
 /// What a material has that raystage does not render yet is said, once per material, by name.
 #[test]
 fn what_a_material_leaves_out_is_a_note() {
-    let material = json!([{ "name": "leaves", "alphaMode": "MASK", "doubleSided": true, "normalTexture": { "index": 0 } }]);
+    let material = json!([{ "name": "leaves", "alphaMode": "MASK", "doubleSided": true, "occlusionTexture": { "index": 0 } }]);
     let mut document = quad_gltf(Some(data_uri(&quad_buffer())), material, json!([{ "mesh": 0 }, { "mesh": 0 }]));
     document["textures"] = json!([{ "source": 0 }]);
     document["images"] = json!([{ "uri": "unused.png" }]);
     let file = import(&document).unwrap();
     let notes = file.notes().join("\n");
-    assert!(notes.contains("material `leaves`: its normal texture is not rendered yet"), "{notes}");
+    assert!(notes.contains("material `leaves`: its occlusion texture is not rendered yet"), "{notes}");
     assert!(notes.contains("material `leaves`: its alpha mode (rendered opaque) is not rendered yet"), "{notes}");
-    assert_eq!(notes.matches("normal texture").count(), 1, "{notes}");
+    assert_eq!(notes.matches("occlusion texture").count(), 1, "{notes}");
 }
 
 /// The metallic-roughness texture is data: its values are read as stored, not sRGB-decoded,
@@ -368,4 +368,34 @@ fn samplers_coordinate_sets_and_texture_transforms_become_slot_parameters() {
     assert_eq!(defaults, [10497.0, 10497.0, 9729.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0]);
     let mesh = scene.mesh(added.objects[0]).unwrap();
     assert_eq!((mesh.uvs1.len(), mesh.uvs1[2]), (4, mesh.uvs[2]), "the second coordinates come along");
+}
+
+/// A normal texture becomes the `normal` slot with its scale; the mesh keeps the file's tangents
+/// or, without them, gets tangents generated from its texture coordinates.
+#[test]
+fn normal_textures_come_with_tangents() {
+    let png = red_blue_png();
+    let mut document = textured_quad(json!({ "bufferView": 3 }), 0, &png);
+    document["materials"][0]["normalTexture"] = json!({ "index": 0, "scale": 0.5 });
+    let mut scene = Scene::new();
+    let added = import(&document).unwrap().add_to(&mut scene).unwrap();
+    let shader = scene.shader(added.shaders[0]).unwrap();
+    assert_eq!(shader.get("normal_scale"), Some(ParamValue::Float(0.5)));
+    let Some(ParamValue::Texture(Some(map))) = shader.get("normal_texture") else { panic!("a normal texture") };
+    let Texture::Image(image) = scene.texture(map).unwrap() else { panic!("an image texture") };
+    assert_eq!(image.texel(0, 0), Vec3::X, "data, not sRGB-decoded");
+    // u along +x, v down the quad: the tangent is +x, right-handed.
+    let mesh = scene.mesh(added.objects[0]).unwrap();
+    assert_eq!(mesh.tangents, vec![glam::Vec4::new(1.0, 0.0, 0.0, 1.0); 4]);
+
+    // The file's own tangents are kept.
+    let file_tangents: Vec<u8> = [[0.0f32, 1.0, 0.0, -1.0]; 4].iter().flatten().flat_map(|c| c.to_le_bytes()).collect();
+    let buffer = [quad_buffer(), [[0.0f32, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]].iter().flatten().flat_map(|c| c.to_le_bytes()).collect(), png.clone(), file_tangents].concat();
+    document["buffers"][0] = json!({ "uri": data_uri(&buffer), "byteLength": buffer.len() });
+    document["bufferViews"].as_array_mut().unwrap().push(json!({ "buffer": 0, "byteOffset": 92 + png.len(), "byteLength": 64 }));
+    document["accessors"].as_array_mut().unwrap().push(json!({ "bufferView": 4, "componentType": 5126, "count": 4, "type": "VEC4" }));
+    document["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = json!(3);
+    let mut scene = Scene::new();
+    let added = import(&document).unwrap().add_to(&mut scene).unwrap();
+    assert_eq!(scene.mesh(added.objects[0]).unwrap().tangents, vec![glam::Vec4::new(0.0, 1.0, 0.0, -1.0); 4]);
 }

@@ -63,6 +63,8 @@ struct Resolved<'f> {
     /// A physically based shader's metallic-roughness texture, and its roughness factor (which
     /// the texture's green channel scales before it is squared).
     metallic_roughness: Option<(Slot<'f>, f32)>,
+    /// A physically based shader's normal map, and its scale.
+    normal: Option<(Slot<'f>, f32)>,
 }
 
 /// What the eye-light preview shows of a shader, worked out when the frame starts: a hit on a
@@ -154,9 +156,42 @@ impl<'f> Materials<'f> {
         (emits(m.model) && m.emission.max_element() > 0.0).then_some(m.emission)
     }
 
+    /// Whether the shader `id` has a normal map.
+    #[inline]
+    pub fn normal_mapped(&self, id: Option<raystage_scene::ShaderId>) -> bool {
+        self.resolved(id).normal.is_some()
+    }
+
+    /// The shading normal at `sp` as its shader's normal map tilts it, given the tangent there
+    /// (see [`Frame::tangent`], asked only of normal-mapped surfaces); `None` where the surface
+    /// has no normal map, or where no tangent frame can be made (degenerate texture coordinates
+    /// or tangents, a zero normal), or where the map would turn the normal to the surface's far
+    /// side: shading then keeps the unmapped normal.
+    pub fn mapped_normal(&self, sp: &SurfacePoint<'_>, tangent: impl FnOnce() -> Option<Vec4>) -> Option<Vec3> {
+        let (slot, scale) = self.resolved(sp.shader_id).normal?;
+        // glTF: texels in [0, 1] are components in [−1, 1]; the scale multiplies X and Y.
+        let texel = slot.at(sp.local_position, [sp.uv, sp.uv1]).truncate();
+        let local = (texel * 2.0 - Vec3::ONE) * Vec3::new(scale, scale, 1.0);
+        tilted(sp.shading_normal, sp.geometric_normal, sp.front_face, tangent()?, local)
+    }
+
     fn resolved(&self, id: Option<raystage_scene::ShaderId>) -> &Resolved<'f> {
         id.and_then(|id| self.by_id.get(id.0 as usize)?.as_ref()).unwrap_or(&self.default)
     }
+}
+
+/// The normal `local` of a tangent-space normal map in the world, at a point with unit shading
+/// normal `n` and geometric normal `ng` (both facing the viewer, on the `front` side or not) and
+/// `tangent`; `None` if the frame or the result is degenerate, or the result faces away from
+/// `ng`. The frame is built on the outward normal and the result turned with it, as glTF's
+/// sample viewer does for back faces.
+fn tilted(n: Vec3, ng: Vec3, front: bool, tangent: Vec4, local: Vec3) -> Option<Vec3> {
+    let outward = if front { n } else { -n };
+    let t = (tangent.truncate() - outward * outward.dot(tangent.truncate())).try_normalize()?;
+    let b = outward.cross(t) * tangent.w;
+    let mapped = (t * local.x + b * local.y + outward * local.z).try_normalize()?;
+    let mapped = if front { mapped } else { -mapped };
+    (mapped.dot(ng) > 0.0).then_some(mapped)
 }
 
 /// Whether surfaces of `model` emit their material's `emission` as light (a `Constant`'s colour
@@ -231,7 +266,8 @@ impl<'f> Resolved<'f> {
             .then(|| Slot::of(frame, shader, "metallic_roughness"))
             .flatten()
             .map(|t| (t, shader.float("roughness")));
-        Resolved { base: m, texture, metallic_roughness }
+        let normal = (model == ShadingModel::PhysicallyBased).then(|| Slot::of(frame, shader, "normal")).flatten().map(|t| (t, shader.float("normal_scale")));
+        Resolved { base: m, texture, metallic_roughness, normal }
     }
 
     /// What scales the albedo at a point (see [`Resolved::apply`]): the texture, or the vertex
@@ -307,7 +343,7 @@ mod tests {
             occlusion_distance: 0.0,
         };
         let slot = Slot { texture: &texture, sampler: Sampler::DEFAULT };
-        let resolved = Resolved { base, texture: None, metallic_roughness: Some((slot, 0.5)) };
+        let resolved = Resolved { base, texture: None, metallic_roughness: Some((slot, 0.5)), normal: None };
         let at = |u: f32| match resolved.apply(Vec3::ZERO, [Some(Vec2::new(u, 0.5)), None], Some(Vec3::new(1.0, 0.5, 0.25))).bsdf {
             Some(Bsdf::PhysicallyBased { metallic, alpha, base, .. }) => (metallic, alpha, base),
             other => panic!("{other:?}"),
@@ -317,5 +353,30 @@ mod tests {
         assert!((alpha - (0.5f32 * 0.2).powi(2)).abs() < 1e-6, "{alpha}");
         let (metallic, alpha, _) = at(0.75);
         assert_eq!((metallic, alpha), (0.0, 0.25));
+    }
+
+    /// A normal map tilts the shading normal within the tangent frame, on either side of the
+    /// surface; degenerate frames leave it alone.
+    #[test]
+    fn normal_maps_tilt_the_normal_in_the_tangent_frame() {
+        let tangent = Vec4::new(1.0, 0.0, 0.0, 1.0);
+        let local = Vec3::new(1.0, 0.0, 1.0);
+        // Front: +z outward, the map's +X is the tangent.
+        let front = tilted(Vec3::Z, Vec3::Z, true, tangent, local).unwrap();
+        assert!((front - Vec3::new(1.0, 0.0, 1.0).normalize()).length() < 1e-6, "{front}");
+        // +Y is the bitangent n × t (up), turned by the handedness.
+        let up = tilted(Vec3::Z, Vec3::Z, true, tangent, Vec3::new(0.0, 1.0, 1.0)).unwrap();
+        assert!(up.y > 0.5, "{up}");
+        let left_handed = tilted(Vec3::Z, Vec3::Z, true, Vec4::new(1.0, 0.0, 0.0, -1.0), Vec3::new(0.0, 1.0, 1.0)).unwrap();
+        assert!(left_handed.y < -0.5, "{left_handed}");
+        // Seen from behind: the same tilt of the surface, turned to the viewer's side.
+        let back = tilted(-Vec3::Z, -Vec3::Z, false, tangent, local).unwrap();
+        assert!((back + front).length() < 1e-6, "{back}");
+        // Degenerate tangents, or a tangent along the normal: no tilt.
+        assert_eq!(tilted(Vec3::Z, Vec3::Z, true, Vec4::ZERO, local), None);
+        assert_eq!(tilted(Vec3::Z, Vec3::Z, true, Vec4::new(0.0, 0.0, 1.0, 1.0), local), None);
+        assert_eq!(tilted(Vec3::Z, Vec3::Z, true, tangent, Vec3::new(f32::NAN, 0.0, 1.0)), None);
+        // A map that points below the surface is refused.
+        assert_eq!(tilted(Vec3::Z, Vec3::Z, true, tangent, Vec3::new(1.0, 0.0, -0.5)), None);
     }
 }

@@ -118,3 +118,76 @@ fn wrap_modes_filters_and_transforms_are_seen_on_pixels() {
     let on_quad = |row: &[Vec3]| row[6..26].iter().map(|&c| is_red(c)).collect::<Vec<_>>();
     assert_eq!(on_quad(&second), on_quad(&offset));
 }
+
+/// The quad of [`quad`] with a physically based matte white shader whose normal map is one
+/// texel, `normal` (a unit vector in tangent space), lit by a directional light travelling along
+/// `light` (none for the eye light), rendered by `integrator`: the centre pixel, and whether
+/// every pixel is finite. `mesh` may spoil the quad's tangent frame.
+fn normal_mapped(normal: Option<Vec3>, light: Vec3, integrator: Integrator, mesh: impl FnOnce(&mut Mesh)) -> (Vec3, bool) {
+    let mut scene = Scene::new();
+    let mut params = vec![("metallic", ParamValue::Float(0.0)), ("specular", ParamValue::Float(0.0))];
+    if let Some(normal) = normal {
+        // Stored as glTF stores it: components in [−1, 1] as texels in [0, 1].
+        let map = scene.add_texture(Texture::Image(Image::new(1, 1, vec![(normal + Vec3::ONE) * 0.5]).unwrap().into())).unwrap();
+        params.push(("normal_texture", ParamValue::Texture(Some(map))));
+    }
+    let pbr = shader(&mut scene, "PhysicallyBased", &params);
+    let mut quad = quad();
+    mesh(&mut quad);
+    common::place(&mut scene, quad, pbr);
+    if integrator != Integrator::EyeLight {
+        scene.add_light(Light::Directional { direction: light, intensity: Vec3::ONE }).unwrap();
+    }
+    scene.set_camera(Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y, 20.0).unwrap()).unwrap();
+    let (film, _) = render_with(&scene, integrator, 16, 16, 4);
+    (film.pixel(8, 8), pixels(&film).iter().all(|p| p.is_finite()))
+}
+
+#[test]
+fn a_normal_map_turns_the_shading_towards_where_it_points() {
+    // Tilted 40° towards +u (+x on the quad), and towards +Y (up the image, +y).
+    let (s, c) = 40f32.to_radians().sin_cos();
+    let (right, up) = (Vec3::new(s, 0.0, c), Vec3::new(0.0, s, c));
+    let from_right = Vec3::new(-1.0, 0.0, -1.0);
+    for integrator in [Integrator::Whitted, Integrator::Distribution, Integrator::Path] {
+        let flat = normal_mapped(None, from_right, integrator, |_| {}).0.x;
+        let towards = normal_mapped(Some(right), from_right, integrator, |_| {}).0.x;
+        let away = normal_mapped(Some(-right * Vec3::new(1.0, 1.0, -1.0)), from_right, integrator, |_| {}).0.x;
+        // Lambert: cos 45° flat, cos 5° tilted towards the light, cos 85° away from it.
+        let expected = |degrees: f32| degrees.to_radians().cos() * std::f32::consts::FRAC_1_PI;
+        assert!((flat / expected(45.0) - 1.0).abs() < 0.02, "{integrator:?}: flat {flat}");
+        assert!((towards / expected(5.0) - 1.0).abs() < 0.02, "{integrator:?}: towards the light {towards}");
+        assert!((away / expected(85.0) - 1.0).abs() < 0.05, "{integrator:?}: away from the light {away}");
+        // Up the image is up the quad: a light from above.
+        let from_above = Vec3::new(0.0, -1.0, -1.0);
+        assert!(normal_mapped(Some(up), from_above, integrator, |_| {}).0.x > 1.3 * flat, "{integrator:?}: +Y is up");
+    }
+    // The eye light faces the quad: any tilt darkens it.
+    let flat = normal_mapped(None, Vec3::Z, Integrator::EyeLight, |_| {}).0.x;
+    let tilted = normal_mapped(Some(right), Vec3::Z, Integrator::EyeLight, |_| {}).0.x;
+    assert!(tilted < 0.9 * flat, "eye light: flat {flat}, tilted {tilted}");
+}
+
+#[test]
+fn bad_tangent_frames_shade_with_the_unmapped_normal_and_never_a_nan() {
+    let right = Vec3::new(0.6, 0.0, 0.8);
+    let light = Vec3::new(-1.0, 0.0, -1.0);
+    type Spoil = fn(&mut Mesh);
+    let spoilers: [(&str, Spoil); 4] = [
+        ("zero tangents", |m| m.tangents = vec![glam::Vec4::ZERO; 4]),
+        ("tangents along the normal", |m| m.tangents = vec![glam::Vec4::new(0.0, 0.0, 1.0, 1.0); 4]),
+        ("degenerate texture coordinates", |m| m.uvs = vec![Vec2::splat(0.5); 4]),
+        ("no texture coordinates", |m| m.uvs.clear()),
+    ];
+    for integrator in Integrator::ALL {
+        let flat = normal_mapped(None, light, integrator, |_| {}).0;
+        for (what, spoil) in spoilers {
+            let (centre, finite) = normal_mapped(Some(right), light, integrator, spoil);
+            assert!(finite, "{integrator:?}, {what}: a pixel is not finite");
+            assert!((centre - flat).abs().max_element() < 1e-4, "{integrator:?}, {what}: {centre}, unmapped {flat}");
+        }
+        // Zero-length vertex normals shade with the triangle's normal.
+        let (centre, finite) = normal_mapped(Some(right), light, integrator, |m| m.normals = vec![Vec3::ZERO; 4]);
+        assert!(finite && centre.x > 0.0, "{integrator:?}, zero normals: {centre}");
+    }
+}

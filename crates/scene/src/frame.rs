@@ -6,7 +6,7 @@ use std::borrow::Cow;
 use std::collections::HashSet;
 use std::time::Instant;
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 use raystage_kernel::{Aabb, BoxTree, Bvh8, Entries, PACKET_SIZE, PreparedRay, Ray, RayPacket};
 
 use crate::camera::Camera;
@@ -503,6 +503,39 @@ impl<'a> Frame<'a> {
         }
     }
 
+    /// The tangent at `hit` (at shutter time `time`) for a normal map, in the world, not
+    /// normalised: the mesh's tangents interpolated or, for a mesh without them, the triangle's
+    /// own from its first texture coordinates; `w` is the handedness of the bitangent
+    /// `w · n × tangent` for the outward normal `n` (an instance that mirrors the object turns
+    /// it). `None` where there is none: no texture coordinates, degenerate ones, or zero
+    /// tangents.
+    pub fn tangent(&self, hit: &SceneHit, time: f32) -> Option<Vec4> {
+        let fi = &self.instances[hit.item as usize];
+        let mesh = &fi.object.mesh;
+        let (w, corners) = barycentrics(mesh, hit);
+        let local = if mesh.tangents.is_empty() {
+            let uvs = corners.map(|i| mesh.uvs.get(i).copied());
+            let [Some(a), Some(b), Some(c)] = uvs else { return None };
+            let (tangent, up) = crate::tangents::triangle_tangents(corners.map(|i| mesh.positions[i]), [a, b, c])?;
+            tangent.extend(if hit.ng.cross(tangent).dot(up) < 0.0 { -1.0 } else { 1.0 })
+        } else {
+            let t = corners.map(|i| mesh.tangents[i]);
+            // The handedness of the corner that weighs most: it is constant across a triangle
+            // unless the texture is mirrored at it.
+            let heaviest = (0..3).fold(0, |best, k| if w[k] > w[best] { k } else { best });
+            (t[0].truncate() * w[0] + t[1].truncate() * w[1] + t[2].truncate() * w[2]).extend(t[heaviest].w.signum())
+        };
+        if local.truncate().length_squared() == 0.0 || !local.is_finite() {
+            return None;
+        }
+        let placed = fi.placed_at(time);
+        if placed.identity {
+            return Some(local);
+        }
+        let mirrored = placed.to_world.matrix3.determinant() < 0.0;
+        Some(placed.to_world.transform_vector3(local.truncate()).extend(if mirrored { -local.w } else { local.w }))
+    }
+
     /// What a preview needs of `hit`: its shading normal (facing either way) and its shader.
     /// Unlike [`Frame::surface`] it computes no hit point, so a mesh without vertex normals is
     /// read only for the triangle's shader: the normal comes with the hit. Surfaces whose colour
@@ -678,7 +711,8 @@ impl<'a> Frame<'a> {
 
 /// The unit shading normal at barycentrics `w` of the triangle with vertices `corners` of
 /// `mesh`, on an instance placed by `placed`, turned to the side of `geometric_normal`: the
-/// interpolated vertex normals, or the geometric normal if the mesh has none.
+/// interpolated vertex normals, or the geometric normal if the mesh has none (or they
+/// interpolate to zero).
 #[inline(always)]
 fn shading_normal(mesh: &crate::Mesh, placed: &Placed, corners: [usize; 3], w: [f32; 3], geometric_normal: Vec3) -> Vec3 {
     if mesh.normals.is_empty() {
@@ -686,7 +720,9 @@ fn shading_normal(mesh: &crate::Mesh, placed: &Placed, corners: [usize; 3], w: [
     }
     let [a, b, c] = corners;
     let n = mesh.normals[a] * w[0] + mesh.normals[b] * w[1] + mesh.normals[c] * w[2];
-    let n = placed.normal_to_world(n).normalize_or_zero();
+    // A zero-length interpolated normal (zero normals in the file, or opposite ones cancelling)
+    // shades with the triangle's own.
+    let Some(n) = placed.normal_to_world(n).try_normalize() else { return geometric_normal };
     if n.dot(geometric_normal) < 0.0 { -n } else { n }
 }
 

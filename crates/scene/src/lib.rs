@@ -26,6 +26,7 @@ mod object;
 mod scene;
 mod shader;
 mod spawn;
+mod tangents;
 mod texture;
 
 pub use camera::{Camera, CameraRays};

@@ -31,6 +31,14 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, rays: &[Ray], hits: &[Option<SceneHit>],
             continue;
         };
         let point = t.frame.preview(hit);
+        if t.materials.normal_mapped(point.shader_id) {
+            // The normal map's normal needs the hit point's texture coordinates and tangent:
+            // the hit is resolved in full (its albedo is the preview's colour).
+            let full = t.resolve(ray, *hit, 0.0);
+            (colour[k], lit[k]) = (full.material.albedo, true);
+            (nx[k], ny[k], nz[k]) = (full.surface.shading_normal.x, full.surface.shading_normal.y, full.surface.shading_normal.z);
+            continue;
+        }
         (colour[k], lit[k]) = t.materials.preview_colour(&point, || t.frame.preview_attributes(ray, hit));
         (nx[k], ny[k], nz[k]) = (point.normal.x, point.normal.y, point.normal.z);
     }

@@ -156,8 +156,11 @@ impl<'f> Tracer<'_, 'f> {
 
     /// What is at a hit of `ray` found elsewhere (camera rays are traced in packets).
     pub fn resolve(&self, ray: &Ray, hit: SceneHit, time: f32) -> Hit<'f> {
-        let surface = self.frame.surface(ray, &hit, time);
+        let mut surface = self.frame.surface(ray, &hit, time);
         let material = self.materials.at(&surface);
+        if let Some(n) = self.materials.mapped_normal(&surface, || self.frame.tangent(&hit, time)) {
+            surface.shading_normal = n;
+        }
         Hit { hit, surface, material }
     }
 
