@@ -39,7 +39,8 @@ pub struct TextureUse {
 /// - everything else → `PhysicallyBased`: base colour (factor, texture; vertex colours
 ///   multiply it), metallic and roughness (factors, and their texture), `KHR_materials_ior`,
 ///   `KHR_materials_specular`'s factor, emissive factor × `KHR_materials_emissive_strength`,
-///   and the normal texture with its scale.
+///   the normal texture with its scale, the emissive texture (multiplying the emission) and the
+///   occlusion texture with its strength.
 ///   Each texture keeps its sampler (wrap modes, magnification filter), its texture coordinate
 ///   set (the first or second) and its `KHR_texture_transform`.
 ///
@@ -77,10 +78,17 @@ pub fn shader_for(material: Option<&gltf::Material<'_>>, vertex_colors: bool) ->
         shader.params.push(("normal_scale", ParamValue::Float(finite_or(n.scale(), 1.0))));
     }
     let normal = normal.map(|n| TextureRef::of(n.texture(), n.tex_coord(), n.extension_value(TRANSFORM)));
+    let occlusion = m.occlusion_texture();
+    if let Some(o) = &occlusion {
+        shader.params.push(("occlusion_strength", ParamValue::Float(fraction(o.strength()))));
+    }
+    let occlusion = occlusion.map(|o| TextureRef::of(o.texture(), o.tex_coord(), o.extension_value(TRANSFORM)));
     for (slot, texture, colour) in [
         ("base_color", pbr.base_color_texture().map(info), true),
         ("metallic_roughness", pbr.metallic_roughness_texture().map(info), false),
         ("normal", normal, false),
+        ("emissive", m.emissive_texture().map(info), true),
+        ("occlusion", occlusion, false),
     ] {
         if let Some(texture) = texture {
             shader.add_texture(slot, &texture, colour);
@@ -183,9 +191,13 @@ pub fn notes(material: &gltf::Material<'_>) -> Vec<String> {
     if material.normal_texture().is_some_and(|t| coordinate_set(t.tex_coord(), t.extension_value(TRANSFORM)) > 1) {
         left_out.push("a normal texture on a third or later set of texture coordinates".to_string());
     }
+    if beyond_second(material.emissive_texture()) {
+        left_out.push("an emissive texture on a third or later set of texture coordinates".to_string());
+    }
+    if material.occlusion_texture().is_some_and(|t| coordinate_set(t.tex_coord(), t.extension_value(TRANSFORM)) > 1) {
+        left_out.push("an occlusion texture on a third or later set of texture coordinates".to_string());
+    }
     for (present, what) in [
-        (material.occlusion_texture().is_some(), "its occlusion texture"),
-        (material.emissive_texture().is_some(), "its emissive texture"),
         (material.alpha_mode() != gltf::material::AlphaMode::Opaque, "its alpha mode (rendered opaque)"),
         (material.specular().is_some_and(|s| s.specular_texture().is_some() || s.specular_color_texture().is_some() || s.specular_color_factor() != [1.0; 3]), "its specular colour and textures"),
         (!material.double_sided() && !material.unlit(), "single-sidedness (rendered double-sided)"),

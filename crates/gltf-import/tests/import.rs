@@ -306,15 +306,16 @@ fn textures_the_importer_cannot_use_are_left_out_or_refused() {
 /// What a material has that raystage does not render yet is said, once per material, by name.
 #[test]
 fn what_a_material_leaves_out_is_a_note() {
-    let material = json!([{ "name": "leaves", "alphaMode": "MASK", "doubleSided": true, "occlusionTexture": { "index": 0 } }]);
+    let specular = json!({ "KHR_materials_specular": { "specularColorFactor": [0.5, 0.5, 0.5] } });
+    let material = json!([{ "name": "leaves", "alphaMode": "MASK", "doubleSided": true, "extensions": specular }]);
     let mut document = quad_gltf(Some(data_uri(&quad_buffer())), material, json!([{ "mesh": 0 }, { "mesh": 0 }]));
     document["textures"] = json!([{ "source": 0 }]);
     document["images"] = json!([{ "uri": "unused.png" }]);
     let file = import(&document).unwrap();
     let notes = file.notes().join("\n");
-    assert!(notes.contains("material `leaves`: its occlusion texture is not rendered yet"), "{notes}");
+    assert!(notes.contains("material `leaves`: its specular colour and textures is not rendered yet"), "{notes}");
     assert!(notes.contains("material `leaves`: its alpha mode (rendered opaque) is not rendered yet"), "{notes}");
-    assert_eq!(notes.matches("occlusion texture").count(), 1, "{notes}");
+    assert_eq!(notes.matches("specular colour").count(), 1, "{notes}");
 }
 
 /// The metallic-roughness texture is data: its values are read as stored, not sRGB-decoded,
@@ -398,4 +399,25 @@ fn normal_textures_come_with_tangents() {
     let mut scene = Scene::new();
     let added = import(&document).unwrap().add_to(&mut scene).unwrap();
     assert_eq!(scene.mesh(added.objects[0]).unwrap().tangents, vec![glam::Vec4::new(0.0, 1.0, 0.0, -1.0); 4]);
+}
+
+/// Emissive and occlusion textures come with their slots: the emissive one as colours, the
+/// occlusion one as data with its strength.
+#[test]
+fn emissive_and_occlusion_textures_are_imported() {
+    let png = red_blue_png();
+    let mut document = textured_quad(json!({ "bufferView": 3 }), 0, &png);
+    document["materials"][0]["emissiveTexture"] = json!({ "index": 0 });
+    document["materials"][0]["emissiveFactor"] = json!([1.0, 0.5, 0.25]);
+    document["materials"][0]["occlusionTexture"] = json!({ "index": 0, "strength": 0.75 });
+    let mut scene = Scene::new();
+    let file = import(&document).unwrap();
+    assert!(!file.notes().iter().any(|n| n.contains("emissive") || n.contains("occlusion")), "{:?}", file.notes());
+    let added = file.add_to(&mut scene).unwrap();
+    let shader = scene.shader(added.shaders[0]).unwrap();
+    assert_eq!(shader.get("emissive"), Some(ParamValue::Color(Vec3::new(1.0, 0.5, 0.25))));
+    assert_eq!(shader.get("occlusion_strength"), Some(ParamValue::Float(0.75)));
+    for param in ["emissive_texture", "occlusion_texture"] {
+        assert!(matches!(shader.get(param), Some(ParamValue::Texture(Some(_)))), "{param}");
+    }
 }

@@ -34,7 +34,7 @@ pub(crate) struct Material {
 
 /// A texture a shader uses, and how it samples it.
 #[derive(Clone, Copy, Debug)]
-struct Slot<'f> {
+pub(crate) struct Slot<'f> {
     texture: &'f Texture,
     sampler: Sampler,
 }
@@ -49,7 +49,7 @@ impl<'f> Slot<'f> {
 
     /// Colour and coverage at a point (see [`texture::sample`]).
     #[inline(always)]
-    fn at(&self, local_position: Vec3, uvs: [Option<Vec2>; 2]) -> Vec4 {
+    pub fn at(&self, local_position: Vec3, uvs: [Option<Vec2>; 2]) -> Vec4 {
         texture::sample(self.texture, &self.sampler, local_position, uvs)
     }
 }
@@ -65,6 +65,10 @@ struct Resolved<'f> {
     metallic_roughness: Option<(Slot<'f>, f32)>,
     /// A physically based shader's normal map, and its scale.
     normal: Option<(Slot<'f>, f32)>,
+    /// A physically based shader's emissive texture (multiplying its emission).
+    emissive: Option<Slot<'f>>,
+    /// A physically based shader's occlusion texture, and its strength (the eye light's only).
+    occlusion: Option<(Slot<'f>, f32)>,
 }
 
 /// What the eye-light preview shows of a shader, worked out when the frame starts: a hit on a
@@ -137,7 +141,22 @@ impl<'f> Materials<'f> {
         }
         let r = self.resolved(pp.shader_id);
         let a = attributes();
-        (r.scale(a.local_position, [a.uv, a.uv1], a.color).map_or(r.base.albedo, |s| r.base.albedo * s), true)
+        let uvs = [a.uv, a.uv1];
+        let albedo = r.scale(a.local_position, uvs, a.color).map_or(r.base.albedo, |s| r.base.albedo * s);
+        (albedo * r.occlusion(a.local_position, uvs), true)
+    }
+
+    /// How much the occlusion texture of shader `id` darkens the eye light's preview at a point
+    /// (see [`Materials::preview_colour`]): 1 for a shader without one.
+    #[inline]
+    pub fn preview_occlusion(&self, id: Option<raystage_scene::ShaderId>, local_position: Vec3, uvs: [Option<Vec2>; 2]) -> f32 {
+        self.resolved(id).occlusion(local_position, uvs)
+    }
+
+    /// The emissive texture of shader `id`, which multiplies its emission (see
+    /// [`Materials::emission`]) point by point.
+    pub fn emission_texture(&self, id: Option<raystage_scene::ShaderId>) -> Option<Slot<'f>> {
+        self.resolved(id).emissive
     }
 
     /// The albedo of a shader that is plain matte, an untextured `Diffuse` (its material is
@@ -149,8 +168,8 @@ impl<'f> Materials<'f> {
     }
 
     /// The radiance a shader emits if it is a light (an `Emissive` shader, or a physically
-    /// based one with an emissive colour, that emits something), the same at every point of its
-    /// surfaces.
+    /// based one with an emissive colour, that emits something): at every point of its surfaces,
+    /// or, where [`Materials::emission_texture`] has a texture, before the texture multiplies it.
     pub fn emission(&self, id: Option<raystage_scene::ShaderId>) -> Option<Vec3> {
         let m = &self.resolved(id).base;
         (emits(m.model) && m.emission.max_element() > 0.0).then_some(m.emission)
@@ -262,12 +281,17 @@ impl<'f> Resolved<'f> {
             _ => None,
         };
         let texture = texture_slot.and_then(|slot| Slot::of(frame, shader, slot));
-        let metallic_roughness = (model == ShadingModel::PhysicallyBased)
-            .then(|| Slot::of(frame, shader, "metallic_roughness"))
-            .flatten()
-            .map(|t| (t, shader.float("roughness")));
-        let normal = (model == ShadingModel::PhysicallyBased).then(|| Slot::of(frame, shader, "normal")).flatten().map(|t| (t, shader.float("normal_scale")));
-        Resolved { base: m, texture, metallic_roughness, normal }
+        let pbr_slot = |slot: &str| (model == ShadingModel::PhysicallyBased).then(|| Slot::of(frame, shader, slot)).flatten();
+        let normal = pbr_slot("normal").map(|t| (t, shader.float("normal_scale")));
+        let metallic_roughness = pbr_slot("metallic_roughness").map(|t| (t, shader.float("roughness")));
+        let occlusion = pbr_slot("occlusion").map(|t| (t, shader.float("occlusion_strength")));
+        Resolved { base: m, texture, metallic_roughness, normal, emissive: pbr_slot("emissive"), occlusion }
+    }
+
+    /// glTF's occlusion at a point: 1 + strength × (red − 1), 1 without an occlusion texture.
+    #[inline]
+    fn occlusion(&self, local_position: Vec3, uvs: [Option<Vec2>; 2]) -> f32 {
+        self.occlusion.map_or(1.0, |(slot, strength)| 1.0 + strength * (slot.at(local_position, uvs).x.clamp(0.0, 1.0) - 1.0))
     }
 
     /// What scales the albedo at a point (see [`Resolved::apply`]): the texture, or the vertex
@@ -293,6 +317,9 @@ impl<'f> Resolved<'f> {
     fn apply(&self, local_position: Vec3, uvs: [Option<Vec2>; 2], color: Option<Vec3>) -> Material {
         let mut m = self.base;
         let scale = self.scale(local_position, uvs, color);
+        if let Some(emissive) = self.emissive {
+            m.emission *= emissive.at(local_position, uvs).truncate();
+        }
         if scale.is_none() && self.metallic_roughness.is_none() {
             return m;
         }
@@ -343,7 +370,7 @@ mod tests {
             occlusion_distance: 0.0,
         };
         let slot = Slot { texture: &texture, sampler: Sampler::DEFAULT };
-        let resolved = Resolved { base, texture: None, metallic_roughness: Some((slot, 0.5)), normal: None };
+        let resolved = Resolved { base, texture: None, metallic_roughness: Some((slot, 0.5)), normal: None, emissive: None, occlusion: None };
         let at = |u: f32| match resolved.apply(Vec3::ZERO, [Some(Vec2::new(u, 0.5)), None], Some(Vec3::new(1.0, 0.5, 0.25))).bsdf {
             Some(Bsdf::PhysicallyBased { metallic, alpha, base, .. }) => (metallic, alpha, base),
             other => panic!("{other:?}"),

@@ -191,3 +191,69 @@ fn bad_tangent_frames_shade_with_the_unmapped_normal_and_never_a_nan() {
         assert!(finite && centre.x > 0.0, "{integrator:?}, zero normals: {centre}");
     }
 }
+
+/// A 1 × 1 data texture of `value`.
+fn texel(scene: &mut Scene, value: Vec3) -> ParamValue {
+    ParamValue::Texture(Some(scene.add_texture(Texture::Image(Image::new(1, 1, vec![value]).unwrap().into())).unwrap()))
+}
+
+#[test]
+fn an_emissive_texture_colours_the_emission_seen_and_the_light_cast() {
+    // Seen directly: a black quad emitting white through a red | green texture.
+    let mut scene = Scene::new();
+    let texture = ParamValue::Texture(Some(scene.add_texture(Texture::Image(Image::new(2, 1, vec![Vec3::X, Vec3::Y]).unwrap().into())).unwrap()));
+    let glow = shader(&mut scene, "PhysicallyBased", &[("base_color", ParamValue::Color(Vec3::ZERO)), ("emissive", ParamValue::Color(Vec3::splat(2.0))), ("emissive_texture", texture), ("emissive_filter", ParamValue::Float(9728.0))]);
+    common::place(&mut scene, quad(), glow);
+    scene.set_camera(Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y, 20.0).unwrap()).unwrap();
+    let (film, _) = render_with(&scene, Integrator::Path, 16, 16, 1);
+    assert_eq!((film.pixel(4, 8), film.pixel(12, 8)), (Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0)), "factor × texel");
+
+    // Cast on a floor: an emitter of 4 through a texture of 0.25 lights as one of 1 untextured
+    // (light sampling and hits both read the texture, and weigh each other by the factor).
+    let floor_under = |emissive: f32, texture: Option<f32>| {
+        let mut scene = Scene::new();
+        let mut params = vec![("base_color", ParamValue::Color(Vec3::ZERO)), ("emissive", ParamValue::Color(Vec3::splat(emissive)))];
+        if let Some(t) = texture {
+            params.push(("emissive_texture", texel(&mut scene, Vec3::splat(t))));
+        }
+        let glow = shader(&mut scene, "PhysicallyBased", &params);
+        // The emitter 1.5 above the floor, facing down.
+        let mut light = quad();
+        light.positions.iter_mut().for_each(|p| *p = Vec3::new(p.x * 0.5, 1.5, p.y * 0.5));
+        common::place(&mut scene, light, glow);
+        let matte = shader(&mut scene, "Diffuse", &[("diffuse", ParamValue::Color(Vec3::ONE))]);
+        let mut floor = quad();
+        floor.positions.iter_mut().for_each(|p| *p = Vec3::new(p.x * 4.0, 0.0, -p.y * 4.0));
+        common::place(&mut scene, floor, matte);
+        scene.set_camera(Camera::look_at(Vec3::new(0.0, 1.0, 5.0), Vec3::ZERO, Vec3::Y, 30.0).unwrap()).unwrap();
+        let (film, _) = render_with(&scene, Integrator::Path, 24, 24, 64);
+        let lit: Vec<Vec3> = (16..24).flat_map(|y| (4..20).map(move |x| (x, y))).map(|(x, y)| film.pixel(x, y)).collect();
+        lit.iter().sum::<Vec3>().x / lit.len() as f32
+    };
+    let (plain, textured) = (floor_under(1.0, None), floor_under(4.0, Some(0.25)));
+    assert!(plain > 0.01 && (textured / plain - 1.0).abs() < 0.05, "untextured {plain}, textured {textured}");
+}
+
+#[test]
+fn an_occlusion_texture_darkens_the_eye_light_only() {
+    let render = |occlusion: Option<(f32, f32)>, integrator: Integrator| {
+        let mut scene = Scene::new();
+        let mut params = vec![("metallic", ParamValue::Float(0.0))];
+        if let Some((red, strength)) = occlusion {
+            params.push(("occlusion_texture", texel(&mut scene, Vec3::new(red, 1.0, 1.0))));
+            params.push(("occlusion_strength", ParamValue::Float(strength)));
+        }
+        let pbr = shader(&mut scene, "PhysicallyBased", &params);
+        common::place(&mut scene, quad(), pbr);
+        scene.add_light(common::point_light()).unwrap();
+        scene.set_camera(Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y, 20.0).unwrap()).unwrap();
+        render_with(&scene, integrator, 8, 8, 1).0.pixel(4, 4).x
+    };
+    let open = render(None, Integrator::EyeLight);
+    assert!((render(Some((0.25, 1.0)), Integrator::EyeLight) / open - 0.25).abs() < 1e-4);
+    // glTF: 1 + strength × (occlusion − 1).
+    assert!((render(Some((0.25, 0.5)), Integrator::EyeLight) / open - 0.625).abs() < 1e-4);
+    for integrator in [Integrator::Whitted, Integrator::Path] {
+        assert_eq!(render(Some((0.25, 1.0)), integrator), render(None, integrator), "{integrator:?} finds occlusion itself");
+    }
+}

@@ -145,6 +145,11 @@ pub struct WorldTriangle {
     pub area: f32,
     /// Its shader's id, `None` for the scene's default shader.
     pub shader_id: Option<ShaderId>,
+    /// Its corners in the object's own space (where solid textures are evaluated).
+    pub local: [Vec3; 3],
+    /// Its corners' first and second texture coordinates, where the mesh has them (for
+    /// textured emission).
+    pub uvs: [Option<[Vec2; 3]>; 2],
 }
 
 /// Tree work done for a frame so far.
@@ -606,7 +611,9 @@ impl<'a> Frame<'a> {
                 let area = 0.5 * (corners[1] - corners[0]).cross(corners[2] - corners[0]).length();
                 let front = fi.placed.normal_to_world((local[1] - local[0]).cross(local[2] - local[0])).normalize_or_zero();
                 if area > 0.0 && area.is_finite() && front != Vec3::ZERO {
-                    out.push(WorldTriangle { corners, front, area, shader_id });
+                    let [a, b, c] = mesh.indices[prim as usize].map(|i| i as usize);
+                    let uvs = [&mesh.uvs, &mesh.uvs1].map(|set| (!set.is_empty()).then(|| [set[a], set[b], set[c]]));
+                    out.push(WorldTriangle { corners, front, area, shader_id, local, uvs });
                 }
             }
         }

@@ -118,10 +118,12 @@ macro_rules! texture_slot {
 const SLOT_PARAMS: usize = 10;
 
 /// `PhysicallyBased`'s texture slots.
-const PHYSICALLY_BASED_SLOTS: [[ParamDecl; SLOT_PARAMS]; 3] = [
+const PHYSICALLY_BASED_SLOTS: [[ParamDecl; SLOT_PARAMS]; 5] = [
     texture_slot!("base_color", "A texture whose colour multiplies `base_color` (and the mesh's vertex colours do too); its alpha multiplies `opacity`. None by default."),
     texture_slot!("metallic_roughness", "A texture whose blue channel multiplies `metallic` and green channel `roughness` (glTF's; its values are data, not sRGB colours); none by default."),
     texture_slot!("normal", "A tangent-space normal map (glTF's: data, +X along increasing u, +Y up the image, +Z out of the surface), tilting the shading normal in every integrator; none by default. Tangents come from the mesh, or from each triangle's texture coordinates."),
+    texture_slot!("emissive", "A texture whose colour multiplies `emissive` (glTF's emissive texture, sRGB colours); none by default. Textured emitters light the scene by their texels."),
+    texture_slot!("occlusion", "A texture whose red channel darkens the eye-light preview by `occlusion_strength` (glTF's ambient occlusion texture, data); none by default. The path tracer finds occlusion itself and ignores it."),
 ];
 
 /// The parameters of `PhysicallyBased`: its own, then those of each texture slot.
@@ -141,7 +143,7 @@ const fn joined<const N: usize>(own: &[ParamDecl], slots: &[[ParamDecl; SLOT_PAR
 }
 
 /// `PhysicallyBased`'s parameters other than its texture slots.
-const PHYSICALLY_BASED_OWN: [ParamDecl; 7] = [
+const PHYSICALLY_BASED_OWN: [ParamDecl; 8] = [
     ParamDecl { name: "base_color", default: ParamValue::Color(Vec3::ONE), range: FRACTION, choices: ANY, doc: "Base colour, linear RGB: the diffuse albedo of a dielectric, the reflectance of a metal." },
     ParamDecl { name: "metallic", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "0 for a dielectric, 1 for a metal, blended between." },
     ParamDecl { name: "roughness", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "Perceptual roughness in [0, 1]; the microfacets' α is its square." },
@@ -149,6 +151,7 @@ const PHYSICALLY_BASED_OWN: [ParamDecl; 7] = [
     ParamDecl { name: "specular", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "Scales the dielectric's specular reflection (glTF's KHR_materials_specular factor): 0 leaves a pure Lambertian base." },
     ParamDecl { name: "emissive", default: ParamValue::Color(Vec3::ZERO), range: NON_NEGATIVE, choices: ANY, doc: "Emitted radiance, linear RGB (glTF's emissive factor × strength): an emitting surface is a light." },
     ParamDecl { name: "normal_scale", default: ParamValue::Float(1.0), range: ANY_FINITE, choices: ANY, doc: "Scales the X and Y of `normal_texture`'s normals (glTF's normalTexture.scale): 0 flattens the map." },
+    ParamDecl { name: "occlusion_strength", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "How much `occlusion_texture` darkens: 0 not at all, 1 fully (glTF's occlusionTexture.strength)." },
 ];
 
 /// What a shader class computes; the renderer dispatches on it.

@@ -33,9 +33,10 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, rays: &[Ray], hits: &[Option<SceneHit>],
         let point = t.frame.preview(hit);
         if t.materials.normal_mapped(point.shader_id) {
             // The normal map's normal needs the hit point's texture coordinates and tangent:
-            // the hit is resolved in full (its albedo is the preview's colour).
+            // the hit is resolved in full (its albedo, occluded, is the preview's colour).
             let full = t.resolve(ray, *hit, 0.0);
-            (colour[k], lit[k]) = (full.material.albedo, true);
+            let occlusion = t.materials.preview_occlusion(point.shader_id, full.surface.local_position, [full.surface.uv, full.surface.uv1]);
+            (colour[k], lit[k]) = (full.material.albedo * occlusion, true);
             (nx[k], ny[k], nz[k]) = (full.surface.shading_normal.x, full.surface.shading_normal.y, full.surface.shading_normal.z);
             continue;
         }

@@ -196,7 +196,8 @@ impl<'f> Tracer<'_, 'f> {
         let length = ray.dir.length();
         // The geometric normal faces the side the ray came from.
         let cos = hit.surface.geometric_normal.dot(-ray.dir / length);
-        self.lights.surface_emission(m.emission, hit.hit.t * length, cos, seen)
+        let picked_by = self.materials.emission(hit.surface.shader_id).unwrap_or(m.emission);
+        self.lights.surface_emission(m.emission, picked_by, hit.hit.t * length, cos, seen)
     }
 
     /// Light from area lights that `ray` meets before its hit at `t` (infinitely far if it hits
