@@ -39,8 +39,9 @@ pub struct TextureUse {
 /// - everything else → `PhysicallyBased`: base colour (factor, texture; vertex colours
 ///   multiply it), metallic and roughness (factors, and their texture), `KHR_materials_ior`,
 ///   `KHR_materials_specular`'s factor, emissive factor × `KHR_materials_emissive_strength`,
-///   the normal texture with its scale, the emissive texture (multiplying the emission) and the
-///   occlusion texture with its strength.
+///   the normal texture with its scale, the emissive texture (multiplying the emission), the
+///   occlusion texture with its strength, the base colour's alpha as `opacity` with the alpha
+///   mode and cut-off, and single- or double-sidedness.
 ///   Each texture keeps its sampler (wrap modes, magnification filter), its texture coordinate
 ///   set (the first or second) and its `KHR_texture_transform`.
 ///
@@ -50,13 +51,13 @@ pub fn shader_for(material: Option<&gltf::Material<'_>>, vertex_colors: bool) ->
         return if vertex_colors { spec("VertexColor", vec![]) } else { spec("Diffuse", vec![]) };
     };
     let pbr = m.pbr_metallic_roughness();
-    let [r, g, b, _] = pbr.base_color_factor();
+    let [r, g, b, a] = pbr.base_color_factor();
     let base = ParamValue::Color(clean(Vec3::new(r, g, b)).min(Vec3::ONE));
     let ior = m.ior().filter(|i| i.is_finite()).unwrap_or(1.5).clamp(1.0, 4.0);
     if m.unlit() {
         return spec("Constant", vec![("color", base)]);
     }
-    if m.transmission().is_some_and(|t| t.transmission_factor() >= 0.5) {
+    if transmits(m) {
         return spec("Glass", vec![("ior", ParamValue::Float(ior))]);
     }
     let fraction = |x: f32| if x.is_finite() { x.clamp(0.0, 1.0) } else { 0.0 };
@@ -70,8 +71,15 @@ pub fn shader_for(material: Option<&gltf::Material<'_>>, vertex_colors: bool) ->
             ("ior", ParamValue::Float(ior)),
             ("specular", ParamValue::Float(m.specular().map_or(1.0, |s| fraction(s.specular_factor())))),
             ("emissive", ParamValue::Color(emission)),
+            ("opacity", ParamValue::Float(fraction(a))),
+            ("alpha_mode", ParamValue::Float(alpha_mode(m.alpha_mode()))),
+            ("double_sided", ParamValue::Float(if m.double_sided() { 1.0 } else { 0.0 })),
         ],
     );
+    // Checked by the importer (`read`): outside [0, 1] the file is refused.
+    if let Some(cutoff) = m.alpha_cutoff() {
+        shader.params.push(("alpha_cutoff", ParamValue::Float(cutoff)));
+    }
     let info = |t: gltf::texture::Info<'_>| TextureRef::of(t.texture(), t.tex_coord(), t.extension_value(TRANSFORM));
     let normal = m.normal_texture();
     if let Some(n) = &normal {
@@ -198,22 +206,36 @@ pub fn notes(material: &gltf::Material<'_>) -> Vec<String> {
         left_out.push("an occlusion texture on a third or later set of texture coordinates".to_string());
     }
     for (present, what) in [
-        (material.alpha_mode() != gltf::material::AlphaMode::Opaque, "its alpha mode (rendered opaque)"),
+        (material.alpha_mode() != gltf::material::AlphaMode::Opaque && (material.unlit() || transmits(material)), "its alpha mode (rendered opaque)"),
         (material.specular().is_some_and(|s| s.specular_texture().is_some() || s.specular_color_texture().is_some() || s.specular_color_factor() != [1.0; 3]), "its specular colour and textures"),
-        (!material.double_sided() && !material.unlit(), "single-sidedness (rendered double-sided)"),
+        (!material.double_sided() && !material.unlit() && transmits(material), "single-sidedness (rendered double-sided)"),
     ] {
         if present {
             left_out.push(what.to_string());
         }
     }
-    if material.transmission().is_some_and(|t| t.transmission_factor() >= 0.5) {
+    if transmits(material) {
         left_out.push("its physically based look under the transmission (rendered as clear glass)".to_string());
     }
     left_out.into_iter().map(|what| format!("{name}: {what} is not rendered yet")).collect()
 }
 
+/// Whether `material` is rendered as glass (`KHR_materials_transmission` of at least 0.5).
+fn transmits(material: &gltf::Material<'_>) -> bool {
+    material.transmission().is_some_and(|t| t.transmission_factor() >= 0.5)
+}
+
 fn spec(class: &'static str, params: Vec<(&'static str, ParamValue)>) -> ShaderSpec {
     ShaderSpec { class, params, textures: Vec::new() }
+}
+
+/// The `alpha_mode` parameter of a glTF alpha mode.
+fn alpha_mode(mode: gltf::material::AlphaMode) -> f32 {
+    match mode {
+        gltf::material::AlphaMode::Opaque => raystage_scene::ALPHA_OPAQUE,
+        gltf::material::AlphaMode::Mask => raystage_scene::ALPHA_MASK,
+        gltf::material::AlphaMode::Blend => raystage_scene::ALPHA_BLEND,
+    }
 }
 
 /// `x`, or `default` where it is not finite.

@@ -314,7 +314,7 @@ fn what_a_material_leaves_out_is_a_note() {
     let file = import(&document).unwrap();
     let notes = file.notes().join("\n");
     assert!(notes.contains("material `leaves`: its specular colour and textures is not rendered yet"), "{notes}");
-    assert!(notes.contains("material `leaves`: its alpha mode (rendered opaque) is not rendered yet"), "{notes}");
+    assert!(!notes.contains("alpha mode"), "a physically based material's alpha mode is rendered: {notes}");
     assert_eq!(notes.matches("specular colour").count(), 1, "{notes}");
 }
 
@@ -419,5 +419,31 @@ fn emissive_and_occlusion_textures_are_imported() {
     assert_eq!(shader.get("occlusion_strength"), Some(ParamValue::Float(0.75)));
     for param in ["emissive_texture", "occlusion_texture"] {
         assert!(matches!(shader.get(param), Some(ParamValue::Texture(Some(_)))), "{param}");
+    }
+}
+
+/// Alpha mode, cut-off, the base colour's alpha and sidedness round-trip; a cut-off outside
+/// [0, 1] is refused with the field named.
+#[test]
+fn alpha_modes_and_sidedness_are_imported() {
+    let material = json!([{ "pbrMetallicRoughness": { "baseColorFactor": [1, 1, 1, 0.25] }, "alphaMode": "MASK", "alphaCutoff": 0.3 }]);
+    let document = quad_gltf(Some(data_uri(&quad_buffer())), material, json!([{ "mesh": 0 }]));
+    let mut scene = Scene::new();
+    let added = import(&document).unwrap().add_to(&mut scene).unwrap();
+    let shader = scene.shader(added.shaders[0]).unwrap();
+    let floats = ["opacity", "alpha_mode", "alpha_cutoff", "double_sided"].map(|p| shader.get(p));
+    assert_eq!(floats, [0.25, 1.0, 0.3, 0.0].map(|f| Some(ParamValue::Float(f))), "single-sided is glTF's default");
+
+    let blend = json!([{ "alphaMode": "BLEND", "doubleSided": true }]);
+    let mut scene = Scene::new();
+    let added = import(&quad_gltf(Some(data_uri(&quad_buffer())), blend, json!([{ "mesh": 0 }]))).unwrap().add_to(&mut scene).unwrap();
+    let shader = scene.shader(added.shaders[0]).unwrap();
+    assert_eq!([shader.get("alpha_mode"), shader.get("double_sided")], [Some(ParamValue::Float(2.0)), Some(ParamValue::Float(1.0))]);
+
+    for cutoff in [-0.5, 1.5] {
+        let bad = json!([{ "alphaMode": "MASK", "alphaCutoff": cutoff }]);
+        let err = refused(&quad_gltf(Some(data_uri(&quad_buffer())), bad, json!([{ "mesh": 0 }])));
+        assert_eq!(err.field(), Some("materials[0].alphaCutoff"), "{err}");
+        assert!(err.to_string().contains("not within [0, 1]"), "{err}");
     }
 }

@@ -4,10 +4,10 @@
 //! texture and its vertex colours.
 
 use glam::{Vec2, Vec3, Vec4};
-use raystage_scene::{Frame, PreviewAttributes, PreviewPoint, Shader, ShadingModel, SurfacePoint, Texture};
+use raystage_scene::{Frame, PreviewAttributes, PreviewPoint, Sampler, Shader, ShadingModel, SurfacePoint, Texture};
 
 use crate::bsdf::Bsdf;
-use crate::texture::{self, Sampler};
+use crate::texture;
 
 /// The smallest microfacet α of a physically based surface: a mirror-smooth α of 0 would make
 /// the GGX lobe a delta, which the BSDF cannot evaluate.

@@ -257,3 +257,117 @@ fn an_occlusion_texture_darkens_the_eye_light_only() {
         assert_eq!(render(Some((0.25, 1.0)), integrator), render(None, integrator), "{integrator:?} finds occlusion itself");
     }
 }
+
+/// [`quad`] moved by `offset`.
+fn quad_at(offset: Vec3) -> Mesh {
+    let mut mesh = quad();
+    mesh.positions.iter_mut().for_each(|p| *p += offset);
+    mesh
+}
+
+/// A physically based white matte shader whose base colour texture is cut out on its left half
+/// (alpha 0 there, 1 on the right), with `params`.
+fn cut_out(scene: &mut Scene, params: &[(&str, ParamValue)]) -> raystage_scene::ShaderId {
+    let image = Image::new(2, 1, vec![Vec3::ONE; 2]).unwrap().with_alpha(vec![0.0, 1.0]).unwrap();
+    let texture = ParamValue::Texture(Some(scene.add_texture(Texture::Image(image.into())).unwrap()));
+    let mut all = vec![("metallic", ParamValue::Float(0.0)), ("base_color_texture", texture), ("base_color_filter", ParamValue::Float(9728.0))];
+    all.extend_from_slice(params);
+    shader(scene, "PhysicallyBased", &all)
+}
+
+/// A red matte quad at z = 0, seen from +z, and in front of it (at z = 1) the quad of
+/// [`cut_out`] with `params`: the centre row of the image.
+fn in_front_of_red(params: &[(&str, ParamValue)], integrator: Integrator, spp: u32) -> Vec<Vec3> {
+    let mut scene = Scene::new();
+    let red = shader(&mut scene, "Diffuse", &[("diffuse", ParamValue::Color(Vec3::X))]);
+    common::place(&mut scene, quad(), red);
+    let front = cut_out(&mut scene, params);
+    common::place(&mut scene, quad_at(Vec3::Z), front);
+    scene.set_camera(Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 20.0).unwrap()).unwrap();
+    let (film, _) = render_with(&scene, integrator, 16, 16, spp);
+    (0..16).map(|x| film.pixel(x, 8)).collect()
+}
+
+#[test]
+fn alpha_masks_cut_out_what_camera_rays_see() {
+    let mask = [("alpha_mode", ParamValue::Float(1.0))];
+    for integrator in [Integrator::EyeLight, Integrator::Whitted, Integrator::Path] {
+        let row = in_front_of_red(&mask, integrator, 1);
+        // Left: through the cut-out, the red quad; right: the white front quad.
+        // (The red quad reflects red alone, whatever lights it.)
+        let (left, right) = (row[4], row[12]);
+        assert!(left.x > 0.0 && left.y == 0.0 && left.z == 0.0, "{integrator:?}: the red quad behind the cut-out: {left}");
+        assert!(right.y > 0.0 && right.z > 0.0, "{integrator:?}: the white quad in front: {right}");
+        // Opaque (the default), the same texture's alpha is ignored.
+        let opaque = in_front_of_red(&[], integrator, 1)[4];
+        assert!(opaque.y > 0.0 && opaque.z > 0.0, "{integrator:?}: opaque: {opaque}");
+    }
+    // A cut-off of 0 keeps all; opacity scales the texture's alpha.
+    let kept = in_front_of_red(&[mask[0], ("alpha_cutoff", ParamValue::Float(0.0))], Integrator::EyeLight, 1)[4];
+    assert!(kept.y > 0.0, "{kept}");
+    let faint = in_front_of_red(&[mask[0], ("opacity", ParamValue::Float(0.4))], Integrator::EyeLight, 1)[12];
+    assert!(faint.y == 0.0 && faint.x > 0.0, "coverage 0.4 is cut at 0.5: {faint}");
+}
+
+#[test]
+fn blended_surfaces_let_through_in_proportion_to_their_transparency() {
+    let blend = [("alpha_mode", ParamValue::Float(2.0)), ("opacity", ParamValue::Float(0.5))];
+    let row = in_front_of_red(&blend, Integrator::EyeLight, 256);
+    let opaque = in_front_of_red(&[], Integrator::EyeLight, 1)[12];
+    // The right half: half the white quad, half the red one behind (in red, both).
+    let right = row[12];
+    assert!((right.y / opaque.y - 0.5).abs() < 0.08, "half white: {right}, opaque {opaque}");
+    // The left half is cut out (coverage 0): red alone.
+    assert_eq!(row[4].y, 0.0);
+}
+
+#[test]
+fn cut_out_and_single_sided_surfaces_cast_no_shadow_where_they_are_not() {
+    // A red quad at z = 0 lit from (+x, +z) through the quad of `cut_out` at z = 2, x = 1…3
+    // (facing +z, unless flipped), out of the camera's view: its cut-out half lets the light onto
+    // the left half of the red quad, its opaque half shades the right half.
+    let shadowed = |params: &[(&str, ParamValue)], flip: bool, integrator: Integrator| {
+        let mut scene = Scene::new();
+        let red = shader(&mut scene, "Diffuse", &[("diffuse", ParamValue::Color(Vec3::X))]);
+        common::place(&mut scene, quad(), red);
+        let blocker = cut_out(&mut scene, params);
+        let mut mesh = quad_at(Vec3::new(2.0, 0.0, 2.0));
+        if flip {
+            // Wound the other way: its front faces the red quad.
+            mesh.indices.iter_mut().for_each(|t| t.swap(1, 2));
+        }
+        common::place(&mut scene, mesh, blocker);
+        scene.add_light(Light::Directional { direction: Vec3::new(-1.0, 0.0, -1.0), intensity: Vec3::ONE }).unwrap();
+        scene.set_camera(Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y, 20.0).unwrap()).unwrap();
+        let (film, _) = render_with(&scene, integrator, 16, 16, 4);
+        (film.pixel(4, 8).x, film.pixel(12, 8).x)
+    };
+    let lit = std::f32::consts::FRAC_1_SQRT_2 * std::f32::consts::FRAC_1_PI;
+    for integrator in [Integrator::Whitted, Integrator::Path] {
+        let (left, right) = shadowed(&[("alpha_mode", ParamValue::Float(1.0))], false, integrator);
+        assert!((left / lit - 1.0).abs() < 0.02 && right == 0.0, "{integrator:?}: masked: lit {left}, shadowed {right}");
+        let (left, right) = shadowed(&[], false, integrator);
+        assert!(left == 0.0 && right == 0.0, "{integrator:?}: opaque: {left} {right}");
+        // Single-sided and met from behind by the shadow rays (which run from the red quad
+        // towards the light): not there at all.
+        let (left, right) = shadowed(&[("double_sided", ParamValue::Float(0.0))], false, integrator);
+        assert!((left / lit - 1.0).abs() < 0.02 && (right / lit - 1.0).abs() < 0.02, "{integrator:?}: single-sided, from behind: {left} {right}");
+        let (left, right) = shadowed(&[("double_sided", ParamValue::Float(0.0))], true, integrator);
+        assert!(left == 0.0 && right == 0.0, "{integrator:?}: single-sided, from the front: {left} {right}");
+    }
+}
+
+#[test]
+fn single_sided_surfaces_are_invisible_from_behind() {
+    let seen = |double_sided: f32, eye_z: f32| {
+        let mut scene = Scene::new();
+        let pbr = shader(&mut scene, "PhysicallyBased", &[("metallic", ParamValue::Float(0.0)), ("double_sided", ParamValue::Float(double_sided))]);
+        common::place(&mut scene, quad(), pbr);
+        scene.set_background(Some(raystage_scene::Background::Color(Vec3::new(0.0, 0.0, 1.0)))).unwrap();
+        scene.set_camera(Camera::look_at(Vec3::new(0.0, 0.0, eye_z), Vec3::ZERO, Vec3::Y, 20.0).unwrap()).unwrap();
+        render_with(&scene, Integrator::EyeLight, 8, 8, 1).0.pixel(4, 4)
+    };
+    assert!(seen(0.0, 4.0).x > 0.5, "single-sided, from the front");
+    assert_eq!(seen(0.0, -4.0), Vec3::new(0.0, 0.0, 1.0), "single-sided, from behind: the background");
+    assert!(seen(1.0, -4.0).x > 0.5, "double-sided, from behind");
+}

@@ -18,8 +18,10 @@ use crate::scene::{Background, Scene};
 use crate::shader::{Shader, ShadingModel};
 
 mod surfaces;
+mod visibility;
 
 pub use surfaces::SurfaceLanes;
+use visibility::Visibility;
 
 /// Up to this many instances the top level is a list of boxes tested one by one: setting up a
 /// tree walk costs more than it saves.
@@ -33,6 +35,9 @@ struct FrameInstance<'a> {
     instance: Instance,
     /// The placement at shutter time 0, used by every ray of a still instance.
     placed: Placed,
+    /// Whether some of its shaders make hits not count (see [`Visibility`]): then every hit on
+    /// it is tested.
+    filtered: bool,
 }
 
 impl FrameInstance<'_> {
@@ -178,19 +183,37 @@ pub struct Frame<'a> {
     counters: BuildCounters,
     lights: Vec<Light>,
     top_level_seconds: f64,
+    /// Of each shader (by id) and of the default shader: which of their hits count, `None` where
+    /// all do.
+    visibility: Vec<Option<Visibility<'a>>>,
+    default_visibility: Option<Visibility<'a>>,
+    /// Whether some instance is filtered.
+    filtered: bool,
 }
 
 impl<'a> Frame<'a> {
     pub(crate) fn new(scene: &'a Scene) -> Frame<'a> {
         let start = Instant::now();
+        let mut visibility: Vec<Option<Visibility<'a>>> = Vec::new();
+        for (id, shader) in scene.shaders() {
+            let index = id.0 as usize;
+            if visibility.len() <= index {
+                visibility.resize(index + 1, None);
+            }
+            visibility[index] = Visibility::of(shader, scene);
+        }
+        let default_visibility = Visibility::of(scene.default_shader(), scene);
         let instances: Vec<FrameInstance<'a>> = scene
             .instance_records()
             .filter_map(|(id, instance)| {
                 let object = scene.object_record(instance.object)?;
                 let placed = Placed::at(instance, 0.0);
-                Some(FrameInstance { id, object_id: instance.object, object, instance: *instance, placed })
+                let filtered = object.shaders_used.iter().any(|s| visibility.get(s.0 as usize).is_some_and(Option::is_some))
+                    || (object.uses_default_shader && default_visibility.is_some());
+                Some(FrameInstance { id, object_id: instance.object, object, instance: *instance, placed, filtered })
             })
             .collect();
+        let filtered = instances.iter().any(|fi| fi.filtered);
         let boxes: Vec<_> = instances
             .iter()
             .map(|fi| {
@@ -212,6 +235,63 @@ impl<'a> Frame<'a> {
             counters: BuildCounters::default(),
             lights,
             top_level_seconds: start.elapsed().as_secs_f64(),
+            visibility,
+            default_visibility,
+            filtered,
+        }
+    }
+
+    /// Whether hit `h` of `ray` (at shutter time `time`) on instance `fi`, placed by `placed`,
+    /// counts: see [`Visibility`]. Instances that are not filtered count every hit.
+    fn admits(&self, fi: &FrameInstance<'a>, placed: &Placed, ray: &Ray, h: &raystage_kernel::Hit) -> bool {
+        if !fi.filtered {
+            return true;
+        }
+        let mesh = &fi.object.mesh;
+        let shader = mesh.shaders.get(h.prim as usize).filter(|id| self.scene.shader(**id).is_ok());
+        let Some(visibility) = (match shader {
+            Some(id) => self.visibility.get(id.0 as usize).copied().flatten(),
+            None => self.default_visibility,
+        }) else {
+            return true;
+        };
+        let front = placed.normal_to_world(h.ng).dot(ray.dir) < 0.0;
+        let uvs = || {
+            let corners = mesh.indices[h.prim as usize].map(|i| i as usize);
+            let w = [1.0 - h.u - h.v, h.u, h.v];
+            [interpolated(&mesh.uvs, corners, w), interpolated(&mesh.uvs1, corners, w)]
+        };
+        let bits = [ray.origin.x, ray.origin.y, ray.origin.z, ray.dir.x, ray.dir.y, ray.dir.z].map(f32::to_bits);
+        let key = bits.iter().fold(crate::sampling::hash(h.prim ^ fi.id.0.rotate_left(16)), |k, &b| crate::sampling::hash(k ^ b));
+        visibility.admits(front, uvs, key)
+    }
+
+    /// The closest hit of `ray` in instance `fi` (placed by `placed`, traced by `bvh`) in
+    /// `(tnear, tfar]` that counts (see [`Frame::admits`]): the tree's closest hit, and, while
+    /// a hit does not count, the closest beyond it.
+    fn closest_admitted(&self, fi: &FrameInstance<'a>, placed: &Placed, bvh: &Bvh8, ray: &Ray, tfar: f32) -> Option<raystage_kernel::Hit> {
+        let local = if placed.identity { *ray } else { placed.ray_to_object(ray) };
+        let mut segment = Ray { tfar, ..local };
+        loop {
+            let h = bvh.intersect(&segment)?;
+            if self.admits(fi, placed, ray, &h) {
+                return Some(h);
+            }
+            // Hits are strictly beyond `tnear`: the walk ends.
+            segment.tnear = h.t;
+        }
+    }
+
+    /// Hits of a packet's `rays` that do not count (see [`Frame::admits`]), replaced by what
+    /// each ray finds beyond them, as [`Frame::intersect`] would.
+    fn admit_packet(&self, rays: &[Ray], hits: &mut [Option<SceneHit>], time: f32) {
+        for (ray, hit) in rays.iter().zip(hits.iter_mut()) {
+            let Some(h) = *hit else { continue };
+            let fi = &self.instances[h.item as usize];
+            let found = raystage_kernel::Hit { t: h.t, prim: h.prim, u: h.u, v: h.v, ng: h.ng };
+            if !self.admits(fi, &fi.placed_at(time), ray, &found) {
+                *hit = self.intersect(&Ray { tnear: h.t, ..*ray }, time);
+            }
         }
     }
 
@@ -254,7 +334,9 @@ impl<'a> Frame<'a> {
         let fi = &self.instances[item as usize];
         let placed = fi.placed_at(time);
         let bvh = fi.object.accel(&self.counters);
-        let found = if placed.identity {
+        let found = if fi.filtered {
+            self.closest_admitted(fi, &placed, bvh, ray, tfar)
+        } else if placed.identity {
             bvh.intersect_prepared(&world.with_tfar(tfar))
         } else {
             bvh.intersect(&Ray { tfar, ..placed.ray_to_object(ray) })
@@ -280,6 +362,9 @@ impl<'a> Frame<'a> {
         for (rays, hits) in rays.chunks(PACKET_SIZE).zip(hits.chunks_mut(PACKET_SIZE)) {
             if rays.len() == PACKET_SIZE {
                 self.intersect_packet(rays, hits, time);
+                if self.filtered {
+                    self.admit_packet(rays, hits, time);
+                }
             } else {
                 for (ray, hit) in rays.iter().zip(hits) {
                     *hit = self.intersect(ray, time);
@@ -390,14 +475,22 @@ impl<'a> Frame<'a> {
         }
     }
 
-    /// Whether anything is hit in `(tnear, tfar]` at shutter time `time`.
+    /// Whether anything is hit in `(tnear, tfar]` at shutter time `time` (a hit that does not
+    /// count, see [`Visibility`], blocks nothing).
     pub fn occluded(&self, ray: &Ray, time: f32) -> bool {
         let world = PreparedRay::new(ray);
         let blocks = |item: u32| {
             let fi = &self.instances[item as usize];
             let placed = fi.placed_at(time);
             let bvh = fi.object.accel(&self.counters);
-            if placed.identity { bvh.occluded_prepared(&world) } else { bvh.occluded(&placed.ray_to_object(ray)) }
+            if fi.filtered {
+                // Any hit may not count: hits in order until one does.
+                self.closest_admitted(fi, &placed, bvh, ray, ray.tfar).is_some()
+            } else if placed.identity {
+                bvh.occluded_prepared(&world)
+            } else {
+                bvh.occluded(&placed.ray_to_object(ray))
+            }
         };
         if self.instances.len() <= LIST_TOP_LEVEL {
             (0..self.boxes.len() as u32).any(|item| self.boxes[item as usize].intersect(&world, ray.tfar).is_some() && blocks(item))
@@ -422,6 +515,18 @@ impl<'a> Frame<'a> {
         if n == 0 {
             return 0;
         }
+        let blocked = self.occluded_packet(rays, time);
+        if !self.filtered {
+            return blocked;
+        }
+        // The packet counted every hit: a ray it found blocked may be blocked only by hits that
+        // do not count (one it found open is open).
+        (0..n).filter(|&i| blocked & (1 << i) != 0 && self.occluded(&rays[i], time)).fold(0, |b, i| b | 1 << i)
+    }
+
+    /// [`Frame::occluded_many`] of a non-empty packet, every hit counting.
+    fn occluded_packet(&self, rays: &[Ray], time: f32) -> u32 {
+        let n = rays.len();
         let all = (1u32 << n) - 1;
         let prepared = PreparedRay::packet(rays);
         if let Some((_, tree)) = self.only_in_place(&prepared[..n], rays, time) {

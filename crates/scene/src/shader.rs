@@ -143,7 +143,7 @@ const fn joined<const N: usize>(own: &[ParamDecl], slots: &[[ParamDecl; SLOT_PAR
 }
 
 /// `PhysicallyBased`'s parameters other than its texture slots.
-const PHYSICALLY_BASED_OWN: [ParamDecl; 8] = [
+const PHYSICALLY_BASED_OWN: [ParamDecl; 12] = [
     ParamDecl { name: "base_color", default: ParamValue::Color(Vec3::ONE), range: FRACTION, choices: ANY, doc: "Base colour, linear RGB: the diffuse albedo of a dielectric, the reflectance of a metal." },
     ParamDecl { name: "metallic", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "0 for a dielectric, 1 for a metal, blended between." },
     ParamDecl { name: "roughness", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "Perceptual roughness in [0, 1]; the microfacets' α is its square." },
@@ -152,7 +152,18 @@ const PHYSICALLY_BASED_OWN: [ParamDecl; 8] = [
     ParamDecl { name: "emissive", default: ParamValue::Color(Vec3::ZERO), range: NON_NEGATIVE, choices: ANY, doc: "Emitted radiance, linear RGB (glTF's emissive factor × strength): an emitting surface is a light." },
     ParamDecl { name: "normal_scale", default: ParamValue::Float(1.0), range: ANY_FINITE, choices: ANY, doc: "Scales the X and Y of `normal_texture`'s normals (glTF's normalTexture.scale): 0 flattens the map." },
     ParamDecl { name: "occlusion_strength", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "How much `occlusion_texture` darkens: 0 not at all, 1 fully (glTF's occlusionTexture.strength)." },
+    ParamDecl { name: "opacity", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "Coverage (glTF's base colour alpha factor), multiplied by `base_color_texture`'s alpha; used by the `alpha_mode`s MASK and BLEND." },
+    ParamDecl { name: "alpha_mode", default: ParamValue::Float(ALPHA_OPAQUE), range: [ALPHA_OPAQUE, ALPHA_BLEND], choices: &[ALPHA_OPAQUE, ALPHA_MASK, ALPHA_BLEND], doc: "glTF's alpha mode: 0 OPAQUE (coverage ignored), 1 MASK (a cut-out: where coverage is below `alpha_cutoff` the surface is not there, for camera, shadow and every other ray), 2 BLEND (a ray passes with probability 1 − coverage, so that samples average to a blend)." },
+    ParamDecl { name: "alpha_cutoff", default: ParamValue::Float(0.5), range: FRACTION, choices: ANY, doc: "The coverage below which a MASK surface is cut out, in [0, 1]." },
+    ParamDecl { name: "double_sided", default: ParamValue::Float(1.0), range: FRACTION, choices: &[0.0, 1.0], doc: "1: seen from both sides; 0: single-sided (glTF's default), invisible from behind to every ray: camera rays, and shadow and bounce rays (which run from the shaded point towards the light) that meet its back pass through." },
 ];
+
+/// `alpha_mode` OPAQUE: coverage is ignored.
+pub const ALPHA_OPAQUE: f32 = 0.0;
+/// `alpha_mode` MASK: a cut-out at `alpha_cutoff`.
+pub const ALPHA_MASK: f32 = 1.0;
+/// `alpha_mode` BLEND: rays pass in proportion to transparency.
+pub const ALPHA_BLEND: f32 = 2.0;
 
 /// What a shader class computes; the renderer dispatches on it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -419,6 +430,12 @@ mod tests {
         assert!(shader.set("base_color_filter", ParamValue::Float(9730.0)).is_err());
         assert!(shader.set("base_color_texcoord", ParamValue::Float(0.5)).is_err());
         assert_eq!(shader.get("base_color_wrap_s"), Some(ParamValue::Float(33648.0)), "a refused write changes nothing");
+        // Alpha: a cut-off outside [0, 1] is refused with its name; modes are codes.
+        let error = shader.set("alpha_cutoff", ParamValue::Float(1.5)).unwrap_err();
+        assert!(error.to_string().contains("`alpha_cutoff`") && error.to_string().contains("[0, 1]"), "{error}");
+        assert!(shader.set("alpha_cutoff", ParamValue::Float(-0.1)).is_err());
+        assert!(shader.set("alpha_mode", ParamValue::Float(1.5)).is_err());
+        assert_eq!(shader.set("alpha_mode", ParamValue::Float(ALPHA_BLEND)), Ok(true));
         // Transforms take any finite number.
         assert_eq!(shader.set("base_color_offset_u", ParamValue::Float(-3.5)), Ok(true));
         assert!(shader.set("base_color_scale_v", ParamValue::Float(f32::INFINITY)).is_err());
