@@ -180,6 +180,7 @@ impl Import {
         }
         for spec in &self.shaders {
             let id = scene.add_shader(spec.class)?;
+            scene.set_shader_name(id, spec.name.as_deref())?;
             for &(name, value) in &spec.params {
                 scene.set_param(id, name, value)?;
             }

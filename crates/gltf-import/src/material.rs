@@ -16,6 +16,8 @@ pub struct ShaderSpec {
     pub params: Vec<(&'static str, ParamValue)>,
     /// Texture parameters to set once the glTF images they name are textures of the scene.
     pub textures: Vec<TextureUse>,
+    /// The glTF material's name, if it has one (cut to `raystage_scene::MAX_SHADER_NAME` bytes).
+    pub name: Option<String>,
 }
 
 /// A glTF image a shader's texture parameter uses.
@@ -226,7 +228,7 @@ fn transmits(material: &gltf::Material<'_>) -> bool {
 }
 
 fn spec(class: &'static str, params: Vec<(&'static str, ParamValue)>) -> ShaderSpec {
-    ShaderSpec { class, params, textures: Vec::new() }
+    ShaderSpec { class, params, textures: Vec::new(), name: None }
 }
 
 /// The `alpha_mode` parameter of a glTF alpha mode.
@@ -267,7 +269,12 @@ impl MaterialShaders {
             return i;
         }
         let i = self.specs.len() as u32;
-        self.specs.push(shader_for(material.index().map(|_| material), vertex_colors));
+        let name = material.name().map(|n| {
+            // Cut at a character boundary within the limit.
+            let end = (0..=n.len().min(raystage_scene::MAX_SHADER_NAME)).rev().find(|&i| n.is_char_boundary(i)).unwrap_or(0);
+            n[..end].to_string()
+        });
+        self.specs.push(ShaderSpec { name, ..shader_for(material.index().map(|_| material), vertex_colors) });
         if material.index().is_some() && !self.index.keys().any(|(m, _)| *m == material.index()) {
             self.notes.extend(notes(material));
         }

@@ -447,3 +447,18 @@ fn alpha_modes_and_sidedness_are_imported() {
         assert!(err.to_string().contains("not within [0, 1]"), "{err}");
     }
 }
+
+/// Each shader is named after its glTF material; a material without a name gives none.
+#[test]
+fn shaders_are_named_after_their_materials() {
+    let materials = json!([{ "name": "brass" }, {}]);
+    let mut document = quad_gltf(Some(data_uri(&quad_buffer())), materials, json!([{ "mesh": 0 }, { "mesh": 1 }]));
+    let primitive = document["meshes"][0]["primitives"][0].clone();
+    document["meshes"].as_array_mut().unwrap().push(json!({ "primitives": [primitive] }));
+    document["meshes"][1]["primitives"][0]["material"] = json!(1);
+    document["scenes"][0]["nodes"] = json!([0, 1]);
+    let mut scene = Scene::new();
+    let added = import(&document).unwrap().add_to(&mut scene).unwrap();
+    let names: Vec<Option<&str>> = added.shaders.iter().map(|&id| scene.shader(id).unwrap().name()).collect();
+    assert_eq!(names, [Some("brass"), None]);
+}

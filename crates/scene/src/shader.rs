@@ -315,11 +315,15 @@ pub fn shader_class(name: &str) -> Option<&'static ShaderClass> {
     SHADER_CLASSES.iter().find(|c| c.name == name)
 }
 
-/// A shader: a class and a value for each of its parameters.
+/// The longest shader name, in bytes.
+pub const MAX_SHADER_NAME: usize = 1024;
+
+/// A shader: a class, a value for each of its parameters, and a name if it was given one.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Shader {
     class: &'static ShaderClass,
     values: Vec<ParamValue>,
+    name: Option<String>,
 }
 
 impl Shader {
@@ -336,7 +340,22 @@ impl Shader {
     /// A shader of the class called `class`, every parameter at its default.
     pub fn new(class: &str) -> Result<Shader, SceneError> {
         let class = shader_class(class).ok_or_else(|| SceneError::UnknownShaderClass(class.to_string()))?;
-        Ok(Shader { class, values: class.params.iter().map(|p| p.default).collect() })
+        Ok(Shader { class, values: class.params.iter().map(|p| p.default).collect(), name: None })
+    }
+
+    /// The shader's name (a glTF material's, say), if it has one.
+    pub fn name(&self) -> Option<&str> {
+        self.name.as_deref()
+    }
+
+    /// Names the shader (`None`: no name). Names are labels for people: they need not be
+    /// unique, but are at most [`MAX_SHADER_NAME`] bytes.
+    pub fn set_name(&mut self, name: Option<&str>) -> Result<(), SceneError> {
+        if let Some(name) = name.filter(|n| n.len() > MAX_SHADER_NAME) {
+            return Err(SceneError::OutOfRange { field: "shader name", message: format!("{} bytes is longer than {MAX_SHADER_NAME}", name.len()) });
+        }
+        self.name = name.map(str::to_string);
+        Ok(())
     }
 
     /// The shader's class.
