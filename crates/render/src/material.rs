@@ -55,9 +55,17 @@ impl<'f> Slot<'f> {
 }
 
 /// A shader resolved for a frame: its material before texturing and vertex colours.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 struct Resolved<'f> {
     base: Material,
+    /// The textures it uses, if any: kept aside, so that the record every hit reads stays a few
+    /// cache lines for the many shaders that have none.
+    slots: Option<Box<Slots<'f>>>,
+}
+
+/// The textures of a shader.
+#[derive(Clone, Copy, Debug)]
+struct Slots<'f> {
     /// The diffuse texture, for the classes that have one and a shader that sets it.
     texture: Option<Slot<'f>>,
     /// A physically based shader's metallic-roughness texture, and its roughness factor (which
@@ -71,6 +79,9 @@ struct Resolved<'f> {
     occlusion: Option<(Slot<'f>, f32)>,
 }
 
+/// No textures.
+const NO_SLOTS: Slots<'static> = Slots { texture: None, metallic_roughness: None, normal: None, emissive: None, occlusion: None };
+
 /// What the eye-light preview shows of a shader, worked out when the frame starts: a hit on a
 /// surface whose colour does not vary then costs one small lookup.
 #[derive(Clone, Copy, Debug)]
@@ -81,16 +92,19 @@ struct Preview {
     lit: bool,
     /// Whether the colour varies over the surface (a texture or vertex colours scale it).
     varies: bool,
+    /// Whether a normal map tilts its normal (the preview then resolves the hit in full).
+    normal_mapped: bool,
 }
 
 impl Preview {
     fn of(r: &Resolved<'_>) -> Preview {
         match r.base.model {
-            ShadingModel::Constant | ShadingModel::Emissive => Preview { colour: r.base.emission, lit: false, varies: false },
+            ShadingModel::Constant | ShadingModel::Emissive => Preview { colour: r.base.emission, lit: false, varies: false, normal_mapped: false },
             model => Preview {
                 colour: r.base.albedo,
                 lit: true,
-                varies: r.texture.is_some() || matches!(model, ShadingModel::VertexColor | ShadingModel::PhysicallyBased),
+                varies: r.slots().texture.is_some() || matches!(model, ShadingModel::VertexColor | ShadingModel::PhysicallyBased),
+                normal_mapped: r.slots().normal.is_some(),
             },
         }
     }
@@ -128,22 +142,28 @@ impl<'f> Materials<'f> {
     }
 
     /// What a preview shows at a preview point: the surface's albedo (textured, vertex
-    /// coloured) and `true` for the models that reflect light, or the emitted or constant
-    /// colour and `false` for those that do not. The parts of [`Materials::at`] a preview needs,
-    /// without making the whole material; `attributes` is asked only by surfaces whose colour
-    /// varies.
+    /// coloured, darkened by an occlusion texture) and `true` for the models that reflect
+    /// light, or the emitted or constant colour and `false` for those that do not. The parts of
+    /// [`Materials::at`] a preview needs, without making the whole material; `attributes` is
+    /// asked only by surfaces whose colour varies. `None` for a normal-mapped surface, whose
+    /// normal needs the hit resolved in full.
     #[inline(always)]
-    pub fn preview_colour(&self, pp: &PreviewPoint, attributes: impl FnOnce() -> PreviewAttributes) -> (Vec3, bool) {
-        let index = pp.shader_id.map_or(0, |id| id.0 as usize + 1);
-        let preview = self.previews.get(index).unwrap_or(&self.previews[0]);
+    pub fn preview_colour(&self, pp: &PreviewPoint, attributes: impl FnOnce() -> PreviewAttributes) -> Option<(Vec3, bool)> {
+        let preview = self.preview(pp.shader_id);
         if !preview.varies {
-            return (preview.colour, preview.lit);
+            return Some((preview.colour, preview.lit));
+        }
+        if preview.normal_mapped {
+            return None;
         }
         let r = self.resolved(pp.shader_id);
         let a = attributes();
         let uvs = [a.uv, a.uv1];
         let albedo = r.scale(a.local_position, uvs, a.color).map_or(r.base.albedo, |s| r.base.albedo * s);
-        (albedo * r.occlusion(a.local_position, uvs), true)
+        Some(match r.slots {
+            Some(_) => (albedo * r.occlusion(a.local_position, uvs), true),
+            None => (albedo, true),
+        })
     }
 
     /// How much the occlusion texture of shader `id` darkens the eye light's preview at a point
@@ -156,7 +176,7 @@ impl<'f> Materials<'f> {
     /// The emissive texture of shader `id`, which multiplies its emission (see
     /// [`Materials::emission`]) point by point.
     pub fn emission_texture(&self, id: Option<raystage_scene::ShaderId>) -> Option<Slot<'f>> {
-        self.resolved(id).emissive
+        self.resolved(id).slots().emissive
     }
 
     /// The albedo of a shader that is plain matte, an untextured `Diffuse` (its material is
@@ -164,7 +184,7 @@ impl<'f> Materials<'f> {
     #[inline]
     pub fn plain_matte(&self, id: Option<raystage_scene::ShaderId>) -> Option<Vec3> {
         let r = self.resolved(id);
-        (r.base.model == ShadingModel::Diffuse && r.texture.is_none()).then_some(r.base.albedo)
+        (r.base.model == ShadingModel::Diffuse && r.slots.is_none()).then_some(r.base.albedo)
     }
 
     /// The radiance a shader emits if it is a light (an `Emissive` shader, or a physically
@@ -175,10 +195,11 @@ impl<'f> Materials<'f> {
         (emits(m.model) && m.emission.max_element() > 0.0).then_some(m.emission)
     }
 
-    /// Whether the shader `id` has a normal map.
-    #[inline]
-    pub fn normal_mapped(&self, id: Option<raystage_scene::ShaderId>) -> bool {
-        self.resolved(id).normal.is_some()
+    /// The preview record of shader `id`.
+    #[inline(always)]
+    fn preview(&self, id: Option<raystage_scene::ShaderId>) -> &Preview {
+        let index = id.map_or(0, |id| id.0 as usize + 1);
+        self.previews.get(index).unwrap_or(&self.previews[0])
     }
 
     /// The shading normal at `sp` as its shader's normal map tilts it, given the tangent there
@@ -187,7 +208,7 @@ impl<'f> Materials<'f> {
     /// or tangents, a zero normal), or where the map would turn the normal to the surface's far
     /// side: shading then keeps the unmapped normal.
     pub fn mapped_normal(&self, sp: &SurfacePoint<'_>, tangent: impl FnOnce() -> Option<Vec4>) -> Option<Vec3> {
-        let (slot, scale) = self.resolved(sp.shader_id).normal?;
+        let (slot, scale) = self.resolved(sp.shader_id).slots().normal?;
         // glTF: texels in [0, 1] are components in [−1, 1]; the scale multiplies X and Y.
         let texel = slot.at(sp.local_position, [sp.uv, sp.uv1]).truncate();
         let local = (texel * 2.0 - Vec3::ONE) * Vec3::new(scale, scale, 1.0);
@@ -285,20 +306,28 @@ impl<'f> Resolved<'f> {
         let normal = pbr_slot("normal").map(|t| (t, shader.float("normal_scale")));
         let metallic_roughness = pbr_slot("metallic_roughness").map(|t| (t, shader.float("roughness")));
         let occlusion = pbr_slot("occlusion").map(|t| (t, shader.float("occlusion_strength")));
-        Resolved { base: m, texture, metallic_roughness, normal, emissive: pbr_slot("emissive"), occlusion }
+        let emissive = pbr_slot("emissive");
+        let textured = texture.is_some() || metallic_roughness.is_some() || normal.is_some() || emissive.is_some() || occlusion.is_some();
+        Resolved { base: m, slots: textured.then(|| Box::new(Slots { texture, metallic_roughness, normal, emissive, occlusion })) }
+    }
+
+    /// The textures of the shader (none for most).
+    #[inline(always)]
+    fn slots(&self) -> &Slots<'f> {
+        self.slots.as_deref().unwrap_or(&NO_SLOTS)
     }
 
     /// glTF's occlusion at a point: 1 + strength × (red − 1), 1 without an occlusion texture.
     #[inline]
     fn occlusion(&self, local_position: Vec3, uvs: [Option<Vec2>; 2]) -> f32 {
-        self.occlusion.map_or(1.0, |(slot, strength)| 1.0 + strength * (slot.at(local_position, uvs).x.clamp(0.0, 1.0) - 1.0))
+        self.slots().occlusion.map_or(1.0, |(slot, strength)| 1.0 + strength * (slot.at(local_position, uvs).x.clamp(0.0, 1.0) - 1.0))
     }
 
     /// What scales the albedo at a point (see [`Resolved::apply`]): the texture, or the vertex
     /// colour of a `VertexColor` surface; nothing otherwise.
     #[inline(always)]
     fn scale(&self, local_position: Vec3, uvs: [Option<Vec2>; 2], color: Option<Vec3>) -> Option<Vec3> {
-        match (self.texture, self.base.model) {
+        match (self.slots().texture, self.base.model) {
             // glTF: the base colour is factor × texture × vertex colour.
             (texture, ShadingModel::PhysicallyBased) => match (texture.map(|t| t.at(local_position, uvs).truncate()), color) {
                 (Some(t), Some(c)) => Some(t * c),
@@ -317,10 +346,10 @@ impl<'f> Resolved<'f> {
     fn apply(&self, local_position: Vec3, uvs: [Option<Vec2>; 2], color: Option<Vec3>) -> Material {
         let mut m = self.base;
         let scale = self.scale(local_position, uvs, color);
-        if let Some(emissive) = self.emissive {
+        if let Some(emissive) = self.slots().emissive {
             m.emission *= emissive.at(local_position, uvs).truncate();
         }
-        if scale.is_none() && self.metallic_roughness.is_none() {
+        if scale.is_none() && self.slots().metallic_roughness.is_none() {
             return m;
         }
         if let Some(scale) = scale {
@@ -331,7 +360,7 @@ impl<'f> Resolved<'f> {
             Some(Bsdf::Phong { specular, exponent, .. }) => Some(Bsdf::Phong { diffuse: m.albedo, specular, exponent }),
             Some(Bsdf::PhysicallyBased { metallic, alpha, f0, f90, .. }) => {
                 // glTF: blue is metalness, green roughness, each scaling its factor.
-                let (metallic, alpha) = match self.metallic_roughness {
+                let (metallic, alpha) = match self.slots().metallic_roughness {
                     Some((t, roughness)) => {
                         let texel = t.at(local_position, uvs);
                         (metallic * texel.z.clamp(0.0, 1.0), (roughness * texel.y.clamp(0.0, 1.0)).powi(2).max(MIN_ALPHA))
@@ -370,7 +399,7 @@ mod tests {
             occlusion_distance: 0.0,
         };
         let slot = Slot { texture: &texture, sampler: Sampler::DEFAULT };
-        let resolved = Resolved { base, texture: None, metallic_roughness: Some((slot, 0.5)), normal: None, emissive: None, occlusion: None };
+        let resolved = Resolved { base, slots: Some(Box::new(Slots { metallic_roughness: Some((slot, 0.5)), ..NO_SLOTS })) };
         let at = |u: f32| match resolved.apply(Vec3::ZERO, [Some(Vec2::new(u, 0.5)), None], Some(Vec3::new(1.0, 0.5, 0.25))).bsdf {
             Some(Bsdf::PhysicallyBased { metallic, alpha, base, .. }) => (metallic, alpha, base),
             other => panic!("{other:?}"),
