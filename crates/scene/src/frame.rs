@@ -183,8 +183,8 @@ pub struct Frame<'a> {
     counters: BuildCounters,
     lights: Vec<Light>,
     top_level_seconds: f64,
-    /// Of each shader (by id) and of the default shader: which of their hits count, `None` where
-    /// all do.
+    /// Of each shader (by id; ids without a shader have the default shader's) and of the default
+    /// shader: which of their hits count, `None` where all do.
     visibility: Vec<Option<Visibility<'a>>>,
     default_visibility: Option<Visibility<'a>>,
     /// Whether some instance is filtered.
@@ -194,21 +194,22 @@ pub struct Frame<'a> {
 impl<'a> Frame<'a> {
     pub(crate) fn new(scene: &'a Scene) -> Frame<'a> {
         let start = Instant::now();
+        // Ids without a shader (removed ones) stand for the default shader, as in `shader_of`.
+        let default_visibility = Visibility::of(scene.default_shader(), scene);
         let mut visibility: Vec<Option<Visibility<'a>>> = Vec::new();
         for (id, shader) in scene.shaders() {
             let index = id.0 as usize;
             if visibility.len() <= index {
-                visibility.resize(index + 1, None);
+                visibility.resize(index + 1, default_visibility);
             }
             visibility[index] = Visibility::of(shader, scene);
         }
-        let default_visibility = Visibility::of(scene.default_shader(), scene);
         let instances: Vec<FrameInstance<'a>> = scene
             .instance_records()
             .filter_map(|(id, instance)| {
                 let object = scene.object_record(instance.object)?;
                 let placed = Placed::at(instance, 0.0);
-                let filtered = object.shaders_used.iter().any(|s| visibility.get(s.0 as usize).is_some_and(Option::is_some))
+                let filtered = object.shaders_used.iter().any(|s| visibility.get(s.0 as usize).unwrap_or(&default_visibility).is_some())
                     || (object.uses_default_shader && default_visibility.is_some());
                 Some(FrameInstance { id, object_id: instance.object, object, instance: *instance, placed, filtered })
             })
@@ -248,21 +249,21 @@ impl<'a> Frame<'a> {
             return true;
         }
         let mesh = &fi.object.mesh;
-        let shader = mesh.shaders.get(h.prim as usize).filter(|id| self.scene.shader(**id).is_ok());
-        let Some(visibility) = (match shader {
-            Some(id) => self.visibility.get(id.0 as usize).copied().flatten(),
-            None => self.default_visibility,
-        }) else {
-            return true;
+        let visibility = match mesh.shaders.get(h.prim as usize) {
+            Some(id) => self.visibility.get(id.0 as usize).unwrap_or(&self.default_visibility),
+            None => &self.default_visibility,
         };
+        let Some(visibility) = visibility else { return true };
         let front = placed.normal_to_world(h.ng).dot(ray.dir) < 0.0;
         let uvs = || {
             let corners = mesh.indices[h.prim as usize].map(|i| i as usize);
             let w = [1.0 - h.u - h.v, h.u, h.v];
             [interpolated(&mesh.uvs, corners, w), interpolated(&mesh.uvs1, corners, w)]
         };
-        let bits = [ray.origin.x, ray.origin.y, ray.origin.z, ray.dir.x, ray.dir.y, ray.dir.z].map(f32::to_bits);
-        let key = bits.iter().fold(crate::sampling::hash(h.prim ^ fi.id.0.rotate_left(16)), |k, &b| crate::sampling::hash(k ^ b));
+        let key = || {
+            let bits = [ray.origin.x, ray.origin.y, ray.origin.z, ray.dir.x, ray.dir.y, ray.dir.z].map(f32::to_bits);
+            bits.iter().fold(crate::sampling::hash(h.prim ^ fi.id.0.rotate_left(16)), |k, &b| crate::sampling::hash(k ^ b))
+        };
         visibility.admits(front, uvs, key)
     }
 

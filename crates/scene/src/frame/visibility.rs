@@ -64,8 +64,8 @@ impl<'a> Visibility<'a> {
     /// Whether a hit counts that is on the surface's front or not (`front`), with the mesh's
     /// texture coordinates there (`uvs`, asked only of textured coverage); `key` identifies the
     /// ray and the triangle, for BLEND's coin (the same ray meeting the same triangle decides
-    /// the same way, so that a frame renders the same every time).
-    pub fn admits(&self, front: bool, uvs: impl FnOnce() -> [Option<Vec2>; 2], key: u32) -> bool {
+    /// the same way, so that a frame renders the same every time; asked only by BLEND).
+    pub fn admits(&self, front: bool, uvs: impl FnOnce() -> [Option<Vec2>; 2], key: impl FnOnce() -> u32) -> bool {
         if self.single_sided && !front {
             return false;
         }
@@ -76,7 +76,7 @@ impl<'a> Visibility<'a> {
         match self.alpha {
             Alpha::Mask(cutoff) => coverage >= cutoff,
             // The top 24 bits of the key as a fraction in [0, 1).
-            _ => ((key >> 8) as f32) * (1.0 / (1u32 << 24) as f32) < coverage,
+            _ => ((key() >> 8) as f32) * (1.0 / (1u32 << 24) as f32) < coverage,
         }
     }
 }
