@@ -462,3 +462,37 @@ fn shaders_are_named_after_their_materials() {
     let names: Vec<Option<&str>> = added.shaders.iter().map(|&id| scene.shader(id).unwrap().name()).collect();
     assert_eq!(names, [Some("brass"), None]);
 }
+
+/// From the file to the pixels: a quad whose base colour PNG is cut out on its left half
+/// (alpha 0 there, blue and opaque on the right), alpha mode MASK, sampled nearest; then the same
+/// with `KHR_texture_transform` moving the texture by half its width, which swaps the halves.
+#[test]
+fn alpha_cut_outs_and_texture_transforms_reach_the_pixels() {
+    let rgba = image::RgbaImage::from_fn(2, 1, |x, _| if x == 0 { image::Rgba([255, 0, 0, 0]) } else { image::Rgba([0, 0, 255, 255]) });
+    let mut png = std::io::Cursor::new(Vec::new());
+    rgba.write_to(&mut png, image::ImageFormat::Png).unwrap();
+    let png = png.into_inner();
+    let render = |transform: Option<Value>| {
+        let mut document = textured_quad(json!({ "bufferView": 3 }), 0, &png);
+        document["materials"][0]["alphaMode"] = json!("MASK");
+        document["samplers"] = json!([{ "magFilter": 9728 }]);
+        document["textures"][0]["sampler"] = json!(0);
+        if let Some(t) = transform {
+            document["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = json!({ "KHR_texture_transform": t });
+        }
+        let mut scene = import(&document).unwrap().into_scene().unwrap();
+        scene.set_background(Some(raystage_scene::Background::Color(Vec3::Y))).unwrap();
+        scene.set_camera(raystage_scene::Camera::look_at(Vec3::new(0.5, 0.5, 3.0), Vec3::new(0.5, 0.5, 0.0), Vec3::Y, 30.0).unwrap()).unwrap();
+        let settings = raystage_render::RenderSettings { width: 32, height: 32, ..Default::default() };
+        let (film, _) = raystage_render::render(&scene.frame(), &settings).unwrap();
+        // The quad spans pixels 6 to 26 across.
+        (film.pixel(10, 16), film.pixel(22, 16))
+    };
+    let (left, right) = render(None);
+    assert_eq!(left, Vec3::Y, "cut out: the background shows");
+    // (The material's factor halves blue.)
+    assert!(right.z > 0.4 && right.x == 0.0 && right.y == 0.0, "the opaque blue half: {right}");
+    let (left, right) = render(Some(json!({ "offset": [0.5, 0.0] })));
+    assert!(left.z > 0.4 && left.x == 0.0, "moved by half the texture: {left}");
+    assert_eq!(right, Vec3::Y);
+}
