@@ -181,6 +181,12 @@ fn param_name(class: &str, name: &str) -> Option<&'static str> {
     shader_class(class)?.params.iter().find(|p| p.name == name).map(|p| p.name)
 }
 
+/// The texture coordinate set a normal texture reads (see [`coordinate_set`]), as a mesh's
+/// index of it.
+pub(crate) fn normal_coordinate_set(normal: &gltf::material::NormalTexture<'_>) -> usize {
+    coordinate_set(normal.tex_coord(), normal.extension_value(TRANSFORM)).min(usize::MAX as u64) as usize
+}
+
 /// The texture coordinate set a `textureInfo` reads, `KHR_texture_transform`'s override applied.
 fn coordinate_set(tex_coord: u32, transform: Option<&Value>) -> u64 {
     transform.and_then(|t| t.get("texCoord")?.as_u64()).unwrap_or(tex_coord as u64)
@@ -198,7 +204,7 @@ pub fn notes(material: &gltf::Material<'_>) -> Vec<String> {
     if beyond_second(pbr.metallic_roughness_texture()) {
         left_out.push("a metallic-roughness texture on a third or later set of texture coordinates".to_string());
     }
-    if material.normal_texture().is_some_and(|t| coordinate_set(t.tex_coord(), t.extension_value(TRANSFORM)) > 1) {
+    if material.normal_texture().is_some_and(|t| normal_coordinate_set(&t) > 1) {
         left_out.push("a normal texture on a third or later set of texture coordinates".to_string());
     }
     if beyond_second(material.emissive_texture()) {

@@ -39,8 +39,9 @@ struct Primitive {
     uvs: Option<Vec<Vec2>>,
     uvs1: Option<Vec<Vec2>>,
     tangents: Option<Vec<Vec4>>,
-    /// Whether its material has a normal map, which needs tangents.
-    wants_tangents: bool,
+    /// The texture coordinates its material's normal map reads, if it has one: it needs
+    /// tangents for them.
+    wants_tangents: Option<usize>,
     colors: Option<Vec<Vec3>>,
     triangles: Vec<[u32; 3]>,
     shader: u32,
@@ -129,7 +130,8 @@ fn read_primitive(
     };
     let triangles = assemble(primitive.mode(), &indices);
     let shader = shaders.get(&primitive.material(), colors.is_some());
-    let wants_tangents = primitive.material().normal_texture().is_some();
+    // (A map on a third set or later is left out: it needs none.)
+    let wants_tangents = primitive.material().normal_texture().map(|n| crate::material::normal_coordinate_set(&n)).filter(|&set| set <= 1);
     Ok(Some(Primitive { positions, normals, uvs, uvs1, tangents, wants_tangents, colors, triangles, shader }))
 }
 
@@ -160,7 +162,8 @@ fn merge(parts: Vec<Primitive>) -> Option<Mesh> {
     let all_uvs = parts.iter().all(|p| p.uvs.is_some());
     let all_uvs1 = parts.iter().all(|p| p.uvs1.is_some());
     let all_tangents = parts.iter().all(|p| p.tangents.is_some());
-    let wants_tangents = parts.iter().any(|p| p.wants_tangents);
+    // One set of tangents serves the mesh: those of the first normal map's coordinates.
+    let wants_tangents = parts.iter().find_map(|p| p.wants_tangents);
     let any_colors = parts.iter().any(|p| p.colors.is_some());
     let mut mesh = Mesh::default();
     for part in parts {
@@ -185,8 +188,8 @@ fn merge(parts: Vec<Primitive>) -> Option<Mesh> {
             mesh.colors.extend(part.colors.unwrap_or_else(|| vec![Vec3::ONE; n]));
         }
     }
-    if wants_tangents && !all_tangents {
-        mesh.generate_tangents();
+    if let Some(set) = wants_tangents.filter(|_| !all_tangents) {
+        mesh.generate_tangents(set);
     }
     Some(mesh)
 }

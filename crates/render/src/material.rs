@@ -203,16 +203,17 @@ impl<'f> Materials<'f> {
     }
 
     /// The shading normal at `sp` as its shader's normal map tilts it, given the tangent there
-    /// (see [`Frame::tangent`], asked only of normal-mapped surfaces); `None` where the surface
+    /// for the map's texture coordinates (see [`Frame::tangent`], asked only of normal-mapped
+    /// surfaces); `None` where the surface
     /// has no normal map, or where no tangent frame can be made (degenerate texture coordinates
     /// or tangents, a zero normal), or where the map would turn the normal to the surface's far
     /// side: shading then keeps the unmapped normal.
-    pub fn mapped_normal(&self, sp: &SurfacePoint<'_>, tangent: impl FnOnce() -> Option<Vec4>) -> Option<Vec3> {
+    pub fn mapped_normal(&self, sp: &SurfacePoint<'_>, tangent: impl FnOnce(usize) -> Option<Vec4>) -> Option<Vec3> {
         let (slot, scale) = self.resolved(sp.shader_id).slots().normal?;
         // glTF: texels in [0, 1] are components in [−1, 1]; the scale multiplies X and Y.
         let texel = slot.at(sp.local_position, [sp.uv, sp.uv1]).truncate();
         let local = (texel * 2.0 - Vec3::ONE) * Vec3::new(scale, scale, 1.0);
-        tilted(sp.shading_normal, sp.geometric_normal, sp.front_face, tangent()?, local)
+        tilted(sp.shading_normal, sp.geometric_normal, sp.front_face, tangent(slot.sampler.set)?, local)
     }
 
     fn resolved(&self, id: Option<raystage_scene::ShaderId>) -> &Resolved<'f> {

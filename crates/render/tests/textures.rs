@@ -124,8 +124,14 @@ fn wrap_modes_filters_and_transforms_are_seen_on_pixels() {
 /// `light` (none for the eye light), rendered by `integrator`: the centre pixel, and whether
 /// every pixel is finite. `mesh` may spoil the quad's tangent frame.
 fn normal_mapped(normal: Option<Vec3>, light: Vec3, integrator: Integrator, mesh: impl FnOnce(&mut Mesh)) -> (Vec3, bool) {
+    normal_mapped_with(&[], normal, light, integrator, mesh)
+}
+
+/// [`normal_mapped`] with more parameters of the shader.
+fn normal_mapped_with(extra: &[(&str, ParamValue)], normal: Option<Vec3>, light: Vec3, integrator: Integrator, mesh: impl FnOnce(&mut Mesh)) -> (Vec3, bool) {
     let mut scene = Scene::new();
     let mut params = vec![("metallic", ParamValue::Float(0.0)), ("specular", ParamValue::Float(0.0))];
+    params.extend_from_slice(extra);
     if let Some(normal) = normal {
         // Stored as glTF stores it: components in [−1, 1] as texels in [0, 1].
         let map = scene.add_texture(Texture::Image(Image::new(1, 1, vec![(normal + Vec3::ONE) * 0.5]).unwrap().into())).unwrap();
@@ -162,6 +168,13 @@ fn a_normal_map_turns_the_shading_towards_where_it_points() {
         let from_above = Vec3::new(0.0, -1.0, -1.0);
         assert!(normal_mapped(Some(up), from_above, integrator, |_| {}).0.x > 1.3 * flat, "{integrator:?}: +Y is up");
     }
+    // On the second texture coordinates, whose u runs up the quad: the map's +X is up.
+    let second = [("normal_texcoord", ParamValue::Float(1.0))];
+    let up_the_quad = |m: &mut Mesh| m.uvs1 = m.positions.iter().map(|p| Vec2::new(p.y, p.x)).collect();
+    let from_above = Vec3::new(0.0, -1.0, -1.0);
+    let flat = normal_mapped(None, from_above, Integrator::Whitted, |_| {}).0.x;
+    let tilted = normal_mapped_with(&second, Some(right), from_above, Integrator::Whitted, up_the_quad).0.x;
+    assert!(tilted > 1.3 * flat, "second coordinates: flat {flat}, tilted up {tilted}");
     // The eye light faces the quad: any tilt darkens it.
     let flat = normal_mapped(None, Vec3::Z, Integrator::EyeLight, |_| {}).0.x;
     let tilted = normal_mapped(Some(right), Vec3::Z, Integrator::EyeLight, |_| {}).0.x;

@@ -614,18 +614,20 @@ impl<'a> Frame<'a> {
         }
     }
 
-    /// The tangent at `hit` (at shutter time `time`) for a normal map, in the world, not
-    /// normalised: the mesh's tangents interpolated or, for a mesh without them, the triangle's
-    /// own from its first texture coordinates; `w` is the handedness of the bitangent
+    /// The tangent at `hit` (at shutter time `time`) for a normal map on texture coordinates
+    /// `set` (0 or 1), in the world, not normalised: the mesh's tangents interpolated or, for a
+    /// mesh without them, the triangle's own from those coordinates; `w` is the handedness of
+    /// the bitangent
     /// `w · n × tangent` for the outward normal `n` (an instance that mirrors the object turns
     /// it). `None` where there is none: no texture coordinates, degenerate ones, or zero
     /// tangents.
-    pub fn tangent(&self, hit: &SceneHit, time: f32) -> Option<Vec4> {
+    pub fn tangent(&self, hit: &SceneHit, time: f32, set: usize) -> Option<Vec4> {
         let fi = &self.instances[hit.item as usize];
         let mesh = &fi.object.mesh;
         let (w, corners) = barycentrics(mesh, hit);
         let local = if mesh.tangents.is_empty() {
-            let uvs = corners.map(|i| mesh.uvs.get(i).copied());
+            let set = if set == 0 { &mesh.uvs } else { &mesh.uvs1 };
+            let uvs = corners.map(|i| set.get(i).copied());
             let [Some(a), Some(b), Some(c)] = uvs else { return None };
             let (tangent, up) = crate::tangents::triangle_tangents(corners.map(|i| mesh.positions[i]), [a, b, c])?;
             tangent.extend(if hit.ng.cross(tangent).dot(up) < 0.0 { -1.0 } else { 1.0 })

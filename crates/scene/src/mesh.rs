@@ -26,10 +26,10 @@ pub struct Mesh {
     /// A second set of per-vertex texture coordinates (glTF's `TEXCOORD_1`), for textures that
     /// ask for it; empty for none.
     pub uvs1: Vec<Vec2>,
-    /// Per-vertex tangents for normal maps: the direction of increasing u (first texture
-    /// coordinates) and, in `w`, ±1, the handedness of the bitangent `w · normal × tangent`
-    /// (glTF's `TANGENT`). Empty for none: shading then derives a tangent from each triangle's
-    /// texture coordinates. A zero tangent marks a vertex with none.
+    /// Per-vertex tangents for normal maps: the direction of increasing u (of the texture
+    /// coordinates the normal map reads) and, in `w`, ±1, the handedness of the bitangent
+    /// `w · normal × tangent` (glTF's `TANGENT`). Empty for none: shading then derives a tangent
+    /// from each triangle's texture coordinates. A zero tangent marks a vertex with none.
     pub tangents: Vec<Vec4>,
     /// The shader of each triangle; empty to shade every triangle with the scene's default.
     pub shaders: Vec<ShaderId>,
@@ -81,12 +81,12 @@ impl Mesh {
         Ok(())
     }
 
-    /// Fills [`Mesh::tangents`] from the first texture coordinates and the normals,
-    /// MikkTSpace-style (see `tangents::vertex_tangents`); leaves them empty for a mesh without
-    /// texture coordinates. Degenerate texture coordinates or normals give zero tangents, never
-    /// NaNs.
-    pub fn generate_tangents(&mut self) {
-        self.tangents = crate::tangents::vertex_tangents(self);
+    /// Fills [`Mesh::tangents`] from the texture coordinates `set` (0: [`Mesh::uvs`], 1:
+    /// [`Mesh::uvs1`]: those the normal map reads) and the normals, MikkTSpace-style (see
+    /// `tangents::vertex_tangents`); leaves them empty for a mesh without those coordinates.
+    /// Degenerate texture coordinates or normals give zero tangents, never NaNs.
+    pub fn generate_tangents(&mut self, set: usize) {
+        self.tangents = crate::tangents::vertex_tangents(self, set);
     }
 
     /// Bounds of the vertices the triangles use.

@@ -32,14 +32,16 @@ pub(crate) fn orthogonal_tangent(normal: Vec3, tangent: Vec3, up: Vec3) -> Vec4 
     t.extend(w)
 }
 
-/// Per-vertex tangents of `mesh` from its first texture coordinates, MikkTSpace-style: each
+/// Per-vertex tangents of `mesh` from its texture coordinates `set` (0: the first, 1: the
+/// second), MikkTSpace-style: each
 /// triangle's tangent and up direction, normalised and weighted by the triangle's angle at the
 /// vertex, summed around each vertex; then orthogonalised against the vertex normal (the summed
 /// face normals where the mesh has none), with the handedness of the summed up direction.
 /// Vertices with no usable triangle around them get a zero tangent (shading then keeps the
-/// unmapped normal). Empty for a mesh without texture coordinates.
-pub(crate) fn vertex_tangents(mesh: &Mesh) -> Vec<Vec4> {
-    if mesh.uvs.len() != mesh.positions.len() {
+/// unmapped normal). Empty for a mesh without those texture coordinates.
+pub(crate) fn vertex_tangents(mesh: &Mesh, set: usize) -> Vec<Vec4> {
+    let uvs = if set == 0 { &mesh.uvs } else { &mesh.uvs1 };
+    if uvs.len() != mesh.positions.len() {
         return Vec::new();
     }
     let n = mesh.positions.len();
@@ -48,7 +50,7 @@ pub(crate) fn vertex_tangents(mesh: &Mesh) -> Vec<Vec4> {
         let index = [a, b, c].map(|i| i as usize);
         let corners = index.map(|i| mesh.positions[i]);
         let face = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
-        let Some((tangent, up)) = triangle_tangents(corners, index.map(|i| mesh.uvs[i])) else { continue };
+        let Some((tangent, up)) = triangle_tangents(corners, index.map(|i| uvs[i])) else { continue };
         let (Some(tangent), Some(up)) = (tangent.try_normalize(), up.try_normalize()) else { continue };
         for k in 0..3 {
             let (to_next, to_prev) = (corners[(k + 1) % 3] - corners[k], corners[(k + 2) % 3] - corners[k]);
@@ -82,19 +84,27 @@ mod tests {
 
     #[test]
     fn an_upright_texture_has_tangent_along_x_and_right_handed_bitangent_up() {
-        let tangents = vertex_tangents(&upright_quad());
+        let tangents = vertex_tangents(&upright_quad(), 0);
         assert_eq!(tangents, vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 4]);
         // The image mirrored left to right: u runs along −x, and the frame turns left-handed.
         let mut mirrored = upright_quad();
         mirrored.uvs.iter_mut().for_each(|uv| uv.x = 1.0 - uv.x);
-        assert_eq!(vertex_tangents(&mirrored), vec![Vec4::new(-1.0, 0.0, 0.0, -1.0); 4]);
+        assert_eq!(vertex_tangents(&mirrored, 0), vec![Vec4::new(-1.0, 0.0, 0.0, -1.0); 4]);
+    }
+
+    #[test]
+    fn the_second_texture_coordinates_give_their_own_tangents() {
+        // The second set runs up the quad: u along +y.
+        let mut mesh = upright_quad();
+        mesh.uvs1 = mesh.positions.iter().map(|p| Vec2::new(p.y, p.x)).collect();
+        assert!(vertex_tangents(&mesh, 1).iter().all(|t| t.truncate() == Vec3::Y), "{:?}", vertex_tangents(&mesh, 1));
     }
 
     #[test]
     fn vertex_normals_orthogonalise_the_tangents() {
         let mut mesh = upright_quad();
         mesh.normals = vec![Vec3::new(1.0, 0.0, 1.0).normalize(); 4];
-        for t in vertex_tangents(&mesh) {
+        for t in vertex_tangents(&mesh, 0) {
             assert!(t.truncate().dot(mesh.normals[0]).abs() < 1e-6 && (t.truncate().length() - 1.0).abs() < 1e-6, "{t}");
         }
     }
@@ -103,13 +113,14 @@ mod tests {
     fn degenerate_texture_coordinates_and_normals_give_zero_tangents_not_nans() {
         let mut flat = upright_quad();
         flat.uvs = vec![Vec2::splat(0.5); 4];
-        assert_eq!(vertex_tangents(&flat), vec![Vec4::ZERO; 4]);
+        assert_eq!(vertex_tangents(&flat, 0), vec![Vec4::ZERO; 4]);
         let mut zero_normals = upright_quad();
         zero_normals.normals = vec![Vec3::ZERO; 4];
-        assert_eq!(vertex_tangents(&zero_normals), vec![Vec4::ZERO; 4]);
+        assert_eq!(vertex_tangents(&zero_normals, 0), vec![Vec4::ZERO; 4]);
         let mut along_normal = upright_quad();
         along_normal.normals = vec![Vec3::X; 4];
-        assert_eq!(vertex_tangents(&along_normal), vec![Vec4::ZERO; 4]);
-        assert!(vertex_tangents(&Mesh::new(vec![Vec3::ZERO; 3], vec![[0, 1, 2]])).is_empty(), "no texture coordinates");
+        assert_eq!(vertex_tangents(&along_normal, 0), vec![Vec4::ZERO; 4]);
+        assert!(vertex_tangents(&Mesh::new(vec![Vec3::ZERO; 3], vec![[0, 1, 2]]), 0).is_empty(), "no texture coordinates");
+        assert!(vertex_tangents(&upright_quad(), 1).is_empty(), "no second texture coordinates");
     }
 }

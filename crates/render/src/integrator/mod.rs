@@ -158,7 +158,7 @@ impl<'f> Tracer<'_, 'f> {
     pub fn resolve(&self, ray: &Ray, hit: SceneHit, time: f32) -> Hit<'f> {
         let mut surface = self.frame.surface(ray, &hit, time);
         let material = self.materials.at(&surface);
-        if let Some(n) = self.materials.mapped_normal(&surface, || self.frame.tangent(&hit, time)) {
+        if let Some(n) = self.materials.mapped_normal(&surface, |set| self.frame.tangent(&hit, time, set)) {
             surface.shading_normal = n;
         }
         Hit { hit, surface, material }
