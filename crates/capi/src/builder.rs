@@ -139,7 +139,7 @@ impl ObjectBuilder {
             shaders.into_iter().map(|s| s.or(fallback).expect("a fallback shader for unbound triangles")).collect()
         };
         let positions = self.vertices.iter().map(|v| v.position).collect();
-        Mesh { positions, indices: self.triangles, normals, colors, uvs, shaders }
+        Mesh { positions, indices: self.triangles, normals, colors, uvs, shaders, ..Mesh::default() }
     }
 
     fn check_capacity(&self, more: usize) -> Result<(), Error> {

@@ -45,6 +45,11 @@ pub struct Added {
 
 pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result<Import, ImportError> {
     let gltf = gltf::Gltf::from_slice(bytes)?;
+    for (i, m) in gltf.document.materials().enumerate() {
+        if let Some(cutoff) = m.alpha_cutoff().filter(|c| !(0.0..=1.0).contains(c)) {
+            return Err(ImportError::invalid(format!("materials[{i}].alphaCutoff"), format!("{cutoff} is not within [0, 1]")));
+        }
+    }
     let buffers = buffers::load(&gltf.document, gltf.blob.as_deref(), base)?;
     let mut shaders = MaterialShaders::default();
     let mut budget = Budget::default();
@@ -175,6 +180,7 @@ impl Import {
         }
         for spec in &self.shaders {
             let id = scene.add_shader(spec.class)?;
+            scene.set_shader_name(id, spec.name.as_deref())?;
             for &(name, value) in &spec.params {
                 scene.set_param(id, name, value)?;
             }

@@ -4,7 +4,8 @@
 //! yet is said in a note.
 
 use glam::Vec3;
-use raystage_scene::ParamValue;
+use gltf::json::Value;
+use raystage_scene::{ParamValue, shader_class};
 
 /// A shader to create: a built-in class and the parameters to write.
 #[derive(Clone, Debug, PartialEq)]
@@ -15,12 +16,14 @@ pub struct ShaderSpec {
     pub params: Vec<(&'static str, ParamValue)>,
     /// Texture parameters to set once the glTF images they name are textures of the scene.
     pub textures: Vec<TextureUse>,
+    /// The glTF material's name, if it has one (cut to `raystage_scene::MAX_SHADER_NAME` bytes).
+    pub name: Option<String>,
 }
 
 /// A glTF image a shader's texture parameter uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TextureUse {
-    /// The parameter.
+    /// The parameter (`{slot}_texture`).
     pub param: &'static str,
     /// The image, by its index in the file.
     pub image: usize,
@@ -35,10 +38,14 @@ pub struct TextureUse {
 /// - `KHR_materials_unlit` → `Constant` with the base colour;
 /// - `KHR_materials_transmission` factor ≥ 0.5 → `Glass` with `KHR_materials_ior` (default
 ///   1.5);
-/// - everything else → `PhysicallyBased`: base colour (factor, texture on the first texture
-///   coordinates; vertex colours multiply it), metallic and roughness (factors, and their
-///   texture on the first coordinates), `KHR_materials_ior`,
-///   `KHR_materials_specular`'s factor, and emissive factor × `KHR_materials_emissive_strength`.
+/// - everything else → `PhysicallyBased`: base colour (factor, texture; vertex colours
+///   multiply it), metallic and roughness (factors, and their texture), `KHR_materials_ior`,
+///   `KHR_materials_specular`'s factor, emissive factor × `KHR_materials_emissive_strength`,
+///   the normal texture with its scale, the emissive texture (multiplying the emission), the
+///   occlusion texture with its strength, the base colour's alpha as `opacity` with the alpha
+///   mode and cut-off, and single- or double-sidedness.
+///   Each texture keeps its sampler (wrap modes, magnification filter), its texture coordinate
+///   set (the first or second) and its `KHR_texture_transform`.
 ///
 /// [`notes`] says what the material has beyond that.
 pub fn shader_for(material: Option<&gltf::Material<'_>>, vertex_colors: bool) -> ShaderSpec {
@@ -46,36 +53,143 @@ pub fn shader_for(material: Option<&gltf::Material<'_>>, vertex_colors: bool) ->
         return if vertex_colors { spec("VertexColor", vec![]) } else { spec("Diffuse", vec![]) };
     };
     let pbr = m.pbr_metallic_roughness();
-    let [r, g, b, _] = pbr.base_color_factor();
+    let [r, g, b, a] = pbr.base_color_factor();
     let base = ParamValue::Color(clean(Vec3::new(r, g, b)).min(Vec3::ONE));
     let ior = m.ior().filter(|i| i.is_finite()).unwrap_or(1.5).clamp(1.0, 4.0);
     if m.unlit() {
         return spec("Constant", vec![("color", base)]);
     }
-    if m.transmission().is_some_and(|t| t.transmission_factor() >= 0.5) {
+    if transmits(m) {
         return spec("Glass", vec![("ior", ParamValue::Float(ior))]);
     }
     let fraction = |x: f32| if x.is_finite() { x.clamp(0.0, 1.0) } else { 0.0 };
     let emission = clean(Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0));
-    let on_first_uvs = |t: Option<gltf::texture::Info<'_>>| t.filter(|t| t.tex_coord() == 0).map(|t| t.texture().source().index());
-    let textures = [
-        on_first_uvs(pbr.base_color_texture()).map(|image| TextureUse { param: "base_color_texture", image, colour: true }),
-        on_first_uvs(pbr.metallic_roughness_texture()).map(|image| TextureUse { param: "metallic_roughness_texture", image, colour: false }),
-    ];
-    ShaderSpec {
-        textures: textures.into_iter().flatten().collect(),
-        ..spec(
-            "PhysicallyBased",
-            vec![
-                ("base_color", base),
-                ("metallic", ParamValue::Float(fraction(pbr.metallic_factor()))),
-                ("roughness", ParamValue::Float(fraction(pbr.roughness_factor()))),
-                ("ior", ParamValue::Float(ior)),
-                ("specular", ParamValue::Float(m.specular().map_or(1.0, |s| fraction(s.specular_factor())))),
-                ("emissive", ParamValue::Color(emission)),
-            ],
-        )
+    let mut shader = spec(
+        "PhysicallyBased",
+        vec![
+            ("base_color", base),
+            ("metallic", ParamValue::Float(fraction(pbr.metallic_factor()))),
+            ("roughness", ParamValue::Float(fraction(pbr.roughness_factor()))),
+            ("ior", ParamValue::Float(ior)),
+            ("specular", ParamValue::Float(m.specular().map_or(1.0, |s| fraction(s.specular_factor())))),
+            ("emissive", ParamValue::Color(emission)),
+            ("opacity", ParamValue::Float(fraction(a))),
+            ("alpha_mode", ParamValue::Float(alpha_mode(m.alpha_mode()))),
+            ("double_sided", ParamValue::Float(if m.double_sided() { 1.0 } else { 0.0 })),
+        ],
+    );
+    // Checked by the importer (`read`): outside [0, 1] the file is refused.
+    if let Some(cutoff) = m.alpha_cutoff() {
+        shader.params.push(("alpha_cutoff", ParamValue::Float(cutoff)));
     }
+    let info = |t: gltf::texture::Info<'_>| TextureRef::of(t.texture(), t.tex_coord(), t.extension_value(TRANSFORM));
+    let normal = m.normal_texture();
+    if let Some(n) = &normal {
+        shader.params.push(("normal_scale", ParamValue::Float(finite_or(n.scale(), 1.0))));
+    }
+    let normal = normal.map(|n| TextureRef::of(n.texture(), n.tex_coord(), n.extension_value(TRANSFORM)));
+    let occlusion = m.occlusion_texture();
+    if let Some(o) = &occlusion {
+        shader.params.push(("occlusion_strength", ParamValue::Float(fraction(o.strength()))));
+    }
+    let occlusion = occlusion.map(|o| TextureRef::of(o.texture(), o.tex_coord(), o.extension_value(TRANSFORM)));
+    for (slot, texture, colour) in [
+        ("base_color", pbr.base_color_texture().map(info), true),
+        ("metallic_roughness", pbr.metallic_roughness_texture().map(info), false),
+        ("normal", normal, false),
+        ("emissive", m.emissive_texture().map(info), true),
+        ("occlusion", occlusion, false),
+    ] {
+        if let Some(texture) = texture {
+            shader.add_texture(slot, &texture, colour);
+        }
+    }
+    shader
+}
+
+/// The name of `KHR_texture_transform` in a `textureInfo`'s extensions.
+const TRANSFORM: &str = "KHR_texture_transform";
+
+/// A material's reference to a texture (a `textureInfo`): which image, sampled how.
+struct TextureRef {
+    image: usize,
+    /// The texture coordinate set, `KHR_texture_transform`'s override applied.
+    set: u32,
+    wrap: [f32; 2],
+    nearest: bool,
+    /// `KHR_texture_transform`'s offset, rotation and scale.
+    offset: [f32; 2],
+    rotation: f32,
+    scale: [f32; 2],
+}
+
+impl TextureRef {
+    /// The reference to `texture` on coordinate set `tex_coord`, with the `KHR_texture_transform`
+    /// extension `transform` if it has one (fields missing or not numbers keep their defaults).
+    fn of(texture: gltf::Texture<'_>, tex_coord: u32, transform: Option<&Value>) -> TextureRef {
+        let sampler = texture.sampler();
+        let number = |key: &str| transform?.get(key)?.as_f64().map(|x| x as f32).filter(|x| x.is_finite());
+        let pair = |key: &str, default: [f32; 2]| {
+            let Some(Value::Array(v)) = transform.and_then(|t| t.get(key)) else { return default };
+            let at = |i: usize, d: f32| v.get(i).and_then(Value::as_f64).map(|x| x as f32).filter(|x| x.is_finite()).unwrap_or(d);
+            [at(0, default[0]), at(1, default[1])]
+        };
+        TextureRef {
+            image: texture.source().index(),
+            set: coordinate_set(tex_coord, transform).min(u32::MAX as u64) as u32,
+            wrap: [sampler.wrap_s().as_gl_enum() as f32, sampler.wrap_t().as_gl_enum() as f32],
+            nearest: sampler.mag_filter() == Some(gltf::texture::MagFilter::Nearest),
+            offset: pair("offset", [0.0, 0.0]),
+            rotation: number("rotation").unwrap_or(0.0),
+            scale: pair("scale", [1.0, 1.0]),
+        }
+    }
+}
+
+impl ShaderSpec {
+    /// Uses `texture` in texture slot `slot` of a `PhysicallyBased` shader: the image, and the
+    /// slot's sampler parameters. A texture on a coordinate set raystage lacks (a third or
+    /// later) is left out ([`notes`] says so).
+    fn add_texture(&mut self, slot: &str, texture: &TextureRef, colour: bool) {
+        if texture.set > 1 {
+            return;
+        }
+        let values = [
+            ("wrap_s", texture.wrap[0]),
+            ("wrap_t", texture.wrap[1]),
+            ("filter", if texture.nearest { 9728.0 } else { 9729.0 }),
+            ("texcoord", texture.set as f32),
+            ("offset_u", texture.offset[0]),
+            ("offset_v", texture.offset[1]),
+            ("rotation", texture.rotation),
+            ("scale_u", texture.scale[0]),
+            ("scale_v", texture.scale[1]),
+        ];
+        let Some(param) = param_name(self.class, &format!("{slot}_texture")) else { return };
+        self.textures.push(TextureUse { param, image: texture.image, colour });
+        for (suffix, value) in values {
+            if let Some(name) = param_name(self.class, &format!("{slot}_{suffix}")) {
+                self.params.push((name, ParamValue::Float(value)));
+            }
+        }
+    }
+}
+
+/// The name of parameter `name` of shader class `class`, as the class table spells it (a name
+/// that lives as long as the program), if the class has it.
+fn param_name(class: &str, name: &str) -> Option<&'static str> {
+    shader_class(class)?.params.iter().find(|p| p.name == name).map(|p| p.name)
+}
+
+/// The texture coordinate set a normal texture reads (see [`coordinate_set`]), as a mesh's
+/// index of it.
+pub(crate) fn normal_coordinate_set(normal: &gltf::material::NormalTexture<'_>) -> usize {
+    coordinate_set(normal.tex_coord(), normal.extension_value(TRANSFORM)).min(usize::MAX as u64) as usize
+}
+
+/// The texture coordinate set a `textureInfo` reads, `KHR_texture_transform`'s override applied.
+fn coordinate_set(tex_coord: u32, transform: Option<&Value>) -> u64 {
+    transform.and_then(|t| t.get("texCoord")?.as_u64()).unwrap_or(tex_coord as u64)
 }
 
 /// What `material` has that its shader does not render, one note each.
@@ -83,32 +197,58 @@ pub fn notes(material: &gltf::Material<'_>) -> Vec<String> {
     let name = material.name().map_or_else(|| format!("material {}", material.index().map_or(-1, |i| i as i64)), |n| format!("material `{n}`"));
     let pbr = material.pbr_metallic_roughness();
     let mut left_out = Vec::new();
-    if pbr.base_color_texture().is_some_and(|t| t.tex_coord() != 0) {
-        left_out.push("a base-colour texture on a second set of texture coordinates".to_string());
+    let beyond_second = |t: Option<gltf::texture::Info<'_>>| t.is_some_and(|t| coordinate_set(t.tex_coord(), t.extension_value(TRANSFORM)) > 1);
+    if beyond_second(pbr.base_color_texture()) {
+        left_out.push("a base-colour texture on a third or later set of texture coordinates".to_string());
     }
-    if pbr.metallic_roughness_texture().is_some_and(|t| t.tex_coord() != 0) {
-        left_out.push("a metallic-roughness texture on a second set of texture coordinates".to_string());
+    if beyond_second(pbr.metallic_roughness_texture()) {
+        left_out.push("a metallic-roughness texture on a third or later set of texture coordinates".to_string());
+    }
+    if material.normal_texture().is_some_and(|t| normal_coordinate_set(&t) > 1) {
+        left_out.push("a normal texture on a third or later set of texture coordinates".to_string());
+    }
+    if beyond_second(material.emissive_texture()) {
+        left_out.push("an emissive texture on a third or later set of texture coordinates".to_string());
+    }
+    if material.occlusion_texture().is_some_and(|t| coordinate_set(t.tex_coord(), t.extension_value(TRANSFORM)) > 1) {
+        left_out.push("an occlusion texture on a third or later set of texture coordinates".to_string());
     }
     for (present, what) in [
-        (material.normal_texture().is_some(), "its normal texture"),
-        (material.occlusion_texture().is_some(), "its occlusion texture"),
-        (material.emissive_texture().is_some(), "its emissive texture"),
-        (material.alpha_mode() != gltf::material::AlphaMode::Opaque, "its alpha mode (rendered opaque)"),
+        (material.alpha_mode() != gltf::material::AlphaMode::Opaque && (material.unlit() || transmits(material)), "its alpha mode (rendered opaque)"),
         (material.specular().is_some_and(|s| s.specular_texture().is_some() || s.specular_color_texture().is_some() || s.specular_color_factor() != [1.0; 3]), "its specular colour and textures"),
-        (!material.double_sided() && !material.unlit(), "single-sidedness (rendered double-sided)"),
+        (!material.double_sided() && !material.unlit() && transmits(material), "single-sidedness (rendered double-sided)"),
     ] {
         if present {
             left_out.push(what.to_string());
         }
     }
-    if material.transmission().is_some_and(|t| t.transmission_factor() >= 0.5) {
+    if transmits(material) {
         left_out.push("its physically based look under the transmission (rendered as clear glass)".to_string());
     }
     left_out.into_iter().map(|what| format!("{name}: {what} is not rendered yet")).collect()
 }
 
+/// Whether `material` is rendered as glass (`KHR_materials_transmission` of at least 0.5).
+fn transmits(material: &gltf::Material<'_>) -> bool {
+    material.transmission().is_some_and(|t| t.transmission_factor() >= 0.5)
+}
+
 fn spec(class: &'static str, params: Vec<(&'static str, ParamValue)>) -> ShaderSpec {
-    ShaderSpec { class, params, textures: Vec::new() }
+    ShaderSpec { class, params, textures: Vec::new(), name: None }
+}
+
+/// The `alpha_mode` parameter of a glTF alpha mode.
+fn alpha_mode(mode: gltf::material::AlphaMode) -> f32 {
+    match mode {
+        gltf::material::AlphaMode::Opaque => raystage_scene::ALPHA_OPAQUE,
+        gltf::material::AlphaMode::Mask => raystage_scene::ALPHA_MASK,
+        gltf::material::AlphaMode::Blend => raystage_scene::ALPHA_BLEND,
+    }
+}
+
+/// `x`, or `default` where it is not finite.
+fn finite_or(x: f32, default: f32) -> f32 {
+    if x.is_finite() { x } else { default }
 }
 
 /// Finite and non-negative: a factor a file got wrong becomes 0 rather than an error.
@@ -135,7 +275,12 @@ impl MaterialShaders {
             return i;
         }
         let i = self.specs.len() as u32;
-        self.specs.push(shader_for(material.index().map(|_| material), vertex_colors));
+        let name = material.name().map(|n| {
+            // Cut at a character boundary within the limit.
+            let end = (0..=n.len().min(raystage_scene::MAX_SHADER_NAME)).rev().find(|&i| n.is_char_boundary(i)).unwrap_or(0);
+            n[..end].to_string()
+        });
+        self.specs.push(ShaderSpec { name, ..shader_for(material.index().map(|_| material), vertex_colors) });
         if material.index().is_some() && !self.index.keys().any(|(m, _)| *m == material.index()) {
             self.notes.extend(notes(material));
         }

@@ -3,7 +3,7 @@
 
 use gltf::accessor::DataType;
 use gltf::mesh::{Mode, Semantic};
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 use raystage_scene::{Mesh, ShaderId};
 
 use crate::accessor::{read_floats, read_indices};
@@ -37,6 +37,11 @@ struct Primitive {
     positions: Vec<Vec3>,
     normals: Option<Vec<Vec3>>,
     uvs: Option<Vec<Vec2>>,
+    uvs1: Option<Vec<Vec2>>,
+    tangents: Option<Vec<Vec4>>,
+    /// The texture coordinates its material's normal map reads, if it has one: it needs
+    /// tangents for them.
+    wants_tangents: Option<usize>,
     colors: Option<Vec<Vec3>>,
     triangles: Vec<[u32; 3]>,
     shader: u32,
@@ -82,23 +87,24 @@ fn read_primitive(
     let same_length = |name: &str, len: usize| {
         if len == positions.len() { Ok(()) } else { Err(ImportError::invalid(name, format!("has {len} elements, POSITION has {}", positions.len()))) }
     };
-    let normals = match attribute(Semantic::Normals) {
-        Some((f, a)) => {
-            let n: Vec<Vec3> = read_floats::<3>(&a, buffers, &[DataType::F32], &f)?.into_iter().map(Vec3::from).collect();
-            same_length(&f, n.len())?;
-            Some(n)
-        }
-        None => None,
-    };
+    // Every attribute has one element per vertex, of `N` numbers of the `allowed` types.
+    fn vertex_attribute<const N: usize, T: From<[f32; N]>>(
+        found: Option<(String, gltf::Accessor<'_>)>,
+        buffers: &[Vec<u8>],
+        allowed: &[DataType],
+        same_length: impl Fn(&str, usize) -> Result<(), ImportError>,
+    ) -> Result<Option<Vec<T>>, ImportError> {
+        let Some((f, a)) = found else { return Ok(None) };
+        let values: Vec<T> = read_floats::<N>(&a, buffers, allowed, &f)?.into_iter().map(T::from).collect();
+        same_length(&f, values.len())?;
+        Ok(Some(values))
+    }
+    let float = [DataType::F32];
     let unit = [DataType::F32, DataType::U8, DataType::U16];
-    let uvs = match attribute(Semantic::TexCoords(0)) {
-        Some((f, a)) => {
-            let t: Vec<Vec2> = read_floats::<2>(&a, buffers, &unit, &f)?.into_iter().map(Vec2::from).collect();
-            same_length(&f, t.len())?;
-            Some(t)
-        }
-        None => None,
-    };
+    let normals = vertex_attribute::<3, Vec3>(attribute(Semantic::Normals), buffers, &float, same_length)?;
+    let tangents = vertex_attribute::<4, Vec4>(attribute(Semantic::Tangents), buffers, &float, same_length)?;
+    let uvs = vertex_attribute::<2, Vec2>(attribute(Semantic::TexCoords(0)), buffers, &unit, same_length)?;
+    let uvs1 = vertex_attribute::<2, Vec2>(attribute(Semantic::TexCoords(1)), buffers, &unit, same_length)?;
     let colors = match attribute(Semantic::Colors(0)) {
         Some((f, a)) => {
             let c: Vec<Vec3> = if a.dimensions() == gltf::accessor::Dimensions::Vec4 {
@@ -124,7 +130,9 @@ fn read_primitive(
     };
     let triangles = assemble(primitive.mode(), &indices);
     let shader = shaders.get(&primitive.material(), colors.is_some());
-    Ok(Some(Primitive { positions, normals, uvs, colors, triangles, shader }))
+    // (A map on a third set or later is left out: it needs none.)
+    let wants_tangents = primitive.material().normal_texture().map(|n| crate::material::normal_coordinate_set(&n)).filter(|&set| set <= 1);
+    Ok(Some(Primitive { positions, normals, uvs, uvs1, tangents, wants_tangents, colors, triangles, shader }))
 }
 
 /// Triangles from an index list in the primitive's mode.
@@ -142,14 +150,20 @@ fn assemble(mode: Mode, indices: &[u32]) -> Vec<[u32; 3]> {
     }
 }
 
-/// One mesh of the primitives. Normals and texture coordinates are kept only if every
-/// primitive has them; vertex colours if any has them (white elsewhere).
+/// One mesh of the primitives. Normals, each set of texture coordinates and tangents are kept
+/// only if every primitive has them; vertex colours if any has them (white elsewhere). A mesh
+/// with a normal-mapped primitive but without tangents for every vertex gets tangents generated
+/// from its texture coordinates (MikkTSpace-style, as glTF asks).
 fn merge(parts: Vec<Primitive>) -> Option<Mesh> {
     if parts.iter().all(|p| p.triangles.is_empty()) {
         return None;
     }
     let all_normals = parts.iter().all(|p| p.normals.is_some());
     let all_uvs = parts.iter().all(|p| p.uvs.is_some());
+    let all_uvs1 = parts.iter().all(|p| p.uvs1.is_some());
+    let all_tangents = parts.iter().all(|p| p.tangents.is_some());
+    // One set of tangents serves the mesh: those of the first normal map's coordinates.
+    let wants_tangents = parts.iter().find_map(|p| p.wants_tangents);
     let any_colors = parts.iter().any(|p| p.colors.is_some());
     let mut mesh = Mesh::default();
     for part in parts {
@@ -164,9 +178,18 @@ fn merge(parts: Vec<Primitive>) -> Option<Mesh> {
         if all_uvs {
             mesh.uvs.extend(part.uvs.into_iter().flatten());
         }
+        if all_uvs1 {
+            mesh.uvs1.extend(part.uvs1.into_iter().flatten());
+        }
+        if all_tangents {
+            mesh.tangents.extend(part.tangents.into_iter().flatten());
+        }
         if any_colors {
             mesh.colors.extend(part.colors.unwrap_or_else(|| vec![Vec3::ONE; n]));
         }
+    }
+    if let Some(set) = wants_tangents.filter(|_| !all_tangents) {
+        mesh.generate_tangents(set);
     }
     Some(mesh)
 }

@@ -281,10 +281,10 @@ fn a_base_colour_image_becomes_the_texture_of_a_physically_based_shader() {
 #[test]
 fn textures_the_importer_cannot_use_are_left_out_or_refused() {
     let png = red_blue_png();
-    // On the second set of texture coordinates, which the importer does not read: no texture.
+    // On a third set of texture coordinates, which raystage's meshes do not have: no texture.
     let mut scene = Scene::new();
-    let file = import(&textured_quad(json!({ "bufferView": 3 }), 1, &png)).unwrap();
-    assert!(file.notes().iter().any(|n| n.contains("second set of texture coordinates")), "{:?}", file.notes());
+    let file = import(&textured_quad(json!({ "bufferView": 3 }), 2, &png)).unwrap();
+    assert!(file.notes().iter().any(|n| n.contains("third or later set of texture coordinates")), "{:?}", file.notes());
     let added = file.add_to(&mut scene).unwrap();
     assert!(added.textures.is_empty());
     assert_eq!(scene.shader(added.shaders[0]).unwrap().get("base_color_texture"), Some(ParamValue::Texture(None)));
@@ -306,15 +306,16 @@ fn textures_the_importer_cannot_use_are_left_out_or_refused() {
 /// What a material has that raystage does not render yet is said, once per material, by name.
 #[test]
 fn what_a_material_leaves_out_is_a_note() {
-    let material = json!([{ "name": "leaves", "alphaMode": "MASK", "doubleSided": true, "normalTexture": { "index": 0 } }]);
+    let specular = json!({ "KHR_materials_specular": { "specularColorFactor": [0.5, 0.5, 0.5] } });
+    let material = json!([{ "name": "leaves", "alphaMode": "MASK", "doubleSided": true, "extensions": specular }]);
     let mut document = quad_gltf(Some(data_uri(&quad_buffer())), material, json!([{ "mesh": 0 }, { "mesh": 0 }]));
     document["textures"] = json!([{ "source": 0 }]);
     document["images"] = json!([{ "uri": "unused.png" }]);
     let file = import(&document).unwrap();
     let notes = file.notes().join("\n");
-    assert!(notes.contains("material `leaves`: its normal texture is not rendered yet"), "{notes}");
-    assert!(notes.contains("material `leaves`: its alpha mode (rendered opaque) is not rendered yet"), "{notes}");
-    assert_eq!(notes.matches("normal texture").count(), 1, "{notes}");
+    assert!(notes.contains("material `leaves`: its specular colour and textures is not rendered yet"), "{notes}");
+    assert!(!notes.contains("alpha mode"), "a physically based material's alpha mode is rendered: {notes}");
+    assert_eq!(notes.matches("specular colour").count(), 1, "{notes}");
 }
 
 /// The metallic-roughness texture is data: its values are read as stored, not sRGB-decoded,
@@ -338,4 +339,160 @@ fn a_metallic_roughness_image_is_read_as_data() {
     };
     assert!((texel("metallic_roughness_texture") - 128.0 / 255.0).abs() < 1e-3);
     assert!((texel("base_color_texture") - 0.2158).abs() < 1e-3, "sRGB 128 is 0.216 in linear light");
+}
+
+/// A texture's sampler (wrap modes, magnification filter), its texture coordinate set and its
+/// `KHR_texture_transform` become the parameters of its slot; a texture without them gets
+/// glTF's defaults.
+#[test]
+fn samplers_coordinate_sets_and_texture_transforms_become_slot_parameters() {
+    let png = red_blue_png();
+    let mut document = textured_quad(json!({ "bufferView": 3 }), 0, &png);
+    document["samplers"] = json!([{ "magFilter": 9728, "wrapS": 33071, "wrapT": 33648 }]);
+    document["textures"] = json!([{ "source": 0, "sampler": 0 }, { "source": 0 }]);
+    document["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = json!({
+        "KHR_texture_transform": { "offset": [0.25, -0.5], "rotation": 0.5, "scale": [2, 3], "texCoord": 1 }
+    });
+    document["materials"][0]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = json!({ "index": 1 });
+    // The second coordinates: the first ones again.
+    document["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_1"] = json!(2);
+    let mut scene = Scene::new();
+    let added = import(&document).unwrap().add_to(&mut scene).unwrap();
+    let shader = scene.shader(added.shaders[0]).unwrap();
+    let float = |name: &str| match shader.get(name) {
+        Some(ParamValue::Float(f)) => f,
+        other => panic!("{name}: {other:?}"),
+    };
+    let base = ["wrap_s", "wrap_t", "filter", "texcoord", "offset_u", "offset_v", "rotation", "scale_u", "scale_v"].map(|p| float(&format!("base_color_{p}")));
+    assert_eq!(base, [33071.0, 33648.0, 9728.0, 1.0, 0.25, -0.5, 0.5, 2.0, 3.0]);
+    let defaults = ["wrap_s", "wrap_t", "filter", "texcoord", "offset_u", "offset_v", "rotation", "scale_u", "scale_v"].map(|p| float(&format!("metallic_roughness_{p}")));
+    assert_eq!(defaults, [10497.0, 10497.0, 9729.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0]);
+    let mesh = scene.mesh(added.objects[0]).unwrap();
+    assert_eq!((mesh.uvs1.len(), mesh.uvs1[2]), (4, mesh.uvs[2]), "the second coordinates come along");
+}
+
+/// A normal texture becomes the `normal` slot with its scale; the mesh keeps the file's tangents
+/// or, without them, gets tangents generated from its texture coordinates.
+#[test]
+fn normal_textures_come_with_tangents() {
+    let png = red_blue_png();
+    let mut document = textured_quad(json!({ "bufferView": 3 }), 0, &png);
+    document["materials"][0]["normalTexture"] = json!({ "index": 0, "scale": 0.5 });
+    let mut scene = Scene::new();
+    let added = import(&document).unwrap().add_to(&mut scene).unwrap();
+    let shader = scene.shader(added.shaders[0]).unwrap();
+    assert_eq!(shader.get("normal_scale"), Some(ParamValue::Float(0.5)));
+    let Some(ParamValue::Texture(Some(map))) = shader.get("normal_texture") else { panic!("a normal texture") };
+    let Texture::Image(image) = scene.texture(map).unwrap() else { panic!("an image texture") };
+    assert_eq!(image.texel(0, 0), Vec3::X, "data, not sRGB-decoded");
+    // u along +x, v down the quad: the tangent is +x, right-handed.
+    let mesh = scene.mesh(added.objects[0]).unwrap();
+    assert_eq!(mesh.tangents, vec![glam::Vec4::new(1.0, 0.0, 0.0, 1.0); 4]);
+
+    // The file's own tangents are kept.
+    let file_tangents: Vec<u8> = [[0.0f32, 1.0, 0.0, -1.0]; 4].iter().flatten().flat_map(|c| c.to_le_bytes()).collect();
+    let buffer = [quad_buffer(), [[0.0f32, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]].iter().flatten().flat_map(|c| c.to_le_bytes()).collect(), png.clone(), file_tangents].concat();
+    document["buffers"][0] = json!({ "uri": data_uri(&buffer), "byteLength": buffer.len() });
+    document["bufferViews"].as_array_mut().unwrap().push(json!({ "buffer": 0, "byteOffset": 92 + png.len(), "byteLength": 64 }));
+    document["accessors"].as_array_mut().unwrap().push(json!({ "bufferView": 4, "componentType": 5126, "count": 4, "type": "VEC4" }));
+    document["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = json!(3);
+    let mut scene = Scene::new();
+    let added = import(&document).unwrap().add_to(&mut scene).unwrap();
+    assert_eq!(scene.mesh(added.objects[0]).unwrap().tangents, vec![glam::Vec4::new(0.0, 1.0, 0.0, -1.0); 4]);
+}
+
+/// Emissive and occlusion textures come with their slots: the emissive one as colours, the
+/// occlusion one as data with its strength.
+#[test]
+fn emissive_and_occlusion_textures_are_imported() {
+    let png = red_blue_png();
+    let mut document = textured_quad(json!({ "bufferView": 3 }), 0, &png);
+    document["materials"][0]["emissiveTexture"] = json!({ "index": 0 });
+    document["materials"][0]["emissiveFactor"] = json!([1.0, 0.5, 0.25]);
+    document["materials"][0]["occlusionTexture"] = json!({ "index": 0, "strength": 0.75 });
+    let mut scene = Scene::new();
+    let file = import(&document).unwrap();
+    assert!(!file.notes().iter().any(|n| n.contains("emissive") || n.contains("occlusion")), "{:?}", file.notes());
+    let added = file.add_to(&mut scene).unwrap();
+    let shader = scene.shader(added.shaders[0]).unwrap();
+    assert_eq!(shader.get("emissive"), Some(ParamValue::Color(Vec3::new(1.0, 0.5, 0.25))));
+    assert_eq!(shader.get("occlusion_strength"), Some(ParamValue::Float(0.75)));
+    for param in ["emissive_texture", "occlusion_texture"] {
+        assert!(matches!(shader.get(param), Some(ParamValue::Texture(Some(_)))), "{param}");
+    }
+}
+
+/// Alpha mode, cut-off, the base colour's alpha and sidedness round-trip; a cut-off outside
+/// [0, 1] is refused with the field named.
+#[test]
+fn alpha_modes_and_sidedness_are_imported() {
+    let material = json!([{ "pbrMetallicRoughness": { "baseColorFactor": [1, 1, 1, 0.25] }, "alphaMode": "MASK", "alphaCutoff": 0.3 }]);
+    let document = quad_gltf(Some(data_uri(&quad_buffer())), material, json!([{ "mesh": 0 }]));
+    let mut scene = Scene::new();
+    let added = import(&document).unwrap().add_to(&mut scene).unwrap();
+    let shader = scene.shader(added.shaders[0]).unwrap();
+    let floats = ["opacity", "alpha_mode", "alpha_cutoff", "double_sided"].map(|p| shader.get(p));
+    assert_eq!(floats, [0.25, 1.0, 0.3, 0.0].map(|f| Some(ParamValue::Float(f))), "single-sided is glTF's default");
+
+    let blend = json!([{ "alphaMode": "BLEND", "doubleSided": true }]);
+    let mut scene = Scene::new();
+    let added = import(&quad_gltf(Some(data_uri(&quad_buffer())), blend, json!([{ "mesh": 0 }]))).unwrap().add_to(&mut scene).unwrap();
+    let shader = scene.shader(added.shaders[0]).unwrap();
+    assert_eq!([shader.get("alpha_mode"), shader.get("double_sided")], [Some(ParamValue::Float(2.0)), Some(ParamValue::Float(1.0))]);
+
+    for cutoff in [-0.5, 1.5] {
+        let bad = json!([{ "alphaMode": "MASK", "alphaCutoff": cutoff }]);
+        let err = refused(&quad_gltf(Some(data_uri(&quad_buffer())), bad, json!([{ "mesh": 0 }])));
+        assert_eq!(err.field(), Some("materials[0].alphaCutoff"), "{err}");
+        assert!(err.to_string().contains("not within [0, 1]"), "{err}");
+    }
+}
+
+/// Each shader is named after its glTF material; a material without a name gives none.
+#[test]
+fn shaders_are_named_after_their_materials() {
+    let materials = json!([{ "name": "brass" }, {}]);
+    let mut document = quad_gltf(Some(data_uri(&quad_buffer())), materials, json!([{ "mesh": 0 }, { "mesh": 1 }]));
+    let primitive = document["meshes"][0]["primitives"][0].clone();
+    document["meshes"].as_array_mut().unwrap().push(json!({ "primitives": [primitive] }));
+    document["meshes"][1]["primitives"][0]["material"] = json!(1);
+    document["scenes"][0]["nodes"] = json!([0, 1]);
+    let mut scene = Scene::new();
+    let added = import(&document).unwrap().add_to(&mut scene).unwrap();
+    let names: Vec<Option<&str>> = added.shaders.iter().map(|&id| scene.shader(id).unwrap().name()).collect();
+    assert_eq!(names, [Some("brass"), None]);
+}
+
+/// From the file to the pixels: a quad whose base colour PNG is cut out on its left half
+/// (alpha 0 there, blue and opaque on the right), alpha mode MASK, sampled nearest; then the same
+/// with `KHR_texture_transform` moving the texture by half its width, which swaps the halves.
+#[test]
+fn alpha_cut_outs_and_texture_transforms_reach_the_pixels() {
+    let rgba = image::RgbaImage::from_fn(2, 1, |x, _| if x == 0 { image::Rgba([255, 0, 0, 0]) } else { image::Rgba([0, 0, 255, 255]) });
+    let mut png = std::io::Cursor::new(Vec::new());
+    rgba.write_to(&mut png, image::ImageFormat::Png).unwrap();
+    let png = png.into_inner();
+    let render = |transform: Option<Value>| {
+        let mut document = textured_quad(json!({ "bufferView": 3 }), 0, &png);
+        document["materials"][0]["alphaMode"] = json!("MASK");
+        document["samplers"] = json!([{ "magFilter": 9728 }]);
+        document["textures"][0]["sampler"] = json!(0);
+        if let Some(t) = transform {
+            document["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = json!({ "KHR_texture_transform": t });
+        }
+        let mut scene = import(&document).unwrap().into_scene().unwrap();
+        scene.set_background(Some(raystage_scene::Background::Color(Vec3::Y))).unwrap();
+        scene.set_camera(raystage_scene::Camera::look_at(Vec3::new(0.5, 0.5, 3.0), Vec3::new(0.5, 0.5, 0.0), Vec3::Y, 30.0).unwrap()).unwrap();
+        let settings = raystage_render::RenderSettings { width: 32, height: 32, ..Default::default() };
+        let (film, _) = raystage_render::render(&scene.frame(), &settings).unwrap();
+        // The quad spans pixels 6 to 26 across.
+        (film.pixel(10, 16), film.pixel(22, 16))
+    };
+    let (left, right) = render(None);
+    assert_eq!(left, Vec3::Y, "cut out: the background shows");
+    // (The material's factor halves blue.)
+    assert!(right.z > 0.4 && right.x == 0.0 && right.y == 0.0, "the opaque blue half: {right}");
+    let (left, right) = render(Some(json!({ "offset": [0.5, 0.0] })));
+    assert!(left.z > 0.4 && left.x == 0.0, "moved by half the texture: {left}");
+    assert_eq!(right, Vec3::Y);
 }

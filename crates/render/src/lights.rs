@@ -15,10 +15,10 @@
 use std::borrow::Cow;
 use std::f32::consts::{PI, TAU};
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use raystage_scene::{Frame, Image, Light, Texture, WorldTriangle};
 
-use crate::material::Materials;
+use crate::material::{Materials, Slot};
 use crate::warp::{Frame3, cosine_hemisphere, power_heuristic};
 
 /// Texels of the default sky environment's latitude-longitude image: fine enough that its
@@ -119,7 +119,7 @@ enum Prepared<'f> {
     Directional { towards: Vec3, intensity: Vec3 },
     Area { corner: Vec3, edge_u: Vec3, edge_v: Vec3, normal: Vec3, area: f32, radiance: Vec3 },
     Environment { radiance: Vec3, map: Option<EnvironmentMap<'f>> },
-    Emitters(Emitters),
+    Emitters(Emitters<'f>),
 }
 
 /// Every emitting triangle of a frame as one light: a triangle is picked in proportion to its
@@ -127,43 +127,58 @@ enum Prepared<'f> {
 /// over the area of all of them is then the same for every point of one radiance, the
 /// triangle's luminance over the total power, which a ray that hits an emitter needs for
 /// multiple importance sampling without knowing which triangle of the list it hit.
-struct Emitters {
-    triangles: Vec<Emitter>,
+struct Emitters<'f> {
+    triangles: Vec<Emitter<'f>>,
     /// Picks a triangle by power.
     by_power: Distribution,
 }
 
 /// One emitting triangle in the world.
-struct Emitter {
+struct Emitter<'f> {
     corner: Vec3,
     edge_u: Vec3,
     edge_v: Vec3,
     /// Unit normal of the side it emits from.
     normal: Vec3,
     area: f32,
+    /// Its shader's emission, before a texture multiplies it: what it is picked by.
     radiance: Vec3,
+    /// The texture that multiplies the emission, and where the triangle lies on it.
+    texture: Option<(Slot<'f>, WorldTriangle)>,
 }
 
-impl Emitters {
-    /// The light of `triangles` and their radiances, or `None` if none emits.
-    fn new(triangles: Vec<(WorldTriangle, Vec3)>) -> Option<Emitters> {
+impl Emitter<'_> {
+    /// The radiance emitted at barycentrics `(1 − a − b, a, b)` of the triangle.
+    fn radiance_at(&self, a: f32, b: f32) -> Vec3 {
+        let Some((slot, t)) = &self.texture else { return self.radiance };
+        let at = |corners: [Vec3; 3]| corners[0] * (1.0 - a - b) + corners[1] * a + corners[2] * b;
+        let uv = |set: Option<[Vec2; 3]>| set.map(|c| c[0] * (1.0 - a - b) + c[1] * a + c[2] * b);
+        self.radiance * slot.at(at(t.local), [uv(t.uvs[0]), uv(t.uvs[1])]).truncate()
+    }
+}
+
+impl<'f> Emitters<'f> {
+    /// The light of `triangles`, their radiances and emissive textures, or `None` if none emits.
+    fn new(triangles: Vec<(WorldTriangle, Vec3, Option<Slot<'f>>)>) -> Option<Emitters<'f>> {
         let triangles: Vec<Emitter> = triangles
             .into_iter()
-            .filter(|(_, radiance)| luminance(*radiance) > 0.0)
-            .map(|(t, radiance)| Emitter {
+            .filter(|(_, radiance, _)| luminance(*radiance) > 0.0)
+            .map(|(t, radiance, texture)| Emitter {
                 corner: t.corners[0],
                 edge_u: t.corners[1] - t.corners[0],
                 edge_v: t.corners[2] - t.corners[0],
                 normal: t.front,
                 area: t.area,
                 radiance,
+                texture: texture.map(|slot| (slot, t)),
             })
             .collect();
         let by_power = Distribution::new(triangles.iter().map(|e| luminance(e.radiance) * e.area).collect());
         (by_power.total > 0.0 && by_power.total.is_finite()).then_some(Emitters { triangles, by_power })
     }
 
-    /// The density over area of the point of a triangle of `radiance`.
+    /// The density over area of the point of a triangle of `radiance` (its shader's emission,
+    /// before a texture multiplies it).
     fn area_density(&self, radiance: Vec3) -> f32 {
         luminance(radiance) / self.by_power.total
     }
@@ -189,7 +204,7 @@ impl Emitters {
         // The density the triangle was really picked with (its rounded share of the list),
         // so that the estimate stays unbiased; hits weigh against [`Emitters::area_density`].
         let pdf = self.by_power.density(index) / e.area * distance * distance / cos_light;
-        Some(LightSample { wi, distance, weighted: e.radiance / pdf, pdf })
+        Some(LightSample { wi, distance, weighted: e.radiance_at(a, b) / pdf, pdf })
     }
 }
 
@@ -232,7 +247,8 @@ impl<'f> SceneLights<'f> {
             lights.push(prepared);
         }
         let emitting = frame.world_triangles(|id, _| materials.emission(id).is_some());
-        let emitters = Emitters::new(emitting.into_iter().filter_map(|t| Some((t, materials.emission(t.shader_id)?))).collect());
+        let emitters =
+            Emitters::new(emitting.into_iter().filter_map(|t| Some((t, materials.emission(t.shader_id)?, materials.emission_texture(t.shader_id)))).collect());
         let emitters = emitters.map(|e| {
             lights.push(Prepared::Emitters(e));
             lights.len() - 1
@@ -266,9 +282,10 @@ impl<'f> SceneLights<'f> {
     /// Radiance `emitted` by a surface a ray of unit direction `dir` hit after `distance`, at
     /// the cosine `cos_light` between the ray and the surface's normal on the side it emits
     /// from, weighted by how the ray was `seen`: in full if directly, against the density with
-    /// which light sampling would have picked the point if scattered, not at all if its light
-    /// was sampled already. Nothing from the back of the surface.
-    pub fn surface_emission(&self, emitted: Vec3, distance: f32, cos_light: f32, seen: Seen) -> Vec3 {
+    /// which light sampling would have picked the point if scattered (light sampling picks it by
+    /// `picked_by`, its shader's emission before any texture), not at all if its light was
+    /// sampled already. Nothing from the back of the surface.
+    pub fn surface_emission(&self, emitted: Vec3, picked_by: Vec3, distance: f32, cos_light: f32, seen: Seen) -> Vec3 {
         if cos_light <= 0.0 {
             return Vec3::ZERO;
         }
@@ -277,7 +294,7 @@ impl<'f> SceneLights<'f> {
             Seen::Not => Vec3::ZERO,
             Seen::Scattered { pdf, .. } => {
                 let Some(Prepared::Emitters(e)) = self.emitters.map(|i| &self.lights[i]) else { return emitted };
-                let light_pdf = e.area_density(emitted) * distance * distance / cos_light;
+                let light_pdf = e.area_density(picked_by) * distance * distance / cos_light;
                 emitted * power_heuristic(pdf, self.samples * light_pdf)
             }
         }
@@ -626,12 +643,12 @@ mod tests {
             // Wound to face down, towards the point below.
             [[c[0], c[1], c[2]], [c[0], c[2], c[3]]].map(|corners| {
                 let front = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
-                WorldTriangle { corners, front: front.normalize(), area: front.length() / 2.0, shader_id: None }
+                WorldTriangle { corners, front: front.normalize(), area: front.length() / 2.0, shader_id: None, local: corners, uvs: [None; 2] }
             })
         };
-        let small = quad(Vec3::new(0.6, 2.0, 0.0), 0.05).map(|t| (t, Vec3::splat(400.0)));
-        let large = quad(Vec3::new(-1.0, 2.0, 0.0), 1.5).map(|t| (t, Vec3::splat(0.5)));
-        assert!(small.iter().all(|(t, _)| t.front.y < 0.0));
+        let small = quad(Vec3::new(0.6, 2.0, 0.0), 0.05).map(|t| (t, Vec3::splat(400.0), None));
+        let large = quad(Vec3::new(-1.0, 2.0, 0.0), 1.5).map(|t| (t, Vec3::splat(0.5), None));
+        assert!(small.iter().all(|(t, _, _)| t.front.y < 0.0));
         let emitters = Emitters::new(small.into_iter().chain(large).collect()).unwrap();
         let (p, frame) = (Vec3::ZERO, Frame3::around(Vec3::Y));
         // What a ray from `p` in direction `wi` meets first: the radiance, distance and cosine.

@@ -3,8 +3,8 @@
 //! hit looks a parameter up by name); a hit then only applies what varies over the surface, its
 //! texture and its vertex colours.
 
-use glam::{Vec2, Vec3};
-use raystage_scene::{Frame, PreviewAttributes, PreviewPoint, Shader, ShadingModel, SurfacePoint, Texture};
+use glam::{Vec2, Vec3, Vec4};
+use raystage_scene::{Frame, PreviewAttributes, PreviewPoint, Sampler, Shader, ShadingModel, SurfacePoint, Texture};
 
 use crate::bsdf::Bsdf;
 use crate::texture;
@@ -32,16 +32,55 @@ pub(crate) struct Material {
     pub occlusion_distance: f32,
 }
 
-/// A shader resolved for a frame: its material before texturing and vertex colours.
+/// A texture a shader uses, and how it samples it.
 #[derive(Clone, Copy, Debug)]
+pub(crate) struct Slot<'f> {
+    texture: &'f Texture,
+    sampler: Sampler,
+}
+
+impl<'f> Slot<'f> {
+    /// Texture slot `slot` of `shader` (its `{slot}_texture` parameter and sampler), if the
+    /// shader sets a texture the frame has.
+    fn of(frame: &Frame<'f>, shader: &Shader, slot: &str) -> Option<Slot<'f>> {
+        let texture = frame.texture(shader.texture(&format!("{slot}_texture"))?)?;
+        Some(Slot { texture, sampler: Sampler::of(shader, slot) })
+    }
+
+    /// Colour and coverage at a point (see [`texture::sample`]).
+    #[inline(always)]
+    pub fn at(&self, local_position: Vec3, uvs: [Option<Vec2>; 2]) -> Vec4 {
+        texture::sample(self.texture, &self.sampler, local_position, uvs)
+    }
+}
+
+/// A shader resolved for a frame: its material before texturing and vertex colours.
+#[derive(Clone, Debug)]
 struct Resolved<'f> {
     base: Material,
+    /// The textures it uses, if any: kept aside, so that the record every hit reads stays a few
+    /// cache lines for the many shaders that have none.
+    slots: Option<Box<Slots<'f>>>,
+}
+
+/// The textures of a shader.
+#[derive(Clone, Copy, Debug)]
+struct Slots<'f> {
     /// The diffuse texture, for the classes that have one and a shader that sets it.
-    texture: Option<&'f Texture>,
+    texture: Option<Slot<'f>>,
     /// A physically based shader's metallic-roughness texture, and its roughness factor (which
     /// the texture's green channel scales before it is squared).
-    metallic_roughness: Option<(&'f Texture, f32)>,
+    metallic_roughness: Option<(Slot<'f>, f32)>,
+    /// A physically based shader's normal map, and its scale.
+    normal: Option<(Slot<'f>, f32)>,
+    /// A physically based shader's emissive texture (multiplying its emission).
+    emissive: Option<Slot<'f>>,
+    /// A physically based shader's occlusion texture, and its strength (the eye light's only).
+    occlusion: Option<(Slot<'f>, f32)>,
 }
+
+/// No textures.
+const NO_SLOTS: Slots<'static> = Slots { texture: None, metallic_roughness: None, normal: None, emissive: None, occlusion: None };
 
 /// What the eye-light preview shows of a shader, worked out when the frame starts: a hit on a
 /// surface whose colour does not vary then costs one small lookup.
@@ -53,16 +92,19 @@ struct Preview {
     lit: bool,
     /// Whether the colour varies over the surface (a texture or vertex colours scale it).
     varies: bool,
+    /// Whether a normal map tilts its normal (the preview then resolves the hit in full).
+    normal_mapped: bool,
 }
 
 impl Preview {
     fn of(r: &Resolved<'_>) -> Preview {
         match r.base.model {
-            ShadingModel::Constant | ShadingModel::Emissive => Preview { colour: r.base.emission, lit: false, varies: false },
+            ShadingModel::Constant | ShadingModel::Emissive => Preview { colour: r.base.emission, lit: false, varies: false, normal_mapped: false },
             model => Preview {
                 colour: r.base.albedo,
                 lit: true,
-                varies: r.texture.is_some() || matches!(model, ShadingModel::VertexColor | ShadingModel::PhysicallyBased),
+                varies: r.slots().texture.is_some() || matches!(model, ShadingModel::VertexColor | ShadingModel::PhysicallyBased),
+                normal_mapped: r.slots().normal.is_some(),
             },
         }
     }
@@ -96,24 +138,45 @@ impl<'f> Materials<'f> {
     /// The material at `sp`.
     #[inline(always)]
     pub fn at(&self, sp: &SurfacePoint<'_>) -> Material {
-        self.resolved(sp.shader_id).apply(sp.local_position, sp.uv, sp.color)
+        self.resolved(sp.shader_id).apply(sp.local_position, [sp.uv, sp.uv1], sp.color)
     }
 
     /// What a preview shows at a preview point: the surface's albedo (textured, vertex
-    /// coloured) and `true` for the models that reflect light, or the emitted or constant
-    /// colour and `false` for those that do not. The parts of [`Materials::at`] a preview needs,
-    /// without making the whole material; `attributes` is asked only by surfaces whose colour
-    /// varies.
+    /// coloured, darkened by an occlusion texture) and `true` for the models that reflect
+    /// light, or the emitted or constant colour and `false` for those that do not. The parts of
+    /// [`Materials::at`] a preview needs, without making the whole material; `attributes` is
+    /// asked only by surfaces whose colour varies. `None` for a normal-mapped surface, whose
+    /// normal needs the hit resolved in full.
     #[inline(always)]
-    pub fn preview_colour(&self, pp: &PreviewPoint, attributes: impl FnOnce() -> PreviewAttributes) -> (Vec3, bool) {
-        let index = pp.shader_id.map_or(0, |id| id.0 as usize + 1);
-        let preview = self.previews.get(index).unwrap_or(&self.previews[0]);
+    pub fn preview_colour(&self, pp: &PreviewPoint, attributes: impl FnOnce() -> PreviewAttributes) -> Option<(Vec3, bool)> {
+        let preview = self.preview(pp.shader_id);
         if !preview.varies {
-            return (preview.colour, preview.lit);
+            return Some((preview.colour, preview.lit));
+        }
+        if preview.normal_mapped {
+            return None;
         }
         let r = self.resolved(pp.shader_id);
         let a = attributes();
-        (r.scale(a.local_position, a.uv, a.color).map_or(r.base.albedo, |s| r.base.albedo * s), true)
+        let uvs = [a.uv, a.uv1];
+        let albedo = r.scale(a.local_position, uvs, a.color).map_or(r.base.albedo, |s| r.base.albedo * s);
+        Some(match r.slots {
+            Some(_) => (albedo * r.occlusion(a.local_position, uvs), true),
+            None => (albedo, true),
+        })
+    }
+
+    /// How much the occlusion texture of shader `id` darkens the eye light's preview at a point
+    /// (see [`Materials::preview_colour`]): 1 for a shader without one.
+    #[inline]
+    pub fn preview_occlusion(&self, id: Option<raystage_scene::ShaderId>, local_position: Vec3, uvs: [Option<Vec2>; 2]) -> f32 {
+        self.resolved(id).occlusion(local_position, uvs)
+    }
+
+    /// The emissive texture of shader `id`, which multiplies its emission (see
+    /// [`Materials::emission`]) point by point.
+    pub fn emission_texture(&self, id: Option<raystage_scene::ShaderId>) -> Option<Slot<'f>> {
+        self.resolved(id).slots().emissive
     }
 
     /// The albedo of a shader that is plain matte, an untextured `Diffuse` (its material is
@@ -121,20 +184,55 @@ impl<'f> Materials<'f> {
     #[inline]
     pub fn plain_matte(&self, id: Option<raystage_scene::ShaderId>) -> Option<Vec3> {
         let r = self.resolved(id);
-        (r.base.model == ShadingModel::Diffuse && r.texture.is_none()).then_some(r.base.albedo)
+        (r.base.model == ShadingModel::Diffuse && r.slots.is_none()).then_some(r.base.albedo)
     }
 
     /// The radiance a shader emits if it is a light (an `Emissive` shader, or a physically
-    /// based one with an emissive colour, that emits something), the same at every point of its
-    /// surfaces.
+    /// based one with an emissive colour, that emits something): at every point of its surfaces,
+    /// or, where [`Materials::emission_texture`] has a texture, before the texture multiplies it.
     pub fn emission(&self, id: Option<raystage_scene::ShaderId>) -> Option<Vec3> {
         let m = &self.resolved(id).base;
         (emits(m.model) && m.emission.max_element() > 0.0).then_some(m.emission)
     }
 
+    /// The preview record of shader `id`.
+    #[inline(always)]
+    fn preview(&self, id: Option<raystage_scene::ShaderId>) -> &Preview {
+        let index = id.map_or(0, |id| id.0 as usize + 1);
+        self.previews.get(index).unwrap_or(&self.previews[0])
+    }
+
+    /// The shading normal at `sp` as its shader's normal map tilts it, given the tangent there
+    /// for the map's texture coordinates (see [`Frame::tangent`], asked only of normal-mapped
+    /// surfaces); `None` where the surface
+    /// has no normal map, or where no tangent frame can be made (degenerate texture coordinates
+    /// or tangents, a zero normal), or where the map would turn the normal to the surface's far
+    /// side: shading then keeps the unmapped normal.
+    pub fn mapped_normal(&self, sp: &SurfacePoint<'_>, tangent: impl FnOnce(usize) -> Option<Vec4>) -> Option<Vec3> {
+        let (slot, scale) = self.resolved(sp.shader_id).slots().normal?;
+        // glTF: texels in [0, 1] are components in [−1, 1]; the scale multiplies X and Y.
+        let texel = slot.at(sp.local_position, [sp.uv, sp.uv1]).truncate();
+        let local = (texel * 2.0 - Vec3::ONE) * Vec3::new(scale, scale, 1.0);
+        tilted(sp.shading_normal, sp.geometric_normal, sp.front_face, tangent(slot.sampler.set)?, local)
+    }
+
     fn resolved(&self, id: Option<raystage_scene::ShaderId>) -> &Resolved<'f> {
         id.and_then(|id| self.by_id.get(id.0 as usize)?.as_ref()).unwrap_or(&self.default)
     }
+}
+
+/// The normal `local` of a tangent-space normal map in the world, at a point with unit shading
+/// normal `n` and geometric normal `ng` (both facing the viewer, on the `front` side or not) and
+/// `tangent`; `None` if the frame or the result is degenerate, or the result faces away from
+/// `ng`. The frame is built on the outward normal and the result turned with it, as glTF's
+/// sample viewer does for back faces.
+fn tilted(n: Vec3, ng: Vec3, front: bool, tangent: Vec4, local: Vec3) -> Option<Vec3> {
+    let outward = if front { n } else { -n };
+    let t = (tangent.truncate() - outward * outward.dot(tangent.truncate())).try_normalize()?;
+    let b = outward.cross(t) * tangent.w;
+    let mapped = (t * local.x + b * local.y + outward * local.z).try_normalize()?;
+    let mapped = if front { mapped } else { -mapped };
+    (mapped.dot(ng) > 0.0).then_some(mapped)
 }
 
 /// Whether surfaces of `model` emit their material's `emission` as light (a `Constant`'s colour
@@ -199,30 +297,44 @@ impl<'f> Resolved<'f> {
                 });
             }
         }
-        let texture_param = match model {
-            ShadingModel::Diffuse | ShadingModel::Phong => Some("diffuse_texture"),
-            ShadingModel::PhysicallyBased => Some("base_color_texture"),
+        let texture_slot = match model {
+            ShadingModel::Diffuse | ShadingModel::Phong => Some("diffuse"),
+            ShadingModel::PhysicallyBased => Some("base_color"),
             _ => None,
         };
-        let texture = texture_param.and_then(|name| shader.texture(name)).and_then(|t| frame.texture(t));
-        let metallic_roughness = (model == ShadingModel::PhysicallyBased)
-            .then(|| shader.texture("metallic_roughness_texture").and_then(|t| frame.texture(t)))
-            .flatten()
-            .map(|t| (t, shader.float("roughness")));
-        Resolved { base: m, texture, metallic_roughness }
+        let texture = texture_slot.and_then(|slot| Slot::of(frame, shader, slot));
+        let pbr_slot = |slot: &str| (model == ShadingModel::PhysicallyBased).then(|| Slot::of(frame, shader, slot)).flatten();
+        let normal = pbr_slot("normal").map(|t| (t, shader.float("normal_scale")));
+        let metallic_roughness = pbr_slot("metallic_roughness").map(|t| (t, shader.float("roughness")));
+        let occlusion = pbr_slot("occlusion").map(|t| (t, shader.float("occlusion_strength")));
+        let emissive = pbr_slot("emissive");
+        let textured = texture.is_some() || metallic_roughness.is_some() || normal.is_some() || emissive.is_some() || occlusion.is_some();
+        Resolved { base: m, slots: textured.then(|| Box::new(Slots { texture, metallic_roughness, normal, emissive, occlusion })) }
+    }
+
+    /// The textures of the shader (none for most).
+    #[inline(always)]
+    fn slots(&self) -> &Slots<'f> {
+        self.slots.as_deref().unwrap_or(&NO_SLOTS)
+    }
+
+    /// glTF's occlusion at a point: 1 + strength × (red − 1), 1 without an occlusion texture.
+    #[inline]
+    fn occlusion(&self, local_position: Vec3, uvs: [Option<Vec2>; 2]) -> f32 {
+        self.slots().occlusion.map_or(1.0, |(slot, strength)| 1.0 + strength * (slot.at(local_position, uvs).x.clamp(0.0, 1.0) - 1.0))
     }
 
     /// What scales the albedo at a point (see [`Resolved::apply`]): the texture, or the vertex
     /// colour of a `VertexColor` surface; nothing otherwise.
     #[inline(always)]
-    fn scale(&self, local_position: Vec3, uv: Option<Vec2>, color: Option<Vec3>) -> Option<Vec3> {
-        match (self.texture, self.base.model) {
+    fn scale(&self, local_position: Vec3, uvs: [Option<Vec2>; 2], color: Option<Vec3>) -> Option<Vec3> {
+        match (self.slots().texture, self.base.model) {
             // glTF: the base colour is factor × texture × vertex colour.
-            (texture, ShadingModel::PhysicallyBased) => match (texture.map(|t| texture::lookup(t, local_position, uv)), color) {
+            (texture, ShadingModel::PhysicallyBased) => match (texture.map(|t| t.at(local_position, uvs).truncate()), color) {
                 (Some(t), Some(c)) => Some(t * c),
                 (t, c) => t.or(c),
             },
-            (Some(t), _) => Some(texture::lookup(t, local_position, uv)),
+            (Some(t), _) => Some(t.at(local_position, uvs).truncate()),
             (None, ShadingModel::VertexColor) => Some(color.unwrap_or(Vec3::ONE)),
             (None, _) => None,
         }
@@ -232,10 +344,13 @@ impl<'f> Resolved<'f> {
     /// interpolated texture coordinates and colour, if it has them: the diffuse albedo scaled by
     /// the texture or the vertex colour.
     #[inline(always)]
-    fn apply(&self, local_position: Vec3, uv: Option<Vec2>, color: Option<Vec3>) -> Material {
+    fn apply(&self, local_position: Vec3, uvs: [Option<Vec2>; 2], color: Option<Vec3>) -> Material {
         let mut m = self.base;
-        let scale = self.scale(local_position, uv, color);
-        if scale.is_none() && self.metallic_roughness.is_none() {
+        let scale = self.scale(local_position, uvs, color);
+        if let Some(emissive) = self.slots().emissive {
+            m.emission *= emissive.at(local_position, uvs).truncate();
+        }
+        if scale.is_none() && self.slots().metallic_roughness.is_none() {
             return m;
         }
         if let Some(scale) = scale {
@@ -246,9 +361,9 @@ impl<'f> Resolved<'f> {
             Some(Bsdf::Phong { specular, exponent, .. }) => Some(Bsdf::Phong { diffuse: m.albedo, specular, exponent }),
             Some(Bsdf::PhysicallyBased { metallic, alpha, f0, f90, .. }) => {
                 // glTF: blue is metalness, green roughness, each scaling its factor.
-                let (metallic, alpha) = match self.metallic_roughness {
+                let (metallic, alpha) = match self.slots().metallic_roughness {
                     Some((t, roughness)) => {
-                        let texel = texture::lookup(t, local_position, uv);
+                        let texel = t.at(local_position, uvs);
                         (metallic * texel.z.clamp(0.0, 1.0), (roughness * texel.y.clamp(0.0, 1.0)).powi(2).max(MIN_ALPHA))
                     }
                     None => (metallic, alpha),
@@ -284,8 +399,9 @@ mod tests {
             absorption: Vec3::ZERO,
             occlusion_distance: 0.0,
         };
-        let resolved = Resolved { base, texture: None, metallic_roughness: Some((&texture, 0.5)) };
-        let at = |u: f32| match resolved.apply(Vec3::ZERO, Some(Vec2::new(u, 0.5)), Some(Vec3::new(1.0, 0.5, 0.25))).bsdf {
+        let slot = Slot { texture: &texture, sampler: Sampler::DEFAULT };
+        let resolved = Resolved { base, slots: Some(Box::new(Slots { metallic_roughness: Some((slot, 0.5)), ..NO_SLOTS })) };
+        let at = |u: f32| match resolved.apply(Vec3::ZERO, [Some(Vec2::new(u, 0.5)), None], Some(Vec3::new(1.0, 0.5, 0.25))).bsdf {
             Some(Bsdf::PhysicallyBased { metallic, alpha, base, .. }) => (metallic, alpha, base),
             other => panic!("{other:?}"),
         };
@@ -294,5 +410,30 @@ mod tests {
         assert!((alpha - (0.5f32 * 0.2).powi(2)).abs() < 1e-6, "{alpha}");
         let (metallic, alpha, _) = at(0.75);
         assert_eq!((metallic, alpha), (0.0, 0.25));
+    }
+
+    /// A normal map tilts the shading normal within the tangent frame, on either side of the
+    /// surface; degenerate frames leave it alone.
+    #[test]
+    fn normal_maps_tilt_the_normal_in_the_tangent_frame() {
+        let tangent = Vec4::new(1.0, 0.0, 0.0, 1.0);
+        let local = Vec3::new(1.0, 0.0, 1.0);
+        // Front: +z outward, the map's +X is the tangent.
+        let front = tilted(Vec3::Z, Vec3::Z, true, tangent, local).unwrap();
+        assert!((front - Vec3::new(1.0, 0.0, 1.0).normalize()).length() < 1e-6, "{front}");
+        // +Y is the bitangent n × t (up), turned by the handedness.
+        let up = tilted(Vec3::Z, Vec3::Z, true, tangent, Vec3::new(0.0, 1.0, 1.0)).unwrap();
+        assert!(up.y > 0.5, "{up}");
+        let left_handed = tilted(Vec3::Z, Vec3::Z, true, Vec4::new(1.0, 0.0, 0.0, -1.0), Vec3::new(0.0, 1.0, 1.0)).unwrap();
+        assert!(left_handed.y < -0.5, "{left_handed}");
+        // Seen from behind: the same tilt of the surface, turned to the viewer's side.
+        let back = tilted(-Vec3::Z, -Vec3::Z, false, tangent, local).unwrap();
+        assert!((back + front).length() < 1e-6, "{back}");
+        // Degenerate tangents, or a tangent along the normal: no tilt.
+        assert_eq!(tilted(Vec3::Z, Vec3::Z, true, Vec4::ZERO, local), None);
+        assert_eq!(tilted(Vec3::Z, Vec3::Z, true, Vec4::new(0.0, 0.0, 1.0, 1.0), local), None);
+        assert_eq!(tilted(Vec3::Z, Vec3::Z, true, tangent, Vec3::new(f32::NAN, 0.0, 1.0)), None);
+        // A map that points below the surface is refused.
+        assert_eq!(tilted(Vec3::Z, Vec3::Z, true, tangent, Vec3::new(1.0, 0.0, -0.5)), None);
     }
 }

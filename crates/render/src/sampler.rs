@@ -123,15 +123,8 @@ fn laine_karras(mut v: u32, seed: u32) -> u32 {
     v
 }
 
-/// A 32-bit integer hash (the lowbias32 finaliser).
-pub(crate) fn hash(mut x: u32) -> u32 {
-    x ^= x >> 16;
-    x = x.wrapping_mul(0x7feb_352d);
-    x ^= x >> 15;
-    x = x.wrapping_mul(0x846c_a68b);
-    x ^= x >> 16;
-    x
-}
+/// A 32-bit integer hash (the lowbias32 finaliser), shared with the scene's alpha test.
+pub(crate) use raystage_scene::hash;
 
 /// A fixed-point fraction as a float in `[0, 1)` (24 bits, so 1 is never reached).
 fn to_unit(x: u32) -> f32 {

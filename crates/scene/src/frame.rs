@@ -7,7 +7,7 @@ use std::collections::HashSet;
 use std::sync::Arc;
 use std::time::Instant;
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 use raystage_kernel::{Aabb, BoxTree, Bvh8, Entries, PACKET_SIZE, PreparedRay, Ray, RayPacket};
 
 use crate::camera::Camera;
@@ -20,8 +20,10 @@ use crate::scene::{Background, Scene};
 use crate::shader::{Shader, ShadingModel};
 
 mod surfaces;
+mod visibility;
 
 pub use surfaces::SurfaceLanes;
+use visibility::Visibility;
 
 /// Up to this many instances the top level is a list of boxes tested one by one: setting up a
 /// tree walk costs more than it saves.
@@ -35,6 +37,9 @@ struct FrameInstance<'a> {
     instance: Instance,
     /// The placement at shutter time 0, used by every ray of a still instance.
     placed: Placed,
+    /// Whether some of its shaders make hits not count (see [`Visibility`]): then every hit on
+    /// it is tested.
+    filtered: bool,
 }
 
 impl FrameInstance<'_> {
@@ -103,6 +108,8 @@ pub struct SurfacePoint<'a> {
     pub color: Option<Vec3>,
     /// Interpolated texture coordinates, if the mesh has them.
     pub uv: Option<Vec2>,
+    /// Interpolated second texture coordinates, if the mesh has them.
+    pub uv1: Option<Vec2>,
     /// The triangle's shader, and its id (`None` for the scene's default shader).
     pub shader: &'a Shader,
     pub shader_id: Option<ShaderId>,
@@ -129,6 +136,8 @@ pub struct PreviewAttributes {
     pub color: Option<Vec3>,
     /// Interpolated texture coordinates, if the mesh has them.
     pub uv: Option<Vec2>,
+    /// Interpolated second texture coordinates, if the mesh has them.
+    pub uv1: Option<Vec2>,
 }
 
 /// A triangle of an instance, placed in the world (see [`Frame::world_triangles`]).
@@ -143,6 +152,11 @@ pub struct WorldTriangle {
     pub area: f32,
     /// Its shader's id, `None` for the scene's default shader.
     pub shader_id: Option<ShaderId>,
+    /// Its corners in the object's own space (where solid textures are evaluated).
+    pub local: [Vec3; 3],
+    /// Its corners' first and second texture coordinates, where the mesh has them (for
+    /// textured emission).
+    pub uvs: [Option<[Vec2; 3]>; 2],
 }
 
 /// Tree work done for a frame so far.
@@ -171,19 +185,38 @@ pub struct Frame<'a> {
     counters: BuildCounters,
     lights: Vec<Light>,
     top_level_seconds: f64,
+    /// Of each shader (by id; ids without a shader have the default shader's) and of the default
+    /// shader: which of their hits count, `None` where all do.
+    visibility: Vec<Option<Visibility<'a>>>,
+    default_visibility: Option<Visibility<'a>>,
+    /// Whether some instance is filtered.
+    filtered: bool,
 }
 
 impl<'a> Frame<'a> {
     pub(crate) fn new(scene: &'a Scene) -> Frame<'a> {
         let start = Instant::now();
+        // Ids without a shader (removed ones) stand for the default shader, as in `shader_of`.
+        let default_visibility = Visibility::of(scene.default_shader(), scene);
+        let mut visibility: Vec<Option<Visibility<'a>>> = Vec::new();
+        for (id, shader) in scene.shaders() {
+            let index = id.0 as usize;
+            if visibility.len() <= index {
+                visibility.resize(index + 1, default_visibility);
+            }
+            visibility[index] = Visibility::of(shader, scene);
+        }
         let instances: Vec<FrameInstance<'a>> = scene
             .instance_records()
             .filter_map(|(id, instance)| {
                 let object = scene.object_record(instance.object)?;
                 let placed = Placed::at(instance, 0.0);
-                Some(FrameInstance { id, object_id: instance.object, object, instance: *instance, placed })
+                let filtered = object.shaders_used.iter().any(|s| visibility.get(s.0 as usize).unwrap_or(&default_visibility).is_some())
+                    || (object.uses_default_shader && default_visibility.is_some());
+                Some(FrameInstance { id, object_id: instance.object, object, instance: *instance, placed, filtered })
             })
             .collect();
+        let filtered = instances.iter().any(|fi| fi.filtered);
         let boxes: Vec<_> = instances
             .iter()
             .map(|fi| {
@@ -205,6 +238,63 @@ impl<'a> Frame<'a> {
             counters: BuildCounters::default(),
             lights,
             top_level_seconds: start.elapsed().as_secs_f64(),
+            visibility,
+            default_visibility,
+            filtered,
+        }
+    }
+
+    /// Whether hit `h` of `ray` (at shutter time `time`) on instance `fi`, placed by `placed`,
+    /// counts: see [`Visibility`]. Instances that are not filtered count every hit.
+    fn admits(&self, fi: &FrameInstance<'a>, placed: &Placed, ray: &Ray, h: &raystage_kernel::Hit) -> bool {
+        if !fi.filtered {
+            return true;
+        }
+        let mesh = &fi.object.mesh;
+        let visibility = match mesh.shaders.get(h.prim as usize) {
+            Some(id) => self.visibility.get(id.0 as usize).unwrap_or(&self.default_visibility),
+            None => &self.default_visibility,
+        };
+        let Some(visibility) = visibility else { return true };
+        let front = placed.normal_to_world(h.ng).dot(ray.dir) < 0.0;
+        let uvs = || {
+            let corners = mesh.indices[h.prim as usize].map(|i| i as usize);
+            let w = [1.0 - h.u - h.v, h.u, h.v];
+            [interpolated(&mesh.uvs, corners, w), interpolated(&mesh.uvs1, corners, w)]
+        };
+        let key = || {
+            let bits = [ray.origin.x, ray.origin.y, ray.origin.z, ray.dir.x, ray.dir.y, ray.dir.z].map(f32::to_bits);
+            bits.iter().fold(crate::sampling::hash(h.prim ^ fi.id.0.rotate_left(16)), |k, &b| crate::sampling::hash(k ^ b))
+        };
+        visibility.admits(front, uvs, key)
+    }
+
+    /// The closest hit of `ray` in instance `fi` (placed by `placed`, traced by `bvh`) in
+    /// `(tnear, tfar]` that counts (see [`Frame::admits`]): the tree's closest hit, and, while
+    /// a hit does not count, the closest beyond it.
+    fn closest_admitted(&self, fi: &FrameInstance<'a>, placed: &Placed, bvh: &Bvh8, ray: &Ray, tfar: f32) -> Option<raystage_kernel::Hit> {
+        let local = if placed.identity { *ray } else { placed.ray_to_object(ray) };
+        let mut segment = Ray { tfar, ..local };
+        loop {
+            let h = bvh.intersect(&segment)?;
+            if self.admits(fi, placed, ray, &h) {
+                return Some(h);
+            }
+            // Hits are strictly beyond `tnear`: the walk ends.
+            segment.tnear = h.t;
+        }
+    }
+
+    /// Hits of a packet's `rays` that do not count (see [`Frame::admits`]), replaced by what
+    /// each ray finds beyond them, as [`Frame::intersect`] would.
+    fn admit_packet(&self, rays: &[Ray], hits: &mut [Option<SceneHit>], time: f32) {
+        for (ray, hit) in rays.iter().zip(hits.iter_mut()) {
+            let Some(h) = *hit else { continue };
+            let fi = &self.instances[h.item as usize];
+            let found = raystage_kernel::Hit { t: h.t, prim: h.prim, u: h.u, v: h.v, ng: h.ng };
+            if !self.admits(fi, &fi.placed_at(time), ray, &found) {
+                *hit = self.intersect(&Ray { tnear: h.t, ..*ray }, time);
+            }
         }
     }
 
@@ -247,7 +337,9 @@ impl<'a> Frame<'a> {
         let fi = &self.instances[item as usize];
         let placed = fi.placed_at(time);
         let bvh = fi.object.accel(&self.counters);
-        let found = if placed.identity {
+        let found = if fi.filtered {
+            self.closest_admitted(fi, &placed, bvh, ray, tfar)
+        } else if placed.identity {
             bvh.intersect_prepared(&world.with_tfar(tfar))
         } else {
             bvh.intersect(&Ray { tfar, ..placed.ray_to_object(ray) })
@@ -273,6 +365,9 @@ impl<'a> Frame<'a> {
         for (rays, hits) in rays.chunks(PACKET_SIZE).zip(hits.chunks_mut(PACKET_SIZE)) {
             if rays.len() == PACKET_SIZE {
                 self.intersect_packet(rays, hits, time);
+                if self.filtered {
+                    self.admit_packet(rays, hits, time);
+                }
             } else {
                 for (ray, hit) in rays.iter().zip(hits) {
                     *hit = self.intersect(ray, time);
@@ -383,14 +478,22 @@ impl<'a> Frame<'a> {
         }
     }
 
-    /// Whether anything is hit in `(tnear, tfar]` at shutter time `time`.
+    /// Whether anything is hit in `(tnear, tfar]` at shutter time `time` (a hit that does not
+    /// count, see [`Visibility`], blocks nothing).
     pub fn occluded(&self, ray: &Ray, time: f32) -> bool {
         let world = PreparedRay::new(ray);
         let blocks = |item: u32| {
             let fi = &self.instances[item as usize];
             let placed = fi.placed_at(time);
             let bvh = fi.object.accel(&self.counters);
-            if placed.identity { bvh.occluded_prepared(&world) } else { bvh.occluded(&placed.ray_to_object(ray)) }
+            if fi.filtered {
+                // Any hit may not count: hits in order until one does.
+                self.closest_admitted(fi, &placed, bvh, ray, ray.tfar).is_some()
+            } else if placed.identity {
+                bvh.occluded_prepared(&world)
+            } else {
+                bvh.occluded(&placed.ray_to_object(ray))
+            }
         };
         if self.instances.len() <= LIST_TOP_LEVEL {
             (0..self.boxes.len() as u32).any(|item| self.boxes[item as usize].intersect(&world, ray.tfar).is_some() && blocks(item))
@@ -415,6 +518,18 @@ impl<'a> Frame<'a> {
         if n == 0 {
             return 0;
         }
+        let blocked = self.occluded_packet(rays, time);
+        if !self.filtered {
+            return blocked;
+        }
+        // The packet counted every hit: a ray it found blocked may be blocked only by hits that
+        // do not count (one it found open is open).
+        (0..n).filter(|&i| blocked & (1 << i) != 0 && self.occluded(&rays[i], time)).fold(0, |b, i| b | 1 << i)
+    }
+
+    /// [`Frame::occluded_many`] of a non-empty packet, every hit counting.
+    fn occluded_packet(&self, rays: &[Ray], time: f32) -> u32 {
+        let n = rays.len();
         let all = (1u32 << n) - 1;
         let prepared = PreparedRay::packet(rays);
         if let Some((_, tree)) = self.only_in_place(&prepared[..n], rays, time) {
@@ -494,10 +609,46 @@ impl<'a> Frame<'a> {
             front_face,
             shading_normal: shading_normal(mesh, &placed, corners, w, geometric_normal),
             color: (!mesh.colors.is_empty()).then(|| mesh.colors[a] * w0 + mesh.colors[b] * w1 + mesh.colors[c] * w2),
-            uv: (!mesh.uvs.is_empty()).then(|| mesh.uvs[a] * w0 + mesh.uvs[b] * w1 + mesh.uvs[c] * w2),
+            uv: interpolated(&mesh.uvs, corners, w),
+            uv1: interpolated(&mesh.uvs1, corners, w),
             shader,
             shader_id,
         }
+    }
+
+    /// The tangent at `hit` (at shutter time `time`) for a normal map on texture coordinates
+    /// `set` (0 or 1), in the world, not normalised: the mesh's tangents interpolated or, for a
+    /// mesh without them, the triangle's own from those coordinates; `w` is the handedness of
+    /// the bitangent
+    /// `w · n × tangent` for the outward normal `n` (an instance that mirrors the object turns
+    /// it). `None` where there is none: no texture coordinates, degenerate ones, or zero
+    /// tangents.
+    pub fn tangent(&self, hit: &SceneHit, time: f32, set: usize) -> Option<Vec4> {
+        let fi = &self.instances[hit.item as usize];
+        let mesh = &fi.object.mesh;
+        let (w, corners) = barycentrics(mesh, hit);
+        let local = if mesh.tangents.is_empty() {
+            let set = if set == 0 { &mesh.uvs } else { &mesh.uvs1 };
+            let uvs = corners.map(|i| set.get(i).copied());
+            let [Some(a), Some(b), Some(c)] = uvs else { return None };
+            let (tangent, up) = crate::tangents::triangle_tangents(corners.map(|i| mesh.positions[i]), [a, b, c])?;
+            tangent.extend(if hit.ng.cross(tangent).dot(up) < 0.0 { -1.0 } else { 1.0 })
+        } else {
+            let t = corners.map(|i| mesh.tangents[i]);
+            // The handedness of the corner that weighs most: it is constant across a triangle
+            // unless the texture is mirrored at it.
+            let heaviest = (0..3).fold(0, |best, k| if w[k] > w[best] { k } else { best });
+            (t[0].truncate() * w[0] + t[1].truncate() * w[1] + t[2].truncate() * w[2]).extend(t[heaviest].w.signum())
+        };
+        if local.truncate().length_squared() == 0.0 || !local.is_finite() {
+            return None;
+        }
+        let placed = fi.placed_at(time);
+        if placed.identity {
+            return Some(local);
+        }
+        let mirrored = placed.to_world.matrix3.determinant() < 0.0;
+        Some(placed.to_world.transform_vector3(local.truncate()).extend(if mirrored { -local.w } else { local.w }))
     }
 
     /// What a preview needs of `hit`: its shading normal (facing either way) and its shader.
@@ -527,7 +678,8 @@ impl<'a> Frame<'a> {
         PreviewAttributes {
             local_position: if fi.placed.identity { position } else { fi.placed.to_object.transform_point3(position) },
             color: (!mesh.colors.is_empty()).then(|| mesh.colors[a] * w[0] + mesh.colors[b] * w[1] + mesh.colors[c] * w[2]),
-            uv: (!mesh.uvs.is_empty()).then(|| mesh.uvs[a] * w[0] + mesh.uvs[b] * w[1] + mesh.uvs[c] * w[2]),
+            uv: interpolated(&mesh.uvs, [a, b, c], w),
+            uv1: interpolated(&mesh.uvs1, [a, b, c], w),
         }
     }
 
@@ -569,7 +721,9 @@ impl<'a> Frame<'a> {
                 let area = 0.5 * (corners[1] - corners[0]).cross(corners[2] - corners[0]).length();
                 let front = fi.placed.normal_to_world((local[1] - local[0]).cross(local[2] - local[0])).normalize_or_zero();
                 if area > 0.0 && area.is_finite() && front != Vec3::ZERO {
-                    out.push(WorldTriangle { corners, front, area, shader_id });
+                    let [a, b, c] = mesh.indices[prim as usize].map(|i| i as usize);
+                    let uvs = [&mesh.uvs, &mesh.uvs1].map(|set| (!set.is_empty()).then(|| [set[a], set[b], set[c]]));
+                    out.push(WorldTriangle { corners, front, area, shader_id, local, uvs });
                 }
             }
         }
@@ -674,7 +828,8 @@ impl<'a> Frame<'a> {
 
 /// The unit shading normal at barycentrics `w` of the triangle with vertices `corners` of
 /// `mesh`, on an instance placed by `placed`, turned to the side of `geometric_normal`: the
-/// interpolated vertex normals, or the geometric normal if the mesh has none.
+/// interpolated vertex normals, or the geometric normal if the mesh has none (or they
+/// interpolate to zero).
 #[inline(always)]
 fn shading_normal(mesh: &crate::Mesh, placed: &Placed, corners: [usize; 3], w: [f32; 3], geometric_normal: Vec3) -> Vec3 {
     if mesh.normals.is_empty() {
@@ -682,8 +837,18 @@ fn shading_normal(mesh: &crate::Mesh, placed: &Placed, corners: [usize; 3], w: [
     }
     let [a, b, c] = corners;
     let n = mesh.normals[a] * w[0] + mesh.normals[b] * w[1] + mesh.normals[c] * w[2];
-    let n = placed.normal_to_world(n).normalize_or_zero();
+    // A zero-length interpolated normal (zero normals in the file, or opposite ones cancelling)
+    // shades with the triangle's own.
+    let Some(n) = placed.normal_to_world(n).try_normalize() else { return geometric_normal };
     if n.dot(geometric_normal) < 0.0 { -n } else { n }
+}
+
+/// A per-vertex attribute at barycentrics `w` of the triangle with vertices `corners`, if the
+/// mesh has it.
+#[inline(always)]
+fn interpolated(values: &[Vec2], corners: [usize; 3], w: [f32; 3]) -> Option<Vec2> {
+    let [a, b, c] = corners;
+    (!values.is_empty()).then(|| values[a] * w[0] + values[b] * w[1] + values[c] * w[2])
 }
 
 /// The barycentric weights of `hit`'s three vertices and their indices in `mesh`.

@@ -1,7 +1,7 @@
 //! Triangle meshes as the scene stores them: positions and indices, optional per-vertex normals,
 //! colours and texture coordinates, and a shader per triangle.
 
-use glam::{UVec3, Vec2, Vec3};
+use glam::{UVec3, Vec2, Vec3, Vec4};
 use raystage_kernel::{Aabb, TriangleSource};
 
 use crate::error::SceneError;
@@ -23,6 +23,14 @@ pub struct Mesh {
     pub colors: Vec<Vec3>,
     /// Per-vertex texture coordinates; empty for none.
     pub uvs: Vec<Vec2>,
+    /// A second set of per-vertex texture coordinates (glTF's `TEXCOORD_1`), for textures that
+    /// ask for it; empty for none.
+    pub uvs1: Vec<Vec2>,
+    /// Per-vertex tangents for normal maps: the direction of increasing u (of the texture
+    /// coordinates the normal map reads) and, in `w`, ±1, the handedness of the bitangent
+    /// `w · normal × tangent` (glTF's `TANGENT`). Empty for none: shading then derives a tangent
+    /// from each triangle's texture coordinates. A zero tangent marks a vertex with none.
+    pub tangents: Vec<Vec4>,
     /// The shader of each triangle; empty to shade every triangle with the scene's default.
     pub shaders: Vec<ShaderId>,
 }
@@ -53,7 +61,7 @@ impl Mesh {
             }
         }
         finite("positions", self.positions.iter().map(|p| p.is_finite()))?;
-        for (field, len) in [("normals", self.normals.len()), ("colors", self.colors.len()), ("uvs", self.uvs.len())] {
+        for (field, len) in [("normals", self.normals.len()), ("colors", self.colors.len()), ("uvs", self.uvs.len()), ("uvs1", self.uvs1.len()), ("tangents", self.tangents.len())] {
             if len != 0 && len != vertices {
                 return Err(SceneError::WrongLength { field, got: len, expected: vertices });
             }
@@ -61,6 +69,8 @@ impl Mesh {
         finite("normals", self.normals.iter().map(|n| n.is_finite()))?;
         finite("colors", self.colors.iter().map(|c| c.is_finite()))?;
         finite("uvs", self.uvs.iter().map(|t| t.is_finite()))?;
+        finite("uvs1", self.uvs1.iter().map(|t| t.is_finite()))?;
+        finite("tangents", self.tangents.iter().map(|t| t.is_finite()))?;
         if !self.shaders.is_empty() && self.shaders.len() != self.indices.len() {
             return Err(SceneError::WrongLength {
                 field: "shaders",
@@ -69,6 +79,14 @@ impl Mesh {
             });
         }
         Ok(())
+    }
+
+    /// Fills [`Mesh::tangents`] from the texture coordinates `set` (0: [`Mesh::uvs`], 1:
+    /// [`Mesh::uvs1`]: those the normal map reads) and the normals, MikkTSpace-style (see
+    /// `tangents::vertex_tangents`); leaves them empty for a mesh without those coordinates.
+    /// Degenerate texture coordinates or normals give zero tangents, never NaNs.
+    pub fn generate_tangents(&mut self, set: usize) {
+        self.tangents = crate::tangents::vertex_tangents(self, set);
     }
 
     /// Bounds of the vertices the triangles use.

@@ -270,6 +270,11 @@ impl Scene {
         Arc::make_mut(self.shaders.get_mut(id.0).ok_or(SceneError::UnknownShader(id))?).set(name, value)
     }
 
+    /// Names a shader (see [`Shader::set_name`]).
+    pub fn set_shader_name(&mut self, id: ShaderId, name: Option<&str>) -> Result<(), SceneError> {
+        self.shaders.get_mut(id.0).ok_or(SceneError::UnknownShader(id))?.set_name(name)
+    }
+
     // ----- textures -----
 
     /// Reserves `n` consecutive texture ids (`rtGenTextures`); returns the first.

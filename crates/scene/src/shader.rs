@@ -73,6 +73,9 @@ pub struct ParamDecl {
     pub default: ParamValue,
     /// The allowed range of a number, or of each channel of a colour.
     pub range: [f32; 2],
+    /// The only values a number may take (codes, such as glTF's and OpenGL's wrap modes);
+    /// empty for any value in `range`.
+    pub choices: &'static [f32],
     /// What it does.
     pub doc: &'static str,
 }
@@ -81,6 +84,86 @@ pub struct ParamDecl {
 const NON_NEGATIVE: [f32; 2] = [0.0, f32::INFINITY];
 /// A reflectance: light out never exceeds light in.
 const FRACTION: [f32; 2] = [0.0, 1.0];
+/// Any finite value (the largest finite bounds, so that a listing of the range stays numbers).
+const ANY_FINITE: [f32; 2] = [-f32::MAX, f32::MAX];
+/// No list of choices: any value in the range.
+const ANY: &[f32] = &[];
+
+/// glTF's (and OpenGL's) wrap modes: `REPEAT`, `CLAMP_TO_EDGE`, `MIRRORED_REPEAT`.
+pub const WRAP_MODES: &[f32] = &[10497.0, 33071.0, 33648.0];
+/// glTF's (and OpenGL's) magnification filters: `NEAREST`, `LINEAR`.
+pub const MAG_FILTERS: &[f32] = &[9728.0, 9729.0];
+
+/// The parameters of a texture slot of a class: `{slot}_texture` and how it is sampled, after
+/// glTF's `textureInfo`, sampler and `KHR_texture_transform`: wrap modes, magnification filter,
+/// which texture coordinates, and an affine map of them (scaled, then rotated, then offset).
+macro_rules! texture_slot {
+    ($slot:literal, $doc:literal) => {
+        [
+            ParamDecl { name: concat!($slot, "_texture"), default: ParamValue::Texture(None), range: NON_NEGATIVE, choices: ANY, doc: $doc },
+            ParamDecl { name: concat!($slot, "_wrap_s"), default: ParamValue::Float(10497.0), range: [10497.0, 33648.0], choices: WRAP_MODES, doc: concat!("How `", $slot, "_texture` wraps across u: 10497 repeat, 33071 clamp to edge, 33648 mirrored repeat (glTF's and OpenGL's codes).") },
+            ParamDecl { name: concat!($slot, "_wrap_t"), default: ParamValue::Float(10497.0), range: [10497.0, 33648.0], choices: WRAP_MODES, doc: concat!("How `", $slot, "_texture` wraps across v, as `", $slot, "_wrap_s`.") },
+            ParamDecl { name: concat!($slot, "_filter"), default: ParamValue::Float(9729.0), range: [9728.0, 9729.0], choices: MAG_FILTERS, doc: concat!("How `", $slot, "_texture` is magnified: 9728 nearest texel, 9729 bilinear (glTF's and OpenGL's codes).") },
+            ParamDecl { name: concat!($slot, "_texcoord"), default: ParamValue::Float(0.0), range: [0.0, 1.0], choices: &[0.0, 1.0], doc: concat!("Which texture coordinates `", $slot, "_texture` reads: 0 the mesh's first set, 1 its second.") },
+            ParamDecl { name: concat!($slot, "_offset_u"), default: ParamValue::Float(0.0), range: ANY_FINITE, choices: ANY, doc: concat!("Added to u after scaling and rotation, for `", $slot, "_texture` (KHR_texture_transform's offset).") },
+            ParamDecl { name: concat!($slot, "_offset_v"), default: ParamValue::Float(0.0), range: ANY_FINITE, choices: ANY, doc: concat!("Added to v after scaling and rotation, for `", $slot, "_texture`.") },
+            ParamDecl { name: concat!($slot, "_rotation"), default: ParamValue::Float(0.0), range: ANY_FINITE, choices: ANY, doc: concat!("Radians the texture coordinates of `", $slot, "_texture` turn counter-clockwise, after scaling (KHR_texture_transform's rotation).") },
+            ParamDecl { name: concat!($slot, "_scale_u"), default: ParamValue::Float(1.0), range: ANY_FINITE, choices: ANY, doc: concat!("Multiplies u first, for `", $slot, "_texture` (KHR_texture_transform's scale).") },
+            ParamDecl { name: concat!($slot, "_scale_v"), default: ParamValue::Float(1.0), range: ANY_FINITE, choices: ANY, doc: concat!("Multiplies v first, for `", $slot, "_texture`.") },
+        ]
+    };
+}
+
+/// The number of parameters [`texture_slot!`] declares.
+const SLOT_PARAMS: usize = 10;
+
+/// `PhysicallyBased`'s texture slots.
+const PHYSICALLY_BASED_SLOTS: [[ParamDecl; SLOT_PARAMS]; 5] = [
+    texture_slot!("base_color", "A texture whose colour multiplies `base_color` (and the mesh's vertex colours do too); its alpha multiplies `opacity`. None by default."),
+    texture_slot!("metallic_roughness", "A texture whose blue channel multiplies `metallic` and green channel `roughness` (glTF's; its values are data, not sRGB colours); none by default."),
+    texture_slot!("normal", "A tangent-space normal map (glTF's: data, +X along increasing u, +Y up the image, +Z out of the surface), tilting the shading normal in every integrator; none by default. Tangents come from the mesh, or from each triangle's texture coordinates."),
+    texture_slot!("emissive", "A texture whose colour multiplies `emissive` (glTF's emissive texture, sRGB colours); none by default. Textured emitters light the scene by their texels."),
+    texture_slot!("occlusion", "A texture whose red channel darkens the eye-light preview by `occlusion_strength` (glTF's ambient occlusion texture, data); none by default. The path tracer finds occlusion itself and ignores it."),
+];
+
+/// The parameters of `PhysicallyBased`: its own, then those of each texture slot.
+static PHYSICALLY_BASED: [ParamDecl; PHYSICALLY_BASED_OWN.len() + PHYSICALLY_BASED_SLOTS.len() * SLOT_PARAMS] =
+    joined(&PHYSICALLY_BASED_OWN, &PHYSICALLY_BASED_SLOTS);
+
+/// `own` followed by every slot's parameters, as one table (`N` must be their total).
+const fn joined<const N: usize>(own: &[ParamDecl], slots: &[[ParamDecl; SLOT_PARAMS]]) -> [ParamDecl; N] {
+    assert!(own.len() + slots.len() * SLOT_PARAMS == N);
+    let mut all = [own[0]; N];
+    let mut i = 0;
+    while i < N {
+        all[i] = if i < own.len() { own[i] } else { slots[(i - own.len()) / SLOT_PARAMS][(i - own.len()) % SLOT_PARAMS] };
+        i += 1;
+    }
+    all
+}
+
+/// `PhysicallyBased`'s parameters other than its texture slots.
+const PHYSICALLY_BASED_OWN: [ParamDecl; 12] = [
+    ParamDecl { name: "base_color", default: ParamValue::Color(Vec3::ONE), range: FRACTION, choices: ANY, doc: "Base colour, linear RGB: the diffuse albedo of a dielectric, the reflectance of a metal." },
+    ParamDecl { name: "metallic", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "0 for a dielectric, 1 for a metal, blended between." },
+    ParamDecl { name: "roughness", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "Perceptual roughness in [0, 1]; the microfacets' α is its square." },
+    ParamDecl { name: "ior", default: ParamValue::Float(1.5), range: [1.0, 4.0], choices: ANY, doc: "The dielectric's index of refraction (1.5: 4 % reflected head-on)." },
+    ParamDecl { name: "specular", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "Scales the dielectric's specular reflection (glTF's KHR_materials_specular factor): 0 leaves a pure Lambertian base." },
+    ParamDecl { name: "emissive", default: ParamValue::Color(Vec3::ZERO), range: NON_NEGATIVE, choices: ANY, doc: "Emitted radiance, linear RGB (glTF's emissive factor × strength): an emitting surface is a light." },
+    ParamDecl { name: "normal_scale", default: ParamValue::Float(1.0), range: ANY_FINITE, choices: ANY, doc: "Scales the X and Y of `normal_texture`'s normals (glTF's normalTexture.scale): 0 flattens the map." },
+    ParamDecl { name: "occlusion_strength", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "How much `occlusion_texture` darkens: 0 not at all, 1 fully (glTF's occlusionTexture.strength)." },
+    ParamDecl { name: "opacity", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "Coverage (glTF's base colour alpha factor), multiplied by `base_color_texture`'s alpha; used by the `alpha_mode`s MASK and BLEND." },
+    ParamDecl { name: "alpha_mode", default: ParamValue::Float(ALPHA_OPAQUE), range: [ALPHA_OPAQUE, ALPHA_BLEND], choices: &[ALPHA_OPAQUE, ALPHA_MASK, ALPHA_BLEND], doc: "glTF's alpha mode: 0 OPAQUE (coverage ignored), 1 MASK (a cut-out: where coverage is below `alpha_cutoff` the surface is not there, for camera, shadow and every other ray), 2 BLEND (a ray passes with probability 1 − coverage, so that samples average to a blend)." },
+    ParamDecl { name: "alpha_cutoff", default: ParamValue::Float(0.5), range: FRACTION, choices: ANY, doc: "The coverage below which a MASK surface is cut out, in [0, 1]." },
+    ParamDecl { name: "double_sided", default: ParamValue::Float(1.0), range: FRACTION, choices: &[0.0, 1.0], doc: "1: seen from both sides; 0: single-sided (glTF's default), invisible from behind to every ray: camera rays, and shadow and bounce rays (which run from the shaded point towards the light) that meet its back pass through." },
+];
+
+/// `alpha_mode` OPAQUE: coverage is ignored.
+pub const ALPHA_OPAQUE: f32 = 0.0;
+/// `alpha_mode` MASK: a cut-out at `alpha_cutoff`.
+pub const ALPHA_MASK: f32 = 1.0;
+/// `alpha_mode` BLEND: rays pass in proportion to transparency.
+pub const ALPHA_BLEND: f32 = 2.0;
 
 /// What a shader class computes; the renderer dispatches on it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -138,12 +221,14 @@ const DIFFUSE: ParamDecl = ParamDecl {
     name: "diffuse",
     default: ParamValue::Color(Vec3::splat(0.8)),
     range: FRACTION,
+    choices: ANY,
     doc: "Diffuse reflectance (albedo), linear RGB in [0, 1].",
 };
 const DIFFUSE_TEXTURE: ParamDecl = ParamDecl {
     name: "diffuse_texture",
     default: ParamValue::Texture(None),
     range: NON_NEGATIVE,
+    choices: ANY,
     doc: "A texture whose colour multiplies `diffuse`; none by default.",
 };
 
@@ -159,38 +244,38 @@ pub static SHADER_CLASSES: &[ShaderClass] = &[
         name: "VertexColor",
         doc: "Matte surface coloured by the mesh's per-vertex colours, interpolated across each triangle.",
         model: ShadingModel::VertexColor,
-        params: &[ParamDecl { name: "diffuse", default: ParamValue::Color(Vec3::ONE), range: FRACTION, doc: "Multiplies the vertex colours." }],
+        params: &[ParamDecl { name: "diffuse", default: ParamValue::Color(Vec3::ONE), range: FRACTION, choices: ANY, doc: "Multiplies the vertex colours." }],
     },
     ShaderClass {
         name: "Constant",
         doc: "A flat colour that ignores the lights.",
         model: ShadingModel::Constant,
-        params: &[ParamDecl { name: "color", default: ParamValue::Color(Vec3::ONE), range: NON_NEGATIVE, doc: "The colour, linear RGB." }],
+        params: &[ParamDecl { name: "color", default: ParamValue::Color(Vec3::ONE), range: NON_NEGATIVE, choices: ANY, doc: "The colour, linear RGB." }],
     },
     ShaderClass {
         name: "Phong",
         doc: "Plastic: Lambertian diffuse plus a Blinn-Phong specular highlight of each light.",
         model: ShadingModel::Phong,
         params: &[
-            ParamDecl { name: "diffuse", default: ParamValue::Color(Vec3::splat(0.5)), range: FRACTION, doc: "Diffuse reflectance, linear RGB." },
+            ParamDecl { name: "diffuse", default: ParamValue::Color(Vec3::splat(0.5)), range: FRACTION, choices: ANY, doc: "Diffuse reflectance, linear RGB." },
             DIFFUSE_TEXTURE,
-            ParamDecl { name: "specular", default: ParamValue::Color(Vec3::splat(0.4)), range: FRACTION, doc: "Specular reflectance of the highlight." },
-            ParamDecl { name: "shininess", default: ParamValue::Float(40.0), range: [1.0, 10_000.0], doc: "Blinn-Phong exponent: higher is a tighter highlight (1 to 10,000)." },
+            ParamDecl { name: "specular", default: ParamValue::Color(Vec3::splat(0.4)), range: FRACTION, choices: ANY, doc: "Specular reflectance of the highlight." },
+            ParamDecl { name: "shininess", default: ParamValue::Float(40.0), range: [1.0, 10_000.0], choices: ANY, doc: "Blinn-Phong exponent: higher is a tighter highlight (1 to 10,000)." },
         ],
     },
     ShaderClass {
         name: "Mirror",
         doc: "A perfect mirror.",
         model: ShadingModel::Mirror,
-        params: &[ParamDecl { name: "reflectance", default: ParamValue::Color(Vec3::splat(0.9)), range: FRACTION, doc: "Fraction of light reflected, linear RGB." }],
+        params: &[ParamDecl { name: "reflectance", default: ParamValue::Color(Vec3::splat(0.9)), range: FRACTION, choices: ANY, doc: "Fraction of light reflected, linear RGB." }],
     },
     ShaderClass {
         name: "Glossy",
         doc: "Rough metal: a GGX microfacet reflector with Schlick's Fresnel term.",
         model: ShadingModel::Glossy,
         params: &[
-            ParamDecl { name: "reflectance", default: ParamValue::Color(Vec3::splat(0.9)), range: FRACTION, doc: "Reflectance at normal incidence (the metal's colour)." },
-            ParamDecl { name: "roughness", default: ParamValue::Float(0.2), range: [0.01, 1.0], doc: "Microfacet roughness α in (0, 1]: 0.01 is nearly a mirror, 1 very rough." },
+            ParamDecl { name: "reflectance", default: ParamValue::Color(Vec3::splat(0.9)), range: FRACTION, choices: ANY, doc: "Reflectance at normal incidence (the metal's colour)." },
+            ParamDecl { name: "roughness", default: ParamValue::Float(0.2), range: [0.01, 1.0], choices: ANY, doc: "Microfacet roughness α in (0, 1]: 0.01 is nearly a mirror, 1 very rough." },
         ],
     },
     ShaderClass {
@@ -198,30 +283,21 @@ pub static SHADER_CLASSES: &[ShaderClass] = &[
         doc: "A smooth dielectric: reflection and refraction weighted by Fresnel's equations, total internal reflection, and absorption inside by Beer's law. Media nest: a ray leaving a glass object returns to the medium it was in.",
         model: ShadingModel::Glass,
         params: &[
-            ParamDecl { name: "ior", default: ParamValue::Float(1.5), range: [1.0, 4.0], doc: "Index of refraction (1 to 4)." },
-            ParamDecl { name: "absorption", default: ParamValue::Color(Vec3::ZERO), range: NON_NEGATIVE, doc: "Absorption coefficient σ per unit distance: light travelling d inside keeps exp(−σd)." },
+            ParamDecl { name: "ior", default: ParamValue::Float(1.5), range: [1.0, 4.0], choices: ANY, doc: "Index of refraction (1 to 4)." },
+            ParamDecl { name: "absorption", default: ParamValue::Color(Vec3::ZERO), range: NON_NEGATIVE, choices: ANY, doc: "Absorption coefficient σ per unit distance: light travelling d inside keeps exp(−σd)." },
         ],
     },
     ShaderClass {
         name: "Emissive",
         doc: "A surface that glows; it lights the scene through the path tracer's bounces.",
         model: ShadingModel::Emissive,
-        params: &[ParamDecl { name: "emission", default: ParamValue::Color(Vec3::ONE), range: NON_NEGATIVE, doc: "Emitted radiance, linear RGB." }],
+        params: &[ParamDecl { name: "emission", default: ParamValue::Color(Vec3::ONE), range: NON_NEGATIVE, choices: ANY, doc: "Emitted radiance, linear RGB." }],
     },
     ShaderClass {
         name: "PhysicallyBased",
         doc: "glTF 2.0's metallic-roughness material, as ANARI's physicallyBased, OSPRay's principled and Cycles' Principled BSDF share it: a Lambertian base under a GGX specular layer (Fresnel from `ior`), blended by `metallic` with a GGX metal of the base colour; and light it emits. The defaults are glTF's: a white, fully metallic, fully rough surface.",
         model: ShadingModel::PhysicallyBased,
-        params: &[
-            ParamDecl { name: "base_color", default: ParamValue::Color(Vec3::ONE), range: FRACTION, doc: "Base colour, linear RGB: the diffuse albedo of a dielectric, the reflectance of a metal." },
-            ParamDecl { name: "base_color_texture", default: ParamValue::Texture(None), range: NON_NEGATIVE, doc: "A texture whose colour multiplies `base_color` (and the mesh's vertex colours do too); none by default." },
-            ParamDecl { name: "metallic", default: ParamValue::Float(1.0), range: FRACTION, doc: "0 for a dielectric, 1 for a metal, blended between." },
-            ParamDecl { name: "roughness", default: ParamValue::Float(1.0), range: FRACTION, doc: "Perceptual roughness in [0, 1]; the microfacets' α is its square." },
-            ParamDecl { name: "metallic_roughness_texture", default: ParamValue::Texture(None), range: NON_NEGATIVE, doc: "A texture whose blue channel multiplies `metallic` and green channel `roughness` (glTF's; its values are data, not sRGB colours); none by default." },
-            ParamDecl { name: "ior", default: ParamValue::Float(1.5), range: [1.0, 4.0], doc: "The dielectric's index of refraction (1.5: 4 % reflected head-on)." },
-            ParamDecl { name: "specular", default: ParamValue::Float(1.0), range: FRACTION, doc: "Scales the dielectric's specular reflection (glTF's KHR_materials_specular factor): 0 leaves a pure Lambertian base." },
-            ParamDecl { name: "emissive", default: ParamValue::Color(Vec3::ZERO), range: NON_NEGATIVE, doc: "Emitted radiance, linear RGB (glTF's emissive factor × strength): an emitting surface is a light." },
-        ],
+        params: &PHYSICALLY_BASED,
     },
     ShaderClass {
         name: "AmbientOcclusion",
@@ -229,7 +305,7 @@ pub static SHADER_CLASSES: &[ShaderClass] = &[
         model: ShadingModel::AmbientOcclusion,
         params: &[
             DIFFUSE,
-            ParamDecl { name: "distance", default: ParamValue::Float(1.0), range: [1e-6, f32::INFINITY], doc: "How far an occluder may be and still darken the point." },
+            ParamDecl { name: "distance", default: ParamValue::Float(1.0), range: [1e-6, f32::INFINITY], choices: ANY, doc: "How far an occluder may be and still darken the point." },
         ],
     },
 ];
@@ -239,11 +315,15 @@ pub fn shader_class(name: &str) -> Option<&'static ShaderClass> {
     SHADER_CLASSES.iter().find(|c| c.name == name)
 }
 
-/// A shader: a class and a value for each of its parameters.
+/// The longest shader name, in bytes.
+pub const MAX_SHADER_NAME: usize = 1024;
+
+/// A shader: a class, a value for each of its parameters, and a name if it was given one.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Shader {
     class: &'static ShaderClass,
     values: Vec<ParamValue>,
+    name: Option<String>,
 }
 
 impl Shader {
@@ -260,7 +340,22 @@ impl Shader {
     /// A shader of the class called `class`, every parameter at its default.
     pub fn new(class: &str) -> Result<Shader, SceneError> {
         let class = shader_class(class).ok_or_else(|| SceneError::UnknownShaderClass(class.to_string()))?;
-        Ok(Shader { class, values: class.params.iter().map(|p| p.default).collect() })
+        Ok(Shader { class, values: class.params.iter().map(|p| p.default).collect(), name: None })
+    }
+
+    /// The shader's name (a glTF material's, say), if it has one.
+    pub fn name(&self) -> Option<&str> {
+        self.name.as_deref()
+    }
+
+    /// Names the shader (`None`: no name). Names are labels for people: they need not be
+    /// unique, but are at most [`MAX_SHADER_NAME`] bytes.
+    pub fn set_name(&mut self, name: Option<&str>) -> Result<(), SceneError> {
+        if let Some(name) = name.filter(|n| n.len() > MAX_SHADER_NAME) {
+            return Err(SceneError::OutOfRange { field: "shader name", message: format!("{} bytes is longer than {MAX_SHADER_NAME}", name.len()) });
+        }
+        self.name = name.map(str::to_string);
+        Ok(())
     }
 
     /// The shader's class.
@@ -297,6 +392,16 @@ impl Shader {
                 message: format!("`{name}` of shader class `{}` must be within [{lo}, {hi}]", self.class.name),
             });
         }
+        let choices = self.class.params[index].choices;
+        if let ParamValue::Float(f) = value
+            && !choices.is_empty()
+            && !choices.contains(&f)
+        {
+            return Err(SceneError::OutOfRange {
+                field: "shader parameter",
+                message: format!("`{name}` of shader class `{}` must be one of {choices:?}", self.class.name),
+            });
+        }
         self.values[index] = value;
         Ok(true)
     }
@@ -328,5 +433,30 @@ impl Shader {
             Some(ParamValue::Texture(t)) => t,
             _ => None,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn coded_parameters_take_only_their_codes() {
+        let mut shader = Shader::new("PhysicallyBased").unwrap();
+        assert_eq!(shader.set("base_color_wrap_s", ParamValue::Float(33648.0)), Ok(true));
+        let error = shader.set("base_color_wrap_s", ParamValue::Float(20000.0)).unwrap_err();
+        assert!(error.to_string().contains("`base_color_wrap_s`") && error.to_string().contains("10497"), "{error}");
+        assert!(shader.set("base_color_filter", ParamValue::Float(9730.0)).is_err());
+        assert!(shader.set("base_color_texcoord", ParamValue::Float(0.5)).is_err());
+        assert_eq!(shader.get("base_color_wrap_s"), Some(ParamValue::Float(33648.0)), "a refused write changes nothing");
+        // Alpha: a cut-off outside [0, 1] is refused with its name; modes are codes.
+        let error = shader.set("alpha_cutoff", ParamValue::Float(1.5)).unwrap_err();
+        assert!(error.to_string().contains("`alpha_cutoff`") && error.to_string().contains("[0, 1]"), "{error}");
+        assert!(shader.set("alpha_cutoff", ParamValue::Float(-0.1)).is_err());
+        assert!(shader.set("alpha_mode", ParamValue::Float(1.5)).is_err());
+        assert_eq!(shader.set("alpha_mode", ParamValue::Float(ALPHA_BLEND)), Ok(true));
+        // Transforms take any finite number.
+        assert_eq!(shader.set("base_color_offset_u", ParamValue::Float(-3.5)), Ok(true));
+        assert!(shader.set("base_color_scale_v", ParamValue::Float(f32::INFINITY)).is_err());
     }
 }

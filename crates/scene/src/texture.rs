@@ -33,12 +33,14 @@ pub enum Texture {
     Image(Arc<Image>),
 }
 
-/// A linear-RGB image.
+/// A linear-RGB image, with coverage (alpha) where the encoded image had it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Image {
     width: u32,
     height: u32,
     texels: Vec<Vec3>,
+    /// Coverage in [0, 1] per texel, in `texels`' order; empty for an opaque image.
+    alpha: Vec<f32>,
 }
 
 impl Image {
@@ -55,13 +57,26 @@ impl Image {
         if let Some(index) = texels.iter().position(|t| !t.is_finite() || t.min_element() < 0.0) {
             return Err(SceneError::NotFinite { field: "texels", index });
         }
-        Ok(Image { width, height, texels })
+        Ok(Image { width, height, texels, alpha: Vec::new() })
+    }
+
+    /// The same image with coverage `alpha` in [0, 1] per texel (glTF's base colour alpha, for
+    /// masked and blended surfaces), in the texels' order.
+    pub fn with_alpha(mut self, alpha: Vec<f32>) -> Result<Image, SceneError> {
+        if alpha.len() != self.texels.len() {
+            return Err(SceneError::WrongLength { field: "alpha", got: alpha.len(), expected: self.texels.len() });
+        }
+        if let Some(index) = alpha.iter().position(|a| !(0.0..=1.0).contains(a)) {
+            return Err(SceneError::OutOfRange { field: "alpha", message: format!("texel {index} is not within [0, 1]") });
+        }
+        self.alpha = alpha;
+        Ok(self)
     }
 
     /// An image from encoded bytes: PNG, JPEG, Radiance HDR (`.hdr`) or OpenEXR, told apart by
     /// their first bytes. Integer channels are sRGB-encoded, as these files store them, and are
     /// decoded to linear light; floating-point channels (HDR, EXR) are linear already. Grey images become
-    /// grey texels; alpha is dropped.
+    /// grey texels; an alpha channel is kept as the image's coverage (linear, as stored).
     pub fn decode(bytes: &[u8]) -> Result<Image, SceneError> {
         Image::decode_with(bytes, srgb_to_linear)
     }
@@ -82,7 +97,12 @@ impl Image {
             // 8- and 16-bit channels alike, as 16-bit values.
             _ => decoded.to_rgb16().pixels().map(|p| Vec3::from_array(p.0.map(|c| level(c as f32 / 65535.0)))).collect(),
         };
-        Image::new(width, height, texels)
+        let image = Image::new(width, height, texels)?;
+        if !decoded.color().has_alpha() {
+            return Ok(image);
+        }
+        // Alpha is coverage, never sRGB-encoded.
+        image.with_alpha(decoded.to_rgba32f().pixels().map(|p| p.0[3].clamp(0.0, 1.0)).collect())
     }
 
     /// The width and height of the image in encoded bytes (as [`Image::decode`] takes them),
@@ -121,8 +141,24 @@ impl Image {
 
     /// The texel in column `x`, row `y` (wrapping around).
     pub fn texel(&self, x: i64, y: i64) -> Vec3 {
+        self.texels[self.index(x, y)]
+    }
+
+    /// The coverage of the texel in column `x`, row `y` (wrapping around): 1 for an opaque
+    /// image.
+    pub fn alpha(&self, x: i64, y: i64) -> f32 {
+        if self.alpha.is_empty() { 1.0 } else { self.alpha[self.index(x, y)] }
+    }
+
+    /// Whether the image has coverage other than 1 somewhere.
+    pub fn has_alpha(&self) -> bool {
+        self.alpha.iter().any(|&a| a < 1.0)
+    }
+
+    /// The index of texel `(x, y)`, wrapped into the image.
+    fn index(&self, x: i64, y: i64) -> usize {
         let (w, h) = (self.width as i64, self.height as i64);
-        self.texels[(y.rem_euclid(h) * w + x.rem_euclid(w)) as usize]
+        (y.rem_euclid(h) * w + x.rem_euclid(w)) as usize
     }
 }
 
@@ -185,6 +221,8 @@ mod tests {
         let t = decoded.texel(2, 1);
         assert!((t.x - srgb_to_linear(200.0 / 255.0)).abs() < 1e-6 && t.y == 1.0 && (t.z - 0.5029).abs() < 1e-3, "{t}");
         assert_eq!(decoded.texel(0, 0).x, 0.0);
+        // Alpha is kept as linear coverage.
+        assert!((decoded.alpha(2, 1) - 7.0 / 255.0).abs() < 1e-6 && decoded.has_alpha());
     }
 
     #[test]

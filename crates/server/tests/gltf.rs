@@ -37,7 +37,7 @@ fn document(uri: Option<String>) -> Value {
             { "bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-0.5, -0.5, 0], "max": [0.5, 0.5, 0] },
             { "bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR" }
         ],
-        "materials": [{ "pbrMetallicRoughness": { "baseColorFactor": [1, 0.5, 0, 1] }, "extensions": { "KHR_materials_unlit": {} } }],
+        "materials": [{ "name": "orange", "pbrMetallicRoughness": { "baseColorFactor": [1, 0.5, 0, 1] }, "extensions": { "KHR_materials_unlit": {} } }],
         "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0 }, "indices": 1, "material": 0 }] }],
         "cameras": [{ "type": "perspective", "perspective": { "yfov": 0.8, "znear": 0.1 } }],
         "nodes": [
@@ -89,7 +89,10 @@ async fn an_upload_adds_to_a_scene_and_a_broken_one_changes_nothing() {
     assert_eq!((added["objects"].as_array().unwrap().len(), added["instances"].as_array().unwrap().len()), (1, 2));
     assert_eq!((added["triangles"].as_u64(), added["camera_changed"].as_bool()), (Some(2), Some(false)));
     let shader = ok(&app, "GET", &format!("/scenes/{s}/shaders/{}", added["shaders"][0]), json!(null), StatusCode::OK).await;
-    assert_eq!(shader["class"], "Constant");
+    assert_eq!((&shader["class"], &shader["name"]), (&json!("Constant"), &json!("orange")), "named after its material");
+    // The scene's shaders, listed: id, class and name.
+    let shaders = ok(&app, "GET", &format!("/scenes/{s}/shaders"), json!(null), StatusCode::OK).await;
+    assert_eq!(shaders, json!([{ "id": added["shaders"][0], "class": "Constant", "name": "orange" }]));
     let before = ok(&app, "GET", &format!("/scenes/{s}"), json!(null), StatusCode::OK).await;
     let (status, error) = upload(&app, &format!("/scenes/{s}/gltf"), b"{ not gltf".to_vec(), "model/gltf+json").await;
     assert_eq!(status, StatusCode::BAD_REQUEST, "{error}");

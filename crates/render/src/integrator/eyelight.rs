@@ -31,7 +31,16 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, rays: &[Ray], hits: &[Option<SceneHit>],
             continue;
         };
         let point = t.frame.preview(hit);
-        (colour[k], lit[k]) = t.materials.preview_colour(&point, || t.frame.preview_attributes(ray, hit));
+        let Some(preview) = t.materials.preview_colour(&point, || t.frame.preview_attributes(ray, hit)) else {
+            // The normal map's normal needs the hit point's texture coordinates and tangent:
+            // the hit is resolved in full (its albedo, occluded, is the preview's colour).
+            let full = t.resolve(ray, *hit, 0.0);
+            let occlusion = t.materials.preview_occlusion(point.shader_id, full.surface.local_position, [full.surface.uv, full.surface.uv1]);
+            (colour[k], lit[k]) = (full.material.albedo * occlusion, true);
+            (nx[k], ny[k], nz[k]) = (full.surface.shading_normal.x, full.surface.shading_normal.y, full.surface.shading_normal.z);
+            continue;
+        };
+        (colour[k], lit[k]) = preview;
         (nx[k], ny[k], nz[k]) = (point.normal.x, point.normal.y, point.normal.z);
     }
     let (mut dx, mut dy, mut dz) = ([0.0f32; N], [0.0f32; N], [0.0f32; N]);

@@ -156,8 +156,11 @@ impl<'f> Tracer<'_, 'f> {
 
     /// What is at a hit of `ray` found elsewhere (camera rays are traced in packets).
     pub fn resolve(&self, ray: &Ray, hit: SceneHit, time: f32) -> Hit<'f> {
-        let surface = self.frame.surface(ray, &hit, time);
+        let mut surface = self.frame.surface(ray, &hit, time);
         let material = self.materials.at(&surface);
+        if let Some(n) = self.materials.mapped_normal(&surface, |set| self.frame.tangent(&hit, time, set)) {
+            surface.shading_normal = n;
+        }
         Hit { hit, surface, material }
     }
 
@@ -193,7 +196,8 @@ impl<'f> Tracer<'_, 'f> {
         let length = ray.dir.length();
         // The geometric normal faces the side the ray came from.
         let cos = hit.surface.geometric_normal.dot(-ray.dir / length);
-        self.lights.surface_emission(m.emission, hit.hit.t * length, cos, seen)
+        let picked_by = self.materials.emission(hit.surface.shader_id).unwrap_or(m.emission);
+        self.lights.surface_emission(m.emission, picked_by, hit.hit.t * length, cos, seen)
     }
 
     /// Light from area lights that `ray` meets before its hit at `t` (infinitely far if it hits

@@ -122,7 +122,7 @@ impl MeshSpec {
             (None, Some(each)) => Binding::Each(each),
             (None, None) => Binding::Default,
         };
-        let mesh = Mesh { positions, indices, normals, colors, uvs, shaders: Vec::new() };
+        let mesh = Mesh { positions, indices, normals, colors, uvs, ..Mesh::default() };
         Ok((mesh, binding))
     }
 }

@@ -18,7 +18,7 @@ pub use command::{
 pub use light::{LIGHT_CLASSES, LightInfo, LightSpec, Rgb};
 pub use mesh::{Kind, MeshSpec};
 pub use refs::Ref;
-pub use shader::{ParamJson, ParamOut, ShaderInfo, TextureParam};
+pub use shader::{ParamJson, ParamOut, ShaderInfo, ShaderSummary, TextureParam};
 pub use texture::{TextureDescription, TextureInfo, TextureKind, TextureSpec};
 pub use transform::{Rotation, Scale, Transform};
 

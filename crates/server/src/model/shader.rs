@@ -55,6 +55,8 @@ pub struct ShaderInfo {
     pub id: u32,
     /// Its class.
     pub class: String,
+    /// Its name (a glTF material's), if it has one.
+    pub name: Option<String>,
     /// Every parameter of the class with its value.
     pub params: BTreeMap<String, ParamOut>,
 }
@@ -75,7 +77,25 @@ impl ShaderInfo {
                 Some((p.name.to_string(), value))
             })
             .collect();
-        ShaderInfo { id, class: shader.class().name.to_string(), params }
+        ShaderInfo { id, class: shader.class().name.to_string(), name: shader.name().map(str::to_string), params }
+    }
+}
+
+/// A shader as the list of a scene's shaders shows it: id, class and name.
+#[derive(Clone, Debug, PartialEq, Serialize, ToSchema)]
+pub struct ShaderSummary {
+    /// The shader's id.
+    pub id: u32,
+    /// Its class.
+    pub class: String,
+    /// Its name (a glTF material's), if it has one.
+    pub name: Option<String>,
+}
+
+impl ShaderSummary {
+    /// A scene shader, in short.
+    pub fn of(id: u32, shader: &Shader) -> ShaderSummary {
+        ShaderSummary { id, class: shader.class().name.to_string(), name: shader.name().map(str::to_string) }
     }
 }
 

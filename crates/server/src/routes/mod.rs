@@ -42,7 +42,7 @@ pub(crate) fn router(state: AppState) -> Router {
         .route("/scenes/{scene}/objects/{id}", get(objects::get).put(objects::define).patch(objects::move_vertices).delete(objects::delete))
         .route("/scenes/{scene}/instances", get(instances::list).post(instances::add))
         .route("/scenes/{scene}/instances/{id}", get(instances::get).put(instances::set).delete(instances::delete))
-        .route("/scenes/{scene}/shaders", axum::routing::post(shaders::add))
+        .route("/scenes/{scene}/shaders", get(shaders::list).post(shaders::add))
         .route("/scenes/{scene}/shaders/{id}", get(shaders::get).put(shaders::define).patch(shaders::set_params).delete(shaders::delete))
         .route("/scenes/{scene}/lights", get(lights::list).post(lights::add))
         .route("/scenes/{scene}/lights/{id}", get(lights::get).put(lights::set).delete(lights::delete))

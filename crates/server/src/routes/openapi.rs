@@ -23,7 +23,7 @@ use crate::stream::{ClientMessage, FrameMessage, ServerMessage};
         super::scenes::list, super::scenes::create, super::scenes::info, super::scenes::delete, super::scenes::stats,
         super::objects::list, super::objects::add, super::objects::get, super::objects::define, super::objects::move_vertices, super::objects::delete,
         super::instances::list, super::instances::add, super::instances::get, super::instances::set, super::instances::delete,
-        super::shaders::add, super::shaders::get, super::shaders::define, super::shaders::set_params, super::shaders::delete,
+        super::shaders::list, super::shaders::add, super::shaders::get, super::shaders::define, super::shaders::set_params, super::shaders::delete,
         super::lights::list, super::lights::add, super::lights::get, super::lights::set, super::lights::delete,
         super::textures::list, super::textures::add, super::textures::get, super::textures::set, super::textures::delete,
         super::camera::get, super::camera::set,

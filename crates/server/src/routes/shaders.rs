@@ -8,8 +8,19 @@ use raystage_scene::ShaderId;
 use super::{CreatedResponse, Updated, create, update};
 use crate::error::{ApiResult, ErrorBody};
 use crate::extract::{JsonBody, Target};
-use crate::model::{Command, DefineShader, Delete, ParamsBody, Ref, SetParams, ShaderBody, ShaderInfo, ShaderUpdate};
+use crate::model::{Command, DefineShader, Delete, ParamsBody, Ref, SetParams, ShaderBody, ShaderInfo, ShaderSummary, ShaderUpdate};
 use crate::state::AppState;
+
+/// Every shader of the scene: id, class and name (the default shader is not listed).
+#[utoipa::path(get, path = "/scenes/{scene}/shaders", tag = "shaders",
+    params(("scene" = u32, Path, description = "The scene's id")),
+    responses(
+        (status = 200, description = "Success", body = [ShaderSummary]),
+        (status = 404, description = "No such scene, resource or route", body = ErrorBody),
+    ))]
+pub(crate) async fn list(target: Target) -> ApiResult<Json<Vec<ShaderSummary>>> {
+    Ok(Json(target.scene.read(|scene, _| scene.shaders().map(|(id, s)| ShaderSummary::of(id.0, s)).collect()).await?))
+}
 
 /// Adds a shader.
 #[utoipa::path(post, path = "/scenes/{scene}/shaders", tag = "shaders",
