@@ -272,7 +272,7 @@ impl Scene {
 
     /// Names a shader (see [`Shader::set_name`]).
     pub fn set_shader_name(&mut self, id: ShaderId, name: Option<&str>) -> Result<(), SceneError> {
-        self.shaders.get_mut(id.0).ok_or(SceneError::UnknownShader(id))?.set_name(name)
+        Arc::make_mut(self.shaders.get_mut(id.0).ok_or(SceneError::UnknownShader(id))?).set_name(name)
     }
 
     // ----- textures -----
