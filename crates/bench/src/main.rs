@@ -231,10 +231,7 @@ fn main() {
                     all.push(Box::new(Still(StandardScene::Spheres)));
                     all
                 }
-                other => {
-                    eprintln!("error: unknown scene `{other}` (expected robots, museum, terrain or all)");
-                    std::process::exit(2);
-                }
+                other => fail(&format!("unknown scene `{other}` (expected robots, museum, terrain or all)")),
             };
             if !cfg!(feature = "embree") {
                 eprintln!("note: built without the `embree` feature; only raystage is measured");
@@ -282,10 +279,7 @@ fn main() {
                 "all" => StandardScene::ALL.to_vec(),
                 name => match StandardScene::from_name(name) {
                     Some(s) => vec![s],
-                    None => {
-                        eprintln!("error: unknown scene `{name}` (expected sphere, soup or all)");
-                        std::process::exit(2);
-                    }
+                    None => fail(&format!("unknown scene `{name}` (expected sphere, soup or all)")),
                 },
             };
             if !cfg!(feature = "embree") {
