@@ -132,13 +132,31 @@ enum Command {
     /// Measure what accuracy costs in time: render a converged reference of a scene, sweep
     /// each knob that trades accuracy for time, and write report.md, plots and images.
     Report {
-        /// The scene: cornell, area-spheres, glass, spheres, or a .glb file.
+        /// The scene: cornell, area-spheres, glass, spheres, or a .glb/.gltf file.
         #[arg(long, default_value = "cornell")]
         scene: String,
+        /// The reference image, rendered elsewhere (.exr, .pfm or .npy of linear RGB) [default:
+        /// a converged raystage render, which cannot show raystage's biases].
+        #[arg(long)]
+        reference: Option<PathBuf>,
+        /// Image width [default: the reference's, else 160 on the long side at the camera's
+        /// aspect].
+        #[arg(long)]
+        width: Option<u32>,
+        /// Image height [default: as the width].
+        #[arg(long)]
+        height: Option<u32>,
+        /// Renders per setting, interleaved, for medians, spreads and the bias/noise split.
+        #[arg(long, default_value_t = 3)]
+        repeats: u32,
+        /// The target error (relative RMSE on 4x4 blocks) that times to target aim at.
+        #[arg(long, default_value_t = 0.05)]
+        target: f64,
         /// The directory to write the report into.
         #[arg(long, default_value = "report")]
         out: PathBuf,
-        /// A tiny run (32x24 pixels, a 64-spp reference): seconds instead of a minute.
+        /// A tiny run (32 pixels on the long side, a 64-spp reference): seconds instead of
+        /// minutes, too short to rank settings.
         #[arg(long)]
         quick: bool,
         /// Threads for the renders and builds [default: one per core].
@@ -201,8 +219,8 @@ fn main() -> ExitCode {
             let job = raystage::ViewJob { scene, integrator, max_samples, screenshot };
             raystage::view(&job, &mut std::io::stdout().lock())
         }
-        Command::Report { scene, out, quick, threads } => {
-            let job = raystage::ReportJob { scene, out, quick, threads };
+        Command::Report { scene, reference, width, height, repeats, target, out, quick, threads } => {
+            let job = raystage::ReportJob { scene, reference, width, height, repeats, target, out, quick, threads };
             raystage::run_report(&job, &mut std::io::stdout().lock()).map(|_| ())
         }
     };

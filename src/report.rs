@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result, ensure};
 use indicatif::{ProgressBar, ProgressStyle};
-use raystage_report::{Options, Progress, Report, SceneSource};
+use raystage_report::{Options, Progress, ReferenceSource, Report, SceneSource};
 
 use crate::render::MAX_THREADS;
 
@@ -14,6 +14,16 @@ use crate::render::MAX_THREADS;
 pub struct ReportJob {
     /// A built-in scene's name (`cornell`, `area-spheres`, `glass`, `spheres`) or a `.glb` file.
     pub scene: String,
+    /// An image rendered elsewhere to measure against; `None` for a converged raystage render.
+    pub reference: Option<PathBuf>,
+    /// Image width, if given.
+    pub width: Option<u32>,
+    /// Image height, if given.
+    pub height: Option<u32>,
+    /// Renders per setting (at least 3).
+    pub repeats: u32,
+    /// The target error that times to target aim at.
+    pub target: f64,
     /// The directory to write `report.md`, the plots and the images into (created if needed).
     pub out: PathBuf,
     /// A tiny run (32×24, a 64-spp reference) instead of the full one.
@@ -40,7 +50,9 @@ impl Progress for Bar {
 /// it went to `log`. Plots carry text if a system font is found.
 pub fn run_report(job: &ReportJob, log: &mut impl Write) -> Result<Report> {
     let source = SceneSource::parse(&job.scene)?;
-    let options = if job.quick { Options::quick(source) } else { Options::full(source) };
+    let defaults = if job.quick { Options::quick(source) } else { Options::full(source) };
+    let reference = job.reference.clone().map_or(defaults.reference.clone(), ReferenceSource::External);
+    let options = Options { reference, width: job.width, height: job.height, repeats: job.repeats, target: job.target, ..defaults };
     let mut pool = rayon::ThreadPoolBuilder::new();
     if let Some(threads) = job.threads {
         ensure!((1..=MAX_THREADS).contains(&threads), "--threads must be between 1 and {MAX_THREADS}, got {threads}");
@@ -56,23 +68,21 @@ pub fn run_report(job: &ReportJob, log: &mut impl Write) -> Result<Report> {
     let report = report?;
     let font = raystage_report::register_font();
     let files = raystage_report::write(&report, &job.out)?;
+    writeln!(log, "{}", raystage_report::title(&report))?;
     writeln!(
         log,
-        "{} at {}x{} on {} threads: reference {} spp in {:.1} s; {} files in {}{}",
+        "{} at {}x{} on {} threads, {} renders per setting; {} files in {}{}",
         report.scene,
         report.width,
         report.height,
         report.threads,
-        options.reference_spp,
-        report.reference_seconds,
+        options.repeats,
         files.len(),
         job.out.display(),
         if font.is_some() { "" } else { " (no font found: plots without text, see report.md)" }
     )?;
-    for knob in &report.knobs {
-        if let Some(best) = knob.best_trade() {
-            writeln!(log, "  {}: best trade {} (RMSE {:.4}, {:.3} s)", knob.name, best.setting, best.errors.rmse, best.seconds)?;
-        }
+    for line in raystage_report::summary_lines(&report) {
+        writeln!(log, "  {line}")?;
     }
     Ok(report)
 }

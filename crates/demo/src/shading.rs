@@ -83,8 +83,9 @@ pub fn materials() -> Result<Scene, SceneError> {
     })?;
     scene.add_light(Light::Area {
         corner: Vec3::new(-3.0, 5.0, 1.0),
-        edge_u: Vec3::new(0.0, 0.0, 2.0),
-        edge_v: Vec3::new(2.0, 0.0, 0.0),
+        // edge_u × edge_v points down: area lights emit on one side.
+        edge_u: Vec3::new(2.0, 0.0, 0.0),
+        edge_v: Vec3::new(0.0, 0.0, 2.0),
         radiance: Vec3::splat(2.0),
     })?;
     scene.set_camera(Camera::look_at(Vec3::new(0.0, 2.2, 6.0), Vec3::new(0.0, 0.4, 0.0), Vec3::Y, 45.0)?)?;
@@ -114,14 +115,15 @@ pub fn area_lit_spheres() -> Result<Scene, SceneError> {
     // A large warm light to the left, a small bright cool one to the right.
     scene.add_light(Light::Area {
         corner: Vec3::new(-3.5, 3.0, -0.5),
-        edge_u: Vec3::new(0.0, 0.0, 1.5),
-        edge_v: Vec3::new(1.5, 0.0, 0.0),
+        // edge_u × edge_v points down, at the spheres: area lights emit on one side.
+        edge_u: Vec3::new(1.5, 0.0, 0.0),
+        edge_v: Vec3::new(0.0, 0.0, 1.5),
         radiance: Vec3::new(6.0, 4.5, 3.0),
     })?;
     scene.add_light(Light::Area {
         corner: Vec3::new(2.0, 2.5, 0.5),
-        edge_u: Vec3::new(0.0, 0.0, 0.4),
-        edge_v: Vec3::new(0.4, 0.0, 0.0),
+        edge_u: Vec3::new(0.4, 0.0, 0.0),
+        edge_v: Vec3::new(0.0, 0.0, 0.4),
         radiance: Vec3::new(30.0, 36.0, 48.0),
     })?;
     scene.add_light(Light::Environment { radiance: Vec3::ZERO, map: None })?;

@@ -24,6 +24,7 @@ pub struct Import {
     instances: Vec<(usize, Affine3A)>,
     lights: Vec<Light>,
     camera: Option<Camera>,
+    aspect_ratio: Option<f32>,
     notes: Vec<String>,
 }
 
@@ -78,7 +79,7 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
     if skipped > 0 {
         notes.push(format!("{skipped} meshes without triangles (points or lines) left out"));
     }
-    Ok(Import { shaders: shaders.specs, images, objects, instances, lights: placed.lights, camera: placed.camera, notes })
+    Ok(Import { shaders: shaders.specs, images, objects, instances, lights: placed.lights, camera: placed.camera, aspect_ratio: placed.aspect_ratio, notes })
 }
 
 /// Checks a shader's class and parameters the way the scene will.
@@ -114,6 +115,12 @@ impl Import {
     /// The file's first perspective camera, if it has one.
     pub fn camera(&self) -> Option<Camera> {
         self.camera
+    }
+
+    /// The width-to-height ratio the file's camera was authored for (glTF's optional
+    /// `aspectRatio`), so that a render can keep the framing its author saw.
+    pub fn aspect_ratio(&self) -> Option<f32> {
+        self.aspect_ratio
     }
 
     /// A camera that sees every instance: from the front (+z) and a little above, 45° field of

@@ -21,6 +21,8 @@ pub(crate) struct Placements {
     pub lights: Vec<Light>,
     /// The first perspective camera.
     pub camera: Option<Camera>,
+    /// The width-to-height ratio that camera was authored for, if the file says.
+    pub aspect_ratio: Option<f32>,
     /// What was left out, for the user.
     pub notes: Vec<String>,
 }
@@ -92,7 +94,10 @@ impl Walk<'_> {
         let eye = world.transform_point3(Vec3::ZERO);
         let forward = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
         match Camera::look_at(eye, eye + forward, world.transform_vector3(Vec3::Y), p.yfov().to_degrees()) {
-            Ok(c) => self.out.camera = Some(c),
+            Ok(c) => {
+                self.out.camera = Some(c);
+                self.out.aspect_ratio = p.aspect_ratio().filter(|a| a.is_finite() && *a > 0.0);
+            }
             Err(e) => self.out.notes.push(format!("{field}: camera left out: {e}")),
         }
     }

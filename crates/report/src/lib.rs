@@ -1,13 +1,21 @@
 //! # raystage-report
 //!
 //! The accuracy report (`raystage report`, DESIGN.md "Accuracy report"): what each knob that
-//! trades accuracy for time costs and buys. For one scene it renders a converged reference with
-//! the path tracer, then sweeps one knob at a time — samples per pixel, path depth, shadow rays
-//! per area light, Russian roulette, the integrator — measuring wall time and the error against
-//! the reference (RMSE, relative MSE, mean absolute error), and compares the BVH builders at the
-//! kernel level (build time against trace time on the scene's own rays). [`run`] computes a
-//! [`Report`]; [`write()`] turns it into `report.md` (a table and a reading per knob), log-log
-//! plots of error against time, and a strip of the images side by side.
+//! trades accuracy for time costs and buys, told truthfully. For one scene it measures against a
+//! reference — an image from another renderer (`.exr`, `.pfm`, `.npy`), where raystage's biases
+//! show, or a converged raystage render, and says which — and sweeps one knob at a time, only
+//! the knobs that apply to the scene (samples per pixel, adaptive sampling, path depth, Russian
+//! roulette, shadow rays per area light, the integrator, Whitted depth, distribution samples,
+//! the shading kernel), saying why the others are left out. Every setting is rendered several
+//! times, interleaved with the others, so that each time is a median with a spread (wall and
+//! CPU) and each error splits into bias and noise; errors are relative, on the pixels that are
+//! not emitters, per 4×4 block and per pixel, with per-channel mean ratios. The readings are
+//! computed from the numbers (fits with R², where the image stops changing, the time to reach
+//! a target error), and a best trade is named only where it beats the others beyond their
+//! spread. The BVH builders are compared at the kernel level.
+//!
+//! [`run`] computes a [`Report`]; [`write()`] turns it into `report.md`, log-log plots of error
+//! against time with error bars, and a strip of the images side by side.
 //!
 //! Not in here: the renderer and kernel it measures, and the command line (the `raystage`
 //! binary parses arguments and shows progress through [`Progress`]).
@@ -15,16 +23,20 @@
 mod markdown;
 mod metrics;
 mod plot;
+mod reference;
 mod run;
 mod scenes;
 mod strip;
+mod timing;
 
-pub use markdown::markdown;
-pub use metrics::Errors;
+pub use markdown::{markdown, summary_lines, title};
+pub use metrics::{BLOCK, Comparison, Errors, Split};
 pub use plot::{error_plot, register_font};
-pub use run::{BvhRow, Knob, Options, Progress, Report, Row, run};
+pub use reference::{ReferenceSource, read_image};
+pub use run::{BvhRow, Knob, LeftOut, Options, Progress, Report, Row, run};
 pub use scenes::{BuiltinScene, SceneSource};
 pub use strip::strip;
+pub use timing::Spread;
 
 use std::path::{Path, PathBuf};
 
@@ -48,6 +60,14 @@ pub enum Error {
     /// The scene named is not one the report knows how to load.
     #[error("{0}")]
     Unsupported(String),
+    /// The reference image could not be read.
+    #[error("cannot read the reference {path}: {message}")]
+    Reference {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        message: String,
+    },
     /// Writing an output file failed.
     #[error("cannot write {path}: {source}")]
     Write {
@@ -70,7 +90,7 @@ pub enum Error {
 pub const FILES: [&str; 4] = ["report.md", "error_vs_time.png", "strip.png", "reference.png"];
 
 /// Writes the report into `dir` (created if needed): `report.md`, `error_vs_time.png` (every
-/// knob's RMSE against wall time, log-log), one plot per knob (`<knob>.png`), `strip.png` (the
+/// knob's relative error against wall time, log-log), one plot per knob (`<knob>.png`), `strip.png` (the
 /// reference and the settings' images side by side) and `reference.png`. Plots carry text only
 /// if a font was registered ([`register_font`]); `report.md` says what they show either way.
 /// Returns the files written.

@@ -51,18 +51,23 @@ fn colour(id: &str) -> RGBColor {
         "depth" => RGBColor(210, 40, 40),
         "light-samples" => RGBColor(30, 150, 60),
         "roulette" => RGBColor(190, 40, 190),
+        "adaptive" => RGBColor(240, 140, 20),
+        "whitted-depth" => RGBColor(140, 90, 40),
+        "distribution-spp" => RGBColor(20, 150, 150),
+        "kernel" => RGBColor(140, 140, 140),
         _ => RGBColor(20, 20, 20),
     }
 }
 
-/// Draws RMSE against wall time on log-log axes for `knobs`, one line with a dot per setting
-/// each, and writes it to `path` as PNG. With a font (see [`register_font`]), also the title,
-/// axis labels, a legend and each point's setting.
+/// Draws the relative error against wall time on log-log axes for `knobs`: per setting the
+/// medians, with bars from the smallest to the largest measurement of each, joined by a line
+/// for an ordered sweep; and writes it to `path` as PNG. With a font (see [`register_font`]),
+/// also the title, axis labels, a legend and each point's setting.
 pub fn error_plot(path: &Path, knobs: &[&Knob], title: &str) -> Result<(), Error> {
     let fail = |message: String| Error::Draw { path: path.to_owned(), message };
-    let points = || knobs.iter().flat_map(|k| k.rows.iter()).filter(|r| r.seconds > 0.0 && r.errors.rmse > 0.0);
-    let (t0, t1) = points().fold((f64::INFINITY, 0.0f64), |(lo, hi), r| (lo.min(r.seconds), hi.max(r.seconds)));
-    let (e0, e1) = points().fold((f64::INFINITY, 0.0f64), |(lo, hi), r| (lo.min(r.errors.rmse), hi.max(r.errors.rmse)));
+    let rows = || knobs.iter().flat_map(|k| k.rows.iter()).filter(|r| r.wall.min() > 0.0 && r.error().min() > 0.0);
+    let (t0, t1) = rows().fold((f64::INFINITY, 0.0f64), |(lo, hi), r| (lo.min(r.wall.min()), hi.max(r.wall.max())));
+    let (e0, e1) = rows().fold((f64::INFINITY, 0.0f64), |(lo, hi), r| (lo.min(r.error().min()), hi.max(r.error().max())));
     if !(t0.is_finite() && e0.is_finite()) {
         return Err(fail("no points to plot".into()));
     }
@@ -83,7 +88,7 @@ pub fn error_plot(path: &Path, knobs: &[&Knob], title: &str) -> Result<(), Error
         chart
             .configure_mesh()
             .x_desc("wall time (s)")
-            .y_desc("RMSE against the reference")
+            .y_desc("relative error (4x4 blocks)")
             .x_labels(8)
             .y_labels(8)
             .x_label_formatter(&|x| format!("{x:.1e}"))
@@ -92,25 +97,31 @@ pub fn error_plot(path: &Path, knobs: &[&Knob], title: &str) -> Result<(), Error
             .map_err(|e| fail(e.to_string()))?;
         for knob in knobs {
             let c = colour(knob.id);
-            let line: Vec<(f64, f64)> = knob.rows.iter().filter(|r| r.seconds > 0.0 && r.errors.rmse > 0.0).map(|r| (r.seconds, r.errors.rmse)).collect();
-            // Ordered settings are joined by a line; alternatives (roulette on or off, the
-            // integrators) are points, labelled when there is text.
-            let ordered = !matches!(knob.id, "roulette" | "integrator");
-            let series = if ordered {
-                chart.draw_series(LineSeries::new(line.iter().copied(), c.stroke_width(2)))
+            let shown: Vec<&crate::run::Row> = knob.rows.iter().filter(|r| r.wall.min() > 0.0 && r.error().min() > 0.0).collect();
+            let medians: Vec<(f64, f64)> = shown.iter().map(|r| (r.wall.median(), r.error().median())).collect();
+            let series = if knob.ordered() {
+                chart.draw_series(LineSeries::new(medians.iter().copied(), c.stroke_width(2)))
             } else {
-                chart.draw_series(line.iter().map(|&p| Cross::new(p, 7, c.stroke_width(2))))
+                chart.draw_series(medians.iter().map(|&p| Cross::new(p, 7, c.stroke_width(2))))
             }
             .map_err(|e| fail(e.to_string()))?;
             if text {
                 series.label(knob.name).legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], c.stroke_width(2)));
             }
-            chart.draw_series(line.iter().map(|&p| Circle::new(p, 4, c.filled()))).map_err(|e| fail(e.to_string()))?;
-            if text && (knobs.len() == 1 || !ordered) {
-                let labels = knob.rows.iter().filter(|r| r.seconds > 0.0 && r.errors.rmse > 0.0);
+            // The spread of each setting: its time's range across, its error's range up and down.
+            let bars = shown.iter().flat_map(|r| {
+                let (t, e) = (r.wall.median(), r.error().median());
+                [
+                    PathElement::new([(r.wall.min(), e), (r.wall.max(), e)], c.stroke_width(1)),
+                    PathElement::new([(t, r.error().min()), (t, r.error().max())], c.stroke_width(1)),
+                ]
+            });
+            chart.draw_series(bars).map_err(|e| fail(e.to_string()))?;
+            chart.draw_series(medians.iter().map(|&p| Circle::new(p, 4, c.filled()))).map_err(|e| fail(e.to_string()))?;
+            if text && (knobs.len() == 1 || !knob.ordered()) {
                 chart
-                    .draw_series(labels.map(|r| {
-                        EmptyElement::at((r.seconds, r.errors.rmse)) + Text::new(r.setting.clone(), (7, -16), ("sans-serif", 13).into_font())
+                    .draw_series(shown.iter().map(|r| {
+                        EmptyElement::at((r.wall.median(), r.error().median())) + Text::new(r.setting.clone(), (7, -16), ("sans-serif", 13).into_font())
                     }))
                     .map_err(|e| fail(e.to_string()))?;
             }
@@ -132,8 +143,9 @@ pub fn error_plot(path: &Path, knobs: &[&Knob], title: &str) -> Result<(), Error
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::metrics::Errors;
+    use crate::metrics::{Errors, Split};
     use crate::run::Row;
+    use crate::timing::Spread;
 
     /// Without a registered font nothing draws text, so this needs no font on the machine.
     #[test]
@@ -141,7 +153,19 @@ mod tests {
         assert!(!has_text(), "no test registers a font");
         let rows = [1u32, 2, 4, 8]
             .iter()
-            .map(|&spp| Row { setting: format!("{spp} spp"), seconds: spp as f64 * 0.1, rays: 100, errors: Errors { rmse: 0.2 / (spp as f64).sqrt(), rel_mse: 0.0, mae: 0.0 } })
+            .map(|&spp| {
+                let e = 0.2 / (spp as f64).sqrt();
+                let errors = Errors { relative_blocks: e, relative_pixels: e, rmse: e, mean_ratio: [1.0; 3] };
+                Row {
+                    setting: format!("{spp} spp"),
+                    value: Some(spp as f64),
+                    wall: Spread { samples: vec![spp as f64 * 0.1, spp as f64 * 0.12, spp as f64 * 0.11] },
+                    cpu: Spread { samples: vec![spp as f64 * 0.2; 3] },
+                    rays: 100,
+                    errors: vec![errors; 3],
+                    split: Split { bias: 0.0, noise: e },
+                }
+            })
             .collect();
         let knob = Knob { id: "spp", name: "Samples per pixel", fixed: String::new(), rows };
         let path = std::env::temp_dir().join(format!("raystage-report-plot-{}.png", std::process::id()));

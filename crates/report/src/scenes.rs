@@ -99,13 +99,16 @@ impl SceneSource {
         }
     }
 
-    /// Builds the scene.
-    pub fn scene(&self) -> Result<Scene, Error> {
+    /// Builds the scene, with the width-to-height ratio its camera was authored for if it
+    /// says (a glTF camera's `aspectRatio`).
+    pub fn scene(&self) -> Result<(Scene, Option<f32>), Error> {
         match self {
-            SceneSource::Builtin(s) => s.scene(),
+            SceneSource::Builtin(s) => Ok((s.scene()?, None)),
             SceneSource::Gltf(path) => {
                 let import = |source| Error::Import { path: path.clone(), source };
-                raystage_gltf_import::read_file(path, &raystage_gltf_import::Limits::default()).and_then(|i| i.into_scene()).map_err(import)
+                let file = raystage_gltf_import::read_file(path, &raystage_gltf_import::Limits::default()).map_err(import)?;
+                let aspect = file.aspect_ratio();
+                Ok((file.into_scene().map_err(import)?, aspect))
             }
         }
     }
