@@ -102,20 +102,26 @@ def scene_dict(mi, doc, data, folder, size, spp):
         if max(emissive) > 0.0:
             shape["emitter"] = {"type": "area", "radiance": {"type": "rgb", "value": [c * strength for c in emissive]}}
         scene[f"shape{k}"] = shape
+    scene["sensor"] = sensor(mi, doc, size, size, spp)
+    return scene
+
+
+def sensor(mi, doc, width, height, spp):
+    """The file's first camera node as a Mitsuba perspective sensor of `width` × `height` pixels
+    (vertical field of view, box filter of one pixel, `spp` independent samples per pixel)."""
     node = next(n for n in doc["nodes"] if "camera" in n)
     camera = doc["cameras"][node["camera"]]["perspective"]
     q = node.get("rotation", [0.0, 0.0, 0.0, 1.0])
     eye = np.array(node.get("translation", [0.0, 0.0, 0.0]))
     forward, up = rotate(q, [0.0, 0.0, -1.0]), rotate(q, [0.0, 1.0, 0.0])
-    scene["sensor"] = {
+    return {
         "type": "perspective",
         "fov_axis": "y",
         "fov": math.degrees(camera["yfov"]),
         "to_world": mi.ScalarTransform4f().look_at(origin=eye.tolist(), target=(eye + forward).tolist(), up=up.tolist()),
         "sampler": {"type": "independent", "sample_count": spp},
-        "film": {"type": "hdrfilm", "width": size, "height": size, "rfilter": {"type": "box"}, "pixel_format": "rgb"},
+        "film": {"type": "hdrfilm", "width": width, "height": height, "rfilter": {"type": "box"}, "pixel_format": "rgb"},
     }
-    return scene
 
 
 def write_pfm(path, image):

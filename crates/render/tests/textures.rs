@@ -205,6 +205,22 @@ fn bad_tangent_frames_shade_with_the_unmapped_normal_and_never_a_nan() {
     }
 }
 
+#[test]
+fn normals_mapped_away_from_the_viewer_shade_with_the_unmapped_normal() {
+    // The quad turned 70° about x, its top away from the camera, lit from the camera's side;
+    // the map tilts the normal 40° up the quad: 110° from the direction to the camera, where
+    // it would shade the point black.
+    let (s, c) = 70f32.to_radians().sin_cos();
+    let turned = |m: &mut Mesh| m.positions.iter_mut().for_each(|p| *p = Vec3::new(p.x, p.y * c, -p.y * s));
+    let up = Vec3::new(0.0, 40f32.to_radians().sin(), 40f32.to_radians().cos());
+    for integrator in Integrator::ALL {
+        let flat = normal_mapped(None, -Vec3::Z, integrator, turned).0;
+        let (centre, finite) = normal_mapped(Some(up), -Vec3::Z, integrator, turned);
+        assert!(finite && flat.x > 0.0, "{integrator:?}: {flat}");
+        assert!((centre - flat).abs().max_element() < 1e-4, "{integrator:?}: {centre}, unmapped {flat}");
+    }
+}
+
 /// A 1 × 1 data texture of `value`.
 fn texel(scene: &mut Scene, value: Vec3) -> ParamValue {
     ParamValue::Texture(Some(scene.add_texture(Texture::Image(Image::new(1, 1, vec![value]).unwrap().into())).unwrap()))

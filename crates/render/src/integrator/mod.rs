@@ -158,7 +158,12 @@ impl<'f> Tracer<'_, 'f> {
     pub fn resolve(&self, ray: &Ray, hit: SceneHit, time: f32) -> Hit<'f> {
         let mut surface = self.frame.surface(ray, &hit, time);
         let material = self.materials.at(&surface);
-        if let Some(n) = self.materials.mapped_normal(&surface, |set| self.frame.tangent(&hit, time, set)) {
+        // A normal the map turns away from the viewer would shade the point black (nothing it
+        // reflects reaches the viewer): the unmapped normal shades there, as where the map turns
+        // it to the surface's far side.
+        if let Some(n) = self.materials.mapped_normal(&surface, |set| self.frame.tangent(&hit, time, set))
+            && n.dot(ray.dir) < 0.0
+        {
             surface.shading_normal = n;
         }
         Hit { hit, surface, material }

@@ -1,0 +1,221 @@
+//! glTF 2.0's metallic-roughness material (`PhysicallyBased`) against Mitsuba 3: the scenes of
+//! `raystage_demo::material_scenes`, imported from their glTF files and path traced at 256
+//! samples per pixel, against Mitsuba's renderings of the same files
+//! (`tests/references/{name}.pfm`, 4096 samples per pixel, made by
+//! `scripts/references/materials.py` with the specification's Appendix B BRDF written as a
+//! Mitsuba BSDF, and Mitsuba's own normal-map, mask and two-sided wrappers).
+//!
+//! An image is judged by its PSNR and its SSIM after a tone curve x / (1 + x) (so that
+//! highlights weigh no more than the rest), by each colour channel's mean over the image and,
+//! for the spheres, over each sphere's cell. Measured (PSNR dB, SSIM, channel means over the
+//! reference's, the worst sphere cell's difference):
+//!
+//! | material | spheres | normal-mapped quad | cut-out |
+//! |---|---|---|---|
+//! | correct | 42.1, 0.993, 0.982 0.991 0.995, 3.2 % | 41.4, 0.993, 0.993 0.992 0.987 | 43.4, 0.993, 1.015 1.009 1.016 |
+//! | roughness taken for α | **31.8, 0.950, 0.940 0.935 0.929, 18 %** | **36.3**, 0.982, **0.950 0.946 0.939** | 43.8, 0.993, 1.009 1.003 1.010 |
+//! | metallic ignored | **24.4, 0.830, 1.20 1.33 1.39, 148 %** | (no metal) | (no metal) |
+//! | Schlick's Fresnel removed (F = F0) | 42.2, 0.991, 1.020 0.988 0.971, **10 %** | 44.6, 0.999, **1.039 1.038 1.037** | 40.6, 0.994, **1.047 1.050 1.046** |
+//! | normal map ignored | | **27.8, 0.802, 1.075 1.080 1.092** | |
+//! | normal map's green read downwards | | **26.5, 0.783**, 0.973 0.980 1.001 | |
+//! | alpha mask ignored | | | **28.9, 0.839, 0.966 1.041 0.953** |
+//!
+//! (bold: outside the tolerances). The roughness, metallic, normal-map and mask breakages are
+//! made by editing the scene's shaders in `the_comparison_fails_broken_materials`; the
+//! Fresnel and green-channel ones were measured by changing the code (`fresnel_schlick`
+//! returning F0; the bitangent negated in `material::tilted`). Removing the Fresnel rise
+//! leaves the images' structure alone: the means catch it.
+//!
+//! Where the comparison does not look: raystage couples the dielectric's Lambertian base to its
+//! specular layer by (1 − F(ωo))(1 − F(ωi)) / (1 − F̄), reciprocal and never above its light,
+//! where Appendix B weighs it by 1 − F(v·h). The two agree within 1 % of directional albedo up
+//! to 45° from the normal, but at grazing raystage's base is darker: 0.79–0.90 of Appendix B's
+//! seen at 75°, 19 % darker for a light 15° above a quad seen from 48°. The scenes keep out of
+//! grazing light (the quad's light is 35° up, the cut-out's floor is seen within 68° of its
+//! normal) so that tolerances stay tight; the dielectric spheres' rims still show it (their cells
+//! 2–3 % darker, the metal spheres' within 0.9 %).
+
+use glam::Vec3;
+use raystage_demo::material_scenes::{ENVIRONMENT, MaterialScene, ROUGHNESS};
+use raystage_gltf_import::Limits;
+use raystage_render::{Film, Integrator, RenderSettings, render};
+use raystage_scene::{ALPHA_OPAQUE, Background, Light, ParamValue, Scene};
+
+/// Samples per pixel of the test's renders.
+const SPP: u32 = 256;
+/// Lowest PSNR (dB, tone-mapped) the comparison accepts: 3 dB below the lowest of a correct
+/// material (41.4; raystage's own noise at [`SPP`] is below the reference's), above the
+/// roughness mistaken for α (36.3).
+const PSNR_TOLERANCE: f32 = 38.0;
+/// Lowest mean SSIM (tone-mapped luminance) the comparison accepts: correct materials reach
+/// 0.993, a lost or misread normal map or mask 0.84 at best.
+const SSIM_TOLERANCE: f32 = 0.98;
+/// Largest relative difference of a channel's mean over the image: correct materials keep
+/// within 1.9 %, a surface without Schlick's Fresnel rise is 3.7–5 % off.
+const MEAN_TOLERANCE: f32 = 0.03;
+/// Largest relative difference of a channel's mean over a sphere's cell: the dielectric spheres
+/// read up to 3.2 % darker than Appendix B's at their rims, by raystage's coupling of base and
+/// specular layer (see the module's notes).
+const CELL_TOLERANCE: f32 = 0.05;
+
+/// Mitsuba's image of `scene`, row by row from the top.
+fn reference(scene: MaterialScene) -> Vec<Vec3> {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("tests/references/{}.pfm", scene.name()));
+    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let film = Film::from_pfm(&bytes).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    assert_eq!((film.width(), film.height()), scene.size(), "{}", path.display());
+    film.pixels().to_vec()
+}
+
+/// `scene` as raystage imports it, with the uniform environment its file names.
+fn import(scene: MaterialScene) -> Scene {
+    let import = raystage_gltf_import::read(scene.gltf().as_bytes(), None, &Limits::default()).unwrap();
+    assert!(import.notes().is_empty(), "{}: {:?}", scene.name(), import.notes());
+    let mut imported = import.into_scene().unwrap();
+    imported.add_light(Light::Environment { radiance: Vec3::from(ENVIRONMENT), map: None }).unwrap();
+    imported
+}
+
+/// `imported` path traced as the reference was: box filter, long paths, black where camera
+/// rays miss everything.
+fn render_scene(scene: MaterialScene, imported: &Scene) -> Vec<Vec3> {
+    let (width, height) = scene.size();
+    let settings = RenderSettings {
+        width,
+        height,
+        integrator: Integrator::Path,
+        samples_per_pixel: SPP,
+        max_depth: 64,
+        default_lights: false,
+        background: Some(Background::Color(Vec3::ZERO)),
+        ..RenderSettings::default()
+    };
+    let (film, stats) = render(&imported.frame(), &settings).unwrap();
+    assert_eq!(stats.non_finite, 0);
+    film.pixels().to_vec()
+}
+
+/// How far an image is from the reference.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Comparison {
+    /// Peak signal-to-noise ratio of the tone-mapped images, dB.
+    psnr: f32,
+    /// Mean structural similarity of the tone-mapped luminances (7×7 windows).
+    ssim: f32,
+    /// Per channel, the image's mean over the reference's.
+    channel_ratio: Vec3,
+    /// The largest relative difference of a channel's mean over a sphere's cell (0 for the
+    /// other scenes).
+    worst_cell: f32,
+}
+
+impl Comparison {
+    /// `image` against `reference`, both of `scene`'s size.
+    fn of(scene: MaterialScene, image: &[Vec3], reference: &[Vec3]) -> Comparison {
+        let (width, height) = scene.size();
+        let (width, height) = (width as usize, height as usize);
+        let tone = |c: Vec3| c / (Vec3::ONE + c);
+        let squares: f64 = image.iter().zip(reference).map(|(a, b)| (tone(*a) - tone(*b)).length_squared() as f64).sum();
+        let psnr = (10.0 * (3.0 * image.len() as f64 / squares).log10()) as f32;
+        let lum = |img: &[Vec3]| img.iter().map(|c| tone(*c).dot(Vec3::new(0.2126, 0.7152, 0.0722))).collect::<Vec<f32>>();
+        let ssim = ssim(&lum(image), &lum(reference), width, height);
+        let mean = |img: &[Vec3], cells: usize, cell: usize| {
+            let side = height / cells;
+            let (cx, cy) = (cell % (width / side), cell / (width / side));
+            let pixels = (0..side * side).map(|i| img[(cy * side + i / side) * width + cx * side + i % side]);
+            pixels.sum::<Vec3>() / (side * side) as f32
+        };
+        let worst_cell = match scene {
+            MaterialScene::Spheres => (0..2 * ROUGHNESS.len())
+                .map(|cell| (mean(image, 2, cell) / mean(reference, 2, cell) - Vec3::ONE).abs().max_element())
+                .fold(0.0, f32::max),
+            _ => 0.0,
+        };
+        let channel_ratio = image.iter().sum::<Vec3>() / reference.iter().sum::<Vec3>();
+        Comparison { psnr, ssim, channel_ratio, worst_cell }
+    }
+
+    /// Whether the comparison is within the test's tolerances.
+    fn passes(&self) -> bool {
+        self.psnr >= PSNR_TOLERANCE
+            && self.ssim >= SSIM_TOLERANCE
+            && (self.channel_ratio - Vec3::ONE).abs().max_element() <= MEAN_TOLERANCE
+            && self.worst_cell <= CELL_TOLERANCE
+    }
+}
+
+/// Mean SSIM (Wang et al. 2004) of two images of values in [0, 1] over every 7×7 window.
+fn ssim(a: &[f32], b: &[f32], width: usize, height: usize) -> f32 {
+    const W: usize = 7;
+    let (c1, c2) = (0.01f64 * 0.01, 0.03f64 * 0.03);
+    let mut total = 0.0f64;
+    for y in 0..=height - W {
+        for x in 0..=width - W {
+            let window = || (0..W * W).map(|i| (y + i / W) * width + x + i % W);
+            let n = (W * W) as f64;
+            let (ma, mb) = (window().map(|i| a[i] as f64).sum::<f64>() / n, window().map(|i| b[i] as f64).sum::<f64>() / n);
+            let (mut va, mut vb, mut cov) = (0.0, 0.0, 0.0);
+            for i in window() {
+                let (da, db) = (a[i] as f64 - ma, b[i] as f64 - mb);
+                va += da * da;
+                vb += db * db;
+                cov += da * db;
+            }
+            let (va, vb, cov) = (va / (n - 1.0), vb / (n - 1.0), cov / (n - 1.0));
+            total += (2.0 * ma * mb + c1) * (2.0 * cov + c2) / ((ma * ma + mb * mb + c1) * (va + vb + c2));
+        }
+    }
+    (total / ((height - W + 1) * (width - W + 1)) as f64) as f32
+}
+
+/// Renders `scene` and compares it with its reference.
+fn check(scene: MaterialScene) {
+    let comparison = Comparison::of(scene, &render_scene(scene, &import(scene)), &reference(scene));
+    eprintln!("{}: {comparison:?}", scene.name());
+    assert!(comparison.passes(), "{}: {comparison:?}", scene.name());
+}
+
+#[test]
+fn the_spheres_match_mitsuba() {
+    check(MaterialScene::Spheres);
+}
+
+#[test]
+fn the_normal_mapped_quad_matches_mitsuba() {
+    check(MaterialScene::NormalMapped);
+}
+
+#[test]
+fn the_cutout_matches_mitsuba() {
+    check(MaterialScene::Cutout);
+}
+
+/// `scene` with `edit` applied to each of its materials that is not a light, rendered and
+/// compared with the reference: the comparison must fail it.
+fn assert_fails(what: &str, scene: MaterialScene, edit: impl Fn(&mut Scene, raystage_scene::ShaderId)) {
+    let mut imported = import(scene);
+    let materials: Vec<_> = imported.shaders().filter(|(_, s)| s.color("emissive") == Vec3::ZERO).map(|(id, _)| id).collect();
+    for id in materials {
+        edit(&mut imported, id);
+    }
+    let comparison = Comparison::of(scene, &render_scene(scene, &imported), &reference(scene));
+    eprintln!("{what}: {comparison:?}");
+    assert!(!comparison.passes(), "{what}: {comparison:?}");
+}
+
+#[test]
+fn the_comparison_fails_broken_materials() {
+    let set = |name: &'static str, value: fn(f32) -> f32| {
+        move |scene: &mut Scene, id| {
+            let old = scene.shader(id).unwrap().float(name);
+            scene.set_param(id, name, ParamValue::Float(value(old))).unwrap();
+        }
+    };
+    // Roughness taken for α: α = r² of √r.
+    assert_fails("roughness taken for α", MaterialScene::Spheres, set("roughness", f32::sqrt));
+    assert_fails("metallic ignored", MaterialScene::Spheres, set("metallic", |_| 0.0));
+    assert_fails("normal map ignored", MaterialScene::NormalMapped, |scene, id| {
+        scene.set_param(id, "normal_texture", ParamValue::Texture(None)).unwrap();
+    });
+    assert_fails("alpha mask ignored", MaterialScene::Cutout, set("alpha_mode", |_| ALPHA_OPAQUE));
+}
