@@ -2,8 +2,9 @@
 # Runs every test of the workspace. As root on Debian it first installs the system packages the
 # tests need (Embree 3, for the benchmark's side-by-side checks; gcc, g++, pkg-config and CMake,
 # to build the C and C++ examples against the installed C library; Xvfb and Mesa, for the
-# viewer's window test); with Embree's headers present, the benchmark crate is tested with its
-# `embree` feature.
+# viewer's window test; Open MPI and libclang, for rendering across MPI ranks); with Embree's
+# headers present, the benchmark crate is tested with its `embree` feature, and with Open MPI
+# the command line with its `mpi` feature.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -11,6 +12,9 @@ packages=(libembree-dev gcc g++ pkg-config cmake)
 # The viewer's window test (crates/client/tests/window.rs): a virtual X server, Mesa's software
 # OpenGL through GLX (llvmpipe), and the X libraries winit loads at run time.
 packages+=(xvfb libgl1 libglx-mesa0 libgl1-mesa-dri libegl1 libx11-xcb1 libxcursor1 libxi6 libxkbcommon-x11-0)
+# Rendering across MPI ranks (the root crate's `mpi` feature, tests/cli_mpi.rs): Open MPI, and
+# libclang for the bindings rsmpi generates at build time.
+packages+=(libopenmpi-dev openmpi-bin libclang1-14 libclang-common-14-dev)
 
 if [[ $(id -u) -eq 0 ]] && command -v apt-get >/dev/null; then
     missing=()
@@ -28,6 +32,9 @@ fi
 args=(--workspace --no-fail-fast)
 if [[ -f /usr/include/embree3/rtcore.h ]] && grep -qE '^embree[[:space:]]*=' crates/bench/Cargo.toml 2>/dev/null; then
     args+=(--features raystage-bench/embree)
+fi
+if command -v mpirun >/dev/null && [[ -f /usr/lib/x86_64-linux-gnu/openmpi/include/mpi.h || -f /usr/include/mpi.h ]]; then
+    args+=(--features raystage/mpi)
 fi
 echo "+ cargo test ${args[*]}"
 cargo test "${args[@]}"

@@ -5,13 +5,16 @@
 //! frame of a built-in demo scene or a glTF file written as PNG ([`render_scene`]), `raystage
 //! serve`, the HTTP/JSON server ([`serve`]), `raystage report`, the accuracy report of a
 //! scene ([`run_report`]), and `raystage view`, a server in-process with the viewer's window
-//! on it ([`view`]).
+//! on it ([`view`]). Built with the `mpi` feature, `raystage render --mpi` renders one frame
+//! on every rank of an MPI job (`Cluster`, `render_scene_mpi`).
 //!
 //! Not in here: the scene, rendering ([`raystage_render`]), the demo scenes
 //! ([`raystage_demo`]), glTF import ([`raystage_gltf_import`]), the server
 //! ([`raystage_server`]) and the viewer ([`raystage_client`]); this crate only wires them
 //! together for a command line.
 
+#[cfg(feature = "mpi")]
+mod cluster;
 mod render;
 mod serve;
 mod report;
@@ -21,6 +24,10 @@ pub use render::{
     Environment, EnvironmentSource, MAX_DIMENSION, MAX_THREADS, RenderJob, RenderReport, SceneSource, parse_background, parse_demo, parse_environment, parse_filter,
     parse_integrator, parse_switch, parse_tone_map, render_scene,
 };
+#[cfg(feature = "mpi")]
+pub use cluster::{Cluster, Reported};
+#[cfg(feature = "mpi")]
+pub use render::render_scene_mpi;
 pub use serve::{ServeJob, serve};
 pub use report::{ReportJob, run_report};
 pub use view::{ViewJob, view};

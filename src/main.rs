@@ -94,6 +94,11 @@ enum Command {
         /// Khronos PBR Neutral tone mapper).
         #[arg(long, default_value = "clamp", value_parser = raystage::parse_tone_map)]
         tonemap: raystage_render::ToneMap,
+        /// Render on every rank of the MPI job this process was started in by `mpirun`: rank 0
+        /// writes the image, the same bytes one process writes.
+        #[cfg(feature = "mpi")]
+        #[arg(long)]
+        mpi: bool,
     },
     /// Serve the HTTP/JSON API: scenes, edits, PNG frames and a WebSocket stream.
     Serve {
@@ -189,6 +194,8 @@ fn main() -> ExitCode {
             noise_threshold,
             exposure,
             tonemap,
+            #[cfg(feature = "mpi")]
+            mpi,
         } => {
             let scene = SceneSource::from_args(scene, demo, frame).expect("clap requires a file or a demo");
             let settings = raystage_render::RenderSettings {
@@ -208,6 +215,10 @@ fn main() -> ExitCode {
                 environment.map(|source| raystage::Environment { source, rotate_degrees: environment_rotate, intensity: environment_intensity });
             let look = raystage_render::Look { exposure, tone_map: tonemap };
             let job = RenderJob { scene, threads, integrator, settings, environment, look, out };
+            #[cfg(feature = "mpi")]
+            if mpi {
+                return finish(raystage::Cluster::join().and_then(|cluster| raystage::render_scene_mpi(&job, &mut std::io::stdout().lock(), &cluster).map(|_| ())));
+            }
             raystage::render_scene(&job, &mut std::io::stdout().lock()).map(|_| ())
         }
         Command::Serve { scene, demo, addr, token } => {
@@ -224,8 +235,15 @@ fn main() -> ExitCode {
             raystage::run_report(&job, &mut std::io::stdout().lock()).map(|_| ())
         }
     };
+    finish(result)
+}
+
+/// The exit status of a command, its error (if any) printed on standard error.
+fn finish(result: anyhow::Result<()>) -> ExitCode {
     match result {
-        Ok(_) => ExitCode::SUCCESS,
+        Ok(()) => ExitCode::SUCCESS,
+        #[cfg(feature = "mpi")]
+        Err(err) if err.is::<raystage::Reported>() => ExitCode::FAILURE,
         Err(err) => {
             // `{:#}` prints the cause chain on one line, like clap's own errors.
             eprintln!("error: {err:#}");

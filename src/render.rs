@@ -10,7 +10,7 @@ use anyhow::{Context, Result, bail, ensure};
 use glam::Vec3;
 use indicatif::{ProgressBar, ProgressStyle};
 use raystage_demo::animated::Demo;
-use raystage_render::{Film, Filter, FrameStats, Integrator, Look, OutputFormat, Progressive, RenderSettings, ToneMap};
+use raystage_render::{Film, Filter, FrameStats, Integrator, Look, OutputFormat, Progressive, RenderSettings, Share, ToneMap};
 use raystage_scene::{Background, Image, Light, Scene, Texture};
 
 /// Largest accepted image width or height in pixels.
@@ -214,6 +214,61 @@ pub fn parse_demo(name: &str) -> Result<Demo> {
 /// The job is checked first and the output file created before any work, so that bad arguments
 /// and unwritable paths fail at once rather than after the render.
 pub fn render_scene(job: &RenderJob, log: &mut impl Write) -> Result<RenderReport> {
+    render_on(job, log, &Alone)
+}
+
+/// The processes a frame is rendered by: this one alone, or every rank of an MPI job
+/// (`crate::Cluster`), each rendering its share of the frame.
+pub(crate) trait Ranks {
+    /// Whether this process writes the image and the log (rank 0).
+    fn is_root(&self) -> bool;
+    /// This process's share of the frame.
+    fn share(&self) -> Share;
+    /// Every process's `result`, agreed: all go on, or all stop with an error.
+    fn agree(&self, result: Result<()>) -> Result<()>;
+    /// The shares' images put together, with the frame's statistics and mean samples per
+    /// pixel: on the root; `None` elsewhere.
+    fn gather(&self, film: Film, stats: FrameStats, mean_samples: f64) -> Result<Option<(Film, FrameStats, f64)>>;
+}
+
+/// One process, the whole frame.
+struct Alone;
+
+impl Ranks for Alone {
+    fn is_root(&self) -> bool {
+        true
+    }
+
+    fn share(&self) -> Share {
+        Share::WHOLE
+    }
+
+    fn agree(&self, result: Result<()>) -> Result<()> {
+        result
+    }
+
+    fn gather(&self, film: Film, stats: FrameStats, mean_samples: f64) -> Result<Option<(Film, FrameStats, f64)>> {
+        Ok(Some((film, stats, mean_samples)))
+    }
+}
+
+/// [`render_scene`] on every rank of an MPI job started by `mpirun`: each rank builds the scene
+/// from the same job, renders its share of the frame on all its threads, and rank 0 puts the
+/// frame together, writes the image (the very bytes one process writes) and logs; the other
+/// ranks write and log nothing, and return `None`.
+#[cfg(feature = "mpi")]
+pub fn render_scene_mpi(job: &RenderJob, log: &mut impl Write, cluster: &crate::Cluster) -> Result<Option<RenderReport>> {
+    if cluster.rank() == 0 {
+        let report = render_on(job, log, cluster)?;
+        writeln!(log, "MPI: {} ranks, each rendering its share of the frame's bands of tiles on {} threads", cluster.size(), report.threads)?;
+        Ok(Some(report))
+    } else {
+        render_on(job, &mut std::io::sink(), cluster).map(|_| None)
+    }
+}
+
+/// [`render_scene`] by `ranks`; the report of a rank that is not the root is its own share's.
+fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Result<RenderReport> {
     for (name, value) in [("width", job.settings.width), ("height", job.settings.height)] {
         ensure!((1..=MAX_DIMENSION).contains(&value), "--{name} must be between 1 and {MAX_DIMENSION}, got {value}");
     }
@@ -225,22 +280,37 @@ pub fn render_scene(job: &RenderJob, log: &mut impl Write) -> Result<RenderRepor
     let pool = pool.build().context("cannot start the render threads")?;
     let format = OutputFormat::from_path(&job.out)?;
     ensure!(job.look.exposure.is_finite(), "--exposure must be a number of stops, got {}", job.look.exposure);
-    let mut out = File::create(&job.out).with_context(|| format!("cannot create {}", job.out.display()))?;
-
-    let mut scene = job.scene.load(log)?;
-    if let Some(environment) = &job.environment {
-        add_environment(&mut scene, environment)?;
-    }
+    // What one rank can fail at alone is voted on, so that no rank waits for another that quit.
+    let prepared = (|| {
+        let out = if ranks.is_root() { Some(File::create(&job.out).with_context(|| format!("cannot create {}", job.out.display()))?) } else { None };
+        let mut scene = job.scene.load(log)?;
+        if let Some(environment) = &job.environment {
+            add_environment(&mut scene, environment)?;
+        }
+        Ok((out, scene))
+    })();
+    let (mut out, scene) = match prepared {
+        Ok(prepared) => {
+            ranks.agree(Ok(()))?;
+            prepared
+        }
+        Err(e) => return Err(ranks.agree(Err(e)).expect_err("a failure is agreed as one")),
+    };
     // Whitted's ray tracing for anything lit (the default sky lights every scene that allows
     // it); the preview for a scene that nothing lights.
     let lit = scene.lights().next().is_some() || job.settings.default_lights || scene.shaders().any(|(_, s)| s.emits());
     let integrator = job.integrator.unwrap_or(if lit { Integrator::Whitted } else { Integrator::EyeLight });
     let settings = RenderSettings { integrator, ..job.settings };
-    let (film, frame, mean_samples) = pool.install(|| render_with_progress(&scene, &settings)).context("bad render settings")?;
+    let share = ranks.share();
+    let (film, frame, mean_samples) = pool.install(|| render_with_progress(&scene, &settings, share)).context("bad render settings")?;
+    let triangles = scene.object_ids().map(|id| scene.mesh(id).map_or(0, |m| m.indices.len())).sum();
+    let Some((film, frame, mean_samples)) = ranks.gather(film, frame, mean_samples)? else {
+        return Ok(RenderReport { triangles, threads: pool.current_num_threads(), frame });
+    };
     let encoded = film.encode(format, job.look).context("cannot encode the image")?;
+    let out = out.as_mut().expect("the root created the file");
     out.write_all(&encoded).with_context(|| format!("cannot write {}", job.out.display()))?;
 
-    let triangles = scene.object_ids().map(|id| scene.mesh(id).map_or(0, |m| m.indices.len())).sum();
     let report = RenderReport { triangles, threads: pool.current_num_threads(), frame };
     if frame.default_lights {
         writeln!(log, "note: nothing in the scene gives light: the default sky lights it (--no-default-lights turns it off)")?;
@@ -280,9 +350,9 @@ pub fn render_scene(job: &RenderJob, log: &mut impl Write) -> Result<RenderRepor
 /// statistics of the whole frame and the samples per pixel taken on average (fewer than asked
 /// for where adaptive sampling stopped tiles early). The passes continue each pixel's sample sequence, so the
 /// image is the one a single pass would give.
-fn render_with_progress(scene: &Scene, settings: &RenderSettings) -> Result<(Film, FrameStats, f64)> {
+fn render_with_progress(scene: &Scene, settings: &RenderSettings, share: Share) -> Result<(Film, FrameStats, f64)> {
     let start = Instant::now();
-    let mut progressive = Progressive::new(*settings)?;
+    let mut progressive = Progressive::new(*settings)?.with_share(share)?;
     let total = settings.samples_per_pixel;
     let bar = ProgressBar::new(total as u64).with_style(
         ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} samples per pixel, {eta} left").expect("a valid template"),

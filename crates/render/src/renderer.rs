@@ -15,7 +15,7 @@ use crate::integrator::{Hit, Tracer, eyelight, first_matte, path, recursive};
 use crate::lights::Seen;
 use crate::sampler::PixelSampler;
 use crate::stats::{FrameStats, PhaseTimes, RayCounts, TaskTimes};
-use crate::tiles::{Sums, Tile, render_tiles_with};
+use crate::tiles::{Share, Sums, Tile, render_tiles_with};
 use crate::{Error, Film};
 
 /// Largest image width or height.
@@ -218,8 +218,19 @@ pub fn render(frame: &Frame<'_>, settings: &RenderSettings) -> Result<(Film, Fra
 /// then twice as many as it has, each pass to the tiles that are still noisy, and hands the
 /// whole image on at the end.
 pub fn render_rows(frame: &Frame<'_>, settings: &RenderSettings, finished: impl Fn(Rows<'_>) + Sync) -> Result<(Film, FrameStats), Error> {
+    render_share_rows(frame, settings, Share::WHOLE, finished)
+}
+
+/// [`render`] of one share of the frame: the rows [`Share::rows`] lists hold exactly the
+/// pixels a whole-frame render gives them, the others are left black. Processes (MPI ranks)
+/// that each render one share of `Share { index, count }` make the frame between them.
+pub fn render_share(frame: &Frame<'_>, settings: &RenderSettings, share: Share) -> Result<(Film, FrameStats), Error> {
+    render_share_rows(frame, settings, share, |_| {})
+}
+
+fn render_share_rows(frame: &Frame<'_>, settings: &RenderSettings, share: Share, finished: impl Fn(Rows<'_>) + Sync) -> Result<(Film, FrameStats), Error> {
     if settings.noise_threshold.is_some() {
-        let mut progressive = Progressive::new(*settings)?;
+        let mut progressive = Progressive::new(*settings)?.with_share(share)?;
         let total = settings.samples_per_pixel;
         let mut stats: Option<FrameStats> = None;
         while progressive.samples() < total {
@@ -238,7 +249,7 @@ pub fn render_rows(frame: &Frame<'_>, settings: &RenderSettings, finished: impl 
         return Ok((film, stats.expect("at least one sample per pixel")));
     }
     // One pass, whose variance nobody asks for: a 1080p frame saves 8 MB of page faults.
-    let mut progressive = Progressive::without_variance(*settings)?;
+    let mut progressive = Progressive::without_variance(*settings)?.with_share(share)?;
     let samples = settings.samples_per_pixel;
     let stats = progressive.add_with(frame, samples, |first, sums| finished(Rows { first, width: settings.width, sums, samples }));
     Ok((progressive.into_film(), stats))
@@ -297,6 +308,8 @@ pub struct Progressive {
     /// Per tile (row-major), the samples its pixels have, when sampling is adaptive: tiles
     /// whose pixels are all within the noise threshold stop taking samples.
     tile_samples: Option<Vec<u32>>,
+    /// The part of the frame rendered: the whole frame but in a cluster.
+    share: Share,
 }
 
 impl Progressive {
@@ -311,7 +324,18 @@ impl Progressive {
     fn without_variance(settings: RenderSettings) -> Result<Progressive, Error> {
         settings.validate()?;
         let n = settings.width as usize * settings.height as usize;
-        Ok(Progressive { settings, sum: crate::film::reused_pixels(n), sum_sq: None, samples: 0, tile_samples: None })
+        Ok(Progressive { settings, sum: crate::film::reused_pixels(n), sum_sq: None, samples: 0, tile_samples: None, share: Share::WHOLE })
+    }
+
+    /// This accumulation restricted to one share of the frame (see [`Share`]): its passes
+    /// render only the share's tiles, exactly as a whole-frame accumulation renders them, and
+    /// its image is black elsewhere.
+    pub fn with_share(mut self, share: Share) -> Result<Progressive, Error> {
+        if share.count == 0 || share.index >= share.count {
+            return Err(Error::Setting { field: "share", message: format!("share {} of {} does not exist", share.index, share.count) });
+        }
+        self.share = share;
+        Ok(self)
     }
 
     /// The settings this accumulation renders with.
@@ -331,10 +355,17 @@ impl Progressive {
         self.tile_samples.iter_mut().flatten().for_each(|n| *n = 0);
     }
 
-    /// Samples per pixel taken on average: below [`Progressive::samples`] where adaptive
-    /// sampling stopped tiles early.
+    /// Samples per pixel taken on average over the share's pixels: below
+    /// [`Progressive::samples`] where adaptive sampling stopped tiles early.
     pub fn mean_samples(&self) -> f64 {
-        (0..self.sum.len()).map(|i| self.samples_of(i) as f64).sum::<f64>() / self.sum.len().max(1) as f64
+        let owned: Vec<usize> = (0..self.sum.len()).filter(|&i| self.owns(i)).collect();
+        owned.iter().map(|&i| self.samples_of(i) as f64).sum::<f64>() / owned.len().max(1) as f64
+    }
+
+    /// Whether pixel `i` (row-major) is in the share rendered.
+    fn owns(&self, i: usize) -> bool {
+        let (w, h) = (self.settings.width, self.settings.height);
+        self.share == Share::WHOLE || self.share.owns_band(i as u32 / w / crate::tiles::tile_size(w, h))
     }
 
     /// The samples pixel `i` (row-major) has.
@@ -384,7 +415,7 @@ impl Progressive {
             counts.lock().unwrap_or_else(|e| e.into_inner()).add(work.counts);
             work.recycle();
         };
-        render_tiles_with(s.width, s.height, sum, sum_sq, add, finished);
+        render_tiles_with(s.width, s.height, self.share, sum, sum_sq, add, finished);
         if let Some(counts) = tile_samples {
             self.tile_samples = Some(counts.into_iter().map(AtomicU32::into_inner).collect());
         }
@@ -416,14 +447,17 @@ impl Progressive {
     /// The image, taking the accumulation's memory instead of copying it.
     pub fn into_film(mut self) -> Film {
         let mut pixels = std::mem::take(&mut self.sum);
-        if self.tile_samples.is_some() || self.samples != 1 {
+        if self.tile_samples.is_some() || self.samples != 1 || self.share != Share::WHOLE {
             pixels.iter_mut().enumerate().for_each(|(i, p)| *p = self.mean(i, *p));
         }
         Film::from_pixels(self.settings.width, self.settings.height, pixels)
     }
 
-    /// Pixel `i`'s mean, from its `sum`.
+    /// Pixel `i`'s mean, from its `sum`; black outside the share rendered (its sum is stale).
     fn mean(&self, i: usize, sum: Vec3) -> Vec3 {
+        if !self.owns(i) {
+            return Vec3::ZERO;
+        }
         match self.samples_of(i) {
             0 => Vec3::ZERO,
             n => sum / n as f32,

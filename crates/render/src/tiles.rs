@@ -45,6 +45,36 @@ pub fn tasks(width: u32, height: u32) -> usize {
     (width.div_ceil(side) * height.div_ceil(side)) as usize
 }
 
+/// One process's share of a frame rendered by several (the MPI ranks of a cluster): the bands
+/// of tiles (rows of tiles, top to bottom) numbered `index`, `index + count`, `index + 2·count`…
+/// Interleaved bands rather than one block each, so that a frame whose work sits in one part
+/// (glass in the middle, sky at the top) spreads it over every share; whole bands of tiles, so
+/// that each pixel is rendered exactly as a whole-frame render renders it (adaptive sampling
+/// decides per tile).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Share {
+    /// Which share, `0..count`.
+    pub index: u32,
+    /// How many shares the frame is cut into.
+    pub count: u32,
+}
+
+impl Share {
+    /// The whole frame.
+    pub const WHOLE: Share = Share { index: 0, count: 1 };
+
+    /// Whether the band of tiles numbered `band` is in this share.
+    pub fn owns_band(&self, band: u32) -> bool {
+        band % self.count == self.index
+    }
+
+    /// The image rows of a `width × height` frame in this share, band by band, top to bottom.
+    pub fn rows(&self, width: u32, height: u32) -> Vec<std::ops::Range<u32>> {
+        let side = tile_size(width, height);
+        (0..height.div_ceil(side)).filter(|&band| self.owns_band(band)).map(|band| band * side..((band + 1) * side).min(height)).collect()
+    }
+}
+
 /// A rectangle of pixels: `x0..x0 + width` × `y0..y0 + height`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub(crate) struct Tile {
@@ -167,7 +197,7 @@ pub(crate) fn luminance(c: Vec3) -> f32 {
     c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
 }
 
-/// Runs `add` over every tile of a `width × height` image, each tile a task on the current
+/// Runs `add` over every tile of `share` of a `width × height` image, each tile a task on the current
 /// rayon pool (run it inside `ThreadPool::install` to choose the number of threads), giving it
 /// the per-pixel accumulation buffers (row-major, one entry per pixel; the squared sums only if
 /// kept) to write its pixels into. Once every tile of a band of rows is done,
@@ -176,6 +206,7 @@ pub(crate) fn luminance(c: Vec3) -> f32 {
 pub(crate) fn render_tiles_with(
     width: u32,
     height: u32,
+    share: Share,
     sum: &mut [Vec3],
     sum_sq: Option<&mut [f32]>,
     add: impl Fn(&Tile, &Sums<'_>) + Sync,
@@ -191,7 +222,9 @@ pub(crate) fn render_tiles_with(
     let sums = Sums { sum: sum.as_mut_ptr(), sum_sq: sum_sq.map(|s| s.as_mut_ptr()), width, len: n, _borrow: PhantomData };
     // Tiles still to finish in each band: the one that brings it to 0 hands the band on.
     let pending: Vec<AtomicU32> = (0..bands).map(|_| AtomicU32::new(columns)).collect();
-    (0..columns * bands).into_par_iter().for_each(|index| {
+    // The share's tiles only: the others' pixels are left as they are.
+    let owned: Vec<u32> = (0..columns * bands).filter(|index| share.owns_band(index / columns)).collect();
+    owned.into_par_iter().for_each(|index| {
         let (band, column) = (index / columns, index % columns);
         let (x0, y0) = (column * side, band * side);
         let tile = Tile { x0, y0, width: side.min(width - x0), height: side.min(height - y0) };
@@ -215,7 +248,7 @@ mod tests {
     fn run(width: u32, height: u32, add: impl Fn(&Tile, &Sums<'_>) + Sync) -> Vec<Vec3> {
         let n = (width * height) as usize;
         let (mut sum, mut sum_sq) = (vec![Vec3::ZERO; n], vec![0.0; n]);
-        render_tiles_with(width, height, &mut sum, Some(&mut sum_sq), add, |_, _| {});
+        render_tiles_with(width, height, Share::WHOLE, &mut sum, Some(&mut sum_sq), add, |_, _| {});
         sum
     }
 
@@ -245,7 +278,7 @@ mod tests {
         let (mut sum, mut sum_sq) = (vec![Vec3::splat(9.0); n], vec![9.0; n]);
         let sample = |x: u32, y: u32| Vec3::new(x as f32, y as f32, 1.0);
         for pass in 0..2 {
-            render_tiles_with(width, height, &mut sum, Some(&mut sum_sq), |tile, sums| {
+            render_tiles_with(width, height, Share::WHOLE, &mut sum, Some(&mut sum_sq), |tile, sums| {
                 let samples: Vec<Vec3> = (0..tile.len()).map(|i| sample(tile.pixel(i).0, tile.pixel(i).1)).collect();
                 sums.add_tile(tile, &samples, pass == 0);
             }, |_, _| {});
@@ -278,7 +311,7 @@ mod tests {
         let (width, height) = (100, 75);
         let bands = std::sync::Mutex::new(Vec::new());
         let mut sum = vec![Vec3::ZERO; (width * height) as usize];
-        render_tiles_with(width, height, &mut sum, None, |tile, sums| sums.add_tile(tile, &vec![Vec3::ONE; tile.len()], true), |y0, rows| {
+        render_tiles_with(width, height, Share::WHOLE, &mut sum, None, |tile, sums| sums.add_tile(tile, &vec![Vec3::ONE; tile.len()], true), |y0, rows| {
             assert!(rows.iter().all(|&p| p == Vec3::ONE), "band at {y0} complete");
             bands.lock().unwrap().push((y0, rows.len() as u32 / width));
         });

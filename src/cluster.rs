@@ -1,0 +1,145 @@
+//! Rendering one frame on every rank of an MPI job (`mpirun -n N raystage render … --mpi`), as
+//! OpenRT rendered on its cluster: every rank holds the whole scene, renders its share of the
+//! frame's bands of tiles with all its threads, and rank 0 gathers the shares into the film and
+//! writes the image. The application side cannot tell one process from N: the image is the one
+//! a single process renders, to the bit.
+//!
+//! The scene is replicated by each rank building it from the same command line (a demo, or a
+//! glTF file on a file system every node sees, as clusters share their home directories).
+//! Shares are a static interleave of bands of tiles (see [`Share`]): no messages while the frame
+//! renders, and interleaving spreads expensive regions over every rank.
+//!
+//! Faults: every step a rank can fail alone (creating the output file, reading the scene) ends
+//! in a vote, so that all ranks go on or all stop with an error — never one rank waiting for a
+//! message that will not come. A rank that dies makes `mpirun` end the whole job with an error.
+
+use anyhow::{Result, bail};
+use mpi::collective::SystemOperation;
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::*;
+use raystage_render::{Film, FrameStats, Share};
+
+use crate::render::Ranks;
+
+/// An error this rank has printed already (see [`Ranks::agree`]): the command line prints
+/// nothing more for it.
+#[derive(Debug)]
+pub struct Reported;
+
+impl std::fmt::Display for Reported {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("reported above")
+    }
+}
+
+impl std::error::Error for Reported {}
+
+/// This process's place in the MPI job.
+pub struct Cluster {
+    /// Keeps MPI initialised; finalised when dropped.
+    _universe: mpi::environment::Universe,
+    world: SimpleCommunicator,
+}
+
+impl Cluster {
+    /// Joins the MPI job this process was started in (a process started without `mpirun` is a
+    /// job of one).
+    pub fn join() -> Result<Cluster> {
+        let Some(universe) = mpi::initialize() else { bail!("MPI was initialised already") };
+        let world = universe.world();
+        Ok(Cluster { _universe: universe, world })
+    }
+
+    /// This rank: 0 is the application side, which writes the image and logs.
+    pub fn rank(&self) -> u32 {
+        self.world.rank() as u32
+    }
+
+    /// Ranks in the job.
+    pub fn size(&self) -> u32 {
+        self.world.size() as u32
+    }
+
+}
+
+impl Ranks for Cluster {
+    fn is_root(&self) -> bool {
+        self.rank() == 0
+    }
+
+    fn share(&self) -> Share {
+        Share { index: self.rank(), count: self.size() }
+    }
+
+    /// Every rank's `result`, agreed: `Ok` on every rank if it is `Ok` on all, else this rank's
+    /// own error, or one saying how many other ranks failed (they print their own).
+    fn agree(&self, result: Result<()>) -> Result<()> {
+        let failed = u32::from(result.is_err());
+        let mut failures = 0u32;
+        self.world.all_reduce_into(&failed, &mut failures, SystemOperation::sum());
+        if failures == 0 {
+            return Ok(());
+        }
+        // Every failing rank says why before any rank quits: mpirun kills the rest of the job
+        // as soon as one rank exits with an error, and its message would be lost.
+        if let Err(e) = &result {
+            // One write, so that the line reaches mpirun whole (eprintln! writes in pieces).
+            let line = format!("error: rank {}: {e:#}\n", self.rank());
+            let _ = std::io::Write::write_all(&mut std::io::stderr(), line.as_bytes());
+        }
+        self.world.barrier();
+        match result {
+            Err(_) => Err(Reported.into()),
+            Ok(()) => bail!("{failures} of {} MPI ranks failed (see their errors)", self.size()),
+        }
+    }
+
+    /// Puts the shares together on rank 0: every other rank sends its share's rows of `film`
+    /// (its pixels' means, as floats: the very bits rank 0 would have computed), its ray counts
+    /// and its mean samples per pixel. Returns, on rank 0, the whole film, the statistics with
+    /// every rank's rays and the mean samples per pixel over the frame; `None` on the others.
+    fn gather(&self, film: Film, mut stats: FrameStats, mean_samples: f64) -> Result<Option<(Film, FrameStats, f64)>> {
+        let (w, h) = (film.width(), film.height());
+        let owned_pixels = |share: Share| share.rows(w, h).iter().map(|r| (r.end - r.start) as usize * w as usize).sum::<usize>();
+        if self.rank() != 0 {
+            let mut rows = Vec::with_capacity(owned_pixels(self.share()) * 3);
+            for y in self.share().rows(w, h).into_iter().flatten() {
+                (0..w).for_each(|x| rows.extend(film.pixel(x, y).to_array()));
+            }
+            let rays = stats.rays;
+            let counts = [rays.primary, rays.shadow, rays.reflection, rays.refraction, rays.diffuse, stats.non_finite];
+            let root = self.world.process_at_rank(0);
+            root.send(&rows[..]);
+            root.send(&counts[..]);
+            root.send(&mean_samples);
+            return Ok(None);
+        }
+        let mut pixels = film.pixels().to_vec();
+        let mut samples = mean_samples * owned_pixels(self.share()) as f64;
+        for rank in 1..self.size() {
+            let share = Share { index: rank, count: self.size() };
+            let source = self.world.process_at_rank(rank as i32);
+            let (rows, _) = source.receive_vec::<f32>();
+            let (counts, _) = source.receive_vec::<u64>();
+            let (their_mean, _) = source.receive::<f64>();
+            if rows.len() != owned_pixels(share) * 3 || counts.len() != 6 {
+                bail!("rank {rank} sent {} values for its share of {} pixels", rows.len(), owned_pixels(share));
+            }
+            let mut values = rows.chunks_exact(3);
+            for y in share.rows(w, h).into_iter().flatten() {
+                for x in 0..w {
+                    let v = values.next().expect("counted above");
+                    pixels[(y * w + x) as usize] = glam::Vec3::new(v[0], v[1], v[2]);
+                }
+            }
+            stats.rays.primary += counts[0];
+            stats.rays.shadow += counts[1];
+            stats.rays.reflection += counts[2];
+            stats.rays.refraction += counts[3];
+            stats.rays.diffuse += counts[4];
+            stats.non_finite += counts[5];
+            samples += their_mean * owned_pixels(share) as f64;
+        }
+        Ok(Some((Film::from_pixels(w, h, pixels), stats, samples / (w as f64 * h as f64))))
+    }
+}
