@@ -36,6 +36,16 @@ pub struct Limits {
     pub max_streams: usize,
     /// Renders running at once (more wait their turn); each uses every core.
     pub concurrent_renders: usize,
+    /// Longest a render may run, in seconds, once its turn has come: past it the render is
+    /// stopped and the request answered 503 (a frame within the other limits can still take
+    /// minutes with the path tracer, holding one of the few render turns all the while).
+    pub max_render_seconds: u64,
+    /// Longest a client may take to send a request's headers, in seconds; the connection is
+    /// closed past it (a client that trickles its headers would otherwise hold it forever).
+    pub header_read_seconds: u64,
+    /// Longest a client may take to send a request's body, in seconds, from when the handler
+    /// starts reading it; 408 past it, and the connection is closed.
+    pub body_read_seconds: u64,
 }
 
 impl Default for Limits {
@@ -52,6 +62,9 @@ impl Default for Limits {
             max_scenes: 64,
             max_streams: 32,
             concurrent_renders: 4,
+            max_render_seconds: 60,
+            header_read_seconds: 10,
+            body_read_seconds: 60,
         }
     }
 }

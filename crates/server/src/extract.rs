@@ -3,6 +3,7 @@
 
 use std::collections::HashMap;
 use std::sync::Arc;
+use std::time::Duration;
 
 use axum::body::Bytes;
 use axum::extract::{FromRequest, FromRequestParts, Path, Request};
@@ -21,10 +22,10 @@ const PARSE_INLINE_BYTES: usize = 1 << 20;
 /// that is not finite (`NaN`, `Infinity`), 413 past the body limit.
 pub struct JsonBody<T>(pub T);
 
-impl<S: Send + Sync, T: DeserializeOwned + Send + 'static> FromRequest<S> for JsonBody<T> {
+impl<T: DeserializeOwned + Send + 'static> FromRequest<AppState> for JsonBody<T> {
     type Rejection = ApiError;
 
-    async fn from_request(req: Request, state: &S) -> Result<Self, ApiError> {
+    async fn from_request(req: Request, state: &AppState) -> Result<Self, ApiError> {
         let bytes = RawBody::from_request(req, state).await?.0;
         let value = if bytes.len() > PARSE_INLINE_BYTES {
             tokio::task::spawn_blocking(move || parse_json(&bytes)).await.map_err(|e| ApiError::internal(e.to_string()))??
@@ -35,16 +36,22 @@ impl<S: Send + Sync, T: DeserializeOwned + Send + 'static> FromRequest<S> for Js
     }
 }
 
-/// The body's bytes, within the body limit (413 past it).
+/// The body's bytes, within the body limit (413 past it) and the time limit (408 past
+/// [`Limits::body_read_seconds`](crate::Limits::body_read_seconds): a client that trickles its
+/// body would otherwise hold a connection and a task forever).
 pub struct RawBody(pub Bytes);
 
-impl<S: Send + Sync> FromRequest<S> for RawBody {
+impl FromRequest<AppState> for RawBody {
     type Rejection = ApiError;
 
-    async fn from_request(req: Request, state: &S) -> Result<Self, ApiError> {
-        Bytes::from_request(req, state).await.map(RawBody).map_err(|e| {
+    async fn from_request(req: Request, state: &AppState) -> Result<Self, ApiError> {
+        let seconds = state.config().limits.body_read_seconds;
+        let read = tokio::time::timeout(Duration::from_secs(seconds), Bytes::from_request(req, state)).await.map_err(|_| {
+            ApiError::timeout("body_read_seconds", format!("the request body did not arrive within the server's limit of {seconds} s"))
+        })?;
+        read.map(RawBody).map_err(|e| {
             if e.status() == StatusCode::PAYLOAD_TOO_LARGE {
-                ApiError::too_large(None, "the request body is larger than the server's limit")
+                ApiError::too_large(None, "the request body is larger than the server's limit").limit("max_body_bytes")
             } else {
                 ApiError::bad_request(None, e.body_text())
             }

@@ -6,7 +6,7 @@ use std::sync::atomic::{AtomicBool, AtomicU32, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, RwLock};
 
 use raystage_scene::Scene;
-use tokio::sync::{Semaphore, SemaphorePermit, watch};
+use tokio::sync::{OwnedSemaphorePermit, Semaphore, watch};
 
 use crate::config::Config;
 use crate::error::{ApiError, ApiResult};
@@ -20,7 +20,11 @@ struct Shared {
     config: Config,
     scenes: RwLock<BTreeMap<u32, Arc<SceneSlot>>>,
     next_scene: AtomicU32,
-    renders: Semaphore,
+    /// Turns to render; a turn moves into the blocking task that renders, so it is given back
+    /// when the work stops, not when the client stops waiting.
+    renders: Arc<Semaphore>,
+    /// Renders running now (see [`AppState::active_renders`]).
+    active_renders: AtomicUsize,
     streams: AtomicUsize,
 }
 
@@ -48,8 +52,15 @@ pub struct SceneSlot {
 impl AppState {
     /// A server with no scenes.
     pub fn new(config: Config) -> AppState {
-        let renders = Semaphore::new(config.limits.concurrent_renders.max(1));
-        AppState(Arc::new(Shared { config, scenes: RwLock::default(), next_scene: AtomicU32::new(1), renders, streams: AtomicUsize::new(0) }))
+        let renders = Arc::new(Semaphore::new(config.limits.concurrent_renders.max(1)));
+        AppState(Arc::new(Shared {
+            config,
+            scenes: RwLock::default(),
+            next_scene: AtomicU32::new(1),
+            renders,
+            active_renders: AtomicUsize::new(0),
+            streams: AtomicUsize::new(0),
+        }))
     }
 
     /// The configuration.
@@ -99,9 +110,18 @@ impl AppState {
         Ok(())
     }
 
-    /// Waits for a turn to render (at most `concurrent_renders` at once).
-    pub(crate) async fn render_permit(&self) -> SemaphorePermit<'_> {
-        self.0.renders.acquire().await.expect("the semaphore is never closed")
+    /// Waits for a turn to render (at most `concurrent_renders` at once). Move the turn into
+    /// the task that renders and call [`RenderTurn::running`] there.
+    pub(crate) async fn render_permit(&self) -> RenderTurn {
+        let permit = self.0.renders.clone().acquire_owned().await.expect("the semaphore is never closed");
+        RenderTurn { _permit: permit, state: self.clone() }
+    }
+
+    /// Renders running now, frames and stream passes: at most
+    /// [`Limits::concurrent_renders`](crate::Limits::concurrent_renders), and back to 0
+    /// soon after the last client waiting for one has gone (its render is cancelled).
+    pub fn active_renders(&self) -> usize {
+        self.0.active_renders.load(Ordering::Relaxed)
     }
 
     /// Counts a new stream in, if there is room: the guard counts it out when dropped.
@@ -113,6 +133,30 @@ impl AppState {
             return Err(ApiError::busy(format!("{limit} streams are open, the server's limit")));
         }
         Ok(guard)
+    }
+}
+
+/// A turn to render, held by the work itself: dropping it gives the turn to the next render.
+pub(crate) struct RenderTurn {
+    _permit: OwnedSemaphorePermit,
+    state: AppState,
+}
+
+impl RenderTurn {
+    /// Counts the render as running until the guard is dropped (call it on the thread that
+    /// renders, where the work starts).
+    pub(crate) fn running(&self) -> RunningRender {
+        self.state.0.active_renders.fetch_add(1, Ordering::Relaxed);
+        RunningRender(self.state.clone())
+    }
+}
+
+/// A render counted in [`AppState::active_renders`] until dropped.
+pub(crate) struct RunningRender(AppState);
+
+impl Drop for RunningRender {
+    fn drop(&mut self) {
+        self.0.0.active_renders.fetch_sub(1, Ordering::Relaxed);
     }
 }
 

@@ -6,19 +6,11 @@ mod common;
 use axum::http::StatusCode;
 use common::*;
 use futures_util::{SinkExt, StreamExt};
-use raystage_server::{AppState, Config, serve};
+use raystage_server::{AppState, Config};
 use serde_json::{Value, json};
 use tokio_tungstenite::tungstenite::Message;
 
 type Socket = tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
-
-/// Serves `state` on a free loopback port until the test ends; returns the address.
-async fn listen(state: AppState) -> std::net::SocketAddr {
-    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
-    let addr = listener.local_addr().unwrap();
-    tokio::spawn(serve(listener, state, std::future::pending()));
-    addr
-}
 
 /// The next text message, as JSON.
 async fn next_json(socket: &mut Socket) -> Value {
@@ -148,4 +140,19 @@ async fn a_stream_of_an_unknown_scene_or_with_bad_settings_is_refused() {
         let tokio_tungstenite::tungstenite::Error::Http(response) = error else { panic!("{path}: {error}") };
         assert_eq!(response.status().as_u16(), status, "{path}");
     }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_closed_stream_stops_its_render() {
+    let state = AppState::new(Config::default());
+    let app = raystage_server::router(state.clone());
+    let s = grey_square_scene(&app, 50.0).await;
+    let addr = listen(state.clone()).await;
+    // Path-traced 1080p passes: long enough to be running when the client goes.
+    let url = format!("ws://{addr}/scenes/{s}/stream?width=1920&height=1080&integrator=path&max_samples=256");
+    let (mut socket, _) = tokio_tungstenite::connect_async(url).await.unwrap();
+    next_frame(&mut socket).await;
+    assert!(eventually(std::time::Duration::from_secs(10), || state.active_renders() == 1).await, "the next pass runs");
+    drop(socket);
+    assert!(eventually(std::time::Duration::from_secs(10), || state.active_renders() == 0).await, "the pass still runs after the stream closed");
 }

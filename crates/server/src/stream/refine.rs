@@ -7,10 +7,10 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
-use raystage_render::{Integrator, Progressive, RenderSettings};
+use raystage_render::{Cancel, Integrator, Progressive, RenderSettings};
 use tokio::sync::{mpsc, watch};
 
-use crate::render::default_integrator;
+use crate::render::{CancelOnDrop, default_integrator};
 use crate::state::{AppState, SceneSlot};
 use crate::stats::FrameReport;
 use crate::error::ApiError;
@@ -21,6 +21,11 @@ use crate::stream::protocol::{FrameMessage, ServerMessage};
 const TARGET_PASS_SECONDS: f64 = 0.05;
 /// Most samples per pixel in one pass.
 const MAX_PASS_SAMPLES: u32 = 64;
+
+/// A pass that a change of the scene or the settings makes out of date is stopped once it has
+/// run this long: a short pass finishes (its frame is on screen sooner than the next pass's
+/// would be), a long one (a large path-traced image) does not hold up the new image.
+const SUPERSEDED_AFTER: std::time::Duration = std::time::Duration::from_millis(100);
 
 /// A stream's image settings.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -77,7 +82,7 @@ pub(crate) async fn refine(
             }
             continue;
         }
-        let permit = state.render_permit().await;
+        let turn = state.render_permit().await;
         let (scene, version) = slot.snapshot().await;
         let mut acc = match accumulation.take() {
             Some(a) if a.settings == wanted && a.version == version => a,
@@ -94,20 +99,37 @@ pub(crate) async fn refine(
         let samples = pass_samples.min(wanted.max_samples - acc.progressive.samples());
         let last = acc.progressive.samples() + samples >= wanted.max_samples;
         let sent = taken.clone();
-        let pass = tokio::task::spawn_blocking(move || {
-            let stats = acc.progressive.add(&scene.frame(), samples);
+        // Dropped with this future when the stream closes (the session aborts it), which stops
+        // the pass; cancelled by hand when a change supersedes a long pass.
+        let cancel = CancelOnDrop(Cancel::new());
+        let token = cancel.0.clone();
+        let mut pass = tokio::task::spawn_blocking(move || {
+            let _running = turn.running();
+            let stats = acc.progressive.add_cancellable(&scene.frame(), samples, &token);
             drop(scene);
             // Decided after the pass, which gave the sender its duration to deliver the last frame.
-            let png = (last || sent.load(Ordering::Acquire)).then(|| {
+            let png = (stats.is_ok() && (last || sent.load(Ordering::Acquire))).then(|| {
                 let start = Instant::now();
                 crate::png::encode(&acc.progressive.film()).ok().map(|png| (png, start.elapsed().as_secs_f64()))
             });
             (acc, stats, png.flatten())
-        })
-        .await;
-        drop(permit);
-        let Ok((acc, stats, png)) = pass else {
+            // The turn goes to the next render here, once the work has stopped.
+        });
+        let deadline = tokio::time::Instant::now() + SUPERSEDED_AFTER;
+        let joined = tokio::select! {
+            joined = &mut pass => joined,
+            () = superseded(&mut versions, &mut settings, deadline) => {
+                cancel.0.cancel();
+                pass.await
+            }
+        };
+        let Ok((acc, stats, png)) = joined else {
             return;
+        };
+        let Ok(stats) = stats else {
+            // Superseded: the accumulation was reset, and the loop starts what is wanted now.
+            accumulation = Some(acc);
+            continue;
         };
         pass_samples = if stats.seconds < TARGET_PASS_SECONDS / 2.0 {
             (pass_samples * 2).min(MAX_PASS_SAMPLES)
@@ -141,4 +163,18 @@ pub(crate) async fn refine(
         }
         accumulation = Some(acc);
     }
+}
+
+/// Completes once the scene or the stream's settings changed and `deadline` has passed: the pass
+/// running then renders what is no longer wanted. Never completes once the session has gone
+/// (its settings' sender is dropped): the session aborts the loop then.
+async fn superseded(versions: &mut watch::Receiver<u64>, settings: &mut watch::Receiver<StreamSettings>, deadline: tokio::time::Instant) {
+    let changed = tokio::select! {
+        changed = versions.changed() => changed.is_ok(),
+        changed = settings.changed() => changed.is_ok(),
+    };
+    if !changed {
+        std::future::pending::<()>().await;
+    }
+    tokio::time::sleep_until(deadline).await;
 }

@@ -1,0 +1,171 @@
+//! The server under careless and hostile clients: renders nobody waits for stop and give their
+//! turn back, renders have a time budget, slow clients are cut off, and limits on memory are
+//! checked before the memory is taken. Errors name the limit (`Limits`' field) they ran into.
+
+mod common;
+
+use std::io::{Read, Write};
+use std::net::TcpStream;
+use std::time::{Duration, Instant};
+
+use axum::http::StatusCode;
+use common::*;
+use raystage_server::{AppState, Config, Limits, router};
+use serde_json::{Value, json};
+
+/// A frame the path tracer takes many seconds over even on many cores (a diffuse square that
+/// fills a 1920×1080 image, 256 samples per pixel: within the default limits).
+const SLOW_FRAME: &str = "frame.png?width=1920&height=1080&spp=256&integrator=path";
+
+/// A scene holding a diffuse square that fills the default camera's view; its id.
+async fn filled_scene(app: &axum::Router) -> u64 {
+    grey_square_scene(app, 50.0).await
+}
+
+/// Reads from a raw connection until the server closes it (or `deadline`); what it sent.
+fn read_until_closed(stream: &mut TcpStream, deadline: Duration) -> (Vec<u8>, bool) {
+    stream.set_read_timeout(Some(Duration::from_millis(100))).unwrap();
+    let start = Instant::now();
+    let mut got = Vec::new();
+    let mut buf = [0; 4096];
+    while start.elapsed() < deadline {
+        match stream.read(&mut buf) {
+            Ok(0) => return (got, true),
+            Ok(n) => got.extend_from_slice(&buf[..n]),
+            Err(e) if matches!(e.kind(), std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut) => {}
+            Err(_) => return (got, true),
+        }
+    }
+    (got, false)
+}
+
+/// The JSON body of a raw HTTP/1.1 response.
+fn json_body(response: &[u8]) -> Value {
+    let text = String::from_utf8_lossy(response);
+    let body = text.split_once("\r\n\r\n").map(|(_, b)| b).unwrap_or("");
+    serde_json::from_str(body).unwrap_or_else(|e| panic!("{e}: {text}"))
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn renders_whose_clients_hang_up_stop_and_give_their_turn_back() {
+    let state = AppState::new(Config::default());
+    let app = router(state.clone());
+    let s = filled_scene(&app).await;
+    let addr = listen(state.clone()).await;
+    let permits = Limits::default().concurrent_renders;
+
+    // Twenty clients ask for a slow frame at once and hang up half a second later, one after
+    // the other.
+    let abandoned = 20;
+    let mut clients = Vec::new();
+    for _ in 0..abandoned {
+        let mut client = tokio::net::TcpStream::connect(addr).await.unwrap();
+        let request = format!("GET /scenes/{s}/{SLOW_FRAME} HTTP/1.1\r\nhost: test\r\n\r\n");
+        tokio::io::AsyncWriteExt::write_all(&mut client, request.as_bytes()).await.unwrap();
+        clients.push(client);
+    }
+    let mut most = 0;
+    for client in clients {
+        for _ in 0..5 {
+            tokio::time::sleep(Duration::from_millis(20)).await;
+            most = most.max(state.active_renders());
+        }
+        drop(client);
+    }
+    let last_drop = Instant::now();
+    assert!(most == permits, "{most} renders ran at once; the server allows {permits}, and had {abandoned} waiting");
+    let idle = eventually(Duration::from_secs(20), || state.active_renders() == 0).await;
+    let to_idle = last_drop.elapsed();
+    assert!(idle, "{} renders still run {to_idle:?} after the last client hung up", state.active_renders());
+    eprintln!("{abandoned} abandoned renders: at most {most} ran at once; idle {to_idle:?} after the last hang-up");
+
+    // A new client's small frame gets a turn at once.
+    let asked = Instant::now();
+    let image = frame(&app, &format!("/scenes/{s}/frame.png?width=32&height=32&integrator=eyelight")).await;
+    assert_eq!(image.dimensions(), (32, 32));
+    eprintln!("a fresh 32×32 frame then took {:?}", asked.elapsed());
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_render_past_its_time_budget_is_stopped_with_503_naming_the_limit() {
+    let state = AppState::new(Config { limits: Limits { max_render_seconds: 1, ..Limits::default() }, ..Config::default() });
+    let app = router(state.clone());
+    let s = filled_scene(&app).await;
+    let start = Instant::now();
+    let (status, value) = call(&app, "GET", &format!("/scenes/{s}/{SLOW_FRAME}"), Value::Null).await;
+    assert_eq!(status, StatusCode::SERVICE_UNAVAILABLE, "{value}");
+    assert_eq!((value["error"]["code"].as_str(), value["error"]["limit"].as_str()), (Some("timeout"), Some("max_render_seconds")), "{value}");
+    assert!(start.elapsed() >= Duration::from_secs(1));
+    // The render itself stopped, not only the wait for it.
+    assert!(eventually(Duration::from_secs(10), || state.active_renders() == 0).await, "the render still runs");
+    // A frame within the budget renders as before.
+    frame(&app, &format!("/scenes/{s}/frame.png?width=32&height=32")).await;
+}
+
+#[tokio::test]
+async fn a_client_that_trickles_its_headers_is_cut_off() {
+    let state = AppState::new(Config { limits: Limits { header_read_seconds: 1, ..Limits::default() }, ..Config::default() });
+    let addr = listen(state).await;
+    let closed = tokio::task::spawn_blocking(move || {
+        let mut stream = TcpStream::connect(addr).unwrap();
+        stream.write_all(b"GET / HTTP/1.1\r\n").unwrap();
+        let start = Instant::now();
+        // A header line every 200 ms, never the blank line that ends them.
+        while start.elapsed() < Duration::from_secs(10) {
+            if stream.write_all(b"x-slow: 1\r\n").is_err() {
+                return Some(start.elapsed());
+            }
+            let (_, closed) = read_until_closed(&mut stream, Duration::from_millis(200));
+            if closed {
+                return Some(start.elapsed());
+            }
+        }
+        None
+    })
+    .await
+    .unwrap();
+    let after = closed.expect("the connection is still open after 10 s of trickled headers");
+    assert!(after >= Duration::from_millis(900), "closed after {after:?}, before the limit");
+}
+
+#[tokio::test]
+async fn a_client_that_trickles_its_body_gets_408_naming_the_limit_and_is_cut_off() {
+    let state = AppState::new(Config { limits: Limits { body_read_seconds: 1, ..Limits::default() }, ..Config::default() });
+    let addr = listen(state).await;
+    let (response, closed) = tokio::task::spawn_blocking(move || {
+        let mut stream = TcpStream::connect(addr).unwrap();
+        stream.write_all(b"POST /scenes HTTP/1.1\r\nhost: test\r\ncontent-type: application/json\r\ncontent-length: 1000\r\n\r\n{").unwrap();
+        let start = Instant::now();
+        let mut response = Vec::new();
+        while start.elapsed() < Duration::from_secs(10) {
+            // A byte every 200 ms: the body would take 200 s.
+            let _ = stream.write_all(b" ");
+            let (got, closed) = read_until_closed(&mut stream, Duration::from_millis(200));
+            response.extend(got);
+            if closed {
+                return (response, true);
+            }
+        }
+        (response, false)
+    })
+    .await
+    .unwrap();
+    assert!(closed, "the connection is still open after 10 s of a trickled body");
+    assert!(response.starts_with(b"HTTP/1.1 408"), "{}", String::from_utf8_lossy(&response));
+    let value = json_body(&response);
+    assert_eq!((value["error"]["code"].as_str(), value["error"]["limit"].as_str()), (Some("timeout"), Some("body_read_seconds")), "{value}");
+}
+
+#[tokio::test]
+async fn a_client_that_sends_in_time_is_served() {
+    let addr = listen(AppState::new(Config::default())).await;
+    let (response, _) = tokio::task::spawn_blocking(move || {
+        let mut stream = TcpStream::connect(addr).unwrap();
+        stream.write_all(b"POST /scenes HTTP/1.1\r\nhost: test\r\nconnection: close\r\ncontent-length: 2\r\n\r\n{}").unwrap();
+        read_until_closed(&mut stream, Duration::from_secs(10))
+    })
+    .await
+    .unwrap();
+    assert!(response.starts_with(b"HTTP/1.1 201"), "{}", String::from_utf8_lossy(&response));
+    assert_eq!(json_body(&response)["id"], json!(1));
+}
