@@ -32,6 +32,13 @@ pub struct Limits {
     pub max_commands: usize,
     /// Most scenes held at once.
     pub max_scenes: usize,
+    /// Most bytes one image texture may take once decoded, counted from the image's header
+    /// before it is decoded as width × height × 16 (three colour channels and coverage, as
+    /// `f32`): a small PNG of a large, flat image would otherwise cost gigabytes.
+    pub max_texture_bytes: usize,
+    /// Most triangles of a demo scene built on request (`{"demo": "museum-<triangles>"}`): a
+    /// 30-byte request should not build half a gigabyte of geometry.
+    pub max_demo_triangles: usize,
     /// Most open streams.
     pub max_streams: usize,
     /// Renders running at once (more wait their turn); each uses every core.
@@ -60,6 +67,10 @@ impl Default for Limits {
             max_frame_samples: 1920 * 1080 * 256,
             max_commands: 100_000,
             max_scenes: 64,
+            // 4096 × 4096 texels, or 8192 × 2048.
+            max_texture_bytes: 256 << 20,
+            // The standard scenes' million (the sphere grid has 1,000,002).
+            max_demo_triangles: 1_000_002,
             max_streams: 32,
             concurrent_renders: 4,
             max_render_seconds: 60,

@@ -71,10 +71,7 @@ impl AppState {
     /// Adds a scene; returns its id (ids start at 1 and are never reused).
     pub fn add_scene(&self, scene: Scene, origin: impl Into<String>) -> ApiResult<u32> {
         let mut scenes = self.0.scenes.write().unwrap_or_else(|e| e.into_inner());
-        let limit = self.0.config.limits.max_scenes;
-        if scenes.len() >= limit {
-            return Err(ApiError::too_large(None, format!("the server holds {limit} scenes, its limit: delete one first")));
-        }
+        self.room_for(scenes.len())?;
         let id = self.0.next_scene.fetch_add(1, Ordering::Relaxed);
         let slot = SceneSlot {
             id,
@@ -87,6 +84,21 @@ impl AppState {
         };
         scenes.insert(id, Arc::new(slot));
         Ok(id)
+    }
+
+    /// 413 naming `max_scenes` if the server holds as many scenes as it may. Checked before a
+    /// scene is built, so that a request past the limit costs nothing (and again when it is
+    /// added, as others may have been added meanwhile).
+    pub(crate) fn check_room_for_scene(&self) -> ApiResult<()> {
+        self.room_for(self.0.scenes.read().unwrap_or_else(|e| e.into_inner()).len())
+    }
+
+    fn room_for(&self, held: usize) -> ApiResult<()> {
+        let limit = self.0.config.limits.max_scenes;
+        if held >= limit {
+            return Err(ApiError::too_large(None, format!("the server holds {limit} scenes, its limit: delete one first")).limit("max_scenes"));
+        }
+        Ok(())
     }
 
     /// The scene with id `id` (404 if there is none).

@@ -8,6 +8,7 @@ use std::io::{Read, Write};
 use std::net::TcpStream;
 use std::time::{Duration, Instant};
 
+use axum::body::Body;
 use axum::http::StatusCode;
 use common::*;
 use raystage_server::{AppState, Config, Limits, router};
@@ -98,8 +99,6 @@ async fn a_render_past_its_time_budget_is_stopped_with_503_naming_the_limit() {
     assert!(start.elapsed() >= Duration::from_secs(1));
     // The render itself stopped, not only the wait for it.
     assert!(eventually(Duration::from_secs(10), || state.active_renders() == 0).await, "the render still runs");
-    // A frame within the budget renders as before.
-    frame(&app, &format!("/scenes/{s}/frame.png?width=32&height=32")).await;
 }
 
 #[tokio::test]
@@ -168,4 +167,61 @@ async fn a_client_that_sends_in_time_is_served() {
     .unwrap();
     assert!(response.starts_with(b"HTTP/1.1 201"), "{}", String::from_utf8_lossy(&response));
     assert_eq!(json_body(&response)["id"], json!(1));
+}
+
+/// A request that must fail with `status` naming `limit`; returns the error.
+async fn fails_on_limit(app: &axum::Router, uri: &str, body: Body, content_type: &str, status: StatusCode, limit: &str) -> Value {
+    let (got, _, bytes) = send(app, "POST", uri, body, &[("content-type", content_type)]).await;
+    let value: Value = serde_json::from_slice(&bytes).unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&bytes)));
+    assert_eq!((got, value["error"]["limit"].as_str()), (status, Some(limit)), "{value}");
+    value
+}
+
+#[tokio::test]
+async fn a_batch_past_the_command_limit_fails_at_the_first_command_too_many() {
+    let limits = Limits { max_commands: 3, ..Limits::default() };
+    let app = router(AppState::new(Config { limits, ..Config::default() }));
+    let s = new_scene(&app).await;
+    // Four commands, then bytes that are not JSON at all: parsing stops at the fourth command,
+    // so they are never read (else the answer would be 400 for them).
+    let body = format!("{{\"commands\": [{}, this is not JSON", vec![r#"{"set_camera": {}}"#; 4].join(", "));
+    let error = fails_on_limit(&app, &format!("/scenes/{s}/commands"), Body::from(body), "application/json", StatusCode::PAYLOAD_TOO_LARGE, "max_commands").await;
+    assert_eq!(error["error"]["field"], "commands");
+    // Within the limit, a batch still runs, and its errors still name the field.
+    let three = json!({ "commands": vec![json!({ "set_camera": {} }); 3] });
+    ok(&app, "POST", &format!("/scenes/{s}/commands"), three, StatusCode::OK).await;
+    let bad = json!({ "commands": [{ "set_camera": { "eye": [0, 0, "far"] } }] });
+    assert_eq!(fails(&app, "POST", &format!("/scenes/{s}/commands"), bad, StatusCode::BAD_REQUEST).await, "commands[0].set_camera.eye[2]");
+}
+
+#[tokio::test]
+async fn an_image_larger_decoded_than_the_texture_budget_is_refused_before_decoding() {
+    // 1024 × 1024 texels of black: 4 KB of PNG, 16 MiB decoded.
+    let mut png = std::io::Cursor::new(Vec::new());
+    image::RgbImage::new(1024, 1024).write_to(&mut png, image::ImageFormat::Png).unwrap();
+    let png = png.into_inner();
+    let limits = Limits { max_texture_bytes: 8 << 20, ..Limits::default() };
+    let app = router(AppState::new(Config { limits, ..Config::default() }));
+    let s = new_scene(&app).await;
+    let uri = format!("/scenes/{s}/textures");
+    fails_on_limit(&app, &uri, Body::from(png.clone()), "image/png", StatusCode::PAYLOAD_TOO_LARGE, "max_texture_bytes").await;
+    assert_eq!(ok(&app, "GET", &format!("/scenes/{s}"), json!(null), StatusCode::OK).await["textures"], 0);
+    // Within the budget it is a texture.
+    let roomy = router(AppState::new(Config::default()));
+    let s = new_scene(&roomy).await;
+    let (status, _, body) = send(&roomy, "POST", &format!("/scenes/{s}/textures"), Body::from(png), &[("content-type", "image/png")]).await;
+    assert_eq!(status, StatusCode::CREATED, "{}", String::from_utf8_lossy(&body));
+}
+
+#[tokio::test]
+async fn demos_past_the_size_limit_and_scenes_past_the_scene_limit_are_refused_before_they_are_built() {
+    let app = router(AppState::new(Config { limits: Limits { max_scenes: 2, ..Limits::default() }, ..Config::default() }));
+    let huge = Body::from(json!({ "demo": "museum-4000000" }).to_string());
+    let error = fails_on_limit(&app, "/scenes", huge, "application/json", StatusCode::UNPROCESSABLE_ENTITY, "max_demo_triangles").await;
+    assert_eq!(error["error"]["field"], "demo");
+    ok(&app, "POST", "/scenes", json!({ "demo": "museum-1024" }), StatusCode::CREATED).await;
+    ok(&app, "POST", "/scenes", json!({}), StatusCode::CREATED).await;
+    // The sphere grid would take seconds and a hundred megabytes to build: the limit comes first.
+    let third = Body::from(json!({ "demo": "spheres" }).to_string());
+    fails_on_limit(&app, "/scenes", third, "application/json", StatusCode::PAYLOAD_TOO_LARGE, "max_scenes").await;
 }
