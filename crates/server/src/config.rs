@@ -80,19 +80,26 @@ impl Default for Limits {
     }
 }
 
-/// Why a server may not listen on an address.
+/// Why a server refuses to start with a configuration.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("refusing to serve on {0} without a token: anyone who can reach it could use the server (bind to 127.0.0.1, or set a token)")]
-pub struct ExposedWithoutToken(pub SocketAddr);
+pub enum Refused {
+    /// A non-loopback address without a token.
+    #[error("refusing to serve on {0} without a token: anyone who can reach it could use the server (bind to 127.0.0.1, or set a token)")]
+    ExposedWithoutToken(SocketAddr),
+    /// A token that is empty or only whitespace: on loopback it would lock every request out
+    /// (no `Authorization` header can carry it), elsewhere it would guard nothing.
+    #[error("refusing an empty or blank token: set a token of visible characters, or none")]
+    BlankToken,
+}
 
 impl Config {
     /// Checks that the server may listen on `addr`: loopback addresses always, any other only
-    /// with a token.
-    pub fn check_address(&self, addr: SocketAddr) -> Result<(), ExposedWithoutToken> {
-        if addr.ip().is_loopback() || self.token.as_deref().is_some_and(|t| !t.is_empty()) {
-            Ok(())
-        } else {
-            Err(ExposedWithoutToken(addr))
+    /// with a token; and that a token, if there is one, is not blank.
+    pub fn check_address(&self, addr: SocketAddr) -> Result<(), Refused> {
+        match self.token.as_deref() {
+            Some(token) if token.trim().is_empty() => Err(Refused::BlankToken),
+            None if !addr.ip().is_loopback() => Err(Refused::ExposedWithoutToken(addr)),
+            _ => Ok(()),
         }
     }
 }
@@ -107,7 +114,16 @@ mod tests {
         assert!(open.check_address("127.0.0.1:8080".parse().unwrap()).is_ok());
         assert!(open.check_address("[::1]:8080".parse().unwrap()).is_ok());
         assert!(open.check_address("0.0.0.0:8080".parse().unwrap()).is_err());
-        assert!(Config { token: Some(String::new()), ..Config::default() }.check_address("0.0.0.0:80".parse().unwrap()).is_err());
         assert!(Config { token: Some("s3cret".into()), ..Config::default() }.check_address("0.0.0.0:80".parse().unwrap()).is_ok());
+    }
+
+    #[test]
+    fn a_blank_token_is_refused_on_every_address() {
+        for token in ["", " ", "\t \n"] {
+            let config = Config { token: Some(token.into()), ..Config::default() };
+            for addr in ["0.0.0.0:80", "127.0.0.1:8080"] {
+                assert_eq!(config.check_address(addr.parse().unwrap()), Err(Refused::BlankToken), "{token:?} on {addr}");
+            }
+        }
     }
 }

@@ -32,7 +32,7 @@ mod stream;
 use std::future::Future;
 use std::time::Duration;
 
-pub use config::{Config, ExposedWithoutToken, Limits};
+pub use config::{Config, Limits, Refused};
 pub use error::{ApiError, ErrorBody, ErrorDetail};
 pub use routes::openapi::ApiDoc;
 pub use state::AppState;
@@ -49,7 +49,7 @@ pub fn openapi() -> utoipa::openapi::OpenApi {
 
 /// Serves the API on `listener` until `shutdown` completes, then lets the requests in flight
 /// finish. Refuses (before serving anything) a listener on a non-loopback address when the
-/// configuration has no token. A client has [`Limits::header_read_seconds`] to send a
+/// configuration has no token, and a blank token anywhere ([`Refused`]). A client has [`Limits::header_read_seconds`] to send a
 /// request's headers, else its connection is closed.
 pub async fn serve(listener: tokio::net::TcpListener, state: AppState, shutdown: impl Future<Output = ()> + Send + 'static) -> std::io::Result<()> {
     let addr = listener.local_addr()?;
