@@ -12,6 +12,17 @@ use tokio_tungstenite::tungstenite::Message;
 
 type Socket = tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
 
+/// A server with a new empty scene and a stream of it with `query`: the API, the scene's id and
+/// the socket.
+async fn stream_of_a_new_scene(query: &str) -> (axum::Router, u64, Socket) {
+    let state = AppState::new(Config::default());
+    let app = raystage_server::router(state.clone());
+    let s = new_scene(&app).await;
+    let addr = listen(state).await;
+    let (socket, _) = tokio_tungstenite::connect_async(format!("ws://{addr}/scenes/{s}/stream?{query}")).await.unwrap();
+    (app, s, socket)
+}
+
 /// The next text message, as JSON.
 async fn next_json(socket: &mut Socket) -> Value {
     loop {
@@ -102,11 +113,7 @@ async fn frames_refine_and_a_camera_change_restarts_them() {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn deleting_the_scene_ends_its_streams() {
-    let state = AppState::new(Config::default());
-    let app = raystage_server::router(state.clone());
-    let s = new_scene(&app).await;
-    let addr = listen(state).await;
-    let (mut socket, _) = tokio_tungstenite::connect_async(format!("ws://{addr}/scenes/{s}/stream?width=16&height=16&max_samples=4")).await.unwrap();
+    let (app, s, mut socket) = stream_of_a_new_scene("width=16&height=16&max_samples=4").await;
     next_frame(&mut socket).await;
     let (status, _, _) = send(&app, "DELETE", &format!("/scenes/{s}"), axum::body::Body::empty(), &[]).await;
     assert_eq!(status, StatusCode::NO_CONTENT);
@@ -155,4 +162,28 @@ async fn a_closed_stream_stops_its_render() {
     assert!(eventually(std::time::Duration::from_secs(10), || state.active_renders() == 1).await, "the next pass runs");
     drop(socket);
     assert!(eventually(std::time::Duration::from_secs(10), || state.active_renders() == 0).await, "the pass still runs after the stream closed");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_message_within_the_body_limit_gets_an_answer_however_large_its_frame() {
+    let (_, _, mut socket) = stream_of_a_new_scene("width=16&height=16&max_samples=1").await;
+    // 20 MiB in one frame: over tungstenite's default frame limit, within the server's 256 MiB.
+    let padding = "x".repeat(20 << 20);
+    let message = json!({ "type": "camera", "request": 7, "camera": { "fov_y_degrees": 50 }, "padding": padding }).to_string();
+    socket.send(Message::text(message)).await.unwrap();
+    let reply = loop {
+        match socket.next().await.expect("the stream stays open").expect("no socket error") {
+            Message::Text(text) => {
+                let message: Value = serde_json::from_str(text.as_str()).unwrap();
+                if message["type"] == "error" || message["type"] == "result" {
+                    break message;
+                }
+            }
+            // Frames' PNGs.
+            _ => continue,
+        }
+    };
+    // Read, and refused for what it says rather than for its size.
+    assert_eq!(reply["type"], "error", "{reply}");
+    assert!(reply["error"]["message"].as_str().unwrap().contains("unknown field `padding`"), "{reply}");
 }

@@ -52,7 +52,10 @@ pub(crate) async fn stream(State(state): State<AppState>, target: Target, Params
     check(&settings, &limits)?;
     let guard = state.open_stream()?;
     let scene = target.scene;
-    Ok(upgrade.max_message_size(limits.max_body_bytes).on_upgrade(move |socket| async move {
+    // A message may come in one frame as large as the message limit (tungstenite's own frame
+    // limit, 16 MiB, would drop the connection with no close code well under it).
+    let upgrade = upgrade.max_message_size(limits.max_body_bytes).max_frame_size(limits.max_body_bytes);
+    Ok(upgrade.on_upgrade(move |socket| async move {
         session(socket, state, scene, settings).await;
         drop(guard);
     }))
