@@ -43,6 +43,11 @@ pub struct Limits {
     pub max_streams: usize,
     /// Renders running at once (more wait their turn); each uses every core.
     pub concurrent_renders: usize,
+    /// Most memory the images being rendered may take together, frames and streams, counted
+    /// from their sizes before anything is allocated (16 bytes a pixel for a frame, 34 for a
+    /// stream's image): an image larger than all of it is refused (413), one that does not fit
+    /// beside those in progress is 503 (a stream holds its share while it is open).
+    pub max_render_bytes: usize,
     /// Longest a render may run, in seconds, once its turn has come: past it the render is
     /// stopped and the request answered 503 (a frame within the other limits can still take
     /// minutes with the path tracer, holding one of the few render turns all the while).
@@ -73,6 +78,8 @@ impl Default for Limits {
             max_demo_triangles: 1_000_002,
             max_streams: 32,
             concurrent_renders: 4,
+            // Two 8192 × 8192 frames, or one stream that size; 64 streams of 1080p.
+            max_render_bytes: 2 << 30,
             max_render_seconds: 60,
             header_read_seconds: 10,
             body_read_seconds: 60,

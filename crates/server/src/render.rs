@@ -14,6 +14,15 @@ use crate::error::{ApiError, ApiResult};
 use crate::state::{AppState, SceneSlot};
 use crate::stats::FrameReport;
 
+/// Bytes a frame takes per pixel while it renders: the sums of its samples (three `f32`) and
+/// its sRGB rows on their way to the PNG.
+pub(crate) const FRAME_BYTES_PER_PIXEL: u64 = 12 + 4;
+
+/// Bytes a stream's image takes per pixel while the stream is open: the sums of its samples and
+/// of their squares (for the noise estimate), the film of the frame being encoded, its sRGB
+/// rows and its PNG.
+pub(crate) const STREAM_BYTES_PER_PIXEL: u64 = 12 + 4 + 12 + 3 + 3;
+
 /// What frame to render.
 #[derive(Clone, Debug, Default, Deserialize, IntoParams)]
 #[serde(deny_unknown_fields)]
@@ -208,12 +217,15 @@ pub(crate) struct Rendered {
 /// [`Limits::max_render_seconds`] (503); either way its turn goes to the next render only once
 /// the work has stopped.
 pub(crate) async fn render_png(state: &AppState, slot: &Arc<SceneSlot>, request: FrameRequest) -> ApiResult<Rendered> {
+    // Before waiting for a turn: a frame that cannot have its memory fails at once.
+    let memory = state.reserve_render_memory(request.width as u64 * request.height as u64 * FRAME_BYTES_PER_PIXEL)?;
     let turn = state.render_permit().await;
     let (scene, version) = slot.snapshot().await;
     let cancel = CancelOnDrop(Cancel::new());
     let token = cancel.0.clone();
     let work = tokio::task::spawn_blocking(move || -> ApiResult<Rendered> {
         let _running = turn.running();
+        let _memory = memory;
         let settings = request.settings(&scene);
         let (png, stats, rendered, encoded) = crate::png::render_png(&scene.frame(), &settings, request.setup.look, &token)?;
         let mut report = FrameReport::new(&settings, &stats, encoded, version);

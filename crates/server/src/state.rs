@@ -12,6 +12,9 @@ use crate::config::Config;
 use crate::error::{ApiError, ApiResult};
 use crate::stats::FrameReport;
 
+/// The unit in which render memory is reserved.
+const MIB: usize = 1 << 20;
+
 /// Everything the handlers share; cheap to clone.
 #[derive(Clone)]
 pub struct AppState(Arc<Shared>);
@@ -25,6 +28,8 @@ struct Shared {
     renders: Arc<Semaphore>,
     /// Renders running now (see [`AppState::active_renders`]).
     active_renders: AtomicUsize,
+    /// The memory of images being rendered, in MiB (see [`Limits::max_render_bytes`]).
+    render_memory: Arc<Semaphore>,
     streams: AtomicUsize,
 }
 
@@ -53,12 +58,14 @@ impl AppState {
     /// A server with no scenes.
     pub fn new(config: Config) -> AppState {
         let renders = Arc::new(Semaphore::new(config.limits.concurrent_renders.max(1)));
+        let render_memory = Arc::new(Semaphore::new(config.limits.max_render_bytes / MIB));
         AppState(Arc::new(Shared {
             config,
             scenes: RwLock::default(),
             next_scene: AtomicU32::new(1),
             renders,
             active_renders: AtomicUsize::new(0),
+            render_memory,
             streams: AtomicUsize::new(0),
         }))
     }
@@ -134,6 +141,22 @@ impl AppState {
     /// soon after the last client waiting for one has gone (its render is cancelled).
     pub fn active_renders(&self) -> usize {
         self.0.active_renders.load(Ordering::Relaxed)
+    }
+
+    /// Reserves `bytes` of the memory for images being rendered, until the reservation is
+    /// dropped: 413 if that is more than all of it, 503 if it does not fit beside the images
+    /// in progress (both naming `max_render_bytes`).
+    pub(crate) fn reserve_render_memory(&self, bytes: u64) -> ApiResult<OwnedSemaphorePermit> {
+        let limit = self.0.config.limits.max_render_bytes;
+        let mib = bytes.div_ceil(MIB as u64);
+        let too_large = || ApiError::too_large(None, format!("the image takes {bytes} bytes to render: the limit is {limit}")).limit("max_render_bytes");
+        if mib > (limit / MIB) as u64 {
+            return Err(too_large());
+        }
+        let mib = u32::try_from(mib).map_err(|_| too_large())?;
+        self.0.render_memory.clone().try_acquire_many_owned(mib).map_err(|_| {
+            ApiError::busy(format!("the images being rendered leave no room for {bytes} bytes more (the limit is {limit}): try again")).limit("max_render_bytes")
+        })
     }
 
     /// Counts a new stream in, if there is room: the guard counts it out when dropped.

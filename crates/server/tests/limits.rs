@@ -225,3 +225,26 @@ async fn demos_past_the_size_limit_and_scenes_past_the_scene_limit_are_refused_b
     let third = Body::from(json!({ "demo": "spheres" }).to_string());
     fails_on_limit(&app, "/scenes", third, "application/json", StatusCode::PAYLOAD_TOO_LARGE, "max_scenes").await;
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn frames_share_the_memory_for_images_and_one_larger_than_all_of_it_is_refused() {
+    // Room for one 1080p frame (33 MB) but not two.
+    let state = AppState::new(Config { limits: Limits { max_render_bytes: 48 << 20, ..Limits::default() }, ..Config::default() });
+    let app = router(state.clone());
+    let s = filled_scene(&app).await;
+    let (status, value) = call(&app, "GET", &format!("/scenes/{s}/frame.png?width=4096&height=4096"), Value::Null).await;
+    assert_eq!((status, value["error"]["limit"].as_str()), (StatusCode::PAYLOAD_TOO_LARGE, Some("max_render_bytes")), "{value}");
+    // A slow frame holds its share while it renders ...
+    let slow = tokio::spawn({
+        let app = app.clone();
+        async move { call(&app, "GET", &format!("/scenes/{s}/{SLOW_FRAME}"), Value::Null).await }
+    });
+    assert!(eventually(Duration::from_secs(10), || state.active_renders() == 1).await);
+    let (status, value) = call(&app, "GET", &format!("/scenes/{s}/frame.png?width=1920&height=1080"), Value::Null).await;
+    assert_eq!((status, value["error"]["limit"].as_str()), (StatusCode::SERVICE_UNAVAILABLE, Some("max_render_bytes")), "{value}");
+    // ... and gives it back once its render has stopped. (Stopped now: until then, the slow
+    // frame's tiles keep the render threads, and so every other test's renders, waiting.)
+    slow.abort();
+    assert!(eventually(Duration::from_secs(10), || state.active_renders() == 0).await);
+    frame(&app, &format!("/scenes/{s}/frame.png?width=1920&height=1080&integrator=eyelight")).await;
+}

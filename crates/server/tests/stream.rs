@@ -142,7 +142,10 @@ async fn a_stream_of_an_unknown_scene_or_with_bad_settings_is_refused() {
     let app = raystage_server::router(state.clone());
     let s = new_scene(&app).await;
     let addr = listen(state).await;
-    for (path, status) in [("/scenes/99/stream", 404), (&format!("/scenes/{s}/stream?width=0") as &str, 422), (&format!("/scenes/{s}/stream?max_samples=0"), 422)] {
+    for (path, status) in [("/scenes/99/stream", 404), (&format!("/scenes/{s}/stream?width=0") as &str, 422), (&format!("/scenes/{s}/stream?max_samples=0"), 422),
+        // 2.3 GB of accumulation, more than all the server's memory for images.
+        (&format!("/scenes/{s}/stream?width=8192&height=8192&max_samples=1"), 413),
+    ] {
         let error = tokio_tungstenite::connect_async(format!("ws://{addr}{path}")).await.unwrap_err();
         let tokio_tungstenite::tungstenite::Error::Http(response) = error else { panic!("{path}: {error}") };
         assert_eq!(response.status().as_u16(), status, "{path}");

@@ -61,7 +61,8 @@ pub(crate) async fn stream(State(state): State<AppState>, target: Target, Params
     }))
 }
 
-/// Checks a stream's settings as a frame request of `max_samples` samples per pixel.
+/// Checks a stream's settings as a frame request of `max_samples` samples per pixel, and its
+/// image against the memory for images being rendered (413 if it could never fit).
 fn check(settings: &StreamSettings, limits: &Limits) -> ApiResult<()> {
     let request = FrameRequest { width: settings.width, height: settings.height, spp: settings.max_samples, integrator: settings.integrator, setup: Default::default() };
     request.check(limits).map_err(|mut e| {
@@ -69,7 +70,13 @@ fn check(settings: &StreamSettings, limits: &Limits) -> ApiResult<()> {
             e.detail.field = Some("max_samples".into());
         }
         e
-    })
+    })?;
+    let bytes = settings.bytes();
+    if bytes > limits.max_render_bytes as u64 {
+        let message = format!("a {}×{} stream takes {bytes} bytes: the limit is {}", settings.width, settings.height, limits.max_render_bytes);
+        return Err(ApiError::too_large(None, message).limit("max_render_bytes"));
+    }
+    Ok(())
 }
 
 async fn session(socket: WebSocket, state: AppState, slot: Arc<SceneSlot>, settings: StreamSettings) {

@@ -8,9 +8,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use raystage_render::{Cancel, Integrator, Progressive, RenderSettings};
-use tokio::sync::{mpsc, watch};
+use tokio::sync::{OwnedSemaphorePermit, mpsc, watch};
 
-use crate::render::{CancelOnDrop, default_integrator};
+use crate::render::{CancelOnDrop, STREAM_BYTES_PER_PIXEL, default_integrator};
 use crate::state::{AppState, SceneSlot};
 use crate::stats::FrameReport;
 use crate::error::ApiError;
@@ -27,6 +27,10 @@ const MAX_PASS_SAMPLES: u32 = 64;
 /// would be), a long one (a large path-traced image) does not hold up the new image.
 const SUPERSEDED_AFTER: std::time::Duration = std::time::Duration::from_millis(100);
 
+/// How long a stream whose image found no room waits before it tries again (if nothing changes
+/// meanwhile).
+const MEMORY_RETRY: std::time::Duration = std::time::Duration::from_secs(1);
+
 /// A stream's image settings.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct StreamSettings {
@@ -35,6 +39,13 @@ pub(crate) struct StreamSettings {
     /// `None`: Whitted if the scene has lights, else the eye-light preview.
     pub integrator: Option<Integrator>,
     pub max_samples: u32,
+}
+
+impl StreamSettings {
+    /// The memory the stream's image takes while the stream is open.
+    pub fn bytes(&self) -> u64 {
+        self.width as u64 * self.height as u64 * STREAM_BYTES_PER_PIXEL
+    }
 }
 
 /// A frame ready to send: its statistics as JSON text, and its PNG.
@@ -48,6 +59,8 @@ struct Accumulation {
     settings: StreamSettings,
     version: u64,
     progressive: Progressive,
+    /// Its share of the memory for images being rendered, given back with it.
+    memory: OwnedSemaphorePermit,
 }
 
 /// Renders until the session ends (`settings` closes) or the scene is deleted (then it says so
@@ -65,6 +78,7 @@ pub(crate) async fn refine(
     let mut accumulation: Option<Accumulation> = None;
     let mut pass_samples = 1;
     let mut seq = 0;
+    let mut out_of_memory = false;
     loop {
         if slot.is_deleted() {
             let error = ApiError::not_found(Some("scene".into()), format!("scene {} was deleted", slot.id));
@@ -82,18 +96,46 @@ pub(crate) async fn refine(
             }
             continue;
         }
+        if accumulation.as_ref().is_some_and(|a| a.settings != wanted) {
+            // Its memory is needed for the new image.
+            accumulation = None;
+        }
+        let memory = match &accumulation {
+            Some(_) => None,
+            None => match state.reserve_render_memory(wanted.bytes()) {
+                Ok(memory) => Some(memory),
+                Err(error) => {
+                    // Said once; tried again at the next change, or when others may have
+                    // finished.
+                    if !out_of_memory {
+                        out_of_memory = true;
+                        let _ = replies.send(ServerMessage::Error { request: None, error: error.detail }).await;
+                    }
+                    tokio::select! {
+                        changed = versions.changed() => if changed.is_err() { return },
+                        changed = settings.changed() => if changed.is_err() { return },
+                        () = tokio::time::sleep(MEMORY_RETRY) => {}
+                    }
+                    continue;
+                }
+            },
+        };
+        out_of_memory = false;
         let turn = state.render_permit().await;
         let (scene, version) = slot.snapshot().await;
-        let mut acc = match accumulation.take() {
-            Some(a) if a.settings == wanted && a.version == version => a,
-            _ => {
+        let mut acc = match (accumulation.take(), memory) {
+            (Some(a), _) if a.version == version => a,
+            (old, memory) => {
                 pass_samples = 1;
                 let integrator = wanted.integrator.unwrap_or_else(|| default_integrator(&scene, true));
                 let render_settings = RenderSettings { width: wanted.width, height: wanted.height, integrator, ..RenderSettings::default() };
+                let Some(memory) = memory.or_else(|| old.map(|a| a.memory)) else {
+                    return; // One of the two holds the memory.
+                };
                 let Ok(progressive) = Progressive::new(render_settings) else {
                     return; // The settings were checked when they were received.
                 };
-                Accumulation { settings: wanted, version, progressive }
+                Accumulation { settings: wanted, version, progressive, memory }
             }
         };
         let samples = pass_samples.min(wanted.max_samples - acc.progressive.samples());
