@@ -248,3 +248,28 @@ async fn frames_share_the_memory_for_images_and_one_larger_than_all_of_it_is_ref
     assert!(eventually(Duration::from_secs(10), || state.active_renders() == 0).await);
     frame(&app, &format!("/scenes/{s}/frame.png?width=1920&height=1080&integrator=eyelight")).await;
 }
+
+#[tokio::test]
+async fn shutting_down_closes_idle_connections_and_returns() {
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
+    let server = tokio::spawn(raystage_server::serve(listener, AppState::new(Config::default()), async {
+        let _ = stopped.await;
+    }));
+    // A kept-alive connection, idle after its request.
+    let mut client = tokio::task::spawn_blocking(move || {
+        let mut stream = TcpStream::connect(addr).unwrap();
+        stream.write_all(b"GET / HTTP/1.1\r\nhost: test\r\n\r\n").unwrap();
+        let mut buf = [0; 4096];
+        assert!(stream.read(&mut buf).unwrap() > 0);
+        stream
+    })
+    .await
+    .unwrap();
+    stop.send(()).unwrap();
+    let served = tokio::time::timeout(Duration::from_secs(10), server).await.expect("serve returns once its connections close");
+    served.unwrap().unwrap();
+    let (_, closed) = tokio::task::spawn_blocking(move || read_until_closed(&mut client, Duration::from_secs(5))).await.unwrap();
+    assert!(closed, "the idle connection was closed");
+}
