@@ -40,5 +40,10 @@ pub(crate) fn load(document: &Document, index: usize, colour: bool, buffers: &[V
     if side > limits.max_image_side {
         return Err(ImportError::TooLarge { what: "texels on a side of an image", count: side, limit: limits.max_image_side });
     }
+    // Three colour channels and coverage, as f32: what the decoded image may take.
+    let decoded = width as usize * height as usize * 16;
+    if decoded > limits.max_image_bytes {
+        return Err(ImportError::TooLarge { what: "bytes of an image once decoded", count: decoded, limit: limits.max_image_bytes });
+    }
     if colour { Image::decode(bytes) } else { Image::decode_data(bytes) }.map_err(unreadable)
 }

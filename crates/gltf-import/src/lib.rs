@@ -43,12 +43,17 @@ pub struct Limits {
     pub max_instances: usize,
     /// Most texels on either side of a texture's image.
     pub max_image_side: usize,
+    /// Most bytes one texture's image may take decoded, counted from its header before it is
+    /// decoded as width × height × 16 (three colour channels and coverage, as `f32`): a small
+    /// PNG of a large, flat image would otherwise cost gigabytes.
+    pub max_image_bytes: usize,
 }
 
 impl Default for Limits {
-    /// Four million triangles and vertices, a million instances, images of 8192 texels a side.
+    /// Four million triangles and vertices, a million instances, images of 8192 texels a side
+    /// (a GiB decoded: the side's limit is the one that holds by default).
     fn default() -> Limits {
-        Limits { max_triangles: 4_000_000, max_vertices: 4_000_000, max_instances: 1_000_000, max_image_side: 8192 }
+        Limits { max_triangles: 4_000_000, max_vertices: 4_000_000, max_instances: 1_000_000, max_image_side: 8192, max_image_bytes: 8192 * 8192 * 16 }
     }
 }
 

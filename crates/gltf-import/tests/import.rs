@@ -298,6 +298,10 @@ fn textures_the_importer_cannot_use_are_left_out_or_refused() {
     let large = serde_json::to_vec(&textured_quad(json!({ "bufferView": 3 }), 0, &png)).unwrap();
     let err = read(&large, None, &limits).unwrap_err();
     assert!(matches!(err, ImportError::TooLarge { count: 2, limit: 1, .. }), "{err}");
+    // 2 × 1 texels take 32 bytes decoded.
+    let err = read(&large, None, &Limits { max_image_bytes: 31, ..Limits::default() }).unwrap_err();
+    assert!(matches!(err, ImportError::TooLarge { count: 32, limit: 31, .. }), "{err}");
+    assert!(read(&large, None, &Limits { max_image_bytes: 32, ..Limits::default() }).is_ok());
 
     let external = textured_quad(json!({ "uri": "wood.png" }), 0, &[]);
     assert_eq!(refused(&external).field(), Some("images[0].uri"));

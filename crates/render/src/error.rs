@@ -25,6 +25,10 @@ pub enum Error {
         /// What its range is.
         message: String,
     },
+    /// The render was stopped through its [`crate::Cancel`] token before it finished: there is
+    /// no image.
+    #[error("the render was cancelled")]
+    Cancelled,
     /// Writing the encoded image failed.
     #[error("cannot write {}: {source}", path.display())]
     Write {

@@ -6,13 +6,14 @@
 //! path tracing), simulating only the effects the frame's [`EffectSet`] calls for. Samples come
 //! from stratified, decorrelated per-pixel sequences and accumulate progressively
 //! ([`Progressive`]) into a linear-light [`Film`] encoded to sRGB PNG; [`FrameStats`] says
-//! what a frame cost.
+//! what a frame cost; a [`Cancel`] token stops a render that nobody waits for.
 //!
 //! Not in here: acceleration structures and ray/triangle tests (`raystage-kernel`), the scene and
 //! its shader parameters (`raystage-scene`), and anything that talks to users (the CLI, the C
 //! ABI, the HTTP server).
 
 mod bsdf;
+mod cancel;
 mod effects;
 mod error;
 mod film;
@@ -28,6 +29,7 @@ mod texture;
 mod tiles;
 mod warp;
 
+pub use cancel::Cancel;
 pub use effects::EffectSet;
 pub use error::Error;
 pub use film::{Film, Look, OutputFormat, ToneMap};

@@ -16,7 +16,7 @@ use crate::lights::Seen;
 use crate::sampler::PixelSampler;
 use crate::stats::{FrameStats, PhaseTimes, RayCounts, TaskTimes};
 use crate::tiles::{Share, Sums, Tile, render_tiles_with};
-use crate::{Error, Film};
+use crate::{Cancel, Error, Film};
 
 /// Largest image width or height.
 pub const MAX_DIMENSION: u32 = 16_384;
@@ -207,7 +207,7 @@ impl RenderSettings {
 /// Renders `settings.samples_per_pixel` samples of every pixel of `frame`, on the current rayon
 /// pool.
 pub fn render(frame: &Frame<'_>, settings: &RenderSettings) -> Result<(Film, FrameStats), Error> {
-    render_rows(frame, settings, |_| {})
+    render_rows(frame, settings, None, |_| {})
 }
 
 /// [`render`], handing every band of rows to `finished` as soon as its pixels are final, on the
@@ -217,25 +217,34 @@ pub fn render(frame: &Frame<'_>, settings: &RenderSettings) -> Result<(Film, Fra
 /// An adaptive render (`noise_threshold`) takes its samples in passes, [`MIN_ADAPTIVE_SAMPLES`]
 /// then twice as many as it has, each pass to the tiles that are still noisy, and hands the
 /// whole image on at the end.
-pub fn render_rows(frame: &Frame<'_>, settings: &RenderSettings, finished: impl Fn(Rows<'_>) + Sync) -> Result<(Film, FrameStats), Error> {
-    render_share_rows(frame, settings, Share::WHOLE, finished)
+///
+/// With a `cancel` token, the render stops soon after the token is cancelled (see [`Cancel`])
+/// and returns [`Error::Cancelled`]; bands not finished by then are never handed on.
+pub fn render_rows(frame: &Frame<'_>, settings: &RenderSettings, cancel: Option<&Cancel>, finished: impl Fn(Rows<'_>) + Sync) -> Result<(Film, FrameStats), Error> {
+    render_share_rows(frame, settings, Share::WHOLE, cancel, finished)
 }
 
 /// [`render`] of one share of the frame: the rows [`Share::rows`] lists hold exactly the
 /// pixels a whole-frame render gives them, the others are left black. Processes (MPI ranks)
 /// that each render one share of `Share { index, count }` make the frame between them.
 pub fn render_share(frame: &Frame<'_>, settings: &RenderSettings, share: Share) -> Result<(Film, FrameStats), Error> {
-    render_share_rows(frame, settings, share, |_| {})
+    render_share_rows(frame, settings, share, None, |_| {})
 }
 
-fn render_share_rows(frame: &Frame<'_>, settings: &RenderSettings, share: Share, finished: impl Fn(Rows<'_>) + Sync) -> Result<(Film, FrameStats), Error> {
+fn render_share_rows(
+    frame: &Frame<'_>,
+    settings: &RenderSettings,
+    share: Share,
+    cancel: Option<&Cancel>,
+    finished: impl Fn(Rows<'_>) + Sync,
+) -> Result<(Film, FrameStats), Error> {
     if settings.noise_threshold.is_some() {
         let mut progressive = Progressive::new(*settings)?.with_share(share)?;
         let total = settings.samples_per_pixel;
         let mut stats: Option<FrameStats> = None;
         while progressive.samples() < total {
             let pass = progressive.samples().max(MIN_ADAPTIVE_SAMPLES).min(total - progressive.samples());
-            let pass_stats = progressive.add(frame, pass);
+            let pass_stats = progressive.pass(frame, pass, cancel, |_, _| {}).ok_or(Error::Cancelled)?;
             stats = Some(match stats {
                 Some(mut sum) => {
                     sum.merge(&pass_stats);
@@ -251,7 +260,7 @@ fn render_share_rows(frame: &Frame<'_>, settings: &RenderSettings, share: Share,
     // One pass, whose variance nobody asks for: a 1080p frame saves 8 MB of page faults.
     let mut progressive = Progressive::without_variance(*settings)?.with_share(share)?;
     let samples = settings.samples_per_pixel;
-    let stats = progressive.add_with(frame, samples, |first, sums| finished(Rows { first, width: settings.width, sums, samples }));
+    let stats = progressive.pass(frame, samples, cancel, |first, sums| finished(Rows { first, width: settings.width, sums, samples })).ok_or(Error::Cancelled)?;
     Ok((progressive.into_film(), stats))
 }
 
@@ -377,12 +386,22 @@ impl Progressive {
 
     /// Adds `samples` samples per pixel of `frame`.
     pub fn add(&mut self, frame: &Frame<'_>, samples: u32) -> FrameStats {
-        self.add_with(frame, samples, |_, _| {})
+        match self.pass(frame, samples, None, |_, _| {}) {
+            Some(stats) => stats,
+            None => unreachable!("only a cancel token stops a pass"),
+        }
+    }
+
+    /// [`Progressive::add`], stopping soon after `cancel` is cancelled (see [`Cancel`]): then
+    /// the pass's samples are only partly in, so the accumulation is [reset](Progressive::reset)
+    /// (the next pass starts a new image) and the call returns [`Error::Cancelled`].
+    pub fn add_cancellable(&mut self, frame: &Frame<'_>, samples: u32, cancel: &Cancel) -> Result<FrameStats, Error> {
+        self.pass(frame, samples, Some(cancel), |_, _| {}).ok_or(Error::Cancelled)
     }
 
     /// [`Progressive::add`], calling `finished(first_row, sums)` for every band of rows once its
-    /// samples are in.
-    fn add_with(&mut self, frame: &Frame<'_>, samples: u32, finished: impl Fn(u32, &[Vec3]) + Sync) -> FrameStats {
+    /// samples are in; `None` if `cancel` stopped it (the accumulation is reset then).
+    fn pass(&mut self, frame: &Frame<'_>, samples: u32, cancel: Option<&Cancel>, finished: impl Fn(u32, &[Vec3]) + Sync) -> Option<FrameStats> {
         let start = Instant::now();
         let built_before = frame.work().build_seconds;
         let s = self.settings;
@@ -406,6 +425,11 @@ impl Progressive {
             let task_start = Instant::now();
             let mut work = TileWork::for_tile(tile);
             for index in first..first + samples {
+                // Between samples too, so that a tile of many samples does not hold a
+                // cancelled render up.
+                if cancel.is_some_and(Cancel::is_cancelled) {
+                    break;
+                }
                 work.sample(&tracer, &camera, index, sums);
             }
             if let Some(n) = slot {
@@ -415,7 +439,12 @@ impl Progressive {
             counts.lock().unwrap_or_else(|e| e.into_inner()).add(work.counts);
             work.recycle();
         };
-        render_tiles_with(s.width, s.height, self.share, sum, sum_sq, add, finished);
+        render_tiles_with(s.width, s.height, self.share, sum, sum_sq, cancel, add, finished);
+        if cancel.is_some_and(Cancel::is_cancelled) {
+            // Some tiles have the pass's samples, some part of them, some none.
+            self.reset();
+            return None;
+        }
         if let Some(counts) = tile_samples {
             self.tile_samples = Some(counts.into_iter().map(AtomicU32::into_inner).collect());
         }
@@ -423,7 +452,7 @@ impl Progressive {
         let counts = counts.into_inner().unwrap_or_else(|e| e.into_inner());
         let work = frame.work();
         let seconds = start.elapsed().as_secs_f64();
-        FrameStats {
+        Some(FrameStats {
             effects,
             default_lights: tracer.lights.defaulted(),
             non_finite: counts.non_finite,
@@ -436,7 +465,7 @@ impl Progressive {
             tasks: counts.tasks,
             seconds,
             work,
-        }
+        })
     }
 
     /// The image: every pixel's mean so far.

@@ -20,6 +20,8 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use glam::Vec3;
 use rayon::prelude::*;
 
+use crate::Cancel;
+
 /// The tasks a frame is cut into at least, where its size allows tiles of 8 pixels a side.
 pub const MIN_TASKS: u32 = 256;
 
@@ -203,12 +205,17 @@ pub(crate) fn luminance(c: Vec3) -> f32 {
 /// kept) to write its pixels into. Once every tile of a band of rows is done,
 /// `finished(first_row, sums)` is called with the band's rows of sums, on the thread that
 /// finished its last tile.
+///
+/// Once `cancel` is cancelled, the tiles not yet started are skipped, and so are the bands they
+/// lie in: a cancelled frame's sums are incomplete, and only the caller knows what to do with
+/// them (see [`crate::Cancel`]).
 pub(crate) fn render_tiles_with(
     width: u32,
     height: u32,
     share: Share,
     sum: &mut [Vec3],
     sum_sq: Option<&mut [f32]>,
+    cancel: Option<&Cancel>,
     add: impl Fn(&Tile, &Sums<'_>) + Sync,
     finished: impl Fn(u32, &[Vec3]) + Sync,
 ) {
@@ -225,6 +232,9 @@ pub(crate) fn render_tiles_with(
     // The share's tiles only: the others' pixels are left as they are.
     let owned: Vec<u32> = (0..columns * bands).filter(|index| share.owns_band(index / columns)).collect();
     owned.into_par_iter().for_each(|index| {
+        if cancel.is_some_and(Cancel::is_cancelled) {
+            return;
+        }
         let (band, column) = (index / columns, index % columns);
         let (x0, y0) = (column * side, band * side);
         let tile = Tile { x0, y0, width: side.min(width - x0), height: side.min(height - y0) };
@@ -248,7 +258,7 @@ mod tests {
     fn run(width: u32, height: u32, add: impl Fn(&Tile, &Sums<'_>) + Sync) -> Vec<Vec3> {
         let n = (width * height) as usize;
         let (mut sum, mut sum_sq) = (vec![Vec3::ZERO; n], vec![0.0; n]);
-        render_tiles_with(width, height, Share::WHOLE, &mut sum, Some(&mut sum_sq), add, |_, _| {});
+        render_tiles_with(width, height, Share::WHOLE, &mut sum, Some(&mut sum_sq), None, add, |_, _| {});
         sum
     }
 
@@ -278,7 +288,7 @@ mod tests {
         let (mut sum, mut sum_sq) = (vec![Vec3::splat(9.0); n], vec![9.0; n]);
         let sample = |x: u32, y: u32| Vec3::new(x as f32, y as f32, 1.0);
         for pass in 0..2 {
-            render_tiles_with(width, height, Share::WHOLE, &mut sum, Some(&mut sum_sq), |tile, sums| {
+            render_tiles_with(width, height, Share::WHOLE, &mut sum, Some(&mut sum_sq), None, |tile, sums| {
                 let samples: Vec<Vec3> = (0..tile.len()).map(|i| sample(tile.pixel(i).0, tile.pixel(i).1)).collect();
                 sums.add_tile(tile, &samples, pass == 0);
             }, |_, _| {});
@@ -311,7 +321,7 @@ mod tests {
         let (width, height) = (100, 75);
         let bands = std::sync::Mutex::new(Vec::new());
         let mut sum = vec![Vec3::ZERO; (width * height) as usize];
-        render_tiles_with(width, height, Share::WHOLE, &mut sum, None, |tile, sums| sums.add_tile(tile, &vec![Vec3::ONE; tile.len()], true), |y0, rows| {
+        render_tiles_with(width, height, Share::WHOLE, &mut sum, None, None, |tile, sums| sums.add_tile(tile, &vec![Vec3::ONE; tile.len()], true), |y0, rows| {
             assert!(rows.iter().all(|&p| p == Vec3::ONE), "band at {y0} complete");
             bands.lock().unwrap().push((y0, rows.len() as u32 / width));
         });
@@ -320,6 +330,23 @@ mod tests {
         let side = tile_size(width, height);
         let expected: Vec<(u32, u32)> = (0..height).step_by(side as usize).map(|y0| (y0, side.min(height - y0))).collect();
         assert_eq!(bands, expected);
+    }
+
+    #[test]
+    fn a_cancelled_frame_starts_no_more_tiles_and_finishes_no_band() {
+        let cancel = Cancel::new();
+        let started = AtomicU32::new(0);
+        let (width, height) = (256, 256);
+        let mut sum = vec![Vec3::ZERO; (width * height) as usize];
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+        pool.install(|| {
+            render_tiles_with(width, height, Share::WHOLE, &mut sum, None, Some(&cancel), |_, _| {
+                // The first tile cancels the frame: on one thread, no other tile starts.
+                started.fetch_add(1, Ordering::Relaxed);
+                cancel.cancel();
+            }, |y0, _| panic!("band at {y0} finished although its tiles were skipped"));
+        });
+        assert_eq!(started.into_inner(), 1);
     }
 
     #[test]

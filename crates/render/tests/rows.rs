@@ -11,7 +11,7 @@ fn finished_rows_are_the_films_rows() {
     for (integrator, spp) in [(Integrator::EyeLight, 1), (Integrator::Path, 3)] {
         let settings = RenderSettings { width: 37, height: 45, integrator, samples_per_pixel: spp, ..RenderSettings::default() };
         let bands = Mutex::new(Vec::new());
-        let (film, _) = render_rows(&scene.frame(), &settings, |rows| bands.lock().unwrap().push((rows.rows(), rows.rgb8()))).unwrap();
+        let (film, _) = render_rows(&scene.frame(), &settings, None, |rows| bands.lock().unwrap().push((rows.rows(), rows.rgb8()))).unwrap();
         let mut bands = bands.into_inner().unwrap();
         bands.sort_by_key(|(rows, _)| rows.start);
         let mut next = 0;

@@ -76,7 +76,7 @@ enum Op {
 /// command's place (`commands[2].add_object.mesh.positions`).
 pub(crate) fn execute(scene: &mut Scene, commands: Vec<Command>, limits: &Limits, in_batch: bool) -> ApiResult<Vec<CommandResult>> {
     if commands.len() > limits.max_commands {
-        return Err(ApiError::too_large(Some("commands".into()), format!("{} commands: the limit is {}", commands.len(), limits.max_commands)));
+        return Err(ApiError::too_large(Some("commands".into()), format!("{} commands: the limit is {}", commands.len(), limits.max_commands)).limit("max_commands"));
     }
     let mut planner = Planner::new(scene, limits);
     let mut ops = Vec::with_capacity(commands.len());

@@ -32,10 +32,32 @@ pub struct Limits {
     pub max_commands: usize,
     /// Most scenes held at once.
     pub max_scenes: usize,
+    /// Most bytes one image texture may take once decoded, counted from the image's header
+    /// before it is decoded as width × height × 16 (three colour channels and coverage, as
+    /// `f32`): a small PNG of a large, flat image would otherwise cost gigabytes.
+    pub max_texture_bytes: usize,
+    /// Most triangles of a demo scene built on request (`{"demo": "museum-<triangles>"}`): a
+    /// 30-byte request should not build half a gigabyte of geometry.
+    pub max_demo_triangles: usize,
     /// Most open streams.
     pub max_streams: usize,
     /// Renders running at once (more wait their turn); each uses every core.
     pub concurrent_renders: usize,
+    /// Most memory the images being rendered may take together, frames and streams, counted
+    /// from their sizes before anything is allocated (16 bytes a pixel for a frame, 34 for a
+    /// stream's image): an image larger than all of it is refused (413), one that does not fit
+    /// beside those in progress is 503 (a stream holds its share while it is open).
+    pub max_render_bytes: usize,
+    /// Longest a render may run, in seconds, once its turn has come: past it the render is
+    /// stopped and the request answered 503 (a frame within the other limits can still take
+    /// minutes with the path tracer, holding one of the few render turns all the while).
+    pub max_render_seconds: u64,
+    /// Longest a client may take to send a request's headers, in seconds; the connection is
+    /// closed past it (a client that trickles its headers would otherwise hold it forever).
+    pub header_read_seconds: u64,
+    /// Longest a client may take to send a request's body, in seconds, from when the handler
+    /// starts reading it; 408 past it, and the connection is closed.
+    pub body_read_seconds: u64,
 }
 
 impl Default for Limits {
@@ -50,25 +72,41 @@ impl Default for Limits {
             max_frame_samples: 1920 * 1080 * 256,
             max_commands: 100_000,
             max_scenes: 64,
+            // 4096 × 4096 texels, or 8192 × 2048.
+            max_texture_bytes: 256 << 20,
+            // The standard scenes' million (the sphere grid has 1,000,002).
+            max_demo_triangles: 1_000_002,
             max_streams: 32,
             concurrent_renders: 4,
+            // Two 8192 × 8192 frames, or one stream that size; 64 streams of 1080p.
+            max_render_bytes: 2 << 30,
+            max_render_seconds: 60,
+            header_read_seconds: 10,
+            body_read_seconds: 60,
         }
     }
 }
 
-/// Why a server may not listen on an address.
+/// Why a server refuses to start with a configuration.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("refusing to serve on {0} without a token: anyone who can reach it could use the server (bind to 127.0.0.1, or set a token)")]
-pub struct ExposedWithoutToken(pub SocketAddr);
+pub enum Refused {
+    /// A non-loopback address without a token.
+    #[error("refusing to serve on {0} without a token: anyone who can reach it could use the server (bind to 127.0.0.1, or set a token)")]
+    ExposedWithoutToken(SocketAddr),
+    /// A token that is empty or only whitespace: on loopback it would lock every request out
+    /// (no `Authorization` header can carry it), elsewhere it would guard nothing.
+    #[error("refusing an empty or blank token: set a token of visible characters, or none")]
+    BlankToken,
+}
 
 impl Config {
     /// Checks that the server may listen on `addr`: loopback addresses always, any other only
-    /// with a token.
-    pub fn check_address(&self, addr: SocketAddr) -> Result<(), ExposedWithoutToken> {
-        if addr.ip().is_loopback() || self.token.as_deref().is_some_and(|t| !t.is_empty()) {
-            Ok(())
-        } else {
-            Err(ExposedWithoutToken(addr))
+    /// with a token; and that a token, if there is one, is not blank.
+    pub fn check_address(&self, addr: SocketAddr) -> Result<(), Refused> {
+        match self.token.as_deref() {
+            Some(token) if token.trim().is_empty() => Err(Refused::BlankToken),
+            None if !addr.ip().is_loopback() => Err(Refused::ExposedWithoutToken(addr)),
+            _ => Ok(()),
         }
     }
 }
@@ -83,7 +121,16 @@ mod tests {
         assert!(open.check_address("127.0.0.1:8080".parse().unwrap()).is_ok());
         assert!(open.check_address("[::1]:8080".parse().unwrap()).is_ok());
         assert!(open.check_address("0.0.0.0:8080".parse().unwrap()).is_err());
-        assert!(Config { token: Some(String::new()), ..Config::default() }.check_address("0.0.0.0:80".parse().unwrap()).is_err());
         assert!(Config { token: Some("s3cret".into()), ..Config::default() }.check_address("0.0.0.0:80".parse().unwrap()).is_ok());
+    }
+
+    #[test]
+    fn a_blank_token_is_refused_on_every_address() {
+        for token in ["", " ", "\t \n"] {
+            let config = Config { token: Some(token.into()), ..Config::default() };
+            for addr in ["0.0.0.0:80", "127.0.0.1:8080"] {
+                assert_eq!(config.check_address(addr.parse().unwrap()), Err(Refused::BlankToken), "{token:?} on {addr}");
+            }
+        }
     }
 }

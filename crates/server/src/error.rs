@@ -29,8 +29,8 @@ pub struct ErrorBody {
 /// What went wrong.
 #[derive(Clone, Debug, PartialEq, Serialize, ToSchema)]
 pub struct ErrorDetail {
-    /// `bad_request`, `unauthorized`, `not_found`, `too_large`, `unsupported_media_type`,
-    /// `unprocessable`, `busy` or `internal`.
+    /// `bad_request`, `unauthorized`, `not_found`, `timeout`, `too_large`,
+    /// `unsupported_media_type`, `unprocessable`, `busy` or `internal`.
     pub code: &'static str,
     /// What was wrong, for a person.
     pub message: String,
@@ -38,11 +38,16 @@ pub struct ErrorDetail {
     /// header (`commands[2].mesh.positions`, `width`, `content-type`), if one is.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub field: Option<String>,
+    /// The server limit the request ran into, as [`crate::Limits`] names it
+    /// (`max_render_seconds`, `max_commands`, ...), if one did: a client can tell a limit it
+    /// may work within (a smaller frame, a shorter batch) from a value that is wrong.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub limit: Option<&'static str>,
 }
 
 impl ApiError {
     fn new(status: StatusCode, code: &'static str, field: Option<String>, message: impl Into<String>) -> ApiError {
-        ApiError { status, detail: ErrorDetail { code, message: message.into(), field } }
+        ApiError { status, detail: ErrorDetail { code, message: message.into(), field, limit: None } }
     }
 
     /// 400: the request cannot be parsed.
@@ -81,6 +86,22 @@ impl ApiError {
         ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "busy", None, message)
     }
 
+    /// 408: the request's body did not arrive within `limit`.
+    pub fn timeout(limit: &'static str, message: impl Into<String>) -> ApiError {
+        ApiError::new(StatusCode::REQUEST_TIMEOUT, "timeout", None, message).limit(limit)
+    }
+
+    /// 503: a render ran past the time budget, `limit`.
+    pub fn render_budget(limit: &'static str, message: impl Into<String>) -> ApiError {
+        ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "timeout", None, message).limit(limit)
+    }
+
+    /// The same error, naming the server limit (a field of [`crate::Limits`]) it is about.
+    pub fn limit(mut self, limit: &'static str) -> ApiError {
+        self.detail.limit = Some(limit);
+        self
+    }
+
     /// 500: a bug.
     pub fn internal(message: impl Into<String>) -> ApiError {
         ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, "internal", None, message)
@@ -116,6 +137,10 @@ impl IntoResponse for ApiError {
         let mut response = (self.status, Json(ErrorBody { error: self.detail })).into_response();
         if self.status == StatusCode::UNAUTHORIZED {
             response.headers_mut().insert("www-authenticate", axum::http::HeaderValue::from_static("Bearer"));
+        }
+        if self.status == StatusCode::REQUEST_TIMEOUT {
+            // The rest of a slow body may still be on its way: the connection cannot be reused.
+            response.headers_mut().insert(axum::http::header::CONNECTION, axum::http::HeaderValue::from_static("close"));
         }
         response
     }

@@ -3,12 +3,13 @@
 
 use std::collections::HashMap;
 use std::sync::Arc;
+use std::time::Duration;
 
 use axum::body::Bytes;
 use axum::extract::{FromRequest, FromRequestParts, Path, Request};
 use axum::http::StatusCode;
 use axum::http::request::Parts;
-use serde::de::DeserializeOwned;
+use serde::de::{DeserializeOwned, DeserializeSeed};
 
 use crate::error::{ApiError, ApiResult};
 use crate::state::{AppState, SceneSlot};
@@ -21,30 +22,40 @@ const PARSE_INLINE_BYTES: usize = 1 << 20;
 /// that is not finite (`NaN`, `Infinity`), 413 past the body limit.
 pub struct JsonBody<T>(pub T);
 
-impl<S: Send + Sync, T: DeserializeOwned + Send + 'static> FromRequest<S> for JsonBody<T> {
+impl<T: DeserializeOwned + Send + 'static> FromRequest<AppState> for JsonBody<T> {
     type Rejection = ApiError;
 
-    async fn from_request(req: Request, state: &S) -> Result<Self, ApiError> {
+    async fn from_request(req: Request, state: &AppState) -> Result<Self, ApiError> {
         let bytes = RawBody::from_request(req, state).await?.0;
-        let value = if bytes.len() > PARSE_INLINE_BYTES {
-            tokio::task::spawn_blocking(move || parse_json(&bytes)).await.map_err(|e| ApiError::internal(e.to_string()))??
-        } else {
-            parse_json(&bytes)?
-        };
-        Ok(JsonBody(value))
+        parse_body(bytes, |bytes| parse_json(bytes)).await.map(JsonBody)
     }
 }
 
-/// The body's bytes, within the body limit (413 past it).
+/// Runs `parse` on a body: inline if it is small, else on a blocking thread, off the reactor.
+pub(crate) async fn parse_body<T: Send + 'static>(bytes: Bytes, parse: impl FnOnce(&[u8]) -> ApiResult<T> + Send + 'static) -> ApiResult<T> {
+    if bytes.len() > PARSE_INLINE_BYTES {
+        tokio::task::spawn_blocking(move || parse(&bytes)).await.map_err(|e| ApiError::internal(e.to_string()))?
+    } else {
+        parse(&bytes)
+    }
+}
+
+/// The body's bytes, within the body limit (413 past it) and the time limit (408 past
+/// [`Limits::body_read_seconds`](crate::Limits::body_read_seconds): a client that trickles its
+/// body would otherwise hold a connection and a task forever).
 pub struct RawBody(pub Bytes);
 
-impl<S: Send + Sync> FromRequest<S> for RawBody {
+impl FromRequest<AppState> for RawBody {
     type Rejection = ApiError;
 
-    async fn from_request(req: Request, state: &S) -> Result<Self, ApiError> {
-        Bytes::from_request(req, state).await.map(RawBody).map_err(|e| {
+    async fn from_request(req: Request, state: &AppState) -> Result<Self, ApiError> {
+        let seconds = state.config().limits.body_read_seconds;
+        let read = tokio::time::timeout(Duration::from_secs(seconds), Bytes::from_request(req, state)).await.map_err(|_| {
+            ApiError::timeout("body_read_seconds", format!("the request body did not arrive within the server's limit of {seconds} s"))
+        })?;
+        read.map(RawBody).map_err(|e| {
             if e.status() == StatusCode::PAYLOAD_TOO_LARGE {
-                ApiError::too_large(None, "the request body is larger than the server's limit")
+                ApiError::too_large(None, "the request body is larger than the server's limit").limit("max_body_bytes")
             } else {
                 ApiError::bad_request(None, e.body_text())
             }
@@ -54,11 +65,17 @@ impl<S: Send + Sync> FromRequest<S> for RawBody {
 
 /// Parses JSON, naming the field where parsing failed.
 pub(crate) fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> ApiResult<T> {
+    parse_json_seed(bytes, std::marker::PhantomData::<T>)
+}
+
+/// [`parse_json`] through a seed: a deserializer that knows more than the type, such as a
+/// limit to check while parsing.
+pub(crate) fn parse_json_seed<'de, S: DeserializeSeed<'de>>(bytes: &'de [u8], seed: S) -> ApiResult<S::Value> {
     let mut de = serde_json::Deserializer::from_slice(bytes);
-    let value: T = serde_path_to_error::deserialize(&mut de).map_err(|e| {
-        let path = e.path().to_string();
+    let mut track = serde_path_to_error::Track::new();
+    let value = seed.deserialize(serde_path_to_error::Deserializer::new(&mut de, &mut track)).map_err(|inner| {
+        let path = track.path().to_string();
         let field = (path != ".").then_some(path);
-        let inner = e.into_inner();
         if inner.is_syntax() && non_finite_literal_at(bytes, inner.line(), inner.column()) {
             ApiError::unprocessable(field, "numbers must be finite: JSON has no NaN or Infinity")
         } else if inner.is_eof() {

@@ -30,8 +30,9 @@ mod stats;
 mod stream;
 
 use std::future::Future;
+use std::time::Duration;
 
-pub use config::{Config, ExposedWithoutToken, Limits};
+pub use config::{Config, Limits, Refused};
 pub use error::{ApiError, ErrorBody, ErrorDetail};
 pub use routes::openapi::ApiDoc;
 pub use state::AppState;
@@ -46,10 +47,65 @@ pub fn openapi() -> utoipa::openapi::OpenApi {
     <ApiDoc as utoipa::OpenApi>::openapi()
 }
 
-/// Serves the API on `listener` until `shutdown` completes. Refuses (before serving anything)
-/// a listener on a non-loopback address when the configuration has no token.
+/// Serves the API on `listener` until `shutdown` completes, then lets the requests in flight
+/// finish. Refuses (before serving anything) a listener on a non-loopback address when the
+/// configuration has no token, and a blank token anywhere ([`Refused`]). A client has [`Limits::header_read_seconds`] to send a
+/// request's headers, else its connection is closed.
 pub async fn serve(listener: tokio::net::TcpListener, state: AppState, shutdown: impl Future<Output = ()> + Send + 'static) -> std::io::Result<()> {
     let addr = listener.local_addr()?;
     state.config().check_address(addr).map_err(|e| std::io::Error::new(std::io::ErrorKind::PermissionDenied, e))?;
-    axum::serve(listener, router(state)).with_graceful_shutdown(shutdown).await
+    let header_timeout = Duration::from_secs(state.config().limits.header_read_seconds);
+    let app = router(state);
+    // `stop` tells the connections to finish their request in flight and close; each holds a
+    // clone of `open` until it has, which `open_tx.closed()` waits for.
+    let (stop_tx, stop) = tokio::sync::watch::channel(());
+    let (open_tx, open) = tokio::sync::watch::channel(());
+    let mut shutdown = std::pin::pin!(shutdown);
+    loop {
+        let stream = tokio::select! {
+            accepted = listener.accept() => match accepted {
+                Ok((stream, _)) => stream,
+                Err(e) => {
+                    accept_failed(e).await;
+                    continue;
+                }
+            },
+            () = &mut shutdown => break,
+        };
+        let service = hyper_util::service::TowerToHyperService::new(app.clone());
+        let (mut stop, open) = (stop.clone(), open.clone());
+        tokio::spawn(async move {
+            let mut builder = hyper::server::conn::http1::Builder::new();
+            builder.timer(hyper_util::rt::TokioTimer::new()).header_read_timeout(header_timeout);
+            let mut connection = std::pin::pin!(builder.serve_connection(hyper_util::rt::TokioIo::new(stream), service).with_upgrades());
+            let mut stopping = false;
+            loop {
+                tokio::select! {
+                    // An error is the client's doing (it went away, sent garbage or too slowly):
+                    // nothing to do but close.
+                    _ = connection.as_mut() => break,
+                    _ = stop.changed(), if !stopping => {
+                        stopping = true;
+                        connection.as_mut().graceful_shutdown();
+                    }
+                }
+            }
+            drop(open);
+        });
+    }
+    drop(listener);
+    drop(open);
+    // Wakes every connection's `stop.changed()`.
+    drop(stop_tx);
+    open_tx.closed().await;
+    Ok(())
+}
+
+/// After a failed `accept`: a connection that failed on its way in is the client's problem;
+/// anything else (out of file descriptors) gets a pause, so the loop does not spin.
+async fn accept_failed(e: std::io::Error) {
+    use std::io::ErrorKind::{ConnectionAborted, ConnectionRefused, ConnectionReset};
+    if !matches!(e.kind(), ConnectionAborted | ConnectionRefused | ConnectionReset) {
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
 }

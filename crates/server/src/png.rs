@@ -14,7 +14,7 @@ use std::io::Write;
 use std::sync::mpsc::Sender;
 use std::time::Instant;
 
-use raystage_render::{Film, FrameStats, Look, RenderSettings, render_rows};
+use raystage_render::{Cancel, Film, FrameStats, Look, RenderSettings, render_rows};
 use raystage_scene::Frame;
 use rayon::prelude::*;
 
@@ -40,20 +40,31 @@ pub fn encode(film: &Film) -> ApiResult<Vec<u8>> {
 }
 
 /// Renders `frame` with `settings` and encodes it as an sRGB PNG seen through `look` (exposed,
-/// tone-mapped) while it renders (see the module documentation). Returns the PNG, the frame's statistics, and the seconds the render
-/// and the encoding left after it took.
-pub fn render_png(frame: &Frame<'_>, settings: &RenderSettings, look: Look) -> ApiResult<(Vec<u8>, FrameStats, f64, f64)> {
+/// tone-mapped) while it renders (see the module documentation), until `cancel` stops it.
+/// Returns the PNG, the frame's statistics, and the seconds the render and the encoding left
+/// after it took.
+pub fn render_png(frame: &Frame<'_>, settings: &RenderSettings, look: Look, cancel: &Cancel) -> ApiResult<(Vec<u8>, FrameStats, f64, f64)> {
     let start = Instant::now();
     let mut rendered = None;
-    let (png, done) = compress(settings.width, settings.height, |sender| {
-        let result = render_rows(frame, settings, |rows| {
+    let compressed = compress(settings.width, settings.height, |sender| {
+        let result = render_rows(frame, settings, Some(cancel), |rows| {
             // A send fails only when compression has failed and stopped listening.
             let _ = sender.send((rows.rows().start, rows.rgb8_with(look)));
         });
         rendered = Some((result, start.elapsed().as_secs_f64()));
+    });
+    let Some((result, render_seconds)) = rendered else {
+        // The encoder failed before the render could start.
+        compressed?;
+        return Err(ApiError::internal("the frame was not rendered"));
+    };
+    let (_, stats) = result.map_err(|e| match e {
+        // Whoever cancelled has answered the client already; this is for the record.
+        raystage_render::Error::Cancelled => ApiError::busy(e.to_string()),
+        e => ApiError::unprocessable(None, e.to_string()),
     })?;
-    let (result, render_seconds) = rendered.expect("the render ran");
-    let (_, stats) = result.map_err(|e| ApiError::unprocessable(None, e.to_string()))?;
+    // After the render's own error: a cancelled render leaves the PNG short of rows.
+    let (png, done) = compressed?;
     Ok((png, stats, render_seconds, done.duration_since(start).as_secs_f64() - render_seconds))
 }
 
@@ -114,7 +125,7 @@ mod tests {
     fn a_frame_compressed_while_it_renders_is_the_finished_frame_compressed() {
         let scene = raystage_demo::shading::cornell_room().unwrap();
         let settings = RenderSettings { width: 45, height: 3 * BAND_ROWS + 7, samples_per_pixel: 2, ..RenderSettings::default() };
-        let (png, stats, _, _) = render_png(&scene.frame(), &settings, raystage_render::Look::default()).unwrap();
+        let (png, stats, _, _) = render_png(&scene.frame(), &settings, raystage_render::Look::default(), &Cancel::new()).unwrap();
         let (film, _) = raystage_render::render(&scene.frame(), &settings).unwrap();
         assert_eq!(png, encode(&film).unwrap());
         assert_eq!(stats.rays.primary, 45 * (3 * BAND_ROWS as u64 + 7) * 2);

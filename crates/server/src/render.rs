@@ -2,8 +2,9 @@
 //! blocking thread (it runs on the rayon pool, never on the reactor), the PNG encoded there too.
 
 use std::sync::Arc;
+use std::time::Duration;
 
-use raystage_render::{Filter, Integrator, Look, MAX_DEPTH, RenderSettings};
+use raystage_render::{Cancel, Filter, Integrator, Look, MAX_DEPTH, RenderSettings};
 use raystage_scene::{Background, Scene};
 use serde::Deserialize;
 use utoipa::IntoParams;
@@ -12,6 +13,15 @@ use crate::config::Limits;
 use crate::error::{ApiError, ApiResult};
 use crate::state::{AppState, SceneSlot};
 use crate::stats::FrameReport;
+
+/// Bytes a frame takes per pixel while it renders: the sums of its samples (three `f32`) and
+/// its sRGB rows on their way to the PNG.
+pub(crate) const FRAME_BYTES_PER_PIXEL: u64 = 12 + 4;
+
+/// Bytes a stream's image takes per pixel while the stream is open: the sums of its samples and
+/// of their squares (for the noise estimate), the film of the frame being encoded, its sRGB
+/// rows and its PNG.
+pub(crate) const STREAM_BYTES_PER_PIXEL: u64 = 12 + 4 + 12 + 3 + 3;
 
 /// What frame to render.
 #[derive(Clone, Debug, Default, Deserialize, IntoParams)]
@@ -202,20 +212,55 @@ pub(crate) struct Rendered {
     pub report: FrameReport,
 }
 
-/// Renders a frame of `slot` and encodes it, waiting for a turn to render first.
+/// Renders a frame of `slot` and encodes it, waiting for a turn to render first. The render
+/// stops when the returned future is dropped (the client hung up) or when it has run for
+/// [`Limits::max_render_seconds`] (503); either way its turn goes to the next render only once
+/// the work has stopped.
 pub(crate) async fn render_png(state: &AppState, slot: &Arc<SceneSlot>, request: FrameRequest) -> ApiResult<Rendered> {
-    let _permit = state.render_permit().await;
-    let rendered = slot
-        .read(move |scene, version| -> ApiResult<Rendered> {
-            let settings = request.settings(scene);
-            let (png, stats, rendered, encoded) = crate::png::render_png(&scene.frame(), &settings, request.setup.look)?;
-            let mut report = FrameReport::new(&settings, &stats, encoded, version);
-            // The whole render, with the film's allocation and resolve, which the frame
-            // statistics leave out.
-            report.render_seconds = rendered;
-            Ok(Rendered { png, report })
-        })
-        .await??;
+    // Before waiting for a turn: a frame that cannot have its memory fails at once.
+    let memory = state.reserve_render_memory(request.width as u64 * request.height as u64 * FRAME_BYTES_PER_PIXEL)?;
+    let turn = state.render_permit().await;
+    let (scene, version) = slot.snapshot().await;
+    let cancel = CancelOnDrop(Cancel::new());
+    let token = cancel.0.clone();
+    let work = tokio::task::spawn_blocking(move || -> ApiResult<Rendered> {
+        let _running = turn.running();
+        let _memory = memory;
+        let settings = request.settings(&scene);
+        let (png, stats, rendered, encoded) = crate::png::render_png(&scene.frame(), &settings, request.setup.look, &token)?;
+        let mut report = FrameReport::new(&settings, &stats, encoded, version);
+        // The whole render, with the film's allocation and resolve, which the frame
+        // statistics leave out.
+        report.render_seconds = rendered;
+        Ok(Rendered { png, report })
+        // The turn is dropped here, when the work has stopped, and not when the client goes.
+    });
+    let rendered = within_budget(&state.config().limits, work).await??;
     *slot.last_frame.lock().unwrap_or_else(|e| e.into_inner()) = Some(rendered.report.clone());
     Ok(rendered)
+}
+
+/// Waits for a render's blocking task for at most [`Limits::max_render_seconds`]: past it, 503
+/// naming the limit. The caller's [`CancelOnDrop`] then stops the render as it returns.
+pub(crate) async fn within_budget<T>(limits: &Limits, work: tokio::task::JoinHandle<T>) -> ApiResult<T> {
+    let budget = limits.max_render_seconds;
+    match tokio::time::timeout(Duration::from_secs(budget), work).await {
+        Ok(joined) => joined.map_err(|e| ApiError::internal(format!("a render failed: {e}"))),
+        Err(_) => Err(ApiError::render_budget(
+            "max_render_seconds",
+            format!("the render ran past the server's limit of {budget} s: ask for fewer pixels or samples, or a faster integrator"),
+        )),
+    }
+}
+
+/// Cancels a render when dropped: held by whatever waits for the render (a request's future,
+/// a stream's loop), so that the render stops as soon as nobody waits for it, whichever way
+/// the waiting ends (the client hung up and hyper dropped the future, a budget ran out, a
+/// stream closed).
+pub(crate) struct CancelOnDrop(pub Cancel);
+
+impl Drop for CancelOnDrop {
+    fn drop(&mut self) {
+        self.0.cancel();
+    }
 }

@@ -6,11 +6,14 @@ use std::sync::atomic::{AtomicBool, AtomicU32, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, RwLock};
 
 use raystage_scene::Scene;
-use tokio::sync::{Semaphore, SemaphorePermit, watch};
+use tokio::sync::{OwnedSemaphorePermit, Semaphore, watch};
 
 use crate::config::Config;
 use crate::error::{ApiError, ApiResult};
 use crate::stats::FrameReport;
+
+/// The unit in which render memory is reserved.
+const MIB: usize = 1 << 20;
 
 /// Everything the handlers share; cheap to clone.
 #[derive(Clone)]
@@ -20,7 +23,13 @@ struct Shared {
     config: Config,
     scenes: RwLock<BTreeMap<u32, Arc<SceneSlot>>>,
     next_scene: AtomicU32,
-    renders: Semaphore,
+    /// Turns to render; a turn moves into the blocking task that renders, so it is given back
+    /// when the work stops, not when the client stops waiting.
+    renders: Arc<Semaphore>,
+    /// Renders running now (see [`AppState::active_renders`]).
+    active_renders: AtomicUsize,
+    /// The memory of images being rendered, in MiB (see [`Limits::max_render_bytes`]).
+    render_memory: Arc<Semaphore>,
     streams: AtomicUsize,
 }
 
@@ -48,8 +57,17 @@ pub struct SceneSlot {
 impl AppState {
     /// A server with no scenes.
     pub fn new(config: Config) -> AppState {
-        let renders = Semaphore::new(config.limits.concurrent_renders.max(1));
-        AppState(Arc::new(Shared { config, scenes: RwLock::default(), next_scene: AtomicU32::new(1), renders, streams: AtomicUsize::new(0) }))
+        let renders = Arc::new(Semaphore::new(config.limits.concurrent_renders.max(1)));
+        let render_memory = Arc::new(Semaphore::new(config.limits.max_render_bytes / MIB));
+        AppState(Arc::new(Shared {
+            config,
+            scenes: RwLock::default(),
+            next_scene: AtomicU32::new(1),
+            renders,
+            active_renders: AtomicUsize::new(0),
+            render_memory,
+            streams: AtomicUsize::new(0),
+        }))
     }
 
     /// The configuration.
@@ -60,10 +78,7 @@ impl AppState {
     /// Adds a scene; returns its id (ids start at 1 and are never reused).
     pub fn add_scene(&self, scene: Scene, origin: impl Into<String>) -> ApiResult<u32> {
         let mut scenes = self.0.scenes.write().unwrap_or_else(|e| e.into_inner());
-        let limit = self.0.config.limits.max_scenes;
-        if scenes.len() >= limit {
-            return Err(ApiError::too_large(None, format!("the server holds {limit} scenes, its limit: delete one first")));
-        }
+        self.room_for(scenes.len())?;
         let id = self.0.next_scene.fetch_add(1, Ordering::Relaxed);
         let slot = SceneSlot {
             id,
@@ -76,6 +91,21 @@ impl AppState {
         };
         scenes.insert(id, Arc::new(slot));
         Ok(id)
+    }
+
+    /// 413 naming `max_scenes` if the server holds as many scenes as it may. Checked before a
+    /// scene is built, so that a request past the limit costs nothing (and again when it is
+    /// added, as others may have been added meanwhile).
+    pub(crate) fn check_room_for_scene(&self) -> ApiResult<()> {
+        self.room_for(self.0.scenes.read().unwrap_or_else(|e| e.into_inner()).len())
+    }
+
+    fn room_for(&self, held: usize) -> ApiResult<()> {
+        let limit = self.0.config.limits.max_scenes;
+        if held >= limit {
+            return Err(ApiError::too_large(None, format!("the server holds {limit} scenes, its limit: delete one first")).limit("max_scenes"));
+        }
+        Ok(())
     }
 
     /// The scene with id `id` (404 if there is none).
@@ -99,9 +129,34 @@ impl AppState {
         Ok(())
     }
 
-    /// Waits for a turn to render (at most `concurrent_renders` at once).
-    pub(crate) async fn render_permit(&self) -> SemaphorePermit<'_> {
-        self.0.renders.acquire().await.expect("the semaphore is never closed")
+    /// Waits for a turn to render (at most `concurrent_renders` at once). Move the turn into
+    /// the task that renders and call [`RenderTurn::running`] there.
+    pub(crate) async fn render_permit(&self) -> RenderTurn {
+        let permit = self.0.renders.clone().acquire_owned().await.expect("the semaphore is never closed");
+        RenderTurn { _permit: permit, state: self.clone() }
+    }
+
+    /// Renders running now, frames and stream passes: at most
+    /// [`Limits::concurrent_renders`](crate::Limits::concurrent_renders), and back to 0
+    /// soon after the last client waiting for one has gone (its render is cancelled).
+    pub fn active_renders(&self) -> usize {
+        self.0.active_renders.load(Ordering::Relaxed)
+    }
+
+    /// Reserves `bytes` of the memory for images being rendered, until the reservation is
+    /// dropped: 413 if that is more than all of it, 503 if it does not fit beside the images
+    /// in progress (both naming `max_render_bytes`).
+    pub(crate) fn reserve_render_memory(&self, bytes: u64) -> ApiResult<OwnedSemaphorePermit> {
+        let limit = self.0.config.limits.max_render_bytes;
+        let mib = bytes.div_ceil(MIB as u64);
+        let too_large = || ApiError::too_large(None, format!("the image takes {bytes} bytes to render: the limit is {limit}")).limit("max_render_bytes");
+        if mib > (limit / MIB) as u64 {
+            return Err(too_large());
+        }
+        let mib = u32::try_from(mib).map_err(|_| too_large())?;
+        self.0.render_memory.clone().try_acquire_many_owned(mib).map_err(|_| {
+            ApiError::busy(format!("the images being rendered leave no room for {bytes} bytes more (the limit is {limit}): try again")).limit("max_render_bytes")
+        })
     }
 
     /// Counts a new stream in, if there is room: the guard counts it out when dropped.
@@ -113,6 +168,30 @@ impl AppState {
             return Err(ApiError::busy(format!("{limit} streams are open, the server's limit")));
         }
         Ok(guard)
+    }
+}
+
+/// A turn to render, held by the work itself: dropping it gives the turn to the next render.
+pub(crate) struct RenderTurn {
+    _permit: OwnedSemaphorePermit,
+    state: AppState,
+}
+
+impl RenderTurn {
+    /// Counts the render as running until the guard is dropped (call it on the thread that
+    /// renders, where the work starts).
+    pub(crate) fn running(&self) -> RunningRender {
+        self.state.0.active_renders.fetch_add(1, Ordering::Relaxed);
+        RunningRender(self.state.clone())
+    }
+}
+
+/// A render counted in [`AppState::active_renders`] until dropped.
+pub(crate) struct RunningRender(AppState);
+
+impl Drop for RunningRender {
+    fn drop(&mut self) {
+        self.0.0.active_renders.fetch_sub(1, Ordering::Relaxed);
     }
 }
 

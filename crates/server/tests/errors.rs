@@ -168,6 +168,20 @@ async fn a_token_guards_every_route() {
     assert_eq!(status, StatusCode::UNAUTHORIZED, "the query token is for streams only");
     let (status, _, _) = send(&app, "GET", "/scenes", Body::empty(), &[("authorization", "Bearer s3cret")]).await;
     assert_eq!(status, StatusCode::OK);
+    // The scheme's case does not matter (RFC 9110); the token's does.
+    let (status, _, _) = send(&app, "GET", "/scenes", Body::empty(), &[("authorization", "bearer s3cret")]).await;
+    assert_eq!(status, StatusCode::OK);
+    let (status, _, _) = send(&app, "GET", "/scenes", Body::empty(), &[("authorization", "Bearer S3CRET")]).await;
+    assert_eq!(status, StatusCode::UNAUTHORIZED);
+}
+
+#[tokio::test]
+async fn a_blank_token_is_refused_at_start_up() {
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let state = AppState::new(Config { token: Some("  ".into()), ..Config::default() });
+    let error = raystage_server::serve(listener, state, std::future::pending()).await.unwrap_err();
+    assert_eq!(error.kind(), std::io::ErrorKind::PermissionDenied);
+    assert!(error.to_string().contains("blank token"), "{error}");
 }
 
 /// A small deterministic generator for the fuzz test.

@@ -3,7 +3,6 @@
 
 mod common;
 
-use axum::Router;
 use axum::http::StatusCode;
 use common::*;
 use serde_json::json;
@@ -36,21 +35,11 @@ async fn a_scene_built_from_json_renders_as_described() {
     assert_eq!(blue.get_pixel(50, 24).0, [0, 0, 255, 255]);
 }
 
-/// A new scene holding a grey diffuse square (albedo 0.5) facing the default camera; its id.
-async fn grey_square_scene(app: &Router) -> u64 {
-    let s = new_scene(app).await;
-    let grey = ok(app, "POST", &format!("/scenes/{s}/shaders"), json!({ "class": "Diffuse", "params": { "diffuse": 0.5 } }), StatusCode::CREATED).await;
-    let mut mesh = square(1.0);
-    mesh["shader"] = grey["id"].clone();
-    let object = ok(app, "POST", &format!("/scenes/{s}/objects"), json!({ "mesh": mesh }), StatusCode::CREATED).await;
-    ok(app, "POST", &format!("/scenes/{s}/instances"), json!({ "object": object["id"] }), StatusCode::CREATED).await;
-    s
-}
 
 #[tokio::test]
 async fn lights_make_whitted_the_default_and_shade_diffuse_surfaces() {
     let app = app();
-    let s = grey_square_scene(&app).await;
+    let s = grey_square_scene(&app, 1.0).await;
     // Nothing lights it: the renderer's default sky does, and the statistics say so.
     let sky_lit = frame(&app, &format!("/scenes/{s}/frame.png?width=32&height=32&integrator=whitted")).await;
     assert!(sky_lit.get_pixel(16, 16).0[2] > 100, "the sky lights the square: {:?}", sky_lit.get_pixel(16, 16));
@@ -164,7 +153,7 @@ async fn built_in_demos_load_by_name_and_everything_is_listed() {
 #[tokio::test]
 async fn frame_settings_reach_the_image_and_bad_ones_are_named() {
     let app = app();
-    let s = grey_square_scene(&app).await;
+    let s = grey_square_scene(&app, 1.0).await;
     let base = format!("/scenes/{s}/frame.png?width=32&height=32&integrator=path&spp=4");
     let plain = frame(&app, &base).await;
     let darker = frame(&app, &format!("{base}&exposure=-2&tonemap=neutral&max_depth=3&russian_roulette=false&filter=gaussian&seed=3")).await;

@@ -6,18 +6,21 @@ mod common;
 use axum::http::StatusCode;
 use common::*;
 use futures_util::{SinkExt, StreamExt};
-use raystage_server::{AppState, Config, serve};
+use raystage_server::{AppState, Config};
 use serde_json::{Value, json};
 use tokio_tungstenite::tungstenite::Message;
 
 type Socket = tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
 
-/// Serves `state` on a free loopback port until the test ends; returns the address.
-async fn listen(state: AppState) -> std::net::SocketAddr {
-    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
-    let addr = listener.local_addr().unwrap();
-    tokio::spawn(serve(listener, state, std::future::pending()));
-    addr
+/// A server with a new empty scene and a stream of it with `query`: the API, the scene's id and
+/// the socket.
+async fn stream_of_a_new_scene(query: &str) -> (axum::Router, u64, Socket) {
+    let state = AppState::new(Config::default());
+    let app = raystage_server::router(state.clone());
+    let s = new_scene(&app).await;
+    let addr = listen(state).await;
+    let (socket, _) = tokio_tungstenite::connect_async(format!("ws://{addr}/scenes/{s}/stream?{query}")).await.unwrap();
+    (app, s, socket)
 }
 
 /// The next text message, as JSON.
@@ -110,11 +113,7 @@ async fn frames_refine_and_a_camera_change_restarts_them() {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn deleting_the_scene_ends_its_streams() {
-    let state = AppState::new(Config::default());
-    let app = raystage_server::router(state.clone());
-    let s = new_scene(&app).await;
-    let addr = listen(state).await;
-    let (mut socket, _) = tokio_tungstenite::connect_async(format!("ws://{addr}/scenes/{s}/stream?width=16&height=16&max_samples=4")).await.unwrap();
+    let (app, s, mut socket) = stream_of_a_new_scene("width=16&height=16&max_samples=4").await;
     next_frame(&mut socket).await;
     let (status, _, _) = send(&app, "DELETE", &format!("/scenes/{s}"), axum::body::Body::empty(), &[]).await;
     assert_eq!(status, StatusCode::NO_CONTENT);
@@ -143,9 +142,51 @@ async fn a_stream_of_an_unknown_scene_or_with_bad_settings_is_refused() {
     let app = raystage_server::router(state.clone());
     let s = new_scene(&app).await;
     let addr = listen(state).await;
-    for (path, status) in [("/scenes/99/stream", 404), (&format!("/scenes/{s}/stream?width=0") as &str, 422), (&format!("/scenes/{s}/stream?max_samples=0"), 422)] {
+    for (path, status) in [("/scenes/99/stream", 404), (&format!("/scenes/{s}/stream?width=0") as &str, 422), (&format!("/scenes/{s}/stream?max_samples=0"), 422),
+        // 2.3 GB of accumulation, more than all the server's memory for images.
+        (&format!("/scenes/{s}/stream?width=8192&height=8192&max_samples=1"), 413),
+    ] {
         let error = tokio_tungstenite::connect_async(format!("ws://{addr}{path}")).await.unwrap_err();
         let tokio_tungstenite::tungstenite::Error::Http(response) = error else { panic!("{path}: {error}") };
         assert_eq!(response.status().as_u16(), status, "{path}");
     }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_closed_stream_stops_its_render() {
+    let state = AppState::new(Config::default());
+    let app = raystage_server::router(state.clone());
+    let s = grey_square_scene(&app, 50.0).await;
+    let addr = listen(state.clone()).await;
+    // Path-traced 1080p passes: long enough to be running when the client goes.
+    let url = format!("ws://{addr}/scenes/{s}/stream?width=1920&height=1080&integrator=path&max_samples=256");
+    let (mut socket, _) = tokio_tungstenite::connect_async(url).await.unwrap();
+    next_frame(&mut socket).await;
+    assert!(eventually(std::time::Duration::from_secs(10), || state.active_renders() == 1).await, "the next pass runs");
+    drop(socket);
+    assert!(eventually(std::time::Duration::from_secs(10), || state.active_renders() == 0).await, "the pass still runs after the stream closed");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_message_within_the_body_limit_gets_an_answer_however_large_its_frame() {
+    let (_, _, mut socket) = stream_of_a_new_scene("width=16&height=16&max_samples=1").await;
+    // 20 MiB in one frame: over tungstenite's default frame limit, within the server's 256 MiB.
+    let padding = "x".repeat(20 << 20);
+    let message = json!({ "type": "camera", "request": 7, "camera": { "fov_y_degrees": 50 }, "padding": padding }).to_string();
+    socket.send(Message::text(message)).await.unwrap();
+    let reply = loop {
+        match socket.next().await.expect("the stream stays open").expect("no socket error") {
+            Message::Text(text) => {
+                let message: Value = serde_json::from_str(text.as_str()).unwrap();
+                if message["type"] == "error" || message["type"] == "result" {
+                    break message;
+                }
+            }
+            // Frames' PNGs.
+            _ => continue,
+        }
+    };
+    // Read, and refused for what it says rather than for its size.
+    assert_eq!(reply["type"], "error", "{reply}");
+    assert!(reply["error"]["message"].as_str().unwrap().contains("unknown field `padding`"), "{reply}");
 }

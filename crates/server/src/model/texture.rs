@@ -121,13 +121,23 @@ impl TextureInfo {
     }
 }
 
+/// Bytes a decoded texel may take: three colour channels and coverage, as `f32`.
+const TEXEL_BYTES: u64 = 4 * 4;
+
 /// Decodes a PNG, JPEG or Radiance HDR file: 422 if it cannot be read, 413 if it is wider or
-/// taller than the limit on image sizes (checked from its header, before it is decoded).
+/// taller than the limit on image sizes or would take more memory than the texture budget
+/// (both checked from its header, before it is decoded).
 pub(crate) fn decode_image(bytes: &[u8], limits: &Limits) -> ApiResult<Image> {
     let (width, height) = Image::dimensions(bytes)?;
     let max = limits.max_dimension;
     if width > max || height > max {
-        return Err(ApiError::too_large(None, format!("the image is {width}×{height} texels: the limit is {max} a side")));
+        return Err(ApiError::too_large(None, format!("the image is {width}×{height} texels: the limit is {max} a side")).limit("max_dimension"));
+    }
+    let decoded = width as u64 * height as u64 * TEXEL_BYTES;
+    let budget = limits.max_texture_bytes as u64;
+    if decoded > budget {
+        return Err(ApiError::too_large(None, format!("the image is {width}×{height} texels, {decoded} bytes decoded: the limit is {budget} bytes"))
+            .limit("max_texture_bytes"));
     }
     Ok(Image::decode(bytes)?)
 }
@@ -168,6 +178,9 @@ mod tests {
         assert_eq!(decode_image(png.get_ref(), &small).unwrap_err().status, axum::http::StatusCode::PAYLOAD_TOO_LARGE);
         let image = decode_image(png.get_ref(), &Limits::default()).unwrap();
         assert_eq!((image.width(), image.height()), (20, 4));
+        let budget = Limits { max_texture_bytes: 20 * 4 * 16 - 1, ..Limits::default() };
+        let over = decode_image(png.get_ref(), &budget).unwrap_err();
+        assert_eq!((over.status, over.detail.limit), (axum::http::StatusCode::PAYLOAD_TOO_LARGE, Some("max_texture_bytes")));
         let garbage = decode_image(b"\x89PNG\r\n\x1a\n but not really", &Limits::default()).unwrap_err();
         assert_eq!(garbage.status, axum::http::StatusCode::UNPROCESSABLE_ENTITY);
         assert!(garbage.detail.message.starts_with("the image cannot be read"), "{}", garbage.detail.message);

@@ -3,10 +3,16 @@
 use axum::Json;
 use axum::extract::State;
 
+use std::cell::Cell;
+use std::fmt;
+
+use serde::Deserialize;
+use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, SeqAccess, Visitor};
+
 use super::edit;
-use crate::error::{ApiResult, ErrorBody};
-use crate::extract::{JsonBody, Target};
-use crate::model::{Commands, CommandsResult};
+use crate::error::{ApiError, ApiResult, ErrorBody};
+use crate::extract::{RawBody, Target, parse_body, parse_json_seed};
+use crate::model::{Command, Commands, CommandsResult};
 use crate::state::AppState;
 
 /// Runs a batch of edits in order. Every command is checked first, against the scene as the
@@ -23,7 +29,135 @@ use crate::state::AppState;
         (status = 413, description = "Larger than the server allows", body = ErrorBody),
         (status = 422, description = "A value is not acceptable: the error names the field", body = ErrorBody),
     ))]
-pub(crate) async fn run(State(state): State<AppState>, target: Target, JsonBody(body): JsonBody<Commands>) -> ApiResult<Json<CommandsResult>> {
+pub(crate) async fn run(State(state): State<AppState>, target: Target, RawBody(body): RawBody) -> ApiResult<Json<CommandsResult>> {
+    let max = state.config().limits.max_commands;
+    let body = parse_body(body, move |bytes| parse_commands(bytes, max)).await?;
     let (results, version) = edit(&state, &target.scene, body.commands, true).await?;
     Ok(Json(CommandsResult { version, results }))
+}
+
+/// Parses a batch, counting its commands as they are parsed: the one past `max` ends parsing
+/// with 413 naming `max_commands`, so that a huge batch costs the memory of `max` commands and
+/// not of all it holds.
+fn parse_commands(bytes: &[u8], max: usize) -> ApiResult<Commands> {
+    let over = Cell::new(false);
+    parse_json_seed(bytes, CommandsSeed { max, over: &over }).map_err(|e| {
+        if over.get() { ApiError::too_large(Some("commands".into()), format!("more than {max} commands: the limit is {max}")).limit("max_commands") } else { e }
+    })
+}
+
+/// Reads `{"commands": [...]}` as [`Commands`] does, with at most `max` commands; sets `over`
+/// when there are more.
+#[derive(Clone, Copy)]
+struct CommandsSeed<'a> {
+    max: usize,
+    over: &'a Cell<bool>,
+}
+
+impl<'de> DeserializeSeed<'de> for CommandsSeed<'_> {
+    type Value = Commands;
+
+    fn deserialize<D: Deserializer<'de>>(self, deserializer: D) -> Result<Commands, D::Error> {
+        deserializer.deserialize_struct("Commands", &["commands"], self)
+    }
+}
+
+impl<'de> Visitor<'de> for CommandsSeed<'_> {
+    type Value = Commands;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("an object with a `commands` array")
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Commands, A::Error> {
+        let mut commands = None;
+        while map.next_key::<CommandsField>()?.is_some() {
+            if commands.is_some() {
+                return Err(de::Error::duplicate_field("commands"));
+            }
+            commands = Some(map.next_value_seed(CommandList(self))?);
+        }
+        Ok(Commands { commands: commands.ok_or_else(|| de::Error::missing_field("commands"))? })
+    }
+}
+
+/// The one key of a batch. Any other is refused while the key is read, as the derived reader
+/// does, so that the error names it.
+struct CommandsField;
+
+impl<'de> Deserialize<'de> for CommandsField {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<CommandsField, D::Error> {
+        deserializer.deserialize_identifier(CommandsField)
+    }
+}
+
+impl Visitor<'_> for CommandsField {
+    type Value = CommandsField;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("`commands`")
+    }
+
+    fn visit_str<E: de::Error>(self, key: &str) -> Result<CommandsField, E> {
+        if key == "commands" { Ok(CommandsField) } else { Err(de::Error::unknown_field(key, &["commands"])) }
+    }
+}
+
+/// The `commands` array of [`CommandsSeed`].
+struct CommandList<'a>(CommandsSeed<'a>);
+
+impl<'de> DeserializeSeed<'de> for CommandList<'_> {
+    type Value = Vec<Command>;
+
+    fn deserialize<D: Deserializer<'de>>(self, deserializer: D) -> Result<Vec<Command>, D::Error> {
+        deserializer.deserialize_seq(self)
+    }
+}
+
+impl<'de> Visitor<'de> for CommandList<'_> {
+    type Value = Vec<Command>;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("an array of commands")
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Vec<Command>, A::Error> {
+        let CommandsSeed { max, over } = self.0;
+        let mut commands = Vec::new();
+        while let Some(command) = seq.next_element::<Command>()? {
+            if commands.len() == max {
+                over.set(true);
+                return Err(de::Error::custom(format_args!("more than {max} commands")));
+            }
+            commands.push(command);
+        }
+        Ok(commands)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::extract::parse_json;
+
+    #[test]
+    fn a_batch_parses_as_the_derived_reader_would_within_the_limit() {
+        let bodies = [
+            r#"{"commands": [{"set_camera": {}}, {"delete_object": {"id": 3}}]}"#,
+            r#"{"commands": []}"#,
+            r#"{"commands": [], "also": 1}"#,
+            r#"{"commands": [], "commands": []}"#,
+            r#"{}"#,
+            r#"[]"#,
+            r#"{"commands": {}}"#,
+            r#"{"commands": [{"set_camera": {"eye": [0, 0, "far"]}}]}"#,
+            r#"{"commands": [{"set_camera": {"eye": [0, NaN, 1]}}]}"#,
+            r#"{"commands": [{"set_camera": {}}] trailing"#,
+        ];
+        for body in bodies {
+            let ours = parse_commands(body.as_bytes(), 10).map(|c| format!("{:?}", c.commands));
+            let derived = parse_json::<Commands>(body.as_bytes()).map(|c| format!("{:?}", c.commands));
+            assert_eq!(ours.map_err(|e| (e.status, e.detail.field)), derived.map_err(|e| (e.status, e.detail.field)), "{body}");
+        }
+    }
 }

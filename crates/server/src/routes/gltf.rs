@@ -62,6 +62,7 @@ pub(crate) fn import_limits(limits: &Limits) -> raystage_gltf_import::Limits {
         max_triangles: limits.max_triangles,
         max_vertices: limits.max_vertices,
         max_image_side: limits.max_dimension as usize,
+        max_image_bytes: limits.max_texture_bytes,
         ..raystage_gltf_import::Limits::default()
     }
 }

@@ -103,6 +103,7 @@ pub(crate) async fn create(State(state): State<AppState>, headers: HeaderMap, re
     let gltf = headers.get(header::CONTENT_TYPE).and_then(|v| v.to_str().ok()).is_some_and(|t| t.starts_with("model/gltf"));
     let body = RawBody::from_request(request, &state).await?.0;
     let limits = state.config().limits;
+    state.check_room_for_scene()?;
     let (scene, origin) = if gltf {
         let scene = tokio::task::spawn_blocking(move || -> ApiResult<Scene> {
             let import = raystage_gltf_import::read(&body, None, &super::gltf::import_limits(&limits))?;
@@ -119,6 +120,12 @@ pub(crate) async fn create(State(state): State<AppState>, headers: HeaderMap, re
             Some(name) => {
                 let demo = Demo::from_name(&name)
                     .ok_or_else(|| ApiError::unprocessable(Some("demo".into()), format!("unknown demo scene `{name}`: expected {}", Demo::NAMES)))?;
+                if let Demo::Museum(triangles) = demo
+                    && triangles > limits.max_demo_triangles
+                {
+                    let max = limits.max_demo_triangles;
+                    return Err(ApiError::unprocessable(Some("demo".into()), format!("`{name}` has {triangles} triangles: the limit is {max}")).limit("max_demo_triangles"));
+                }
                 let frame = new.frame.unwrap_or(0);
                 let origin = format!("demo:{}", demo.name());
                 let scene = tokio::task::spawn_blocking(move || demo.scene(frame))

@@ -52,13 +52,17 @@ pub(crate) async fn stream(State(state): State<AppState>, target: Target, Params
     check(&settings, &limits)?;
     let guard = state.open_stream()?;
     let scene = target.scene;
-    Ok(upgrade.max_message_size(limits.max_body_bytes).on_upgrade(move |socket| async move {
+    // A message may come in one frame as large as the message limit (tungstenite's own frame
+    // limit, 16 MiB, would drop the connection with no close code well under it).
+    let upgrade = upgrade.max_message_size(limits.max_body_bytes).max_frame_size(limits.max_body_bytes);
+    Ok(upgrade.on_upgrade(move |socket| async move {
         session(socket, state, scene, settings).await;
         drop(guard);
     }))
 }
 
-/// Checks a stream's settings as a frame request of `max_samples` samples per pixel.
+/// Checks a stream's settings as a frame request of `max_samples` samples per pixel, and its
+/// image against the memory for images being rendered (413 if it could never fit).
 fn check(settings: &StreamSettings, limits: &Limits) -> ApiResult<()> {
     let request = FrameRequest { width: settings.width, height: settings.height, spp: settings.max_samples, integrator: settings.integrator, setup: Default::default() };
     request.check(limits).map_err(|mut e| {
@@ -66,7 +70,13 @@ fn check(settings: &StreamSettings, limits: &Limits) -> ApiResult<()> {
             e.detail.field = Some("max_samples".into());
         }
         e
-    })
+    })?;
+    let bytes = settings.bytes();
+    if bytes > limits.max_render_bytes as u64 {
+        let message = format!("a {}×{} stream takes {bytes} bytes: the limit is {}", settings.width, settings.height, limits.max_render_bytes);
+        return Err(ApiError::too_large(None, message).limit("max_render_bytes"));
+    }
+    Ok(())
 }
 
 async fn session(socket: WebSocket, state: AppState, slot: Arc<SceneSlot>, settings: StreamSettings) {

@@ -7,10 +7,10 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
-use raystage_render::{Integrator, Progressive, RenderSettings};
-use tokio::sync::{mpsc, watch};
+use raystage_render::{Cancel, Integrator, Progressive, RenderSettings};
+use tokio::sync::{OwnedSemaphorePermit, mpsc, watch};
 
-use crate::render::default_integrator;
+use crate::render::{CancelOnDrop, STREAM_BYTES_PER_PIXEL, default_integrator};
 use crate::state::{AppState, SceneSlot};
 use crate::stats::FrameReport;
 use crate::error::ApiError;
@@ -22,6 +22,15 @@ const TARGET_PASS_SECONDS: f64 = 0.05;
 /// Most samples per pixel in one pass.
 const MAX_PASS_SAMPLES: u32 = 64;
 
+/// A pass that a change of the scene or the settings makes out of date is stopped once it has
+/// run this long: a short pass finishes (its frame is on screen sooner than the next pass's
+/// would be), a long one (a large path-traced image) does not hold up the new image.
+const SUPERSEDED_AFTER: std::time::Duration = std::time::Duration::from_millis(100);
+
+/// How long a stream whose image found no room waits before it tries again (if nothing changes
+/// meanwhile).
+const MEMORY_RETRY: std::time::Duration = std::time::Duration::from_secs(1);
+
 /// A stream's image settings.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct StreamSettings {
@@ -30,6 +39,13 @@ pub(crate) struct StreamSettings {
     /// `None`: Whitted if the scene has lights, else the eye-light preview.
     pub integrator: Option<Integrator>,
     pub max_samples: u32,
+}
+
+impl StreamSettings {
+    /// The memory the stream's image takes while the stream is open.
+    pub fn bytes(&self) -> u64 {
+        self.width as u64 * self.height as u64 * STREAM_BYTES_PER_PIXEL
+    }
 }
 
 /// A frame ready to send: its statistics as JSON text, and its PNG.
@@ -43,6 +59,8 @@ struct Accumulation {
     settings: StreamSettings,
     version: u64,
     progressive: Progressive,
+    /// Its share of the memory for images being rendered, given back with it.
+    memory: OwnedSemaphorePermit,
 }
 
 /// Renders until the session ends (`settings` closes) or the scene is deleted (then it says so
@@ -60,6 +78,7 @@ pub(crate) async fn refine(
     let mut accumulation: Option<Accumulation> = None;
     let mut pass_samples = 1;
     let mut seq = 0;
+    let mut out_of_memory = false;
     loop {
         if slot.is_deleted() {
             let error = ApiError::not_found(Some("scene".into()), format!("scene {} was deleted", slot.id));
@@ -77,37 +96,82 @@ pub(crate) async fn refine(
             }
             continue;
         }
-        let permit = state.render_permit().await;
+        if accumulation.as_ref().is_some_and(|a| a.settings != wanted) {
+            // Its memory is needed for the new image.
+            accumulation = None;
+        }
+        let memory = match &accumulation {
+            Some(_) => None,
+            None => match state.reserve_render_memory(wanted.bytes()) {
+                Ok(memory) => Some(memory),
+                Err(error) => {
+                    // Said once; tried again at the next change, or when others may have
+                    // finished.
+                    if !out_of_memory {
+                        out_of_memory = true;
+                        let _ = replies.send(ServerMessage::Error { request: None, error: error.detail }).await;
+                    }
+                    tokio::select! {
+                        changed = versions.changed() => if changed.is_err() { return },
+                        changed = settings.changed() => if changed.is_err() { return },
+                        () = tokio::time::sleep(MEMORY_RETRY) => {}
+                    }
+                    continue;
+                }
+            },
+        };
+        out_of_memory = false;
+        let turn = state.render_permit().await;
         let (scene, version) = slot.snapshot().await;
-        let mut acc = match accumulation.take() {
-            Some(a) if a.settings == wanted && a.version == version => a,
-            _ => {
+        let mut acc = match (accumulation.take(), memory) {
+            (Some(a), _) if a.version == version => a,
+            (old, memory) => {
                 pass_samples = 1;
                 let integrator = wanted.integrator.unwrap_or_else(|| default_integrator(&scene, true));
                 let render_settings = RenderSettings { width: wanted.width, height: wanted.height, integrator, ..RenderSettings::default() };
+                let Some(memory) = memory.or_else(|| old.map(|a| a.memory)) else {
+                    return; // One of the two holds the memory.
+                };
                 let Ok(progressive) = Progressive::new(render_settings) else {
                     return; // The settings were checked when they were received.
                 };
-                Accumulation { settings: wanted, version, progressive }
+                Accumulation { settings: wanted, version, progressive, memory }
             }
         };
         let samples = pass_samples.min(wanted.max_samples - acc.progressive.samples());
         let last = acc.progressive.samples() + samples >= wanted.max_samples;
         let sent = taken.clone();
-        let pass = tokio::task::spawn_blocking(move || {
-            let stats = acc.progressive.add(&scene.frame(), samples);
+        // Dropped with this future when the stream closes (the session aborts it), which stops
+        // the pass; cancelled by hand when a change supersedes a long pass.
+        let cancel = CancelOnDrop(Cancel::new());
+        let token = cancel.0.clone();
+        let mut pass = tokio::task::spawn_blocking(move || {
+            let _running = turn.running();
+            let stats = acc.progressive.add_cancellable(&scene.frame(), samples, &token);
             drop(scene);
             // Decided after the pass, which gave the sender its duration to deliver the last frame.
-            let png = (last || sent.load(Ordering::Acquire)).then(|| {
+            let png = (stats.is_ok() && (last || sent.load(Ordering::Acquire))).then(|| {
                 let start = Instant::now();
                 crate::png::encode(&acc.progressive.film()).ok().map(|png| (png, start.elapsed().as_secs_f64()))
             });
             (acc, stats, png.flatten())
-        })
-        .await;
-        drop(permit);
-        let Ok((acc, stats, png)) = pass else {
+            // The turn goes to the next render here, once the work has stopped.
+        });
+        let deadline = tokio::time::Instant::now() + SUPERSEDED_AFTER;
+        let joined = tokio::select! {
+            joined = &mut pass => joined,
+            () = superseded(&mut versions, &mut settings, deadline) => {
+                cancel.0.cancel();
+                pass.await
+            }
+        };
+        let Ok((acc, stats, png)) = joined else {
             return;
+        };
+        let Ok(stats) = stats else {
+            // Superseded: the accumulation was reset, and the loop starts what is wanted now.
+            accumulation = Some(acc);
+            continue;
         };
         pass_samples = if stats.seconds < TARGET_PASS_SECONDS / 2.0 {
             (pass_samples * 2).min(MAX_PASS_SAMPLES)
@@ -141,4 +205,18 @@ pub(crate) async fn refine(
         }
         accumulation = Some(acc);
     }
+}
+
+/// Completes once the scene or the stream's settings changed and `deadline` has passed: the pass
+/// running then renders what is no longer wanted. Never completes once the session has gone
+/// (its settings' sender is dropped): the session aborts the loop then.
+async fn superseded(versions: &mut watch::Receiver<u64>, settings: &mut watch::Receiver<StreamSettings>, deadline: tokio::time::Instant) {
+    let changed = tokio::select! {
+        changed = versions.changed() => changed.is_ok(),
+        changed = settings.changed() => changed.is_ok(),
+    };
+    if !changed {
+        std::future::pending::<()>().await;
+    }
+    tokio::time::sleep_until(deadline).await;
 }

@@ -71,3 +71,35 @@ pub async fn frame(app: &Router, uri: &str) -> image::RgbaImage {
 pub fn square(s: f32) -> Value {
     json!({ "positions": [[-s, -s, 0], [s, -s, 0], [s, s, 0], [-s, s, 0]], "indices": [[0, 1, 2], [0, 2, 3]] })
 }
+
+/// A new scene holding a grey diffuse square (albedo 0.5), `size` from its centre to each edge,
+/// facing the default camera; its id.
+pub async fn grey_square_scene(app: &Router, size: f32) -> u64 {
+    let s = new_scene(app).await;
+    let grey = ok(app, "POST", &format!("/scenes/{s}/shaders"), json!({ "class": "Diffuse", "params": { "diffuse": 0.5 } }), StatusCode::CREATED).await;
+    let mut mesh = square(size);
+    mesh["shader"] = grey["id"].clone();
+    let object = ok(app, "POST", &format!("/scenes/{s}/objects"), json!({ "mesh": mesh }), StatusCode::CREATED).await;
+    ok(app, "POST", &format!("/scenes/{s}/instances"), json!({ "object": object["id"] }), StatusCode::CREATED).await;
+    s
+}
+
+/// Serves `state` on a free loopback port until the test ends; returns the address.
+pub async fn listen(state: AppState) -> std::net::SocketAddr {
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    tokio::spawn(raystage_server::serve(listener, state, std::future::pending()));
+    addr
+}
+
+/// Polls `done` every 20 ms until it holds or `deadline` passes; whether it held.
+pub async fn eventually(deadline: std::time::Duration, mut done: impl FnMut() -> bool) -> bool {
+    let start = std::time::Instant::now();
+    while start.elapsed() < deadline {
+        if done() {
+            return true;
+        }
+        tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+    }
+    done()
+}
