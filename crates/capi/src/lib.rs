@@ -39,4 +39,5 @@ mod objects;
 mod parameters;
 mod rendering;
 mod shaders;
+mod state;
 mod textures;
