@@ -111,7 +111,7 @@ impl Context {
         };
         let b = mesh.bounds();
         let corners = (0..8).map(|i| Vec3::new([b.min.x, b.max.x][i & 1], [b.min.y, b.max.y][(i >> 1) & 1], [b.min.z, b.max.z][i >> 2]));
-        match corners.map(|c| transform.transform_point3(c)).find(|p| !(p.abs().max_element() <= RT_MAX_COORDINATE)) {
+        match corners.map(|c| transform.transform_point3(c)).find(|p| !p.is_finite() || p.abs().max_element() > RT_MAX_COORDINATE) {
             Some(p) => Err(Error::invalid_value(format!(
                 "object {} would reach ({:e}, {:e}, {:e}), beyond RT_MAX_COORDINATE ({RT_MAX_COORDINATE:e})",
                 ids::to_c(object.0),

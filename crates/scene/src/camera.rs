@@ -108,7 +108,7 @@ impl Projection {
                 message: format!("the window [{left}, {right}] × [{bottom}, {top}] has no width or no height"),
             });
         }
-        if frustum && !(near > 0.0) {
+        if frustum && near <= 0.0 {
             return Err(SceneError::OutOfRange { field: "camera.projection", message: format!("near is {near}, not positive") });
         }
         Ok(())
