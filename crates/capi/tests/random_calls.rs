@@ -357,7 +357,7 @@ impl Model {
             Window(orthographic, w) => {
                 let [left, right, bottom, top, near, far] = *w;
                 let empty = left == right || bottom == top || near == far;
-                let depth_ok = orthographic || (near > 0.0 && far > near);
+                let depth_ok = *orthographic || (near > 0.0 && far > near);
                 if !Model::finite(w) || empty || !depth_ok {
                     Code(RT_INVALID_VALUE)
                 } else {
