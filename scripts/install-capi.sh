@@ -50,8 +50,10 @@ install -m 0755 "$lib_dir/libraystage_capi.so" "$prefix/lib/libraystage.so"
 install -m 0644 "$lib_dir/libraystage_capi.a" "$prefix/lib/libraystage.a"
 install -m 0644 "$root/api/include/raystage/rt.h" "$prefix/include/raystage/rt.h"
 
+# The .pc files find the prefix from their own location (pkg-config's pcfiledir), as the CMake
+# config does, so that the installed tree can be moved.
 cat >"$prefix/lib/pkgconfig/raystage.pc" <<EOF
-prefix=$prefix
+prefix=\${pcfiledir}/../..
 libdir=\${prefix}/lib
 includedir=\${prefix}/include
 
@@ -63,7 +65,7 @@ Libs: -L\${libdir} -lraystage
 EOF
 
 cat >"$prefix/lib/pkgconfig/raystage-static.pc" <<EOF
-prefix=$prefix
+prefix=\${pcfiledir}/../..
 libdir=\${prefix}/lib
 includedir=\${prefix}/include
 

@@ -246,6 +246,29 @@ fn gl_port_checks_pass() {
     }
 }
 
+/// The installed tree works where it is moved: the `.pc` files find the prefix from their own
+/// location, so a program builds and runs against the moved copy with its pkg-config flags.
+#[test]
+fn a_moved_install_still_builds() {
+    let moved = scratch("moved").join("elsewhere");
+    run(Command::new("cp").arg("-r").arg(prefix()).arg(&moved));
+    let dir = scratch("moved-build");
+    for package in ["raystage", "raystage-static"] {
+        let flags = run(Command::new("pkg-config").env("PKG_CONFIG_PATH", moved.join("lib/pkgconfig")).args(["--cflags", "--libs", package]));
+        assert!(!flags.contains(&prefix().display().to_string()), "{package}: the flags name the old prefix: {flags}");
+        let exe = dir.join(package);
+        run(Command::new("gcc")
+            .args(["-std=c99", "-O1"])
+            .arg(root().join("examples/c/late_binding.c"))
+            .arg("-o")
+            .arg(&exe)
+            .args(flags.split_whitespace())
+            .arg("-lm"));
+        run(Command::new(&exe).current_dir(&dir).env("LD_LIBRARY_PATH", moved.join("lib")));
+        assert!(frame(&dir, "late_binding.png").get_pixel(116, 45)[1] > 200, "{package}: triangle B is green");
+    }
+}
+
 /// `find_package(raystage)` finds the installed library, for the shared and the static target.
 #[test]
 fn cmake_finds_the_installed_package() {
