@@ -16,7 +16,7 @@ fn root() -> PathBuf {
 }
 
 /// The shared and static libraries, built for this test run: `cargo test` builds only the
-/// crate's Rust library, so this runs `cargo build -p raystage-capi` once, with the test's own
+/// crate's Rust library, so this runs `cargo build -p libraystage` once, with the test's own
 /// profile and target directory (this executable is `<target>/<profile>/deps/examples-*`), which
 /// reuses everything the test build compiled.
 fn artifact_dir() -> &'static Path {
@@ -32,10 +32,10 @@ fn artifact_dir() -> &'static Path {
         };
         let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
         run(Command::new(cargo)
-            .args(["build", "--quiet", "-p", "raystage-capi", "--profile", profile, "--target-dir"])
+            .args(["build", "--quiet", "-p", "libraystage", "--profile", profile, "--target-dir"])
             .arg(target)
             .current_dir(root()));
-        for lib in ["libraystage_capi.so", "libraystage_capi.a"] {
+        for lib in ["libraystage.so", "libraystage.a"] {
             assert!(dir.join(lib).is_file(), "cargo build did not write {}", dir.join(lib).display());
         }
         dir
@@ -244,6 +244,25 @@ fn gl_port_checks_pass() {
     for linking in [Linking::Shared, Linking::Static] {
         build_and_run("crates/capi/tests/c/gl_port.c", linking, &[]);
     }
+}
+
+/// The build tree's library has the installed one's name: a program links with `-lraystage`
+/// against cargo's output directory as against an install, and finds it by its SONAME.
+#[test]
+fn the_build_tree_links_with_the_installed_name() {
+    let dir = scratch("build-tree");
+    let exe = dir.join("late_binding");
+    run(Command::new("gcc")
+        .args(["-std=c99", "-O1"])
+        .arg(root().join("examples/c/late_binding.c"))
+        .arg(format!("-I{}", root().join("api/include").display()))
+        .arg(format!("-L{}", artifact_dir().display()))
+        .args(["-lraystage", "-lm", "-o"])
+        .arg(&exe));
+    let needed = run(Command::new("readelf").arg("-d").arg(&exe));
+    assert!(needed.contains("Shared library: [libraystage.so]"), "{needed}");
+    run(Command::new(&exe).current_dir(&dir).env("LD_LIBRARY_PATH", artifact_dir()));
+    assert!(frame(&dir, "late_binding.png").get_pixel(116, 45)[1] > 200, "triangle B is green");
 }
 
 /// The installed tree works where it is moved: the `.pc` files find the prefix from their own
