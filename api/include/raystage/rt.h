@@ -21,12 +21,13 @@
  * Ids: every id is an RTuint from an rtGen* call (or rtInstantiateObject); 0 names nothing.
  *
  * Errors: every call records an error code when it fails, and a failed call changes nothing
- * (exception: rtEndObject always ends the definition, and ends a primitive left open by a
- * missing rtEnd first, keeping its triangles; it is allowed between rtBegin and rtEnd). The first error sticks until read by
- * rtGetError, as with glGetError; rtGetErrorString says what went wrong, naming the call.
- * Calls never abort the program: bad pointers that are NULL, NaN or infinite numbers, unknown
- * ids, absurd sizes, geometry beyond RT_MAX_COORDINATE and calls in the wrong state are errors, and an internal failure is reported
- * as RT_INTERNAL_ERROR. Pointers that are not NULL must point to what the call documents.
+ * (exception: rtEndObject always ends the definition; it is allowed between rtBegin and rtEnd,
+ * and ends the primitive left open first, keeping its triangles, as a GL porter expects). The
+ * first error sticks until read by rtGetError, as with glGetError; rtGetErrorString says what
+ * went wrong, naming the call. Calls never abort the program: bad pointers that are NULL, NaN
+ * or infinite numbers, unknown ids, absurd sizes, geometry beyond RT_MAX_COORDINATE and calls
+ * in the wrong state are errors, and an internal failure is reported as RT_INTERNAL_ERROR.
+ * Pointers that are not NULL must point to what the call documents.
  *
  * Threads: each thread has its own context (scene, ids, matrices, bindings, errors), like a
  * current OpenGL context; a thread sees only what it built. Use one thread for all rt* calls on

@@ -1,6 +1,7 @@
 //! Geometry: primitives between `rtBegin` and `rtEnd`, vertex attributes, and bulk meshes. All
 //! of it goes into the object being defined. Between `rtBegin` and `rtEnd` only `rtVertex*`,
-//! `rtNormal*`, `rtColor*`, `rtTexCoord*`, `rtEnd` and the error calls are allowed.
+//! `rtNormal*`, `rtColor*`, `rtTexCoord*`, `rtEnd`, `rtEndObject` (which ends the primitive
+//! too), the `rtGet*` queries and the error calls are allowed.
 
 use crate::abi::types::{RTdouble, RTenum, RTfloat, RTsizei, RTuint};
 use crate::boundary::{array, call, call_in_primitive, slice};
