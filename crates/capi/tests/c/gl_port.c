@@ -116,6 +116,9 @@ static void orthographic(void) {
     pixel_is("last row", 12, 11, 255, 0, 0);
     pixel_is("above it", 12, 3, 0, 0, 255);
     pixel_is("below it", 12, 12, 0, 0, 255);
+    RTuint instance = 0, object = 0, triangle = 0;
+    CHECK(rtPick(12, 8, &instance, &object, &triangle) == 1 && object == square, "picking the square through the window: object %u", object);
+    CHECK(rtPick(4, 8, &instance, &object, &triangle) == 0, "picking beside it finds nothing");
 
     /* A mirrored window flips the image, as in OpenGL. */
     rtOrtho(8.0, 0.0, 0.0, 4.0, -1.0, 1.0);
