@@ -111,6 +111,13 @@ impl Projection {
         if frustum && near <= 0.0 {
             return Err(SceneError::OutOfRange { field: "camera.projection", message: format!("near is {near}, not positive") });
         }
+        // A frustum's rays go through the window scaled to distance 1: that must stay finite.
+        if frustum && [right - left, top - bottom].iter().chain(&window).any(|v| !(v / near).is_finite()) {
+            return Err(SceneError::OutOfRange {
+                field: "camera.projection",
+                message: format!("the window [{left}, {right}] × [{bottom}, {top}] is too wide for near {near}"),
+            });
+        }
         Ok(())
     }
 }
@@ -378,6 +385,7 @@ mod tests {
             Projection::Frustum { left: 0.0, right: 1.0, bottom: 0.0, top: 1.0, near: 0.0 },
             Projection::Orthographic { left: 0.0, right: 1.0, bottom: 2.0, top: 2.0, near: 0.0 },
             Projection::Orthographic { left: f32::NAN, right: 1.0, bottom: 0.0, top: 1.0, near: 0.0 },
+            Projection::Frustum { left: -1e30, right: 1e30, bottom: 0.0, top: 1.0, near: 1e-20 },
         ];
         for projection in bad {
             assert!(Camera { projection, ..Camera::default() }.validate().is_err(), "{projection:?}");
