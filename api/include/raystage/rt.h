@@ -8,7 +8,8 @@
  * (rtParameterHandle, rtParameter3f), sets the camera (rtLookAt with rtPerspective, rtFrustum
  * or rtOrtho), lends a frame buffer (rtFrameBuffer) and renders with rtSwapBuffers. What rays
  * that leave the scene show is the background: by default the light-blue sky gradient while
- * nothing lights the scene, an EnvironmentLight's map, or black; rtClearColor sets a colour.
+ * nothing lights the scene, an EnvironmentLight's radiance or map, or black; rtClearColor sets a
+ * colour.
  *
  * Precision: raystage computes in single precision. The double-precision calls (rtVertex3d,
  * rtTranslated, rtMultMatrixd, ...) convert their arguments, and vertices and translations are
@@ -1026,8 +1027,8 @@ RTint rtGetRenderParameteri(RTenum pname);
  * colour in raystage). `alpha` must be finite and is kept only as state
  * (`RT_COLOR_CLEAR_VALUE`): frames are opaque. The background is a backdrop, not a light: it
  * lights nothing. Until it is called, the default background applies: the light-blue sky
- * gradient while nothing lights the scene (the default light, see `RT_DEFAULT_LIGHTS`), the
- * map of an `EnvironmentLight` if the scene has one, and black otherwise.
+ * gradient while nothing lights the scene and the default light is on (`RT_DEFAULT_LIGHTS`), the
+ * radiance or map of an `EnvironmentLight` if the scene has one, and black otherwise.
  */
 void rtClearColor(RTfloat red, RTfloat green, RTfloat blue, RTfloat alpha);
 

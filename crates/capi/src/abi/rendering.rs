@@ -37,8 +37,8 @@ pub extern "C" fn rtGetRenderParameteri(pname: RTenum) -> RTint {
 /// colour in raystage). `alpha` must be finite and is kept only as state
 /// (`RT_COLOR_CLEAR_VALUE`): frames are opaque. The background is a backdrop, not a light: it
 /// lights nothing. Until it is called, the default background applies: the light-blue sky
-/// gradient while nothing lights the scene (the default light, see `RT_DEFAULT_LIGHTS`), the
-/// map of an `EnvironmentLight` if the scene has one, and black otherwise.
+/// gradient while nothing lights the scene and the default light is on (`RT_DEFAULT_LIGHTS`), the
+/// radiance or map of an `EnvironmentLight` if the scene has one, and black otherwise.
 #[unsafe(no_mangle)]
 pub extern "C" fn rtClearColor(red: RTfloat, green: RTfloat, blue: RTfloat, alpha: RTfloat) {
     call("rtClearColor", |ctx| ctx.clear_color([red, green, blue, alpha]))
