@@ -8,9 +8,9 @@
 #   PREFIX/lib/cmake/raystage/raystageConfig.cmake (+ ConfigVersion)   find_package(raystage)
 #
 # Usage: scripts/install-capi.sh [--lib-dir DIR] PREFIX
-#   Without --lib-dir, the library is built first with `cargo build --release -p raystage-capi`.
-#   With --lib-dir, the libraystage_capi.so and .a that cargo left in DIR (for example
-#   target/debug) are installed as they are.
+#   Without --lib-dir, the library is built first with `cargo build --release -p libraystage`.
+#   With --lib-dir, the libraystage.so and .a that cargo left in DIR (for example target/debug)
+#   are installed as they are: the build tree and the install use the same names.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
@@ -33,10 +33,10 @@ mkdir -p "$1"
 prefix="$(cd "$1" && pwd)"
 
 if [[ -z "$lib_dir" ]]; then
-    (cd "$root" && cargo build --release -p raystage-capi)
+    (cd "$root" && cargo build --release -p libraystage)
     lib_dir="${CARGO_TARGET_DIR:-$root/target}/release"
 fi
-for artifact in libraystage_capi.so libraystage_capi.a; do
+for artifact in libraystage.so libraystage.a; do
     [[ -f "$lib_dir/$artifact" ]] || { echo "$0: $lib_dir/$artifact not found" >&2; exit 1; }
 done
 
@@ -46,12 +46,14 @@ version="$(sed -n 's/^version = "\(.*\)"/\1/p' "$root/Cargo.toml" | head -n 1)"
 static_deps=(gcc_s util rt pthread m dl c)
 
 install -d "$prefix/lib/pkgconfig" "$prefix/lib/cmake/raystage" "$prefix/include/raystage"
-install -m 0755 "$lib_dir/libraystage_capi.so" "$prefix/lib/libraystage.so"
-install -m 0644 "$lib_dir/libraystage_capi.a" "$prefix/lib/libraystage.a"
+install -m 0755 "$lib_dir/libraystage.so" "$prefix/lib/libraystage.so"
+install -m 0644 "$lib_dir/libraystage.a" "$prefix/lib/libraystage.a"
 install -m 0644 "$root/api/include/raystage/rt.h" "$prefix/include/raystage/rt.h"
 
+# The .pc files find the prefix from their own location (pkg-config's pcfiledir), as the CMake
+# config does, so that the installed tree can be moved.
 cat >"$prefix/lib/pkgconfig/raystage.pc" <<EOF
-prefix=$prefix
+prefix=\${pcfiledir}/../..
 libdir=\${prefix}/lib
 includedir=\${prefix}/include
 
@@ -63,7 +65,7 @@ Libs: -L\${libdir} -lraystage
 EOF
 
 cat >"$prefix/lib/pkgconfig/raystage-static.pc" <<EOF
-prefix=$prefix
+prefix=\${pcfiledir}/../..
 libdir=\${prefix}/lib
 includedir=\${prefix}/include
 

@@ -5,8 +5,15 @@
  * rtBegin/rtVertex3f/rtEnd or rtTriangleMesh, transformed by the modelview matrix), places
  * instances of them with the modelview matrix (rtInstantiateObject), creates shaders of built-in
  * classes (rtNewShaderClass, rtNewShader, rtBindShader) and writes their parameters by name
- * (rtParameterHandle, rtParameter3f), sets the camera (rtPerspective, rtLookAt), lends a frame
- * buffer (rtFrameBuffer) and renders with rtSwapBuffers.
+ * (rtParameterHandle, rtParameter3f), sets the camera (rtLookAt with rtPerspective, rtFrustum
+ * or rtOrtho), lends a frame buffer (rtFrameBuffer) and renders with rtSwapBuffers. What rays
+ * that leave the scene show is the background: by default the light-blue sky gradient while
+ * nothing lights the scene, an EnvironmentLight's radiance or map, or black; rtClearColor sets a
+ * colour.
+ *
+ * Precision: raystage computes in single precision. The double-precision calls (rtVertex3d,
+ * rtTranslated, rtMultMatrixd, ...) convert their arguments, and vertices and translations are
+ * limited to RT_MAX_COORDINATE, within which scenes render correctly.
  *
  * Frame semantics: nothing is rendered until rtSwapBuffers, and everything refers to everything
  * else by id, resolved then. A parameter written after a triangle was issued still changes it:
@@ -15,11 +22,13 @@
  * Ids: every id is an RTuint from an rtGen* call (or rtInstantiateObject); 0 names nothing.
  *
  * Errors: every call records an error code when it fails, and a failed call changes nothing
- * (exception: rtEndObject always ends the definition). The first error sticks until read by
- * rtGetError, as with glGetError; rtGetErrorString says what went wrong, naming the call.
- * Calls never abort the program: bad pointers that are NULL, NaN or infinite numbers, unknown
- * ids, absurd sizes and calls in the wrong state are errors, and an internal failure is reported
- * as RT_INTERNAL_ERROR. Pointers that are not NULL must point to what the call documents.
+ * (exception: rtEndObject always ends the definition; it is allowed between rtBegin and rtEnd,
+ * and ends the primitive left open first, keeping its triangles, as a GL porter expects). The
+ * first error sticks until read by rtGetError, as with glGetError; rtGetErrorString says what
+ * went wrong, naming the call. Calls never abort the program: bad pointers that are NULL, NaN
+ * or infinite numbers, unknown ids, absurd sizes, geometry beyond RT_MAX_COORDINATE and calls
+ * in the wrong state are errors, and an internal failure is reported as RT_INTERNAL_ERROR.
+ * Pointers that are not NULL must point to what the call documents.
  *
  * Threads: each thread has its own context (scene, ids, matrices, bindings, errors), like a
  * current OpenGL context; a thread sees only what it built. Use one thread for all rt* calls on
@@ -39,6 +48,13 @@
  * A single-precision number.
  */
 typedef float RTfloat;
+
+/**
+ * A double-precision number (the `d` variants of the calls, `rtOrtho`, `rtFrustum`): converted
+ * to single precision, which raystage computes in; a value beyond single precision's range
+ * is refused.
+ */
+typedef double RTdouble;
 
 /**
  * An enumerated value: one of the `RT_*` constants.
@@ -189,6 +205,69 @@ typedef int32_t RTint;
 #define RT_MAX_STACK_DEPTH 32
 
 /**
+ * The current colour, 4 values: `rtColor3f`/`rtColor4f`'s red, green, blue and alpha
+ * (initially 1, 1, 1, 1).
+ */
+#define RT_CURRENT_COLOR 2816
+
+/**
+ * The current normal, 3 values (initially 0, 0, 1).
+ */
+#define RT_CURRENT_NORMAL 2818
+
+/**
+ * The current texture coordinates, 4 values: s, t, 0, 1 (initially 0, 0, 0, 1).
+ */
+#define RT_CURRENT_TEXTURE_COORDS 2819
+
+/**
+ * The shade model, 1 value: `RT_SMOOTH` or `RT_FLAT`.
+ */
+#define RT_SHADE_MODEL 2900
+
+/**
+ * The matrix mode, 1 value: `RT_MODELVIEW` or `RT_TEXTURE`.
+ */
+#define RT_MATRIX_MODE 2976
+
+/**
+ * The frame buffer's extent, 4 values: 0, 0, width, height (all 0 without a frame buffer).
+ */
+#define RT_VIEWPORT 2978
+
+/**
+ * Matrices on the modelview stack, 1 value (1 to `RT_MAX_STACK_DEPTH`).
+ */
+#define RT_MODELVIEW_STACK_DEPTH 2979
+
+/**
+ * Matrices on the texture stack, 1 value.
+ */
+#define RT_TEXTURE_STACK_DEPTH 2981
+
+/**
+ * The modelview stack's top matrix, 16 values in column-major order (as `rtLoadMatrixf`
+ * takes them).
+ */
+#define RT_MODELVIEW_MATRIX 2982
+
+/**
+ * The texture stack's top matrix, 16 values in column-major order.
+ */
+#define RT_TEXTURE_MATRIX 2984
+
+/**
+ * The colour `rtClearColor` set, 4 values; −1, −1, −1, −1 while the default background
+ * applies (see `rtClearColor`).
+ */
+#define RT_COLOR_CLEAR_VALUE 3106
+
+/**
+ * The texture bound with `rtBindTexture`, 1 value (0 for none).
+ */
+#define RT_TEXTURE_BINDING_2D 32873
+
+/**
  * Parameters are stored in the bound shader (the default, and what every built-in class uses).
  */
 #define RT_PER_SHADER 36896
@@ -291,6 +370,74 @@ typedef int32_t RTint;
 #define RT_MAX_TEXTURE_SIZE 16384
 
 /**
+ * How the bound texture is magnified: `RT_NEAREST` or `RT_LINEAR` (the default, bilinear).
+ */
+#define RT_TEXTURE_MAG_FILTER 10240
+
+/**
+ * How the bound texture is minified: accepted (`RT_NEAREST`, `RT_LINEAR` or a mipmap mode) for
+ * OpenGL programs that set it, but without effect: a ray has no footprint to minify over, so
+ * every lookup uses `RT_TEXTURE_MAG_FILTER`.
+ */
+#define RT_TEXTURE_MIN_FILTER 10241
+
+/**
+ * How texture coordinate s wraps: `RT_REPEAT` (the default), `RT_CLAMP_TO_EDGE` or
+ * `RT_MIRRORED_REPEAT`.
+ */
+#define RT_TEXTURE_WRAP_S 10242
+
+/**
+ * How texture coordinate t wraps, as `RT_TEXTURE_WRAP_S`.
+ */
+#define RT_TEXTURE_WRAP_T 10243
+
+/**
+ * The nearest texel.
+ */
+#define RT_NEAREST 9728
+
+/**
+ * Bilinear interpolation of the four nearest texels.
+ */
+#define RT_LINEAR 9729
+
+/**
+ * A minification filter of OpenGL's mipmaps (accepted, without effect).
+ */
+#define RT_NEAREST_MIPMAP_NEAREST 9984
+
+/**
+ * A minification filter of OpenGL's mipmaps (accepted, without effect).
+ */
+#define RT_LINEAR_MIPMAP_NEAREST 9985
+
+/**
+ * A minification filter of OpenGL's mipmaps (accepted, without effect; OpenGL's default).
+ */
+#define RT_NEAREST_MIPMAP_LINEAR 9986
+
+/**
+ * A minification filter of OpenGL's mipmaps (accepted, without effect).
+ */
+#define RT_LINEAR_MIPMAP_LINEAR 9987
+
+/**
+ * The image tiles the plane.
+ */
+#define RT_REPEAT 10497
+
+/**
+ * Coordinates beyond the image take its edge texels.
+ */
+#define RT_CLAMP_TO_EDGE 33071
+
+/**
+ * The image tiles the plane, every other copy mirrored.
+ */
+#define RT_MIRRORED_REPEAT 33648
+
+/**
  * `rtRenderMode` (the default): `RT_WHITTED` if the scene has lights, else `RT_EYELIGHT`, so
  * that an unlit scene is not black.
  */
@@ -374,6 +521,14 @@ typedef int32_t RTint;
 #define RT_MAX_LIGHT_SAMPLES 256
 
 /**
+ * Largest magnitude of a vertex coordinate once transformed by the modelview matrix, and of a
+ * matrix entry: `rtVertex*`, `rtTriangleMesh` and the matrix calls refuse more with
+ * `RT_INVALID_VALUE`. Single-precision arithmetic renders scenes within it correctly; beyond it
+ * shading and hit points lose their precision, and squared distances overflow.
+ */
+#define RT_MAX_COORDINATE 1e8
+
+/**
  * Most ids of each kind (objects, shaders, shader classes, textures) that one context can
  * generate.
  */
@@ -384,11 +539,44 @@ extern "C" {
 #endif // __cplusplus
 
 /**
- * Sets the camera's vertical field of view to `fovy` degrees, in (0, 180). `aspect`, `znear`
- * and `zfar` are checked (positive, `znear < zfar`) but do not change the image: its aspect
- * ratio is the frame buffer's, and a ray tracer clips nothing.
+ * Sets a symmetric perspective projection with a vertical field of view of `fovy` degrees, in
+ * (0, 180). `aspect`, `znear` and `zfar` are checked (positive, `znear < zfar`) but do not
+ * change the image: its aspect ratio is the frame buffer's, and a ray tracer clips nothing.
+ * Replaces the projection `rtFrustum` or `rtOrtho` set.
  */
 void rtPerspective(RTfloat fovy, RTfloat aspect, RTfloat znear, RTfloat zfar);
+
+/**
+ * Sets an off-axis perspective projection, as OpenGL's `glFrustum`: rays from the eye through
+ * the window `[left, right] × [bottom, top]` on the plane at distance `znear` in front of it
+ * (x to the right, y up, in the camera's frame that `rtLookAt` sets). The window fills the
+ * frame buffer whatever its aspect ratio, as OpenGL's viewport does. Needs `left != right`,
+ * `bottom != top` and 0 < `znear` < `zfar` (else `RT_INVALID_VALUE`); `zfar` clips nothing.
+ * Replaces the projection `rtPerspective` or `rtOrtho` set.
+ */
+void rtFrustum(RTdouble left,
+               RTdouble right,
+               RTdouble bottom,
+               RTdouble top,
+               RTdouble znear,
+               RTdouble zfar);
+
+/**
+ * Sets an orthographic projection, as OpenGL's `glOrtho`: parallel rays along the view
+ * direction, one through each point of the window `[left, right] × [bottom, top]` (in the
+ * camera's frame), starting `znear` in front of the eye; `znear` may be negative, so that what
+ * lies just behind the eye shows, as in OpenGL (`rtOrtho(0, w, 0, h, -1, 1)` with the camera at
+ * z = 0 draws the plane z = 0). The window fills the frame buffer. Needs `left != right`,
+ * `bottom != top` and `znear != zfar` (else `RT_INVALID_VALUE`); `zfar` clips nothing. There
+ * is no depth of field: `rtLens` has no effect while it is in force. Replaces the projection
+ * `rtPerspective` or `rtFrustum` set.
+ */
+void rtOrtho(RTdouble left,
+             RTdouble right,
+             RTdouble bottom,
+             RTdouble top,
+             RTdouble znear,
+             RTdouble zfar);
 
 /**
  * Places the camera at the eye point, looking at the centre point, with `up` pointing up in the
@@ -503,8 +691,21 @@ void rtEnd(void);
 
 /**
  * Adds a vertex with the current normal, colour and texture coordinates to the primitive.
+ * Once transformed by the modelview matrix, each coordinate must be within
+ * ±`RT_MAX_COORDINATE` (`RT_INVALID_VALUE` beyond, and the vertex is not added).
  */
 void rtVertex3f(RTfloat x, RTfloat y, RTfloat z);
+
+/**
+ * `rtVertex3f(x, y, 0)`, as OpenGL's `glVertex2f`.
+ */
+void rtVertex2f(RTfloat x, RTfloat y);
+
+/**
+ * `rtVertex3f` in double precision (converted to single: a coordinate beyond its range is
+ * refused, and precision beyond it is lost).
+ */
+void rtVertex3d(RTdouble x, RTdouble y, RTdouble z);
 
 /**
  * `rtVertex3f` with the coordinates in an array of three.
@@ -534,6 +735,12 @@ void rtNormal3fv(const RTfloat *v);
  * per-vertex colours once its definition sets one.
  */
 void rtColor3f(RTfloat r, RTfloat g, RTfloat b);
+
+/**
+ * `rtColor3f` with an alpha, as OpenGL's `glColor4f`: raystage blends nothing, so alpha is
+ * kept only as state (`rtGetFloatv(RT_CURRENT_COLOR)`); it must be finite like the others.
+ */
+void rtColor4f(RTfloat r, RTfloat g, RTfloat b, RTfloat a);
 
 /**
  * `rtColor3f` with the components in an array of three.
@@ -636,7 +843,8 @@ void rtPushMatrix(void);
 void rtPopMatrix(void);
 
 /**
- * Multiplies the top matrix by a translation.
+ * Multiplies the top matrix by a translation. A matrix whose translation would exceed
+ * `RT_MAX_COORDINATE` is refused (`RT_INVALID_VALUE`), by this call and every other matrix call.
  */
 void rtTranslatef(RTfloat x, RTfloat y, RTfloat z);
 
@@ -669,6 +877,37 @@ void rtMultMatrixf(const RTfloat *m);
 void rtLoadMatrixf(const RTfloat *m);
 
 /**
+ * `rtTranslatef` in double precision (converted to single; beyond its range is an error).
+ */
+void rtTranslated(RTdouble x, RTdouble y, RTdouble z);
+
+/**
+ * `rtRotatef` in double precision.
+ */
+void rtRotated(RTdouble angle, RTdouble x, RTdouble y, RTdouble z);
+
+/**
+ * `rtScalef` in double precision.
+ */
+void rtScaled(RTdouble x, RTdouble y, RTdouble z);
+
+/**
+ * `rtMultMatrixf` with 16 doubles.
+ *
+ * # Safety
+ * `m` must be NULL (an error) or point to 16 doubles.
+ */
+void rtMultMatrixd(const RTdouble *m);
+
+/**
+ * `rtLoadMatrixf` with 16 doubles.
+ *
+ * # Safety
+ * `m` must be NULL (an error) or point to 16 doubles.
+ */
+void rtLoadMatrixd(const RTdouble *m);
+
+/**
  * Reserves `n` consecutive object ids and returns the first (0 if `n` is 0 or on error). At
  * most `RT_MAX_IDS` object ids per context (`RT_OUT_OF_MEMORY` beyond).
  */
@@ -683,9 +922,10 @@ RTuint rtGenObjects(RTsizei n);
 void rtNewObject(RTuint id, RTenum mode);
 
 /**
- * Commits the object being defined to the scene, with the kind set by `rtObjectKind`. The
- * definition ends even when the object is refused for having no triangles
- * (`RT_INVALID_OPERATION`); it then keeps its previous geometry, if any.
+ * Commits the object being defined to the scene, with the kind set by `rtObjectKind`. A
+ * primitive still open (`rtBegin` without `rtEnd`) is ended first, as `rtEnd` would end it, so
+ * its triangles belong to the object. The definition ends even when the object is refused for
+ * having no triangles (`RT_INVALID_OPERATION`); it then keeps its previous geometry, if any.
  */
 void rtEndObject(void);
 
@@ -782,6 +1022,17 @@ void rtRenderParameteri(RTenum pname,
 RTint rtGetRenderParameteri(RTenum pname);
 
 /**
+ * Sets the background: what rays that leave the scene show, a colour in linear RGB (each
+ * component finite and not negative; values above 1 are brighter than white, as with every
+ * colour in raystage). `alpha` must be finite and is kept only as state
+ * (`RT_COLOR_CLEAR_VALUE`): frames are opaque. The background is a backdrop, not a light: it
+ * lights nothing. Until it is called, the default background applies: the light-blue sky
+ * gradient while nothing lights the scene and the default light is on (`RT_DEFAULT_LIGHTS`), the
+ * radiance or map of an `EnvironmentLight` if the scene has one, and black otherwise.
+ */
+void rtClearColor(RTfloat red, RTfloat green, RTfloat blue, RTfloat alpha);
+
+/**
  * Reserves `n` consecutive shader class ids and returns the first (0 if `n` is 0 or on error).
  */
 RTuint rtGenShaderClasses(RTsizei n);
@@ -836,6 +1087,49 @@ void rtBindShader(RTuint id);
  * generated (`rtNewShader` can define them again); a deleted bound shader is unbound.
  */
 void rtDeleteShaders(RTuint first, RTsizei n);
+
+/**
+ * Writes the values of state `pname` to `params` as floats: `RT_MODELVIEW_MATRIX`,
+ * `RT_TEXTURE_MATRIX` (16 each), `RT_CURRENT_COLOR`, `RT_CURRENT_TEXTURE_COORDS`,
+ * `RT_COLOR_CLEAR_VALUE`, `RT_VIEWPORT` (4 each), `RT_CURRENT_NORMAL` (3), or one of
+ * `RT_MODELVIEW_STACK_DEPTH`, `RT_TEXTURE_STACK_DEPTH`, `RT_MATRIX_MODE`, `RT_SHADE_MODEL`,
+ * `RT_TEXTURE_BINDING_2D`. Another `pname` records `RT_INVALID_ENUM` and writes nothing;
+ * allowed between `rtBegin` and `rtEnd`.
+ *
+ * # Safety
+ * `params` must be NULL (an error) or point to room for as many floats as `pname` has.
+ */
+void rtGetFloatv(RTenum pname, RTfloat *params);
+
+/**
+ * `rtGetFloatv` in double precision.
+ *
+ * # Safety
+ * `params` must be NULL (an error) or point to room for as many doubles as `pname` has.
+ */
+void rtGetDoublev(RTenum pname, RTdouble *params);
+
+/**
+ * `rtGetFloatv` as integers, each value rounded to the nearest (colours too: unlike OpenGL,
+ * they are not scaled to the integer range, since raystage's colours may exceed 1).
+ *
+ * # Safety
+ * `params` must be NULL (an error) or point to room for as many integers as `pname` has.
+ */
+void rtGetIntegerv(RTenum pname, RTint *params);
+
+/**
+ * Sets a sampling parameter of the bound texture, as OpenGL's `glTexParameteri`:
+ * `RT_TEXTURE_WRAP_S` and `RT_TEXTURE_WRAP_T` (`RT_REPEAT`, `RT_CLAMP_TO_EDGE`,
+ * `RT_MIRRORED_REPEAT`), `RT_TEXTURE_MAG_FILTER` (`RT_NEAREST`, `RT_LINEAR`) and
+ * `RT_TEXTURE_MIN_FILTER` (accepted, without effect). `target` is `RT_TEXTURE_2D`. A texture
+ * is sampled with its parameters by every shader that uses it, now or later (shaders of
+ * classes with texture samplers, such as "Diffuse", "Phong" and "PhysicallyBased"; the
+ * parameters are written to the shader's `{slot}_wrap_s`, `{slot}_wrap_t` and `{slot}_filter`,
+ * and `rtParameterTexture` writes them too). Another `pname` or value records
+ * `RT_INVALID_ENUM`; no bound texture `RT_INVALID_OPERATION`.
+ */
+void rtTexParameteri(RTenum target, RTenum pname, RTint param);
 
 /**
  * Reserves `n` consecutive texture ids and returns the first (0 if `n` is 0 or on error).

@@ -1,4 +1,5 @@
-//! The camera: `rtPerspective` and `rtLookAt` set the scene's camera directly. As the seed says
+//! The camera: `rtPerspective` (or `rtFrustum`, `rtOrtho`) and `rtLookAt` set the scene's
+//! camera directly. As the seed says
 //! (*The OpenRT API* §2.1), they take OpenGL's arguments but do not build matrices: there is no
 //! projection matrix to distort, so the image's aspect ratio is always the frame buffer's, and a
 //! ray tracer needs no clipping planes. Both are checked all the same. `rtLens` and `rtShutter`
@@ -6,10 +7,10 @@
 //! tracer sample; each call keeps what the others set.
 
 use glam::Vec3;
-use raystage_scene::Camera;
+use raystage_scene::{Camera, Projection};
 
 use crate::context::Context;
-use crate::error::{Error, finite};
+use crate::error::{Error, finite, single};
 
 impl Context {
     /// `rtPerspective`: the vertical field of view, in degrees.
@@ -21,8 +22,28 @@ impl Context {
         if !(near > 0.0 && far > near) {
             return Err(Error::invalid_value(format!("near {near} and far {far} do not satisfy 0 < near < far")));
         }
-        let camera = Camera { fov_y_degrees: fov_y, ..*self.scene.camera() };
+        let camera = Camera { fov_y_degrees: fov_y, projection: Projection::Perspective, ..*self.scene.camera() };
         self.scene.set_camera(camera)?;
+        Ok(())
+    }
+
+    /// `rtOrtho` (`orthographic`) or `rtFrustum`: a window projection, with OpenGL's checks.
+    pub fn window_projection(&mut self, orthographic: bool, values: [f64; 6]) -> Result<(), Error> {
+        let [left, right, bottom, top, near, far] = single("(left, right, bottom, top, znear, zfar)", values)?;
+        for (what, a, b) in [("left and right", left, right), ("bottom and top", bottom, top), ("znear and zfar", near, far)] {
+            if a == b {
+                return Err(Error::invalid_value(format!("{what} are both {a}: the volume is empty")));
+            }
+        }
+        let projection = if orthographic {
+            Projection::Orthographic { left, right, bottom, top, near }
+        } else {
+            if !(near > 0.0 && far > near) {
+                return Err(Error::invalid_value(format!("znear {near} and zfar {far} do not satisfy 0 < znear < zfar")));
+            }
+            Projection::Frustum { left, right, bottom, top, near }
+        };
+        self.scene.set_camera(Camera { projection, ..*self.scene.camera() })?;
         Ok(())
     }
 

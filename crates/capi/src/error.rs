@@ -75,6 +75,21 @@ pub(crate) fn finite(what: &str, values: &[f32]) -> Result<(), Error> {
     }
 }
 
+/// Converts the arguments of a double-precision call to the single precision raystage computes
+/// in, checking each is finite and within single precision's range (so none becomes infinite);
+/// `what` names them in the message as [`finite`] does.
+pub(crate) fn single<const N: usize>(what: &str, values: [f64; N]) -> Result<[f32; N], Error> {
+    let narrowed = values.map(|v| v as f32);
+    match values.iter().zip(&narrowed).position(|(v, n)| v.is_finite() != n.is_finite()) {
+        Some(i) if N == 1 => Err(Error::invalid_value(format!("{what} is {:e}, beyond single precision", values[i]))),
+        Some(i) => Err(Error::invalid_value(format!("{what}[{i}] is {:e}, beyond single precision", values[i]))),
+        None => {
+            finite(what, &narrowed)?;
+            Ok(narrowed)
+        }
+    }
+}
+
 /// The one place scene errors become C ABI errors. Ids in messages are the C ids.
 impl From<SceneError> for Error {
     fn from(e: SceneError) -> Error {
@@ -165,5 +180,13 @@ mod tests {
         assert_eq!(finite("v", &[1.0, f32::NAN, 2.0]).unwrap_err().message, "v[1] is NaN");
         assert_eq!(finite("angle", &[f32::INFINITY]).unwrap_err().message, "angle is inf");
         assert!(finite("v", &[0.0, -1e30]).is_ok());
+    }
+
+    #[test]
+    fn single_refuses_what_single_precision_cannot_hold() {
+        assert_eq!(single("(x, y)", [1.5, -2.0]), Ok([1.5, -2.0]));
+        assert_eq!(single("(x, y)", [1.0, 1e300]).unwrap_err().message, "(x, y)[1] is 1e300, beyond single precision");
+        assert_eq!(single("angle", [f64::NAN]).unwrap_err().message, "angle is NaN");
+        assert_eq!(single("angle", [1e-300]), Ok([0.0]), "tiny values round to zero, as OpenGL's do");
     }
 }

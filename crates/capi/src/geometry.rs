@@ -7,7 +7,7 @@
 use glam::{Vec2, Vec3};
 use raystage_scene::ShaderId;
 
-use crate::abi::enums::{RT_FLAT, RT_SMOOTH};
+use crate::abi::enums::{RT_FLAT, RT_MAX_COORDINATE, RT_SMOOTH};
 use crate::abi::types::RTenum;
 use crate::assembly::{Assembled, PrimitiveMode};
 use crate::builder::{Primitive, Vertex};
@@ -20,13 +20,15 @@ use crate::matrix::normal_transform;
 pub(crate) struct CurrentVertex {
     pub normal: Vec3,
     pub color: Vec3,
+    /// `rtColor4f`'s alpha: state only (raystage blends nothing), read back by `rtGetFloatv`.
+    pub alpha: f32,
     pub uv: Vec2,
 }
 
 impl Default for CurrentVertex {
-    /// OpenGL's initial state: normal +z, white, texture coordinates (0, 0).
+    /// OpenGL's initial state: normal +z, opaque white, texture coordinates (0, 0).
     fn default() -> Self {
-        CurrentVertex { normal: Vec3::Z, color: Vec3::ONE, uv: Vec2::ZERO }
+        CurrentVertex { normal: Vec3::Z, color: Vec3::ONE, alpha: 1.0, uv: Vec2::ZERO }
     }
 }
 
@@ -84,8 +86,15 @@ impl Context {
     /// `rtColor3f`: sets the current colour (linear RGB). Once set during an object's definition,
     /// the object stores a colour per vertex.
     pub fn color(&mut self, color: [f32; 3]) -> Result<(), Error> {
+        self.color_alpha(color, 1.0)
+    }
+
+    /// `rtColor4f`: sets the current colour and alpha (`rtColor3f` sets alpha 1, as OpenGL's
+    /// `glColor3f` does).
+    pub fn color_alpha(&mut self, color: [f32; 3], alpha: f32) -> Result<(), Error> {
         finite("(r, g, b)", &color)?;
-        self.current.color = Vec3::from(color);
+        finite("alpha", &[alpha])?;
+        (self.current.color, self.current.alpha) = (Vec3::from(color), alpha);
         if let Some(d) = self.definition.as_mut() {
             d.uses.colors = true;
         }
@@ -138,6 +147,7 @@ impl Context {
                 normal: mesh.normals.get(i).map_or(self.current.normal, |&n| Vec3::from(n)),
                 color: mesh.colors.get(i).map_or(self.current.color, |&c| Vec3::from(c)),
                 uv: mesh.uvs.get(i).map_or(self.current.uv, |&uv| Vec2::from(uv)),
+                ..self.current
             };
             vertices.push(self.issue(Vec3::from(mesh.positions[i]), attributes)?);
         }
@@ -165,6 +175,12 @@ impl Context {
         if !(vertex.position.is_finite() && vertex.normal.is_finite() && vertex.uv.is_finite()) {
             return Err(Error::invalid_value("the vertex is not finite once transformed by the current matrices"));
         }
+        if vertex.position.abs().max_element() > RT_MAX_COORDINATE {
+            return Err(Error::invalid_value(format!(
+                "the vertex is at {}, beyond RT_MAX_COORDINATE ({RT_MAX_COORDINATE:e}) once transformed by the modelview matrix",
+                format_point(vertex.position)
+            )));
+        }
         Ok(vertex)
     }
 
@@ -177,4 +193,9 @@ impl Context {
             ))),
         }
     }
+}
+
+/// A point in a message, its coordinates in scientific notation (huge ones stay readable).
+fn format_point(p: Vec3) -> String {
+    format!("({:e}, {:e}, {:e})", p.x, p.y, p.z)
 }

@@ -20,6 +20,9 @@
 //! frame buffer (`frames`), each with a SAFETY comment. The C header `api/include/raystage/rt.h`
 //! is generated from [`abi`] by cbindgen (`tests/header.rs`).
 //!
+//! The C library itself, `libraystage.so` and `libraystage.a`, is the `libraystage` crate, which
+//! links this one under that name.
+//!
 //! Not in here: the scene and its shader classes (`raystage-scene`), shading and frame loops
 //! (`raystage-render`), the HTTP server.
 
@@ -39,4 +42,5 @@ mod objects;
 mod parameters;
 mod rendering;
 mod shaders;
+mod state;
 mod textures;

@@ -7,7 +7,7 @@
 
 use glam::{Affine3A, Mat4, Vec2, Vec3, Vec4};
 
-use crate::abi::enums::{RT_MAX_STACK_DEPTH, RT_MODELVIEW, RT_TEXTURE};
+use crate::abi::enums::{RT_MAX_COORDINATE, RT_MAX_STACK_DEPTH, RT_MODELVIEW, RT_TEXTURE};
 use crate::abi::types::RTenum;
 use crate::error::{Error, finite};
 
@@ -52,10 +52,16 @@ impl MatrixStack {
         *self.stack.last().expect("a matrix stack is never empty")
     }
 
-    /// Replaces the top matrix, if every entry of `m` is finite.
+    /// Replaces the top matrix, if every entry of `m` is finite and its translation within
+    /// [`RT_MAX_COORDINATE`] (beyond, what it places could not be rendered correctly).
     pub fn load(&mut self, m: Affine3A) -> Result<(), Error> {
         if !m.is_finite() {
             return Err(Error::invalid_value("the resulting matrix would not be finite"));
+        }
+        if let Some(t) = Vec3::from(m.translation).to_array().into_iter().find(|t| t.abs() > RT_MAX_COORDINATE) {
+            return Err(Error::invalid_value(format!(
+                "the resulting matrix would translate by {t:e}, beyond RT_MAX_COORDINATE ({RT_MAX_COORDINATE:e})"
+            )));
         }
         *self.stack.last_mut().expect("a matrix stack is never empty") = m;
         Ok(())
@@ -64,6 +70,11 @@ impl MatrixStack {
     /// Multiplies the top matrix by `m` on the right.
     pub fn multiply(&mut self, m: Affine3A) -> Result<(), Error> {
         self.load(self.top() * m)
+    }
+
+    /// How many matrices the stack holds.
+    pub fn depth(&self) -> usize {
+        self.stack.len()
     }
 
     /// Pushes a copy of the top matrix.
@@ -207,6 +218,12 @@ mod tests {
         s.multiply(huge).unwrap();
         assert!(s.multiply(huge).is_err(), "1e60 overflows");
         assert_eq!(s.top(), huge);
+        let far = translation(0.0, 1e8, 0.0).unwrap();
+        let mut s = MatrixStack::default();
+        s.multiply(far).unwrap();
+        let error = s.multiply(far).unwrap_err();
+        assert!(error.message.contains("2e8, beyond RT_MAX_COORDINATE (1e8)"), "{}", error.message);
+        assert_eq!(s.top(), far);
     }
 
     #[test]

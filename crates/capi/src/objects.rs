@@ -3,9 +3,10 @@
 //! the same id changes every instance of it; instances place objects with the modelview matrix
 //! in force at `rtInstantiateObject`.
 
+use glam::{Affine3A, Vec3};
 use raystage_scene::{InstanceId, ObjectId, ObjectKind};
 
-use crate::abi::enums::{RT_ANIMATED, RT_COMPILE, RT_STATIC, RT_UNSTRUCTURED};
+use crate::abi::enums::{RT_ANIMATED, RT_COMPILE, RT_MAX_COORDINATE, RT_STATIC, RT_UNSTRUCTURED};
 use crate::abi::types::{RTenum, RTsizei, RTuint};
 use crate::builder::ObjectBuilder;
 use crate::context::Context;
@@ -58,10 +59,14 @@ impl Context {
         Ok(())
     }
 
-    /// `rtEndObject`: commits the object being defined to the scene. The definition ends even if
-    /// the object is refused (it has no triangles); the object then keeps its previous geometry.
+    /// `rtEndObject`: ends the open primitive, if any, and commits the object being defined to
+    /// the scene. The definition ends even if the object is refused (it has no triangles); the
+    /// object then keeps its previous geometry.
     pub fn end_object(&mut self) -> Result<(), Error> {
-        let builder = self.definition.take().ok_or_else(|| Error::invalid_operation("no object is being defined"))?;
+        let mut builder = self.definition.take().ok_or_else(|| Error::invalid_operation("no object is being defined"))?;
+        if builder.primitive.is_some() {
+            builder.end_primitive()?;
+        }
         let id = builder.id;
         if builder.triangle_count() == 0 {
             return Err(Error::invalid_operation(format!(
@@ -92,8 +97,30 @@ impl Context {
     pub fn instantiate(&mut self, id: RTuint) -> Result<RTuint, Error> {
         self.outside_definition("rtInstantiateObject (the scene has two levels: objects cannot hold instances)")?;
         let object = self.generated_object(id)?;
-        let instance = self.scene.add_instance(object, self.matrices.modelview.top())?;
+        let transform = self.matrices.modelview.top();
+        self.check_placement(object, &transform)?;
+        let instance = self.scene.add_instance(object, transform)?;
         Ok(ids::to_c(instance.0))
+    }
+
+    /// Fails if `object`, if defined, would reach beyond [`RT_MAX_COORDINATE`] placed by
+    /// `transform` (its vertices were within it, but a matrix can carry them out).
+    fn check_placement(&self, object: ObjectId, transform: &Affine3A) -> Result<(), Error> {
+        let Ok(mesh) = self.scene.mesh(object) else {
+            return Ok(());
+        };
+        let b = mesh.bounds();
+        let corners = (0..8).map(|i| Vec3::new([b.min.x, b.max.x][i & 1], [b.min.y, b.max.y][(i >> 1) & 1], [b.min.z, b.max.z][i >> 2]));
+        match corners.map(|c| transform.transform_point3(c)).find(|p| !p.is_finite() || p.abs().max_element() > RT_MAX_COORDINATE) {
+            Some(p) => Err(Error::invalid_value(format!(
+                "object {} would reach ({:e}, {:e}, {:e}), beyond RT_MAX_COORDINATE ({RT_MAX_COORDINATE:e})",
+                ids::to_c(object.0),
+                p.x,
+                p.y,
+                p.z
+            ))),
+            None => Ok(()),
+        }
     }
 
     fn instance(id: RTuint) -> Result<InstanceId, Error> {
@@ -102,16 +129,22 @@ impl Context {
 
     /// `rtMoveInstance`: gives instance `id` the current modelview matrix, and no motion.
     pub fn move_instance(&mut self, id: RTuint) -> Result<(), Error> {
-        self.scene.set_transform(Self::instance(id)?, self.matrices.modelview.top())?;
+        let instance = Self::instance(id)?;
+        let transform = self.matrices.modelview.top();
+        self.check_placement(self.scene.instance_object(instance)?, &transform)?;
+        self.scene.set_transform(instance, transform)?;
         Ok(())
     }
+
 
     /// `rtInstanceMotion`: gives instance `id` the current modelview matrix at the shutter's
     /// close; its transform at the opening stays.
     pub fn instance_motion(&mut self, id: RTuint) -> Result<(), Error> {
         let instance = Self::instance(id)?;
         let start = self.scene.transform(instance)?;
-        self.scene.set_motion(instance, start, Some(self.matrices.modelview.top()))?;
+        let end = self.matrices.modelview.top();
+        self.check_placement(self.scene.instance_object(instance)?, &end)?;
+        self.scene.set_motion(instance, start, Some(end))?;
         Ok(())
     }
 

@@ -91,6 +91,10 @@ impl Context {
                     }
                 };
                 self.scene.set_param(shader, &name, value)?;
+                // The texture brings the parameters `rtTexParameteri` gave it to the slot.
+                if let (ParamValue::Texture(Some(texture)), Some(slot)) = (value, name.strip_suffix("_texture")) {
+                    self.textures.sampling(texture).write_to(&mut self.scene, shader, slot)?;
+                }
             }
             Slot::Light { light, class } => {
                 let Some(param) = class.params.iter().find(|p| p.name == name) else {

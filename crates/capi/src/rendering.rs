@@ -5,7 +5,8 @@
 use std::ops::RangeInclusive;
 
 use raystage_render::{Integrator, RenderSettings};
-use raystage_scene::Frame;
+use glam::Vec3;
+use raystage_scene::{Background, Frame};
 
 use crate::abi::enums::{
     RT_AUTO, RT_DEFAULT_LIGHTS, RT_DISTRIBUTION, RT_EYELIGHT, RT_LIGHT_SAMPLES, RT_MAX_LIGHT_SAMPLES, RT_MAX_RAY_DEPTH, RT_MAX_SAMPLES, RT_PATH,
@@ -13,7 +14,7 @@ use crate::abi::enums::{
 };
 use crate::abi::types::{RTenum, RTint};
 use crate::context::Context;
-use crate::error::Error;
+use crate::error::{Error, finite};
 
 /// The render modes of `rtRenderMode` and the integrators they name; `RT_AUTO` names none.
 const MODES: [(RTenum, Option<Integrator>); 5] = [
@@ -31,6 +32,8 @@ pub(crate) struct Rendering {
     integrator: Option<Integrator>,
     /// The render parameters; the size and the integrator are filled in at each frame.
     settings: RenderSettings,
+    /// What `rtClearColor` set (its colour is the settings' background), for the queries.
+    pub clear_color: Option<[f32; 4]>,
 }
 
 impl Rendering {
@@ -119,6 +122,16 @@ impl Context {
             return Err(Error::invalid_value(format!("{name} is {value}, not in {}..={}", range.start(), range.end())));
         }
         setting.set(&mut self.rendering.settings, value);
+        Ok(())
+    }
+
+    /// `rtClearColor`: the background colour of the frames from now on.
+    pub fn clear_color(&mut self, rgba: [f32; 4]) -> Result<(), Error> {
+        finite("(red, green, blue, alpha)", &rgba)?;
+        let [red, green, blue, _] = rgba;
+        let background = Background::Color(Vec3::new(red, green, blue));
+        background.validate()?;
+        (self.rendering.settings.background, self.rendering.clear_color) = (Some(background), Some(rgba));
         Ok(())
     }
 

@@ -7,15 +7,18 @@
 //! Shaders and environment lights refer to a texture by id (`rtParameterTexture`), so a texture
 //! redefined later changes them from the next frame on, and a deleted one leaves them untextured.
 
+use std::collections::HashMap;
 use std::path::Path;
 use std::sync::Arc;
 
 use glam::Vec3;
-use raystage_scene::{Image, Texture, TextureId};
+use raystage_scene::{Image, ParamValue, ShaderId, Texture, TextureId};
 
 use crate::abi::enums::{
-    RT_FLOAT, RT_LUMINANCE, RT_MAX_TEXTURE_SIZE, RT_RGB, RT_RGB8, RT_RGB32F, RT_RGBA, RT_RGBA8, RT_RGBA32F, RT_SRGB8, RT_SRGB8_ALPHA8,
-    RT_TEXTURE_2D, RT_UNSIGNED_BYTE,
+    RT_CLAMP_TO_EDGE, RT_FLOAT, RT_LINEAR, RT_LINEAR_MIPMAP_LINEAR, RT_LINEAR_MIPMAP_NEAREST, RT_LUMINANCE, RT_MAX_TEXTURE_SIZE,
+    RT_MIRRORED_REPEAT, RT_NEAREST, RT_NEAREST_MIPMAP_LINEAR, RT_NEAREST_MIPMAP_NEAREST, RT_REPEAT, RT_RGB, RT_RGB8, RT_RGB32F, RT_RGBA,
+    RT_RGBA8, RT_RGBA32F, RT_SRGB8, RT_SRGB8_ALPHA8, RT_TEXTURE_2D, RT_TEXTURE_MAG_FILTER, RT_TEXTURE_MIN_FILTER, RT_TEXTURE_WRAP_S,
+    RT_TEXTURE_WRAP_T, RT_UNSIGNED_BYTE,
 };
 use crate::abi::types::{RTenum, RTint, RTsizei, RTuint};
 use crate::context::Context;
@@ -29,9 +32,48 @@ pub(crate) struct Textures {
     generated: u32,
     /// The bound texture.
     bound: Option<TextureId>,
+    /// What `rtTexParameteri` set, per texture (absent: OpenGL's defaults).
+    sampling: HashMap<TextureId, Sampling>,
+}
+
+/// How a texture is sampled (`rtTexParameteri`), in OpenGL's enums, which are also the codes
+/// the scene's shader sampler parameters take (glTF's are OpenGL's).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Sampling {
+    wrap_s: RTenum,
+    wrap_t: RTenum,
+    mag_filter: RTenum,
+}
+
+impl Default for Sampling {
+    /// OpenGL's defaults: repeat, bilinear magnification.
+    fn default() -> Self {
+        Sampling { wrap_s: RT_REPEAT, wrap_t: RT_REPEAT, mag_filter: RT_LINEAR }
+    }
+}
+
+impl Sampling {
+    /// Writes these parameters to texture slot `slot` of `shader` (its `{slot}_wrap_s`,
+    /// `_wrap_t` and `_filter`; ignored by a class without them).
+    pub fn write_to(self, scene: &mut raystage_scene::Scene, shader: ShaderId, slot: &str) -> Result<(), Error> {
+        for (suffix, code) in [("wrap_s", self.wrap_s), ("wrap_t", self.wrap_t), ("filter", self.mag_filter)] {
+            scene.set_param(shader, &format!("{slot}_{suffix}"), ParamValue::Float(code as f32))?;
+        }
+        Ok(())
+    }
 }
 
 impl Textures {
+    /// How texture `id` is sampled.
+    pub fn sampling(&self, id: TextureId) -> Sampling {
+        self.sampling.get(&id).copied().unwrap_or_default()
+    }
+
+    /// The bound texture, if any.
+    pub fn bound(&self) -> Option<TextureId> {
+        self.bound
+    }
+
     /// The scene id of generated C id `id`.
     pub fn texture_id(&self, id: RTuint) -> Result<TextureId, Error> {
         match ids::from_c(id) {
@@ -67,7 +109,8 @@ impl PixelLayout {
     pub fn of(internal_format: RTint, format: RTenum, ty: RTenum) -> Result<PixelLayout, Error> {
         let srgb = match RTenum::try_from(internal_format).unwrap_or(0) {
             RT_SRGB8 | RT_SRGB8_ALPHA8 => true,
-            RT_RGB | RT_RGBA | RT_RGB8 | RT_RGBA8 | RT_RGB32F | RT_RGBA32F | RT_LUMINANCE => false,
+            // 1 to 4: OpenGL 1.0's internal formats, the number of components.
+            1..=4 | RT_RGB | RT_RGBA | RT_RGB8 | RT_RGBA8 | RT_RGB32F | RT_RGBA32F | RT_LUMINANCE => false,
             _ => return Err(Error::invalid_enum(format!("{internal_format:#x} is not a texture internal format"))),
         };
         let channels = match format {
@@ -118,6 +161,53 @@ impl Context {
     pub fn bind_texture(&mut self, target: RTenum, id: RTuint) -> Result<(), Error> {
         check_target(target)?;
         self.textures.bound = if id == 0 { None } else { Some(self.textures.texture_id(id)?) };
+        Ok(())
+    }
+
+    /// `rtTexParameteri`: a sampling parameter of the bound texture, written to every shader
+    /// slot that samples it.
+    pub fn tex_parameter(&mut self, target: RTenum, pname: RTenum, param: RTint) -> Result<(), Error> {
+        check_target(target)?;
+        let id = self.textures.bound.ok_or_else(|| Error::invalid_operation("no texture is bound: call rtBindTexture before rtTexParameteri"))?;
+        // A negative value names no enum.
+        let value = RTenum::try_from(param).unwrap_or(RTenum::MAX);
+        let mut sampling = self.textures.sampling(id);
+        let wrap = |value: RTenum| match value {
+            RT_REPEAT | RT_CLAMP_TO_EDGE | RT_MIRRORED_REPEAT => Ok(value),
+            _ => Err(Error::invalid_enum(format!("{param:#x} is not a wrap mode (RT_REPEAT, RT_CLAMP_TO_EDGE or RT_MIRRORED_REPEAT)"))),
+        };
+        match pname {
+            RT_TEXTURE_WRAP_S => sampling.wrap_s = wrap(value)?,
+            RT_TEXTURE_WRAP_T => sampling.wrap_t = wrap(value)?,
+            RT_TEXTURE_MAG_FILTER => match value {
+                RT_NEAREST | RT_LINEAR => sampling.mag_filter = value,
+                _ => return Err(Error::invalid_enum(format!("{param:#x} is not a magnification filter (RT_NEAREST or RT_LINEAR)"))),
+            },
+            RT_TEXTURE_MIN_FILTER => {
+                return match value {
+                    RT_NEAREST | RT_LINEAR | RT_NEAREST_MIPMAP_NEAREST | RT_LINEAR_MIPMAP_NEAREST | RT_NEAREST_MIPMAP_LINEAR
+                    | RT_LINEAR_MIPMAP_LINEAR => Ok(()),
+                    _ => Err(Error::invalid_enum(format!("{param:#x} is not a minification filter"))),
+                };
+            }
+            _ => {
+                return Err(Error::invalid_enum(format!(
+                    "{pname:#x} is not a texture parameter (RT_TEXTURE_WRAP_S, RT_TEXTURE_WRAP_T, RT_TEXTURE_MAG_FILTER or RT_TEXTURE_MIN_FILTER)"
+                )));
+            }
+        }
+        // Every slot of a surface shader that names the texture samples it so from now on.
+        let users: Vec<(ShaderId, &'static str)> = self
+            .scene
+            .shaders()
+            .flat_map(|(shader, s)| {
+                s.class().params.iter().filter_map(move |p| p.name.strip_suffix("_texture").filter(|_| s.texture(p.name) == Some(id)).map(|slot| (shader, slot)))
+            })
+            .collect();
+        for (shader, slot) in users {
+            sampling.write_to(&mut self.scene, shader, slot)?;
+        }
+        self.textures.sampling.insert(id, sampling);
         Ok(())
     }
 
@@ -183,6 +273,8 @@ impl Context {
                 self.scene.remove_texture(id)?;
             }
         }
+        // A deleted texture's parameters go with it, as in OpenGL.
+        self.textures.sampling.retain(|t, _| !(start..end).contains(&(t.0 as usize)));
         if self.textures.bound.is_some_and(|b| (start..end).contains(&(b.0 as usize))) {
             self.textures.bound = None;
         }

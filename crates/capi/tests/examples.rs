@@ -1,7 +1,8 @@
 //! The C and C++ examples, built as a user would: the library is installed into a temporary
 //! prefix with scripts/install-capi.sh, each example is compiled with gcc or g++ against the
 //! installed shared library and again against the static one (flags from pkg-config), run in a
-//! directory of its own, and the PNG frames it writes are decoded and checked.
+//! directory of its own, and the PNG frames it writes are decoded and checked. C test programs
+//! (tests/c) are built the same way and check themselves.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -15,7 +16,7 @@ fn root() -> PathBuf {
 }
 
 /// The shared and static libraries, built for this test run: `cargo test` builds only the
-/// crate's Rust library, so this runs `cargo build -p raystage-capi` once, with the test's own
+/// crate's Rust library, so this runs `cargo build -p libraystage` once, with the test's own
 /// profile and target directory (this executable is `<target>/<profile>/deps/examples-*`), which
 /// reuses everything the test build compiled.
 fn artifact_dir() -> &'static Path {
@@ -31,10 +32,10 @@ fn artifact_dir() -> &'static Path {
         };
         let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
         run(Command::new(cargo)
-            .args(["build", "--quiet", "-p", "raystage-capi", "--profile", profile, "--target-dir"])
+            .args(["build", "--quiet", "-p", "libraystage", "--profile", profile, "--target-dir"])
             .arg(target)
             .current_dir(root()));
-        for lib in ["libraystage_capi.so", "libraystage_capi.a"] {
+        for lib in ["libraystage.so", "libraystage.a"] {
             assert!(dir.join(lib).is_file(), "cargo build did not write {}", dir.join(lib).display());
         }
         dir
@@ -86,10 +87,10 @@ enum Linking {
     Static,
 }
 
-/// Compiles example `source` (under examples/) against the installed library, runs it with
-/// `args` in a directory of its own, and returns that directory.
+/// Compiles `source` (a path from the workspace root) against the installed library, runs it
+/// with `args` in a directory of its own, and returns that directory.
 fn build_and_run(source: &str, linking: Linking, args: &[&str]) -> PathBuf {
-    let source = root().join("examples").join(source);
+    let source = root().join(source);
     let stem = source.file_stem().unwrap().to_string_lossy().into_owned();
     let dir = scratch(&format!("{stem}-{linking:?}"));
     let exe = dir.join(&stem);
@@ -131,7 +132,7 @@ fn is_sky(p: &image::Rgba<u8>) -> bool {
 #[test]
 fn late_binding_renders_both_triangles_green() {
     for linking in [Linking::Shared, Linking::Static] {
-        let image = frame(&build_and_run("c/late_binding.c", linking, &[]), "late_binding.png");
+        let image = frame(&build_and_run("examples/c/late_binding.c", linking, &[]), "late_binding.png");
         assert_eq!(image.dimensions(), (160, 80));
         for x in [44, 116] {
             let p = image.get_pixel(x, 45);
@@ -144,7 +145,7 @@ fn late_binding_renders_both_triangles_green() {
 #[test]
 fn eight_cubes_spin_with_their_vertex_colours() {
     for linking in [Linking::Shared, Linking::Static] {
-        let dir = build_and_run("c/eight_cubes.c", linking, &["3", "160", "120"]);
+        let dir = build_and_run("examples/c/eight_cubes.c", linking, &["3", "160", "120"]);
         let (first, last) = (frame(&dir, "eight_cubes_000.png"), frame(&dir, "eight_cubes_002.png"));
         assert_eq!(first.dimensions(), (160, 120));
         assert!(is_sky(first.get_pixel(2, 2)), "{linking:?}: the corner sees the sky");
@@ -161,7 +162,7 @@ fn eight_cubes_spin_with_their_vertex_colours() {
 #[test]
 fn gears_are_red_green_and_blue() {
     for linking in [Linking::Shared, Linking::Static] {
-        let dir = build_and_run("c/gears.c", linking, &["2", "200", "200"]);
+        let dir = build_and_run("examples/c/gears.c", linking, &["2", "200", "200"]);
         let image = frame(&dir, "gears_000.png");
         let (red, green, blue) = (dominated_by(&image, 0), dominated_by(&image, 1), dominated_by(&image, 2));
         assert!(red > 6000 && green > 1200 && blue > 1200, "{linking:?}: red {red}, green {green}, blue {blue} pixels");
@@ -173,7 +174,7 @@ fn gears_are_red_green_and_blue() {
 #[test]
 fn textures_show_a_picture_on_a_checkerboard_under_an_hdr_sky() {
     for linking in [Linking::Shared, Linking::Static] {
-        let image = frame(&build_and_run("c/textures.c", linking, &[]), "textures.png");
+        let image = frame(&build_and_run("examples/c/textures.c", linking, &[]), "textures.png");
         assert_eq!(image.dimensions(), (240, 160));
         // The picture: red above, a blue disc in the middle, yellow below.
         let (top, middle, bottom) = (image.get_pixel(92, 36), image.get_pixel(120, 68), image.get_pixel(92, 100));
@@ -192,7 +193,7 @@ fn textures_show_a_picture_on_a_checkerboard_under_an_hdr_sky() {
 #[test]
 fn three_kinds_of_objects_move_as_their_kinds_do() {
     for linking in [Linking::Shared, Linking::Static] {
-        let dir = build_and_run("c/three_kinds.c", linking, &["3", "240", "135"]);
+        let dir = build_and_run("examples/c/three_kinds.c", linking, &["3", "240", "135"]);
         let frames: Vec<RgbaImage> = (0..3).map(|i| frame(&dir, &format!("three_kinds_{i:03}.png"))).collect();
         for image in &frames {
             assert!(dominated_by(image, 0) > 300, "{linking:?}: the red stripes of the flag and the orange cube");
@@ -209,7 +210,7 @@ fn three_kinds_of_objects_move_as_their_kinds_do() {
 #[test]
 fn motion_blur_smears_the_sliding_cube() {
     for linking in [Linking::Shared, Linking::Static] {
-        let dir = build_and_run("c/motion_blur.c", linking, &["160", "90", "16"]);
+        let dir = build_and_run("examples/c/motion_blur.c", linking, &["160", "90", "16"]);
         let (blurred, still) = (frame(&dir, "motion_blur.png"), frame(&dir, "motion_blur_still.png"));
         // Pixels redder than blue by `margin`: the ground is grey and the sky bluish, so they
         // show the cube's orange, in full (a large margin) or as a trace of it (a small one).
@@ -224,13 +225,66 @@ fn motion_blur_smears_the_sliding_cube() {
 #[test]
 fn the_cpp_wrapper_spins_a_torus() {
     for linking in [Linking::Shared, Linking::Static] {
-        let dir = build_and_run("cpp/spin.cpp", linking, &["2", "160", "120"]);
+        let dir = build_and_run("examples/cpp/spin.cpp", linking, &["2", "160", "120"]);
         let (first, second) = (frame(&dir, "spin_000.png"), frame(&dir, "spin_001.png"));
         let teal = |image: &RgbaImage| {
             image.pixels().filter(|p| !is_sky(p) && p[1].min(p[2]) as i32 > p[0] as i32 + 40).count()
         };
         assert!(teal(&first) > 1000, "{linking:?}: the torus covers {} pixels", teal(&first));
         assert_ne!(first, second, "{linking:?}: the torus spins");
+    }
+}
+
+/// The OpenGL 1.x calls a porter needs (`tests/c/gl_port.c`): orthographic and off-axis
+/// cameras, the clear colour, `rtColor4f`, `rtVertex2f`, the double-precision calls, internal
+/// formats 3 and 4, the `rtGet*` queries, `rtEndObject` closing a primitive, and
+/// `RT_MAX_COORDINATE`, with their errors; the program checks its pixels and errors itself.
+#[test]
+fn gl_port_checks_pass() {
+    for linking in [Linking::Shared, Linking::Static] {
+        build_and_run("crates/capi/tests/c/gl_port.c", linking, &[]);
+    }
+}
+
+/// The build tree's library has the installed one's name: a program links with `-lraystage`
+/// against cargo's output directory as against an install, and finds it by its SONAME.
+#[test]
+fn the_build_tree_links_with_the_installed_name() {
+    let dir = scratch("build-tree");
+    let exe = dir.join("late_binding");
+    run(Command::new("gcc")
+        .args(["-std=c99", "-O1"])
+        .arg(root().join("examples/c/late_binding.c"))
+        .arg(format!("-I{}", root().join("api/include").display()))
+        .arg(format!("-L{}", artifact_dir().display()))
+        .args(["-lraystage", "-lm", "-o"])
+        .arg(&exe));
+    let needed = run(Command::new("readelf").arg("-d").arg(&exe));
+    assert!(needed.contains("Shared library: [libraystage.so]"), "{needed}");
+    run(Command::new(&exe).current_dir(&dir).env("LD_LIBRARY_PATH", artifact_dir()));
+    assert!(frame(&dir, "late_binding.png").get_pixel(116, 45)[1] > 200, "triangle B is green");
+}
+
+/// The installed tree works where it is moved: the `.pc` files find the prefix from their own
+/// location, so a program builds and runs against the moved copy with its pkg-config flags.
+#[test]
+fn a_moved_install_still_builds() {
+    let moved = scratch("moved").join("elsewhere");
+    run(Command::new("cp").arg("-r").arg(prefix()).arg(&moved));
+    let dir = scratch("moved-build");
+    for package in ["raystage", "raystage-static"] {
+        let flags = run(Command::new("pkg-config").env("PKG_CONFIG_PATH", moved.join("lib/pkgconfig")).args(["--cflags", "--libs", package]));
+        assert!(!flags.contains(&prefix().display().to_string()), "{package}: the flags name the old prefix: {flags}");
+        let exe = dir.join(package);
+        run(Command::new("gcc")
+            .args(["-std=c99", "-O1"])
+            .arg(root().join("examples/c/late_binding.c"))
+            .arg("-o")
+            .arg(&exe)
+            .args(flags.split_whitespace())
+            .arg("-lm"));
+        run(Command::new(&exe).current_dir(&dir).env("LD_LIBRARY_PATH", moved.join("lib")));
+        assert!(frame(&dir, "late_binding.png").get_pixel(116, 45)[1] > 200, "{package}: triangle B is green");
     }
 }
 

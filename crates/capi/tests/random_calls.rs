@@ -25,6 +25,7 @@ enum Call {
     Begin(RTenum),
     End,
     Vertex([f32; 3]),
+    Vertex2([f32; 2]),
     Normal([f32; 3]),
     Color([f32; 3]),
     TexCoord([f32; 2]),
@@ -38,6 +39,11 @@ enum Call {
     Rotate(f32, [f32; 3]),
     Scale([f32; 3]),
     Perspective(f32),
+    /// `rtOrtho` (true) or `rtFrustum` (false) with left, right, bottom, top, znear, zfar.
+    Window(bool, [f32; 6]),
+    ClearColor([f32; 4]),
+    TexParameter(RTenum, RTint),
+    Get(RTenum),
     LookAt([f32; 3]),
     Lens(f32, f32),
     Shutter(f32, f32),
@@ -91,6 +97,25 @@ const RENDER_MODES: &[RTenum] = &[RT_AUTO, RT_EYELIGHT, RT_WHITTED, RT_DISTRIBUT
 const RENDER_PARAMETERS: &[RTenum] = &[RT_SAMPLES_PER_PIXEL, RT_RAY_DEPTH, RT_LIGHT_SAMPLES, RT_RUSSIAN_ROULETTE, RT_SEED];
 const PARAMS: &[&str] = &["diffuse", "color", "position", "intensity", "cone", "specularColor", "diffuse_texture", "map"];
 const PIXEL_FORMATS: &[RTenum] = &[RT_LUMINANCE, RT_RGB, RT_RGBA];
+const TEXTURE_PARAMETERS: &[RTenum] = &[RT_TEXTURE_WRAP_S, RT_TEXTURE_WRAP_T, RT_TEXTURE_MAG_FILTER, RT_TEXTURE_MIN_FILTER];
+const WRAPS: &[RTenum] = &[RT_REPEAT, RT_CLAMP_TO_EDGE, RT_MIRRORED_REPEAT];
+const FILTERS: &[RTenum] = &[RT_NEAREST, RT_LINEAR];
+const MIN_FILTERS: &[RTenum] =
+    &[RT_NEAREST, RT_LINEAR, RT_NEAREST_MIPMAP_NEAREST, RT_LINEAR_MIPMAP_NEAREST, RT_NEAREST_MIPMAP_LINEAR, RT_LINEAR_MIPMAP_LINEAR];
+const QUERIES: &[RTenum] = &[
+    RT_MODELVIEW_MATRIX,
+    RT_TEXTURE_MATRIX,
+    RT_MODELVIEW_STACK_DEPTH,
+    RT_TEXTURE_STACK_DEPTH,
+    RT_MATRIX_MODE,
+    RT_CURRENT_COLOR,
+    RT_CURRENT_NORMAL,
+    RT_CURRENT_TEXTURE_COORDS,
+    RT_SHADE_MODEL,
+    RT_COLOR_CLEAR_VALUE,
+    RT_VIEWPORT,
+    RT_TEXTURE_BINDING_2D,
+];
 
 /// Shutter times: mostly in [0, 1], sometimes not, or not numbers.
 fn time() -> impl Strategy<Value = f32> {
@@ -126,6 +151,7 @@ fn call() -> impl Strategy<Value = Call> {
         4 => one_of(PRIMITIVES).prop_map(Call::Begin),
         4 => Just(Call::End),
         10 => vec3().prop_map(Call::Vertex),
+        2 => [number(), number()].prop_map(Call::Vertex2),
         1 => vec3().prop_map(Call::Normal),
         1 => vec3().prop_map(Call::Color),
         1 => [number(), number()].prop_map(Call::TexCoord),
@@ -140,6 +166,11 @@ fn call() -> impl Strategy<Value = Call> {
         1 => vec3().prop_map(Call::Scale),
         1 => prop_oneof![1.0f32..179.0, Just(0.0), Just(180.0), Just(f32::NAN)].prop_map(Call::Perspective),
         1 => vec3().prop_map(Call::LookAt),
+        1 => (any::<bool>(), [number(), number(), number(), number(), number(), number()]).prop_map(|(o, w)| Call::Window(o, w)),
+        1 => [number(), number(), number(), number()].prop_map(Call::ClearColor),
+        1 => (one_of(TEXTURE_PARAMETERS), prop_oneof![proptest::sample::select(WRAPS), proptest::sample::select(FILTERS), (-1i32..0x9000).prop_map(|v| v as RTenum)])
+            .prop_map(|(p, v)| Call::TexParameter(p, v as RTint)),
+        1 => one_of(QUERIES).prop_map(Call::Get),
         1 => (number(), number()).prop_map(|(a, f)| Call::Lens(a, f)),
         1 => (time(), time()).prop_map(|(o, c)| Call::Shutter(o, c)),
         1 => one_of(RENDER_MODES).prop_map(Call::RenderMode),
@@ -210,6 +241,7 @@ enum Expect {
 const OK_OR_VALUE: &[RTenum] = &[RT_NO_ERROR, RT_INVALID_VALUE];
 const OK_OR_OPERATION: &[RTenum] = &[RT_NO_ERROR, RT_INVALID_OPERATION];
 const OK_VALUE_OR_OPERATION: &[RTenum] = &[RT_NO_ERROR, RT_INVALID_VALUE, RT_INVALID_OPERATION];
+const ENUM_OR_OPERATION: &[RTenum] = &[RT_INVALID_ENUM, RT_INVALID_OPERATION];
 
 /// The state of the C ABI that decides most errors.
 #[derive(Debug, Default)]
@@ -266,7 +298,8 @@ impl Model {
     fn expect(&self, call: &Call) -> Expect {
         use Call::*;
         use Expect::*;
-        let vertex_call = matches!(call, Vertex(_) | Normal(_) | Color(_) | TexCoord(_) | End);
+        // The calls allowed between rtBegin and rtEnd (rtEndObject ends the primitive too).
+        let vertex_call = matches!(call, Vertex(_) | Vertex2(_) | Normal(_) | Color(_) | TexCoord(_) | End | EndObject | Get(_));
         if self.in_primitive && !vertex_call {
             return Code(RT_INVALID_OPERATION);
         }
@@ -306,6 +339,9 @@ impl Model {
             Vertex(_) if !self.in_primitive => Code(RT_INVALID_OPERATION),
             Vertex(v) if !Model::finite(v) => Code(RT_INVALID_VALUE),
             Vertex(_) => OneOf(OK_OR_VALUE),
+            Vertex2(_) if !self.in_primitive => Code(RT_INVALID_OPERATION),
+            Vertex2(v) if !Model::finite(v) => Code(RT_INVALID_VALUE),
+            Vertex2(_) => OneOf(OK_OR_VALUE),
             Normal(v) | Color(v) => value(Model::finite(v)),
             TexCoord(v) => value(Model::finite(v)),
             ShadeModel(m) => enumerated(*m, SHADE),
@@ -318,6 +354,29 @@ impl Model {
             Rotate(a, v) if !Model::finite(v) || !a.is_finite() || *v == [0.0; 3] => Code(RT_INVALID_VALUE),
             Translate(_) | Scale(_) | Rotate(..) | LookAt(_) => OneOf(OK_OR_VALUE),
             Perspective(fov) => value(*fov > 0.0 && *fov < 180.0),
+            Window(orthographic, w) => {
+                let [left, right, bottom, top, near, far] = *w;
+                let empty = left == right || bottom == top || near == far;
+                let depth_ok = *orthographic || (near > 0.0 && far > near);
+                if !Model::finite(w) || empty || !depth_ok {
+                    Code(RT_INVALID_VALUE)
+                } else {
+                    // A window wider than single precision's range is refused too.
+                    OneOf(OK_OR_VALUE)
+                }
+            }
+            ClearColor(c) => value(Model::finite(c) && c[..3].iter().all(|&x| x >= 0.0)),
+            TexParameter(p, v) => {
+                let values = match *p {
+                    RT_TEXTURE_WRAP_S | RT_TEXTURE_WRAP_T => WRAPS,
+                    RT_TEXTURE_MAG_FILTER => FILTERS,
+                    RT_TEXTURE_MIN_FILTER => MIN_FILTERS,
+                    _ => &[],
+                };
+                // No bound texture is an error before the enums are looked at.
+                OneOf(if values.contains(&(*v as RTenum)) { OK_OR_OPERATION } else { ENUM_OR_OPERATION })
+            }
+            Get(p) => enumerated(*p, QUERIES),
             Lens(a, f) => value(Model::finite(&[*a, *f]) && *a >= 0.0 && *f >= 0.0),
             Shutter(open, close) => value(0.0 <= *open && open <= close && *close <= 1.0),
             RenderMode(m) => enumerated(*m, RENDER_MODES),
@@ -351,7 +410,7 @@ impl Model {
         use Call::*;
         let ok = code == RT_NO_ERROR;
         match call {
-            EndObject if self.defining && !self.in_primitive => self.defining = false,
+            EndObject if self.defining => (self.defining, self.in_primitive) = (false, false),
             _ if !ok => {}
             GenObjects(n) => self.objects += n,
             GenShaderClasses(n) => self.classes += n,
@@ -386,6 +445,7 @@ fn perform(call: &Call) -> Option<RTint> {
         Begin(mode) => rtBegin(*mode),
         End => rtEnd(),
         Vertex([x, y, z]) => rtVertex3f(*x, *y, *z),
+        Vertex2([x, y]) => rtVertex2f(*x, *y),
         Normal(v) => unsafe { rtNormal3fv(v.as_ptr()) },
         Color([r, g, b]) => rtColor3f(*r, *g, *b),
         TexCoord([s, t]) => rtTexCoord2f(*s, *t),
@@ -402,6 +462,16 @@ fn perform(call: &Call) -> Option<RTint> {
         Rotate(a, [x, y, z]) => rtRotatef(*a, *x, *y, *z),
         Scale([x, y, z]) => rtScalef(*x, *y, *z),
         Perspective(fov) => rtPerspective(*fov, 1.0, 0.1, 100.0),
+        Window(orthographic, w) => {
+            let [l, r, b, t, n, f] = w.map(f64::from);
+            if *orthographic { rtOrtho(l, r, b, t, n, f) } else { rtFrustum(l, r, b, t, n, f) }
+        }
+        ClearColor([r, g, b, a]) => rtClearColor(*r, *g, *b, *a),
+        TexParameter(p, v) => rtTexParameteri(RT_TEXTURE_2D, *p, *v),
+        Get(p) => {
+            let mut values = [0.0f32; 16];
+            unsafe { rtGetFloatv(*p, values.as_mut_ptr()) };
+        }
         LookAt([x, y, z]) => rtLookAt(*x, *y, *z, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0),
         Lens(aperture, focus) => rtLens(*aperture, *focus),
         Shutter(open, close) => rtShutter(*open, *close),

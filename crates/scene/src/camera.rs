@@ -1,14 +1,16 @@
-//! The camera: a pinhole looking from an eye point at a target.
+//! The camera: a pinhole (or thin lens, or orthographic window) looking from an eye point at a
+//! target.
 
 use glam::{Vec2, Vec3, Vec4};
 use raystage_kernel::Ray;
 
 use crate::error::SceneError;
 
-/// A perspective camera (`rtPerspective` + `rtLookAt`): a pinhole, or a thin lens that focuses
-/// at one distance and blurs the rest (depth of field), with a shutter that stays open over part
-/// of the frame's time (motion blur). The horizontal field of view follows from the image's
-/// aspect ratio.
+/// A camera (`rtLookAt` with `rtPerspective`, `rtFrustum` or `rtOrtho`): a pinhole, or a thin
+/// lens that focuses at one distance and blurs the rest (depth of field), with a shutter that
+/// stays open over part of the frame's time (motion blur). Its [`Projection`] says how pixels
+/// map to rays: by default a symmetric field of view whose horizontal extent follows from the
+/// image's aspect ratio.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
     /// Eye position (the centre of the lens).
@@ -17,8 +19,10 @@ pub struct Camera {
     pub target: Vec3,
     /// Which way is up (need not be perpendicular to the view direction).
     pub up: Vec3,
-    /// Vertical field of view in degrees, in `(0, 180)`.
+    /// Vertical field of view in degrees, in `(0, 180)` (used by [`Projection::Perspective`]).
     pub fov_y_degrees: f32,
+    /// How the image maps to rays.
+    pub projection: Projection,
     /// Radius of the lens; 0 for a pinhole (everything sharp).
     pub aperture_radius: f32,
     /// Distance from the eye at which the lens focuses; 0 to focus on the target.
@@ -37,10 +41,84 @@ impl Default for Camera {
             target: Vec3::ZERO,
             up: Vec3::Y,
             fov_y_degrees: 45.0,
+            projection: Projection::Perspective,
             aperture_radius: 0.0,
             focus_distance: 0.0,
             shutter: [0.0, 0.0],
         }
+    }
+}
+
+/// How a camera maps the image to rays. The window variants are OpenGL's `glFrustum` and
+/// `glOrtho`: the window `[left, right] × [bottom, top]` (in the camera's frame: x right, y up)
+/// fills the whole image, whatever its aspect ratio, as OpenGL's viewport does.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Projection {
+    /// Rays from the eye, through a window centred on the view direction that spans the
+    /// camera's `fov_y_degrees` vertically and the image's aspect ratio horizontally.
+    Perspective,
+    /// Rays from the eye through the window `[left, right] × [bottom, top]` on the plane at
+    /// distance `near` along the view direction (an off-axis perspective when not centred).
+    Frustum {
+        /// The window's edges on the near plane.
+        left: f32,
+        /// See `left`.
+        right: f32,
+        /// See `left`.
+        bottom: f32,
+        /// See `left`.
+        top: f32,
+        /// The window plane's distance from the eye, positive.
+        near: f32,
+    },
+    /// Parallel rays along the view direction, one through each point of the window
+    /// `[left, right] × [bottom, top]`, starting on the plane at distance `near` along the view
+    /// direction (which may lie behind the eye, as OpenGL's may). No depth of field.
+    Orthographic {
+        /// The window's edges.
+        left: f32,
+        /// See `left`.
+        right: f32,
+        /// See `left`.
+        bottom: f32,
+        /// See `left`.
+        top: f32,
+        /// Where the rays start, along the view direction from the eye.
+        near: f32,
+    },
+}
+
+impl Projection {
+    /// Checks a window projection: finite numbers, a window of some width and height (either
+    /// may be mirrored, as in OpenGL), and a positive `near` for a frustum.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let (window, near, frustum) = match *self {
+            Projection::Perspective => return Ok(()),
+            Projection::Frustum { left, right, bottom, top, near } => ([left, right, bottom, top], near, true),
+            Projection::Orthographic { left, right, bottom, top, near } => ([left, right, bottom, top], near, false),
+        };
+        if let Some(index) = window.iter().chain([&near]).position(|v| !v.is_finite()) {
+            return Err(SceneError::NotFinite { field: "camera.projection", index });
+        }
+        let [left, right, bottom, top] = window;
+        // The window's extent is divided by: it must be a normal number, not just non-zero.
+        if !((right - left).is_normal() && (top - bottom).is_normal()) {
+            return Err(SceneError::OutOfRange {
+                field: "camera.projection",
+                message: format!("the window [{left}, {right}] × [{bottom}, {top}] has no width or no height"),
+            });
+        }
+        if frustum && near <= 0.0 {
+            return Err(SceneError::OutOfRange { field: "camera.projection", message: format!("near is {near}, not positive") });
+        }
+        // A frustum's rays go through the window scaled to distance 1: that must stay finite.
+        if frustum && [right - left, top - bottom].iter().chain(&window).any(|v| !(v / near).is_finite()) {
+            return Err(SceneError::OutOfRange {
+                field: "camera.projection",
+                message: format!("the window [{left}, {right}] × [{bottom}, {top}] is too wide for near {near}"),
+            });
+        }
+        Ok(())
     }
 }
 
@@ -52,9 +130,9 @@ impl Camera {
         Ok(camera)
     }
 
-    /// Whether the lens blurs (depth of field).
+    /// Whether the lens blurs (depth of field): an aperture, and rays that meet at the eye.
     pub fn has_depth_of_field(&self) -> bool {
-        self.aperture_radius > 0.0
+        self.aperture_radius > 0.0 && !matches!(self.projection, Projection::Orthographic { .. })
     }
 
     /// Whether the shutter stays open over an interval (motion blur is possible).
@@ -83,6 +161,7 @@ impl Camera {
                 message: format!("{} is not in (0, 180)", self.fov_y_degrees),
             });
         }
+        self.projection.validate()?;
         for (field, v) in [("camera.aperture_radius", self.aperture_radius), ("camera.focus_distance", self.focus_distance)] {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(SceneError::OutOfRange { field, message: format!("{v} is not a finite number >= 0") });
@@ -111,13 +190,33 @@ impl Camera {
         let forward = (self.target - self.eye).normalize();
         let right = forward.cross(self.up).normalize();
         let up = right.cross(forward);
-        let tan = (0.5 * self.fov_y_degrees.to_radians()).tan();
         let (w, h) = (width as f32, height as f32);
         let lens = self.has_depth_of_field().then(|| Lens {
             radius: self.aperture_radius,
             focus: if self.focus_distance > 0.0 { self.focus_distance } else { (self.target - self.eye).length() },
         });
-        CameraRays { eye: self.eye, forward, right: right * (2.0 * tan / h), up: up * (2.0 * tan / h), centre: Vec2::new(w, h) * 0.5, lens }
+        // The window `[left, right] × [bottom, top]` on the plane at distance `d` (1 for the
+        // symmetric field of view) becomes a step per pixel along each axis and the pixel
+        // position of the view axis, so that every projection makes its rays alike.
+        let window = |left: f32, right_edge: f32, bottom: f32, top: f32, d: f32| {
+            let step = Vec2::new((right_edge - left) / (d * w), (top - bottom) / (d * h));
+            (step, Vec2::new(-left / (right_edge - left) * w, top / (top - bottom) * h))
+        };
+        let (step, centre, eye, parallel) = match self.projection {
+            Projection::Perspective => {
+                let tan = (0.5 * self.fov_y_degrees.to_radians()).tan();
+                (Vec2::splat(2.0 * tan / h), Vec2::new(w, h) * 0.5, self.eye, false)
+            }
+            Projection::Frustum { left, right, bottom, top, near } => {
+                let (step, centre) = window(left, right, bottom, top, near);
+                (step, centre, self.eye, false)
+            }
+            Projection::Orthographic { left, right, bottom, top, near } => {
+                let (step, centre) = window(left, right, bottom, top, 1.0);
+                (step, centre, self.eye + forward * near, true)
+            }
+        };
+        CameraRays { eye, forward, right: right * step.x, up: up * step.y, centre, lens, parallel }
     }
 }
 
@@ -126,12 +225,16 @@ impl Camera {
 pub struct CameraRays {
     eye: Vec3,
     forward: Vec3,
-    /// The camera's right and up vectors, scaled to one pixel on the image plane at distance 1.
+    /// The camera's right and up vectors, scaled to one pixel on the image plane at distance 1
+    /// (or, for parallel rays, on the plane of their origins).
     right: Vec3,
     up: Vec3,
-    /// The image centre, in pixels.
+    /// Where the view axis meets the image, in pixels (the image centre unless off-axis).
     centre: Vec2,
     lens: Option<Lens>,
+    /// Orthographic: every ray goes along `forward`, from its own point of the plane through
+    /// `eye` (which then is on the near plane).
+    parallel: bool,
 }
 
 /// A thin lens.
@@ -148,6 +251,10 @@ impl CameraRays {
     /// ray; with an aperture, all rays through one image position meet at the focus distance,
     /// so only objects there are sharp. The direction is a unit vector.
     pub fn ray(&self, px: f32, py: f32, lens: [f32; 2]) -> Ray {
+        if self.parallel {
+            let offset = self.right * (px - self.centre.x) + self.up * (self.centre.y - py);
+            return Ray::new(self.eye + offset, self.forward);
+        }
         let dir = self.pinhole_direction(px, py).normalize();
         let Some(Lens { radius, focus }) = self.lens else {
             return Ray::new(self.eye, dir);
@@ -170,7 +277,7 @@ impl CameraRays {
     pub fn centre_rays(&self, pixels: &[(u32, u32)], out: &mut [Ray]) {
         const N: usize = 8;
         assert!(pixels.len() <= N && out.len() >= pixels.len(), "up to eight pixels, a ray each");
-        if self.lens.is_some() {
+        if self.lens.is_some() || self.parallel {
             for (&(x, y), ray) in pixels.iter().zip(out.iter_mut()) {
                 *ray = self.ray(x as f32 + 0.5, y as f32 + 0.5, [0.5, 0.5]);
             }
@@ -223,5 +330,67 @@ mod tests {
                 assert_eq!((ray.origin, ray.dir), (one.origin, one.dir), "pixel ({x}, {y})");
             }
         }
+    }
+
+    /// A frustum centred on the view axis with the image's aspect ratio is the symmetric
+    /// perspective; an off-axis one shifts the view axis in the image.
+    #[test]
+    fn frustum_windows_map_onto_the_image() {
+        let eye = Vec3::new(0.0, 0.0, 5.0);
+        let perspective = Camera::look_at(eye, Vec3::ZERO, Vec3::Y, 90.0).unwrap();
+        let frustum = Camera { projection: Projection::Frustum { left: -0.4, right: 0.4, bottom: -0.2, top: 0.2, near: 0.2 }, ..perspective };
+        frustum.validate().unwrap();
+        let (a, b) = (perspective.rays(64, 32), frustum.rays(64, 32));
+        for (x, y) in [(0.0, 0.0), (64.0, 32.0), (17.5, 3.25)] {
+            let (p, f) = (a.ray(x, y, [0.5; 2]), b.ray(x, y, [0.5; 2]));
+            assert!((p.dir - f.dir).length() < 1e-6 && p.origin == f.origin, "({x}, {y}): {p:?} {f:?}");
+        }
+        // The window [0, 1] × [0, 1] at distance 1: the view axis is the bottom-left corner.
+        let corner = Camera { projection: Projection::Frustum { left: 0.0, right: 1.0, bottom: 0.0, top: 1.0, near: 1.0 }, ..perspective };
+        let ray = corner.rays(10, 10).ray(0.0, 10.0, [0.5; 2]);
+        assert!((ray.dir - Vec3::NEG_Z).length() < 1e-6, "{ray:?}");
+        let ray = corner.rays(10, 10).ray(10.0, 0.0, [0.5; 2]);
+        assert!((ray.dir - Vec3::new(1.0, 1.0, -1.0).normalize()).length() < 1e-6, "{ray:?}");
+    }
+
+    /// Orthographic rays are parallel, start on the near plane (behind the eye if it is
+    /// negative), and cover the window, with packets the same as single rays.
+    #[test]
+    fn orthographic_rays_are_parallel_and_cover_the_window() {
+        let camera = Camera {
+            projection: Projection::Orthographic { left: -2.0, right: 2.0, bottom: -1.0, top: 1.0, near: -1.0 },
+            aperture_radius: 0.5,
+            ..Camera::default()
+        };
+        camera.validate().unwrap();
+        assert!(!camera.has_depth_of_field(), "parallel rays have no lens");
+        let rays = camera.rays(40, 20);
+        let ray = rays.ray(0.0, 0.0, [0.5; 2]);
+        assert_eq!((ray.origin, ray.dir), (Vec3::new(-2.0, 1.0, 6.0), Vec3::NEG_Z));
+        let ray = rays.ray(40.0, 20.0, [0.5; 2]);
+        assert_eq!((ray.origin, ray.dir), (Vec3::new(2.0, -1.0, 6.0), Vec3::NEG_Z));
+        let mut out = [Ray::new(Vec3::ZERO, Vec3::Z); 8];
+        let pixels: Vec<(u32, u32)> = (0..8).map(|i| (i * 5, i)).collect();
+        rays.centre_rays(&pixels, &mut out);
+        for (&(x, y), ray) in pixels.iter().zip(&out) {
+            let one = rays.ray(x as f32 + 0.5, y as f32 + 0.5, [0.5, 0.5]);
+            assert_eq!((ray.origin, ray.dir), (one.origin, one.dir));
+        }
+    }
+
+    #[test]
+    fn window_projections_are_checked() {
+        let bad = [
+            Projection::Frustum { left: 1.0, right: 1.0, bottom: 0.0, top: 1.0, near: 1.0 },
+            Projection::Frustum { left: 0.0, right: 1.0, bottom: 0.0, top: 1.0, near: 0.0 },
+            Projection::Orthographic { left: 0.0, right: 1.0, bottom: 2.0, top: 2.0, near: 0.0 },
+            Projection::Orthographic { left: f32::NAN, right: 1.0, bottom: 0.0, top: 1.0, near: 0.0 },
+            Projection::Frustum { left: -1e30, right: 1e30, bottom: 0.0, top: 1.0, near: 1e-20 },
+        ];
+        for projection in bad {
+            assert!(Camera { projection, ..Camera::default() }.validate().is_err(), "{projection:?}");
+        }
+        let mirrored = Projection::Orthographic { left: 1.0, right: -1.0, bottom: 0.0, top: 1.0, near: -5.0 };
+        assert!(Camera { projection: mirrored, ..Camera::default() }.validate().is_ok());
     }
 }

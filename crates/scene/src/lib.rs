@@ -31,7 +31,7 @@ mod spawn;
 mod tangents;
 mod texture;
 
-pub use camera::{Camera, CameraRays};
+pub use camera::{Camera, CameraRays, Projection};
 pub use error::SceneError;
 pub use frame::{Frame, FrameWork, PreviewAttributes, PreviewPoint, SceneHit, SurfaceLanes, SurfacePoint, WorldTriangle};
 pub use ids::{InstanceId, LightId, ObjectId, ShaderId, TextureId};

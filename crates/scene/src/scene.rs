@@ -213,6 +213,11 @@ impl Scene {
         self.instances.get(id.0).map(|i| i.start).ok_or(SceneError::UnknownInstance(id))
     }
 
+    /// The object an instance places.
+    pub fn instance_object(&self, id: InstanceId) -> Result<ObjectId, SceneError> {
+        self.instances.get(id.0).map(|i| i.object).ok_or(SceneError::UnknownInstance(id))
+    }
+
     /// Moves an instance and sets its motion during the shutter: `start` at its opening, `end`
     /// (if any) at its close.
     pub fn set_motion(&mut self, id: InstanceId, start: Affine3A, end: Option<Affine3A>) -> Result<(), SceneError> {

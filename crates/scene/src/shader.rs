@@ -224,13 +224,22 @@ const DIFFUSE: ParamDecl = ParamDecl {
     choices: ANY,
     doc: "Diffuse reflectance (albedo), linear RGB in [0, 1].",
 };
-const DIFFUSE_TEXTURE: ParamDecl = ParamDecl {
-    name: "diffuse_texture",
-    default: ParamValue::Texture(None),
-    range: NON_NEGATIVE,
-    choices: ANY,
-    doc: "A texture whose colour multiplies `diffuse`; none by default.",
-};
+/// The texture slot of `Diffuse` and `Phong`, sampled as `PhysicallyBased`'s are (wrap modes,
+/// filter, coordinates), so that the C ABI's `rtTexParameteri` has parameters to set.
+const DIFFUSE_SLOT: [ParamDecl; SLOT_PARAMS] = texture_slot!("diffuse", "A texture whose colour multiplies `diffuse`; none by default.");
+
+/// The parameters of `Diffuse`.
+static DIFFUSE_PARAMS: [ParamDecl; 1 + SLOT_PARAMS] = joined(&[DIFFUSE], &[DIFFUSE_SLOT]);
+
+/// The parameters of `Phong`: its own, then its texture slot's.
+static PHONG_PARAMS: [ParamDecl; 3 + SLOT_PARAMS] = joined(
+    &[
+        ParamDecl { name: "diffuse", default: ParamValue::Color(Vec3::splat(0.5)), range: FRACTION, choices: ANY, doc: "Diffuse reflectance, linear RGB." },
+        ParamDecl { name: "specular", default: ParamValue::Color(Vec3::splat(0.4)), range: FRACTION, choices: ANY, doc: "Specular reflectance of the highlight." },
+        ParamDecl { name: "shininess", default: ParamValue::Float(40.0), range: [1.0, 10_000.0], choices: ANY, doc: "Blinn-Phong exponent: higher is a tighter highlight (1 to 10,000)." },
+    ],
+    &[DIFFUSE_SLOT],
+);
 
 /// Every built-in shader class.
 pub static SHADER_CLASSES: &[ShaderClass] = &[
@@ -238,7 +247,7 @@ pub static SHADER_CLASSES: &[ShaderClass] = &[
         name: "Diffuse",
         doc: "Matte surface: Lambertian reflection of every light, with shadows.",
         model: ShadingModel::Diffuse,
-        params: &[DIFFUSE, DIFFUSE_TEXTURE],
+        params: &DIFFUSE_PARAMS,
     },
     ShaderClass {
         name: "VertexColor",
@@ -256,12 +265,7 @@ pub static SHADER_CLASSES: &[ShaderClass] = &[
         name: "Phong",
         doc: "Plastic: Lambertian diffuse plus a Blinn-Phong specular highlight of each light.",
         model: ShadingModel::Phong,
-        params: &[
-            ParamDecl { name: "diffuse", default: ParamValue::Color(Vec3::splat(0.5)), range: FRACTION, choices: ANY, doc: "Diffuse reflectance, linear RGB." },
-            DIFFUSE_TEXTURE,
-            ParamDecl { name: "specular", default: ParamValue::Color(Vec3::splat(0.4)), range: FRACTION, choices: ANY, doc: "Specular reflectance of the highlight." },
-            ParamDecl { name: "shininess", default: ParamValue::Float(40.0), range: [1.0, 10_000.0], choices: ANY, doc: "Blinn-Phong exponent: higher is a tighter highlight (1 to 10,000)." },
-        ],
+        params: &PHONG_PARAMS,
     },
     ShaderClass {
         name: "Mirror",

@@ -416,6 +416,15 @@ fn packets_through_the_top_level_hit_and_are_blocked_as_single_rays() {
         for (ray, packet) in rays.iter().zip(&many) {
             prop_assert_eq!(*packet, frame.intersect(ray, 0.0));
         }
+        // Parallel rays from different origins, as an orthographic camera makes them: found as
+        // one by one.
+        let along = (first - eye).normalize_or(Vec3::Z);
+        let parallel: Vec<Ray> = targets.iter().map(|&(x, y, z)| Ray::new(eye + Vec3::new(x, y, z) * spread, along)).collect();
+        let mut found = vec![None; parallel.len()];
+        frame.intersect_many(&parallel, &mut found, 0.0);
+        for (ray, packet) in parallel.iter().zip(&found) {
+            prop_assert_eq!(*packet, frame.intersect(ray, 0.0));
+        }
         // Shadow-ray segments from the same origin, ending short of, at and beyond the hits:
         // blocked as a packet exactly as one by one.
         let segments: Vec<Ray> = rays

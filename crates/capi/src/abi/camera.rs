@@ -1,15 +1,40 @@
-//! The camera: where it looks from, its lens and its shutter. Like OpenRT's, these calls set
-//! the camera and touch no matrix.
+//! The camera: where it looks from, how the image maps to rays, its lens and its shutter. Like
+//! OpenRT's, these calls set the camera and touch no matrix.
 
-use crate::abi::types::RTfloat;
+use crate::abi::types::{RTdouble, RTfloat};
 use crate::boundary::call;
 
-/// Sets the camera's vertical field of view to `fovy` degrees, in (0, 180). `aspect`, `znear`
-/// and `zfar` are checked (positive, `znear < zfar`) but do not change the image: its aspect
-/// ratio is the frame buffer's, and a ray tracer clips nothing.
+/// Sets a symmetric perspective projection with a vertical field of view of `fovy` degrees, in
+/// (0, 180). `aspect`, `znear` and `zfar` are checked (positive, `znear < zfar`) but do not
+/// change the image: its aspect ratio is the frame buffer's, and a ray tracer clips nothing.
+/// Replaces the projection `rtFrustum` or `rtOrtho` set.
 #[unsafe(no_mangle)]
 pub extern "C" fn rtPerspective(fovy: RTfloat, aspect: RTfloat, znear: RTfloat, zfar: RTfloat) {
     call("rtPerspective", |ctx| ctx.perspective(fovy, aspect, znear, zfar))
+}
+
+/// Sets an off-axis perspective projection, as OpenGL's `glFrustum`: rays from the eye through
+/// the window `[left, right] × [bottom, top]` on the plane at distance `znear` in front of it
+/// (x to the right, y up, in the camera's frame that `rtLookAt` sets). The window fills the
+/// frame buffer whatever its aspect ratio, as OpenGL's viewport does. Needs `left != right`,
+/// `bottom != top` and 0 < `znear` < `zfar` (else `RT_INVALID_VALUE`); `zfar` clips nothing.
+/// Replaces the projection `rtPerspective` or `rtOrtho` set.
+#[unsafe(no_mangle)]
+pub extern "C" fn rtFrustum(left: RTdouble, right: RTdouble, bottom: RTdouble, top: RTdouble, znear: RTdouble, zfar: RTdouble) {
+    call("rtFrustum", |ctx| ctx.window_projection(false, [left, right, bottom, top, znear, zfar]))
+}
+
+/// Sets an orthographic projection, as OpenGL's `glOrtho`: parallel rays along the view
+/// direction, one through each point of the window `[left, right] × [bottom, top]` (in the
+/// camera's frame), starting `znear` in front of the eye; `znear` may be negative, so that what
+/// lies just behind the eye shows, as in OpenGL (`rtOrtho(0, w, 0, h, -1, 1)` with the camera at
+/// z = 0 draws the plane z = 0). The window fills the frame buffer. Needs `left != right`,
+/// `bottom != top` and `znear != zfar` (else `RT_INVALID_VALUE`); `zfar` clips nothing. There
+/// is no depth of field: `rtLens` has no effect while it is in force. Replaces the projection
+/// `rtPerspective` or `rtFrustum` set.
+#[unsafe(no_mangle)]
+pub extern "C" fn rtOrtho(left: RTdouble, right: RTdouble, bottom: RTdouble, top: RTdouble, znear: RTdouble, zfar: RTdouble) {
+    call("rtOrtho", |ctx| ctx.window_projection(true, [left, right, bottom, top, znear, zfar]))
 }
 
 /// Places the camera at the eye point, looking at the centre point, with `up` pointing up in the

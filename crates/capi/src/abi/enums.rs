@@ -1,7 +1,7 @@
 //! The constants of the C ABI. Values that OpenGL also has keep OpenGL's numbers, so a ported
 //! program's constants mean the same; raystage's own values start at 0x9000.
 
-use crate::abi::types::{RTenum, RTint, RTsizei};
+use crate::abi::types::{RTenum, RTfloat, RTint, RTsizei};
 
 // ----- error codes (rtGetError) -----
 
@@ -69,6 +69,36 @@ pub const RT_TEXTURE: RTenum = 0x1702;
 /// Matrices each stack holds at most; a push beyond records `RT_STACK_OVERFLOW`.
 pub const RT_MAX_STACK_DEPTH: RTsizei = 32;
 
+// ----- state queries (rtGetFloatv, rtGetDoublev, rtGetIntegerv), OpenGL's values -----
+
+/// The current colour, 4 values: `rtColor3f`/`rtColor4f`'s red, green, blue and alpha
+/// (initially 1, 1, 1, 1).
+pub const RT_CURRENT_COLOR: RTenum = 0x0B00;
+/// The current normal, 3 values (initially 0, 0, 1).
+pub const RT_CURRENT_NORMAL: RTenum = 0x0B02;
+/// The current texture coordinates, 4 values: s, t, 0, 1 (initially 0, 0, 0, 1).
+pub const RT_CURRENT_TEXTURE_COORDS: RTenum = 0x0B03;
+/// The shade model, 1 value: `RT_SMOOTH` or `RT_FLAT`.
+pub const RT_SHADE_MODEL: RTenum = 0x0B54;
+/// The matrix mode, 1 value: `RT_MODELVIEW` or `RT_TEXTURE`.
+pub const RT_MATRIX_MODE: RTenum = 0x0BA0;
+/// The frame buffer's extent, 4 values: 0, 0, width, height (all 0 without a frame buffer).
+pub const RT_VIEWPORT: RTenum = 0x0BA2;
+/// Matrices on the modelview stack, 1 value (1 to `RT_MAX_STACK_DEPTH`).
+pub const RT_MODELVIEW_STACK_DEPTH: RTenum = 0x0BA3;
+/// Matrices on the texture stack, 1 value.
+pub const RT_TEXTURE_STACK_DEPTH: RTenum = 0x0BA5;
+/// The modelview stack's top matrix, 16 values in column-major order (as `rtLoadMatrixf`
+/// takes them).
+pub const RT_MODELVIEW_MATRIX: RTenum = 0x0BA6;
+/// The texture stack's top matrix, 16 values in column-major order.
+pub const RT_TEXTURE_MATRIX: RTenum = 0x0BA8;
+/// The colour `rtClearColor` set, 4 values; −1, −1, −1, −1 while the default background
+/// applies (see `rtClearColor`).
+pub const RT_COLOR_CLEAR_VALUE: RTenum = 0x0C22;
+/// The texture bound with `rtBindTexture`, 1 value (0 for none).
+pub const RT_TEXTURE_BINDING_2D: RTenum = 0x8069;
+
 // ----- shader parameters (rtParameterScope) -----
 
 /// Parameters are stored in the bound shader (the default, and what every built-in class uses).
@@ -123,6 +153,38 @@ pub const RT_FLOAT: RTenum = 0x1406;
 /// Largest texture width or height.
 pub const RT_MAX_TEXTURE_SIZE: RTsizei = 16384;
 
+// ----- texture parameters (rtTexParameteri), OpenGL's values -----
+
+/// How the bound texture is magnified: `RT_NEAREST` or `RT_LINEAR` (the default, bilinear).
+pub const RT_TEXTURE_MAG_FILTER: RTenum = 0x2800;
+/// How the bound texture is minified: accepted (`RT_NEAREST`, `RT_LINEAR` or a mipmap mode) for
+/// OpenGL programs that set it, but without effect: a ray has no footprint to minify over, so
+/// every lookup uses `RT_TEXTURE_MAG_FILTER`.
+pub const RT_TEXTURE_MIN_FILTER: RTenum = 0x2801;
+/// How texture coordinate s wraps: `RT_REPEAT` (the default), `RT_CLAMP_TO_EDGE` or
+/// `RT_MIRRORED_REPEAT`.
+pub const RT_TEXTURE_WRAP_S: RTenum = 0x2802;
+/// How texture coordinate t wraps, as `RT_TEXTURE_WRAP_S`.
+pub const RT_TEXTURE_WRAP_T: RTenum = 0x2803;
+/// The nearest texel.
+pub const RT_NEAREST: RTenum = 0x2600;
+/// Bilinear interpolation of the four nearest texels.
+pub const RT_LINEAR: RTenum = 0x2601;
+/// A minification filter of OpenGL's mipmaps (accepted, without effect).
+pub const RT_NEAREST_MIPMAP_NEAREST: RTenum = 0x2700;
+/// A minification filter of OpenGL's mipmaps (accepted, without effect).
+pub const RT_LINEAR_MIPMAP_NEAREST: RTenum = 0x2701;
+/// A minification filter of OpenGL's mipmaps (accepted, without effect; OpenGL's default).
+pub const RT_NEAREST_MIPMAP_LINEAR: RTenum = 0x2702;
+/// A minification filter of OpenGL's mipmaps (accepted, without effect).
+pub const RT_LINEAR_MIPMAP_LINEAR: RTenum = 0x2703;
+/// The image tiles the plane.
+pub const RT_REPEAT: RTenum = 0x2901;
+/// Coordinates beyond the image take its edge texels.
+pub const RT_CLAMP_TO_EDGE: RTenum = 0x812F;
+/// The image tiles the plane, every other copy mirrored.
+pub const RT_MIRRORED_REPEAT: RTenum = 0x8370;
+
 // ----- rendering (rtRenderMode, rtRenderParameteri) -----
 
 /// `rtRenderMode` (the default): `RT_WHITTED` if the scene has lights, else `RT_EYELIGHT`, so
@@ -166,6 +228,12 @@ pub const RT_MAX_RAY_DEPTH: RTint = 64;
 pub const RT_MAX_LIGHT_SAMPLES: RTint = 256;
 
 // ----- limits -----
+
+/// Largest magnitude of a vertex coordinate once transformed by the modelview matrix, and of a
+/// matrix entry: `rtVertex*`, `rtTriangleMesh` and the matrix calls refuse more with
+/// `RT_INVALID_VALUE`. Single-precision arithmetic renders scenes within it correctly; beyond it
+/// shading and hit points lose their precision, and squared distances overflow.
+pub const RT_MAX_COORDINATE: RTfloat = 1e8;
 
 /// Most ids of each kind (objects, shaders, shader classes, textures) that one context can
 /// generate.

@@ -1,9 +1,11 @@
 //! Geometry: primitives between `rtBegin` and `rtEnd`, vertex attributes, and bulk meshes. All
 //! of it goes into the object being defined. Between `rtBegin` and `rtEnd` only `rtVertex*`,
-//! `rtNormal*`, `rtColor*`, `rtTexCoord*`, `rtEnd` and the error calls are allowed.
+//! `rtNormal*`, `rtColor*`, `rtTexCoord*`, `rtEnd`, `rtEndObject` (which ends the primitive
+//! too), the `rtGet*` queries and the error calls are allowed.
 
-use crate::abi::types::{RTenum, RTfloat, RTsizei, RTuint};
+use crate::abi::types::{RTdouble, RTenum, RTfloat, RTsizei, RTuint};
 use crate::boundary::{array, call, call_in_primitive, slice};
+use crate::error::single;
 use crate::geometry::MeshArrays;
 
 /// Starts a primitive: `RT_TRIANGLES`, `RT_TRIANGLE_STRIP`, `RT_TRIANGLE_FAN`, `RT_QUADS`,
@@ -22,9 +24,24 @@ pub extern "C" fn rtEnd() {
 }
 
 /// Adds a vertex with the current normal, colour and texture coordinates to the primitive.
+/// Once transformed by the modelview matrix, each coordinate must be within
+/// ±`RT_MAX_COORDINATE` (`RT_INVALID_VALUE` beyond, and the vertex is not added).
 #[unsafe(no_mangle)]
 pub extern "C" fn rtVertex3f(x: RTfloat, y: RTfloat, z: RTfloat) {
     call_in_primitive("rtVertex3f", |ctx| ctx.vertex([x, y, z]))
+}
+
+/// `rtVertex3f(x, y, 0)`, as OpenGL's `glVertex2f`.
+#[unsafe(no_mangle)]
+pub extern "C" fn rtVertex2f(x: RTfloat, y: RTfloat) {
+    call_in_primitive("rtVertex2f", |ctx| ctx.vertex([x, y, 0.0]))
+}
+
+/// `rtVertex3f` in double precision (converted to single: a coordinate beyond its range is
+/// refused, and precision beyond it is lost).
+#[unsafe(no_mangle)]
+pub extern "C" fn rtVertex3d(x: RTdouble, y: RTdouble, z: RTdouble) {
+    call_in_primitive("rtVertex3d", |ctx| ctx.vertex(single("(x, y, z)", [x, y, z])?))
 }
 
 /// `rtVertex3f` with the coordinates in an array of three.
@@ -60,6 +77,13 @@ pub unsafe extern "C" fn rtNormal3fv(v: *const RTfloat) {
 #[unsafe(no_mangle)]
 pub extern "C" fn rtColor3f(r: RTfloat, g: RTfloat, b: RTfloat) {
     call_in_primitive("rtColor3f", |ctx| ctx.color([r, g, b]))
+}
+
+/// `rtColor3f` with an alpha, as OpenGL's `glColor4f`: raystage blends nothing, so alpha is
+/// kept only as state (`rtGetFloatv(RT_CURRENT_COLOR)`); it must be finite like the others.
+#[unsafe(no_mangle)]
+pub extern "C" fn rtColor4f(r: RTfloat, g: RTfloat, b: RTfloat, a: RTfloat) {
+    call_in_primitive("rtColor4f", |ctx| ctx.color_alpha([r, g, b], a))
 }
 
 /// `rtColor3f` with the components in an array of three.

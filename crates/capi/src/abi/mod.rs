@@ -14,6 +14,7 @@ pub mod objects;
 pub mod parameters;
 pub mod rendering;
 pub mod shaders;
+pub mod state;
 pub mod textures;
 pub mod types;
 
@@ -28,5 +29,6 @@ pub use objects::*;
 pub use parameters::*;
 pub use rendering::*;
 pub use shaders::*;
+pub use state::*;
 pub use textures::*;
 pub use types::*;

@@ -2,7 +2,7 @@
 //! display list, and instantiated any number of times.
 
 use crate::abi::types::{RTenum, RTsizei, RTuint};
-use crate::boundary::call;
+use crate::boundary::{call, call_in_primitive};
 
 /// Reserves `n` consecutive object ids and returns the first (0 if `n` is 0 or on error). At
 /// most `RT_MAX_IDS` object ids per context (`RT_OUT_OF_MEMORY` beyond).
@@ -20,12 +20,15 @@ pub extern "C" fn rtNewObject(id: RTuint, mode: RTenum) {
     call("rtNewObject", |ctx| ctx.new_object(id, mode))
 }
 
-/// Commits the object being defined to the scene, with the kind set by `rtObjectKind`. The
-/// definition ends even when the object is refused for having no triangles
-/// (`RT_INVALID_OPERATION`); it then keeps its previous geometry, if any.
+/// Commits the object being defined to the scene, with the kind set by `rtObjectKind`. A
+/// primitive still open (`rtBegin` without `rtEnd`) is ended first, as `rtEnd` would end it, so
+/// its triangles belong to the object. The definition ends even when the object is refused for
+/// having no triangles (`RT_INVALID_OPERATION`); it then keeps its previous geometry, if any.
 #[unsafe(no_mangle)]
 pub extern "C" fn rtEndObject() {
-    call("rtEndObject", |ctx| ctx.end_object())
+    // Allowed inside a primitive: a GL porter's display list may end without glEnd, and
+    // refusing would leave the context inside the primitive, failing every call after.
+    call_in_primitive("rtEndObject", |ctx| ctx.end_object())
 }
 
 /// Sets the kind of the objects `rtEndObject` commits from now on: `RT_STATIC` (the default;

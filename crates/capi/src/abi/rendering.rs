@@ -2,7 +2,7 @@
 //! `glPixelStorei`. They stay until changed (or `rtResetContext`), and each `rtSwapBuffers`
 //! renders its frame from scratch with them.
 
-use crate::abi::types::{RTenum, RTint};
+use crate::abi::types::{RTenum, RTfloat, RTint};
 use crate::boundary::call;
 
 /// Chooses how frames are rendered: `RT_AUTO` (the default: `RT_WHITTED` if the scene has lights
@@ -30,4 +30,16 @@ pub extern "C" fn rtRenderParameteri(pname: RTenum, value: RTint) {
 #[unsafe(no_mangle)]
 pub extern "C" fn rtGetRenderParameteri(pname: RTenum) -> RTint {
     call("rtGetRenderParameteri", |ctx| ctx.get_render_parameter(pname))
+}
+
+/// Sets the background: what rays that leave the scene show, a colour in linear RGB (each
+/// component finite and not negative; values above 1 are brighter than white, as with every
+/// colour in raystage). `alpha` must be finite and is kept only as state
+/// (`RT_COLOR_CLEAR_VALUE`): frames are opaque. The background is a backdrop, not a light: it
+/// lights nothing. Until it is called, the default background applies: the light-blue sky
+/// gradient while nothing lights the scene and the default light is on (`RT_DEFAULT_LIGHTS`), the
+/// radiance or map of an `EnvironmentLight` if the scene has one, and black otherwise.
+#[unsafe(no_mangle)]
+pub extern "C" fn rtClearColor(red: RTfloat, green: RTfloat, blue: RTfloat, alpha: RTfloat) {
+    call("rtClearColor", |ctx| ctx.clear_color([red, green, blue, alpha]))
 }

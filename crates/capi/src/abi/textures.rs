@@ -15,6 +15,20 @@ use crate::boundary::{array, c_str, call, slice};
 use crate::error::Error;
 use crate::textures::PixelLayout;
 
+/// Sets a sampling parameter of the bound texture, as OpenGL's `glTexParameteri`:
+/// `RT_TEXTURE_WRAP_S` and `RT_TEXTURE_WRAP_T` (`RT_REPEAT`, `RT_CLAMP_TO_EDGE`,
+/// `RT_MIRRORED_REPEAT`), `RT_TEXTURE_MAG_FILTER` (`RT_NEAREST`, `RT_LINEAR`) and
+/// `RT_TEXTURE_MIN_FILTER` (accepted, without effect). `target` is `RT_TEXTURE_2D`. A texture
+/// is sampled with its parameters by every shader that uses it, now or later (shaders of
+/// classes with texture samplers, such as "Diffuse", "Phong" and "PhysicallyBased"; the
+/// parameters are written to the shader's `{slot}_wrap_s`, `{slot}_wrap_t` and `{slot}_filter`,
+/// and `rtParameterTexture` writes them too). Another `pname` or value records
+/// `RT_INVALID_ENUM`; no bound texture `RT_INVALID_OPERATION`.
+#[unsafe(no_mangle)]
+pub extern "C" fn rtTexParameteri(target: RTenum, pname: RTenum, param: RTint) {
+    call("rtTexParameteri", |ctx| ctx.tex_parameter(target, pname, param))
+}
+
 /// Reserves `n` consecutive texture ids and returns the first (0 if `n` is 0 or on error).
 #[unsafe(no_mangle)]
 pub extern "C" fn rtGenTextures(n: RTsizei) -> RTuint {

@@ -9,6 +9,10 @@ pub type RTint = i32;
 pub type RTuint = u32;
 /// A single-precision number.
 pub type RTfloat = f32;
+/// A double-precision number (the `d` variants of the calls, `rtOrtho`, `rtFrustum`): converted
+/// to single precision, which raystage computes in; a value beyond single precision's range
+/// is refused.
+pub type RTdouble = f64;
 /// A count or size (`size_t`).
 pub type RTsizei = usize;
 /// A truth value: 0 is false, 1 is true.

@@ -55,6 +55,8 @@ impl CameraPatch {
             target: v(self.target, camera.target),
             up: v(self.up, camera.up),
             fov_y_degrees: self.fov_y_degrees.unwrap_or(camera.fov_y_degrees),
+            // Not in the HTTP model yet: a window projection set through the C ABI stays.
+            projection: camera.projection,
             aperture_radius: self.aperture_radius.unwrap_or(camera.aperture_radius),
             focus_distance: self.focus_distance.unwrap_or(camera.focus_distance),
             shutter: self.shutter.unwrap_or(camera.shutter),
