@@ -186,13 +186,17 @@ fn convergence(rows: &[Row], unit: &str) -> String {
     );
     match settled {
         Some(i) if i + 1 < rows.len() => {
+            let cost = if rows[i].wall.overlaps(&last.wall) {
+                "no time the measurements can tell".to_string()
+            } else {
+                format!("{} more time", percent(last.wall.median() / rows[i].wall.median().max(1e-12) - 1.0))
+            };
             let _ = write!(
                 s,
-                " Beyond **{}** the image's mean changes by less than {} (the measurements' resolution): light past {} {unit} is negligible in this scene, and the deeper settings cost {} more time for it.",
+                " Beyond **{}** the image's mean changes by less than {} (the measurements' resolution): light past {} {unit} is negligible in this scene, and the deeper settings cost {cost} for it.",
                 rows[i].setting,
                 percent(tolerance),
                 rows[i].value.map_or_else(|| rows[i].setting.clone(), |v| format!("{v}")),
-                percent(last.wall.median() / rows[i].wall.median().max(1e-12) - 1.0)
             );
         }
         _ => {

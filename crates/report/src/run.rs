@@ -157,24 +157,33 @@ impl Row {
         Spread { samples: self.errors.iter().map(|e| e.mean_ratio.iter().sum::<f64>() / 3.0).collect() }
     }
 
-    /// The bias, where the repeats can tell it from zero: the estimate carries about
+    /// The bias, where the measurements can tell it from zero: the block estimate carries about
     /// 2 × noise / √repeats of uncertainty of its own (heavy-tailed noise at low sample counts
-    /// makes it larger still), and a bias below that is taken as none.
+    /// makes it larger still), and a bias below that is taken as none — unless the image's
+    /// overall brightness, measured over every pixel and so far more precisely, is off the
+    /// reference's by more than 0.5 % and three times its spread: then the larger of the two.
     pub fn resolved_bias(&self) -> f64 {
         let resolution = 2.0 * self.split.noise / (self.errors.len().max(1) as f64).sqrt();
-        if self.split.bias <= resolution { 0.0 } else { self.split.bias }
+        let level = self.level();
+        let shift = (level.median() - 1.0).abs();
+        let brightness_off = shift > 0.005 && shift > 3.0 * level.half_range();
+        if self.split.bias > resolution || brightness_off { self.split.bias.max(shift) } else { 0.0 }
     }
 
     /// Wall time to reach `target` error with this setting, taking more samples (noise falls
-    /// as 1/√time, bias stays): one figure per render's time. `None` if the (resolved) bias
-    /// alone is at or above 90 % of the target.
+    /// as 1/√time, bias stays): one figure per render, from its time and its error relative
+    /// to the median. `None` if the (resolved) bias alone is at or above 90 % of the target.
     pub fn time_to(&self, target: f64) -> Option<Spread> {
         let bias = self.resolved_bias();
         let room = target * target - bias * bias;
         if bias >= 0.9 * target || room <= 0.0 {
             return None;
         }
-        Some(self.wall.scaled(self.split.noise * self.split.noise / room))
+        // Each render's own time and error: the spread of both widens the range, so that a
+        // noise estimate that three renders got lucky with cannot pass for a better setting.
+        let (median, scale) = (self.error().median().max(1e-30), self.split.noise * self.split.noise / room);
+        let samples = self.wall.samples.iter().zip(&self.errors).map(|(wall, e)| wall * (e.relative_blocks / median).powi(2) * scale).collect();
+        Some(Spread { samples })
     }
 }
 
