@@ -190,3 +190,43 @@ async fn an_edit_is_applied_while_a_frame_renders() {
     assert!(!slow.is_finished(), "the frame finished before the edit: the test proves nothing");
     slow.abort();
 }
+
+#[tokio::test]
+async fn an_orthographic_camera_set_over_http_renders_its_window() {
+    let app = app();
+    let s = new_scene(&app).await;
+    let red = ok(&app, "POST", &format!("/scenes/{s}/shaders"), json!({ "class": "Constant", "params": { "color": [1, 0, 0] } }), StatusCode::CREATED).await;
+    let mut mesh = square(1.0);
+    mesh["shader"] = red["id"].clone();
+    let object = ok(&app, "POST", &format!("/scenes/{s}/objects"), json!({ "mesh": mesh }), StatusCode::CREATED).await;
+    ok(&app, "POST", &format!("/scenes/{s}/instances"), json!({ "object": object["id"] }), StatusCode::CREATED).await;
+    let camera = ok(&app, "GET", &format!("/scenes/{s}/camera"), json!(null), StatusCode::OK).await;
+    assert_eq!(camera["projection"], json!({ "kind": "perspective" }));
+
+    // The window [-2, 2] × [-1, 1]: the square (±1) covers exactly the middle half of the
+    // columns and every row, whatever the distance.
+    let window = json!({ "kind": "orthographic", "left": -2, "right": 2, "bottom": -1, "top": 1, "near": 0 });
+    ok(&app, "PUT", &format!("/scenes/{s}/camera"), json!({ "projection": window, "eye": [0, 0, 40] }), StatusCode::OK).await;
+    let camera = ok(&app, "GET", &format!("/scenes/{s}/camera"), json!(null), StatusCode::OK).await;
+    assert_eq!(camera["projection"]["kind"], "orthographic");
+    let image = frame(&app, &format!("/scenes/{s}/frame.png?width=64&height=32&integrator=eyelight")).await;
+    let red_px = [255, 0, 0, 255];
+    for y in [0, 16, 31] {
+        assert_eq!(image.get_pixel(17, y).0, red_px, "row {y} inside");
+        assert_eq!(image.get_pixel(46, y).0, red_px, "row {y} inside");
+        assert_ne!(image.get_pixel(14, y).0, red_px, "row {y} left of the square");
+        assert_ne!(image.get_pixel(49, y).0, red_px, "row {y} right of the square");
+    }
+
+    // Back to perspective; a window without width is refused naming the field, changing nothing.
+    let flat = json!({ "kind": "orthographic", "left": 1, "right": 1, "bottom": -1, "top": 1, "near": 0 });
+    let error = fails(&app, "PUT", &format!("/scenes/{s}/camera"), json!({ "projection": flat }), StatusCode::UNPROCESSABLE_ENTITY).await;
+    assert!(error.to_string().contains("projection"), "{error}");
+    let unchanged = ok(&app, "GET", &format!("/scenes/{s}/camera"), json!(null), StatusCode::OK).await;
+    assert_eq!(unchanged["projection"]["kind"], "orthographic");
+    ok(&app, "PUT", &format!("/scenes/{s}/camera"), json!({ "projection": { "kind": "perspective" } }), StatusCode::OK).await;
+    let camera = ok(&app, "GET", &format!("/scenes/{s}/camera"), json!(null), StatusCode::OK).await;
+    assert_eq!(camera["projection"], json!({ "kind": "perspective" }));
+    let field = fails(&app, "PUT", &format!("/scenes/{s}/camera"), json!({ "projection": { "kind": "fisheye" } }), StatusCode::BAD_REQUEST).await;
+    assert_eq!(field, "projection.kind");
+}
