@@ -10,12 +10,7 @@ use serde_json::json;
 #[tokio::test]
 async fn a_scene_built_from_json_renders_as_described() {
     let app = app();
-    let s = new_scene(&app).await;
-    let red = ok(&app, "POST", &format!("/scenes/{s}/shaders"), json!({ "class": "Constant", "params": { "color": [1, 0, 0] } }), StatusCode::CREATED).await;
-    let mut mesh = square(1.0);
-    mesh["shader"] = red["id"].clone();
-    let object = ok(&app, "POST", &format!("/scenes/{s}/objects"), json!({ "mesh": mesh }), StatusCode::CREATED).await;
-    let instance = ok(&app, "POST", &format!("/scenes/{s}/instances"), json!({ "object": object["id"] }), StatusCode::CREATED).await;
+    let (s, red, instance) = red_square_scene(&app).await;
 
     let image = frame(&app, &format!("/scenes/{s}/frame.png?width=64&height=48&integrator=eyelight")).await;
     assert_eq!(image.dimensions(), (64, 48));
@@ -194,12 +189,7 @@ async fn an_edit_is_applied_while_a_frame_renders() {
 #[tokio::test]
 async fn an_orthographic_camera_set_over_http_renders_its_window() {
     let app = app();
-    let s = new_scene(&app).await;
-    let red = ok(&app, "POST", &format!("/scenes/{s}/shaders"), json!({ "class": "Constant", "params": { "color": [1, 0, 0] } }), StatusCode::CREATED).await;
-    let mut mesh = square(1.0);
-    mesh["shader"] = red["id"].clone();
-    let object = ok(&app, "POST", &format!("/scenes/{s}/objects"), json!({ "mesh": mesh }), StatusCode::CREATED).await;
-    ok(&app, "POST", &format!("/scenes/{s}/instances"), json!({ "object": object["id"] }), StatusCode::CREATED).await;
+    let (s, _, _) = red_square_scene(&app).await;
     let camera = ok(&app, "GET", &format!("/scenes/{s}/camera"), json!(null), StatusCode::OK).await;
     assert_eq!(camera["projection"], json!({ "kind": "perspective" }));
 

@@ -50,12 +50,7 @@ async fn next_frame(socket: &mut Socket) -> (Value, image::RgbaImage) {
 async fn frames_refine_and_a_camera_change_restarts_them() {
     let state = AppState::new(Config::default());
     let app = raystage_server::router(state.clone());
-    let s = new_scene(&app).await;
-    let red = ok(&app, "POST", &format!("/scenes/{s}/shaders"), json!({ "class": "Constant", "params": { "color": [1, 0, 0] } }), StatusCode::CREATED).await;
-    let mut mesh = square(1.0);
-    mesh["shader"] = red["id"].clone();
-    let object = ok(&app, "POST", &format!("/scenes/{s}/objects"), json!({ "mesh": mesh }), StatusCode::CREATED).await;
-    ok(&app, "POST", &format!("/scenes/{s}/instances"), json!({ "object": object["id"] }), StatusCode::CREATED).await;
+    let (s, _, _) = red_square_scene(&app).await;
 
     let addr = listen(state).await;
     let url = format!("ws://{addr}/scenes/{s}/stream?width=48&height=32&integrator=eyelight&max_samples=4096");

@@ -72,6 +72,18 @@ pub fn square(s: f32) -> Value {
     json!({ "positions": [[-s, -s, 0], [s, -s, 0], [s, s, 0], [-s, s, 0]], "indices": [[0, 1, 2], [0, 2, 3]] })
 }
 
+/// A new scene holding a red `Constant` square (±1, facing the default camera) placed once;
+/// the scene's id, the shader and the instance as the API answered them.
+pub async fn red_square_scene(app: &Router) -> (u64, Value, Value) {
+    let s = new_scene(app).await;
+    let red = ok(app, "POST", &format!("/scenes/{s}/shaders"), json!({ "class": "Constant", "params": { "color": [1, 0, 0] } }), StatusCode::CREATED).await;
+    let mut mesh = square(1.0);
+    mesh["shader"] = red["id"].clone();
+    let object = ok(app, "POST", &format!("/scenes/{s}/objects"), json!({ "mesh": mesh }), StatusCode::CREATED).await;
+    let instance = ok(app, "POST", &format!("/scenes/{s}/instances"), json!({ "object": object["id"] }), StatusCode::CREATED).await;
+    (s, red, instance)
+}
+
 /// A new scene holding a grey diffuse square (albedo 0.5), `size` from its centre to each edge,
 /// facing the default camera; its id.
 pub async fn grey_square_scene(app: &Router, size: f32) -> u64 {
