@@ -7,7 +7,7 @@ use std::time::Duration;
 use raystage_render::{Cancel, Filter, Integrator, Look, MAX_DEPTH, RenderSettings};
 use raystage_scene::{Background, Scene};
 use serde::Deserialize;
-use utoipa::IntoParams;
+use utoipa::{IntoParams, ToSchema};
 
 use crate::config::Limits;
 use crate::error::{ApiError, ApiResult};
@@ -23,19 +23,52 @@ pub(crate) const FRAME_BYTES_PER_PIXEL: u64 = 12 + 4;
 /// rows and its PNG.
 pub(crate) const STREAM_BYTES_PER_PIXEL: u64 = 12 + 4 + 12 + 3 + 3;
 
+/// The integrators by name, for the API description (the query keeps the string, parsed by
+/// [`parse_integrator`] with an error naming the field).
+#[derive(ToSchema)]
+#[serde(rename_all = "lowercase")]
+#[allow(dead_code, reason = "a schema only: the names the API accepts")]
+pub(crate) enum IntegratorName {
+    /// The eye-light preview.
+    Eyelight,
+    /// Whitted's ray tracing.
+    Whitted,
+    /// Cook's distribution ray tracing.
+    Distribution,
+    /// Path tracing.
+    Path,
+}
+
+/// The PNG tone curves by name, for the API description.
+#[derive(ToSchema)]
+#[serde(rename_all = "lowercase")]
+#[allow(dead_code, reason = "a schema only: the names the API accepts")]
+pub(crate) enum ToneMapName {
+    /// Clamp to [0, 1] (the default).
+    Clamp,
+    /// The same as `clamp`.
+    None,
+    /// Khronos PBR Neutral.
+    Neutral,
+}
+
 /// What frame to render.
 #[derive(Clone, Debug, Default, Deserialize, IntoParams)]
 #[serde(deny_unknown_fields)]
 #[into_params(parameter_in = Query)]
 pub struct FrameQuery {
     /// Width in pixels; default 640.
+    #[param(minimum = 1)]
     pub width: Option<u32>,
     /// Height in pixels; default 360.
+    #[param(minimum = 1)]
     pub height: Option<u32>,
     /// Samples per pixel; default 1.
+    #[param(minimum = 1)]
     pub spp: Option<u32>,
     /// `eyelight`, `whitted`, `distribution` or `path`; default `whitted` if anything lights
     /// the scene (the default sky does unless `default_lights` is false), else `eyelight`.
+    #[param(value_type = Option<IntegratorName>)]
     pub integrator: Option<String>,
     /// What camera rays that hit nothing show: `sky`, `black` or `R,G,B`; default the
     /// environment light if the scene has one, else the scene's choice, else the sky where the
@@ -46,6 +79,7 @@ pub struct FrameQuery {
     pub default_lights: Option<bool>,
     /// Longest path in segments, the camera ray included, or deepest recursion: 1 to 64;
     /// default 6.
+    #[param(minimum = 1, maximum = 64)]
     pub max_depth: Option<u32>,
     /// Whether the path tracer may end paths early by Russian roulette; default true.
     pub russian_roulette: Option<bool>,
@@ -55,10 +89,12 @@ pub struct FrameQuery {
     pub seed: Option<u32>,
     /// Adaptive sampling: tiles stop taking samples once each pixel's standard error is below
     /// this fraction of its brightness, in (0, 1]; default none (every pixel gets `spp`).
+    #[param(exclusive_minimum = 0, maximum = 1)]
     pub noise_threshold: Option<f32>,
     /// Exposure in stops: the image is scaled by 2 to this power; default 0.
     pub exposure: Option<f32>,
     /// The PNG's tone curve: `clamp` (the default) or `neutral` (Khronos PBR Neutral).
+    #[param(value_type = Option<ToneMapName>)]
     pub tonemap: Option<String>,
 }
 

@@ -50,8 +50,10 @@ pub struct PickQuery {
     /// Row, from 0 at the top.
     pub y: u32,
     /// Image width; default 640.
+    #[param(minimum = 1)]
     pub width: Option<u32>,
     /// Image height; default 360.
+    #[param(minimum = 1)]
     pub height: Option<u32>,
 }
 

@@ -6,6 +6,7 @@ use utoipa::OpenApi;
 
 use crate::error::{ErrorBody, ErrorDetail};
 use crate::model::*;
+use crate::render::{IntegratorName, ToneMapName};
 use crate::stats::{FrameReport, RaysJson};
 use crate::stream::{ClientMessage, FrameMessage, ServerMessage};
 
@@ -34,7 +35,7 @@ use crate::stream::{ClientMessage, FrameMessage, ServerMessage};
     ),
     components(schemas(
         ErrorBody, ErrorDetail, FrameReport, RaysJson, Rgb, Transform, Rotation, Scale, Ref, ParamJson, ParamOut, Kind, MeshSpec,
-        TextureParam, TextureKind, TextureDescription,
+        TextureParam, TextureKind, TextureDescription, IntegratorName, ToneMapName,
         ClientMessage, ServerMessage, FrameMessage, Command, CommandResult,
     )),
     tags(

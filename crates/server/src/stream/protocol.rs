@@ -16,14 +16,18 @@ pub const PROTOCOL: u32 = 1;
 #[into_params(parameter_in = Query)]
 pub struct StreamQuery {
     /// Width in pixels; default 640.
+    #[param(minimum = 1)]
     pub width: Option<u32>,
     /// Height in pixels; default 360.
+    #[param(minimum = 1)]
     pub height: Option<u32>,
     /// `eyelight`, `whitted`, `distribution` or `path`; default `whitted` if the scene has
     /// lights, else `eyelight`.
+    #[param(value_type = Option<crate::render::IntegratorName>)]
     pub integrator: Option<String>,
     /// Samples per pixel after which the image stops refining until something changes;
     /// default 256.
+    #[param(minimum = 1)]
     pub max_samples: Option<u32>,
     /// The access token, for clients that cannot send an `Authorization` header.
     #[allow(dead_code, reason = "checked by the authentication middleware, from the raw query")]
