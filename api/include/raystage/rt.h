@@ -129,6 +129,12 @@ typedef int32_t RTint;
 #define RT_INTERNAL_ERROR 36865
 
 /**
+ * Not an error but a frame's status: `rtFrameWait` of a frame that `rtFrameCancel` stopped
+ * before it completed. Never recorded for `rtGetError`.
+ */
+#define RT_CANCELLED 36866
+
+/**
  * `rtNewObject` mode: record the object (the only mode; OpenGL's `GL_COMPILE`).
  */
 #define RT_COMPILE 4864
@@ -630,7 +636,8 @@ const char *rtGetErrorString(void);
 
 /**
  * Discards this thread's context: the scene, every id, the matrices, bindings, frame buffer
- * and errors, as if no `rt` call had been made; its memory is freed. Allowed anywhere.
+ * and errors, as if no `rt` call had been made; its memory is freed. Frames in flight are
+ * cancelled and waited for (promptly), and their handles released. Allowed anywhere.
  */
 void rtResetContext(void);
 
@@ -638,11 +645,13 @@ void rtResetContext(void);
  * Lends raystage `width` × `height` pixels of memory (each side 1 to
  * `RT_MAX_FRAMEBUFFER_SIZE`, rows from the top) that `rtSwapBuffers` renders into: `RT_RGBA8`
  * (4 bytes per pixel, sRGB) or `RT_RGBA32F` (4 floats per pixel, linear). `pixels` NULL with
- * `width` and `height` 0 detaches the frame buffer.
+ * `width` and `height` 0 detaches the frame buffer. Refused (`RT_INVALID_OPERATION`) while an
+ * asynchronous frame is in flight, since its image goes to the frame buffer it started with.
  *
  * # Safety
  * The memory must stay valid and writable until the frame buffer is replaced, detached or the
- * context reset; raystage writes it only during `rtSwapBuffers`.
+ * context reset; raystage writes it only during `rtSwapBuffers`, and during the `rtFrameIsReady`
+ * or `rtFrameWait` call that delivers an asynchronous frame.
  */
 void rtFrameBuffer(void *pixels, RTsizei width, RTsizei height, RTenum format);
 
@@ -650,7 +659,8 @@ void rtFrameBuffer(void *pixels, RTsizei width, RTsizei height, RTenum format);
  * Renders a frame into the frame buffer. Every reference is resolved now (frame semantics):
  * the shaders' parameters, the objects' geometry and the instances as they are at this call
  * decide the image, whenever they were set. Rendering runs on all cores; the call returns when
- * the frame is complete. Not allowed while an object is being defined.
+ * the frame is complete. Not allowed while an object is being defined, nor while a frame of
+ * `rtRenderFrameAsync` is in flight.
  */
 void rtSwapBuffers(void);
 
@@ -667,14 +677,71 @@ void rtSwapBuffers(void);
 RTboolean rtPick(RTuint x, RTuint y, RTuint *instance, RTuint *object, RTuint *triangle);
 
 /**
- * Writes the last frame `rtSwapBuffers` rendered as an sRGB PNG file at `path`, replacing any
- * file there. `RT_INVALID_OPERATION` if no frame was rendered, `RT_IO_ERROR` if the file cannot
- * be written.
+ * Writes the last frame `rtSwapBuffers` rendered (or an asynchronous frame delivered) as an
+ * sRGB PNG file at `path`, replacing any file there. `RT_INVALID_OPERATION` if no frame was
+ * rendered, `RT_IO_ERROR` if the file cannot be written.
  *
  * # Safety
  * `path` must be NULL (an error) or a NUL-terminated string.
  */
 void rtWritePNG(const char *path);
+
+/**
+ * Starts rendering a frame into the frame buffer on a thread of its own and returns its handle
+ * (never 0), or 0 on error. The frame follows frame semantics as `rtSwapBuffers` does, taken
+ * at this call: the scene, the camera and the render settings as they are now decide the image,
+ * and edits made afterwards (while it renders, or later) only affect later frames. The context
+ * stays usable meanwhile.
+ *
+ * The frame is *in flight* until `rtFrameIsReady` returns 1, `rtFrameWait` returns or
+ * `rtFrameRelease`; meanwhile `rtSwapBuffers`, `rtRenderFrameAsync` and `rtFrameBuffer` are
+ * refused with `RT_INVALID_OPERATION` (one frame at a time per context; each thread has its
+ * own context, so frames of several threads render together). The image lands in the frame
+ * buffer, as `rtSwapBuffers` puts it, in the `rtFrameIsReady` or `rtFrameWait` call that first
+ * finds the frame completed; do not read the frame buffer before. `RT_INVALID_OPERATION`
+ * without a frame buffer or while an object is being defined.
+ *
+ * Handles belong to the context (the thread) that started the frame; each is released with
+ * `rtFrameRelease` (or `rtResetContext`), and never names another frame afterwards.
+ */
+RTuint rtRenderFrameAsync(void);
+
+/**
+ * Whether frame `frame` finished: 1 if it completed, was cancelled or failed (see
+ * `rtFrameWait` for which), 0 while it renders or on error. The first call that returns 1 for a
+ * completed frame has written its image into the frame buffer. Never blocks.
+ */
+RTboolean rtFrameIsReady(RTuint frame);
+
+/**
+ * Blocks until frame `frame` finished and returns its status: `RT_NO_ERROR` if it completed (its
+ * image is then in the frame buffer), `RT_CANCELLED` if `rtFrameCancel` stopped it first, or
+ * `RT_INTERNAL_ERROR` if it failed (the failure is also recorded, once). After `rtFrameCancel`
+ * it returns promptly: rendering stops within one sample of a tile per render thread. A handle
+ * that names no frame (0, unknown or released) records `RT_INVALID_VALUE` and returns it.
+ */
+RTenum rtFrameWait(RTuint frame);
+
+/**
+ * Asks frame `frame` to stop rendering and returns at once; `rtFrameWait` then returns
+ * `RT_CANCELLED` (or `RT_NO_ERROR` if it completed first) and the frame buffer is left as it
+ * was. Does nothing to a frame that already finished.
+ */
+void rtFrameCancel(RTuint frame);
+
+/**
+ * How much of frame `frame` is rendered, from 0 to 1: the share of the image's rows that are
+ * final. It never decreases, and it is 1 once the frame completed; a cancelled frame stays
+ * where it stopped. Returns 0 on error.
+ */
+RTfloat rtFrameProgress(RTuint frame);
+
+/**
+ * Frees the handle `frame`. A frame still in flight is cancelled and waited for (promptly, as
+ * after `rtFrameCancel`), and its image never reaches the frame buffer; once it returns nothing
+ * of the frame runs any more. Releasing a handle again records `RT_INVALID_VALUE`.
+ */
+void rtFrameRelease(RTuint frame);
 
 /**
  * Starts a primitive: `RT_TRIANGLES`, `RT_TRIANGLE_STRIP`, `RT_TRIANGLE_FAN`, `RT_QUADS`,

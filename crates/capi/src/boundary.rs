@@ -28,7 +28,13 @@ fn with_context<R>(f: impl FnOnce(&mut Context) -> R) -> Option<R> {
 /// (between `rtBegin` and `rtEnd` only the vertex calls of [`call_in_primitive`] are allowed).
 /// An error or a panic is recorded and the call returns `T::default()` (0 for ids and handles).
 pub(crate) fn call<T: Default>(name: &'static str, f: impl FnOnce(&mut Context) -> Result<T, Error>) -> T {
-    run(name, |ctx| {
+    call_or(name, |_| T::default(), f)
+}
+
+/// Like [`call`], but a refused call returns `fallback` of its error instead of
+/// `T::default()`: for calls whose result is a status, which must not read as success.
+pub(crate) fn call_or<T>(name: &'static str, fallback: impl FnOnce(&Error) -> T, f: impl FnOnce(&mut Context) -> Result<T, Error>) -> T {
+    run(name, fallback, |ctx| {
         if ctx.in_primitive() {
             return Err(Error::invalid_operation("not allowed between rtBegin and rtEnd"));
         }
@@ -38,7 +44,7 @@ pub(crate) fn call<T: Default>(name: &'static str, f: impl FnOnce(&mut Context) 
 
 /// Like [`call`], for the calls that are also allowed between `rtBegin` and `rtEnd`.
 pub(crate) fn call_in_primitive<T: Default>(name: &'static str, f: impl FnOnce(&mut Context) -> Result<T, Error>) -> T {
-    run(name, f)
+    run(name, |_| T::default(), f)
 }
 
 /// Runs a call that cannot fail and records nothing (`rtGetError`, `rtResetContext`).
@@ -46,11 +52,11 @@ pub(crate) fn query<T>(fallback: T, f: impl FnOnce(&mut Context) -> T) -> T {
     catch_unwind(AssertUnwindSafe(|| with_context(f))).ok().flatten().unwrap_or(fallback)
 }
 
-fn run<T: Default>(name: &'static str, f: impl FnOnce(&mut Context) -> Result<T, Error>) -> T {
+fn run<T>(name: &'static str, fallback: impl FnOnce(&Error) -> T, f: impl FnOnce(&mut Context) -> Result<T, Error>) -> T {
     let error = match catch_unwind(AssertUnwindSafe(|| with_context(f))) {
         Ok(Some(Ok(value))) => return value,
         Ok(Some(Err(error))) => error,
-        Ok(None) => return T::default(),
+        Ok(None) => return fallback(&Error::internal("the context is not available")),
         Err(panic) => {
             let what = panic
                 .downcast_ref::<&str>()
@@ -60,8 +66,9 @@ fn run<T: Default>(name: &'static str, f: impl FnOnce(&mut Context) -> Result<T,
             Error::internal(format!("{what} (please report this bug)"))
         }
     };
+    let value = fallback(&error);
     with_context(|ctx| ctx.errors.record(name, error));
-    T::default()
+    value
 }
 
 /// Borrows `len` values from a C array.

@@ -2,6 +2,7 @@
 
 use raystage_scene::{ObjectKind, Scene};
 
+use crate::async_frames::AsyncFrames;
 use crate::builder::ObjectBuilder;
 use crate::error::{Error, ErrorLog};
 use crate::frames::Frames;
@@ -38,6 +39,9 @@ pub(crate) struct Context {
     pub frames: Frames,
     /// How `rtSwapBuffers` renders: the render mode and parameters.
     pub rendering: Rendering,
+    /// The asynchronous frames, by handle; dropping the context (`rtResetContext`, thread exit)
+    /// stops and joins those in flight.
+    pub async_frames: AsyncFrames,
 }
 
 impl Context {

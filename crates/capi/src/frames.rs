@@ -100,14 +100,36 @@ impl Context {
     /// settings as they are now.
     pub fn swap_buffers(&mut self) -> Result<(), Error> {
         self.outside_definition("rtSwapBuffers")?;
-        let target = self.frame_buffer()?;
+        self.no_frame_in_flight("rtSwapBuffers")?;
+        let (width, height) = self.frame_buffer_size()?;
         let frame = self.scene.frame();
-        let settings = self.rendering.settings(&frame, target.width, target.height);
+        let settings = self.rendering.settings(&frame, width, height);
         // The settings were checked as they were set, and the size as the frame buffer was lent.
         let (film, _stats) = render(&frame, &settings).map_err(|e| Error::internal(e.to_string()))?;
-        target.write(&film);
-        self.frames.last = Some(film);
+        self.deliver(film);
         Ok(())
+    }
+
+    /// `rtFrameBuffer`: lends the frame buffer, or detaches it (`None`). Refused while a frame is
+    /// in flight, since that frame's image is written into the frame buffer it started with.
+    pub fn set_frame_buffer(&mut self, target: Option<FrameBuffer>) -> Result<(), Error> {
+        self.no_frame_in_flight("rtFrameBuffer")?;
+        self.frames.target = target;
+        Ok(())
+    }
+
+    /// Puts a rendered frame where `rtSwapBuffers` puts it: into the frame buffer (of the
+    /// film's size, since it cannot change while a frame renders) and as the last frame.
+    pub fn deliver(&mut self, film: Film) {
+        if let Some(target) = &self.frames.target {
+            target.write(&film);
+        }
+        self.frames.last = Some(film);
+    }
+
+    /// The frame buffer's width and height, or an error if there is none.
+    pub fn frame_buffer_size(&self) -> Result<(u32, u32), Error> {
+        self.frame_buffer().map(|t| (t.width, t.height))
     }
 
     /// `rtPick`: what pixel `(x, y)` of the frame buffer sees.

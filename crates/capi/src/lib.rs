@@ -4,7 +4,8 @@
 //! DIGEST §1.1–§1.2). A C program builds **objects** between `rtNewObject` and `rtEndObject`
 //! with `rtBegin`/`rtVertex3f`/`rtEnd` (or `rtTriangleMesh`), places **instances** of them with
 //! the current modelview matrix, binds **shaders** and writes their parameters by name, and calls
-//! `rtSwapBuffers` to render a frame into memory it owns.
+//! `rtSwapBuffers` to render a frame into memory it owns, or `rtRenderFrameAsync` to render it on
+//! a thread of its own while it goes on (`async_frames`).
 //!
 //! This crate is the state machine behind those calls: the current object and primitive, the
 //! matrix stacks, the current vertex attributes, the bound shader class, shader and texture,
@@ -28,6 +29,7 @@
 
 pub mod abi;
 mod assembly;
+mod async_frames;
 mod boundary;
 mod builder;
 mod camera;

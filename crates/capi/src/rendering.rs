@@ -25,8 +25,8 @@ const MODES: [(RTenum, Option<Integrator>); 5] = [
     (RT_PATH, Some(Integrator::Path)),
 ];
 
-/// How the context renders.
-#[derive(Debug, Default)]
+/// How the context renders; cloned into each asynchronous frame as it starts.
+#[derive(Clone, Debug, Default)]
 pub(crate) struct Rendering {
     /// The integrator `rtRenderMode` chose; `None` for `RT_AUTO`.
     integrator: Option<Integrator>,

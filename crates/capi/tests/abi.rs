@@ -4,7 +4,7 @@
 mod common;
 
 
-use common::{assert_error, assert_no_error, handle, rgb, shader};
+use common::{assert_error, assert_no_error, frame_buffer, handle, rgb, shader};
 use raystage_capi::abi::*;
 
 /// A triangle of the unit square's size centred at (x, 0, 0), facing +z.
@@ -14,13 +14,6 @@ fn triangle(x: f32) {
     rtVertex3f(x + 1.0, -1.0, 0.0);
     rtVertex3f(x, 1.0, 0.0);
     rtEnd();
-}
-
-/// A frame buffer of `w × h` RGBA8 pixels, attached.
-fn frame_buffer(w: usize, h: usize) -> Vec<u8> {
-    let mut pixels = vec![0u8; w * h * 4];
-    unsafe { rtFrameBuffer(pixels.as_mut_ptr().cast(), w, h, RT_RGBA8) };
-    pixels
 }
 
 #[test]

@@ -246,6 +246,16 @@ fn gl_port_checks_pass() {
     }
 }
 
+/// Asynchronous frames from C (`tests/c/async_frames.c`): an interactive loop that polls
+/// progress, an edit while a frame renders, a cancelled frame that stops at once, frames in
+/// flight on two threads' contexts, and bad handles; the program checks itself.
+#[test]
+fn async_frame_checks_pass() {
+    for linking in [Linking::Shared, Linking::Static] {
+        build_and_run("crates/capi/tests/c/async_frames.c", linking, &[]);
+    }
+}
+
 /// The build tree's library has the installed one's name: a program links with `-lraystage`
 /// against cargo's output directory as against an install, and finds it by its SONAME.
 #[test]

@@ -1,7 +1,8 @@
 //! Random sequences of C calls, valid and invalid, through the `extern "C"` functions: no panic
 //! escapes, no call fails inside raystage (`RT_INTERNAL_ERROR`), every call the model can judge
 //! records the error it predicts, the render settings read back are the last ones accepted, and
-//! whatever happened, the scene still renders.
+//! whatever happened, the scene still renders. Asynchronous frames start, are waited for,
+//! cancelled and released among the edits, with one in flight at a time.
 
 use std::ffi::CString;
 
@@ -67,6 +68,11 @@ enum Call {
     ParameterTexture(RTint, RTuint),
     Swap,
     Pick(RTuint, RTuint),
+    StartFrame,
+    WaitFrame(RTuint),
+    CancelFrame(RTuint),
+    FrameProgress(RTuint),
+    ReleaseFrame(RTuint),
 }
 
 /// Mostly ordinary numbers, sometimes NaN or infinite.
@@ -196,6 +202,11 @@ fn call() -> impl Strategy<Value = Call> {
         2 => (-1i32..10, id()).prop_map(|(h, t)| Call::ParameterTexture(h, t)),
         1 => Just(Call::Swap),
         1 => (0u32..10, 0u32..10).prop_map(|(x, y)| Call::Pick(x, y)),
+        1 => Just(Call::StartFrame),
+        1 => (0u32..4).prop_map(Call::WaitFrame),
+        1 => (0u32..4).prop_map(Call::CancelFrame),
+        1 => (0u32..4).prop_map(Call::FrameProgress),
+        1 => (0u32..4).prop_map(Call::ReleaseFrame),
     ]
 }
 
@@ -254,6 +265,12 @@ struct Model {
     classes: usize,
     /// The render mode and parameters as `rtGetRenderParameteri` should return them.
     rendering: Vec<(RTenum, RTint)>,
+    /// Asynchronous frame handles handed out (they count from 1 in each context).
+    frames_issued: RTuint,
+    /// The handles not yet released.
+    frames: Vec<RTuint>,
+    /// The frame started and not yet waited for nor released.
+    in_flight: Option<RTuint>,
 }
 
 impl Model {
@@ -395,8 +412,9 @@ impl Model {
             BindShaderClass(0) | BindShader(0) => Code(RT_NO_ERROR),
             BindShaderClass(_) | BindShader(_) => OneOf(OK_OR_VALUE),
             NewShader(_) | Parameter(..) => OneOf(OK_VALUE_OR_OPERATION),
-            Swap if self.defining => Code(RT_INVALID_OPERATION),
-            Swap => Code(RT_NO_ERROR),
+            Swap | StartFrame if self.defining || self.in_flight.is_some() => Code(RT_INVALID_OPERATION),
+            Swap | StartFrame => Code(RT_NO_ERROR),
+            WaitFrame(h) | CancelFrame(h) | FrameProgress(h) | ReleaseFrame(h) => value(self.frames.contains(h)),
             Pick(x, y) => value((*x as usize) < SIDE && (*y as usize) < SIDE),
         }
     }
@@ -422,6 +440,16 @@ impl Model {
             PopMatrix => self.depth[self.texture_mode as usize] -= 1,
             RenderMode(m) => self.set_render_value(RT_RENDER_MODE, *m as RTint),
             RenderParameter(p, v) => self.set_render_value(*p, *v),
+            StartFrame => {
+                self.frames_issued += 1;
+                self.frames.push(self.frames_issued);
+                self.in_flight = Some(self.frames_issued);
+            }
+            WaitFrame(h) if self.in_flight == Some(*h) => self.in_flight = None,
+            ReleaseFrame(h) => {
+                self.frames.retain(|f| f != h);
+                self.in_flight = self.in_flight.filter(|f| f != h);
+            }
             _ => {}
         }
     }
@@ -515,6 +543,14 @@ fn perform(call: &Call) -> Option<RTint> {
         DeleteTextures(first, n) => rtDeleteTextures(*first, *n),
         ParameterTexture(h, t) => rtParameterTexture(*h, *t),
         Swap => rtSwapBuffers(),
+        StartFrame => drop(rtRenderFrameAsync()),
+        WaitFrame(h) => return Some(rtFrameWait(*h) as RTint),
+        CancelFrame(h) => rtFrameCancel(*h),
+        FrameProgress(h) => {
+            let progress = rtFrameProgress(*h);
+            assert!((0.0..=1.0).contains(&progress), "progress {progress}");
+        }
+        ReleaseFrame(h) => rtFrameRelease(*h),
         Pick(x, y) => drop(unsafe { rtPick(*x, *y, std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut()) }),
     }
     None
@@ -566,6 +602,10 @@ proptest! {
             if let (Call::GetRenderParameter(pname), Some(value), RT_NO_ERROR) = (call, returned, code) {
                 prop_assert_eq!(value, model.render_value(*pname), "{:?}: refused settings change nothing", call);
             }
+            if let (Call::WaitFrame(_), Some(status)) = (call, returned) {
+                let expected: &[RTenum] = if code == RT_NO_ERROR { &[RT_NO_ERROR, RT_CANCELLED] } else { &[code] };
+                prop_assert!(expected.contains(&(status as RTenum)), "{:?} returned {:#x}, recorded {:#x}", call, status, code);
+            }
             match expected {
                 Expect::Code(c) => prop_assert_eq!(code, c, "{:?}: {}", call, message()),
                 Expect::OneOf(codes) => prop_assert!(codes.contains(&code), "{:?} recorded {:#x}: {}", call, code, message()),
@@ -579,6 +619,9 @@ proptest! {
         }
         if model.defining {
             rtEndObject();
+        }
+        if let Some(frame) = model.in_flight {
+            rtFrameWait(frame);
         }
         rtGetError();
         let mut frame = vec![0u8; 16 * 16 * 4];

@@ -25,6 +25,9 @@ pub const RT_OUT_OF_MEMORY: RTenum = 0x0505;
 pub const RT_IO_ERROR: RTenum = 0x9000;
 /// raystage itself failed (a bug): the call was stopped. Please report the message.
 pub const RT_INTERNAL_ERROR: RTenum = 0x9001;
+/// Not an error but a frame's status: `rtFrameWait` of a frame that `rtFrameCancel` stopped
+/// before it completed. Never recorded for `rtGetError`.
+pub const RT_CANCELLED: RTenum = 0x9002;
 
 // ----- objects -----
 

@@ -24,7 +24,8 @@ pub extern "C" fn rtGetErrorString() -> *const c_char {
 }
 
 /// Discards this thread's context: the scene, every id, the matrices, bindings, frame buffer
-/// and errors, as if no `rt` call had been made; its memory is freed. Allowed anywhere.
+/// and errors, as if no `rt` call had been made; its memory is freed. Frames in flight are
+/// cancelled and waited for (promptly), and their handles released. Allowed anywhere.
 #[unsafe(no_mangle)]
 pub extern "C" fn rtResetContext() {
     query((), |ctx| *ctx = Context::default());

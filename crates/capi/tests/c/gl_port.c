@@ -7,7 +7,7 @@
  *
  * Prints each failed check and exits 1 if any failed (run by crates/capi/tests/examples.rs).
  */
-#include <raystage/rt.h>
+#include "check.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -18,33 +18,6 @@
 #define H 16
 
 static unsigned char pixels[W * H * 4];
-static int failures = 0;
-
-#define CHECK(cond, ...)                                                              \
-    do {                                                                              \
-        if (!(cond)) {                                                                \
-            fprintf(stderr, "gl_port.c:%d: %s: ", __LINE__, #cond);                   \
-            fprintf(stderr, __VA_ARGS__);                                             \
-            fprintf(stderr, "\n");                                                    \
-            failures++;                                                               \
-        }                                                                             \
-    } while (0)
-
-/* No error is pending. */
-static void no_error(const char *what) {
-    RTenum error = rtGetError();
-    CHECK(error == RT_NO_ERROR, "%s: %s (0x%x)", what, rtGetErrorString(), (unsigned)error);
-}
-
-/* Error `code` is pending, with a message that contains `fragment`. */
-static void error_is(const char *what, RTenum code, const char *fragment) {
-    const char *message = rtGetErrorString();
-    char copy[512];
-    snprintf(copy, sizeof copy, "%s", message);
-    RTenum error = rtGetError();
-    CHECK(error == code, "%s: error 0x%x (%s), not 0x%x", what, (unsigned)error, copy, (unsigned)code);
-    CHECK(strstr(copy, fragment) != NULL, "%s: \"%s\" does not mention \"%s\"", what, copy, fragment);
-}
 
 static const unsigned char *pixel(int x, int y) { return &pixels[(y * W + x) * 4]; }
 

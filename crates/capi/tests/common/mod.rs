@@ -42,6 +42,13 @@ pub fn handle(name: &CStr) -> RTint {
     unsafe { rtParameterHandle(name.as_ptr()) }
 }
 
+/// A frame buffer of `w × h` RGBA8 pixels, attached; it must outlive the frames rendered into it.
+pub fn frame_buffer(w: usize, h: usize) -> Vec<u8> {
+    let mut pixels = vec![0u8; w * h * 4];
+    unsafe { rtFrameBuffer(pixels.as_mut_ptr().cast(), w, h, RT_RGBA8) };
+    pixels
+}
+
 /// Pixel `(x, y)` of a `w`-wide RGBA8 image, without its alpha.
 pub fn rgb(pixels: &[u8], w: usize, x: usize, y: usize) -> [u8; 3] {
     let i = (y * w + x) * 4;
