@@ -180,7 +180,7 @@ pub struct InstanceInfo {
 }
 
 /// The `settings` message: changes this stream's image (fields left out stay).
-#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Settings {
     /// Width in pixels.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -194,6 +194,12 @@ pub struct Settings {
     /// Samples per pixel to refine to.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_samples: Option<u32>,
+    /// Exposure in stops (the server re-grades the image without rendering it again).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub exposure: Option<f32>,
+    /// The tone curve: `clamp` or `neutral`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tonemap: Option<String>,
 }
 
 impl Settings {
@@ -203,6 +209,8 @@ impl Settings {
         self.height = later.height.or(self.height);
         self.integrator = later.integrator.or(self.integrator);
         self.max_samples = later.max_samples.or(self.max_samples);
+        self.exposure = later.exposure.or(self.exposure);
+        self.tonemap = later.tonemap.or(self.tonemap);
         self
     }
 
@@ -220,6 +228,12 @@ impl Settings {
         }
         if let Some(m) = self.max_samples {
             parts.push(format!("max_samples={m}"));
+        }
+        if let Some(e) = self.exposure {
+            parts.push(format!("exposure={e}"));
+        }
+        if let Some(t) = &self.tonemap {
+            parts.push(format!("tonemap={t}"));
         }
         parts.join("&")
     }

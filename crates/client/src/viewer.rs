@@ -61,6 +61,9 @@ pub struct Viewer {
     /// The integrator chosen here (`None`: the server's default).
     integrator: Option<String>,
     max_samples: u32,
+    /// Exposure in stops, and whether the neutral tone curve grades the image (else clamping).
+    exposure: f32,
+    neutral: bool,
     /// Image pixels per screen pixel: 1, 1/2, 1/4.
     scale: f32,
     size: SizeFollower,
@@ -99,6 +102,8 @@ impl Viewer {
             link,
             integrator: options.integrator.clone(),
             max_samples: options.max_samples.max(1),
+            exposure: 0.0,
+            neutral: false,
             options,
             scene: None,
             orbit: None,
@@ -313,6 +318,14 @@ impl Viewer {
                 ui.selectable_value(&mut self.scale, scale, scale_name(scale));
             }
         });
+        // The server re-grades the image it has: these cost no new samples.
+        if ui.add(egui::Slider::new(&mut self.exposure, -4.0..=4.0).step_by(0.25).text("exposure (stops)")).changed() {
+            self.send(Request::Settings(Settings { exposure: Some(self.exposure), ..Settings::default() }));
+        }
+        if ui.checkbox(&mut self.neutral, "neutral tone map").changed() {
+            let tonemap = if self.neutral { "neutral" } else { "clamp" };
+            self.send(Request::Settings(Settings { tonemap: Some(tonemap.into()), ..Settings::default() }));
+        }
         if (self.max_samples, self.scale) != before {
             if self.scale != before.1 {
                 // The size follows at once (no resize to wait out).

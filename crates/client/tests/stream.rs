@@ -34,7 +34,7 @@ fn next_frame(link: &Link, deadline: Instant) -> Frame {
 #[test]
 fn frames_arrive_refine_and_follow_the_camera() {
     let (_runtime, url) = server();
-    let settings = Settings { width: Some(64), height: Some(48), integrator: Some("eyelight".into()), max_samples: Some(4096) };
+    let settings = Settings { width: Some(64), height: Some(48), integrator: Some("eyelight".into()), max_samples: Some(4096), ..Settings::default() };
     let link = connect(StreamConfig { server: Server::parse(&url, None).unwrap(), scene: None, settings }, || {});
     let deadline = Instant::now() + Duration::from_secs(30);
 

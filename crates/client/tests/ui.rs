@@ -78,7 +78,7 @@ fn the_stream_follows_the_view_and_choosing_an_integrator_sends_settings() {
     // The first size goes out at once: the view's pixels (the window less the side panel and
     // the status line).
     let first = requests(&mut remote);
-    let [Request::Settings(Settings { width: Some(w), height: Some(h), max_samples: Some(256), integrator: None })] = first.as_slice() else {
+    let [Request::Settings(Settings { width: Some(w), height: Some(h), max_samples: Some(256), integrator: None, .. })] = first.as_slice() else {
         panic!("one settings message with the view's size, got {first:?}")
     };
     assert!((600..1000).contains(w) && (500..600).contains(h), "{w} × {h}");
@@ -88,6 +88,11 @@ fn the_stream_follows_the_view_and_choosing_an_integrator_sends_settings() {
     let sent = requests(&mut remote);
     assert_eq!(sent, [Request::Settings(Settings { integrator: Some("path".into()), ..Settings::default() })]);
     assert_eq!(sent[0].message(9), Some(json!({ "type": "settings", "request": 9, "integrator": "path" })));
+
+    // Grading: the tone curve and the exposure.
+    harness.get_by_label("neutral tone map").click();
+    harness.run();
+    assert_eq!(requests(&mut remote), [Request::Settings(Settings { tonemap: Some("neutral".into()), ..Settings::default() })]);
 
     // A resize is sent once it has held still.
     harness.set_size(egui::vec2(900.0, 600.0));

@@ -82,13 +82,13 @@ impl Film {
         self.pixels[y as usize * self.width as usize + x as usize]
     }
 
-    /// Rows `rows` of the film as sRGB-encoded RGB8, row by row from the top: a band of a PNG
-    /// that an encoder can compress while later bands are still being converted. Panics if the
-    /// rows are not in the film.
-    pub fn rgb8_rows(&self, rows: std::ops::Range<u32>) -> Vec<u8> {
+    /// Rows `rows` of the film seen through `look`, as sRGB-encoded RGB8, row by row from the
+    /// top: a band of a PNG that an encoder can compress while later bands are still being
+    /// converted. Panics if the rows are not in the film.
+    pub fn rgb8_rows(&self, rows: std::ops::Range<u32>, look: Look) -> Vec<u8> {
         assert!(rows.start <= rows.end && rows.end <= self.height, "rows {rows:?} outside a film of {} rows", self.height);
         let width = self.width as usize;
-        rgb8(&self.pixels[rows.start as usize * width..rows.end as usize * width], 1, Look::default())
+        rgb8(&self.pixels[rows.start as usize * width..rows.end as usize * width], 1, look)
     }
 
     /// The pixels as sRGB-encoded RGBA8 (opaque), row by row: the layout of an application's
@@ -352,9 +352,9 @@ mod tests {
         let rgb = |rows: std::ops::Range<u32>| -> Vec<u8> {
             rgba[rows.start as usize * 13 * 4..rows.end as usize * 13 * 4].chunks(4).flat_map(|p| [p[0], p[1], p[2]]).collect()
         };
-        assert_eq!(film.rgb8_rows(0..7), rgb(0..7));
-        assert_eq!(film.rgb8_rows(2..5), rgb(2..5));
-        assert!(film.rgb8_rows(3..3).is_empty());
+        assert_eq!(film.rgb8_rows(0..7, Look::default()), rgb(0..7));
+        assert_eq!(film.rgb8_rows(2..5, Look::default()), rgb(2..5));
+        assert!(film.rgb8_rows(3..3, Look::default()).is_empty());
     }
 
     #[test]

@@ -17,7 +17,7 @@ fn finished_rows_are_the_films_rows() {
         let mut next = 0;
         for (rows, bytes) in &bands {
             assert_eq!(rows.start, next, "{integrator:?}: every row once, in bands that tile the image");
-            assert_eq!(*bytes, film.rgb8_rows(rows.clone()), "{integrator:?}: rows {rows:?}");
+            assert_eq!(*bytes, film.rgb8_rows(rows.clone(), raystage_render::Look::default()), "{integrator:?}: rows {rows:?}");
             next = rows.end;
         }
         assert_eq!(next, 45);

@@ -24,8 +24,8 @@ use crate::error::{ApiError, ApiResult};
 /// handing bands over costs nothing.
 const BAND_ROWS: u32 = 16;
 
-/// The film as an sRGB PNG.
-pub fn encode(film: &Film) -> ApiResult<Vec<u8>> {
+/// The film as an sRGB PNG seen through `look` (exposed, tone-mapped).
+pub fn encode(film: &Film, look: Look) -> ApiResult<Vec<u8>> {
     let (width, height) = (film.width(), film.height());
     let bands = height.div_ceil(BAND_ROWS);
     compress(width, height, |sender| {
@@ -33,7 +33,7 @@ pub fn encode(film: &Film) -> ApiResult<Vec<u8>> {
         (0..bands).into_par_iter().for_each_with(sender, |sender, band| {
             let rows = band * BAND_ROWS..((band + 1) * BAND_ROWS).min(height);
             // A send fails only when compression has failed and stopped listening.
-            let _ = sender.send((rows.start, film.rgb8_rows(rows)));
+            let _ = sender.send((rows.start, film.rgb8_rows(rows, look)));
         });
     })
     .map(|(png, _)| png)
@@ -116,7 +116,7 @@ mod tests {
         let pixels: Vec<Vec3> =
             (0..width * height).map(|i| Vec3::new((i % width) as f32 / width as f32, (i / width) as f32 / height as f32, (i % 2) as f32)).collect();
         let film = Film::from_pixels(width, height, pixels);
-        let decoded = image::load_from_memory(&encode(&film).unwrap()).unwrap().to_rgba8();
+        let decoded = image::load_from_memory(&encode(&film, Look::default()).unwrap()).unwrap().to_rgba8();
         assert_eq!(decoded.dimensions(), (width, height));
         assert_eq!(decoded.into_raw(), film.to_rgba8());
     }
@@ -127,7 +127,7 @@ mod tests {
         let settings = RenderSettings { width: 45, height: 3 * BAND_ROWS + 7, samples_per_pixel: 2, ..RenderSettings::default() };
         let (png, stats, _, _) = render_png(&scene.frame(), &settings, raystage_render::Look::default(), &Cancel::new()).unwrap();
         let (film, _) = raystage_render::render(&scene.frame(), &settings).unwrap();
-        assert_eq!(png, encode(&film).unwrap());
+        assert_eq!(png, encode(&film, Look::default()).unwrap());
         assert_eq!(stats.rays.primary, 45 * (3 * BAND_ROWS as u64 + 7) * 2);
     }
 }

@@ -147,7 +147,7 @@ impl FrameQuery {
             height: self.height.unwrap_or(360),
             spp: self.spp.unwrap_or(1),
             integrator: self.integrator.as_deref().map(parse_integrator).transpose()?,
-            setup: self.setup()?,
+            setup: self.setup_over(Setup::default())?,
         };
         request.check(limits)?;
         Ok(request)
@@ -155,10 +155,11 @@ impl FrameQuery {
 }
 
 impl FrameQuery {
-    /// The setup the query asks for (422 naming the parameter that is wrong).
-    fn setup(&self) -> ApiResult<Setup> {
+    /// `base` with what the query sets replaced (422 naming the parameter that is wrong). The
+    /// stream applies its changes this way too, over its current setup.
+    pub(crate) fn setup_over(&self, base: Setup) -> ApiResult<Setup> {
         let wrong = |field: &str, message: String| ApiError::unprocessable(Some(field.into()), message);
-        let d = Setup::default();
+        let d = base;
         let max_depth = self.max_depth.unwrap_or(d.max_depth);
         if !(1..=MAX_DEPTH).contains(&max_depth) {
             return Err(wrong("max_depth", format!("max_depth {max_depth} is not in 1..={MAX_DEPTH}")));
@@ -166,15 +167,21 @@ impl FrameQuery {
         if let Some(threshold) = self.noise_threshold.filter(|t| !(*t > 0.0 && *t <= 1.0)) {
             return Err(wrong("noise_threshold", format!("noise_threshold {threshold} is not in (0, 1]")));
         }
-        let exposure = self.exposure.unwrap_or(0.0);
+        let exposure = self.exposure.unwrap_or(d.look.exposure);
         if !exposure.is_finite() {
             return Err(wrong("exposure", format!("exposure {exposure} is not a number of stops")));
         }
         let tone_map = self.tonemap.as_deref().map(str::parse).transpose().map_err(|e: raystage_render::Error| wrong("tonemap", e.to_string()))?;
         Ok(Setup {
-            look: Look { exposure, tone_map: tone_map.unwrap_or_default() },
-            noise_threshold: self.noise_threshold,
-            background: self.background.as_deref().map(str::parse).transpose().map_err(|e: raystage_scene::SceneError| wrong("background", e.to_string()))?,
+            look: Look { exposure, tone_map: tone_map.unwrap_or(d.look.tone_map) },
+            noise_threshold: self.noise_threshold.or(d.noise_threshold),
+            background: self
+                .background
+                .as_deref()
+                .map(str::parse)
+                .transpose()
+                .map_err(|e: raystage_scene::SceneError| wrong("background", e.to_string()))?
+                .or(d.background),
             default_lights: self.default_lights.unwrap_or(d.default_lights),
             max_depth,
             russian_roulette: self.russian_roulette.unwrap_or(d.russian_roulette),

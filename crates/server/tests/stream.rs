@@ -107,6 +107,57 @@ async fn frames_refine_and_a_camera_change_restarts_them() {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_stream_is_set_up_as_frames_are_and_regraded_without_rendering_again() {
+    let state = AppState::new(Config::default());
+    let app = raystage_server::router(state.clone());
+    let (s, _, _) = red_square_scene(&app).await;
+    let addr = listen(state).await;
+    let query = "width=32&height=32&integrator=eyelight&max_samples=4&background=0.2,0.2,0.2&exposure=1&tonemap=neutral";
+    let (mut socket, _) = tokio_tungstenite::connect_async(format!("ws://{addr}/scenes/{s}/stream?{query}")).await.unwrap();
+    let converged = async |socket: &mut Socket| loop {
+        let (stats, image) = next_frame(socket).await;
+        if stats["converged"] == true {
+            return (stats, image);
+        }
+    };
+    let (first, image) = converged(&mut socket).await;
+    // The background exposed by one stop (0.4) less the neutral curve's offset (0.04): 0.36,
+    // sRGB 162; the square's red exposed to 2, compressed under 1 and desaturated.
+    assert_eq!(image.get_pixel(0, 0).0, [162, 162, 162, 255]);
+    let red = image.get_pixel(16, 16).0;
+    assert!(red[0] > 240 && red[1] > 0 && red[1] == red[2], "{red:?}");
+
+    // Only the grading changes: the same samples come back, graded anew, at once.
+    socket.send(Message::text(r#"{"type": "settings", "request": 1, "exposure": -1, "tonemap": "clamp"}"#)).await.unwrap();
+    let (second, image) = converged(&mut socket).await;
+    assert_eq!(second["samples"], first["samples"]);
+    assert_eq!(second["pass_seconds"], first["pass_seconds"], "the image was not rendered again: {second}");
+    assert!(second["seq"].as_u64() > first["seq"].as_u64());
+    assert_eq!(image.get_pixel(0, 0).0, [89, 89, 89, 255], "0.1 in sRGB");
+    assert_eq!(image.get_pixel(16, 16).0, [188, 0, 0, 255], "0.5 in sRGB");
+
+    // A change of the image renders it again; bad values are refused, naming the field.
+    socket.send(Message::text(r#"{"type": "settings", "request": 2, "background": "black"}"#)).await.unwrap();
+    let (_, image) = converged(&mut socket).await;
+    assert_eq!((image.get_pixel(0, 0).0, image.get_pixel(16, 16).0), ([0, 0, 0, 255], [188, 0, 0, 255]));
+    for (change, field) in [(r#""max_depth": 0"#, "max_depth"), (r#""tonemap": "fancy""#, "tonemap"), (r#""background": "blue""#, "background")] {
+        socket.send(Message::text(format!(r#"{{"type": "settings", "request": 3, {change}}}"#))).await.unwrap();
+        let error = loop {
+            let message = next_json(&mut socket).await;
+            if message["type"] == "error" {
+                break message;
+            }
+        };
+        assert_eq!(error["error"]["field"], field, "{error}");
+    }
+    socket.close(None).await.unwrap();
+
+    let refused = tokio_tungstenite::connect_async(format!("ws://{addr}/scenes/{s}/stream?filter=sinc")).await.unwrap_err();
+    let tokio_tungstenite::tungstenite::Error::Http(response) = refused else { panic!("{refused}") };
+    assert_eq!(response.status().as_u16(), 422);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn deleting_the_scene_ends_its_streams() {
     let (app, s, mut socket) = stream_of_a_new_scene("width=16&height=16&max_samples=4").await;
     next_frame(&mut socket).await;

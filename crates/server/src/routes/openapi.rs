@@ -8,7 +8,7 @@ use crate::error::{ErrorBody, ErrorDetail};
 use crate::model::*;
 use crate::render::{IntegratorName, ToneMapName};
 use crate::stats::{FrameReport, RaysJson};
-use crate::stream::{ClientMessage, FrameMessage, ServerMessage};
+use crate::stream::{ClientMessage, FrameMessage, ServerMessage, SettingsChange};
 
 /// The API's description.
 #[derive(OpenApi)]
@@ -36,7 +36,7 @@ use crate::stream::{ClientMessage, FrameMessage, ServerMessage};
     components(schemas(
         ErrorBody, ErrorDetail, FrameReport, RaysJson, Rgb, Transform, Rotation, Scale, Ref, ParamJson, ParamOut, Kind, MeshSpec,
         TextureParam, TextureKind, TextureDescription, IntegratorName, ToneMapName,
-        ClientMessage, ServerMessage, FrameMessage, Command, CommandResult,
+        ClientMessage, SettingsChange, ServerMessage, FrameMessage, Command, CommandResult,
     )),
     tags(
         (name = "scenes", description = "Scenes: empty, built-in demos, glTF files"),

@@ -18,7 +18,7 @@ use axum::response::Response;
 use futures_util::{SinkExt, StreamExt};
 use tokio::sync::{mpsc, watch};
 
-pub use protocol::{ClientMessage, FrameMessage, PROTOCOL, ServerMessage, StreamQuery};
+pub use protocol::{ClientMessage, FrameMessage, PROTOCOL, ServerMessage, SettingsChange, StreamQuery};
 use refine::{Packet, StreamSettings, refine};
 
 use crate::config::Limits;
@@ -48,6 +48,7 @@ pub(crate) async fn stream(State(state): State<AppState>, target: Target, Params
         height: query.height.unwrap_or(360),
         integrator: query.integrator.as_deref().map(parse_integrator).transpose()?,
         max_samples: query.max_samples.unwrap_or(DEFAULT_MAX_SAMPLES.min(limits.max_spp)),
+        setup: query.setup()?,
     };
     check(&settings, &limits)?;
     let guard = state.open_stream()?;
@@ -64,7 +65,7 @@ pub(crate) async fn stream(State(state): State<AppState>, target: Target, Params
 /// Checks a stream's settings as a frame request of `max_samples` samples per pixel, and its
 /// image against the memory for images being rendered (413 if it could never fit).
 fn check(settings: &StreamSettings, limits: &Limits) -> ApiResult<()> {
-    let request = FrameRequest { width: settings.width, height: settings.height, spp: settings.max_samples, integrator: settings.integrator, setup: Default::default() };
+    let request = FrameRequest { width: settings.width, height: settings.height, spp: settings.max_samples, integrator: settings.integrator, setup: settings.setup };
     request.check(limits).map_err(|mut e| {
         if e.detail.field.as_deref() == Some("spp") {
             e.detail.field = Some("max_samples".into());
@@ -162,18 +163,19 @@ async fn handle(state: &AppState, slot: &Arc<SceneSlot>, settings: &watch::Sende
     let (request, outcome) = match message {
         ClientMessage::Camera { request, camera } => (request, crate::routes::edit(state, slot, vec![Command::SetCamera(camera)], false).await),
         ClientMessage::Commands { request, commands } => (request, crate::routes::edit(state, slot, commands, true).await),
-        ClientMessage::Settings { request, width, height, integrator, max_samples } => {
+        ClientMessage::Settings(change) => {
             let old = *settings.borrow();
-            let new = integrator.as_deref().map(parse_integrator).transpose().and_then(|integrator| {
+            let new = change.integrator.as_deref().map(parse_integrator).transpose().and_then(|integrator| {
                 let new = StreamSettings {
-                    width: width.unwrap_or(old.width),
-                    height: height.unwrap_or(old.height),
+                    width: change.width.unwrap_or(old.width),
+                    height: change.height.unwrap_or(old.height),
                     integrator: integrator.or(old.integrator),
-                    max_samples: max_samples.unwrap_or(old.max_samples),
+                    max_samples: change.max_samples.unwrap_or(old.max_samples),
+                    setup: change.setup_over(old.setup)?,
                 };
                 check(&new, &state.config().limits).map(|()| new)
             });
-            (request, new.map(|new| {
+            (change.request, new.map(|new| {
                 settings.send_replace(new);
                 (Vec::new(), slot.version())
             }))

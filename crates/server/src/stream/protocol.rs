@@ -29,6 +29,29 @@ pub struct StreamQuery {
     /// default 256.
     #[param(minimum = 1)]
     pub max_samples: Option<u32>,
+    /// What camera rays that hit nothing show: `sky`, `black` or `R,G,B` (as for frames).
+    pub background: Option<String>,
+    /// Whether a scene that nothing lights is lit by the default sky (as for frames).
+    pub default_lights: Option<bool>,
+    /// Longest path in segments, the camera ray included, or deepest recursion: 1 to 64.
+    #[param(minimum = 1, maximum = 64)]
+    pub max_depth: Option<u32>,
+    /// Whether the path tracer may end paths early by Russian roulette.
+    pub russian_roulette: Option<bool>,
+    /// The pixel filter: `box`, `gaussian` or `gaussian:RADIUS`.
+    pub filter: Option<String>,
+    /// Seed of the sample sequences.
+    pub seed: Option<u32>,
+    /// Adaptive sampling: tiles stop taking samples once each pixel's standard error is below
+    /// this fraction of its brightness, in (0, 1].
+    #[param(exclusive_minimum = 0, maximum = 1)]
+    pub noise_threshold: Option<f32>,
+    /// Exposure in stops. Changing it (or `tonemap`) re-grades the image without rendering
+    /// it again.
+    pub exposure: Option<f32>,
+    /// The PNG's tone curve: `clamp` or `neutral`.
+    #[param(value_type = Option<crate::render::ToneMapName>)]
+    pub tonemap: Option<String>,
     /// The access token, for clients that cannot send an `Authorization` header.
     #[allow(dead_code, reason = "checked by the authentication middleware, from the raw query")]
     pub token: Option<String>,
@@ -52,19 +75,81 @@ pub enum ClientMessage {
         /// The edits.
         commands: Vec<Command>,
     },
-    /// Changes this stream's image (fields left out stay); the image restarts.
-    Settings {
-        /// Echoed in the reply.
-        request: Option<u64>,
-        /// Width in pixels.
-        width: Option<u32>,
-        /// Height in pixels.
-        height: Option<u32>,
-        /// The integrator.
-        integrator: Option<String>,
-        /// Samples per pixel to refine to.
-        max_samples: Option<u32>,
-    },
+    /// Changes this stream's image (fields left out stay): it restarts, unless only `exposure`
+    /// and `tonemap` changed, which re-grade the image as it is.
+    Settings(SettingsChange),
+}
+
+/// The `settings` message's fields: those of the stream's query, and `request`.
+#[derive(Clone, Debug, Default, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SettingsChange {
+    /// Echoed in the reply.
+    pub request: Option<u64>,
+    /// Width in pixels.
+    pub width: Option<u32>,
+    /// Height in pixels.
+    pub height: Option<u32>,
+    /// The integrator.
+    pub integrator: Option<String>,
+    /// Samples per pixel to refine to.
+    pub max_samples: Option<u32>,
+    /// What camera rays that hit nothing show: `sky`, `black` or `R,G,B` (as for frames).
+    pub background: Option<String>,
+    /// Whether a scene that nothing lights is lit by the default sky (as for frames).
+    pub default_lights: Option<bool>,
+    /// Longest path in segments, the camera ray included, or deepest recursion: 1 to 64.
+    #[schema(minimum = 1, maximum = 64)]
+    pub max_depth: Option<u32>,
+    /// Whether the path tracer may end paths early by Russian roulette.
+    pub russian_roulette: Option<bool>,
+    /// The pixel filter: `box`, `gaussian` or `gaussian:RADIUS`.
+    pub filter: Option<String>,
+    /// Seed of the sample sequences.
+    pub seed: Option<u32>,
+    /// Adaptive sampling: tiles stop taking samples once each pixel's standard error is below
+    /// this fraction of its brightness, in (0, 1].
+    #[schema(exclusive_minimum = 0, maximum = 1)]
+    pub noise_threshold: Option<f32>,
+    /// Exposure in stops. Changing it (or `tonemap`) re-grades the image without rendering
+    /// it again.
+    pub exposure: Option<f32>,
+    /// The PNG's tone curve: `clamp` or `neutral`.
+    #[schema(value_type = Option<crate::render::ToneMapName>)]
+    pub tonemap: Option<String>,
+}
+
+/// The frame setup that a stream's query or `settings` message sets, as a frame's query would
+/// (so that both are checked the same way).
+macro_rules! setup_query {
+    ($fields:expr) => {
+        crate::render::FrameQuery {
+            background: $fields.background.clone(),
+            default_lights: $fields.default_lights,
+            max_depth: $fields.max_depth,
+            russian_roulette: $fields.russian_roulette,
+            filter: $fields.filter.clone(),
+            seed: $fields.seed,
+            noise_threshold: $fields.noise_threshold,
+            exposure: $fields.exposure,
+            tonemap: $fields.tonemap.clone(),
+            ..Default::default()
+        }
+    };
+}
+
+impl StreamQuery {
+    /// The setup the query asks for (422 naming the parameter that is wrong).
+    pub(crate) fn setup(&self) -> crate::error::ApiResult<crate::render::Setup> {
+        setup_query!(self).setup_over(crate::render::Setup::default())
+    }
+}
+
+impl SettingsChange {
+    /// `base` with what the message sets replaced (422 naming the parameter that is wrong).
+    pub(crate) fn setup_over(&self, base: crate::render::Setup) -> crate::error::ApiResult<crate::render::Setup> {
+        setup_query!(self).setup_over(base)
+    }
 }
 
 /// A message from the server (a JSON text message; every `frame` is followed by one binary

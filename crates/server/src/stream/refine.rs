@@ -7,10 +7,11 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
-use raystage_render::{Cancel, Integrator, Progressive, RenderSettings};
+use raystage_render::{Cancel, Film, Integrator, Look, Progressive, RenderSettings};
+use raystage_scene::Scene;
 use tokio::sync::{OwnedSemaphorePermit, mpsc, watch};
 
-use crate::render::{CancelOnDrop, STREAM_BYTES_PER_PIXEL, default_integrator};
+use crate::render::{CancelOnDrop, FrameRequest, STREAM_BYTES_PER_PIXEL, Setup};
 use crate::state::{AppState, SceneSlot};
 use crate::stats::FrameReport;
 use crate::error::ApiError;
@@ -32,19 +33,34 @@ const SUPERSEDED_AFTER: std::time::Duration = std::time::Duration::from_millis(1
 const MEMORY_RETRY: std::time::Duration = std::time::Duration::from_secs(1);
 
 /// A stream's image settings.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct StreamSettings {
     pub width: u32,
     pub height: u32,
     /// `None`: Whitted if the scene has lights, else the eye-light preview.
     pub integrator: Option<Integrator>,
     pub max_samples: u32,
+    /// How the frames are set up, and graded.
+    pub setup: Setup,
 }
 
 impl StreamSettings {
     /// The memory the stream's image takes while the stream is open.
     pub fn bytes(&self) -> u64 {
         self.width as u64 * self.height as u64 * STREAM_BYTES_PER_PIXEL
+    }
+
+    /// Whether `other` renders the same image: it may only grade it differently (its exposure
+    /// and tone curve apply when a PNG is encoded), which needs no new samples.
+    fn same_image(&self, other: &StreamSettings) -> bool {
+        let ungraded = |s: &StreamSettings| StreamSettings { setup: Setup { look: Look::default(), ..s.setup }, ..*s };
+        ungraded(self) == ungraded(other)
+    }
+
+    /// The render settings for `scene`.
+    fn render_settings(&self, scene: &Scene) -> RenderSettings {
+        let request = FrameRequest { width: self.width, height: self.height, spp: 1, integrator: self.integrator, setup: self.setup };
+        request.settings(scene)
     }
 }
 
@@ -56,11 +72,14 @@ pub(crate) struct Packet {
 
 /// The accumulation in progress.
 struct Accumulation {
+    /// What it renders, and how its last frame was graded.
     settings: StreamSettings,
     version: u64,
     progressive: Progressive,
     /// Its share of the memory for images being rendered, given back with it.
     memory: OwnedSemaphorePermit,
+    /// The statistics of the last frame sent, sent again with a re-graded image.
+    sent: Option<FrameMessage>,
 }
 
 /// Renders until the session ends (`settings` closes) or the scene is deleted (then it says so
@@ -88,15 +107,29 @@ pub(crate) async fn refine(
         let wanted = *settings.borrow_and_update();
         let converged = accumulation
             .as_ref()
-            .is_some_and(|a| a.settings == wanted && a.version == slot.version() && a.progressive.samples() >= wanted.max_samples);
+            .is_some_and(|a| a.settings.same_image(&wanted) && a.version == slot.version() && a.progressive.samples() >= wanted.max_samples);
         if converged {
+            let acc = accumulation.as_mut().expect("converged");
+            if acc.settings.setup.look != wanted.setup.look {
+                // Only the grading changed: the finished image is encoded again.
+                acc.settings = wanted;
+                let film = acc.progressive.film();
+                let look = wanted.setup.look;
+                let encoded = tokio::task::spawn_blocking(move || timed_png(&film, look)).await;
+                if let (Ok(Some((png, encode_seconds))), Some(sent)) = (encoded, acc.sent.clone()) {
+                    seq += 1;
+                    let message = FrameMessage { seq, encode_seconds, ..sent };
+                    send(&out, &taken, message, png);
+                }
+                continue;
+            }
             tokio::select! {
                 changed = versions.changed() => if changed.is_err() { return },
                 changed = settings.changed() => if changed.is_err() { return },
             }
             continue;
         }
-        if accumulation.as_ref().is_some_and(|a| a.settings != wanted) {
+        if accumulation.as_ref().is_some_and(|a| !a.settings.same_image(&wanted)) {
             // Its memory is needed for the new image.
             accumulation = None;
         }
@@ -124,18 +157,16 @@ pub(crate) async fn refine(
         let turn = state.render_permit().await;
         let (scene, version) = slot.snapshot().await;
         let mut acc = match (accumulation.take(), memory) {
-            (Some(a), _) if a.version == version => a,
+            (Some(a), _) if a.version == version => Accumulation { settings: wanted, ..a },
             (old, memory) => {
                 pass_samples = 1;
-                let integrator = wanted.integrator.unwrap_or_else(|| default_integrator(&scene, true));
-                let render_settings = RenderSettings { width: wanted.width, height: wanted.height, integrator, ..RenderSettings::default() };
                 let Some(memory) = memory.or_else(|| old.map(|a| a.memory)) else {
                     return; // One of the two holds the memory.
                 };
-                let Ok(progressive) = Progressive::new(render_settings) else {
+                let Ok(progressive) = Progressive::new(wanted.render_settings(&scene)) else {
                     return; // The settings were checked when they were received.
                 };
-                Accumulation { settings: wanted, version, progressive, memory }
+                Accumulation { settings: wanted, version, progressive, memory, sent: None }
             }
         };
         let samples = pass_samples.min(wanted.max_samples - acc.progressive.samples());
@@ -150,22 +181,19 @@ pub(crate) async fn refine(
             let stats = acc.progressive.add_cancellable(&scene.frame(), samples, &token);
             drop(scene);
             // Decided after the pass, which gave the sender its duration to deliver the last frame.
-            let png = (stats.is_ok() && (last || sent.load(Ordering::Acquire))).then(|| {
-                let start = Instant::now();
-                crate::png::encode(&acc.progressive.film()).ok().map(|png| (png, start.elapsed().as_secs_f64()))
-            });
+            let png = (stats.is_ok() && (last || sent.load(Ordering::Acquire))).then(|| timed_png(&acc.progressive.film(), acc.settings.setup.look));
             (acc, stats, png.flatten())
             // The turn goes to the next render here, once the work has stopped.
         });
         let deadline = tokio::time::Instant::now() + SUPERSEDED_AFTER;
         let joined = tokio::select! {
             joined = &mut pass => joined,
-            () = superseded(&mut versions, &mut settings, deadline) => {
+            () = superseded(&mut versions, &mut settings, wanted, deadline) => {
                 cancel.0.cancel();
                 pass.await
             }
         };
-        let Ok((acc, stats, png)) = joined else {
+        let Ok((mut acc, stats, png)) = joined else {
             return;
         };
         let Ok(stats) = stats else {
@@ -199,24 +227,47 @@ pub(crate) async fn refine(
                 converged: acc.progressive.samples() >= wanted.max_samples,
             };
             *slot.last_frame.lock().unwrap_or_else(|e| e.into_inner()) = Some(report);
-            let json = serde_json::to_string(&crate::stream::protocol::ServerMessage::Frame(message)).expect("frames serialise");
-            taken.store(false, Ordering::Release);
-            out.send_replace(Some(Arc::new(Packet { json, png })));
+            acc.sent = Some(message.clone());
+            send(&out, &taken, message, png);
         }
         accumulation = Some(acc);
     }
 }
 
-/// Completes once the scene or the stream's settings changed and `deadline` has passed: the pass
-/// running then renders what is no longer wanted. Never completes once the session has gone
-/// (its settings' sender is dropped): the session aborts the loop then.
-async fn superseded(versions: &mut watch::Receiver<u64>, settings: &mut watch::Receiver<StreamSettings>, deadline: tokio::time::Instant) {
-    let changed = tokio::select! {
-        changed = versions.changed() => changed.is_ok(),
-        changed = settings.changed() => changed.is_ok(),
-    };
-    if !changed {
-        std::future::pending::<()>().await;
+/// `film` as a PNG graded by `look`, and the seconds encoding took (`None` if it failed).
+fn timed_png(film: &Film, look: Look) -> Option<(Vec<u8>, f64)> {
+    let start = Instant::now();
+    crate::png::encode(film, look).ok().map(|png| (png, start.elapsed().as_secs_f64()))
+}
+
+/// Makes `message` and its PNG the newest packet, for the sender to deliver.
+fn send(out: &watch::Sender<Option<Arc<Packet>>>, taken: &AtomicBool, message: FrameMessage, png: Vec<u8>) {
+    let json = serde_json::to_string(&ServerMessage::Frame(message)).expect("frames serialise");
+    taken.store(false, Ordering::Release);
+    out.send_replace(Some(Arc::new(Packet { json, png })));
+}
+
+/// Completes once the scene or the image the stream asks for changed (a new grading does not
+/// count: the pass's samples serve it) and `deadline` has passed: the pass running then
+/// renders what is no longer wanted. Never completes once the session has gone (its settings'
+/// sender is dropped): the session aborts the loop then.
+async fn superseded(
+    versions: &mut watch::Receiver<u64>,
+    settings: &mut watch::Receiver<StreamSettings>,
+    rendering: StreamSettings,
+    deadline: tokio::time::Instant,
+) {
+    loop {
+        let changed = tokio::select! {
+            changed = versions.changed() => changed.is_ok(),
+            changed = settings.changed() => changed.is_ok() && !settings.borrow().same_image(&rendering),
+        };
+        if changed {
+            break;
+        }
+        if versions.has_changed().is_err() || settings.has_changed().is_err() {
+            std::future::pending::<()>().await;
+        }
     }
     tokio::time::sleep_until(deadline).await;
 }
