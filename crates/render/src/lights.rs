@@ -133,7 +133,8 @@ struct Emitters<'f> {
     by_power: Distribution,
 }
 
-/// One emitting triangle in the world.
+/// One emitting triangle in the world. Kept small (72 bytes): a scene may have millions, and
+/// every frame gathers them.
 struct Emitter<'f> {
     corner: Vec3,
     edge_u: Vec3,
@@ -143,14 +144,29 @@ struct Emitter<'f> {
     area: f32,
     /// Its shader's emission, before a texture multiplies it: what it is picked by.
     radiance: Vec3,
-    /// The texture that multiplies the emission, and where the triangle lies on it.
-    texture: Option<(Slot<'f>, WorldTriangle)>,
+    /// The texture that multiplies the emission, and where the triangle lies on it (boxed:
+    /// most emitters have none).
+    texture: Option<Box<(Slot<'f>, WorldTriangle)>>,
 }
 
-impl Emitter<'_> {
+impl<'f> Emitter<'f> {
+    /// Triangle `t` emitting `radiance` (times `texture`), or `None` if it emits nothing.
+    fn new(t: &WorldTriangle, radiance: Vec3, texture: Option<Slot<'f>>) -> Option<Emitter<'f>> {
+        (luminance(radiance) > 0.0).then(|| Emitter {
+            corner: t.corners[0],
+            edge_u: t.corners[1] - t.corners[0],
+            edge_v: t.corners[2] - t.corners[0],
+            normal: t.front,
+            area: t.area,
+            radiance,
+            texture: texture.map(|slot| Box::new((slot, *t))),
+        })
+    }
+
     /// The radiance emitted at barycentrics `(1 − a − b, a, b)` of the triangle.
     fn radiance_at(&self, a: f32, b: f32) -> Vec3 {
-        let Some((slot, t)) = &self.texture else { return self.radiance };
+        let Some(textured) = &self.texture else { return self.radiance };
+        let (slot, t) = &**textured;
         let at = |corners: [Vec3; 3]| corners[0] * (1.0 - a - b) + corners[1] * a + corners[2] * b;
         let uv = |set: Option<[Vec2; 3]>| set.map(|c| c[0] * (1.0 - a - b) + c[1] * a + c[2] * b);
         self.radiance * slot.at(at(t.local), [uv(t.uvs[0]), uv(t.uvs[1])]).truncate()
@@ -158,21 +174,8 @@ impl Emitter<'_> {
 }
 
 impl<'f> Emitters<'f> {
-    /// The light of `triangles`, their radiances and emissive textures, or `None` if none emits.
-    fn new(triangles: Vec<(WorldTriangle, Vec3, Option<Slot<'f>>)>) -> Option<Emitters<'f>> {
-        let triangles: Vec<Emitter> = triangles
-            .into_iter()
-            .filter(|(_, radiance, _)| luminance(*radiance) > 0.0)
-            .map(|(t, radiance, texture)| Emitter {
-                corner: t.corners[0],
-                edge_u: t.corners[1] - t.corners[0],
-                edge_v: t.corners[2] - t.corners[0],
-                normal: t.front,
-                area: t.area,
-                radiance,
-                texture: texture.map(|slot| (slot, t)),
-            })
-            .collect();
+    /// The light of `triangles`, or `None` if none emits.
+    fn new(triangles: Vec<Emitter<'f>>) -> Option<Emitters<'f>> {
         let by_power = Distribution::new(triangles.iter().map(|e| luminance(e.radiance) * e.area).collect());
         (by_power.total > 0.0 && by_power.total.is_finite()).then_some(Emitters { triangles, by_power })
     }
@@ -246,9 +249,11 @@ impl<'f> SceneLights<'f> {
             };
             lights.push(prepared);
         }
-        let emitting = frame.world_triangles(|id, _| materials.emission(id).is_some());
-        let emitters =
-            Emitters::new(emitting.into_iter().filter_map(|t| Some((t, materials.emission(t.shader_id)?, materials.emission_texture(t.shader_id)))).collect());
+        let emitting = frame.world_triangles(
+            |id, _| materials.emission(id).is_some(),
+            |t| Emitter::new(t, materials.emission(t.shader_id)?, materials.emission_texture(t.shader_id)),
+        );
+        let emitters = Emitters::new(emitting);
         let emitters = emitters.map(|e| {
             lights.push(Prepared::Emitters(e));
             lights.len() - 1
@@ -462,10 +467,13 @@ struct EnvironmentMap<'f> {
 }
 
 impl<'f> EnvironmentMap<'f> {
-    /// The map of `image`, or `None` if it is black everywhere.
+    /// The map of `image`, or `None` if it is black everywhere. Rows in parallel: every frame
+    /// prepares its map, and an HDR image has millions of texels.
     fn new(image: Cow<'f, Image>) -> Option<EnvironmentMap<'f>> {
+        use rayon::prelude::*;
         let (w, h) = (image.width() as usize, image.height() as usize);
         let columns: Vec<Distribution> = (0..h)
+            .into_par_iter()
             .map(|y| {
                 // Texels near the poles cover less solid angle.
                 let sin = (PI * (y as f32 + 0.5) / h as f32).sin();
@@ -646,9 +654,9 @@ mod tests {
                 WorldTriangle { corners, front: front.normalize(), area: front.length() / 2.0, shader_id: None, local: corners, uvs: [None; 2] }
             })
         };
-        let small = quad(Vec3::new(0.6, 2.0, 0.0), 0.05).map(|t| (t, Vec3::splat(400.0), None));
-        let large = quad(Vec3::new(-1.0, 2.0, 0.0), 1.5).map(|t| (t, Vec3::splat(0.5), None));
-        assert!(small.iter().all(|(t, _, _)| t.front.y < 0.0));
+        let small = quad(Vec3::new(0.6, 2.0, 0.0), 0.05).map(|t| Emitter::new(&t, Vec3::splat(400.0), None).unwrap());
+        let large = quad(Vec3::new(-1.0, 2.0, 0.0), 1.5).map(|t| Emitter::new(&t, Vec3::splat(0.5), None).unwrap());
+        assert!(small.iter().all(|e| e.normal.y < 0.0));
         let emitters = Emitters::new(small.into_iter().chain(large).collect()).unwrap();
         let (p, frame) = (Vec3::ZERO, Frame3::around(Vec3::Y));
         // What a ray from `p` in direction `wi` meets first: the radiance, distance and cosine.

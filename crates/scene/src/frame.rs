@@ -692,13 +692,23 @@ impl<'a> Frame<'a> {
         }
     }
 
-    /// Every triangle of every instance whose shader `select` picks (called once per shader an
-    /// object uses, with its id, `None` for the default shader), placed in the world at the
-    /// shutter's opening; triangles of no area are left out. Lights made of geometry (emitting
-    /// triangles) are gathered with it when a frame starts, so an object none of whose shaders
-    /// is picked costs nothing however many triangles it has.
-    pub fn world_triangles(&self, select: impl Fn(Option<ShaderId>, &Shader) -> bool) -> Vec<WorldTriangle> {
-        let mut out = Vec::new();
+    /// `map` of every triangle of every instance whose shader `select` picks (called once per
+    /// shader an object uses, with its id, `None` for the default shader), placed in the world
+    /// at the shutter's opening, in instance and triangle order; triangles of no area are left
+    /// out, and those `map` turns to `None`. Lights made of geometry (emitting triangles) are
+    /// gathered with it when a frame starts, so an object none of whose shaders is picked costs
+    /// nothing however many triangles it has, and the rest are mapped in parallel, in chunks:
+    /// a scene of a million emitting triangles must not hold every frame up on one core, nor
+    /// allocate the large [`WorldTriangle`] for each at once.
+    pub fn world_triangles<T: Send>(
+        &self,
+        select: impl Fn(Option<ShaderId>, &Shader) -> bool,
+        map: impl Fn(&WorldTriangle) -> Option<T> + Sync + Send,
+    ) -> Vec<T> {
+        use rayon::prelude::*;
+        /// Triangles one task maps: enough to make a task worth handing out.
+        const CHUNK: u32 = 4096;
+        let mut work: Vec<(&FrameInstance<'a>, Vec<Option<ShaderId>>, std::ops::Range<u32>)> = Vec::new();
         for fi in &self.instances {
             let object = fi.object;
             let picked = |id: Option<ShaderId>| match id {
@@ -710,24 +720,31 @@ impl<'a> Frame<'a> {
             if chosen.is_empty() {
                 continue;
             }
-            let mesh = &object.mesh;
-            for prim in 0..mesh.indices.len() as u32 {
-                let (_, shader_id) = self.shader_of(mesh, prim);
-                if !chosen.contains(&shader_id) {
-                    continue;
-                }
-                let local = mesh.triangle(prim);
-                let corners = local.map(|p| fi.placed.to_world.transform_point3(p));
-                let area = 0.5 * (corners[1] - corners[0]).cross(corners[2] - corners[0]).length();
-                let front = fi.placed.normal_to_world((local[1] - local[0]).cross(local[2] - local[0])).normalize_or_zero();
-                if area > 0.0 && area.is_finite() && front != Vec3::ZERO {
+            let count = object.mesh.indices.len() as u32;
+            work.extend((0..count).step_by(CHUNK as usize).map(|first| (fi, chosen.clone(), first..(first + CHUNK).min(count))));
+        }
+        let map = &map;
+        work.par_iter()
+            .flat_map_iter(|(fi, chosen, prims)| {
+                let mesh = &fi.object.mesh;
+                prims.clone().filter_map(move |prim| {
+                    let (_, shader_id) = self.shader_of(mesh, prim);
+                    if !chosen.contains(&shader_id) {
+                        return None;
+                    }
+                    let local = mesh.triangle(prim);
+                    let corners = local.map(|p| fi.placed.to_world.transform_point3(p));
+                    let area = 0.5 * (corners[1] - corners[0]).cross(corners[2] - corners[0]).length();
+                    let front = fi.placed.normal_to_world((local[1] - local[0]).cross(local[2] - local[0])).normalize_or_zero();
+                    if !(area > 0.0 && area.is_finite() && front != Vec3::ZERO) {
+                        return None;
+                    }
                     let [a, b, c] = mesh.indices[prim as usize].map(|i| i as usize);
                     let uvs = [&mesh.uvs, &mesh.uvs1].map(|set| (!set.is_empty()).then(|| [set[a], set[b], set[c]]));
-                    out.push(WorldTriangle { corners, front, area, shader_id, local, uvs });
-                }
-            }
-        }
-        out
+                    map(&WorldTriangle { corners, front, area, shader_id, local, uvs })
+                })
+            })
+            .collect()
     }
 
     /// What camera rays that leave the scene show, as the scene sets it (`None`: the renderer
