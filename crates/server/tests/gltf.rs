@@ -119,3 +119,29 @@ async fn an_upload_adds_to_a_scene_and_a_broken_one_changes_nothing() {
         }
     }
 }
+
+#[tokio::test]
+async fn an_import_may_light_the_scene_with_a_uniform_environment() {
+    let app = app();
+    let (status, info) = upload(&app, "/scenes?environment=0.25,0.5,1", glb(), "model/gltf-binary").await;
+    assert_eq!((status, info["lights"].as_u64()), (StatusCode::CREATED, Some(1)), "{info}");
+    let s = info["id"].as_u64().unwrap();
+    let lights = ok(&app, "GET", &format!("/scenes/{s}/lights"), Value::Null, StatusCode::OK).await;
+    assert_eq!((lights[0]["class"].as_str(), &lights[0]["radiance"]), (Some("EnvironmentLight"), &json!([0.25, 0.5, 1.0])), "{lights}");
+
+    let s = new_scene(&app).await;
+    let (status, added) = upload(&app, &format!("/scenes/{s}/gltf?environment=2"), glb(), "model/gltf-binary").await;
+    assert_eq!((status, added["lights"].as_array().map(Vec::len)), (StatusCode::OK, Some(1)), "{added}");
+    let lights = ok(&app, "GET", &format!("/scenes/{s}/lights"), Value::Null, StatusCode::OK).await;
+    assert_eq!(lights[0]["radiance"], json!([2.0, 2.0, 2.0]));
+
+    for bad in ["-1", "1,2", "sky", "1,nan,1"] {
+        for uri in [format!("/scenes?environment={bad}"), format!("/scenes/{s}/gltf?environment={bad}")] {
+            let (status, error) = upload(&app, &uri, glb(), "model/gltf-binary").await;
+            assert_eq!((status, error["error"]["field"].as_str()), (StatusCode::UNPROCESSABLE_ENTITY, Some("environment")), "{uri}: {error}");
+        }
+    }
+    let scenes = ok(&app, "GET", "/scenes", Value::Null, StatusCode::OK).await;
+    assert_eq!(scenes.as_array().unwrap().len(), 2, "refused imports add no scene");
+    assert_eq!(ok(&app, "GET", &format!("/scenes/{s}"), Value::Null, StatusCode::OK).await["lights"], 1, "nor change one");
+}

@@ -2,6 +2,8 @@
 
 use axum::Json;
 use axum::extract::State;
+use glam::Vec3;
+use raystage_scene::Light;
 use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
 
@@ -33,6 +35,26 @@ pub enum CameraChoice {
 pub struct GltfQuery {
     /// What to do with the camera; default `auto`.
     pub camera: Option<CameraChoice>,
+    /// Lights the scene with a uniform environment of this radiance as well: `R,G,B` or one
+    /// number (glTF has no environment; an image environment is an `EnvironmentLight` with a
+    /// texture, `POST /scenes/{scene}/lights`).
+    pub environment: Option<String>,
+}
+
+/// The uniform environment light that an `environment` query parameter asks for (422 naming
+/// it unless it is one or three finite radiances, none negative).
+pub(crate) fn environment_light(text: &str) -> ApiResult<Light> {
+    let wrong = || ApiError::unprocessable(Some("environment".into()), format!("environment `{text}` is not a radiance: one number or R,G,B, none negative"));
+    let values: Vec<f32> = text.split(',').map(|v| v.trim().parse::<f32>()).collect::<Result<_, _>>().map_err(|_| wrong())?;
+    let radiance = match values[..] {
+        [v] => Vec3::splat(v),
+        [r, g, b] => Vec3::new(r, g, b),
+        _ => return Err(wrong()),
+    };
+    if !(radiance.is_finite() && radiance.min_element() >= 0.0) {
+        return Err(wrong());
+    }
+    Ok(Light::Environment { radiance, map: None })
 }
 
 /// What an upload added.
@@ -44,7 +66,7 @@ pub struct GltfAdded {
     pub objects: Vec<u32>,
     /// One instance per node holding such a mesh.
     pub instances: Vec<u32>,
-    /// The file's punctual lights.
+    /// The file's punctual lights, and the environment if the query asked for one.
     pub lights: Vec<u32>,
     /// Whether the camera changed.
     pub camera_changed: bool,
@@ -86,6 +108,7 @@ pub(crate) async fn upload(State(state): State<AppState>, target: Target, Params
         .await
         .map_err(|e| ApiError::internal(e.to_string()))??;
     let choice = query.camera.unwrap_or_default();
+    let environment = query.environment.as_deref().map(environment_light).transpose()?;
     let (added, version) = target
         .scene
         .edit(move |scene| {
@@ -97,7 +120,10 @@ pub(crate) async fn upload(State(state): State<AppState>, target: Target, Params
                 CameraChoice::Keep => None,
             };
             let (triangles, notes) = (import.triangles(), import.notes().to_vec());
-            let added = import.add_to(scene)?;
+            let mut added = import.add_to(scene)?;
+            if let Some(light) = environment {
+                added.lights.push(scene.add_light(light)?);
+            }
             if let Some(camera) = camera {
                 scene.set_camera(camera)?;
             }

@@ -7,10 +7,10 @@ use axum::http::{HeaderMap, StatusCode, header};
 use raystage_demo::animated::Demo;
 use raystage_scene::Scene;
 use serde::{Deserialize, Serialize};
-use utoipa::ToSchema;
+use utoipa::{IntoParams, ToSchema};
 
 use crate::error::{ApiError, ApiResult, ErrorBody};
-use crate::extract::{RawBody, Target, parse_json};
+use crate::extract::{Params, RawBody, Target, parse_json};
 use crate::model::CameraJson;
 use crate::state::{AppState, SceneSlot};
 use crate::stats::FrameReport;
@@ -25,6 +25,16 @@ pub struct NewScene {
     pub demo: Option<String>,
     /// The frame of an animated demo; default 0.
     pub frame: Option<u32>,
+}
+
+/// Options of a new scene.
+#[derive(Clone, Debug, Default, Deserialize, IntoParams)]
+#[serde(deny_unknown_fields)]
+#[into_params(parameter_in = Query)]
+pub struct NewSceneQuery {
+    /// Lights the new scene with a uniform environment of this radiance as well: `R,G,B` or
+    /// one number (what a glTF file, which has no environment, often needs).
+    pub environment: Option<String>,
 }
 
 /// A scene at a glance.
@@ -88,6 +98,7 @@ pub(crate) async fn list(State(state): State<AppState>) -> ApiResult<Json<Vec<Sc
 /// a glTF file sent as the body with content type `model/gltf-binary` or `model/gltf+json`
 /// (the file's camera, or one that frames everything).
 #[utoipa::path(post, path = "/scenes", tag = "scenes",
+    params(NewSceneQuery),
     request_body(content(
         (NewScene = "application/json"),
         (crate::model::Binary = "model/gltf-binary"),
@@ -99,12 +110,18 @@ pub(crate) async fn list(State(state): State<AppState>) -> ApiResult<Json<Vec<Sc
         (status = 413, description = "Larger than the server allows", body = ErrorBody),
         (status = 422, description = "A value is not acceptable: the error names the field", body = ErrorBody),
     ))]
-pub(crate) async fn create(State(state): State<AppState>, headers: HeaderMap, request: Request) -> ApiResult<(StatusCode, Json<SceneInfo>)> {
+pub(crate) async fn create(
+    State(state): State<AppState>,
+    Params(query): Params<NewSceneQuery>,
+    headers: HeaderMap,
+    request: Request,
+) -> ApiResult<(StatusCode, Json<SceneInfo>)> {
+    let environment = query.environment.as_deref().map(super::gltf::environment_light).transpose()?;
     let gltf = headers.get(header::CONTENT_TYPE).and_then(|v| v.to_str().ok()).is_some_and(|t| t.starts_with("model/gltf"));
     let body = RawBody::from_request(request, &state).await?.0;
     let limits = state.config().limits;
     state.check_room_for_scene()?;
-    let (scene, origin) = if gltf {
+    let (mut scene, origin) = if gltf {
         let scene = tokio::task::spawn_blocking(move || -> ApiResult<Scene> {
             let import = raystage_gltf_import::read(&body, None, &super::gltf::import_limits(&limits))?;
             Ok(import.into_scene()?)
@@ -136,6 +153,9 @@ pub(crate) async fn create(State(state): State<AppState>, headers: HeaderMap, re
             }
         }
     };
+    if let Some(light) = environment {
+        scene.add_light(light)?;
+    }
     let id = state.add_scene(scene, origin)?;
     let slot = state.scene(id)?;
     let s = slot.clone();
