@@ -94,6 +94,12 @@ enum Command {
         /// Khronos PBR Neutral tone mapper).
         #[arg(long, default_value = "clamp", value_parser = raystage::parse_tone_map)]
         tonemap: raystage_render::ToneMap,
+        /// Also writes these channels of the first surface each pixel sees, comma-separated:
+        /// depth, z, normal, albedo, instance, object, primitive. Each goes next to the image
+        /// as OUT-STEM.CHANNEL.pfm (depth and z always; the rest when the image is EXR or PFM)
+        /// or .png.
+        #[arg(long, value_delimiter = ',')]
+        channels: Vec<raystage_render::Channel>,
         /// Render on every rank of the MPI job this process was started in by `mpirun`: rank 0
         /// writes the image, the same bytes one process writes.
         #[cfg(feature = "mpi")]
@@ -194,6 +200,7 @@ fn main() -> ExitCode {
             noise_threshold,
             exposure,
             tonemap,
+            channels,
             #[cfg(feature = "mpi")]
             mpi,
         } => {
@@ -214,7 +221,7 @@ fn main() -> ExitCode {
             let environment =
                 environment.map(|source| raystage::Environment { source, rotate_degrees: environment_rotate, intensity: environment_intensity });
             let look = raystage_render::Look { exposure, tone_map: tonemap };
-            let job = RenderJob { scene, threads, integrator, settings, environment, look, out };
+            let job = RenderJob { scene, threads, integrator, settings, environment, look, out, channels };
             #[cfg(feature = "mpi")]
             if mpi {
                 return finish(raystage::Cluster::join().and_then(|cluster| raystage::render_scene_mpi(&job, &mut std::io::stdout().lock(), &cluster).map(|_| ())));

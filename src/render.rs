@@ -10,7 +10,7 @@ use anyhow::{Context, Result, bail, ensure};
 use glam::Vec3;
 use indicatif::{ProgressBar, ProgressStyle};
 use raystage_demo::animated::Demo;
-use raystage_render::{Film, Filter, FrameStats, Integrator, Look, OutputFormat, Progressive, RenderSettings, Share, ToneMap};
+use raystage_render::{Channel, Film, Filter, FrameStats, Integrator, Look, OutputFormat, Progressive, RenderSettings, Share, ToneMap};
 use raystage_scene::{Background, Image, Light, Scene, Texture};
 
 /// Largest accepted image width or height in pixels.
@@ -87,6 +87,18 @@ pub struct RenderJob {
     /// The image file to write (created or replaced): `.png` (sRGB, tone-mapped), `.exr` or
     /// `.pfm` (linear, as rendered), told by the extension.
     pub out: PathBuf,
+    /// Channels to write beside it ([`channel_path`] names their files).
+    pub channels: Vec<Channel>,
+}
+
+/// Where channel `channel` of an image written to `out` goes, and whether as PFM (else PNG):
+/// `frame.png` → `frame.depth.pfm`, `frame.normal.png`. Depths are floats whatever the image;
+/// the rest follow it: 8-bit beside a PNG, floats beside a linear EXR or PFM.
+fn channel_path(out: &std::path::Path, channel: Channel) -> (PathBuf, bool) {
+    let linear = !matches!(OutputFormat::from_path(out), Ok(OutputFormat::Png));
+    let pfm = linear || matches!(channel, Channel::Depth | Channel::Z);
+    let stem = out.file_stem().map_or_else(|| "frame".into(), |s| s.to_string_lossy().into_owned());
+    (out.with_file_name(format!("{stem}.{}.{}", channel.name(), if pfm { "pfm" } else { "png" })), pfm)
 }
 
 /// An environment light as the command line asks for it.
@@ -310,6 +322,15 @@ fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Resul
     let encoded = film.encode(format, job.look).context("cannot encode the image")?;
     let out = out.as_mut().expect("the root created the file");
     out.write_all(&encoded).with_context(|| format!("cannot write {}", job.out.display()))?;
+    if !job.channels.is_empty() {
+        let images = pool.install(|| raystage_render::render_channels(&scene.frame(), settings.width, settings.height, &job.channels))?;
+        for image in images {
+            let (path, pfm) = channel_path(&job.out, image.channel);
+            let bytes = if pfm { image.pfm() } else { image.png()? };
+            std::fs::write(&path, bytes).with_context(|| format!("cannot write {}", path.display()))?;
+            writeln!(log, "{} -> {}", image.channel.name(), path.display())?;
+        }
+    }
 
     let report = RenderReport { triangles, threads: pool.current_num_threads(), frame };
     if frame.default_lights {

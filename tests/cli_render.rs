@@ -214,3 +214,29 @@ fn the_extension_chooses_the_format() {
     assert!(stderr.contains("its name must end in .png, .exr or .pfm"), "{stderr}");
     assert!(!out.exists(), "nothing written");
 }
+
+#[test]
+fn channels_are_written_beside_the_image() {
+    let out = out_path("channels.png");
+    let args = ["render", "--demo", "cornell", "--width", "40", "--height", "30", "--integrator", "eyelight", "--channels", "depth,normal,instance", "--out"];
+    let output = raystage(&[&args[..], &[out.to_str().unwrap()]].concat());
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let beside = |name: &str| out.with_file_name(out.file_name().unwrap().to_str().unwrap().replace(".png", name));
+    let depth = std::fs::read(beside(".depth.pfm")).unwrap();
+    assert!(depth.starts_with(b"Pf\n40 30\n-1.0\n") && depth.len() == 14 + 40 * 30 * 4, "{}", depth.len());
+    // The room's back wall, straight ahead: a positive, finite distance.
+    let centre = 14 + ((30 - 1 - 15) * 40 + 20) * 4;
+    let d = f32::from_le_bytes(depth[centre..centre + 4].try_into().unwrap());
+    assert!(d.is_finite() && d > 0.0, "{d}");
+    let normal = image::open(beside(".normal.png")).unwrap().to_rgb8();
+    assert_eq!(normal.dimensions(), (40, 30));
+    assert!(image::open(beside(".instance.png")).is_ok());
+    // Beside a linear image, every channel is floats.
+    let exr = out_path("channels.exr");
+    let output = raystage(&["render", "--demo", "cornell", "--width", "8", "--height", "6", "--integrator", "eyelight", "--channels", "albedo", "--out", exr.to_str().unwrap()]);
+    assert!(output.status.success());
+    assert!(std::fs::read(exr.with_file_name(exr.file_name().unwrap().to_str().unwrap().replace(".exr", ".albedo.pfm"))).unwrap().starts_with(b"PF\n8 6\n"));
+
+    let stderr = failure(&["render", "--demo", "cornell", "--channels", "colour", "--out", out.to_str().unwrap()]);
+    assert!(stderr.contains("depth, z, normal, albedo, instance, object or primitive"), "{stderr}");
+}

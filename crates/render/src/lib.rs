@@ -14,6 +14,7 @@
 
 mod bsdf;
 mod cancel;
+mod channels;
 mod effects;
 mod error;
 mod film;
@@ -30,6 +31,7 @@ mod tiles;
 mod warp;
 
 pub use cancel::Cancel;
+pub use channels::{Channel, ChannelImage, NO_ID, render_channels};
 pub use effects::EffectSet;
 pub use error::Error;
 pub use film::{Film, Look, OutputFormat, ToneMap};
