@@ -220,3 +220,36 @@ async fn an_orthographic_camera_set_over_http_renders_its_window() {
     let field = fails(&app, "PUT", &format!("/scenes/{s}/camera"), json!({ "projection": { "kind": "fisheye" } }), StatusCode::BAD_REQUEST).await;
     assert_eq!(field, "projection.kind");
 }
+
+#[tokio::test]
+async fn channels_say_what_each_pixel_sees() {
+    let app = app();
+    let (s, _, instance) = red_square_scene(&app).await;
+    let get = async |uri: String| send(&app, "GET", &uri, axum::body::Body::empty(), &[]).await;
+
+    let (status, content_type, png) = get(format!("/scenes/{s}/channels/instance?width=32&height=24")).await;
+    assert_eq!((status, content_type.as_str()), (StatusCode::OK, "image/png"));
+    let ids = image::load_from_memory(&png).unwrap().to_rgb8();
+    let id = instance["id"].as_u64().unwrap() as u8;
+    assert_eq!((ids.get_pixel(16, 12).0, ids.get_pixel(0, 0).0), ([id, 0, 0], [255, 255, 255]), "the square's instance, and none");
+
+    // Depths are floats: the square is straight ahead of the default camera, the corner empty.
+    let (status, content_type, pfm) = get(format!("/scenes/{s}/channels/depth?width=32&height=24")).await;
+    assert_eq!((status, content_type.as_str()), (StatusCode::OK, "image/x-portable-floatmap"));
+    let header = b"Pf\n32 24\n-1.0\n".len();
+    let depth = |x: usize, y: usize| {
+        let at = header + ((23 - y) * 32 + x) * 4;
+        f32::from_le_bytes(pfm[at..at + 4].try_into().unwrap())
+    };
+    assert!(depth(16, 12).is_finite() && depth(16, 12) > 0.0 && depth(0, 0) == f32::INFINITY, "{} {}", depth(16, 12), depth(0, 0));
+
+    for (uri, status, field) in [
+        (format!("/scenes/{s}/channels/colour"), StatusCode::NOT_FOUND, "channel"),
+        (format!("/scenes/{s}/channels/depth?format=png"), StatusCode::UNPROCESSABLE_ENTITY, "format"),
+        (format!("/scenes/{s}/channels/normal?format=gif"), StatusCode::UNPROCESSABLE_ENTITY, "format"),
+        (format!("/scenes/{s}/channels/normal?width=0"), StatusCode::UNPROCESSABLE_ENTITY, "width"),
+    ] {
+        let (got, error) = call(&app, "GET", &uri, serde_json::Value::Null).await;
+        assert_eq!((got, error["error"]["field"].as_str()), (status, Some(field)), "{uri}: {error}");
+    }
+}

@@ -1,7 +1,8 @@
-//! `/scenes/{scene}/frame.png` and `/scenes/{scene}/pick`.
+//! `/scenes/{scene}/frame.png`, `/scenes/{scene}/channels/{channel}` and `/scenes/{scene}/pick`.
 
 use axum::Json;
-use axum::extract::State;
+use axum::extract::{Path, State};
+use raystage_render::Channel;
 use axum::http::header;
 use axum::response::{IntoResponse, Response};
 use serde::{Deserialize, Serialize};
@@ -9,7 +10,7 @@ use utoipa::{IntoParams, ToSchema};
 
 use crate::error::{ApiError, ApiResult, ErrorBody};
 use crate::extract::{Params, Target};
-use crate::render::{FrameQuery, render_png};
+use crate::render::{FrameQuery, FrameRequest, render_png, within_budget};
 use crate::state::AppState;
 
 /// Renders a frame as PNG. The statistics come as headers: `x-render-seconds`,
@@ -38,6 +39,74 @@ pub(crate) async fn frame_png(State(state): State<AppState>, target: Target, Par
         (header::HeaderName::from_static("x-scene-version"), r.scene_version.to_string()),
     ];
     Ok((headers, rendered.png).into_response())
+}
+
+/// Bytes a channel takes per pixel while it renders: what the first hit holds (distances,
+/// normal, albedo, ids) and the encoded channel.
+const CHANNEL_BYTES_PER_PIXEL: u64 = 48 + 16;
+
+/// Which channel image to render.
+#[derive(Clone, Debug, Default, Deserialize, IntoParams)]
+#[serde(deny_unknown_fields)]
+#[into_params(parameter_in = Query)]
+pub struct ChannelQuery {
+    /// Width in pixels; default 640.
+    #[param(minimum = 1)]
+    pub width: Option<u32>,
+    /// Height in pixels; default 360.
+    #[param(minimum = 1)]
+    pub height: Option<u32>,
+    /// `png` (8-bit: normals as 0.5 + 0.5·n, albedo sRGB, ids in 24 bits with red the low byte
+    /// and white for none) or `pfm` (floats; ids exact below 2²⁴, −1 for none); default `png`,
+    /// and `pfm` for `depth` and `z`, which have no PNG form.
+    #[param(value_type = Option<String>, pattern = "^(png|pfm)$")]
+    pub format: Option<String>,
+}
+
+/// Renders a channel of what the first surface each pixel sees is, with one ray through each
+/// pixel's centre: `depth` (distance along the ray), `z` (camera-space depth), `normal`
+/// (shading normal in the world), `albedo`, `instance`, `object` or `primitive` (ids).
+#[utoipa::path(get, path = "/scenes/{scene}/channels/{channel}", tag = "frames",
+    params(("scene" = u32, Path, description = "The scene's id"),
+        ("channel" = String, Path, description = "depth, z, normal, albedo, instance, object or primitive"), ChannelQuery),
+    responses(
+        (status = 200, description = "The channel", content_type = "image/png", body = crate::model::Binary),
+        (status = 400, description = "Malformed request: the error names the field", body = ErrorBody),
+        (status = 404, description = "No such scene, resource or route", body = ErrorBody),
+        (status = 422, description = "A value is not acceptable: the error names the field", body = ErrorBody),
+    ))]
+pub(crate) async fn channel(
+    State(state): State<AppState>,
+    target: Target,
+    Path((_, name)): Path<(u32, String)>,
+    Params(q): Params<ChannelQuery>,
+) -> ApiResult<Response> {
+    let channel: Channel = name.parse().map_err(|e: raystage_render::Error| ApiError::not_found(Some("channel".into()), e.to_string()))?;
+    let request = FrameRequest { width: q.width.unwrap_or(640), height: q.height.unwrap_or(360), spp: 1, integrator: None, setup: Default::default() };
+    request.check(&state.config().limits)?;
+    let pfm = match q.format.as_deref() {
+        None => matches!(channel, Channel::Depth | Channel::Z),
+        Some("pfm") => true,
+        Some("png") if matches!(channel, Channel::Depth | Channel::Z) => {
+            return Err(ApiError::unprocessable(Some("format".into()), format!("the {name} channel has no PNG form: ask for pfm")));
+        }
+        Some("png") => false,
+        Some(other) => return Err(ApiError::unprocessable(Some("format".into()), format!("format `{other}` is not png or pfm"))),
+    };
+    let memory = state.reserve_render_memory(request.width as u64 * request.height as u64 * CHANNEL_BYTES_PER_PIXEL)?;
+    let turn = state.render_permit().await;
+    let (scene, _) = target.scene.snapshot().await;
+    let work = tokio::task::spawn_blocking(move || -> ApiResult<Vec<u8>> {
+        let _running = turn.running();
+        let _memory = memory;
+        let [image] = &raystage_render::render_channels(&scene.frame(), request.width, request.height, &[channel]).map_err(|e| ApiError::unprocessable(None, e.to_string()))?[..] else {
+            return Err(ApiError::internal("one channel asked for, one rendered"));
+        };
+        if pfm { Ok(image.pfm()) } else { image.png().map_err(|e| ApiError::internal(e.to_string())) }
+    });
+    let bytes = within_budget(&state.config().limits, work).await??;
+    let content_type = if pfm { "image/x-portable-floatmap" } else { "image/png" };
+    Ok(([(header::CONTENT_TYPE, content_type), (header::CACHE_CONTROL, "no-store")], bytes).into_response())
 }
 
 /// Which pixel to pick.

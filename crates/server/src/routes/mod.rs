@@ -52,6 +52,7 @@ pub(crate) fn router(state: AppState) -> Router {
         .route("/scenes/{scene}/commands", axum::routing::post(commands::run))
         .route("/scenes/{scene}/gltf", axum::routing::post(gltf::upload))
         .route("/scenes/{scene}/frame.png", get(frame::frame_png))
+        .route("/scenes/{scene}/channels/{channel}", get(frame::channel))
         .route("/scenes/{scene}/pick", get(frame::pick))
         .route("/scenes/{scene}/stream", get(crate::stream::stream))
         .fallback(|| async { ApiError::not_found(None, "no such route: see /openapi.json") })

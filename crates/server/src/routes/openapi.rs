@@ -30,7 +30,7 @@ use crate::stream::{ClientMessage, FrameMessage, ServerMessage, SettingsChange};
         super::camera::get, super::camera::set,
         super::commands::run,
         super::gltf::upload,
-        super::frame::frame_png, super::frame::pick,
+        super::frame::frame_png, super::frame::channel, super::frame::pick,
         crate::stream::stream,
     ),
     components(schemas(
