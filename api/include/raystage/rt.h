@@ -318,6 +318,52 @@ typedef int32_t RTint;
 #define RT_MAX_FRAMEBUFFER_SIZE 16384
 
 /**
+ * Channel: one float per pixel, the distance along the camera ray to the first surface
+ * (`INFINITY` where the ray meets nothing).
+ */
+#define RT_DEPTH_CHANNEL 36944
+
+/**
+ * Channel: one float per pixel, the camera-space depth of the first surface (its distance
+ * from the eye along the view axis; `INFINITY` where there is none).
+ */
+#define RT_Z_CHANNEL 36945
+
+/**
+ * Channel: three floats per pixel, the unit shading normal in the world (normal maps
+ * applied), facing the camera; zero where nothing is hit.
+ */
+#define RT_NORMAL_CHANNEL 36946
+
+/**
+ * Channel: three floats per pixel, the surface's linear albedo (its base colour, textured and
+ * vertex coloured); zero where nothing is hit.
+ */
+#define RT_ALBEDO_CHANNEL 36947
+
+/**
+ * Channel: one `RTuint` per pixel, the id of the instance seen (as `rtInstantiateObject`
+ * returned it; 0 where there is none).
+ */
+#define RT_INSTANCE_ID_CHANNEL 36948
+
+/**
+ * Channel: one `RTuint` per pixel, the id of the object seen (0 where there is none).
+ */
+#define RT_OBJECT_ID_CHANNEL 36949
+
+/**
+ * Channel: one `RTuint` per pixel, the triangle seen, counted from 0 in its object as `rtPick`
+ * counts it (`RT_NO_PRIMITIVE` where there is none).
+ */
+#define RT_PRIMITIVE_ID_CHANNEL 36950
+
+/**
+ * What `RT_PRIMITIVE_ID_CHANNEL` holds where a pixel sees nothing.
+ */
+#define RT_NO_PRIMITIVE 4294967295
+
+/**
  * The texture target of every texture call: raystage's textures are two-dimensional images or
  * procedural textures looked up in object space.
  */
@@ -654,6 +700,23 @@ void rtResetContext(void);
  * or `rtFrameWait` call that delivers an asynchronous frame.
  */
 void rtFrameBuffer(void *pixels, RTsizei width, RTsizei height, RTenum format);
+
+/**
+ * Lends raystage memory for a channel beside the colour, which every frame then fills with
+ * what the first surface each pixel sees is (one ray through the pixel's centre), as OSPRay's
+ * and ANARI's frame channels: `RT_DEPTH_CHANNEL` or `RT_Z_CHANNEL` (one float per pixel),
+ * `RT_NORMAL_CHANNEL` or `RT_ALBEDO_CHANNEL` (three floats), `RT_INSTANCE_ID_CHANNEL`,
+ * `RT_OBJECT_ID_CHANNEL` or `RT_PRIMITIVE_ID_CHANNEL` (one `RTuint`); rows from the top.
+ * `width` and `height` must be the frame buffer's when a frame renders (else that frame is
+ * refused with `RT_INVALID_OPERATION`). `data` NULL with `width` and `height` 0 takes the
+ * channel back. Refused while an asynchronous frame is in flight.
+ *
+ * # Safety
+ * The memory (`width × height` values of 4 bytes, times 3 for normals and albedo) must stay
+ * valid and writable until the channel is taken back or the context reset; raystage writes it
+ * only when it writes the frame buffer.
+ */
+void rtChannelBuffer(RTenum channel, void *data, RTsizei width, RTsizei height);
 
 /**
  * Renders a frame into the frame buffer. Every reference is resolved now (frame semantics):

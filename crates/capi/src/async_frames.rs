@@ -15,15 +15,15 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::thread::JoinHandle;
 
-use raystage_render::{Cancel, Film, render_rows};
+use raystage_render::{Cancel, ChannelImage, Film, render_rows};
 
 use crate::abi::enums::{RT_CANCELLED, RT_INTERNAL_ERROR, RT_NO_ERROR};
 use crate::abi::types::{RTenum, RTuint};
 use crate::context::Context;
 use crate::error::Error;
 
-/// What a render thread gives back: the image, or why there is none.
-type Outcome = Result<Film, raystage_render::Error>;
+/// What a render thread gives back: the image and its channels, or why there are none.
+type Outcome = Result<(Film, Vec<ChannelImage>), raystage_render::Error>;
 
 /// How far a frame got: the image rows finished, counted by the render thread.
 #[derive(Debug)]
@@ -97,6 +97,7 @@ impl Context {
         self.outside_definition("rtRenderFrameAsync")?;
         self.no_frame_in_flight("rtRenderFrameAsync")?;
         let (width, height) = self.frame_buffer_size()?;
+        let channels = self.wanted_channels()?;
         let handle = self
             .async_frames
             .issued
@@ -117,7 +118,8 @@ impl Context {
                 let count = |rows: raystage_render::Rows<'_>| {
                     thread_progress.rows.fetch_add(rows.rows().len() as u32, Ordering::Relaxed);
                 };
-                render_rows(&frame, &settings, Some(&thread_cancel), count).map(|(film, _stats)| film)
+                let (film, _stats) = render_rows(&frame, &settings, Some(&thread_cancel), count)?;
+                Ok((film, crate::frames::channel_images(&frame, width, height, &channels)?))
             })
             .map_err(|e| Error::out_of_memory(format!("cannot start a render thread: {e}")))?;
         self.async_frames.issued = handle;
@@ -182,8 +184,8 @@ impl Context {
             }
         };
         let (status, result) = match thread.join() {
-            Ok(Ok(film)) => {
-                self.deliver(film);
+            Ok(Ok((film, channels))) => {
+                self.deliver(film, channels);
                 (RT_NO_ERROR, Ok(RT_NO_ERROR))
             }
             Ok(Err(raystage_render::Error::Cancelled)) => (RT_CANCELLED, Ok(RT_CANCELLED)),

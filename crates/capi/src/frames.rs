@@ -6,10 +6,13 @@ use std::ffi::OsStr;
 use std::os::unix::ffi::OsStrExt;
 use std::ptr::NonNull;
 
-use raystage_render::{Film, render};
-use raystage_scene::SceneHit;
+use raystage_render::{Channel, ChannelImage, Film, NO_ID, render, render_channels};
+use raystage_scene::{Frame, SceneHit};
 
-use crate::abi::enums::{RT_MAX_FRAMEBUFFER_SIZE, RT_RGBA8, RT_RGBA32F};
+use crate::abi::enums::{
+    RT_ALBEDO_CHANNEL, RT_DEPTH_CHANNEL, RT_INSTANCE_ID_CHANNEL, RT_MAX_FRAMEBUFFER_SIZE, RT_NORMAL_CHANNEL, RT_OBJECT_ID_CHANNEL,
+    RT_PRIMITIVE_ID_CHANNEL, RT_RGBA8, RT_RGBA32F, RT_Z_CHANNEL,
+};
 use crate::abi::types::RTenum;
 use crate::context::Context;
 use crate::error::Error;
@@ -86,11 +89,68 @@ impl FrameBuffer {
     }
 }
 
+/// The channel named by an `RT_*_CHANNEL` constant.
+pub(crate) fn channel_from_enum(channel: RTenum) -> Result<Channel, Error> {
+    Ok(match channel {
+        RT_DEPTH_CHANNEL => Channel::Depth,
+        RT_Z_CHANNEL => Channel::Z,
+        RT_NORMAL_CHANNEL => Channel::Normal,
+        RT_ALBEDO_CHANNEL => Channel::Albedo,
+        RT_INSTANCE_ID_CHANNEL => Channel::Instance,
+        RT_OBJECT_ID_CHANNEL => Channel::Object,
+        RT_PRIMITIVE_ID_CHANNEL => Channel::Primitive,
+        _ => return Err(Error::invalid_enum(format!("{channel:#x} is not a channel (RT_DEPTH_CHANNEL ... RT_PRIMITIVE_ID_CHANNEL)"))),
+    })
+}
+
+/// Memory the application lent for one channel: `width × height` values of 4 bytes
+/// ([`Channel::components`] of them per pixel), row 0 at the top.
+#[derive(Debug)]
+pub(crate) struct ChannelBuffer {
+    pub channel: Channel,
+    data: NonNull<u8>,
+    width: u32,
+    height: u32,
+}
+
+impl ChannelBuffer {
+    /// Checks the size and takes the memory.
+    ///
+    /// # Safety
+    /// As [`FrameBuffer::new`]'s, for `width × height × components × 4` bytes.
+    pub unsafe fn new(channel: Channel, data: NonNull<u8>, width: usize, height: usize) -> Result<ChannelBuffer, Error> {
+        let size = 1..=RT_MAX_FRAMEBUFFER_SIZE;
+        if !size.contains(&width) || !size.contains(&height) {
+            return Err(Error::invalid_value(format!("a channel buffer of {width} × {height} pixels; each side must be 1 to {RT_MAX_FRAMEBUFFER_SIZE}")));
+        }
+        Ok(ChannelBuffer { channel, data, width: width as u32, height: height as u32 })
+    }
+
+    /// Writes `image` (of the same channel and size) into the application's memory: floats, or
+    /// ids as C names them (scene id + 1, 0 for none; triangles from 0, `RT_NO_PRIMITIVE` for
+    /// none).
+    fn write(&self, image: &ChannelImage) {
+        let len = self.width as usize * self.height as usize * self.channel.components();
+        // SAFETY: `new`'s contract: `len` writable 4-byte values, not touched by anyone else.
+        let out = unsafe { std::slice::from_raw_parts_mut(self.data.as_ptr(), len * 4) };
+        let words: Box<dyn Iterator<Item = [u8; 4]> + '_> = match image.channel {
+            Channel::Instance | Channel::Object => Box::new(image.ids.iter().map(|&id| if id == NO_ID { 0u32 } else { crate::ids::to_c(id) }.to_ne_bytes())),
+            Channel::Primitive => Box::new(image.ids.iter().map(|id| id.to_ne_bytes())),
+            _ => Box::new(image.values.iter().map(|v| v.to_ne_bytes())),
+        };
+        for (o, w) in out.chunks_exact_mut(4).zip(words) {
+            o.copy_from_slice(&w);
+        }
+    }
+}
+
 /// The frame state of a context.
 #[derive(Debug, Default)]
 pub(crate) struct Frames {
     /// Where `rtSwapBuffers` writes.
     pub target: Option<FrameBuffer>,
+    /// Channel buffers lent, one per channel at most.
+    pub channels: Vec<ChannelBuffer>,
     /// The last frame rendered, for `rtWritePNG`.
     pub last: Option<Film>,
 }
@@ -102,11 +162,39 @@ impl Context {
         self.outside_definition("rtSwapBuffers")?;
         self.no_frame_in_flight("rtSwapBuffers")?;
         let (width, height) = self.frame_buffer_size()?;
+        let wanted = self.wanted_channels()?;
         let frame = self.scene.frame();
         let settings = self.rendering.settings(&frame, width, height);
         // The settings were checked as they were set, and the size as the frame buffer was lent.
         let (film, _stats) = render(&frame, &settings).map_err(|e| Error::internal(e.to_string()))?;
-        self.deliver(film);
+        let channels = channel_images(&frame, width, height, &wanted).map_err(|e| Error::internal(e.to_string()))?;
+        self.deliver(film, channels);
+        Ok(())
+    }
+
+    /// The channels lent, checked against the frame buffer's size (an error names the first that
+    /// differs: its memory was lent for another size).
+    pub fn wanted_channels(&self) -> Result<Vec<Channel>, Error> {
+        let (width, height) = self.frame_buffer_size()?;
+        for c in &self.frames.channels {
+            if (c.width, c.height) != (width, height) {
+                return Err(Error::invalid_operation(format!(
+                    "the {} channel buffer is {} × {} and the frame buffer {width} × {height}: lend them at the same size",
+                    c.channel.name(),
+                    c.width,
+                    c.height
+                )));
+            }
+        }
+        Ok(self.frames.channels.iter().map(|c| c.channel).collect())
+    }
+
+    /// `rtChannelBuffer`: lends memory for `channel`, or takes it back (`None`). Refused while a
+    /// frame is in flight, as `rtFrameBuffer` is.
+    pub fn set_channel_buffer(&mut self, channel: Channel, buffer: Option<ChannelBuffer>) -> Result<(), Error> {
+        self.no_frame_in_flight("rtChannelBuffer")?;
+        self.frames.channels.retain(|c| c.channel != channel);
+        self.frames.channels.extend(buffer);
         Ok(())
     }
 
@@ -119,10 +207,16 @@ impl Context {
     }
 
     /// Puts a rendered frame where `rtSwapBuffers` puts it: into the frame buffer (of the
-    /// film's size, since it cannot change while a frame renders) and as the last frame.
-    pub fn deliver(&mut self, film: Film) {
+    /// film's size, since it cannot change while a frame renders), its channels into their
+    /// buffers, and as the last frame.
+    pub fn deliver(&mut self, film: Film, channels: Vec<ChannelImage>) {
         if let Some(target) = &self.frames.target {
             target.write(&film);
+        }
+        for image in &channels {
+            if let Some(buffer) = self.frames.channels.iter().find(|c| c.channel == image.channel) {
+                buffer.write(image);
+            }
         }
         self.frames.last = Some(film);
     }
@@ -155,4 +249,12 @@ impl Context {
     fn frame_buffer(&self) -> Result<&FrameBuffer, Error> {
         self.frames.target.as_ref().ok_or_else(|| Error::invalid_operation("no frame buffer: call rtFrameBuffer first"))
     }
+}
+
+/// The channel images of a frame, none if no channel is wanted.
+pub(crate) fn channel_images(frame: &Frame<'_>, width: u32, height: u32, wanted: &[Channel]) -> Result<Vec<ChannelImage>, raystage_render::Error> {
+    if wanted.is_empty() {
+        return Ok(Vec::new());
+    }
+    render_channels(frame, width, height, wanted)
 }

@@ -505,3 +505,57 @@ fn an_instance_in_motion_blurs_while_the_shutter_is_open() {
     assert!(blur() <= 2, "rtMoveInstance stops the motion");
     assert_no_error();
 }
+
+#[test]
+fn channel_buffers_say_what_each_pixel_sees() {
+    let object = rtGenObjects(1);
+    rtNewObject(object, RT_COMPILE);
+    triangle(-1.5);
+    triangle(1.5);
+    rtEndObject();
+    let instance = rtInstantiateObject(object);
+    rtLookAt(0.0, 0.0, 6.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0);
+    let (w, h) = (64, 32);
+    let _pixels = frame_buffer(w, h);
+    let mut depth = vec![0f32; w * h];
+    let mut normal = vec![0f32; w * h * 3];
+    let mut instances = vec![7u32; w * h];
+    let mut primitives = vec![7u32; w * h];
+    unsafe {
+        rtChannelBuffer(RT_DEPTH_CHANNEL, depth.as_mut_ptr().cast(), w, h);
+        rtChannelBuffer(RT_NORMAL_CHANNEL, normal.as_mut_ptr().cast(), w, h);
+        rtChannelBuffer(RT_INSTANCE_ID_CHANNEL, instances.as_mut_ptr().cast(), w, h);
+        rtChannelBuffer(RT_PRIMITIVE_ID_CHANNEL, primitives.as_mut_ptr().cast(), w, h);
+    }
+    rtSwapBuffers();
+    assert_no_error();
+    // Pixel (42, 17) sees the second triangle (as rtPick says), on the plane z = 0 6 ahead: a
+    // little further along its ray, off the view axis.
+    let at = 17 * w + 42;
+    assert!(depth[at] > 6.0 && depth[at] < 6.5, "{}", depth[at]);
+    assert_eq!((&normal[at * 3..at * 3 + 3], instances[at], primitives[at]), (&[0.0, 0.0, 1.0][..], instance, 1));
+    assert_eq!((depth[0], instances[0], primitives[0]), (f32::INFINITY, 0, RT_NO_PRIMITIVE), "the corner sees nothing");
+
+    // Asynchronous frames fill them too, with the scene as the frame started.
+    depth.fill(0.0);
+    let frame = rtRenderFrameAsync();
+    rtDeleteInstance(instance);
+    assert_eq!(rtFrameWait(frame), RT_NO_ERROR);
+    assert!(depth[at] > 6.0 && depth[at] < 6.5, "{}", depth[at]);
+    rtFrameRelease(frame);
+
+    // Bad input: an unknown channel, NULL with a size, a size that is not the frame buffer's.
+    unsafe { rtChannelBuffer(0x1234, depth.as_mut_ptr().cast(), w, h) };
+    assert_error(RT_INVALID_ENUM, "not a channel");
+    unsafe { rtChannelBuffer(RT_Z_CHANNEL, std::ptr::null_mut(), w, h) };
+    assert_error(RT_INVALID_VALUE, "NULL");
+    let mut small = vec![0f32; 4];
+    unsafe { rtChannelBuffer(RT_Z_CHANNEL, small.as_mut_ptr().cast(), 2, 2) };
+    assert_no_error();
+    rtSwapBuffers();
+    assert_error(RT_INVALID_OPERATION, "the z channel buffer is 2 × 2 and the frame buffer 64 × 32");
+    assert_eq!(small, [0.0; 4], "nothing was written");
+    unsafe { rtChannelBuffer(RT_Z_CHANNEL, std::ptr::null_mut(), 0, 0) };
+    rtSwapBuffers();
+    assert_no_error();
+}

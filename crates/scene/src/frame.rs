@@ -708,7 +708,9 @@ impl<'a> Frame<'a> {
         use rayon::prelude::*;
         /// Triangles one task maps: enough to make a task worth handing out.
         const CHUNK: u32 = 4096;
-        let mut work: Vec<(&FrameInstance<'a>, Vec<Option<ShaderId>>, std::ops::Range<u32>)> = Vec::new();
+        // A task: an instance, the shaders picked among its object's, and a run of its triangles.
+        type Chunk<'f, 'a> = (&'f FrameInstance<'a>, Vec<Option<ShaderId>>, std::ops::Range<u32>);
+        let mut work: Vec<Chunk<'_, 'a>> = Vec::new();
         for fi in &self.instances {
             let object = fi.object;
             let picked = |id: Option<ShaderId>| match id {

@@ -1,7 +1,7 @@
 //! The constants of the C ABI. Values that OpenGL also has keep OpenGL's numbers, so a ported
 //! program's constants mean the same; raystage's own values start at 0x9000.
 
-use crate::abi::types::{RTenum, RTfloat, RTint, RTsizei};
+use crate::abi::types::{RTenum, RTfloat, RTint, RTsizei, RTuint};
 
 // ----- error codes (rtGetError) -----
 
@@ -127,6 +127,31 @@ pub const RT_RGBA8: RTenum = 0x8058;
 pub const RT_RGBA32F: RTenum = 0x8814;
 /// Largest frame buffer width or height.
 pub const RT_MAX_FRAMEBUFFER_SIZE: RTsizei = 16384;
+
+// ----- channels (rtChannelBuffer) -----
+
+/// Channel: one float per pixel, the distance along the camera ray to the first surface
+/// (`INFINITY` where the ray meets nothing).
+pub const RT_DEPTH_CHANNEL: RTenum = 0x9050;
+/// Channel: one float per pixel, the camera-space depth of the first surface (its distance
+/// from the eye along the view axis; `INFINITY` where there is none).
+pub const RT_Z_CHANNEL: RTenum = 0x9051;
+/// Channel: three floats per pixel, the unit shading normal in the world (normal maps
+/// applied), facing the camera; zero where nothing is hit.
+pub const RT_NORMAL_CHANNEL: RTenum = 0x9052;
+/// Channel: three floats per pixel, the surface's linear albedo (its base colour, textured and
+/// vertex coloured); zero where nothing is hit.
+pub const RT_ALBEDO_CHANNEL: RTenum = 0x9053;
+/// Channel: one `RTuint` per pixel, the id of the instance seen (as `rtInstantiateObject`
+/// returned it; 0 where there is none).
+pub const RT_INSTANCE_ID_CHANNEL: RTenum = 0x9054;
+/// Channel: one `RTuint` per pixel, the id of the object seen (0 where there is none).
+pub const RT_OBJECT_ID_CHANNEL: RTenum = 0x9055;
+/// Channel: one `RTuint` per pixel, the triangle seen, counted from 0 in its object as `rtPick`
+/// counts it (`RT_NO_PRIMITIVE` where there is none).
+pub const RT_PRIMITIVE_ID_CHANNEL: RTenum = 0x9056;
+/// What `RT_PRIMITIVE_ID_CHANNEL` holds where a pixel sees nothing.
+pub const RT_NO_PRIMITIVE: RTuint = 0xFFFF_FFFF;
 
 // ----- textures (rtBindTexture, rtTexImage2D) -----
 

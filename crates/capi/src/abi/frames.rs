@@ -11,7 +11,7 @@ use std::ptr::NonNull;
 
 use crate::abi::types::{RTboolean, RTenum, RTfloat, RTsizei, RTuint};
 use crate::boundary::{c_str, call, call_or, write_out};
-use crate::frames::{FrameBuffer, PixelFormat};
+use crate::frames::{ChannelBuffer, FrameBuffer, PixelFormat, channel_from_enum};
 use crate::ids;
 
 /// Lends raystage `width` × `height` pixels of memory (each side 1 to
@@ -35,6 +35,33 @@ pub unsafe extern "C" fn rtFrameBuffer(pixels: *mut c_void, width: RTsizei, heig
             None => return Err(crate::error::Error::invalid_value("pixels is NULL")),
         };
         ctx.set_frame_buffer(target)
+    })
+}
+
+/// Lends raystage memory for a channel beside the colour, which every frame then fills with
+/// what the first surface each pixel sees is (one ray through the pixel's centre), as OSPRay's
+/// and ANARI's frame channels: `RT_DEPTH_CHANNEL` or `RT_Z_CHANNEL` (one float per pixel),
+/// `RT_NORMAL_CHANNEL` or `RT_ALBEDO_CHANNEL` (three floats), `RT_INSTANCE_ID_CHANNEL`,
+/// `RT_OBJECT_ID_CHANNEL` or `RT_PRIMITIVE_ID_CHANNEL` (one `RTuint`); rows from the top.
+/// `width` and `height` must be the frame buffer's when a frame renders (else that frame is
+/// refused with `RT_INVALID_OPERATION`). `data` NULL with `width` and `height` 0 takes the
+/// channel back. Refused while an asynchronous frame is in flight.
+///
+/// # Safety
+/// The memory (`width × height` values of 4 bytes, times 3 for normals and albedo) must stay
+/// valid and writable until the channel is taken back or the context reset; raystage writes it
+/// only when it writes the frame buffer.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn rtChannelBuffer(channel: RTenum, data: *mut c_void, width: RTsizei, height: RTsizei) {
+    call("rtChannelBuffer", |ctx| {
+        let channel = channel_from_enum(channel)?;
+        let buffer = match NonNull::new(data.cast::<u8>()) {
+            // SAFETY: the caller's promise above.
+            Some(data) => Some(unsafe { ChannelBuffer::new(channel, data, width, height)? }),
+            None if width == 0 && height == 0 => None,
+            None => return Err(crate::error::Error::invalid_value("data is NULL")),
+        };
+        ctx.set_channel_buffer(channel, buffer)
     })
 }
 
