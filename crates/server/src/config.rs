@@ -41,6 +41,9 @@ pub struct Limits {
     pub max_demo_triangles: usize,
     /// Most open streams.
     pub max_streams: usize,
+    /// Most render jobs held at once, finished ones included until they are deleted (each
+    /// keeps its PNG).
+    pub max_render_jobs: usize,
     /// Renders running at once (more wait their turn); each uses every core.
     pub concurrent_renders: usize,
     /// Most memory the images being rendered may take together, frames and streams, counted
@@ -77,6 +80,7 @@ impl Default for Limits {
             // The standard scenes' million (the sphere grid has 1,000,002).
             max_demo_triangles: 1_000_002,
             max_streams: 32,
+            max_render_jobs: 16,
             concurrent_renders: 4,
             // Two 8192 × 8192 frames, or one stream that size; 64 streams of 1080p.
             max_render_bytes: 2 << 30,

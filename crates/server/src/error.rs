@@ -29,7 +29,7 @@ pub struct ErrorBody {
 /// What went wrong.
 #[derive(Clone, Debug, PartialEq, Serialize, ToSchema)]
 pub struct ErrorDetail {
-    /// `bad_request`, `unauthorized`, `not_found`, `timeout`, `too_large`,
+    /// `bad_request`, `unauthorized`, `not_found`, `conflict`, `timeout`, `too_large`,
     /// `unsupported_media_type`, `unprocessable`, `busy` or `internal`.
     pub code: &'static str,
     /// What was wrong, for a person.
@@ -63,6 +63,11 @@ impl ApiError {
     /// 404: no such scene, resource or route.
     pub fn not_found(field: Option<String>, message: impl Into<String>) -> ApiError {
         ApiError::new(StatusCode::NOT_FOUND, "not_found", field, message)
+    }
+
+    /// 409: the resource is not in a state to do that (a render job's image before it is done).
+    pub fn conflict(message: impl Into<String>) -> ApiError {
+        ApiError::new(StatusCode::CONFLICT, "conflict", None, message)
     }
 
     /// 413: the request is larger than a limit allows.

@@ -11,6 +11,7 @@
 
 use std::collections::BTreeMap;
 use std::io::Write;
+use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::mpsc::Sender;
 use std::time::Instant;
 
@@ -40,16 +41,17 @@ pub fn encode(film: &Film, look: Look) -> ApiResult<Vec<u8>> {
 }
 
 /// Renders `frame` with `settings` and encodes it as an sRGB PNG seen through `look` (exposed,
-/// tone-mapped) while it renders (see the module documentation), until `cancel` stops it.
-/// Returns the PNG, the frame's statistics, and the seconds the render and the encoding left
-/// after it took.
-pub fn render_png(frame: &Frame<'_>, settings: &RenderSettings, look: Look, cancel: &Cancel) -> ApiResult<(Vec<u8>, FrameStats, f64, f64)> {
+/// tone-mapped) while it renders (see the module documentation), until `cancel` stops it,
+/// counting the rows finished in `rows_done`. Returns the PNG, the frame's statistics, and the
+/// seconds the render and the encoding left after it took.
+pub fn render_png(frame: &Frame<'_>, settings: &RenderSettings, look: Look, cancel: &Cancel, rows_done: &AtomicU32) -> ApiResult<(Vec<u8>, FrameStats, f64, f64)> {
     let start = Instant::now();
     let mut rendered = None;
     let compressed = compress(settings.width, settings.height, |sender| {
         let result = render_rows(frame, settings, Some(cancel), |rows| {
             // A send fails only when compression has failed and stopped listening.
             let _ = sender.send((rows.rows().start, rows.rgb8_with(look)));
+            rows_done.fetch_add(rows.rows().len() as u32, Ordering::Relaxed);
         });
         rendered = Some((result, start.elapsed().as_secs_f64()));
     });
@@ -125,7 +127,7 @@ mod tests {
     fn a_frame_compressed_while_it_renders_is_the_finished_frame_compressed() {
         let scene = raystage_demo::shading::cornell_room().unwrap();
         let settings = RenderSettings { width: 45, height: 3 * BAND_ROWS + 7, samples_per_pixel: 2, ..RenderSettings::default() };
-        let (png, stats, _, _) = render_png(&scene.frame(), &settings, raystage_render::Look::default(), &Cancel::new()).unwrap();
+        let (png, stats, _, _) = render_png(&scene.frame(), &settings, raystage_render::Look::default(), &Cancel::new(), &AtomicU32::new(0)).unwrap();
         let (film, _) = raystage_render::render(&scene.frame(), &settings).unwrap();
         assert_eq!(png, encode(&film, Look::default()).unwrap());
         assert_eq!(stats.rays.primary, 45 * (3 * BAND_ROWS as u64 + 7) * 2);

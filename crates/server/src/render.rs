@@ -2,6 +2,7 @@
 //! blocking thread (it runs on the rayon pool, never on the reactor), the PNG encoded there too.
 
 use std::sync::Arc;
+use std::sync::atomic::AtomicU32;
 use std::time::Duration;
 
 use raystage_render::{Cancel, Filter, Integrator, Look, MAX_DEPTH, RenderSettings};
@@ -255,22 +256,33 @@ pub(crate) struct Rendered {
     pub report: FrameReport,
 }
 
-/// Renders a frame of `slot` and encodes it, waiting for a turn to render first. The render
-/// stops when the returned future is dropped (the client hung up) or when it has run for
+/// Renders a frame of `slot` and encodes it, waiting for a turn to render first, counting the
+/// rows finished in `rows_done`: the scene as `snapshot` holds it if given (a job renders the
+/// scene as it was when it started), else as it is when the turn comes. The render stops when the returned future is dropped (the
+/// client hung up, a render job was cancelled) or when it has run for
 /// [`Limits::max_render_seconds`] (503); either way its turn goes to the next render only once
 /// the work has stopped.
-pub(crate) async fn render_png(state: &AppState, slot: &Arc<SceneSlot>, request: FrameRequest) -> ApiResult<Rendered> {
+pub(crate) async fn render_png(
+    state: &AppState,
+    slot: &Arc<SceneSlot>,
+    snapshot: Option<(Arc<Scene>, u64)>,
+    request: FrameRequest,
+    rows_done: Arc<AtomicU32>,
+) -> ApiResult<Rendered> {
     // Before waiting for a turn: a frame that cannot have its memory fails at once.
     let memory = state.reserve_render_memory(request.width as u64 * request.height as u64 * FRAME_BYTES_PER_PIXEL)?;
     let turn = state.render_permit().await;
-    let (scene, version) = slot.snapshot().await;
+    let (scene, version) = match snapshot {
+        Some(snapshot) => snapshot,
+        None => slot.snapshot().await,
+    };
     let cancel = CancelOnDrop(Cancel::new());
     let token = cancel.0.clone();
     let work = tokio::task::spawn_blocking(move || -> ApiResult<Rendered> {
         let _running = turn.running();
         let _memory = memory;
         let settings = request.settings(&scene);
-        let (png, stats, rendered, encoded) = crate::png::render_png(&scene.frame(), &settings, request.setup.look, &token)?;
+        let (png, stats, rendered, encoded) = crate::png::render_png(&scene.frame(), &settings, request.setup.look, &token, &rows_done)?;
         let mut report = FrameReport::new(&settings, &stats, encoded, version);
         // The whole render, with the film's allocation and resolve, which the frame
         // statistics leave out.

@@ -31,6 +31,7 @@ struct Shared {
     /// The memory of images being rendered, in MiB (see [`Limits::max_render_bytes`]).
     render_memory: Arc<Semaphore>,
     streams: AtomicUsize,
+    jobs: crate::routes::renders::Jobs,
 }
 
 /// A scene held by the server.
@@ -67,7 +68,13 @@ impl AppState {
             active_renders: AtomicUsize::new(0),
             render_memory,
             streams: AtomicUsize::new(0),
+            jobs: Default::default(),
         }))
+    }
+
+    /// The render jobs.
+    pub(crate) fn jobs(&self) -> &crate::routes::renders::Jobs {
+        &self.0.jobs
     }
 
     /// The configuration.

@@ -26,7 +26,7 @@ use crate::state::AppState;
     ))]
 pub(crate) async fn frame_png(State(state): State<AppState>, target: Target, Params(query): Params<FrameQuery>) -> ApiResult<Response> {
     let request = query.check(&state.config().limits)?;
-    let rendered = render_png(&state, &target.scene, request).await?;
+    let rendered = render_png(&state, &target.scene, None, request, Default::default()).await?;
     let r = &rendered.report;
     let headers = [
         (header::CONTENT_TYPE, "image/png".to_string()),

@@ -10,6 +10,7 @@ mod instances;
 mod lights;
 mod objects;
 pub(crate) mod openapi;
+pub(crate) mod renders;
 mod scenes;
 mod shaders;
 mod textures;
@@ -54,6 +55,10 @@ pub(crate) fn router(state: AppState) -> Router {
         .route("/scenes/{scene}/frame.png", get(frame::frame_png))
         .route("/scenes/{scene}/channels/{channel}", get(frame::channel))
         .route("/scenes/{scene}/pick", get(frame::pick))
+        .route("/scenes/{scene}/renders", axum::routing::post(renders::start))
+        .route("/renders", get(renders::list))
+        .route("/renders/{id}", get(renders::get).delete(renders::delete))
+        .route("/renders/{id}/image.png", get(renders::image))
         .route("/scenes/{scene}/stream", get(crate::stream::stream))
         .fallback(|| async { ApiError::not_found(None, "no such route: see /openapi.json") })
         .method_not_allowed_fallback(|| async {

@@ -31,6 +31,7 @@ use crate::stream::{ClientMessage, FrameMessage, ServerMessage, SettingsChange};
         super::commands::run,
         super::gltf::upload,
         super::frame::frame_png, super::frame::channel, super::frame::pick,
+        super::renders::start, super::renders::list, super::renders::get, super::renders::image, super::renders::delete,
         crate::stream::stream,
     ),
     components(schemas(

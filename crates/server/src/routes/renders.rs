@@ -1,0 +1,202 @@
+//! `/scenes/{scene}/renders` and `/renders/{id}`: frames rendered as jobs, after OSPRay's and
+//! ANARI's frame futures and the C ABI's `rtRenderFrameAsync`. A client starts a frame, polls its
+//! progress while it does other work, cancels it, or fetches its PNG when it is done, instead of
+//! holding a request open for minutes. A job renders from the scene as it was when the job
+//! started (frame semantics), queued and budgeted as `frame.png` is.
+
+use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::{Arc, Mutex};
+
+use axum::Json;
+use axum::extract::{Path, State};
+use axum::http::{StatusCode, header};
+use axum::response::{IntoResponse, Response};
+use serde::Serialize;
+use utoipa::ToSchema;
+
+use crate::error::{ApiError, ApiResult, ErrorBody, ErrorDetail};
+use crate::extract::{Params, Target};
+use crate::render::{FrameQuery, Rendered, render_png};
+use crate::state::AppState;
+use crate::stats::FrameReport;
+
+/// One render job.
+pub(crate) struct Job {
+    id: u32,
+    scene: u32,
+    width: u32,
+    height: u32,
+    /// Rows finished so far.
+    rows: Arc<AtomicU32>,
+    /// `None` while it renders.
+    outcome: Mutex<Option<ApiResult<Rendered>>>,
+    /// Stops the render (dropping its future cancels it) when the job is deleted.
+    task: Mutex<Option<tokio::task::AbortHandle>>,
+}
+
+/// The render jobs of a server, by id.
+#[derive(Default)]
+pub(crate) struct Jobs {
+    jobs: Mutex<BTreeMap<u32, Arc<Job>>>,
+    /// Ids handed out: ids are never reused, so a deleted job's id stays unknown.
+    issued: AtomicU32,
+}
+
+impl Jobs {
+    fn get(&self, id: &str) -> ApiResult<Arc<Job>> {
+        let unknown = || ApiError::not_found(Some("id".into()), format!("unknown render job {id}"));
+        let id: u32 = id.parse().map_err(|_| unknown())?;
+        self.jobs.lock().unwrap_or_else(|e| e.into_inner()).get(&id).cloned().ok_or_else(unknown)
+    }
+}
+
+/// Where a job is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, ToSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum JobStatus {
+    /// Waiting for its turn or rendering.
+    Running,
+    /// Its image is ready.
+    Done,
+    /// It failed (`error` says why).
+    Failed,
+}
+
+/// A render job as the API shows it.
+#[derive(Clone, Debug, Serialize, ToSchema)]
+pub struct RenderJobInfo {
+    /// Its id.
+    pub id: u32,
+    /// The scene it renders.
+    pub scene: u32,
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Where it is.
+    pub status: JobStatus,
+    /// The share of the image's rows rendered, 0 to 1 (never decreasing).
+    pub progress: f32,
+    /// Why it failed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error: Option<ErrorDetail>,
+    /// What the frame cost, once done.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub report: Option<FrameReport>,
+}
+
+impl Job {
+    fn info(&self) -> RenderJobInfo {
+        let outcome = self.outcome.lock().unwrap_or_else(|e| e.into_inner());
+        let (status, error, report) = match &*outcome {
+            None => (JobStatus::Running, None, None),
+            Some(Ok(rendered)) => (JobStatus::Done, None, Some(rendered.report.clone())),
+            Some(Err(e)) => (JobStatus::Failed, Some(e.detail.clone()), None),
+        };
+        let rows = self.rows.load(Ordering::Relaxed) as f32 / self.height as f32;
+        let progress = if status == JobStatus::Done { 1.0 } else { rows.min(1.0) };
+        RenderJobInfo { id: self.id, scene: self.scene, width: self.width, height: self.height, status, progress, error, report }
+    }
+}
+
+/// Starts rendering a frame of the scene (the query as `frame.png` takes it) and answers at
+/// once, 202 with the job; `Location` names it. At most `max_render_jobs` jobs are held at once,
+/// finished ones included until deleted (503 naming the limit).
+#[utoipa::path(post, path = "/scenes/{scene}/renders", tag = "frames",
+    params(("scene" = u32, Path, description = "The scene's id"), FrameQuery),
+    responses(
+        (status = 202, description = "Started", body = RenderJobInfo),
+        (status = 400, description = "Malformed request: the error names the field", body = ErrorBody),
+        (status = 404, description = "No such scene, resource or route", body = ErrorBody),
+        (status = 422, description = "A value is not acceptable: the error names the field", body = ErrorBody),
+        (status = 503, description = "As many render jobs as the server holds", body = ErrorBody),
+    ))]
+pub(crate) async fn start(State(state): State<AppState>, target: Target, Params(query): Params<FrameQuery>) -> ApiResult<Response> {
+    let limits = state.config().limits;
+    let request = query.check(&limits)?;
+    let jobs = state.jobs();
+    let job = {
+        let mut held = jobs.jobs.lock().unwrap_or_else(|e| e.into_inner());
+        if held.len() >= limits.max_render_jobs {
+            let message = format!("the server holds {} render jobs, its limit: delete finished ones first", limits.max_render_jobs);
+            return Err(ApiError::busy(message).limit("max_render_jobs"));
+        }
+        let id = jobs.issued.fetch_add(1, Ordering::Relaxed) + 1;
+        let job = Arc::new(Job {
+            id,
+            scene: target.scene.id,
+            width: request.width,
+            height: request.height,
+            rows: Arc::default(),
+            outcome: Mutex::new(None),
+            task: Mutex::new(None),
+        });
+        held.insert(id, Arc::clone(&job));
+        job
+    };
+    let (runner, slot) = (Arc::clone(&job), target.scene);
+    // Frame semantics: the job renders the scene as it is now, whatever is edited meanwhile.
+    let snapshot = slot.snapshot().await;
+    let task = tokio::spawn(async move {
+        let outcome = render_png(&state, &slot, Some(snapshot), request, Arc::clone(&runner.rows)).await;
+        *runner.outcome.lock().unwrap_or_else(|e| e.into_inner()) = Some(outcome);
+    });
+    *job.task.lock().unwrap_or_else(|e| e.into_inner()) = Some(task.abort_handle());
+    let location = format!("/renders/{}", job.id);
+    Ok((StatusCode::ACCEPTED, [(header::LOCATION, location)], Json(job.info())).into_response())
+}
+
+/// Every render job, by id.
+#[utoipa::path(get, path = "/renders", tag = "frames", responses((status = 200, description = "Success", body = [RenderJobInfo])))]
+pub(crate) async fn list(State(state): State<AppState>) -> Json<Vec<RenderJobInfo>> {
+    let jobs: Vec<Arc<Job>> = state.jobs().jobs.lock().unwrap_or_else(|e| e.into_inner()).values().cloned().collect();
+    Json(jobs.iter().map(|j| j.info()).collect())
+}
+
+/// A render job: its status and progress, and once done its statistics.
+#[utoipa::path(get, path = "/renders/{id}", tag = "frames",
+    params(("id" = u32, Path, description = "The job's id")),
+    responses(
+        (status = 200, description = "Success", body = RenderJobInfo),
+        (status = 404, description = "No such job", body = ErrorBody),
+    ))]
+pub(crate) async fn get(State(state): State<AppState>, Path(id): Path<String>) -> ApiResult<Json<RenderJobInfo>> {
+    Ok(Json(state.jobs().get(&id)?.info()))
+}
+
+/// A finished job's image, as PNG (409 while it renders, or if it failed).
+#[utoipa::path(get, path = "/renders/{id}/image.png", tag = "frames",
+    params(("id" = u32, Path, description = "The job's id")),
+    responses(
+        (status = 200, description = "The frame", content_type = "image/png", body = crate::model::Binary),
+        (status = 404, description = "No such job", body = ErrorBody),
+        (status = 409, description = "Not done: still rendering, or failed", body = ErrorBody),
+    ))]
+pub(crate) async fn image(State(state): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
+    let job = state.jobs().get(&id)?;
+    let outcome = job.outcome.lock().unwrap_or_else(|e| e.into_inner());
+    match &*outcome {
+        Some(Ok(rendered)) => Ok(([(header::CONTENT_TYPE, "image/png"), (header::CACHE_CONTROL, "no-store")], rendered.png.clone()).into_response()),
+        Some(Err(e)) => Err(ApiError::conflict(format!("render job {id} failed: {}", e.detail.message))),
+        None => Err(ApiError::conflict(format!("render job {id} is still rendering: poll /renders/{id} until its status is done"))),
+    }
+}
+
+/// Deletes a job, stopping its render if it is still running (its turn and memory go to the
+/// next render once the work has stopped).
+#[utoipa::path(delete, path = "/renders/{id}", tag = "frames",
+    params(("id" = u32, Path, description = "The job's id")),
+    responses(
+        (status = 204, description = "Deleted"),
+        (status = 404, description = "No such job", body = ErrorBody),
+    ))]
+pub(crate) async fn delete(State(state): State<AppState>, Path(id): Path<String>) -> ApiResult<StatusCode> {
+    let jobs = state.jobs();
+    let job = jobs.get(&id)?;
+    jobs.jobs.lock().unwrap_or_else(|e| e.into_inner()).remove(&job.id);
+    if let Some(task) = job.task.lock().unwrap_or_else(|e| e.into_inner()).take() {
+        task.abort();
+    }
+    Ok(StatusCode::NO_CONTENT)
+}

@@ -1,0 +1,82 @@
+//! Render jobs: a frame started with POST renders while the client polls its progress, and its
+//! PNG is fetched once done; a deleted job stops rendering; the number of jobs is bounded.
+
+mod common;
+
+use std::time::Duration;
+
+use axum::http::StatusCode;
+use common::*;
+use raystage_server::{AppState, Config, Limits};
+use serde_json::{Value, json};
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_job_renders_the_scene_as_it_started_and_its_image_is_fetched_when_done() {
+    let app = app();
+    let (s, _, instance) = red_square_scene(&app).await;
+    let (status, content_type, body) = send(&app, "POST", &format!("/scenes/{s}/renders?width=48&height=32&integrator=eyelight"), axum::body::Body::empty(), &[]).await;
+    assert_eq!((status, content_type.as_str()), (StatusCode::ACCEPTED, "application/json"));
+    let job: Value = serde_json::from_slice(&body).unwrap();
+    let id = job["id"].as_u64().unwrap();
+    assert_eq!((job["scene"].as_u64(), job["width"].as_u64()), (Some(s), Some(48)));
+    // Moved out of view after the job started: the job still sees it (frame semantics).
+    let moved = json!({ "transform": { "translate": [40, 0, 0] } });
+    ok(&app, "PUT", &format!("/scenes/{s}/instances/{}", instance["id"]), moved, StatusCode::OK).await;
+
+    let mut info = Value::Null;
+    let done = async {
+        for _ in 0..500 {
+            info = ok(&app, "GET", &format!("/renders/{id}"), Value::Null, StatusCode::OK).await;
+            if info["status"] != "running" {
+                return;
+            }
+            tokio::time::sleep(Duration::from_millis(20)).await;
+        }
+    };
+    done.await;
+    assert_eq!((info["status"].as_str(), info["progress"].as_f64()), (Some("done"), Some(1.0)), "{info}");
+    assert_eq!(info["report"]["integrator"], "eyelight");
+    let image = frame(&app, &format!("/renders/{id}/image.png")).await;
+    assert_eq!(image.get_pixel(24, 16).0, [255, 0, 0, 255], "the square where it was when the job started");
+
+    let listed = ok(&app, "GET", "/renders", Value::Null, StatusCode::OK).await;
+    assert_eq!(listed.as_array().map(Vec::len), Some(1));
+    let (status, _, _) = send(&app, "DELETE", &format!("/renders/{id}"), axum::body::Body::empty(), &[]).await;
+    assert_eq!(status, StatusCode::NO_CONTENT);
+    assert_eq!(fails(&app, "GET", &format!("/renders/{id}"), Value::Null, StatusCode::NOT_FOUND).await, "id");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn deleting_a_running_job_stops_its_render() {
+    let state = AppState::new(Config::default());
+    let app = raystage_server::router(state.clone());
+    let s = grey_square_scene(&app, 50.0).await;
+    // A path-traced frame of minutes: still running when it is deleted.
+    let job = ok(&app, "POST", &format!("/scenes/{s}/renders?width=1920&height=1080&integrator=path&spp=256"), Value::Null, StatusCode::ACCEPTED).await;
+    let id = job["id"].as_u64().unwrap();
+    assert!(eventually(Duration::from_secs(10), || state.active_renders() == 1).await, "the job renders");
+    let info = ok(&app, "GET", &format!("/renders/{id}"), Value::Null, StatusCode::OK).await;
+    assert_eq!(info["status"], "running");
+    let (status, early) = call(&app, "GET", &format!("/renders/{id}/image.png"), Value::Null).await;
+    assert_eq!((status, early["error"]["code"].as_str()), (StatusCode::CONFLICT, Some("conflict")), "{early}");
+    assert!(early["error"]["message"].as_str().unwrap().contains("still rendering"), "{early}");
+    let (status, _, _) = send(&app, "DELETE", &format!("/renders/{id}"), axum::body::Body::empty(), &[]).await;
+    assert_eq!(status, StatusCode::NO_CONTENT);
+    assert!(eventually(Duration::from_secs(10), || state.active_renders() == 0).await, "the render still runs after its job was deleted");
+}
+
+#[tokio::test]
+async fn jobs_are_bounded_and_checked_like_frames() {
+    let state = AppState::new(Config { limits: Limits { max_render_jobs: 1, ..Limits::default() }, ..Config::default() });
+    let app = raystage_server::router(state);
+    let (s, _, _) = red_square_scene(&app).await;
+    assert_eq!(fails(&app, "POST", &format!("/scenes/{s}/renders?width=0"), Value::Null, StatusCode::UNPROCESSABLE_ENTITY).await, "width");
+    fails(&app, "POST", "/scenes/99/renders", Value::Null, StatusCode::NOT_FOUND).await;
+    ok(&app, "POST", &format!("/scenes/{s}/renders?width=8&height=8"), Value::Null, StatusCode::ACCEPTED).await;
+    let (status, error) = call(&app, "POST", &format!("/scenes/{s}/renders?width=8&height=8"), Value::Null).await;
+    assert_eq!((status, error["error"]["limit"].as_str()), (StatusCode::SERVICE_UNAVAILABLE, Some("max_render_jobs")), "{error}");
+    for id in ["7", "x"] {
+        let (status, error) = call(&app, "GET", &format!("/renders/{id}"), Value::Null).await;
+        assert_eq!((status, error["error"]["field"].as_str()), (StatusCode::NOT_FOUND, Some("id")), "{error}");
+    }
+}
