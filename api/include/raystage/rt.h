@@ -57,14 +57,14 @@ typedef float RTfloat;
 typedef double RTdouble;
 
 /**
- * An enumerated value: one of the `RT_*` constants.
- */
-typedef uint32_t RTenum;
-
-/**
  * A count or size (`size_t`).
  */
 typedef size_t RTsizei;
+
+/**
+ * An enumerated value: one of the `RT_*` constants.
+ */
+typedef uint32_t RTenum;
 
 /**
  * A truth value: 0 is false, 1 is true.
@@ -362,6 +362,23 @@ typedef int32_t RTint;
  * What `RT_PRIMITIVE_ID_CHANNEL` holds where a pixel sees nothing.
  */
 #define RT_NO_PRIMITIVE 4294967295
+
+/**
+ * `rtGetShaderClassKind`: a surface class (`rtBindShader` binds its shaders to geometry).
+ */
+#define RT_SURFACE_CLASS 36960
+
+/**
+ * `rtGetShaderClassKind`: a light class (its shaders light the scene while they exist).
+ */
+#define RT_LIGHT_CLASS 36961
+
+/**
+ * `rtGetShaderParameterType`: three numbers (a colour, a position or a direction), written
+ * with `rtParameter3f`. (A number is `RT_FLOAT`, `rtParameter1f`; a texture `RT_TEXTURE_2D`,
+ * `rtParameterTexture`.)
+ */
+#define RT_FLOAT_VEC3 35665
 
 /**
  * The texture target of every texture call: raystage's textures are two-dimensional images or
@@ -664,6 +681,70 @@ void rtLens(RTfloat aperture_radius, RTfloat focus_distance);
  * `RT_SAMPLES_PER_PIXEL` to smooth it.
  */
 void rtShutter(RTfloat open, RTfloat close);
+
+/**
+ * How many built-in shader classes there are: every surface class, then every light class.
+ */
+RTsizei rtGetShaderClassCount(void);
+
+/**
+ * The name of class `index` (0 to `rtGetShaderClassCount() - 1`), as `rtNewShaderClass` takes
+ * it; NULL and `RT_INVALID_VALUE` if there is no such class.
+ */
+const char *rtGetShaderClassName(RTsizei index);
+
+/**
+ * What class `index` is, in a sentence; NULL and `RT_INVALID_VALUE` if there is no such class.
+ */
+const char *rtGetShaderClassDoc(RTsizei index);
+
+/**
+ * `RT_SURFACE_CLASS` or `RT_LIGHT_CLASS`; 0 and `RT_INVALID_VALUE` if there is no such class.
+ */
+RTenum rtGetShaderClassKind(RTsizei index);
+
+/**
+ * How many parameters class `index` exports (the names `rtParameterHandle` knows for its
+ * shaders; any other name is ignored); 0 and `RT_INVALID_VALUE` if there is no such class.
+ */
+RTsizei rtGetShaderParameterCount(RTsizei index);
+
+/**
+ * The name of parameter `param` of class `index`; NULL and `RT_INVALID_VALUE` if there is none.
+ */
+const char *rtGetShaderParameterName(RTsizei index, RTsizei param_index);
+
+/**
+ * What parameter `param` of class `index` does, its units and its default, in words; NULL and
+ * `RT_INVALID_VALUE` if there is none.
+ */
+const char *rtGetShaderParameterDoc(RTsizei index, RTsizei param_index);
+
+/**
+ * The type of parameter `param` of class `index`: `RT_FLOAT` (one number, `rtParameter1f`),
+ * `RT_FLOAT_VEC3` (three, `rtParameter3f`) or `RT_TEXTURE_2D` (`rtParameterTexture`); 0 and
+ * `RT_INVALID_VALUE` if there is none.
+ */
+RTenum rtGetShaderParameterType(RTsizei index, RTsizei param_index);
+
+/**
+ * Writes the default of parameter `param` of class `index` to `value[0..3]`: three numbers, a
+ * number in `value[0]` (the rest 0), or zeros for a texture (none). Nothing is written on error.
+ *
+ * # Safety
+ * `value` must point to three writable floats.
+ */
+void rtGetShaderParameterDefault(RTsizei index, RTsizei param_index, RTfloat *value);
+
+/**
+ * Writes the values parameter `param` of class `index` accepts to `range[0]` (least) and
+ * `range[1]` (most), for each of its numbers; `-INFINITY` and `INFINITY` where it is open.
+ * Nothing is written on error.
+ *
+ * # Safety
+ * `range` must point to two writable floats.
+ */
+void rtGetShaderParameterRange(RTsizei index, RTsizei param_index, RTfloat *range);
 
 /**
  * Returns the first error recorded since the last call of `rtGetError` (`RT_NO_ERROR` if none)

@@ -38,6 +38,7 @@ mod error;
 mod frames;
 mod geometry;
 mod ids;
+mod introspection;
 mod light_class;
 mod matrix;
 mod objects;

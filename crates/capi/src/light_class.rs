@@ -25,6 +25,13 @@ pub(crate) struct LightParam {
     pub name: &'static str,
     /// Writes a value into a light of the parameter's class.
     pub set: Setter,
+    /// Reads it from a light of the class (three numbers; a number in the first; zeros for a
+    /// texture): the class's default light gives the parameter's default.
+    pub get: fn(&Light) -> [f32; 3],
+    /// The values it accepts (each of three numbers).
+    pub range: [f32; 2],
+    /// What it does, and its units.
+    pub doc: &'static str,
 }
 
 /// A built-in light class.
@@ -32,6 +39,8 @@ pub(crate) struct LightParam {
 pub(crate) struct LightClass {
     /// Its name, as given to `rtNewShaderClass`.
     pub name: &'static str,
+    /// What it is.
+    pub doc: &'static str,
     /// The light a new shader of the class starts as.
     pub default: Light,
     /// The parameters it exports.
@@ -55,28 +64,73 @@ macro_rules! field {
     };
 }
 
-/// A parameter `$name` writing three numbers into field `$field` of `$variant` lights.
-macro_rules! triple {
-    ($name:literal, $variant:ident, $field:ident) => {
-        LightParam { name: $name, set: Setter::Triple(field!($variant, $field)) }
+/// A reader of field `$field` of lights of kind `$variant`, as three numbers.
+macro_rules! getter {
+    ($variant:ident, $field:ident) => {
+        |light| match light {
+            Light::$variant { $field, .. } => Values::values(*$field),
+            _ => [0.0; 3],
+        }
     };
 }
+
+/// A parameter `$name` writing three numbers into field `$field` of `$variant` lights.
+macro_rules! triple {
+    ($name:literal, $variant:ident, $field:ident, $range:expr, $doc:literal) => {
+        LightParam { name: $name, set: Setter::Triple(field!($variant, $field)), get: getter!($variant, $field), range: $range, doc: $doc }
+    };
+}
+
+/// A parameter `$name` writing one number into field `$field` of `$variant` lights.
+macro_rules! number {
+    ($name:literal, $variant:ident, $field:ident, $range:expr, $doc:literal) => {
+        LightParam { name: $name, set: Setter::Number(field!($variant, $field)), get: getter!($variant, $field), range: $range, doc: $doc }
+    };
+}
+
+/// A parameter's value as the three numbers introspection reports.
+trait Values {
+    fn values(self) -> [f32; 3];
+}
+
+impl Values for Vec3 {
+    fn values(self) -> [f32; 3] {
+        self.to_array()
+    }
+}
+
+impl Values for f32 {
+    fn values(self) -> [f32; 3] {
+        [self, 0.0, 0.0]
+    }
+}
+
+impl Values for Option<TextureId> {
+    fn values(self) -> [f32; 3] {
+        [0.0; 3]
+    }
+}
+
+/// Any finite number.
+const ANY: [f32; 2] = [f32::NEG_INFINITY, f32::INFINITY];
+/// Light, which is never negative.
+const POWER: [f32; 2] = [0.0, f32::INFINITY];
 
 /// Every built-in light class: the OpenGL/VRML kinds OpenRT ships (point, spot, directional,
 /// ambient) and the ray tracer's own (area, environment).
 pub(crate) static LIGHT_CLASSES: &[LightClass] = &[
     LightClass {
         name: "PointLight",
-        // "position": where it is, default the origin. "intensity": linear RGB radiant
-        // intensity (the irradiance at distance 1), default 1.
+        doc: "Light from a point, in every direction, falling off with the square of the distance.",
         default: Light::Point { position: Vec3::ZERO, intensity: Vec3::ONE },
-        params: &[triple!("position", Point, position), triple!("intensity", Point, intensity)],
+        params: &[
+            triple!("position", Point, position, ANY, "Where it is, in world space; default the origin."),
+            triple!("intensity", Point, intensity, POWER, "Linear RGB radiant intensity: the irradiance on a surface facing it at distance 1 (a diffuse albedo rho there reflects radiance rho/pi times it); default 1."),
+        ],
     },
     LightClass {
         name: "SpotLight",
-        // As "PointLight", plus "direction": the cone's axis, default −z; "cone": the cone's
-        // half-angle in degrees, in (0, 90], default 30; "falloff": the half-angle where the
-        // light starts to fade, in [0, cone], default 25.
+        doc: "A point light shining into a cone, fading smoothly between the falloff and the cone's half-angles.",
         default: Light::Spot {
             position: Vec3::ZERO,
             direction: Vec3::NEG_Z,
@@ -85,31 +139,31 @@ pub(crate) static LIGHT_CLASSES: &[LightClass] = &[
             falloff_degrees: 25.0,
         },
         params: &[
-            triple!("position", Spot, position),
-            triple!("direction", Spot, direction),
-            triple!("intensity", Spot, intensity),
-            LightParam { name: "cone", set: Setter::Number(field!(Spot, cone_degrees)) },
-            LightParam { name: "falloff", set: Setter::Number(field!(Spot, falloff_degrees)) },
+            triple!("position", Spot, position, ANY, "Where it is, in world space; default the origin."),
+            triple!("direction", Spot, direction, ANY, "The cone's axis, the way the light travels (any length); default -z."),
+            triple!("intensity", Spot, intensity, POWER, "Linear RGB radiant intensity inside the cone, as PointLight's; default 1."),
+            number!("cone", Spot, cone_degrees, [0.0, 90.0], "The cone's half-angle in degrees, above 0 and at most 90; default 30."),
+            number!("falloff", Spot, falloff_degrees, [0.0, 90.0], "The half-angle in degrees where the light starts to fade, 0 to cone; default 25."),
         ],
     },
     LightClass {
         name: "DirectionalLight",
-        // "direction": the way the light travels (towards the scene), any length, default −z.
-        // "intensity": linear RGB irradiance on a surface facing the light, default 1.
+        doc: "Light from far away, arriving in parallel along one direction (a sun).",
         default: Light::Directional { direction: Vec3::NEG_Z, intensity: Vec3::ONE },
-        params: &[triple!("direction", Directional, direction), triple!("intensity", Directional, intensity)],
+        params: &[
+            triple!("direction", Directional, direction, ANY, "The way the light travels, towards the scene (the opposite of OpenGL's GL_POSITION w = 0 vector), any length; default -z."),
+            triple!("intensity", Directional, intensity, POWER, "Linear RGB irradiance on a surface facing the light; default 1."),
+        ],
     },
     LightClass {
         name: "AmbientLight",
-        // "intensity": irradiance added to every surface, unshadowed; default 0.2, OpenGL's
-        // global ambient light.
+        doc: "Light added to every surface, unshadowed, as OpenGL's ambient term.",
         default: Light::Ambient { intensity: Vec3::splat(0.2) },
-        params: &[triple!("intensity", Ambient, intensity)],
+        params: &[triple!("intensity", Ambient, intensity, POWER, "Linear RGB irradiance added to every surface; default 0.2, OpenGL's global ambient light.")],
     },
     LightClass {
         name: "AreaLight",
-        // The parallelogram corner + s·edge_u + t·edge_v (s, t in [0, 1]), emitting towards
-        // edge_u × edge_v with "radiance". Default: a unit square at height 1 shining down.
+        doc: "A one-sided emitting parallelogram corner + s edge_u + t edge_v (s, t in [0, 1]), soft shadows in the distribution and path integrators.",
         default: Light::Area {
             corner: Vec3::new(-0.5, 1.0, -0.5),
             edge_u: Vec3::X,
@@ -117,21 +171,28 @@ pub(crate) static LIGHT_CLASSES: &[LightClass] = &[
             radiance: Vec3::ONE,
         },
         params: &[
-            triple!("corner", Area, corner),
-            triple!("edge_u", Area, edge_u),
-            triple!("edge_v", Area, edge_v),
-            triple!("radiance", Area, radiance),
+            triple!("corner", Area, corner, ANY, "One corner, in world space; default (-0.5, 1, -0.5)."),
+            triple!("edge_u", Area, edge_u, ANY, "The first edge from the corner; default +x."),
+            triple!("edge_v", Area, edge_v, ANY, "The second edge: the light leaves towards edge_u x edge_v; default +z (shining down)."),
+            triple!("radiance", Area, radiance, POWER, "Linear RGB radiance it emits; default 1."),
         ],
     },
     LightClass {
         name: "EnvironmentLight",
-        // "radiance": light arriving from every direction, default 1. "map": a texture whose
-        // latitude-longitude image (top row straight up, +y) the radiance scales; none by default.
+        doc: "Light arriving from every direction (a sky), optionally from a latitude-longitude image.",
         default: Light::Environment { radiance: Vec3::ONE, map: None },
-        params: &[triple!("radiance", Environment, radiance), LightParam { name: "map", set: Setter::Texture(field!(Environment, map)) }],
+        params: &[
+            triple!("radiance", Environment, radiance, POWER, "Linear RGB radiance from every direction, scaling the map if there is one; default 1."),
+            LightParam {
+                name: "map",
+                set: Setter::Texture(field!(Environment, map)),
+                get: getter!(Environment, map),
+                range: [0.0, 0.0],
+                doc: "A texture whose latitude-longitude image (top row straight up, +y) gives the radiance by direction; none by default.",
+            },
+        ],
     },
 ];
-
 /// The light class called `name`.
 pub(crate) fn light_class(name: &str) -> Option<&'static LightClass> {
     LIGHT_CLASSES.iter().find(|c| c.name == name)

@@ -559,3 +559,65 @@ fn channel_buffers_say_what_each_pixel_sees() {
     rtSwapBuffers();
     assert_no_error();
 }
+
+#[test]
+fn every_class_and_parameter_can_be_asked_for() {
+    use std::ffi::CStr;
+    let text = |p: *const std::ffi::c_char| unsafe { CStr::from_ptr(p) }.to_str().unwrap().to_string();
+    let count = rtGetShaderClassCount();
+    let names: Vec<String> = (0..count).map(|i| text(rtGetShaderClassName(i))).collect();
+    // Surface classes first (as the scene's registry has them), then the light classes.
+    let surfaces: Vec<&str> = raystage_scene::SHADER_CLASSES.iter().map(|c| c.name).collect();
+    assert_eq!(&names[..surfaces.len()], &surfaces[..]);
+    assert_eq!(&names[surfaces.len()..], ["PointLight", "SpotLight", "DirectionalLight", "AmbientLight", "AreaLight", "EnvironmentLight"]);
+    for (i, name) in names.iter().enumerate() {
+        let light = i >= surfaces.len();
+        assert_eq!(rtGetShaderClassKind(i), if light { RT_LIGHT_CLASS } else { RT_SURFACE_CLASS }, "{name}");
+        assert!(!text(rtGetShaderClassDoc(i)).is_empty(), "{name} is documented");
+        for p in 0..rtGetShaderParameterCount(i) {
+            let param = text(rtGetShaderParameterName(i, p));
+            assert!(text(rtGetShaderParameterDoc(i, p)).len() > 10, "{name}.{param} is documented");
+            let ty = rtGetShaderParameterType(i, p);
+            assert!([RT_FLOAT, RT_FLOAT_VEC3, RT_TEXTURE_2D].contains(&ty), "{name}.{param}: {ty:#x}");
+            let (mut default, mut range) = ([f32::NAN; 3], [f32::NAN; 2]);
+            unsafe {
+                rtGetShaderParameterDefault(i, p, default.as_mut_ptr());
+                rtGetShaderParameterRange(i, p, range.as_mut_ptr());
+            }
+            let numbers = if ty == RT_FLOAT_VEC3 { 3 } else if ty == RT_FLOAT { 1 } else { 0 };
+            assert!(default[..numbers].iter().all(|v| *v >= range[0] && *v <= range[1]), "{name}.{param}: {default:?} in {range:?}");
+            // The name is one the class really takes: a shader of the class accepts a handle for it.
+            if !light {
+                let id = shader(&std::ffi::CString::new(name.as_str()).unwrap());
+                rtBindShader(id);
+                assert!(handle(&std::ffi::CString::new(param.as_str()).unwrap()) >= 0, "{name}.{param}");
+            }
+        }
+        assert_no_error();
+    }
+    // Phong's exponent: the porter can tell which name is real.
+    let phong = names.iter().position(|n| n == "Phong").unwrap();
+    let params: Vec<String> = (0..rtGetShaderParameterCount(phong)).map(|p| text(rtGetShaderParameterName(phong, p))).collect();
+    assert!(params.contains(&"shininess".to_string()) ^ params.contains(&"exponent".to_string()), "{params:?}");
+    // The spot's cone: a number, 30 degrees by default, at most 90.
+    let spot = names.iter().position(|n| n == "SpotLight").unwrap();
+    let cone = (0..rtGetShaderParameterCount(spot)).position(|p| text(rtGetShaderParameterName(spot, p)) == "cone").unwrap();
+    let (mut default, mut range) = ([0f32; 3], [0f32; 2]);
+    unsafe {
+        rtGetShaderParameterDefault(spot, cone, default.as_mut_ptr());
+        rtGetShaderParameterRange(spot, cone, range.as_mut_ptr());
+    }
+    assert_eq!((rtGetShaderParameterType(spot, cone), default[0], range[1]), (RT_FLOAT, 30.0, 90.0));
+
+    // Out of range: NULL or 0 and RT_INVALID_VALUE, and nothing written.
+    assert!(rtGetShaderClassName(count).is_null());
+    assert_error(RT_INVALID_VALUE, &format!("class {count} does not exist"));
+    assert!(rtGetShaderParameterName(0, 999).is_null());
+    assert_error(RT_INVALID_VALUE, "has no parameter 999");
+    let mut untouched = [7f32; 3];
+    unsafe { rtGetShaderParameterDefault(count, 0, untouched.as_mut_ptr()) };
+    assert_error(RT_INVALID_VALUE, "does not exist");
+    assert_eq!(untouched, [7.0; 3]);
+    unsafe { rtGetShaderParameterRange(0, 0, std::ptr::null_mut()) };
+    assert_error(RT_INVALID_VALUE, "range is NULL");
+}

@@ -153,6 +153,17 @@ pub const RT_PRIMITIVE_ID_CHANNEL: RTenum = 0x9056;
 /// What `RT_PRIMITIVE_ID_CHANNEL` holds where a pixel sees nothing.
 pub const RT_NO_PRIMITIVE: RTuint = 0xFFFF_FFFF;
 
+// ----- introspection (rtGetShaderClass*, rtGetShaderParameter*) -----
+
+/// `rtGetShaderClassKind`: a surface class (`rtBindShader` binds its shaders to geometry).
+pub const RT_SURFACE_CLASS: RTenum = 0x9060;
+/// `rtGetShaderClassKind`: a light class (its shaders light the scene while they exist).
+pub const RT_LIGHT_CLASS: RTenum = 0x9061;
+/// `rtGetShaderParameterType`: three numbers (a colour, a position or a direction), written
+/// with `rtParameter3f`. (A number is `RT_FLOAT`, `rtParameter1f`; a texture `RT_TEXTURE_2D`,
+/// `rtParameterTexture`.)
+pub const RT_FLOAT_VEC3: RTenum = 0x8B51;
+
 // ----- textures (rtBindTexture, rtTexImage2D) -----
 
 /// The texture target of every texture call: raystage's textures are two-dimensional images or

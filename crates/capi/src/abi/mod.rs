@@ -4,6 +4,7 @@
 #![allow(non_snake_case)]
 
 pub mod camera;
+pub mod classes;
 pub mod enums;
 pub mod errors;
 pub mod frames;
@@ -19,6 +20,7 @@ pub mod textures;
 pub mod types;
 
 pub use camera::*;
+pub use classes::*;
 pub use enums::*;
 pub use errors::*;
 pub use frames::*;
