@@ -8,6 +8,7 @@
 
 #include <raystage/rt.hpp>
 
+#include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <string>

@@ -254,7 +254,12 @@ void errors_carry_code_and_message() {
            [&] { object.define([] { raystage::triangle_mesh({0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2}, {0, 0, 1}); }); });
     throws("an index out of range", RT_INVALID_VALUE, "rtTriangleMesh",
            [&] { object.define([] { raystage::triangle_mesh({0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 7}); }); });
+    raystage::Shader paint("Constant");
+    throws("two numbers for a colour", RT_INVALID_OPERATION, "rtParameter2f", [&] { paint.set("color", 0, 1); });
+    throws("four numbers for a colour", RT_INVALID_OPERATION, "rtParameter4f", [&] { paint.set("color", 0, 1, 0, 1); });
     raystage::Texture texture;
+    throws("a float image of the wrong size", RT_INVALID_VALUE, "raystage::Texture::image",
+           [&] { texture.image(1, 1, RT_RGBA, std::vector<RTfloat>(3)); });
     throws("an image of the wrong size", RT_INVALID_VALUE, "raystage::Texture::image",
            [&] { texture.image(2, 2, RT_RGB, std::vector<std::uint8_t>(9)); });
     throws("a missing image file", RT_IO_ERROR, "rtTexImageFile", [&] { texture.file("no/such/file.png"); });
@@ -314,6 +319,10 @@ void gl_calls() {
     CHECK(raystage::render_parameter(RT_SAMPLES_PER_PIXEL) == 3, "the samples per pixel did not stick");
     raystage::lens(0, 0);
     raystage::shutter(0, 0.5f);
+    raystage::translate(0.1f, 0, 0);
+    instance.move_by_shutter_close(); // from where instantiate put it to here, while the shutter is open
+    raystage::load_identity();
+    instance.move();
     raystage::shade_model(RT_FLAT);
     CHECK(raystage::get_integers(RT_SHADE_MODEL)[0] == RT_FLAT, "the shade model did not stick");
     no_error("the GL calls");
@@ -345,6 +354,10 @@ void textures() {
     const std::uint8_t *left = frame.pixel(2, H / 2), *right = frame.pixel(W - 3, H / 2);
     CHECK(left[0] > 100 && left[2] < 30, "the left half is (%d, %d, %d), not red", left[0], left[1], left[2]);
     CHECK(right[2] > 100 && right[0] < 30, "the right half is (%d, %d, %d), not blue", right[0], right[1], right[2]);
+    raystage::Texture sky;
+    sky.image(2, 1, RT_RGB, std::vector<RTfloat>{4, 4, 4, 0.5f, 0.5f, 1}).parameter(RT_TEXTURE_WRAP_S, RT_CLAMP_TO_EDGE);
+    raystage::Shader spot("SpotLight");
+    spot.set("cone", 30).set("position", 0, 0, 5);
     raystage::Texture board;
     board.checker({1, 1, 1}, {0, 0, 0}, 1);
     raystage::Texture clouds;
