@@ -2,7 +2,7 @@
 # Installs raystage's C library under PREFIX (any writable directory; no root needed):
 #
 #   PREFIX/lib/libraystage.so, PREFIX/lib/libraystage.a
-#   PREFIX/include/raystage/rt.h
+#   PREFIX/include/raystage/rt.h, PREFIX/include/raystage/rt.hpp (the C++ wrapper, header-only)
 #   PREFIX/lib/pkgconfig/raystage.pc          pkg-config --cflags --libs raystage
 #   PREFIX/lib/pkgconfig/raystage-static.pc   pkg-config --cflags --libs raystage-static
 #   PREFIX/lib/cmake/raystage/raystageConfig.cmake (+ ConfigVersion)   find_package(raystage)
@@ -48,7 +48,7 @@ static_deps=(gcc_s util rt pthread m dl c)
 install -d "$prefix/lib/pkgconfig" "$prefix/lib/cmake/raystage" "$prefix/include/raystage"
 install -m 0755 "$lib_dir/libraystage.so" "$prefix/lib/libraystage.so"
 install -m 0644 "$lib_dir/libraystage.a" "$prefix/lib/libraystage.a"
-install -m 0644 "$root/api/include/raystage/rt.h" "$prefix/include/raystage/rt.h"
+install -m 0644 "$root/api/include/raystage/rt.h" "$root/api/include/raystage/rt.hpp" "$prefix/include/raystage/"
 
 # The .pc files find the prefix from their own location (pkg-config's pcfiledir), as the CMake
 # config does, so that the installed tree can be moved.
@@ -80,6 +80,8 @@ cat >"$prefix/lib/cmake/raystage/raystageConfig.cmake" <<EOF
 # raystage's C library. Imported targets:
 #   raystage::raystage         the shared library libraystage.so
 #   raystage::raystage_static  the static library libraystage.a, with the system libraries it needs
+#   raystage::cpp              the C++ wrapper raystage/rt.hpp (header-only, C++17) on the shared library
+#   raystage::cpp_static       the same on the static library
 # The paths are found from this file's location, so the installed tree can be moved.
 get_filename_component(_raystage_prefix "\${CMAKE_CURRENT_LIST_DIR}/../../.." ABSOLUTE)
 if(NOT TARGET raystage::raystage)
@@ -93,6 +95,15 @@ if(NOT TARGET raystage::raystage)
     IMPORTED_LOCATION "\${_raystage_prefix}/lib/libraystage.a"
     INTERFACE_INCLUDE_DIRECTORIES "\${_raystage_prefix}/include"
     INTERFACE_LINK_LIBRARIES "$(IFS=';'; echo "${static_deps[*]}")")
+  # The wrapper is only a header: its targets add the C++ standard it needs to a library's.
+  add_library(raystage::cpp INTERFACE IMPORTED)
+  set_target_properties(raystage::cpp PROPERTIES
+    INTERFACE_LINK_LIBRARIES raystage::raystage
+    INTERFACE_COMPILE_FEATURES cxx_std_17)
+  add_library(raystage::cpp_static INTERFACE IMPORTED)
+  set_target_properties(raystage::cpp_static PROPERTIES
+    INTERFACE_LINK_LIBRARIES raystage::raystage_static
+    INTERFACE_COMPILE_FEATURES cxx_std_17)
 endif()
 set(raystage_INCLUDE_DIRS "\${_raystage_prefix}/include")
 set(raystage_LIBRARIES raystage::raystage)

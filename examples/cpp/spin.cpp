@@ -1,8 +1,8 @@
-// spin.cpp: a torus spinning over a floor, through the C++ wrapper raystage.hpp. The torus is
-// an animated object: defined once from arrays, then only its instance moves.
+// spin.cpp: a torus spinning over a floor, through raystage's C++ wrapper raystage/rt.hpp. The
+// torus is an animated object: defined once from arrays, then only its instance moves.
 //
 // Usage: spin [FRAMES [WIDTH HEIGHT]]   writes spin_000.png, spin_001.png, ...
-#include "raystage.hpp"
+#include <raystage/rt.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -30,7 +30,7 @@ void torus(float major, float minor, int rings, int sides) {
             indices.insert(indices.end(), {a, b, c, a, c, d});
         }
     }
-    rtTriangleMesh(positions.data(), normals.data(), nullptr, nullptr, positions.size() / 3, indices.data(), indices.size() / 3);
+    raystage::triangle_mesh(positions, indices, normals);
 }
 
 } // namespace
@@ -40,31 +40,31 @@ int main(int argc, char *argv[]) {
     std::size_t width = argc > 3 ? std::atoi(argv[2]) : 320;
     std::size_t height = argc > 3 ? std::atoi(argv[3]) : 240;
     try {
-        rt::Context context;
-        rt::FrameBuffer frame(width, height);
-        frame.render_mode(RT_WHITTED); // shadows from the two suns, one sample per pixel
-        rtPerspective(45, float(width) / height, 0.1f, 100);
-        rtLookAt(0, 2.5f, 7, 0, 0.6f, 0, 0, 1, 0);
+        raystage::Context context;
+        raystage::FrameBuffer frame(width, height);
+        raystage::render_mode(RT_WHITTED); // shadows from the two suns, one sample per pixel
+        raystage::perspective(45, float(width) / height, 0.1f, 100);
+        raystage::look_at(0, 2.5f, 7, 0, 0.6f, 0, 0, 1, 0);
 
-        rt::Shader sun("DirectionalLight");
+        raystage::Shader sun("DirectionalLight");
         sun.set("direction", -0.3f, -1, -0.5f).set("intensity", 2.5f, 2.4f, 2.2f);
-        rt::Shader fill("DirectionalLight");
+        raystage::Shader fill("DirectionalLight");
         fill.set("direction", 0, -0.2f, -1).set("intensity", 0.6f, 0.6f, 0.7f);
-        rt::Shader teal("Diffuse");
+        raystage::Shader teal("Diffuse");
         teal.set("diffuse", 0.1f, 0.6f, 0.6f);
-        rt::Shader floor_paint("Diffuse");
+        raystage::Shader floor_paint("Diffuse");
         floor_paint.set("diffuse", 0.75f, 0.72f, 0.68f);
 
-        rt::Object floor;
+        raystage::Object floor;
         floor.define([&] {
             floor_paint.bind();
-            rt::Primitive quad(RT_QUADS);
+            raystage::Primitive quad(RT_QUADS);
             rtVertex3f(-6, -0.6f, -6);
             rtVertex3f(-6, -0.6f, 6);
             rtVertex3f(6, -0.6f, 6);
             rtVertex3f(6, -0.6f, -6);
         });
-        rt::Object ring;
+        raystage::Object ring;
         ring.define(
             [&] {
                 teal.bind();
@@ -72,15 +72,15 @@ int main(int argc, char *argv[]) {
             },
             RT_ANIMATED);
 
-        rtLoadIdentity();
-        rt::Instance floor_instance = floor.instantiate();
-        rt::Instance spinning = ring.instantiate();
+        raystage::load_identity();
+        raystage::Instance floor_instance = floor.instantiate();
+        raystage::Instance spinning = ring.instantiate();
         for (int f = 0; f < frames; f++) {
             {
-                rt::MatrixScope scope;
-                rtTranslatef(0, 0.8f, 0);
-                rtRotatef(15.0f * f, 0, 1, 0);
-                rtRotatef(60, 1, 0, 0);
+                raystage::MatrixScope scope;
+                raystage::translate(0, 0.8f, 0);
+                raystage::rotate(15.0f * f, 0, 1, 0);
+                raystage::rotate(60, 1, 0, 0);
                 spinning.move();
             }
             frame.swap();
@@ -88,7 +88,7 @@ int main(int argc, char *argv[]) {
             std::snprintf(name, sizeof name, "spin_%03d.png", f);
             frame.write_png(name);
         }
-    } catch (const rt::Error &e) {
+    } catch (const raystage::Error &e) {
         std::fprintf(stderr, "spin: %s (error 0x%x)\n", e.what(), unsigned(e.code()));
         return 1;
     }

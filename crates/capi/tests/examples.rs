@@ -1,8 +1,9 @@
 //! The C and C++ examples, built as a user would: the library is installed into a temporary
 //! prefix with scripts/install-capi.sh, each example is compiled with gcc or g++ against the
 //! installed shared library and again against the static one (flags from pkg-config), run in a
-//! directory of its own, and the PNG frames it writes are decoded and checked. C test programs
-//! (tests/c) are built the same way and check themselves.
+//! directory of its own, and the PNG frames it writes are decoded and checked. C and C++ test
+//! programs (tests/c, tests/cpp) are built the same way and check themselves. Without the
+//! compiler or CMake a test needs, it says so and passes (scripts/test.sh installs them).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -87,6 +88,30 @@ enum Linking {
     Static,
 }
 
+/// Whether `tool` cannot be run; if so, says that the calling test skips.
+fn missing(tool: &str) -> bool {
+    let missing = Command::new(tool).arg("--version").output().is_err();
+    if missing {
+        eprintln!("{tool} is not installed: skipping (scripts/test.sh installs it)");
+    }
+    missing
+}
+
+/// The command that compiles `source` (a path from the workspace root) into `exe` against the
+/// installed library, with warnings as errors: gcc for C99, g++ for C++17.
+fn compile(source: &Path, linking: Linking, exe: &Path) -> Command {
+    let cpp = source.extension().is_some_and(|e| e == "cpp");
+    let mut compile = Command::new(if cpp { "g++" } else { "gcc" });
+    compile.args(["-Wall", "-Wextra", "-Werror", "-O1", if cpp { "-std=c++17" } else { "-std=c99" }]);
+    compile.arg(source).arg("-o").arg(exe);
+    compile.args(pkg_config(match linking {
+        Linking::Shared => "raystage",
+        Linking::Static => "raystage-static",
+    }));
+    compile.arg("-lm");
+    compile
+}
+
 /// Compiles `source` (a path from the workspace root) against the installed library, runs it
 /// with `args` in a directory of its own, and returns that directory.
 fn build_and_run(source: &str, linking: Linking, args: &[&str]) -> PathBuf {
@@ -94,19 +119,7 @@ fn build_and_run(source: &str, linking: Linking, args: &[&str]) -> PathBuf {
     let stem = source.file_stem().unwrap().to_string_lossy().into_owned();
     let dir = scratch(&format!("{stem}-{linking:?}"));
     let exe = dir.join(&stem);
-    let cpp = source.extension().is_some_and(|e| e == "cpp");
-    let mut compile = Command::new(if cpp { "g++" } else { "gcc" });
-    compile.args(["-Wall", "-Wextra", "-Werror", "-O1"]);
-    if !cpp {
-        compile.arg("-std=c99");
-    }
-    compile.arg(&source).arg("-o").arg(&exe);
-    compile.args(pkg_config(match linking {
-        Linking::Shared => "raystage",
-        Linking::Static => "raystage-static",
-    }));
-    compile.arg("-lm");
-    run(&mut compile);
+    run(&mut compile(&source, linking, &exe));
     run(Command::new(&exe).args(args).current_dir(&dir).env("LD_LIBRARY_PATH", prefix().join("lib")));
     if let Linking::Static = linking {
         let ldd = run(Command::new("ldd").arg(&exe));
@@ -222,16 +235,66 @@ fn motion_blur_smears_the_sliding_cube() {
     }
 }
 
+/// Checks the two frames `spin 2 160 120` wrote into `dir`: a teal torus that turns.
+fn check_spin_frames(dir: &Path, how: &str) {
+    let (first, second) = (frame(dir, "spin_000.png"), frame(dir, "spin_001.png"));
+    let teal = |image: &RgbaImage| image.pixels().filter(|p| !is_sky(p) && p[1].min(p[2]) as i32 > p[0] as i32 + 40).count();
+    assert!(teal(&first) > 1000, "{how}: the torus covers {} pixels", teal(&first));
+    assert_ne!(first, second, "{how}: the torus spins");
+}
+
 #[test]
 fn the_cpp_wrapper_spins_a_torus() {
+    if missing("g++") {
+        return;
+    }
     for linking in [Linking::Shared, Linking::Static] {
-        let dir = build_and_run("examples/cpp/spin.cpp", linking, &["2", "160", "120"]);
-        let (first, second) = (frame(&dir, "spin_000.png"), frame(&dir, "spin_001.png"));
-        let teal = |image: &RgbaImage| {
-            image.pixels().filter(|p| !is_sky(p) && p[1].min(p[2]) as i32 > p[0] as i32 + 40).count()
-        };
-        assert!(teal(&first) > 1000, "{linking:?}: the torus covers {} pixels", teal(&first));
-        assert_ne!(first, second, "{linking:?}: the torus spins");
+        check_spin_frames(&build_and_run("examples/cpp/spin.cpp", linking, &["2", "160", "120"]), &format!("{linking:?}"));
+    }
+}
+
+/// The C++ wrapper raystage/rt.hpp (`tests/cpp/wrapper.cpp`): each FrameBuffer renders its own
+/// frames and detaches only itself, an exception inside `define` leaves no error pending, kept
+/// instances stay, ownership across moves and Context resets, errors as `raystage::Error`, and
+/// the GL calls it wraps; the program checks itself.
+#[test]
+fn cpp_wrapper_checks_pass() {
+    if missing("g++") {
+        return;
+    }
+    for linking in [Linking::Shared, Linking::Static] {
+        build_and_run("crates/capi/tests/cpp/wrapper.cpp", linking, &[]);
+    }
+}
+
+/// `raystage::Frame` (`tests/cpp/frames.cpp`): polled to completion with progress reaching 1,
+/// cancelled, moved, released once, outliving or following its buffer, on two threads.
+#[test]
+fn cpp_frame_checks_pass() {
+    if missing("g++") {
+        return;
+    }
+    for linking in [Linking::Shared, Linking::Static] {
+        build_and_run("crates/capi/tests/cpp/frames.cpp", linking, &[]);
+    }
+}
+
+/// Dropping an Instance or a Frame at once (`tests/cpp/discarded.cpp`) does not compile: the
+/// results are `[[nodiscard]]`. The same file keeping both compiles and runs.
+#[test]
+fn dropped_instances_and_frames_do_not_compile() {
+    if missing("g++") {
+        return;
+    }
+    let source = root().join("crates/capi/tests/cpp/discarded.cpp");
+    let dir = scratch("discarded");
+    run(&mut compile(&source, Linking::Shared, &dir.join("kept")));
+    run(Command::new(dir.join("kept")).env("LD_LIBRARY_PATH", prefix().join("lib")));
+    for (define, call) in [("DISCARD_INSTANCE", "Object::instantiate"), ("DISCARD_FRAME", "FrameBuffer::render_async")] {
+        let output = compile(&source, Linking::Shared, &dir.join(define)).arg(format!("-D{define}")).output().expect("g++ runs");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(!output.status.success(), "{define}: dropping the result of {call} compiled");
+        assert!(stderr.contains("nodiscard") && stderr.contains(call), "{define}: g++ says:\n{stderr}");
     }
 }
 
@@ -301,8 +364,7 @@ fn a_moved_install_still_builds() {
 /// `find_package(raystage)` finds the installed library, for the shared and the static target.
 #[test]
 fn cmake_finds_the_installed_package() {
-    if Command::new("cmake").arg("--version").output().is_err() {
-        eprintln!("cmake is not installed: skipping (scripts/test.sh installs it)");
+    if missing("cmake") {
         return;
     }
     let dir = scratch("cmake");
@@ -325,4 +387,36 @@ fn cmake_finds_the_installed_package() {
         let image = frame(&build, "late_binding.png");
         assert!(image.get_pixel(116, 45)[1] > 200, "{exe}: triangle B is green");
     }
+}
+
+/// `find_package(raystage)` gives C++ programs `raystage::cpp` and `raystage::cpp_static`, which
+/// raise the language standard to the C++17 the wrapper needs: the project asks for C++11, under
+/// which rt.hpp refuses to compile.
+#[test]
+fn cmake_builds_against_the_cpp_targets() {
+    if missing("cmake") || missing("g++") {
+        return;
+    }
+    let dir = scratch("cmake-cpp");
+    let source = root().join("examples/cpp/spin.cpp");
+    std::fs::write(
+        dir.join("CMakeLists.txt"),
+        format!(
+            "cmake_minimum_required(VERSION 3.13)\nproject(uses_raystage_cpp CXX)\nset(CMAKE_CXX_STANDARD 11)\n\
+             find_package(raystage 0.1 REQUIRED)\n\
+             add_executable(shared_spin \"{0}\")\ntarget_link_libraries(shared_spin raystage::cpp)\n\
+             add_executable(static_spin \"{0}\")\ntarget_link_libraries(static_spin raystage::cpp_static m)\n",
+            source.display()
+        ),
+    )
+    .unwrap();
+    let build = dir.join("build");
+    run(Command::new("cmake").arg("-S").arg(&dir).arg("-B").arg(&build).arg(format!("-DCMAKE_PREFIX_PATH={}", prefix().display())));
+    run(Command::new("cmake").arg("--build").arg(&build));
+    for exe in ["shared_spin", "static_spin"] {
+        run(Command::new(build.join(exe)).args(["2", "160", "120"]).current_dir(&build));
+        check_spin_frames(&build, exe);
+    }
+    let ldd = run(Command::new("ldd").arg(build.join("static_spin")));
+    assert!(!ldd.contains("libraystage"), "raystage::cpp_static links the shared library: {ldd}");
 }
