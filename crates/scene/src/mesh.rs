@@ -41,6 +41,12 @@ impl Mesh {
         Mesh { positions, indices, ..Mesh::default() }
     }
 
+    /// The memory its vertices, triangles and attributes take.
+    pub fn memory_bytes(&self) -> u64 {
+        let vec3 = (self.positions.len() + self.normals.len() + self.colors.len()) * 12;
+        (vec3 + self.indices.len() * 12 + (self.uvs.len() + self.uvs1.len()) * 8 + self.tangents.len() * 16 + self.shaders.len() * 4) as u64
+    }
+
     /// The same mesh with every triangle bound to `shader`.
     pub fn with_shader(mut self, shader: ShaderId) -> Mesh {
         self.shaders = vec![shader; self.indices.len()];

@@ -44,6 +44,11 @@ pub struct Image {
 }
 
 impl Image {
+    /// The memory its texels and coverage take.
+    pub fn memory_bytes(&self) -> u64 {
+        (self.texels.len() * 12 + self.alpha.len() * 4) as u64
+    }
+
     /// An image from `width × height` texels, row-major from the top row; every channel finite
     /// and non-negative.
     pub fn new(width: u32, height: u32, texels: Vec<Vec3>) -> Result<Image, SceneError> {

@@ -32,6 +32,15 @@ pub struct Limits {
     pub max_commands: usize,
     /// Most scenes held at once.
     pub max_scenes: usize,
+    /// Most memory one scene's geometry, trees and images may take ([`Scene::memory_bytes`],
+    /// trees counted as built): an edit, upload or demo past it is refused (413) and changes
+    /// nothing.
+    ///
+    /// [`Scene::memory_bytes`]: raystage_scene::Scene::memory_bytes
+    pub max_scene_bytes: u64,
+    /// Most memory all scenes together may take, counted as `max_scene_bytes` is; default half
+    /// the machine's memory.
+    pub max_total_scene_bytes: u64,
     /// Most bytes one image texture may take once decoded, counted from the image's header
     /// before it is decoded as width × height × 16 (three colour channels and coverage, as
     /// `f32`): a small PNG of a large, flat image would otherwise cost gigabytes.
@@ -75,6 +84,8 @@ impl Default for Limits {
             max_frame_samples: 1920 * 1080 * 256,
             max_commands: 100_000,
             max_scenes: 64,
+            max_scene_bytes: 4 << 30,
+            max_total_scene_bytes: half_the_memory(),
             // 4096 × 4096 texels, or 8192 × 2048.
             max_texture_bytes: 256 << 20,
             // The standard scenes' million (the sphere grid has 1,000,002).
@@ -89,6 +100,15 @@ impl Default for Limits {
             body_read_seconds: 60,
         }
     }
+}
+
+/// Half the machine's physical memory (from `/proc/meminfo`), or 8 GiB where it cannot be read.
+fn half_the_memory() -> u64 {
+    let total_kib = std::fs::read_to_string("/proc/meminfo").ok().and_then(|info| {
+        let line = info.lines().find(|l| l.starts_with("MemTotal:"))?;
+        line.split_whitespace().nth(1)?.parse::<u64>().ok()
+    });
+    total_kib.map_or(8 << 30, |kib| kib * 1024 / 2)
 }
 
 /// Why a server refuses to start with a configuration.

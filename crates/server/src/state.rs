@@ -2,7 +2,7 @@
 //! number that every edit advances (streams restart their accumulation when it changes).
 
 use std::collections::BTreeMap;
-use std::sync::atomic::{AtomicBool, AtomicU32, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, RwLock};
 
 use raystage_scene::Scene;
@@ -32,6 +32,8 @@ struct Shared {
     render_memory: Arc<Semaphore>,
     streams: AtomicUsize,
     jobs: crate::routes::renders::Jobs,
+    /// What every scene's memory adds up to (see [`Limits::max_total_scene_bytes`]).
+    scene_bytes: Arc<AtomicU64>,
 }
 
 /// A scene held by the server.
@@ -53,6 +55,39 @@ pub struct SceneSlot {
     pub(crate) last_frame: Mutex<Option<FrameReport>>,
     /// Whether the scene was deleted (its streams end).
     deleted: AtomicBool,
+    /// The memory the scene takes ([`Scene::memory_bytes`]), as of its last edit.
+    bytes: AtomicU64,
+    /// The server's memory budget for scenes, which every edit is checked against.
+    budget: Budget,
+}
+
+/// The limits on scenes' memory and what the server's scenes take together.
+#[derive(Clone)]
+struct Budget {
+    per_scene: u64,
+    total: u64,
+    used: Arc<AtomicU64>,
+}
+
+impl Budget {
+    /// Moves a scene from `before` to `after` bytes if both limits allow it; else 413 naming the
+    /// limit, and nothing is counted.
+    fn change(&self, before: u64, after: u64) -> ApiResult<()> {
+        if after > self.per_scene {
+            let message = format!("the scene would take {after} bytes of geometry, trees and images: the limit is {}", self.per_scene);
+            return Err(ApiError::too_large(None, message).limit("max_scene_bytes"));
+        }
+        self.used
+            .fetch_update(Ordering::AcqRel, Ordering::Acquire, |used| {
+                let next = used - before.min(used) + after;
+                (after <= before || next <= self.total).then_some(next)
+            })
+            .map(|_| ())
+            .map_err(|used| {
+                let message = format!("the server's scenes take {used} bytes and this would add {}: the limit is {}", after - before, self.total);
+                ApiError::too_large(None, message).limit("max_total_scene_bytes")
+            })
+    }
 }
 
 impl AppState {
@@ -69,6 +104,7 @@ impl AppState {
             render_memory,
             streams: AtomicUsize::new(0),
             jobs: Default::default(),
+            scene_bytes: Arc::default(),
         }))
     }
 
@@ -82,10 +118,15 @@ impl AppState {
         &self.0.config
     }
 
-    /// Adds a scene; returns its id (ids start at 1 and are never reused).
+    /// Adds a scene; returns its id (ids start at 1 and are never reused). Refused (413) if the
+    /// server holds as many scenes as it may, or the scene's memory is past the budget.
     pub fn add_scene(&self, scene: Scene, origin: impl Into<String>) -> ApiResult<u32> {
         let mut scenes = self.0.scenes.write().unwrap_or_else(|e| e.into_inner());
         self.room_for(scenes.len())?;
+        let limits = &self.0.config.limits;
+        let budget = Budget { per_scene: limits.max_scene_bytes, total: limits.max_total_scene_bytes, used: Arc::clone(&self.0.scene_bytes) };
+        let bytes = scene.memory_bytes();
+        budget.change(0, bytes)?;
         let id = self.0.next_scene.fetch_add(1, Ordering::Relaxed);
         let slot = SceneSlot {
             id,
@@ -95,6 +136,8 @@ impl AppState {
             last_frame: Mutex::new(None),
             last_snapshot: Mutex::new(None),
             deleted: AtomicBool::new(false),
+            bytes: AtomicU64::new(bytes),
+            budget,
         };
         scenes.insert(id, Arc::new(slot));
         Ok(id)
@@ -131,6 +174,10 @@ impl AppState {
         let mut scenes = self.0.scenes.write().unwrap_or_else(|e| e.into_inner());
         let slot = scenes.remove(&id).ok_or_else(|| ApiError::not_found(Some("scene".into()), format!("unknown scene {id}")))?;
         slot.deleted.store(true, Ordering::Release);
+        // Renders and streams that still hold it finish with their snapshots; new scenes may
+        // have its share of the budget.
+        let bytes = slot.bytes.load(Ordering::Acquire);
+        let _ = slot.budget.change(bytes, 0);
         // Wakes the streams waiting for a change.
         slot.version.send_modify(|_| ());
         Ok(())
@@ -213,7 +260,9 @@ impl Drop for StreamGuard {
 
 impl SceneSlot {
     /// Runs `edit` on the scene under the write lock, on a blocking thread; if it succeeds and
-    /// says it changed something, advances the version. Returns its result and the version.
+    /// says it changed something, advances the version. Returns its result and the version. An
+    /// edit that leaves the scene past its memory budget is undone (413 naming the limit): the
+    /// scene is kept as it was (a clone shares its objects and images, so keeping it is cheap).
     pub(crate) async fn edit<R: Send + 'static>(
         self: &Arc<Self>,
         edit: impl FnOnce(&mut Scene) -> ApiResult<(R, bool)> + Send + 'static,
@@ -222,7 +271,14 @@ impl SceneSlot {
         *self.last_snapshot.lock().unwrap_or_else(|e| e.into_inner()) = None;
         let slot = self.clone();
         tokio::task::spawn_blocking(move || {
+            let before = guard.clone();
             let (result, changed) = edit(&mut guard)?;
+            let (old, new) = (slot.bytes.load(Ordering::Acquire), guard.memory_bytes());
+            if let Err(e) = slot.budget.change(old, new) {
+                *guard = before;
+                return Err(e);
+            }
+            slot.bytes.store(new, Ordering::Release);
             if changed {
                 slot.version.send_modify(|v| *v += 1);
             }

@@ -273,3 +273,40 @@ async fn shutting_down_closes_idle_connections_and_returns() {
     let (_, closed) = tokio::task::spawn_blocking(move || read_until_closed(&mut client, Duration::from_secs(5))).await.unwrap();
     assert!(closed, "the idle connection was closed");
 }
+
+/// A mesh of `n` separate triangles: 36 bytes of positions, 12 of indices and
+/// `TREE_BYTES_PER_TRIANGLE` of tree each (128 bytes a triangle).
+fn triangles(n: usize) -> Value {
+    let positions: Vec<[f32; 3]> = (0..n).flat_map(|i| [[i as f32, 0.0, 0.0], [i as f32 + 1.0, 0.0, 0.0], [i as f32, 1.0, 0.0]]).collect();
+    let indices: Vec<[usize; 3]> = (0..n).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
+    json!({ "mesh": { "positions": positions, "indices": indices } })
+}
+
+#[tokio::test]
+async fn scenes_have_a_memory_budget_each_and_together_and_an_edit_past_it_changes_nothing() {
+    // 5,000 triangles take 640,000 bytes: one fits a scene, two do not; two scenes of one each
+    // do not fit the server.
+    let limits = Limits { max_scene_bytes: 1_000_000, max_total_scene_bytes: 1_200_000, ..Limits::default() };
+    let app = router(AppState::new(Config { limits, ..Config::default() }));
+    let a = new_scene(&app).await;
+    ok(&app, "POST", &format!("/scenes/{a}/objects"), triangles(5000), StatusCode::CREATED).await;
+    let info = ok(&app, "GET", &format!("/scenes/{a}"), json!(null), StatusCode::OK).await;
+    let bytes = info["memory_bytes"].as_u64().unwrap();
+    assert!((5000 * 128..5000 * 128 + 1024).contains(&bytes), "triangles and a few bounding boxes: {info}");
+    let uri = format!("/scenes/{a}/objects");
+    fails_on_limit(&app, &uri, Body::from(triangles(5000).to_string()), "application/json", StatusCode::PAYLOAD_TOO_LARGE, "max_scene_bytes").await;
+    let after = ok(&app, "GET", &format!("/scenes/{a}"), json!(null), StatusCode::OK).await;
+    assert_eq!((after["objects"].as_u64(), &after["version"]), (Some(1), &info["version"]), "the refused edit changed nothing");
+
+    let b = new_scene(&app).await;
+    let uri = format!("/scenes/{b}/objects");
+    fails_on_limit(&app, &uri, Body::from(triangles(5000).to_string()), "application/json", StatusCode::PAYLOAD_TOO_LARGE, "max_total_scene_bytes").await;
+    // The same as a batch, or as a glTF-sized upload: the budget is the edit's, however it came.
+    let batch = json!({ "commands": [{ "add_object": triangles(2500) }, { "add_object": triangles(2500) }] });
+    let (status, error) = call(&app, "POST", &format!("/scenes/{b}/commands"), batch).await;
+    assert_eq!((status, error["error"]["limit"].as_str()), (StatusCode::PAYLOAD_TOO_LARGE, Some("max_total_scene_bytes")), "{error}");
+    // Deleting the first scene gives its share back.
+    let (status, _, _) = send(&app, "DELETE", &format!("/scenes/{a}"), Body::empty(), &[]).await;
+    assert_eq!(status, StatusCode::NO_CONTENT);
+    ok(&app, "POST", &uri, triangles(5000), StatusCode::CREATED).await;
+}

@@ -56,6 +56,9 @@ pub struct SceneInfo {
     pub textures: usize,
     /// Triangles over all objects (each object counted once).
     pub triangles: usize,
+    /// The memory its geometry, trees (counted as built) and images take, as the server's
+    /// `max_scene_bytes` and `max_total_scene_bytes` budgets count it.
+    pub memory_bytes: u64,
     /// The camera.
     pub camera: CameraJson,
 }
@@ -79,6 +82,7 @@ pub(crate) fn info_of(slot: &SceneSlot, scene: &Scene, version: u64) -> SceneInf
         lights: scene.lights().count(),
         textures: scene.textures().count(),
         triangles: scene.object_ids().filter_map(|id| scene.mesh(id).ok()).map(|m| m.indices.len()).sum(),
+        memory_bytes: scene.memory_bytes(),
         camera: CameraJson::from(scene.camera()),
     }
 }
