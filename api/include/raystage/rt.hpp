@@ -308,6 +308,45 @@ inline std::vector<RTint> get_integers(RTenum pname) {
     return values;
 }
 
+/// A parameter of a built-in shader class (rtGetShaderParameter*).
+struct ParameterInfo {
+    std::string name;
+    /// What it does, its units and its default, in words.
+    std::string doc;
+    /// RT_FLOAT, RT_FLOAT_VEC3 or RT_TEXTURE_2D.
+    RTenum type;
+    /// Three numbers; a number in the first; zeros for a texture.
+    std::array<RTfloat, 3> defaults;
+    /// The least and most of each number (infinite where open).
+    std::array<RTfloat, 2> range;
+};
+
+/// A built-in shader class (rtGetShaderClass*): surface classes come first, then light classes.
+struct ClassInfo {
+    std::string name;
+    std::string doc;
+    /// RT_SURFACE_CLASS or RT_LIGHT_CLASS.
+    RTenum kind;
+    std::vector<ParameterInfo> parameters;
+};
+
+/// Every built-in shader class with its parameters, as the library declares them.
+inline std::vector<ClassInfo> shader_classes() {
+    std::vector<ClassInfo> classes;
+    for (RTsizei c = 0, n = rtGetShaderClassCount(); c < n; c++) {
+        ClassInfo info{rtGetShaderClassName(c), rtGetShaderClassDoc(c), rtGetShaderClassKind(c), {}};
+        for (RTsizei p = 0, m = rtGetShaderParameterCount(c); p < m; p++) {
+            ParameterInfo param{rtGetShaderParameterName(c, p), rtGetShaderParameterDoc(c, p), rtGetShaderParameterType(c, p), {}, {}};
+            rtGetShaderParameterDefault(c, p, param.defaults.data());
+            rtGetShaderParameterRange(c, p, param.range.data());
+            info.parameters.push_back(std::move(param));
+        }
+        check();
+        classes.push_back(std::move(info));
+    }
+    return classes;
+}
+
 /// Pushes the current matrix stack for the scope of this object, and pops that same stack when
 /// it ends, even if the matrix mode changed meanwhile.
 class MatrixScope {

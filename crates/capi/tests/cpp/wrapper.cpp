@@ -365,6 +365,28 @@ void textures() {
     no_error("textures");
 }
 
+/// Introspection: every class and parameter, with a known one checked in full.
+void classes() {
+    std::vector<raystage::ClassInfo> classes = raystage::shader_classes();
+    CHECK(classes.size() > 10 && classes.front().kind == RT_SURFACE_CLASS && classes.back().kind == RT_LIGHT_CLASS, "%zu classes", classes.size());
+    const raystage::ClassInfo *spot = nullptr;
+    for (const auto &c : classes) {
+        CHECK(!c.name.empty() && !c.doc.empty(), "class %s is named and documented", c.name.c_str());
+        if (c.name == "SpotLight") {
+            spot = &c;
+        }
+    }
+    CHECK(spot != nullptr, "SpotLight is listed");
+    bool cone = false;
+    for (const auto &p : spot->parameters) {
+        if (p.name == "cone") {
+            cone = p.type == RT_FLOAT && p.defaults[0] == 30 && p.range[1] == 90;
+        }
+    }
+    CHECK(cone, "SpotLight's cone is a number, 30 by default, at most 90");
+    no_error("classes");
+}
+
 } // namespace
 
 int main() {
@@ -377,5 +399,6 @@ int main() {
     run("errors_carry_code_and_message", errors_carry_code_and_message);
     run("gl_calls", gl_calls);
     run("textures", textures);
+    run("classes", classes);
     return verdict("wrapper.cpp");
 }
