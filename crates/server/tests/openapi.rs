@@ -30,3 +30,28 @@ async fn the_server_serves_its_description_with_every_route() {
         assert!(paths.contains_key(path), "{path} is not described");
     }
 }
+
+#[tokio::test]
+async fn lights_as_answered_match_their_schema_and_a_plain_request_for_a_stream_gets_json() {
+    let app = app();
+    let description = ok(&app, "GET", "/openapi.json", json!(null), StatusCode::OK).await;
+    let schema = &description["components"]["schemas"]["LightInfo"];
+    let s = new_scene(&app).await;
+    ok(&app, "POST", &format!("/scenes/{s}/lights"), json!({ "class": "SpotLight", "position": [0, 2, 0] }), StatusCode::CREATED).await;
+    let lights = ok(&app, "GET", &format!("/scenes/{s}/lights"), json!(null), StatusCode::OK).await;
+    let light = lights[0].as_object().unwrap();
+    // Every property the server sends is described (the schema allows no others), and every
+    // required one is sent.
+    assert_eq!(schema["additionalProperties"], false);
+    for key in light.keys() {
+        assert!(schema["properties"].get(key).is_some(), "`{key}` of {light:?} is not in LightInfo");
+    }
+    for key in schema["required"].as_array().unwrap() {
+        assert!(light.contains_key(key.as_str().unwrap()), "required `{key}` is missing from {light:?}");
+    }
+    assert_eq!(description["paths"]["/scenes"]["post"]["requestBody"]["required"], false, "an empty body makes an empty scene");
+
+    // Without the WebSocket handshake, the stream answers the API's JSON error.
+    let (status, error) = call(&app, "GET", &format!("/scenes/{s}/stream"), json!(null)).await;
+    assert_eq!((status, error["error"]["field"].as_str()), (StatusCode::BAD_REQUEST, Some("upgrade")), "{error}");
+}

@@ -39,6 +39,7 @@ use crate::stream::{ClientMessage, FrameMessage, ServerMessage, SettingsChange};
         TextureParam, TextureKind, TextureDescription, IntegratorName, ToneMapName,
         ClientMessage, SettingsChange, ServerMessage, FrameMessage, Command, CommandResult,
     )),
+    modifiers(&Exact),
     tags(
         (name = "scenes", description = "Scenes: empty, built-in demos, glTF files"),
         (name = "objects", description = "Geometry with its own acceleration structure"),
@@ -57,4 +58,28 @@ pub struct ApiDoc;
 /// The OpenAPI description of this server.
 pub(crate) async fn openapi_json() -> Json<utoipa::openapi::OpenApi> {
     Json(ApiDoc::openapi())
+}
+
+/// What the derive cannot say, said exactly (a validator checks responses against it):
+/// - `POST /scenes` takes no body at all for an empty scene;
+/// - a light as the API answers it (`LightInfo`) is a `LightSpec` with an `id`: its own object,
+///   since `LightSpec` forbids other properties and an `allOf` of the two would forbid `id`.
+struct Exact;
+
+impl utoipa::Modify for Exact {
+    fn modify(&self, openapi: &mut utoipa::openapi::OpenApi) {
+        use utoipa::openapi::schema::{ObjectBuilder, Schema, Type};
+        use utoipa::openapi::{RefOr, Required};
+        if let Some(body) = openapi.paths.paths.get_mut("/scenes").and_then(|p| p.post.as_mut()).and_then(|op| op.request_body.as_mut()) {
+            body.required = Some(Required::False);
+        }
+        let Some(components) = openapi.components.as_mut() else { return };
+        let Some(RefOr::T(Schema::Object(spec))) = components.schemas.get("LightSpec").cloned() else { return };
+        let mut info = spec;
+        info.description = Some("A light with its id: the `LightSpec` it was given, with every parameter, and `id`.".into());
+        let id = ObjectBuilder::new().schema_type(Type::Integer).format(Some(utoipa::openapi::schema::SchemaFormat::KnownFormat(utoipa::openapi::schema::KnownFormat::Int32))).minimum(Some(0)).description(Some("The light's id."));
+        info.properties.insert("id".into(), RefOr::T(Schema::Object(id.build())));
+        info.required.push("id".into());
+        components.schemas.insert("LightInfo".into(), RefOr::T(Schema::Object(info)));
+    }
 }

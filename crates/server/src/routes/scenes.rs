@@ -103,7 +103,7 @@ pub(crate) async fn list(State(state): State<AppState>) -> ApiResult<Json<Vec<Sc
 /// (the file's camera, or one that frames everything).
 #[utoipa::path(post, path = "/scenes", tag = "scenes",
     params(NewSceneQuery),
-    request_body(content(
+    request_body(description = "Optional: no body makes an empty scene", content(
         (NewScene = "application/json"),
         (crate::model::Binary = "model/gltf-binary"),
         (crate::model::Binary = "model/gltf+json"),

@@ -13,6 +13,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use axum::extract::State;
+use axum::extract::ws::rejection::WebSocketUpgradeRejection;
 use axum::extract::ws::{Message, WebSocket, WebSocketUpgrade};
 use axum::response::Response;
 use futures_util::{SinkExt, StreamExt};
@@ -41,7 +42,15 @@ const DEFAULT_MAX_SAMPLES: u32 = 256;
         (status = 422, description = "A value is not acceptable: the error names the field", body = ErrorBody),
         (status = 503, description = "Too many open streams", body = ErrorBody),
     ))]
-pub(crate) async fn stream(State(state): State<AppState>, target: Target, Params(query): Params<StreamQuery>, upgrade: WebSocketUpgrade) -> ApiResult<Response> {
+pub(crate) async fn stream(
+    State(state): State<AppState>,
+    target: Target,
+    Params(query): Params<StreamQuery>,
+    upgrade: Result<WebSocketUpgrade, WebSocketUpgradeRejection>,
+) -> ApiResult<Response> {
+    // A plain HTTP request gets the API's JSON error, naming the header it lacks, not axum's
+    // text.
+    let upgrade = upgrade.map_err(|e| ApiError::bad_request(Some("upgrade".into()), format!("{}: open the stream as a WebSocket", e.body_text())))?;
     let limits = state.config().limits;
     let settings = StreamSettings {
         width: query.width.unwrap_or(640),
