@@ -184,7 +184,7 @@ async fn a_batch_past_the_command_limit_fails_at_the_first_command_too_many() {
     let s = new_scene(&app).await;
     // Four commands, then bytes that are not JSON at all: parsing stops at the fourth command,
     // so they are never read (else the answer would be 400 for them).
-    let body = format!("{{\"commands\": [{}, this is not JSON", vec![r#"{"set_camera": {}}"#; 4].join(", "));
+    let body = format!("{{\"commands\": [{}, this is not JSON", [r#"{"set_camera": {}}"#; 4].join(", "));
     let error = fails_on_limit(&app, &format!("/scenes/{s}/commands"), Body::from(body), "application/json", StatusCode::PAYLOAD_TOO_LARGE, "max_commands").await;
     assert_eq!(error["error"]["field"], "commands");
     // Within the limit, a batch still runs, and its errors still name the field.
