@@ -621,3 +621,21 @@ fn every_class_and_parameter_can_be_asked_for() {
     unsafe { rtGetShaderParameterRange(0, 0, std::ptr::null_mut()) };
     assert_error(RT_INVALID_VALUE, "range is NULL");
 }
+
+#[test]
+fn the_header_documents_every_class_and_parameter() {
+    use std::ffi::CStr;
+    let header = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../api/include/raystage/rt.h")).unwrap();
+    let text = |p: *const std::ffi::c_char| unsafe { CStr::from_ptr(p) }.to_str().unwrap().to_string();
+    for c in 0..rtGetShaderClassCount() {
+        let class = text(rtGetShaderClassName(c));
+        assert!(header.contains(&format!("\"{class}\":")), "rt.h does not document {class}");
+        let slots: Vec<String> = (0..rtGetShaderParameterCount(c)).map(|p| text(rtGetShaderParameterName(c, p))).filter(|n| n.ends_with("_texture")).collect();
+        for p in 0..rtGetShaderParameterCount(c) {
+            let param = text(rtGetShaderParameterName(c, p));
+            // A texture's sampling parameters are documented once, for every `X_texture`.
+            let sampling = slots.iter().any(|slot| param.starts_with(slot.trim_end_matches("texture")) && param != *slot);
+            assert!(sampling || header.contains(&param), "rt.h does not document {class}'s {param}");
+        }
+    }
+}

@@ -76,7 +76,8 @@ pub unsafe extern "C" fn rtGetShaderParameterDefault(index: RTsizei, param_index
 }
 
 /// Writes the values parameter `param` of class `index` accepts to `range[0]` (least) and
-/// `range[1]` (most), for each of its numbers; `-INFINITY` and `INFINITY` where it is open.
+/// `range[1]` (most), for each of its numbers; where it is open, the largest finite float or
+/// `INFINITY` (negated for a least).
 /// Nothing is written on error.
 ///
 /// # Safety

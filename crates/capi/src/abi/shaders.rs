@@ -15,15 +15,46 @@ pub extern "C" fn rtGenShaderClasses(n: RTsizei) -> RTuint {
 /// OpenRT shader library to load it from; raystage's classes are built in, so it may be NULL and
 /// is otherwise ignored. An unknown name records `RT_INVALID_VALUE` with the list of classes.
 ///
-/// Surface classes (parameters in brackets) include "Diffuse" ("diffuse", and "diffuse_texture",
-/// a texture multiplying it, written with `rtParameterTexture`), "VertexColor"
-/// ("diffuse", multiplied by the vertex colours) and "Constant" ("color"); the message of an
-/// unknown name lists them all. Light classes, whose shaders light the scene while they exist
-/// (world coordinates, colours linear RGB): "PointLight" ("position", "intensity"), "SpotLight"
-/// ("position", "direction", "intensity", and "cone" and "falloff" half-angles in degrees),
-/// "DirectionalLight" ("direction", "intensity"), "AmbientLight" ("intensity"), "AreaLight"
-/// ("corner", "edge_u", "edge_v", "radiance") and "EnvironmentLight" ("radiance", and "map", a
-/// texture whose latitude-longitude image the radiance scales).
+/// The classes and their parameters (3f: `rtParameter3f`, 1f: `rtParameter1f`, texture:
+/// `rtParameterTexture`; colours are linear RGB, fractions 0 to 1; `rtGetShaderParameterDoc`
+/// says each one's meaning, default and range at run time, and a name not listed is ignored):
+///
+/// Surface classes:
+/// - "Diffuse": diffuse (3f, albedo), diffuse_texture (texture multiplying it).
+/// - "VertexColor": diffuse (3f, multiplying the vertex colours).
+/// - "Constant": color (3f, shown as it is, unlit).
+/// - "Phong": diffuse (3f), specular (3f), shininess (1f, the Blinn-Phong exponent, 1 to 10000),
+///   diffuse_texture. There is no "exponent".
+/// - "Mirror": reflectance (3f).
+/// - "Glossy": reflectance (3f), roughness (1f, 0 to 1).
+/// - "Glass": ior (1f, 1 to 4), absorption (3f, per unit length inside).
+/// - "Emissive": emission (3f, radiance from its front).
+/// - "PhysicallyBased": glTF 2.0's metallic-roughness material; base_color (3f), metallic (1f),
+///   roughness (1f), ior (1f), specular (1f), emissive (3f, radiance), normal_scale (1f),
+///   occlusion_strength (1f), opacity (1f), alpha_mode (1f: 0 opaque, 1 mask, 2 blend),
+///   alpha_cutoff (1f), double_sided (1f: 0 or 1), and the textures base_color_texture,
+///   metallic_roughness_texture (blue metallic, green roughness), normal_texture,
+///   emissive_texture, occlusion_texture.
+/// - "AmbientOcclusion": diffuse (3f), distance (1f, how far occluders count).
+///
+/// Every `X_texture` parameter comes with how it is sampled, all 1f: X_wrap_s and X_wrap_t
+/// (`RT_REPEAT`, `RT_CLAMP_TO_EDGE`, `RT_MIRRORED_REPEAT`), X_filter (`RT_LINEAR`, `RT_NEAREST`),
+/// X_texcoord (0 or 1: which texture coordinates), and the transform X_offset_u, X_offset_v,
+/// X_rotation (radians), X_scale_u, X_scale_v.
+///
+/// Light classes, whose shaders light the scene while they exist, in world coordinates and
+/// physical units (a diffuse surface of albedo ρ at distance d from a point light of intensity I,
+/// facing it, reflects radiance ρ/π · I/d²):
+/// - "PointLight": position (3f), intensity (3f, radiant intensity: the irradiance at distance 1).
+/// - "SpotLight": position (3f), direction (3f, the cone's axis), intensity (3f), cone and
+///   falloff (1f, half-angles in degrees: full light inside falloff, none outside cone).
+/// - "DirectionalLight": direction (3f, the way the light travels, towards the scene: the
+///   opposite of OpenGL's `GL_POSITION` with w = 0), intensity (3f, irradiance facing it).
+/// - "AmbientLight": intensity (3f, irradiance added everywhere, unshadowed).
+/// - "AreaLight": corner, edge_u, edge_v (3f: the parallelogram, emitting towards
+///   edge_u × edge_v), radiance (3f).
+/// - "EnvironmentLight": radiance (3f, from every direction), map (texture: a
+///   latitude-longitude image, top row straight up, that the radiance scales).
 ///
 /// # Safety
 /// `name` and `library` must each be NULL or a NUL-terminated string.
