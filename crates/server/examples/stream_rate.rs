@@ -7,16 +7,26 @@
 //! ```
 //!
 //! Without `--addr` it starts a server in-process with the sphere grid as scene 1.
+//!
+//! With `--edits N` it measures edit latency instead: N camera moves, each sent while a pass is
+//! rendering, each timed from the message to the first frame that shows it (its
+//! `scene_version`); it prints every latency and the pass time beside it, since a change waits
+//! for the pass in flight to be stopped and for the first pass of the new image.
+//!
+//! ```sh
+//! cargo run --release -p raystage-server --example stream_rate -- --query 'width=1920&height=1080&integrator=path' --edits 10
+//! ```
 
 use std::net::SocketAddr;
 use std::time::{Duration, Instant};
 
-use futures_util::StreamExt;
+use futures_util::{SinkExt, StreamExt};
 use tokio_tungstenite::tungstenite::Message;
 
 #[tokio::main]
 async fn main() {
     let (mut addr, mut query, mut seconds, mut scene) = (None::<SocketAddr>, "width=640&height=360&integrator=eyelight".to_string(), 5.0, 1);
+    let mut edits = 0u32;
     let mut args = std::env::args().skip(1);
     while let Some(flag) = args.next() {
         let value = args.next().unwrap_or_else(|| panic!("{flag} needs a value"));
@@ -25,7 +35,8 @@ async fn main() {
             "--query" => query = value,
             "--seconds" => seconds = value.parse().expect("--seconds takes a number"),
             "--scene" => scene = value.parse().expect("--scene takes an id"),
-            _ => panic!("unknown option {flag}: expected --addr, --query, --seconds, --scene"),
+            "--edits" => edits = value.parse().expect("--edits takes a count"),
+            _ => panic!("unknown option {flag}: expected --addr, --query, --seconds, --scene, --edits"),
         }
     }
     let addr = match addr {
@@ -42,8 +53,13 @@ async fn main() {
             addr
         }
     };
-    let url = format!("ws://{addr}/scenes/{scene}/stream?{query}&max_samples=1024");
+    // Within the frame limit at 1080p (1920 × 1080 × 256 samples) when timing edits.
+    let max_samples = if edits > 0 { 64 } else { 1024 };
+    let url = format!("ws://{addr}/scenes/{scene}/stream?{query}&max_samples={max_samples}");
     let (mut socket, _) = tokio_tungstenite::connect_async(url).await.expect("the stream opens");
+    if edits > 0 {
+        return edit_latency(socket, edits).await;
+    }
     let (mut frames, mut bytes, mut first, mut last) = (0u32, 0usize, None::<Instant>, serde_json::Value::Null);
     while let Some(Ok(message)) = socket.next().await {
         match message {
@@ -76,5 +92,57 @@ async fn main() {
         last["pass_samples"],
         last["pass_seconds"].as_f64().unwrap_or(0.0) * 1e3,
         last["encode_seconds"].as_f64().unwrap_or(0.0) * 1e3,
+    );
+}
+
+type Socket = tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
+
+/// The next text message, as JSON (PNGs skipped).
+async fn next_json(socket: &mut Socket) -> serde_json::Value {
+    loop {
+        match socket.next().await.expect("the stream stays open").expect("no socket error") {
+            Message::Text(text) => return serde_json::from_str(text.as_str()).unwrap(),
+            _ => continue,
+        }
+    }
+}
+
+/// Sends `edits` camera moves, each 0.3 s into a pass, and times each to its first frame.
+async fn edit_latency(mut socket: Socket, edits: u32) {
+    // The first frame builds the trees: measured after it.
+    while next_json(&mut socket).await["type"] != "frame" {}
+    let mut latencies = Vec::new();
+    for k in 0..edits {
+        tokio::time::sleep(Duration::from_millis(300)).await;
+        let eye = [(k as f32 * 0.7).sin() * 0.5, 1.0, 6.0];
+        let message = serde_json::json!({ "type": "camera", "request": k, "camera": { "eye": eye } });
+        let sent = Instant::now();
+        socket.send(Message::text(message.to_string())).await.unwrap();
+        let mut version = None;
+        let frame = loop {
+            let value = next_json(&mut socket).await;
+            match value["type"].as_str() {
+                Some("result") if value["request"] == k => version = value["version"].as_u64(),
+                Some("frame") if version.is_some_and(|v| value["scene_version"].as_u64() >= Some(v)) => break value,
+                _ => {}
+            }
+        };
+        let latency = sent.elapsed().as_secs_f64();
+        let (pass, png) = (frame["pass_seconds"].as_f64().unwrap_or(0.0), frame["encode_seconds"].as_f64().unwrap_or(0.0));
+        println!(
+            "edit {k}: {:.0} ms to the first frame that shows it (its pass took {:.0} ms, its PNG {:.0} ms: {:.0} ms beside the pass)",
+            latency * 1e3,
+            pass * 1e3,
+            png * 1e3,
+            (latency - pass) * 1e3
+        );
+        latencies.push(latency - pass);
+    }
+    latencies.sort_by(f64::total_cmp);
+    println!(
+        "latency beyond the first pass: median {:.0} ms, worst {:.0} ms over {} edits",
+        latencies[latencies.len() / 2] * 1e3,
+        latencies.last().unwrap() * 1e3,
+        latencies.len()
     );
 }
