@@ -95,9 +95,9 @@ enum Command {
         #[arg(long, default_value = "clamp", value_parser = raystage::parse_tone_map)]
         tonemap: raystage_render::ToneMap,
         /// Also writes these channels of the first surface each pixel sees, comma-separated:
-        /// depth, z, normal, albedo, instance, object, primitive. Each goes next to the image
-        /// as OUT-STEM.CHANNEL.pfm (depth and z always; the rest when the image is EXR or PFM)
-        /// or .png.
+        /// depth, z, normal, albedo, instance, object, primitive. An EXR image holds them as
+        /// named channels (depth.Z, normal.X, ..., instance.id); beside a PNG or PFM each goes
+        /// to OUT-STEM.CHANNEL.pfm (depth and z always; the rest beside a PFM) or .png.
         #[arg(long, value_delimiter = ',')]
         channels: Vec<raystage_render::Channel>,
         /// Render on every rank of the MPI job this process was started in by `mpirun`: rank 0

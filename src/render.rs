@@ -91,9 +91,10 @@ pub struct RenderJob {
     pub channels: Vec<Channel>,
 }
 
-/// Where channel `channel` of an image written to `out` goes, and whether as PFM (else PNG):
-/// `frame.png` → `frame.depth.pfm`, `frame.normal.png`. Depths are floats whatever the image;
-/// the rest follow it: 8-bit beside a PNG, floats beside a linear EXR or PFM.
+/// Where channel `channel` of an image written to `out` (a PNG or PFM: an EXR holds its
+/// channels) goes, and whether as PFM (else PNG): `frame.png` → `frame.depth.pfm`,
+/// `frame.normal.png`. Depths are floats whatever the image; the rest follow it: 8-bit beside a
+/// PNG, floats beside a PFM.
 fn channel_path(out: &std::path::Path, channel: Channel) -> (PathBuf, bool) {
     let linear = !matches!(OutputFormat::from_path(out), Ok(OutputFormat::Png));
     let pfm = linear || matches!(channel, Channel::Depth | Channel::Z);
@@ -319,17 +320,22 @@ fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Resul
     let Some((film, frame, mean_samples)) = ranks.gather(film, frame, mean_samples)? else {
         return Ok(RenderReport { triangles, threads: pool.current_num_threads(), frame });
     };
-    let encoded = film.encode(format, job.look).context("cannot encode the image")?;
+    let channels = match job.channels.is_empty() {
+        true => Vec::new(),
+        false => pool.install(|| raystage_render::render_channels(&scene.frame(), settings.width, settings.height, &job.channels))?,
+    };
+    // An OpenEXR image holds its channels; other formats have them beside.
+    let (encoded, beside) = match format {
+        OutputFormat::Exr if !channels.is_empty() => (raystage_render::exr_with_channels(&film, job.look, &channels), Vec::new()),
+        _ => (film.encode(format, job.look), channels),
+    };
     let out = out.as_mut().expect("the root created the file");
-    out.write_all(&encoded).with_context(|| format!("cannot write {}", job.out.display()))?;
-    if !job.channels.is_empty() {
-        let images = pool.install(|| raystage_render::render_channels(&scene.frame(), settings.width, settings.height, &job.channels))?;
-        for image in images {
-            let (path, pfm) = channel_path(&job.out, image.channel);
-            let bytes = if pfm { image.pfm() } else { image.png()? };
-            std::fs::write(&path, bytes).with_context(|| format!("cannot write {}", path.display()))?;
-            writeln!(log, "{} -> {}", image.channel.name(), path.display())?;
-        }
+    out.write_all(&encoded.context("cannot encode the image")?).with_context(|| format!("cannot write {}", job.out.display()))?;
+    for image in beside {
+        let (path, pfm) = channel_path(&job.out, image.channel);
+        let bytes = if pfm { image.pfm() } else { image.png()? };
+        std::fs::write(&path, bytes).with_context(|| format!("cannot write {}", path.display()))?;
+        writeln!(log, "{} -> {}", image.channel.name(), path.display())?;
     }
 
     let report = RenderReport { triangles, threads: pool.current_num_threads(), frame };

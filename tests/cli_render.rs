@@ -231,11 +231,23 @@ fn channels_are_written_beside_the_image() {
     let normal = image::open(beside(".normal.png")).unwrap().to_rgb8();
     assert_eq!(normal.dimensions(), (40, 30));
     assert!(image::open(beside(".instance.png")).is_ok());
-    // Beside a linear image, every channel is floats.
-    let exr = out_path("channels.exr");
-    let output = raystage(&["render", "--demo", "cornell", "--width", "8", "--height", "6", "--integrator", "eyelight", "--channels", "albedo", "--out", exr.to_str().unwrap()]);
+    // Beside a linear PFM, every channel is floats.
+    let pfm = out_path("channels.pfm");
+    let output = raystage(&["render", "--demo", "cornell", "--width", "8", "--height", "6", "--integrator", "eyelight", "--channels", "albedo", "--out", pfm.to_str().unwrap()]);
     assert!(output.status.success());
-    assert!(std::fs::read(exr.with_file_name(exr.file_name().unwrap().to_str().unwrap().replace(".exr", ".albedo.pfm"))).unwrap().starts_with(b"PF\n8 6\n"));
+    assert!(std::fs::read(pfm.with_file_name(pfm.file_name().unwrap().to_str().unwrap().replace(".pfm", ".albedo.pfm"))).unwrap().starts_with(b"PF\n8 6\n"));
+
+    // An OpenEXR image holds its channels, named as compositors group them.
+    let exr = out_path("channels.exr");
+    let args = ["render", "--demo", "cornell", "--width", "8", "--height", "6", "--integrator", "eyelight", "--channels", "depth,normal,instance", "--out"];
+    assert!(raystage(&[&args[..], &[exr.to_str().unwrap()]].concat()).status.success());
+    let image = exr::prelude::read_all_flat_layers_from_file(&exr).unwrap();
+    let names: Vec<String> = image.layer_data[0].channel_data.list.iter().map(|c| c.name.to_string()).collect();
+    assert_eq!(names, ["B", "G", "R", "depth.Z", "instance.id", "normal.X", "normal.Y", "normal.Z"]);
+    let centre = 3 * 8 + 4;
+    let depth = &image.layer_data[0].channel_data.list[3].sample_data;
+    assert!(matches!(depth, exr::prelude::FlatSamples::F32(d) if d[centre].is_finite() && d[centre] > 0.0), "{depth:?}");
+    assert!(matches!(&image.layer_data[0].channel_data.list[4].sample_data, exr::prelude::FlatSamples::U32(ids) if ids[centre] == 0), "the room's instance");
 
     let stderr = failure(&["render", "--demo", "cornell", "--channels", "colour", "--out", out.to_str().unwrap()]);
     assert!(stderr.contains("depth, z, normal, albedo, instance, object or primitive"), "{stderr}");

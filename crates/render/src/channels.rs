@@ -195,3 +195,40 @@ impl ChannelImage {
         Ok(png)
     }
 }
+
+/// `film` exposed by `look` and `channels` as one OpenEXR file of 32-bit floats, its channels
+/// named as compositors group them into layers: `R`, `G`, `B`, then `depth.Z`, `z.Z`,
+/// `normal.X`/`.Y`/`.Z`, `albedo.R`/`.G`/`.B`, and the ids as 32-bit unsigned integers in
+/// `instance.id`, `object.id` and `primitive.id` ([`NO_ID`] for none). `channels` must be of the
+/// film's size.
+pub fn exr_with_channels(film: &crate::Film, look: crate::Look, channels: &[ChannelImage]) -> Result<Vec<u8>, crate::Error> {
+    use exr::prelude::*;
+    let (width, height) = (film.width() as usize, film.height() as usize);
+    for image in channels {
+        if (image.width as usize, image.height as usize) != (width, height) {
+            let message = format!("the {} channel is {}x{}, the image {width}x{height}", image.channel.name(), image.width, image.height);
+            return Err(crate::Error::Setting { field: "channels", message });
+        }
+    }
+    let scale = look.exposure.exp2();
+    let component = |values: &[f32], n: usize, k: usize| -> Vec<f32> { values.iter().skip(k).step_by(n).copied().collect() };
+    let colour: Vec<f32> = film.pixels().iter().flat_map(|p| (*p * scale).to_array()).collect();
+    let mut list: Vec<AnyChannel<FlatSamples>> = ["R", "G", "B"].iter().enumerate().map(|(k, name)| AnyChannel::new(*name, FlatSamples::F32(component(&colour, 3, k)))).collect();
+    for image in channels {
+        let layer = image.channel.name();
+        let names: &[&str] = match image.channel {
+            Channel::Depth | Channel::Z => &["Z"],
+            Channel::Normal => &["X", "Y", "Z"],
+            Channel::Albedo => &["R", "G", "B"],
+            Channel::Instance | Channel::Object | Channel::Primitive => &["id"],
+        };
+        for (k, name) in names.iter().enumerate() {
+            let samples = if image.channel.is_id() { FlatSamples::U32(image.ids.clone()) } else { FlatSamples::F32(component(&image.values, names.len(), k)) };
+            list.push(AnyChannel::new(format!("{layer}.{name}").as_str(), samples));
+        }
+    }
+    let layer = Layer::new((width, height), LayerAttributes::named("raystage"), Encoding::FAST_LOSSLESS, AnyChannels::sort(SmallVec::from_vec(list)));
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    Image::from_layer(layer).write().to_buffered(&mut bytes).map_err(|e| crate::Error::Exr(e.to_string()))?;
+    Ok(bytes.into_inner())
+}

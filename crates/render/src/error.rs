@@ -8,6 +8,9 @@ pub enum Error {
     /// The image encoder rejected the film (for example a zero-sized image).
     #[error("cannot encode the image: {0}")]
     Encode(#[from] image::ImageError),
+    /// The OpenEXR encoder failed (an image with channels beside its colour).
+    #[error("cannot encode the OpenEXR image: {0}")]
+    Exr(String),
     /// Bytes that are not an image the film reads.
     #[error("cannot read the image: {0}")]
     Decode(String),

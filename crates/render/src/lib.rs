@@ -31,7 +31,7 @@ mod tiles;
 mod warp;
 
 pub use cancel::Cancel;
-pub use channels::{Channel, ChannelImage, NO_ID, render_channels};
+pub use channels::{Channel, ChannelImage, NO_ID, exr_with_channels, render_channels};
 pub use effects::EffectSet;
 pub use error::Error;
 pub use film::{Film, Look, OutputFormat, ToneMap};
