@@ -35,6 +35,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -78,6 +79,10 @@ struct Thread {
     /// The FrameBuffer that received the last frame, which rtWritePNG writes.
     const FrameBuffer *last = nullptr;
 };
+
+/// Every channel rtChannelBuffer takes.
+constexpr RTenum channels[] = {RT_DEPTH_CHANNEL, RT_Z_CHANNEL, RT_NORMAL_CHANNEL, RT_ALBEDO_CHANNEL,
+                               RT_INSTANCE_ID_CHANNEL, RT_OBJECT_ID_CHANNEL, RT_PRIMITIVE_ID_CHANNEL};
 
 inline Thread &thread() {
     static thread_local Thread state;
@@ -702,8 +707,37 @@ class FrameBuffer {
         }
         rtFrameBuffer(pixels_.data(), width_, height_, RT_RGBA8);
         check();
+        // This buffer's channels, and none of another buffer's (of another size, or freed).
+        for (RTenum channel : detail::channels) {
+            std::vector<std::uint32_t> *data = channel_data(channel);
+            rtChannelBuffer(channel, data ? data->data() : nullptr, data ? width_ : 0, data ? height_ : 0);
+        }
+        check();
         detail::thread().attached = this;
     }
+    /// rtChannelBuffer: every frame rendered into this buffer from now on also fills `channel`
+    /// (RT_DEPTH_CHANNEL, RT_Z_CHANNEL, RT_NORMAL_CHANNEL, RT_ALBEDO_CHANNEL,
+    /// RT_INSTANCE_ID_CHANNEL, RT_OBJECT_ID_CHANNEL or RT_PRIMITIVE_ID_CHANNEL).
+    void enable(RTenum channel) {
+        if (channel_data(channel) == nullptr) {
+            std::size_t components = channel == RT_NORMAL_CHANNEL || channel == RT_ALBEDO_CHANNEL ? 3 : 1;
+            channels_.emplace_back(channel, std::vector<std::uint32_t>(width_ * height_ * components));
+        }
+        if (attached()) {
+            attach();
+        }
+    }
+    /// Value `k` (0 to 2 for normals and albedo) of float channel `channel` at pixel (x, y), as
+    /// the last frame left it.
+    float value(RTenum channel, std::size_t x, std::size_t y, std::size_t k = 0) const {
+        std::size_t components = channel == RT_NORMAL_CHANNEL || channel == RT_ALBEDO_CHANNEL ? 3 : 1;
+        float v;
+        std::memcpy(&v, &enabled(channel)[(y * width_ + x) * components + k], sizeof v);
+        return v;
+    }
+    /// Id channel `channel` at pixel (x, y), as the last frame left it (0 or RT_NO_PRIMITIVE for
+    /// none).
+    RTuint id(RTenum channel, std::size_t x, std::size_t y) const { return enabled(channel)[y * width_ + x]; }
     /// Whether this buffer is the attached one.
     bool attached() const { return detail::thread().attached == this; }
     /// rtSwapBuffers: renders a frame into this buffer.
@@ -751,9 +785,29 @@ class FrameBuffer {
     /// Takes over `other`'s pixels, the attachment and its frame in flight.
     void take(FrameBuffer &other) noexcept;
 
+    /// The memory of `channel`, if enabled.
+    std::vector<std::uint32_t> *channel_data(RTenum channel) {
+        for (auto &c : channels_) {
+            if (c.first == channel) {
+                return &c.second;
+            }
+        }
+        return nullptr;
+    }
+    const std::vector<std::uint32_t> &enabled(RTenum channel) const {
+        for (const auto &c : channels_) {
+            if (c.first == channel) {
+                return c.second;
+            }
+        }
+        throw Error(RT_INVALID_OPERATION, "raystage::FrameBuffer: that channel is not enabled");
+    }
+
     std::size_t width_, height_;
     // Moving a vector keeps its memory where it is, so a moved buffer stays attached.
     std::vector<std::uint8_t> pixels_;
+    // The channels enabled, each as 4-byte values (floats or ids).
+    std::vector<std::pair<RTenum, std::vector<std::uint32_t>>> channels_;
     // The frame rendering into this buffer, if any: rtFrameIsReady or rtFrameWait write its
     // image here, so it is released before the pixels are freed.
     Frame *in_flight_ = nullptr;
@@ -874,6 +928,9 @@ inline void FrameBuffer::detach() noexcept {
     }
     if (state.attached == this) {
         rtFrameBuffer(nullptr, 0, 0, RT_RGBA8);
+        for (const auto &c : channels_) {
+            rtChannelBuffer(c.first, nullptr, 0, 0);
+        }
         state.attached = nullptr;
     }
 }
@@ -882,6 +939,7 @@ inline void FrameBuffer::take(FrameBuffer &other) noexcept {
     width_ = std::exchange(other.width_, 0);
     height_ = std::exchange(other.height_, 0);
     pixels_ = std::move(other.pixels_);
+    channels_ = std::move(other.channels_);
     in_flight_ = std::exchange(other.in_flight_, nullptr);
     if (in_flight_ != nullptr) {
         in_flight_->target_ = this;

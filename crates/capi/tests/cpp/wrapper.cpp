@@ -365,6 +365,33 @@ void textures() {
     no_error("textures");
 }
 
+/// Channels: each buffer's own, filled by its frames, taken back when another buffer attaches.
+void channels() {
+    raystage::Context context;
+    camera();
+    raystage::Shader paint("Diffuse");
+    paint.set("diffuse", 0.5f, 0.25f, 0.125f);
+    raystage::Object wall = square_object(paint, 2);
+    raystage::Instance instance = wall.instantiate();
+    raystage::FrameBuffer a(W, H), small(4, 4);
+    a.enable(RT_DEPTH_CHANNEL);
+    a.enable(RT_NORMAL_CHANNEL);
+    a.enable(RT_ALBEDO_CHANNEL);
+    a.enable(RT_INSTANCE_ID_CHANNEL);
+    a.swap();
+    CHECK(a.value(RT_DEPTH_CHANNEL, W / 2, H / 2) > 5.9f && a.value(RT_DEPTH_CHANNEL, W / 2, H / 2) < 6.1f, "depth %f",
+          a.value(RT_DEPTH_CHANNEL, W / 2, H / 2));
+    CHECK(a.value(RT_NORMAL_CHANNEL, W / 2, H / 2, 2) == 1.0f, "the wall faces the camera");
+    CHECK(a.value(RT_ALBEDO_CHANNEL, W / 2, H / 2, 1) == 0.25f, "albedo");
+    CHECK(a.id(RT_INSTANCE_ID_CHANNEL, W / 2, H / 2) == instance.id() && a.id(RT_INSTANCE_ID_CHANNEL, 0, 0) == 0, "ids");
+    // Another buffer of another size renders without a's channels (they would not fit).
+    small.swap();
+    no_error("a smaller buffer after a's channels");
+    a.swap();
+    throws("a channel never enabled", RT_INVALID_OPERATION, "not enabled", [&] { small.value(RT_Z_CHANNEL, 0, 0); });
+    no_error("channels");
+}
+
 /// Introspection: every class and parameter, with a known one checked in full.
 void classes() {
     std::vector<raystage::ClassInfo> classes = raystage::shader_classes();
@@ -399,6 +426,7 @@ int main() {
     run("errors_carry_code_and_message", errors_carry_code_and_message);
     run("gl_calls", gl_calls);
     run("textures", textures);
+    run("channels", channels);
     run("classes", classes);
     return verdict("wrapper.cpp");
 }
