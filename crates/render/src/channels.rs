@@ -85,8 +85,11 @@ impl std::str::FromStr for Channel {
 /// One channel of a `width × height` image, row by row from the top.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ChannelImage {
+    /// Which channel it is.
     pub channel: Channel,
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
     /// [`Channel::components`] values per pixel; ids as `f32` would lose precision past 2²⁴,
     /// so they are in `ids` instead and this is empty.
