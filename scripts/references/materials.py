@@ -33,6 +33,17 @@ against Appendix B's, base colour (0.8, 0.3, 0.1), measured with `bsdf.eval` by 
 on the images: on the spheres its dielectrics read 2–11 % brighter than this BSDF's (roughness
 0.1 to 1), its roughest metal 7 % darker, more than the tests allow.
 
+Two kinds of material are Mitsuba's own plugins, exactly: a dielectric without a specular layer
+(`KHR_materials_specular` factor 0, metallic 0) is Appendix B's Lambertian base alone,
+`diffuse`; a fully transmitting dielectric volume (`KHR_materials_transmission` factor 1,
+`KHR_materials_volume` thickness above 0, metallic 0) is `roughdielectric` (GGX, visible-normal
+sampling, alpha = roughness², at least raystage's smallest alpha 0.001; `int_ior` from
+`KHR_materials_ior`), the base colour its `specular_transmittance` (the tint at each
+crossing), its attenuation colour c at distance d an absorbing `homogeneous` interior medium of
+extinction -ln(c) / d and albedo 0. The two differ where Mitsuba's masking is separable
+G1(wo) G1(wi) and raystage's height-correlated, a few percent at the roughest spheres' rims,
+and in the η² compression of radiance inside a volume, which every path that leaves it undoes.
+
 Mitsuba's own wrappers carry the rest of glTF's material: `normalmap` for the normal texture
 (its frame is (∂p/∂u, n × ∂p/∂u, n) in tangent space, glTF's frame for an unmirrored texture
 layout, which the scenes use: +x along increasing u, +y up the image; with its flip of normals
@@ -43,7 +54,8 @@ nearest and repeating, as the glTF sampler says). Anything else a material holds
 not a silent difference.
 
 Mitsuba's scalar variant runs the Python BSDF on one thread, about 20 µs a sample: at 4096
-samples per pixel each scene takes 4 to 8 minutes of a core.
+samples per pixel each scene takes 4 to 8 minutes of a core (the transmitting spheres, all
+Mitsuba's own plugins, under one).
 """
 
 import argparse
@@ -220,14 +232,54 @@ def texture(doc, data, folder, index, raw, alpha_cutoff=None):
     return {"type": "bitmap", "bitmap": mi.Bitmap(opaque), "raw": True, "filter_type": filter_type, "wrap_mode": "repeat"}
 
 
+TRANSMISSION = {"KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_ior"}
+
+
+def transmitting(material):
+    """Whether a material transmits (KHR_materials_transmission)."""
+    return "KHR_materials_transmission" in material.get("extensions", {})
+
+
+def transmitting_bsdf(material):
+    """A fully transmitting dielectric volume as Mitsuba's `roughdielectric`, and its interior
+    medium (None where it absorbs nothing)."""
+    name, pbr, extensions = material.get("name"), material.get("pbrMetallicRoughness", {}), material["extensions"]
+    if set(material) - {"name", "pbrMetallicRoughness", "extensions"} or set(extensions) - TRANSMISSION or set(pbr) - {"baseColorFactor", "metallicFactor", "roughnessFactor"}:
+        sys.exit(f"material {name}: a transmitting material is translated with factors and the transmission, volume and ior extensions only")
+    volume = extensions.get("KHR_materials_volume", {})
+    if pbr.get("metallicFactor", 1.0) != 0.0 or extensions["KHR_materials_transmission"].get("transmissionFactor", 0.0) != 1.0 or volume.get("thicknessFactor", 0.0) <= 0.0:
+        sys.exit(f"material {name}: only fully transmitting dielectric volumes (metallic 0, transmission 1, thickness > 0) are translated")
+    base = pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0])[:3]
+    bsdf = {
+        "type": "roughdielectric",
+        "distribution": "ggx",
+        "sample_visible": True,
+        "alpha": max(pbr.get("roughnessFactor", 1.0) ** 2, 1e-3),
+        "int_ior": extensions.get("KHR_materials_ior", {}).get("ior", 1.5),
+        "ext_ior": 1.0,
+        "specular_transmittance": {"type": "rgb", "value": base},
+    }
+    medium = None
+    if "attenuationDistance" in volume:
+        colour = np.maximum(np.array(volume.get("attenuationColor", [1.0, 1.0, 1.0])), 1e-6)
+        sigma = -np.log(colour) / volume["attenuationDistance"]
+        # Mitsuba reads an `rgb` extinction as a colour in [0, 1]: the largest channel is the scale.
+        scale = float(sigma.max())
+        medium = {"type": "homogeneous", "sigma_t": {"type": "rgb", "value": (sigma / scale).tolist()}, "scale": scale, "albedo": {"type": "rgb", "value": [0.0, 0.0, 0.0]}}
+    return bsdf, medium
+
+
 def material_bsdf(doc, data, folder, material, bsdf):
     """A glTF material as a Mitsuba BSDF: `bsdf` (`gltf` or `principled`) with glTF's normal
-    map, double-sidedness and alpha mask wrapped around it."""
+    map, double-sidedness and alpha mask wrapped around it; `diffuse` for one without a
+    specular layer."""
     pbr = material.get("pbrMetallicRoughness", {})
     factor = pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0])
-    known = {"name", "pbrMetallicRoughness", "normalTexture", "alphaMode", "alphaCutoff", "doubleSided"}
-    if set(material) - known or "metallicRoughnessTexture" in pbr:
-        sys.exit(f"material {material.get('name')}: {sorted(set(material) - known) or 'metallicRoughnessTexture'} is not translated")
+    known = {"name", "pbrMetallicRoughness", "normalTexture", "alphaMode", "alphaCutoff", "doubleSided", "extensions"}
+    extensions = material.get("extensions", {})
+    matte = extensions == {"KHR_materials_specular": {"specularFactor": 0.0}} and pbr.get("metallicFactor", 1.0) == 0.0
+    if set(material) - known or "metallicRoughnessTexture" in pbr or (extensions and not matte):
+        sys.exit(f"material {material.get('name')}: {sorted(set(material) - known) or 'metallicRoughnessTexture or an extension'} is not translated")
     if "baseColorTexture" in pbr:
         if factor != [1.0, 1.0, 1.0, 1.0] or pbr["baseColorTexture"].get("texCoord", 0) != 0:
             sys.exit(f"material {material.get('name')}: a base colour texture is translated with factor 1 and TEXCOORD_0 only")
@@ -235,7 +287,9 @@ def material_bsdf(doc, data, folder, material, bsdf):
     else:
         base = {"type": "rgb", "value": factor[:3]}
     metallic, roughness = pbr.get("metallicFactor", 1.0), pbr.get("roughnessFactor", 1.0)
-    if bsdf == "principled":
+    if matte:
+        result = {"type": "diffuse", "reflectance": base}
+    elif bsdf == "principled":
         result = {"type": "principled", "base_color": base, "metallic": metallic, "roughness": roughness, "specular": 0.5}
     else:
         result = {"type": "gltf", "base_color": base, "metallic": metallic, "roughness": roughness}
@@ -306,6 +360,10 @@ def scene_dict(mi, doc, data, folder, spp, bsdf):
             shape = {"type": "ply", "filename": ply}
             if max(material.get("emissiveFactor", [0.0, 0.0, 0.0])) > 0.0:
                 shape.update(emitter_shape(material))
+            elif transmitting(material):
+                shape["bsdf"], medium = transmitting_bsdf(material)
+                if medium is not None:
+                    shape["interior"] = medium
             else:
                 shape["bsdf"] = material_bsdf(doc, data, folder, material, bsdf)
             scene[f"shape{node_index}_{k}"] = shape

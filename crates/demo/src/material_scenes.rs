@@ -1,13 +1,17 @@
 //! Scenes that hold glTF 2.0's metallic-roughness material (raystage's `PhysicallyBased`) to
 //! account against another renderer: spheres across metallic × roughness, a textured,
-//! normal-mapped quad under a grazing light, and an alpha-masked cut-out casting its shadow.
+//! normal-mapped quad under a grazing light, an alpha-masked cut-out casting its shadow, and
+//! transmitting spheres (KHR_materials_transmission and KHR_materials_volume) before a checker
+//! wall.
 //! Each is a glTF file with its buffers and PNG images inline, so that raystage's importer and
 //! `scripts/references/materials.py` (which renders it with Mitsuba 3) read the very same
 //! arrays and texels; `tests/materials_reference.rs` compares the two.
 //!
 //! Every scene is lit by a uniform environment (its radiance is the scene's
-//! `extras.environment`, since glTF has no environment light) and by an emissive quad out of
-//! the camera's view, so that highlights show; camera rays that miss everything see black.
+//! `extras.environment`, since glTF has no environment light) and, but the transmitting
+//! spheres, by an emissive quad out of the camera's view, so that highlights show (behind glass
+//! it would cast caustics, which unidirectional path tracers resolve slowly); camera rays that
+//! miss everything see black.
 //! The scene's `extras.image_size` is the size it is compared at.
 //! Texture layouts are unmirrored (the bitangent, up the image, is normal × tangent), where
 //! every tangent-frame convention agrees with glTF's.
@@ -27,6 +31,15 @@ pub const ROUGHNESS: [f32; 4] = [0.1, 0.3, 0.6, 1.0];
 pub const DIELECTRIC_BASE: [f32; 3] = [0.75, 0.2, 0.1];
 /// The base colour of the metal (lower) row of spheres, a copper.
 pub const METAL_BASE: [f32; 3] = [0.95, 0.64, 0.54];
+/// The roughness of the transmitting spheres' columns, left to right: from smooth to where a
+/// single-scattering BTDF's masking terms start to differ between renderers (raystage's
+/// height-correlated Smith, Mitsuba's separable one).
+pub const TRANSMISSION_ROUGHNESS: [f32; 4] = [0.0, 0.1, 0.25, 0.4];
+/// The index of refraction of the transmitting spheres.
+pub const TRANSMISSION_IOR: f32 = 1.5;
+/// The lower row of transmitting spheres: its base colour (tinting the light at each
+/// crossing), and the colour white light turns into after one sphere's diameter inside.
+pub const ABSORBING: ([f32; 3], [f32; 3]) = ([1.0, 0.9, 0.8], [0.9, 0.55, 0.25]);
 
 /// One of the comparison scenes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -40,11 +53,15 @@ pub enum MaterialScene {
     /// An alpha-masked quad (a disc with a star-shaped hole) standing on a floor, lit from
     /// above: the camera and the shadow rays see through the cut-out.
     Cutout,
+    /// Two rows of transmitting spheres (volumes of index [`TRANSMISSION_IOR`]: clear above;
+    /// tinted and absorbing, [`ABSORBING`], below) across [`TRANSMISSION_ROUGHNESS`], before a
+    /// matte checker wall that their refraction shows, bent and blurred.
+    Transmission,
 }
 
 impl MaterialScene {
     /// Every scene.
-    pub const ALL: [MaterialScene; 3] = [MaterialScene::Spheres, MaterialScene::NormalMapped, MaterialScene::Cutout];
+    pub const ALL: [MaterialScene; 4] = [MaterialScene::Spheres, MaterialScene::NormalMapped, MaterialScene::Cutout, MaterialScene::Transmission];
 
     /// The name of the scene's files (`NAME.gltf`, `tests/references/NAME.pfm`).
     pub fn name(self) -> &'static str {
@@ -52,6 +69,7 @@ impl MaterialScene {
             MaterialScene::Spheres => "material_spheres",
             MaterialScene::NormalMapped => "normal_mapped_quad",
             MaterialScene::Cutout => "alpha_cutout",
+            MaterialScene::Transmission => "transmission_spheres",
         }
     }
 
@@ -59,7 +77,7 @@ impl MaterialScene {
     /// is a small file.
     pub fn size(self) -> (u32, u32) {
         match self {
-            MaterialScene::Spheres => (96, 48),
+            MaterialScene::Spheres | MaterialScene::Transmission => (96, 48),
             MaterialScene::NormalMapped | MaterialScene::Cutout => (64, 64),
         }
     }
@@ -128,6 +146,41 @@ impl MaterialScene {
                 doc.standing_quad(1.6, 0.1, leaf);
                 doc.light(Vec3::new(0.8, 4.0, 1.5), Vec3::new(0.0, 0.0, -0.5), 1.0, 40.0);
                 doc.camera(Vec3::new(0.0, 3.2, 3.0), Vec3::new(0.0, 0.5, 0.0), 40f32.to_radians(), aspect);
+            }
+            MaterialScene::Transmission => {
+                let rows = [([1.0; 3], None), (ABSORBING.0, Some(ABSORBING.1))];
+                let diameter = 0.84;
+                for (row, (base, attenuation)) in rows.into_iter().enumerate() {
+                    for (column, roughness) in TRANSMISSION_ROUGHNESS.into_iter().enumerate() {
+                        let mut volume = json!({ "thicknessFactor": diameter });
+                        if let Some(colour) = attenuation {
+                            volume["attenuationColor"] = json!(colour);
+                            volume["attenuationDistance"] = json!(diameter);
+                        }
+                        let material = doc.material(json!({
+                            "name": format!("transmitting, row {row}, roughness {roughness}"),
+                            "pbrMetallicRoughness": { "baseColorFactor": [base[0], base[1], base[2], 1.0], "metallicFactor": 0.0, "roughnessFactor": roughness },
+                            "extensions": {
+                                "KHR_materials_transmission": { "transmissionFactor": 1.0 },
+                                "KHR_materials_volume": volume,
+                                "KHR_materials_ior": { "ior": TRANSMISSION_IOR },
+                            },
+                        }));
+                        let centre = Vec3::new(column as f32 - 1.5, 0.5 - row as f32, 0.0);
+                        let mesh = sphere_mesh(centre, diameter / 2.0, 48, 24);
+                        doc.mesh(&mesh.positions, &mesh.normals, &mesh.uvs, &mesh.indices, material);
+                    }
+                }
+                // A Lambertian checker (no specular layer: `KHR_materials_specular` factor 0),
+                // 1.5 behind the spheres, its tiles a quarter of a cell.
+                let texture = doc.texture(&checker(), 3, true);
+                let wall = doc.material(json!({
+                    "name": "checker wall",
+                    "pbrMetallicRoughness": { "baseColorTexture": { "index": texture }, "metallicFactor": 0.0, "roughnessFactor": 1.0 },
+                    "extensions": { "KHR_materials_specular": { "specularFactor": 0.0 } },
+                }));
+                doc.wall(Vec2::new(8.0, 4.0), -1.5, 4.0, wall);
+                doc.camera(Vec3::new(0.0, 0.0, 6.0), Vec3::ZERO, 2.0 * (1.0f32 / 6.0).atan(), aspect);
             }
         }
         doc.finish(self.name(), self.size())
@@ -228,6 +281,16 @@ impl Document {
         self.mesh(&corners, &[Vec3::Z; 4], &uvs, &[[0, 1, 2], [0, 2, 3]], material);
     }
 
+    /// A `size` rectangle centred on the z axis in the plane z = `depth`, facing +z, its texture
+    /// repeated `repeats` times across its height (and as often across its width), upright.
+    fn wall(&mut self, size: Vec2, depth: f32, repeats: f32, material: usize) {
+        let (w, h) = (size.x / 2.0, size.y / 2.0);
+        let corners = [Vec3::new(-w, h, depth), Vec3::new(-w, -h, depth), Vec3::new(w, -h, depth), Vec3::new(w, h, depth)];
+        let (u, v) = (repeats * size.x / size.y, repeats);
+        let uvs = [Vec2::new(0.0, 0.0), Vec2::new(0.0, v), Vec2::new(u, v), Vec2::new(u, 0.0)];
+        self.mesh(&corners, &[Vec3::Z; 4], &uvs, &[[0, 1, 2], [0, 2, 3]], material);
+    }
+
     /// A square emitter of side `size` at `centre` facing `target`, emitting `radiance` from its
     /// front only and reflecting nothing (a black Lambertian: `KHR_materials_specular` factor 0).
     fn light(&mut self, centre: Vec3, target: Vec3, size: f32, radiance: f32) {
@@ -265,7 +328,7 @@ impl Document {
         let uri = format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(&self.bin));
         let mut document = json!({
             "asset": { "version": "2.0", "generator": format!("raystage-demo material_scenes {name}") },
-            "extensionsUsed": ["KHR_materials_emissive_strength", "KHR_materials_specular"],
+            "extensionsUsed": ["KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_ior"],
             "scene": 0,
             "scenes": [{ "nodes": (0..self.nodes.len()).collect::<Vec<_>>(), "extras": { "environment": ENVIRONMENT, "image_size": [width, height] } }],
             "nodes": self.nodes,

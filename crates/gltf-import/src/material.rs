@@ -1,7 +1,7 @@
 //! glTF materials as raystage shaders: glTF 2.0's metallic-roughness model is raystage's
-//! `PhysicallyBased` class, so every material maps onto it (unlit ones onto `Constant`, and
-//! transmissive ones, for now, onto `Glass`); what a material has that raystage does not render
-//! yet is said in a note.
+//! `PhysicallyBased` class, so every material maps onto it (unlit ones onto `Constant`),
+//! transmission and volume included; what a material has that raystage does not render yet is
+//! said in a note.
 
 use glam::Vec3;
 use gltf::json::Value;
@@ -36,14 +36,15 @@ pub struct TextureUse {
 /// `Diffuse`, or `VertexColor` with vertex colours, as viewers do). In order of precedence:
 ///
 /// - `KHR_materials_unlit` → `Constant` with the base colour;
-/// - `KHR_materials_transmission` factor ≥ 0.5 → `Glass` with `KHR_materials_ior` (default
-///   1.5);
 /// - everything else → `PhysicallyBased`: base colour (factor, texture; vertex colours
 ///   multiply it), metallic and roughness (factors, and their texture), `KHR_materials_ior`,
-///   `KHR_materials_specular`'s factor, emissive factor × `KHR_materials_emissive_strength`,
+///   `KHR_materials_specular`'s factor, `KHR_materials_transmission`'s factor,
+///   `KHR_materials_volume`'s thickness factor (0 or absent: a thin wall) with its attenuation
+///   colour and distance, emissive factor × `KHR_materials_emissive_strength`,
 ///   the normal texture with its scale, the emissive texture (multiplying the emission), the
 ///   occlusion texture with its strength, the base colour's alpha as `opacity` with the alpha
-///   mode and cut-off, and single- or double-sidedness.
+///   mode and cut-off, and single- or double-sidedness (a volume's boundary is seen from both
+///   sides, as KHR_materials_volume says: a ray inside must meet it).
 ///   Each texture keeps its sampler (wrap modes, magnification filter), its texture coordinate
 ///   set (the first or second) and its `KHR_texture_transform`.
 ///
@@ -59,10 +60,10 @@ pub fn shader_for(material: Option<&gltf::Material<'_>>, vertex_colors: bool) ->
     if m.unlit() {
         return spec("Constant", vec![("color", base)]);
     }
-    if transmits(m) {
-        return spec("Glass", vec![("ior", ParamValue::Float(ior))]);
-    }
     let fraction = |x: f32| if x.is_finite() { x.clamp(0.0, 1.0) } else { 0.0 };
+    let transmission = m.transmission().map_or(0.0, |t| fraction(t.transmission_factor()));
+    // KHR_materials_volume only bounds a volume where light goes through.
+    let volume = m.volume().filter(|v| transmission > 0.0 && v.thickness_factor().is_finite() && v.thickness_factor() > 0.0);
     let emission = clean(Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0));
     let mut shader = spec(
         "PhysicallyBased",
@@ -75,9 +76,19 @@ pub fn shader_for(material: Option<&gltf::Material<'_>>, vertex_colors: bool) ->
             ("emissive", ParamValue::Color(emission)),
             ("opacity", ParamValue::Float(fraction(a))),
             ("alpha_mode", ParamValue::Float(alpha_mode(m.alpha_mode()))),
-            ("double_sided", ParamValue::Float(if m.double_sided() { 1.0 } else { 0.0 })),
+            ("double_sided", ParamValue::Float(if m.double_sided() || volume.is_some() { 1.0 } else { 0.0 })),
+            ("transmission", ParamValue::Float(transmission)),
         ],
     );
+    if let Some(v) = volume {
+        shader.params.push(("thickness", ParamValue::Float(v.thickness_factor())));
+        // An infinite attenuation distance (glTF's default) absorbs nothing: the defaults.
+        let distance = v.attenuation_distance();
+        if distance.is_finite() && distance > 0.0 {
+            shader.params.push(("attenuation_color", ParamValue::Color(clean(Vec3::from(v.attenuation_color())).min(Vec3::ONE))));
+            shader.params.push(("attenuation_distance", ParamValue::Float(distance.clamp(1e-6, f32::MAX))));
+        }
+    }
     // Checked by the importer (`read`): outside [0, 1] the file is refused.
     if let Some(cutoff) = m.alpha_cutoff() {
         shader.params.push(("alpha_cutoff", ParamValue::Float(cutoff)));
@@ -214,23 +225,16 @@ pub fn notes(material: &gltf::Material<'_>) -> Vec<String> {
         left_out.push("an occlusion texture on a third or later set of texture coordinates".to_string());
     }
     for (present, what) in [
-        (material.alpha_mode() != gltf::material::AlphaMode::Opaque && (material.unlit() || transmits(material)), "its alpha mode (rendered opaque)"),
+        (material.alpha_mode() != gltf::material::AlphaMode::Opaque && material.unlit(), "its alpha mode (rendered opaque)"),
         (material.specular().is_some_and(|s| s.specular_texture().is_some() || s.specular_color_texture().is_some() || s.specular_color_factor() != [1.0; 3]), "its specular colour and textures"),
-        (!material.double_sided() && !material.unlit() && transmits(material), "single-sidedness (rendered double-sided)"),
+        (material.transmission().is_some_and(|t| t.transmission_texture().is_some()), "its transmission texture (the factor alone is rendered)"),
+        (material.volume().is_some_and(|v| v.thickness_texture().is_some()), "its thickness texture (the path length inside comes from the geometry)"),
     ] {
         if present {
             left_out.push(what.to_string());
         }
     }
-    if transmits(material) {
-        left_out.push("its physically based look under the transmission (rendered as clear glass)".to_string());
-    }
     left_out.into_iter().map(|what| format!("{name}: {what} is not rendered yet")).collect()
-}
-
-/// Whether `material` is rendered as glass (`KHR_materials_transmission` of at least 0.5).
-fn transmits(material: &gltf::Material<'_>) -> bool {
-    material.transmission().is_some_and(|t| t.transmission_factor() >= 0.5)
 }
 
 fn spec(class: &'static str, params: Vec<(&'static str, ParamValue)>) -> ShaderSpec {

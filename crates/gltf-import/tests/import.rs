@@ -98,7 +98,6 @@ fn materials_map_to_the_physically_based_class() {
     let cases = [
         // An emissive material is a light and still a surface: its emission is a parameter.
         (json!({ "emissiveFactor": [1, 0.5, 0], "extensions": { "KHR_materials_emissive_strength": { "emissiveStrength": 4 } } }), "PhysicallyBased", "emissive", ParamValue::Color(Vec3::new(4.0, 2.0, 0.0))),
-        (json!({ "extensions": { "KHR_materials_transmission": { "transmissionFactor": 1 }, "KHR_materials_ior": { "ior": 1.33 } } }), "Glass", "ior", ParamValue::Float(1.33)),
         (json!({ "pbrMetallicRoughness": { "baseColorFactor": [1, 0.8, 0.2, 1], "metallicFactor": 1, "roughnessFactor": 0.5 } }), "PhysicallyBased", "roughness", ParamValue::Float(0.5)),
         (json!({ "pbrMetallicRoughness": { "baseColorFactor": [1, 0.8, 0.2, 1], "metallicFactor": 0.25 } }), "PhysicallyBased", "metallic", ParamValue::Float(0.25)),
         // glTF's defaults: fully metallic, fully rough.
@@ -305,6 +304,54 @@ fn textures_the_importer_cannot_use_are_left_out_or_refused() {
 
     let external = textured_quad(json!({ "uri": "wood.png" }), 0, &[]);
     assert_eq!(refused(&external).field(), Some("images[0].uri"));
+}
+
+/// KHR_materials_transmission and KHR_materials_volume come through as the physically based
+/// shader's transmission, thickness and attenuation, keeping the rest of the material (its
+/// roughness and colour, which glass dropped); a volume's boundary is seen from both sides.
+#[test]
+fn transmission_and_volume_map_to_the_physically_based_class() {
+    let glass = json!({
+        "name": "bottle",
+        "pbrMetallicRoughness": { "baseColorFactor": [0.9, 1, 0.8, 1], "metallicFactor": 0, "roughnessFactor": 0.3 },
+        "extensions": {
+            "KHR_materials_transmission": { "transmissionFactor": 0.75 },
+            "KHR_materials_ior": { "ior": 1.33 },
+            "KHR_materials_volume": { "thicknessFactor": 0.2, "attenuationDistance": 4, "attenuationColor": [0.5, 0.8, 1] }
+        }
+    });
+    // A thin wall: no volume (no extension, or thickness 0), and a volume without attenuation.
+    let pane = json!({ "extensions": { "KHR_materials_transmission": { "transmissionFactor": 1 } } });
+    let clear = json!({ "extensions": { "KHR_materials_transmission": { "transmissionFactor": 1 }, "KHR_materials_volume": { "thicknessFactor": 1 } } });
+    let cases = [
+        (
+            glass,
+            vec![
+                ("transmission", ParamValue::Float(0.75)),
+                ("ior", ParamValue::Float(1.33)),
+                ("roughness", ParamValue::Float(0.3)),
+                ("base_color", ParamValue::Color(Vec3::new(0.9, 1.0, 0.8))),
+                ("thickness", ParamValue::Float(0.2)),
+                ("attenuation_distance", ParamValue::Float(4.0)),
+                ("attenuation_color", ParamValue::Color(Vec3::new(0.5, 0.8, 1.0))),
+                ("double_sided", ParamValue::Float(1.0)),
+            ],
+        ),
+        (pane, vec![("transmission", ParamValue::Float(1.0)), ("thickness", ParamValue::Float(0.0)), ("double_sided", ParamValue::Float(0.0))]),
+        (clear, vec![("thickness", ParamValue::Float(1.0)), ("attenuation_color", ParamValue::Color(Vec3::ONE)), ("double_sided", ParamValue::Float(1.0))]),
+    ];
+    for (material, expected) in cases {
+        let file = import(&quad_gltf(Some(data_uri(&quad_buffer())), json!([material]), json!([{ "mesh": 0 }]))).unwrap();
+        assert!(file.notes().is_empty(), "{:?}", file.notes());
+        let mut scene = Scene::new();
+        let added = file.add_to(&mut scene).unwrap();
+        let shader = scene.shader(added.shaders[0]).unwrap();
+        assert_eq!(shader.class().name, "PhysicallyBased");
+        assert!(shader.transmits());
+        for (param, value) in expected {
+            assert_eq!(shader.get(param), Some(value), "{param}");
+        }
+    }
 }
 
 /// What a material has that raystage does not render yet is said, once per material, by name.

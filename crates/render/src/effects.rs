@@ -44,7 +44,7 @@ impl EffectSet {
         // Every light but the ambient term (which the list does not hold) casts shadows.
         let shadows = shading && has_geometry && lights.len() > 0;
         let reflection = shading && uses(ShadingModel::reflects);
-        let refraction = shading && uses(ShadingModel::refracts);
+        let refraction = shading && frame.has_transmitters();
         let distributed = matches!(integrator, Integrator::Distribution | Integrator::Path);
         let camera = frame.camera();
         let effects = EffectSet {

@@ -25,7 +25,8 @@ pub(crate) struct Material {
     pub albedo: Vec3,
     /// Light it emits (Emissive), or its fixed colour (Constant).
     pub emission: Vec3,
-    /// Glass: index of refraction and absorption coefficient.
+    /// Glass and transmitting physically based volumes: index of refraction and absorption
+    /// coefficient inside.
     pub ior: f32,
     pub absorption: Vec3,
     /// Ambient occlusion: how far occluders count.
@@ -288,13 +289,30 @@ impl<'f> Resolved<'f> {
                 m.emission = shader.color("emissive");
                 let roughness = shader.float("roughness");
                 let ior = shader.float("ior");
-                m.bsdf = Some(Bsdf::PhysicallyBased {
-                    base: m.albedo,
-                    metallic: shader.float("metallic"),
-                    alpha: (roughness * roughness).max(MIN_ALPHA),
-                    f0: ((ior - 1.0) / (ior + 1.0)).powi(2) * shader.float("specular"),
-                    f90: shader.float("specular"),
-                });
+                let transmission = shader.float("transmission");
+                let thin = shader.float("thickness") == 0.0;
+                m.ior = ior;
+                if transmission > 0.0 && !thin {
+                    // KHR_materials_volume: white light turns `attenuation_color` after
+                    // `attenuation_distance`, so σ = −ln(colour) / distance (a black channel
+                    // absorbs as fast as floats allow, not infinitely: σ × 0 stays 0).
+                    let colour = shader.color("attenuation_color").max(Vec3::splat(1e-6));
+                    m.absorption = (-colour.ln() / shader.float("attenuation_distance")).max(Vec3::ZERO);
+                }
+                m.bsdf = Some(
+                    Bsdf::PhysicallyBased {
+                        base: m.albedo,
+                        metallic: shader.float("metallic"),
+                        alpha: (roughness * roughness).max(MIN_ALPHA),
+                        f0: ((ior - 1.0) / (ior + 1.0)).powi(2) * shader.float("specular"),
+                        f90: shader.float("specular"),
+                        transmission,
+                        eta: 1.0,
+                        thin,
+                    }
+                    // Entering from air, until a path says which media the boundary separates.
+                    .across(1.0 / ior),
+                );
             }
         }
         let texture_slot = match model {
@@ -359,7 +377,7 @@ impl<'f> Resolved<'f> {
         m.bsdf = match m.bsdf {
             Some(Bsdf::Lambert { .. }) => Some(Bsdf::Lambert { albedo: m.albedo }),
             Some(Bsdf::Phong { specular, exponent, .. }) => Some(Bsdf::Phong { diffuse: m.albedo, specular, exponent }),
-            Some(Bsdf::PhysicallyBased { metallic, alpha, f0, f90, .. }) => {
+            Some(Bsdf::PhysicallyBased { metallic, alpha, f0, f90, transmission, eta, thin, .. }) => {
                 // glTF: blue is metalness, green roughness, each scaling its factor.
                 let (metallic, alpha) = match self.slots().metallic_roughness {
                     Some((t, roughness)) => {
@@ -368,7 +386,7 @@ impl<'f> Resolved<'f> {
                     }
                     None => (metallic, alpha),
                 };
-                Some(Bsdf::PhysicallyBased { base: m.albedo, metallic, alpha, f0, f90 })
+                Some(Bsdf::PhysicallyBased { base: m.albedo, metallic, alpha, f0, f90, transmission, eta, thin })
             }
             other => other,
         };
@@ -392,7 +410,7 @@ mod tests {
         let texture = Texture::Image(Image::new(2, 1, vec![Vec3::new(0.0, 0.2, 1.0), Vec3::new(0.0, 1.0, 0.0)]).unwrap().into());
         let base = Material {
             model: ShadingModel::PhysicallyBased,
-            bsdf: Some(Bsdf::PhysicallyBased { base: Vec3::ONE, metallic: 1.0, alpha: 0.25, f0: 0.04, f90: 1.0 }),
+            bsdf: Some(Bsdf::PhysicallyBased { base: Vec3::ONE, metallic: 1.0, alpha: 0.25, f0: 0.04, f90: 1.0, transmission: 0.0, eta: 1.0 / 1.5, thin: true }),
             albedo: Vec3::ONE,
             emission: Vec3::ZERO,
             ior: 1.0,

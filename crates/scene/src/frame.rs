@@ -789,9 +789,19 @@ impl<'a> Frame<'a> {
     /// Whether some instanced triangle's shader emits light (an `Emissive` shader, or a
     /// `PhysicallyBased` one with an emissive colour).
     pub fn has_emitters(&self) -> bool {
+        self.any_instanced_shader(Shader::emits)
+    }
+
+    /// Whether some instanced triangle's shader lets light through (see [`Shader::transmits`]).
+    pub fn has_transmitters(&self) -> bool {
+        self.any_instanced_shader(Shader::transmits)
+    }
+
+    /// Whether `property` holds for the shader of some instanced triangle.
+    fn any_instanced_shader(&self, property: fn(&Shader) -> bool) -> bool {
         self.instances.iter().any(|fi| {
-            fi.object.shaders_used.iter().any(|&id| self.scene.shader(id).is_ok_and(Shader::emits))
-                || (fi.object.uses_default_shader && self.scene.default_shader().emits())
+            fi.object.shaders_used.iter().any(|&id| self.scene.shader(id).is_ok_and(property))
+                || (fi.object.uses_default_shader && property(self.scene.default_shader()))
         })
     }
 

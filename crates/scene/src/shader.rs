@@ -143,11 +143,15 @@ const fn joined<const N: usize>(own: &[ParamDecl], slots: &[[ParamDecl; SLOT_PAR
 }
 
 /// `PhysicallyBased`'s parameters other than its texture slots.
-const PHYSICALLY_BASED_OWN: [ParamDecl; 12] = [
+const PHYSICALLY_BASED_OWN: [ParamDecl; 16] = [
     ParamDecl { name: "base_color", default: ParamValue::Color(Vec3::ONE), range: FRACTION, choices: ANY, doc: "Base colour, linear RGB: the diffuse albedo of a dielectric, the reflectance of a metal." },
     ParamDecl { name: "metallic", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "0 for a dielectric, 1 for a metal, blended between." },
     ParamDecl { name: "roughness", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "Perceptual roughness in [0, 1]; the microfacets' α is its square." },
-    ParamDecl { name: "ior", default: ParamValue::Float(1.5), range: [1.0, 4.0], choices: ANY, doc: "The dielectric's index of refraction (1.5: 4 % reflected head-on)." },
+    ParamDecl { name: "ior", default: ParamValue::Float(1.5), range: [1.0, 4.0], choices: ANY, doc: "The dielectric's index of refraction (1.5: 4 % reflected head-on); with `transmission`, it also bends the light that goes through." },
+    ParamDecl { name: "transmission", default: ParamValue::Float(0.0), range: FRACTION, choices: ANY, doc: "The fraction of the dielectric base that transmits light instead of reflecting it diffusely (glTF's KHR_materials_transmission factor): what the specular layer lets through refracts through the same GGX microfacets (Walter et al. 2007), tinted by `base_color` at each crossing. 0 is opaque; metals never transmit." },
+    ParamDecl { name: "thickness", default: ParamValue::Float(0.0), range: NON_NEGATIVE, choices: ANY, doc: "0: a thin wall (a leaf, a window pane, a soap film), light goes through without bending or entering a medium; above 0: the surface bounds a volume of index `ior` that light refracts into and is absorbed in (glTF's KHR_materials_volume). The path length inside comes from the geometry, not from this value." },
+    ParamDecl { name: "attenuation_color", default: ParamValue::Color(Vec3::ONE), range: FRACTION, choices: ANY, doc: "The colour white light turns into after `attenuation_distance` inside a volume (Beer–Lambert); white: no absorption. Ignored for thin walls." },
+    ParamDecl { name: "attenuation_distance", default: ParamValue::Float(1.0), range: [1e-6, f32::MAX], choices: ANY, doc: "The distance, in world units, after which light inside a volume has the colour `attenuation_color`." },
     ParamDecl { name: "specular", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "Scales the dielectric's specular reflection (glTF's KHR_materials_specular factor): 0 leaves a pure Lambertian base." },
     ParamDecl { name: "emissive", default: ParamValue::Color(Vec3::ZERO), range: NON_NEGATIVE, choices: ANY, doc: "Emitted radiance, linear RGB (glTF's emissive factor × strength): an emitting surface is a light." },
     ParamDecl { name: "normal_scale", default: ParamValue::Float(1.0), range: ANY_FINITE, choices: ANY, doc: "Scales the X and Y of `normal_texture`'s normals (glTF's normalTexture.scale): 0 flattens the map." },
@@ -187,8 +191,8 @@ pub enum ShadingModel {
     Emissive,
     /// Ambient occlusion: the albedo scaled by how much of the hemisphere is open.
     AmbientOcclusion,
-    /// glTF 2.0's metallic-roughness material: a diffuse base under a specular layer, or a
-    /// metal, and what it emits.
+    /// glTF 2.0's metallic-roughness material: a diffuse or transmitting base under a specular
+    /// layer, or a metal, and what it emits.
     PhysicallyBased,
 }
 
@@ -198,10 +202,6 @@ impl ShadingModel {
         matches!(self, ShadingModel::Mirror | ShadingModel::Glossy | ShadingModel::Glass | ShadingModel::PhysicallyBased)
     }
 
-    /// Whether the surface transmits light, so that an integrator traces refraction rays.
-    pub fn refracts(self) -> bool {
-        self == ShadingModel::Glass
-    }
 }
 
 /// A built-in shader class.
@@ -299,7 +299,7 @@ pub static SHADER_CLASSES: &[ShaderClass] = &[
     },
     ShaderClass {
         name: "PhysicallyBased",
-        doc: "glTF 2.0's metallic-roughness material, as ANARI's physicallyBased, OSPRay's principled and Cycles' Principled BSDF share it: a Lambertian base under a GGX specular layer (Fresnel from `ior`), blended by `metallic` with a GGX metal of the base colour; and light it emits. The defaults are glTF's: a white, fully metallic, fully rough surface.",
+        doc: "glTF 2.0's metallic-roughness material, as ANARI's physicallyBased, OSPRay's principled and Cycles' Principled BSDF share it: a Lambertian base under a GGX specular layer (Fresnel from `ior`), blended by `metallic` with a GGX metal of the base colour; `transmission` turns the base into rough refraction through the same microfacets, through a thin wall or into a volume that absorbs (`thickness`, `attenuation_color`, `attenuation_distance`); and light it emits. The defaults are glTF's: a white, fully metallic, fully rough, opaque surface.",
         model: ShadingModel::PhysicallyBased,
         params: &PHYSICALLY_BASED,
     },
@@ -337,6 +337,16 @@ impl Shader {
         match self.class.model {
             ShadingModel::Emissive => self.color("emission").max_element() > 0.0,
             ShadingModel::PhysicallyBased => self.color("emissive").max_element() > 0.0,
+            _ => false,
+        }
+    }
+
+    /// Whether surfaces of this shader let light through, so that an integrator traces
+    /// refraction rays: a `Glass` shader, or a `PhysicallyBased` one with some transmission.
+    pub fn transmits(&self) -> bool {
+        match self.class.model {
+            ShadingModel::Glass => true,
+            ShadingModel::PhysicallyBased => self.float("transmission") > 0.0,
             _ => false,
         }
     }

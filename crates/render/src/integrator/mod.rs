@@ -74,8 +74,11 @@ impl Media {
     }
 
     /// The media after crossing a transmissive boundary at `hit`: entering through its front,
-    /// leaving through its back.
+    /// leaving through its back (a thin wall bounds no medium).
     pub fn crossed(mut self, hit: &Hit<'_>) -> Media {
+        if hit.material.bsdf.is_some_and(|b| b.is_thin()) {
+            return self;
+        }
         if hit.surface.front_face {
             if self.depth < MAX_MEDIA {
                 self.ior[self.depth] = hit.material.ior;
@@ -88,10 +91,17 @@ impl Media {
         self
     }
 
-    /// The glass BSDF at `hit`: relative index of the side the ray is on over the other side.
-    pub fn glass(&self, hit: &Hit<'_>) -> Bsdf {
-        let eta = if hit.surface.front_face { self.ior() / hit.material.ior } else { hit.material.ior / self.outer_ior() };
-        Bsdf::Glass { eta }
+    /// The BSDF at `hit` between these media: a boundary's relative index is that of the side
+    /// the ray is on over the other side (a thin wall has the medium the ray is in on both
+    /// sides). `None` for a material that does not scatter.
+    pub fn bsdf(&self, hit: &Hit<'_>) -> Option<Bsdf> {
+        let m = &hit.material;
+        let thin = m.bsdf.is_some_and(|b| b.is_thin());
+        let eta = if hit.surface.front_face || thin { self.ior() / m.ior } else { m.ior / self.outer_ior() };
+        match m.model {
+            ShadingModel::Glass => Some(Bsdf::Glass { eta }),
+            _ => m.bsdf.map(|b| b.across(eta)),
+        }
     }
 }
 
@@ -273,7 +283,8 @@ impl<'f> Tracer<'_, 'f> {
             for _ in 0..samples {
                 let u = if stochastic { sampler.next_2d() } else { [0.5, 0.5] };
                 let Some(ls) = self.lights.sample(index, sp.position, sp.shading_normal, u, !random) else { continue };
-                if sp.geometric_normal.dot(ls.wi) <= 0.0 {
+                // Light from behind the surface reaches only what lets it through.
+                if sp.geometric_normal.dot(ls.wi) <= 0.0 && !bsdf.transmits() {
                     continue;
                 }
                 let wi_local = frame3.to_local(ls.wi);

@@ -76,7 +76,7 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, ray: &Ray, first: Hit<'_>, time: f32, sa
         if depth + 2 > t.settings.max_depth {
             break;
         }
-        let bsdf = if m.model == ShadingModel::Glass { media.glass(&hit) } else { m.bsdf.expect("scattering material") };
+        let bsdf = media.bsdf(&hit).expect("scattering material");
         if !bsdf.is_specular() {
             radiance += throughput * t.direct(&hit, &bsdf, wo, time, KnownShadows::NONE, sampler, rays);
         }

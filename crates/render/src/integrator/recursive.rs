@@ -131,16 +131,18 @@ impl<const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED: bool> Recursio
                 direct + reflected
             }
             ShadingModel::PhysicallyBased => {
-                // Lit by the lights through the whole BRDF; the specular layer reflects the
-                // scene too, as a glossy metal of the layer's colour does.
-                let bsdf = m.bsdf.expect("physically based materials scatter");
+                // Lit by the lights through the whole BSDF; the specular layer reflects the
+                // scene too, as a glossy metal of the layer's colour does, and a transmitting
+                // surface shows what is behind it, as glass does.
+                let bsdf = media.bsdf(hit).expect("physically based materials scatter");
                 let emitted = t.surface_emission(ray, hit, seen);
                 let direct = t.direct(hit, &bsdf, wo, self.time, self.known(depth), self.sampler, self.rays);
                 let reflected = match bsdf.specular_layer(wo.dot(hit.surface.shading_normal)) {
                     Some((layer, mirror)) if REFLECT && deeper => self.glossy_reflection(hit, &layer, mirror, wo, media, depth, weight),
                     _ => Vec3::ZERO,
                 };
-                emitted + direct + reflected
+                let transmitted = if REFRACT && deeper && bsdf.transmits() { self.transmission(hit, &bsdf, wo, media, depth, weight) } else { Vec3::ZERO };
+                emitted + direct + reflected + transmitted
             }
             ShadingModel::Diffuse | ShadingModel::VertexColor | ShadingModel::Phong => {
                 let bsdf = m.bsdf.expect("matte materials scatter");
@@ -179,12 +181,30 @@ impl<const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED: bool> Recursio
         }
     }
 
+    /// Light through a transmitting physically based surface: Whitted refracts one smooth ray
+    /// (straight through a thin wall); the distributed variant samples the BSDF and follows the
+    /// samples that went through, weighted as the path tracer weighs them (unbiased for the
+    /// transmitted light: the other samples stand for reflection, which
+    /// [`Recursion::glossy_reflection`] and the lights already count).
+    fn transmission(&mut self, hit: &Hit<'_>, bsdf: &Bsdf, wo: Vec3, media: Media, depth: u32, weight: f32) -> Vec3 {
+        let frame3 = Frame3::around(hit.surface.shading_normal);
+        let wo_local = frame3.to_local(wo);
+        let through = if DISTRIBUTED {
+            let (u, choose) = (self.sampler.next_2d(), self.sampler.next_1d());
+            bsdf.sample(wo_local, u, choose).filter(|s| s.transmitted).map(|s| (s.wi, s.weight))
+        } else {
+            bsdf.smooth_transmission(wo_local)
+        };
+        let Some((wi, tint)) = through else { return Vec3::ZERO };
+        tint * self.trace_on(hit, frame3.to_world(wi), Kind::Refraction, media.crossed(hit), depth, weight * tint.max_element())
+    }
+
     /// Glass: Fresnel-weighted reflection and refraction (Whitted traces both for the first
     /// [`SPLIT_DEPTH`] bounces, then one; the distributed variant always picks one by its
     /// weight), total internal reflection, and the media the refracted ray enters or leaves.
     fn glass(&mut self, hit: &Hit<'_>, wo: Vec3, media: Media, depth: u32, weight: f32) -> Vec3 {
         let n = hit.surface.shading_normal;
-        let Bsdf::Glass { eta } = media.glass(hit) else { unreachable!("glass has a glass boundary") };
+        let Some(Bsdf::Glass { eta }) = media.bsdf(hit) else { unreachable!("glass has a glass boundary") };
         let frame3 = Frame3::around(n);
         let wo_local = frame3.to_local(wo);
         let f = fresnel_dielectric(wo_local.z, eta);
