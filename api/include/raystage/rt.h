@@ -1269,7 +1269,11 @@ RTuint rtGenShaderClasses(RTsizei n);
  * - "Glass": ior (1f, 1 to 4), absorption (3f, per unit length inside).
  * - "Emissive": emission (3f, radiance from its front).
  * - "PhysicallyBased": glTF 2.0's metallic-roughness material; base_color (3f), metallic (1f),
- *   roughness (1f), ior (1f), specular (1f), emissive (3f, radiance), normal_scale (1f),
+ *   roughness (1f), ior (1f), specular (1f), transmission (1f, the share of the dielectric base
+ *   refracted instead of diffusely reflected), thickness (1f: 0 a thin wall, else a volume
+ *   whose path length the geometry gives), attenuation_color (3f) and attenuation_distance (1f,
+ *   world units: the colour white light turns inside a volume after that distance),
+ *   emissive (3f, radiance), normal_scale (1f),
  *   occlusion_strength (1f), opacity (1f), alpha_mode (1f: 0 opaque, 1 mask, 2 blend),
  *   alpha_cutoff (1f), double_sided (1f: 0 or 1), and the textures base_color_texture,
  *   metallic_roughness_texture (blue metallic, green roughness), normal_texture,
