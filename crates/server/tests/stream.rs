@@ -236,3 +236,37 @@ async fn a_message_within_the_body_limit_gets_an_answer_however_large_its_frame(
     assert_eq!(reply["type"], "error", "{reply}");
     assert!(reply["error"]["message"].as_str().unwrap().contains("unknown field `padding`"), "{reply}");
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_commands_message_is_counted_as_it_is_parsed() {
+    let state = AppState::new(Config { limits: raystage_server::Limits { max_commands: 3, ..Default::default() }, ..Config::default() });
+    let app = raystage_server::router(state.clone());
+    let s = new_scene(&app).await;
+    let addr = listen(state).await;
+    let (mut socket, _) = tokio_tungstenite::connect_async(format!("ws://{addr}/scenes/{s}/stream?width=8&height=8&max_samples=1")).await.unwrap();
+    // The next reply (frames and their PNGs skipped).
+    let reply = async |socket: &mut Socket| loop {
+        if let Some(Ok(Message::Text(text))) = socket.next().await {
+            let message: Value = serde_json::from_str(text.as_str()).unwrap();
+            if message["type"] == "result" || message["type"] == "error" {
+                return message;
+            }
+        }
+    };
+    // Within the limit, the edits apply and the reply echoes the request.
+    let three = json!({ "type": "commands", "request": 5, "commands": vec![json!({ "set_camera": {} }); 3] });
+    socket.send(Message::text(three.to_string())).await.unwrap();
+    let result = reply(&mut socket).await;
+    assert_eq!((result["type"].as_str(), result["request"].as_u64(), result["results"].as_array().map(Vec::len)), (Some("result"), Some(5), Some(3)), "{result}");
+    // The fourth command ends parsing: the bytes after it, not even JSON, are never read.
+    let four = format!(r#"{{"type": "commands", "request": 6, "commands": [{}, this is not JSON"#, [r#"{"set_camera": {}}"#; 4].join(", "));
+    socket.send(Message::text(four)).await.unwrap();
+    let error = reply(&mut socket).await;
+    assert_eq!((error["type"].as_str(), error["error"]["limit"].as_str(), error["error"]["field"].as_str()), (Some("error"), Some("max_commands"), Some("commands")), "{error}");
+    // Errors inside a command still name it; unknown keys are refused as before.
+    socket.send(Message::text(r#"{"type": "commands", "commands": [{"set_camera": {"eye": [0, 0, "far"]}}]}"#)).await.unwrap();
+    assert_eq!(reply(&mut socket).await["error"]["field"], "commands[0].set_camera.eye[2]");
+    socket.send(Message::text(r#"{"type": "commands", "commands": [], "also": 1}"#)).await.unwrap();
+    assert_eq!(reply(&mut socket).await["type"], "error");
+    socket.close(None).await.unwrap();
+}

@@ -3,7 +3,7 @@
 
 mod camera;
 mod classes;
-mod commands;
+pub(crate) mod commands;
 mod frame;
 mod gltf;
 mod instances;

@@ -165,7 +165,7 @@ async fn session(socket: WebSocket, state: AppState, slot: Arc<SceneSlot>, setti
 
 /// Applies one client message; returns the reply.
 async fn handle(state: &AppState, slot: &Arc<SceneSlot>, settings: &watch::Sender<StreamSettings>, text: &str) -> ServerMessage {
-    let message: ClientMessage = match parse_json(text.as_bytes()) {
+    let message = match parse_message(text.as_bytes(), state.config().limits.max_commands) {
         Ok(m) => m,
         Err(e) => return ServerMessage::Error { request: None, error: e.detail },
     };
@@ -194,4 +194,48 @@ async fn handle(state: &AppState, slot: &Arc<SceneSlot>, settings: &watch::Sende
         Ok((results, version)) => ServerMessage::Result { request, version, results },
         Err(e) => ServerMessage::Error { request, error: e.detail },
     }
+}
+
+/// A client message. A `commands` message is read with its commands counted as they are
+/// parsed (as `POST /commands` reads a batch): the one past `max_commands` ends parsing, so that
+/// a huge message costs the memory of the limit, not of all it holds.
+fn parse_message(bytes: &[u8], max_commands: usize) -> ApiResult<ClientMessage> {
+    if message_type(bytes).as_deref() == Some("commands") {
+        let (commands, request) = crate::routes::commands::parse_commands(bytes, max_commands, true)?;
+        return Ok(ClientMessage::Commands { request, commands: commands.commands });
+    }
+    parse_json(bytes)
+}
+
+/// The `type` of a message, read without reading the rest: the fields before it are skipped
+/// unread, and reading stops at it (`None` if the message is not an object with a string
+/// `type` among valid JSON before it).
+fn message_type(bytes: &[u8]) -> Option<String> {
+    use serde::de::{Deserializer, IgnoredAny, MapAccess, Visitor};
+
+    struct TypeOnly<'a>(&'a std::cell::Cell<Option<String>>);
+
+    impl<'de> Visitor<'de> for TypeOnly<'_> {
+        type Value = ();
+
+        fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            f.write_str("a message")
+        }
+
+        fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+            while let Some(key) = map.next_key::<std::borrow::Cow<'de, str>>()? {
+                if key == "type" {
+                    self.0.set(Some(map.next_value()?));
+                    // Found: stop here rather than read the rest.
+                    return Err(serde::de::Error::custom("stop"));
+                }
+                map.next_value::<IgnoredAny>()?;
+            }
+            Ok(())
+        }
+    }
+
+    let found = std::cell::Cell::new(None);
+    let _ = serde_json::Deserializer::from_slice(bytes).deserialize_map(TypeOnly(&found));
+    found.take()
 }
