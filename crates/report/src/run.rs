@@ -303,15 +303,15 @@ fn image_size(options: &Options, aspect: Option<f32>, external: Option<&Film>) -
         return Ok((w, h, "the reference image's size"));
     }
     let aspect = aspect.unwrap_or(4.0 / 3.0) as f64;
-    let from_camera = |long: u32| if aspect >= 1.0 { (long, (long as f64 / aspect).round().max(1.0) as u32) } else { ((long as f64 * aspect).round().max(1.0) as u32, long) };
+    // The other side at the camera's aspect, at least a pixel.
+    let height_of = |w: u32| (w as f64 / aspect).round().max(1.0) as u32;
+    let width_of = |h: u32| (h as f64 * aspect).round().max(1.0) as u32;
     let (w, h, from) = match (options.width, options.height) {
         (Some(w), Some(h)) => (w, h, "given"),
-        (Some(w), None) => (w, (w as f64 / aspect).round().max(1.0) as u32, "the given width at the camera's aspect"),
-        (None, Some(h)) => ((h as f64 * aspect).round().max(1.0) as u32, h, "the given height at the camera's aspect"),
-        (None, None) => {
-            let (w, h) = from_camera(options.long_side);
-            (w, h, "the camera's aspect")
-        }
+        (Some(w), None) => (w, height_of(w), "the given width at the camera's aspect"),
+        (None, Some(h)) => (width_of(h), h, "the given height at the camera's aspect"),
+        (None, None) if aspect >= 1.0 => (options.long_side, height_of(options.long_side), "the camera's aspect"),
+        (None, None) => (width_of(options.long_side), options.long_side, "the camera's aspect"),
     };
     if w == 0 || h == 0 || w > 4096 || h > 4096 {
         return Err(bad(format!("a report image of {w}x{h} pixels: each side must be in 1..=4096")));
