@@ -55,3 +55,46 @@ async fn lights_as_answered_match_their_schema_and_a_plain_request_for_a_stream_
     let (status, error) = call(&app, "GET", &format!("/scenes/{s}/stream"), json!(null)).await;
     assert_eq!((status, error["error"]["field"].as_str()), (StatusCode::BAD_REQUEST, Some("upgrade")), "{error}");
 }
+
+#[test]
+fn every_array_of_numbers_has_its_length() {
+    let description: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../api/openapi.json")).unwrap()).unwrap();
+    // Every array whose items are numbers is a fixed-size one (a vector, a colour, a matrix row,
+    // a range): the description must give its length, as the server checks it.
+    fn open(node: &serde_json::Value, path: String, found: &mut Vec<String>) {
+        match node {
+            serde_json::Value::Object(map) => {
+                let array = map.get("type").is_some_and(|t| t == "array" || t.as_array().is_some_and(|a| a.iter().any(|t| t == "array")));
+                if array && map.get("items").is_some_and(|i| i["type"] == "number") && !(map.contains_key("minItems") && map.contains_key("maxItems")) {
+                    found.push(path.clone());
+                }
+                for (key, value) in map {
+                    open(value, format!("{path}/{key}"), found);
+                }
+            }
+            serde_json::Value::Array(list) => list.iter().enumerate().for_each(|(i, v)| open(v, format!("{path}/{i}"), found)),
+            _ => {}
+        }
+    }
+    let mut found = Vec::new();
+    open(&description["components"], String::new(), &mut found);
+    assert!(found.is_empty(), "arrays of numbers without a length: {found:?}");
+    let positions = &description["components"]["schemas"]["MeshSpec"]["properties"]["positions"]["items"];
+    assert_eq!((&positions["minItems"], &positions["maxItems"]), (&serde_json::json!(3), &serde_json::json!(3)));
+}
+
+#[tokio::test]
+async fn every_class_the_description_names_is_accepted() {
+    let app = app();
+    let description = ok(&app, "GET", "/openapi.json", json!(null), StatusCode::OK).await;
+    let schemas = &description["components"]["schemas"];
+    let s = new_scene(&app).await;
+    for class in schemas["ShaderBody"]["properties"]["class"]["enum"].as_array().unwrap() {
+        ok(&app, "POST", &format!("/scenes/{s}/shaders"), json!({ "class": class }), StatusCode::CREATED).await;
+    }
+    for class in schemas["LightSpec"]["properties"]["class"]["enum"].as_array().unwrap() {
+        ok(&app, "POST", &format!("/scenes/{s}/lights"), json!({ "class": class }), StatusCode::CREATED).await;
+    }
+    assert_eq!(schemas["LightInfo"]["properties"]["class"]["enum"], schemas["LightSpec"]["properties"]["class"]["enum"]);
+    assert!(schemas["NewScene"]["properties"]["demo"]["pattern"].as_str().unwrap().contains("|museum-[0-9]+|"));
+}
