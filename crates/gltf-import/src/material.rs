@@ -89,6 +89,12 @@ pub fn shader_for(material: Option<&gltf::Material<'_>>, vertex_colors: bool) ->
             shader.params.push(("attenuation_distance", ParamValue::Float(distance.clamp(1e-6, f32::MAX))));
         }
     }
+    // KHR_materials_clearcoat, which the gltf crate does not parse: read from the raw JSON.
+    if let Some(coat) = clearcoat(m) {
+        let factor = |key: &str| coat.get(key).and_then(Value::as_f64).map_or(0.0, |v| fraction(v as f32));
+        shader.params.push(("clearcoat", ParamValue::Float(factor("clearcoatFactor"))));
+        shader.params.push(("clearcoat_roughness", ParamValue::Float(factor("clearcoatRoughnessFactor"))));
+    }
     // Checked by the importer (`read`): outside [0, 1] the file is refused.
     if let Some(cutoff) = m.alpha_cutoff() {
         shader.params.push(("alpha_cutoff", ParamValue::Float(cutoff)));
@@ -203,6 +209,11 @@ fn coordinate_set(tex_coord: u32, transform: Option<&Value>) -> u64 {
     transform.and_then(|t| t.get("texCoord")?.as_u64()).unwrap_or(tex_coord as u64)
 }
 
+/// The material's `KHR_materials_clearcoat` object, if it has one.
+fn clearcoat<'a>(material: &'a gltf::Material<'_>) -> Option<&'a Value> {
+    material.extensions()?.get("KHR_materials_clearcoat").filter(|c| c.is_object())
+}
+
 /// What `material` has that its shader does not render, one note each.
 pub fn notes(material: &gltf::Material<'_>) -> Vec<String> {
     let name = material.name().map_or_else(|| format!("material {}", material.index().map_or(-1, |i| i as i64)), |n| format!("material `{n}`"));
@@ -229,6 +240,10 @@ pub fn notes(material: &gltf::Material<'_>) -> Vec<String> {
         (material.specular().is_some_and(|s| s.specular_texture().is_some() || s.specular_color_texture().is_some() || s.specular_color_factor() != [1.0; 3]), "its specular colour and textures"),
         (material.transmission().is_some_and(|t| t.transmission_texture().is_some()), "its transmission texture (the factor alone is rendered)"),
         (material.volume().is_some_and(|v| v.thickness_texture().is_some()), "its thickness texture (the path length inside comes from the geometry)"),
+        (
+            clearcoat(material).is_some_and(|c| ["clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"].iter().any(|t| c.get(*t).is_some())),
+            "its clearcoat textures (the factors alone are rendered)",
+        ),
     ] {
         if present {
             left_out.push(what.to_string());

@@ -354,6 +354,27 @@ fn transmission_and_volume_map_to_the_physically_based_class() {
     }
 }
 
+/// KHR_materials_clearcoat (which the gltf crate does not parse) comes through as the coat's
+/// weight and roughness; its textures are a note.
+#[test]
+fn clearcoat_maps_to_the_coat_of_the_physically_based_class() {
+    let paint = json!({
+        "name": "paint",
+        "pbrMetallicRoughness": { "baseColorFactor": [0.6, 0.05, 0.05, 1], "metallicFactor": 0.2 },
+        "extensions": { "KHR_materials_clearcoat": { "clearcoatFactor": 0.8, "clearcoatRoughnessFactor": 0.1 } }
+    });
+    let textured = json!({ "extensions": { "KHR_materials_clearcoat": { "clearcoatFactor": 1, "clearcoatTexture": { "index": 0 } } } });
+    let none = json!({});
+    for (material, coat, roughness, noted) in [(paint, 0.8, 0.1, false), (textured, 1.0, 0.0, true), (none, 0.0, 0.0, false)] {
+        let file = import(&quad_gltf(Some(data_uri(&quad_buffer())), json!([material]), json!([{ "mesh": 0 }]))).unwrap();
+        assert_eq!(file.notes().iter().any(|n| n.contains("clearcoat textures")), noted, "{:?}", file.notes());
+        let mut scene = Scene::new();
+        let added = file.add_to(&mut scene).unwrap();
+        let shader = scene.shader(added.shaders[0]).unwrap();
+        assert_eq!((shader.get("clearcoat"), shader.get("clearcoat_roughness")), (Some(ParamValue::Float(coat)), Some(ParamValue::Float(roughness))));
+    }
+}
+
 /// What a material has that raystage does not render yet is said, once per material, by name.
 #[test]
 fn what_a_material_leaves_out_is_a_note() {

@@ -55,7 +55,12 @@ pub(crate) enum Bsdf {
     /// transmits the rest through the same GGX microfacets, tinted by `base`. A `thin` wall
     /// transmits the reflection lobe mirrored through the surface (no bending, no medium
     /// entered); otherwise the light refracts by Walter et al.'s BTDF.
-    PhysicallyBased { base: Vec3, metallic: f32, alpha: f32, f0: f32, f90: f32, transmission: f32, eta: f32, thin: bool },
+    ///
+    /// With `coat` (glTF's KHR_materials_clearcoat), a smooth-to-rough dielectric coat of index
+    /// 1.5 and GGX roughness `coat_alpha` lies over all of it: it reflects `coat` × its Schlick
+    /// Fresnel and lets the rest through to what is under it, on the way in and on the way out
+    /// (so that the coupling stays reciprocal and within its light).
+    PhysicallyBased { base: Vec3, metallic: f32, alpha: f32, f0: f32, f90: f32, transmission: f32, eta: f32, thin: bool, coat: f32, coat_alpha: f32 },
 }
 
 impl Bsdf {
@@ -68,6 +73,15 @@ impl Bsdf {
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         if wo.z <= 0.0 || wi.z == 0.0 {
             return Vec3::ZERO;
+        }
+        if let Some((under, coat, coat_alpha)) = self.coated() {
+            let through = (1.0 - coat * coat_fresnel(wo.z)) * (1.0 - coat * coat_fresnel(wi.z.abs()));
+            let mut value = under.eval(wo, wi) * through;
+            if wi.z > 0.0 {
+                let h = (wo + wi).normalize();
+                value += Vec3::splat(coat * coat_fresnel(wo.dot(h)) * ggx_d(h, coat_alpha) * smith_height_correlated(wo, wi, coat_alpha) * wi.z);
+            }
+            return value;
         }
         if wi.z < 0.0 {
             return self.transmitted(wo, wi);
@@ -109,6 +123,16 @@ impl Bsdf {
         if wo.z <= 0.0 || wi.z == 0.0 {
             return 0.0;
         }
+        if let Some((under, coat, coat_alpha)) = self.coated() {
+            let p = coat_probability(coat, wo.z);
+            let lobe = if wi.z > 0.0 {
+                let h = (wo + wi).normalize();
+                ggx_d(h, coat_alpha) * smith_g1(wo, coat_alpha) / (4.0 * wo.z)
+            } else {
+                0.0
+            };
+            return p * lobe + (1.0 - p) * under.pdf(wo, wi);
+        }
         if wi.z < 0.0 {
             return self.transmission_pdf(wo, wi);
         }
@@ -138,6 +162,21 @@ impl Bsdf {
 
     /// Samples a direction for `wo` from two uniform numbers (and a third for choosing a lobe).
     pub fn sample(&self, wo: Vec3, u: [f32; 2], choose: f32) -> Option<BsdfSample> {
+        if let Some((under, coat, coat_alpha)) = self.coated() {
+            if wo.z <= 0.0 {
+                return None;
+            }
+            // The coat's lobe by its share of the light, else what lies under it (the lobe
+            // number stretched back over [0, 1)); the weight over the whole density.
+            let p = coat_probability(coat, wo.z);
+            let wi = if choose < p {
+                Some(reflect(wo, sample_visible_normal(wo, coat_alpha, u))).filter(|wi| wi.z > 0.0)?
+            } else {
+                under.sample(wo, u, ((choose - p) / (1.0 - p)).min(1.0 - f32::EPSILON))?.wi
+            };
+            let pdf = self.pdf(wo, wi);
+            return (pdf > 0.0).then(|| BsdfSample { wi, weight: self.eval(wo, wi) / pdf, pdf, transmitted: wi.z < 0.0 });
+        }
         match *self {
             Bsdf::Lambert { albedo } => {
                 if wo.z <= 0.0 {
@@ -322,9 +361,9 @@ impl Bsdf {
     /// 1, where the refraction lobe would collapse to a delta the BTDF cannot evaluate.
     pub fn across(self, eta: f32) -> Bsdf {
         match self {
-            Bsdf::PhysicallyBased { base, metallic, alpha, f0, f90, transmission, thin, .. } if transmission > 0.0 => {
+            Bsdf::PhysicallyBased { base, metallic, alpha, f0, f90, transmission, thin, coat, coat_alpha, .. } if transmission > 0.0 => {
                 let eta = if (eta - 1.0).abs() >= MIN_INDEX_CONTRAST { eta } else if eta >= 1.0 { 1.0 + MIN_INDEX_CONTRAST } else { 1.0 - MIN_INDEX_CONTRAST };
-                Bsdf::PhysicallyBased { base, metallic, alpha, f0, f90, transmission, eta, thin }
+                Bsdf::PhysicallyBased { base, metallic, alpha, f0, f90, transmission, eta, thin, coat, coat_alpha }
             }
             other => other,
         }
@@ -355,6 +394,34 @@ impl Bsdf {
         let (layer_f0, layer_f90) = layer(base, metallic, f0, f90);
         (layer_f90.max_element() > 0.0).then(|| (Bsdf::Glossy { reflectance: layer_f0, alpha }, self.layer_reflectance(cos_o) * (1.0 - alpha.sqrt())))
     }
+}
+
+impl Bsdf {
+    /// A coated physically based function as what lies under its coat, the coat's weight and
+    /// its α; `None` for any other function.
+    fn coated(&self) -> Option<(Bsdf, f32, f32)> {
+        match *self {
+            Bsdf::PhysicallyBased { coat, coat_alpha, .. } if coat > 0.0 => {
+                let mut under = *self;
+                if let Bsdf::PhysicallyBased { coat, .. } = &mut under {
+                    *coat = 0.0;
+                }
+                Some((under, coat, coat_alpha))
+            }
+            _ => None,
+        }
+    }
+}
+
+/// The clearcoat's Fresnel reflectance at `cos` (Schlick's, index 1.5: 4 % head-on).
+fn coat_fresnel(cos: f32) -> f32 {
+    fresnel_schlick(Vec3::splat(0.04), Vec3::ONE, cos).x
+}
+
+/// Probability that a sample of a coated function picks the coat: its reflectance at `wo`, at
+/// least a tenth of its weight so that its highlight is found even head-on.
+fn coat_probability(coat: f32, cos_o: f32) -> f32 {
+    (coat * coat_fresnel(cos_o)).max(0.1 * coat).min(0.9)
 }
 
 /// Probability that a Phong sample picks the specular lobe: its share of the reflectance.
@@ -522,7 +589,7 @@ mod tests {
 
     /// An opaque physically based surface.
     fn opaque(base: Vec3, metallic: f32, alpha: f32, f0: f32, f90: f32) -> Bsdf {
-        Bsdf::PhysicallyBased { base, metallic, alpha, f0, f90, transmission: 0.0, eta: 1.0 / 1.5, thin: false }
+        Bsdf::PhysicallyBased { base, metallic, alpha, f0, f90, transmission: 0.0, eta: 1.0 / 1.5, thin: false, coat: 0.0, coat_alpha: 0.01 }
     }
 
     /// The metallic × roughness corners and middle of the physically based BRDF.
@@ -533,13 +600,24 @@ mod tests {
                 grid.push(opaque(Vec3::new(0.9, 0.7, 0.4), metallic, roughness * roughness, 0.04, 1.0));
             }
         }
+        // Clearcoated: a smooth and a rough coat over a rough dielectric and a metal.
+        grid.push(coated(opaque(Vec3::new(0.9, 0.7, 0.4), 0.0, 0.25, 0.04, 1.0), 0.01));
+        grid.push(coated(opaque(Vec3::new(0.9, 0.7, 0.4), 1.0, 0.25, 0.04, 1.0), 0.25));
         grid
+    }
+
+    /// `bsdf` under a full clearcoat of microfacet α `coat_alpha`.
+    fn coated(mut bsdf: Bsdf, coat_alpha: f32) -> Bsdf {
+        if let Bsdf::PhysicallyBased { coat, coat_alpha: a, .. } = &mut bsdf {
+            (*coat, *a) = (1.0, coat_alpha);
+        }
+        bsdf
     }
 
     /// A transmitting physically based surface of index 1.5 (`eta` the side of `wo` over the
     /// other).
     fn transmitting(base: Vec3, metallic: f32, roughness: f32, transmission: f32, eta: f32, thin: bool) -> Bsdf {
-        Bsdf::PhysicallyBased { base, metallic, alpha: (roughness * roughness).max(1e-3), f0: 0.04, f90: 1.0, transmission, eta, thin }
+        Bsdf::PhysicallyBased { base, metallic, alpha: (roughness * roughness).max(1e-3), f0: 0.04, f90: 1.0, transmission, eta, thin, coat: 0.0, coat_alpha: 0.01 }
     }
 
     /// Transmitting surfaces: thin walls and volume boundaries seen from outside and inside,
@@ -608,7 +686,9 @@ mod tests {
     fn physically_based_is_reciprocal_bounded_and_normalised() {
         let white = |metallic: f32, roughness: f32| opaque(Vec3::ONE, metallic, roughness * roughness, 0.04, 1.0);
         for wo in [Vec3::new(0.1, 0.2, 0.95), Vec3::new(0.6, -0.3, 0.5), Vec3::new(-0.9, 0.1, 0.2)].map(Vec3::normalize) {
-            for bsdf in physically_based_grid().into_iter().chain([white(0.0, 0.3), white(1.0, 0.3), white(0.0, 1.0), white(1.0, 1.0)]) {
+            // White under a coat: the coat reflects what it does not let through, never more.
+            let coated_white = [coated(white(0.0, 0.3), 0.09), coated(white(1.0, 0.2), 0.25)];
+            for bsdf in physically_based_grid().into_iter().chain([white(0.0, 0.3), white(1.0, 0.3), white(0.0, 1.0), white(1.0, 1.0)]).chain(coated_white) {
                 let wi = Vec3::new(0.3, 0.5, 0.6).normalize();
                 let (a, b) = (bsdf.eval(wo, wi) / wi.z, bsdf.eval(wi, wo) / wo.z);
                 assert!((a - b).abs().max_element() <= 1e-4 * (1.0 + a.max_element()), "{bsdf:?}: {a} vs {b}");
@@ -623,8 +703,9 @@ mod tests {
                 let m = 256;
                 let given = (0..m * m).filter(|i| bsdf.sample(wo, [((i % m) as f32 + 0.5) / m as f32, ((i / m) as f32 + 0.5) / m as f32], ((i * 7919) % (m * m)) as f32 / (m * m) as f32).is_some()).count();
                 let given = given as f32 / (m * m) as f32;
-                if let Bsdf::PhysicallyBased { alpha, .. } = bsdf
+                if let Bsdf::PhysicallyBased { alpha, coat, coat_alpha, .. } = bsdf
                     && alpha >= 0.09
+                    && (coat == 0.0 || coat_alpha >= 0.09)
                 {
                     assert!((total - given).abs() < 0.02, "{bsdf:?} at {wo}: density integrates to {total}, {given} of the samples given");
                 }

@@ -309,6 +309,8 @@ impl<'f> Resolved<'f> {
                         transmission,
                         eta: 1.0,
                         thin,
+                        coat: shader.float("clearcoat"),
+                        coat_alpha: shader.float("clearcoat_roughness").powi(2).max(MIN_ALPHA),
                     }
                     // Entering from air, until a path says which media the boundary separates.
                     .across(1.0 / ior),
@@ -377,7 +379,7 @@ impl<'f> Resolved<'f> {
         m.bsdf = match m.bsdf {
             Some(Bsdf::Lambert { .. }) => Some(Bsdf::Lambert { albedo: m.albedo }),
             Some(Bsdf::Phong { specular, exponent, .. }) => Some(Bsdf::Phong { diffuse: m.albedo, specular, exponent }),
-            Some(Bsdf::PhysicallyBased { metallic, alpha, f0, f90, transmission, eta, thin, .. }) => {
+            Some(Bsdf::PhysicallyBased { metallic, alpha, f0, f90, transmission, eta, thin, coat, coat_alpha, .. }) => {
                 // glTF: blue is metalness, green roughness, each scaling its factor.
                 let (metallic, alpha) = match self.slots().metallic_roughness {
                     Some((t, roughness)) => {
@@ -386,7 +388,7 @@ impl<'f> Resolved<'f> {
                     }
                     None => (metallic, alpha),
                 };
-                Some(Bsdf::PhysicallyBased { base: m.albedo, metallic, alpha, f0, f90, transmission, eta, thin })
+                Some(Bsdf::PhysicallyBased { base: m.albedo, metallic, alpha, f0, f90, transmission, eta, thin, coat, coat_alpha })
             }
             other => other,
         };
@@ -410,7 +412,7 @@ mod tests {
         let texture = Texture::Image(Image::new(2, 1, vec![Vec3::new(0.0, 0.2, 1.0), Vec3::new(0.0, 1.0, 0.0)]).unwrap().into());
         let base = Material {
             model: ShadingModel::PhysicallyBased,
-            bsdf: Some(Bsdf::PhysicallyBased { base: Vec3::ONE, metallic: 1.0, alpha: 0.25, f0: 0.04, f90: 1.0, transmission: 0.0, eta: 1.0 / 1.5, thin: true }),
+            bsdf: Some(Bsdf::PhysicallyBased { base: Vec3::ONE, metallic: 1.0, alpha: 0.25, f0: 0.04, f90: 1.0, transmission: 0.0, eta: 1.0 / 1.5, thin: true, coat: 0.0, coat_alpha: 0.01 }),
             albedo: Vec3::ONE,
             emission: Vec3::ZERO,
             ior: 1.0,

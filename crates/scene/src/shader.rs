@@ -143,7 +143,7 @@ const fn joined<const N: usize>(own: &[ParamDecl], slots: &[[ParamDecl; SLOT_PAR
 }
 
 /// `PhysicallyBased`'s parameters other than its texture slots.
-const PHYSICALLY_BASED_OWN: [ParamDecl; 16] = [
+const PHYSICALLY_BASED_OWN: [ParamDecl; 18] = [
     ParamDecl { name: "base_color", default: ParamValue::Color(Vec3::ONE), range: FRACTION, choices: ANY, doc: "Base colour, linear RGB: the diffuse albedo of a dielectric, the reflectance of a metal." },
     ParamDecl { name: "metallic", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "0 for a dielectric, 1 for a metal, blended between." },
     ParamDecl { name: "roughness", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "Perceptual roughness in [0, 1]; the microfacets' α is its square." },
@@ -153,6 +153,8 @@ const PHYSICALLY_BASED_OWN: [ParamDecl; 16] = [
     ParamDecl { name: "attenuation_color", default: ParamValue::Color(Vec3::ONE), range: FRACTION, choices: ANY, doc: "The colour white light turns into after `attenuation_distance` inside a volume (Beer–Lambert); white: no absorption. Ignored for thin walls." },
     ParamDecl { name: "attenuation_distance", default: ParamValue::Float(1.0), range: [1e-6, f32::MAX], choices: ANY, doc: "The distance, in world units, after which light inside a volume has the colour `attenuation_color`." },
     ParamDecl { name: "specular", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "Scales the dielectric's specular reflection (glTF's KHR_materials_specular factor): 0 leaves a pure Lambertian base." },
+    ParamDecl { name: "clearcoat", default: ParamValue::Float(0.0), range: FRACTION, choices: ANY, doc: "The weight of a clear dielectric coat (index 1.5) over the whole material, as car paint or varnish has (glTF's KHR_materials_clearcoat factor); 0: none. Rendered by the path tracer; Whitted's and Cook's integrators show what is under it." },
+    ParamDecl { name: "clearcoat_roughness", default: ParamValue::Float(0.0), range: FRACTION, choices: ANY, doc: "The coat's perceptual roughness in [0, 1] (its microfacets' α is the square): 0 a mirror-smooth coat." },
     ParamDecl { name: "emissive", default: ParamValue::Color(Vec3::ZERO), range: NON_NEGATIVE, choices: ANY, doc: "Emitted radiance, linear RGB (glTF's emissive factor × strength): an emitting surface is a light." },
     ParamDecl { name: "normal_scale", default: ParamValue::Float(1.0), range: ANY_FINITE, choices: ANY, doc: "Scales the X and Y of `normal_texture`'s normals (glTF's normalTexture.scale): 0 flattens the map." },
     ParamDecl { name: "occlusion_strength", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "How much `occlusion_texture` darkens: 0 not at all, 1 fully (glTF's occlusionTexture.strength)." },
