@@ -397,6 +397,18 @@ impl Bsdf {
 }
 
 impl Bsdf {
+    /// What Whitted's and Cook's recursions trace for a coated physically based function seen
+    /// at `cos_o` from its normal, as [`Bsdf::specular_layer`] gives for the layer under it:
+    /// the coat as a GGX dielectric of its roughness (Schlick's Fresnel from 4 %), the coat's
+    /// weight, Whitted's one mirror ray's weight before it (the coat's Fresnel reflectance faded
+    /// out with roughness), and the share of light the coat lets through to what is under it.
+    /// `None` without a coat.
+    pub fn coat_layer(&self, cos_o: f32) -> Option<(Bsdf, f32, f32, f32)> {
+        let (_, coat, coat_alpha) = self.coated()?;
+        let reflectance = coat_fresnel(cos_o);
+        Some((Bsdf::Glossy { reflectance: Vec3::splat(0.04), alpha: coat_alpha }, coat, reflectance * (1.0 - coat_alpha.sqrt()), 1.0 - coat * reflectance))
+    }
+
     /// A coated physically based function as what lies under its coat, the coat's weight and
     /// its α; `None` for any other function.
     fn coated(&self) -> Option<(Bsdf, f32, f32)> {

@@ -44,3 +44,35 @@ fn a_coat_adds_its_highlight_and_dims_the_paint_by_what_it_reflects() {
         assert!(film.pixels().iter().all(|p| p.is_finite()) && stats.non_finite == 0, "{integrator:?}");
     }
 }
+
+/// Whitted's and Cook's recursions reflect the scene in the coat: a black paint before a white
+/// wall (behind the camera) shows the wall in its coat, as the path tracer does.
+#[test]
+fn the_recursive_integrators_reflect_the_scene_in_the_coat() {
+    let scene = |coat: f32| {
+        let mut scene = sphere_scene(
+            "PhysicallyBased",
+            &[
+                ("base_color", ParamValue::Color(Vec3::splat(0.0))),
+                ("metallic", ParamValue::Float(0.0)),
+                ("roughness", ParamValue::Float(1.0)),
+                ("specular", ParamValue::Float(0.0)),
+                ("clearcoat", ParamValue::Float(coat)),
+                ("clearcoat_roughness", ParamValue::Float(0.0)),
+            ],
+        );
+        let white = common::shader(&mut scene, "Constant", &[("color", ParamValue::Color(Vec3::ONE))]);
+        common::place(&mut scene, raystage_demo::shading::box_mesh(Vec3::new(-20.0, -20.0, 9.0), Vec3::new(20.0, 20.0, 10.0)), white);
+        scene
+    };
+    // The path tracer picks the coat's lobe in a tenth of its samples: enough of them to see 4 %.
+    let centre = |integrator: Integrator, coat: f32| {
+        let spp = if integrator == Integrator::Path { 1024 } else { 16 };
+        render_with(&scene(coat), integrator, 9, 9, spp).0.pixel(4, 4)
+    };
+    for integrator in [Integrator::Whitted, Integrator::Distribution, Integrator::Path] {
+        let (bare, coated) = (centre(integrator, 0.0), centre(integrator, 1.0));
+        // Head-on, the coat reflects 4 % of the white wall.
+        assert!(bare.max_element() < 0.005 && (coated - Vec3::splat(0.04)).abs().max_element() < 0.01, "{integrator:?}: {coated} against {bare}");
+    }
+}

@@ -34,7 +34,7 @@ pub extern "C" fn rtGenShaderClasses(n: RTsizei) -> RTuint {
 ///   refracted instead of diffusely reflected), thickness (1f: 0 a thin wall, else a volume
 ///   whose path length the geometry gives), attenuation_color (3f) and attenuation_distance (1f,
 ///   world units: the colour white light turns inside a volume after that distance), clearcoat
-///   and clearcoat_roughness (1f: a clear coat of index 1.5 over it all, path tracer only),
+///   and clearcoat_roughness (1f: a clear coat of index 1.5 over it all),
 ///   emissive (3f, radiance), normal_scale (1f),
 ///   occlusion_strength (1f), opacity (1f), alpha_mode (1f: 0 opaque, 1 mask, 2 blend),
 ///   alpha_cutoff (1f), double_sided (1f: 0 or 1), and the textures base_color_texture,

@@ -137,12 +137,21 @@ impl<const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED: bool> Recursio
                 let bsdf = media.bsdf(hit).expect("physically based materials scatter");
                 let emitted = t.surface_emission(ray, hit, seen);
                 let direct = t.direct(hit, &bsdf, wo, self.time, self.known(depth), self.sampler, self.rays);
-                let reflected = match bsdf.specular_layer(wo.dot(hit.surface.shading_normal)) {
+                let cos_o = wo.dot(hit.surface.shading_normal);
+                let reflected = match bsdf.specular_layer(cos_o) {
                     Some((layer, mirror)) if REFLECT && deeper => self.glossy_reflection(hit, &layer, mirror, wo, media, depth, weight),
                     _ => Vec3::ZERO,
                 };
                 let transmitted = if REFRACT && deeper && bsdf.transmits() { self.transmission(hit, &bsdf, wo, media, depth, weight) } else { Vec3::ZERO };
-                emitted + direct + reflected + transmitted
+                // A clear coat reflects the scene too, and passes on the rest to what is under it.
+                let (coat_reflected, under) = match bsdf.coat_layer(cos_o) {
+                    Some((lobe, coat, mirror, under)) if REFLECT && deeper => {
+                        (coat * self.glossy_reflection(hit, &lobe, Vec3::splat(mirror), wo, media, depth, weight * coat), under)
+                    }
+                    Some((.., under)) => (Vec3::ZERO, under),
+                    None => (Vec3::ZERO, 1.0),
+                };
+                emitted + direct + (reflected + transmitted) * under + coat_reflected
             }
             ShadingModel::Diffuse | ShadingModel::VertexColor | ShadingModel::Phong => {
                 let bsdf = m.bsdf.expect("matte materials scatter");
