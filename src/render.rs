@@ -97,7 +97,7 @@ pub struct RenderJob {
 /// PNG, floats beside a PFM.
 fn channel_path(out: &std::path::Path, channel: Channel) -> (PathBuf, bool) {
     let linear = !matches!(OutputFormat::from_path(out), Ok(OutputFormat::Png));
-    let pfm = linear || matches!(channel, Channel::Depth | Channel::Z);
+    let pfm = linear || channel.is_distance();
     let stem = out.file_stem().map_or_else(|| "frame".into(), |s| s.to_string_lossy().into_owned());
     (out.with_file_name(format!("{stem}.{}.{}", channel.name(), if pfm { "pfm" } else { "png" })), pfm)
 }
@@ -320,10 +320,7 @@ fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Resul
     let Some((film, frame, mean_samples)) = ranks.gather(film, frame, mean_samples)? else {
         return Ok(RenderReport { triangles, threads: pool.current_num_threads(), frame });
     };
-    let channels = match job.channels.is_empty() {
-        true => Vec::new(),
-        false => pool.install(|| raystage_render::render_channels(&scene.frame(), settings.width, settings.height, &job.channels))?,
-    };
+    let channels = pool.install(|| raystage_render::render_channels(&scene.frame(), settings.width, settings.height, &job.channels))?;
     // An OpenEXR image holds its channels; other formats have them beside.
     let (encoded, beside) = match format {
         OutputFormat::Exr if !channels.is_empty() => (raystage_render::exr_with_channels(&film, job.look, &channels), Vec::new()),

@@ -119,7 +119,7 @@ impl Context {
                     thread_progress.rows.fetch_add(rows.rows().len() as u32, Ordering::Relaxed);
                 };
                 let (film, _stats) = render_rows(&frame, &settings, Some(&thread_cancel), count)?;
-                Ok((film, crate::frames::channel_images(&frame, width, height, &channels)?))
+                Ok((film, raystage_render::render_channels(&frame, width, height, &channels)?))
             })
             .map_err(|e| Error::out_of_memory(format!("cannot start a render thread: {e}")))?;
         self.async_frames.issued = handle;

@@ -7,7 +7,7 @@ use std::os::unix::ffi::OsStrExt;
 use std::ptr::NonNull;
 
 use raystage_render::{Channel, ChannelImage, Film, NO_ID, render, render_channels};
-use raystage_scene::{Frame, SceneHit};
+use raystage_scene::SceneHit;
 
 use crate::abi::enums::{
     RT_ALBEDO_CHANNEL, RT_DEPTH_CHANNEL, RT_INSTANCE_ID_CHANNEL, RT_MAX_FRAMEBUFFER_SIZE, RT_NORMAL_CHANNEL, RT_OBJECT_ID_CHANNEL,
@@ -61,13 +61,8 @@ impl FrameBuffer {
     /// valid until the frame buffer is replaced or detached (the promise `rtFrameBuffer`
     /// documents), and that nothing else writes while `rtSwapBuffers` runs.
     pub unsafe fn new(pixels: NonNull<u8>, width: usize, height: usize, format: PixelFormat) -> Result<FrameBuffer, Error> {
-        let size = 1..=RT_MAX_FRAMEBUFFER_SIZE;
-        if !size.contains(&width) || !size.contains(&height) {
-            return Err(Error::invalid_value(format!(
-                "a frame buffer of {width} × {height} pixels; each side must be 1 to {RT_MAX_FRAMEBUFFER_SIZE}"
-            )));
-        }
-        Ok(FrameBuffer { pixels, width: width as u32, height: height as u32, format })
+        let (width, height) = lent_size("a frame buffer", width, height)?;
+        Ok(FrameBuffer { pixels, width, height, format })
     }
 
     /// Writes `film` (of the same size) into the application's memory.
@@ -87,6 +82,16 @@ impl FrameBuffer {
             }
         }
     }
+}
+
+/// The size of memory lent for frames (`what`), checked: each side 1 to
+/// `RT_MAX_FRAMEBUFFER_SIZE`.
+fn lent_size(what: &str, width: usize, height: usize) -> Result<(u32, u32), Error> {
+    let size = 1..=RT_MAX_FRAMEBUFFER_SIZE;
+    if !size.contains(&width) || !size.contains(&height) {
+        return Err(Error::invalid_value(format!("{what} of {width} × {height} pixels; each side must be 1 to {RT_MAX_FRAMEBUFFER_SIZE}")));
+    }
+    Ok((width as u32, height as u32))
 }
 
 /// The channel named by an `RT_*_CHANNEL` constant.
@@ -119,11 +124,8 @@ impl ChannelBuffer {
     /// # Safety
     /// As [`FrameBuffer::new`]'s, for `width × height × components × 4` bytes.
     pub unsafe fn new(channel: Channel, data: NonNull<u8>, width: usize, height: usize) -> Result<ChannelBuffer, Error> {
-        let size = 1..=RT_MAX_FRAMEBUFFER_SIZE;
-        if !size.contains(&width) || !size.contains(&height) {
-            return Err(Error::invalid_value(format!("a channel buffer of {width} × {height} pixels; each side must be 1 to {RT_MAX_FRAMEBUFFER_SIZE}")));
-        }
-        Ok(ChannelBuffer { channel, data, width: width as u32, height: height as u32 })
+        let (width, height) = lent_size("a channel buffer", width, height)?;
+        Ok(ChannelBuffer { channel, data, width, height })
     }
 
     /// Writes `image` (of the same channel and size) into the application's memory: floats, or
@@ -167,7 +169,7 @@ impl Context {
         let settings = self.rendering.settings(&frame, width, height);
         // The settings were checked as they were set, and the size as the frame buffer was lent.
         let (film, _stats) = render(&frame, &settings).map_err(|e| Error::internal(e.to_string()))?;
-        let channels = channel_images(&frame, width, height, &wanted).map_err(|e| Error::internal(e.to_string()))?;
+        let channels = render_channels(&frame, width, height, &wanted).map_err(|e| Error::internal(e.to_string()))?;
         self.deliver(film, channels);
         Ok(())
     }
@@ -249,12 +251,4 @@ impl Context {
     fn frame_buffer(&self) -> Result<&FrameBuffer, Error> {
         self.frames.target.as_ref().ok_or_else(|| Error::invalid_operation("no frame buffer: call rtFrameBuffer first"))
     }
-}
-
-/// The channel images of a frame, none if no channel is wanted.
-pub(crate) fn channel_images(frame: &Frame<'_>, width: u32, height: u32, wanted: &[Channel]) -> Result<Vec<ChannelImage>, raystage_render::Error> {
-    if wanted.is_empty() {
-        return Ok(Vec::new());
-    }
-    render_channels(frame, width, height, wanted)
 }

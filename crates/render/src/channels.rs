@@ -62,6 +62,11 @@ impl Channel {
         matches!(self, Channel::Instance | Channel::Object | Channel::Primitive)
     }
 
+    /// Whether it has no 8-bit form ([`ChannelImage::png`] refuses it): distances, unbounded.
+    pub fn is_distance(self) -> bool {
+        matches!(self, Channel::Depth | Channel::Z)
+    }
+
     /// Values per pixel: 3 for normals and albedo, 1 for the rest.
     pub fn components(self) -> usize {
         match self {
@@ -110,12 +115,16 @@ struct FirstHit {
 
 const MISSED: FirstHit = FirstHit { depth: f32::INFINITY, z: f32::INFINITY, normal: Vec3::ZERO, albedo: Vec3::ZERO, ids: [NO_ID; 3] };
 
-/// `channels` of a `width × height` image of `frame`, rows traced in parallel.
+/// `channels` of a `width × height` image of `frame`, rows traced in parallel (no ray at all
+/// for no channel).
 pub fn render_channels(frame: &Frame<'_>, width: u32, height: u32, channels: &[Channel]) -> Result<Vec<ChannelImage>, Error> {
     for (field, value) in [("width", width), ("height", height)] {
         if !(1..=MAX_DIMENSION).contains(&value) {
             return Err(Error::Setting { field, message: format!("{value} is not in 1..={MAX_DIMENSION}") });
         }
+    }
+    if channels.is_empty() {
+        return Ok(Vec::new());
     }
     let settings = RenderSettings { width, height, ..RenderSettings::default() };
     let tracer = Tracer::new(frame, &settings, 1);

@@ -258,10 +258,8 @@ pub(crate) struct Rendered {
 
 /// Renders a frame of `slot` and encodes it, waiting for a turn to render first, counting the
 /// rows finished in `rows_done`: the scene as `snapshot` holds it if given (a job renders the
-/// scene as it was when it started), else as it is when the turn comes. The render stops when the returned future is dropped (the
-/// client hung up, a render job was cancelled) or when it has run for
-/// [`Limits::max_render_seconds`] (503); either way its turn goes to the next render only once
-/// the work has stopped.
+/// scene as it was when it started), else as it is when the turn comes. See [`on_a_turn`] for
+/// when the render stops.
 pub(crate) async fn render_png(
     state: &AppState,
     slot: &Arc<SceneSlot>,
@@ -269,8 +267,36 @@ pub(crate) async fn render_png(
     request: FrameRequest,
     rows_done: Arc<AtomicU32>,
 ) -> ApiResult<Rendered> {
-    // Before waiting for a turn: a frame that cannot have its memory fails at once.
-    let memory = state.reserve_render_memory(request.width as u64 * request.height as u64 * FRAME_BYTES_PER_PIXEL)?;
+    let bytes = request.width as u64 * request.height as u64 * FRAME_BYTES_PER_PIXEL;
+    let rendered = on_a_turn(state, slot, snapshot, bytes, move |scene, version, cancel| {
+        let settings = request.settings(&scene);
+        let (png, stats, rendered, encoded) = crate::png::render_png(&scene.frame(), &settings, request.setup.look, cancel, &rows_done)?;
+        let mut report = FrameReport::new(&settings, &stats, encoded, version);
+        // The whole render, with the film's allocation and resolve, which the frame
+        // statistics leave out.
+        report.render_seconds = rendered;
+        Ok(Rendered { png, report })
+    })
+    .await?;
+    *slot.last_frame.lock().unwrap_or_else(|e| e.into_inner()) = Some(rendered.report.clone());
+    Ok(rendered)
+}
+
+/// Runs `work` on a snapshot of `slot` (`snapshot` if given, else the scene as it is when the
+/// turn comes) and its version, on a blocking thread, once `bytes` of memory for images are
+/// reserved (refused at once if they cannot be) and a turn to render has come. `work` should
+/// stop when its cancel token says so: when the returned future is dropped (the client hung up,
+/// a render job was deleted) or past [`Limits::max_render_seconds`] (503). Either way the turn
+/// and the memory go to the next render only once the work has stopped.
+pub(crate) async fn on_a_turn<T: Send + 'static>(
+    state: &AppState,
+    slot: &Arc<SceneSlot>,
+    snapshot: Option<(Arc<Scene>, u64)>,
+    bytes: u64,
+    work: impl FnOnce(Arc<Scene>, u64, &Cancel) -> ApiResult<T> + Send + 'static,
+) -> ApiResult<T> {
+    // Before waiting for a turn: work that cannot have its memory fails at once.
+    let memory = state.reserve_render_memory(bytes)?;
     let turn = state.render_permit().await;
     let (scene, version) = match snapshot {
         Some(snapshot) => snapshot,
@@ -278,21 +304,13 @@ pub(crate) async fn render_png(
     };
     let cancel = CancelOnDrop(Cancel::new());
     let token = cancel.0.clone();
-    let work = tokio::task::spawn_blocking(move || -> ApiResult<Rendered> {
+    let task = tokio::task::spawn_blocking(move || {
         let _running = turn.running();
         let _memory = memory;
-        let settings = request.settings(&scene);
-        let (png, stats, rendered, encoded) = crate::png::render_png(&scene.frame(), &settings, request.setup.look, &token, &rows_done)?;
-        let mut report = FrameReport::new(&settings, &stats, encoded, version);
-        // The whole render, with the film's allocation and resolve, which the frame
-        // statistics leave out.
-        report.render_seconds = rendered;
-        Ok(Rendered { png, report })
+        work(scene, version, &token)
         // The turn is dropped here, when the work has stopped, and not when the client goes.
     });
-    let rendered = within_budget(&state.config().limits, work).await??;
-    *slot.last_frame.lock().unwrap_or_else(|e| e.into_inner()) = Some(rendered.report.clone());
-    Ok(rendered)
+    within_budget(&state.config().limits, task).await?
 }
 
 /// Waits for a render's blocking task for at most [`Limits::max_render_seconds`]: past it, 503

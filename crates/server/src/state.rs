@@ -273,13 +273,13 @@ impl SceneSlot {
         tokio::task::spawn_blocking(move || {
             let before = guard.clone();
             let (result, changed) = edit(&mut guard)?;
-            let (old, new) = (slot.bytes.load(Ordering::Acquire), guard.memory_bytes());
-            if let Err(e) = slot.budget.change(old, new) {
-                *guard = before;
-                return Err(e);
-            }
-            slot.bytes.store(new, Ordering::Release);
             if changed {
+                let (old, new) = (slot.bytes.load(Ordering::Acquire), guard.memory_bytes());
+                if let Err(e) = slot.budget.change(old, new) {
+                    *guard = before;
+                    return Err(e);
+                }
+                slot.bytes.store(new, Ordering::Release);
                 slot.version.send_modify(|v| *v += 1);
             }
             Ok((result, *slot.version.borrow()))

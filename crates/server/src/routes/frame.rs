@@ -10,7 +10,7 @@ use utoipa::{IntoParams, ToSchema};
 
 use crate::error::{ApiError, ApiResult, ErrorBody};
 use crate::extract::{Params, Target};
-use crate::render::{FrameQuery, FrameRequest, render_png, within_budget};
+use crate::render::{FrameQuery, FrameRequest, on_a_turn, render_png};
 use crate::state::AppState;
 
 /// Renders a frame as PNG. The statistics come as headers: `x-render-seconds`,
@@ -85,26 +85,23 @@ pub(crate) async fn channel(
     let request = FrameRequest { width: q.width.unwrap_or(640), height: q.height.unwrap_or(360), spp: 1, integrator: None, setup: Default::default() };
     request.check(&state.config().limits)?;
     let pfm = match q.format.as_deref() {
-        None => matches!(channel, Channel::Depth | Channel::Z),
+        None => channel.is_distance(),
         Some("pfm") => true,
-        Some("png") if matches!(channel, Channel::Depth | Channel::Z) => {
+        Some("png") if channel.is_distance() => {
             return Err(ApiError::unprocessable(Some("format".into()), format!("the {name} channel has no PNG form: ask for pfm")));
         }
         Some("png") => false,
         Some(other) => return Err(ApiError::unprocessable(Some("format".into()), format!("format `{other}` is not png or pfm"))),
     };
-    let memory = state.reserve_render_memory(request.width as u64 * request.height as u64 * CHANNEL_BYTES_PER_PIXEL)?;
-    let turn = state.render_permit().await;
-    let (scene, _) = target.scene.snapshot().await;
-    let work = tokio::task::spawn_blocking(move || -> ApiResult<Vec<u8>> {
-        let _running = turn.running();
-        let _memory = memory;
+    let memory = request.width as u64 * request.height as u64 * CHANNEL_BYTES_PER_PIXEL;
+    // One ray a pixel: short enough that it runs to the end once started.
+    let bytes = on_a_turn(&state, &target.scene, None, memory, move |scene, _, _| {
         let [image] = &raystage_render::render_channels(&scene.frame(), request.width, request.height, &[channel]).map_err(|e| ApiError::unprocessable(None, e.to_string()))?[..] else {
             return Err(ApiError::internal("one channel asked for, one rendered"));
         };
         if pfm { Ok(image.pfm()) } else { image.png().map_err(|e| ApiError::internal(e.to_string())) }
-    });
-    let bytes = within_budget(&state.config().limits, work).await??;
+    })
+    .await?;
     let content_type = if pfm { "image/x-portable-floatmap" } else { "image/png" };
     Ok(([(header::CONTENT_TYPE, content_type), (header::CACHE_CONTROL, "no-store")], bytes).into_response())
 }
