@@ -71,8 +71,9 @@ impl Ranks for Cluster {
         Share { index: self.rank(), count: self.size() }
     }
 
-    /// Every rank's `result`, agreed: `Ok` on every rank if it is `Ok` on all, else this rank's
-    /// own error, or one saying how many other ranks failed (they print their own).
+    /// Every rank's `result`, agreed: `Ok` on every rank if it is `Ok` on all, else [`Reported`]
+    /// on every rank once each has printed why it stops: its own error, or how many other ranks
+    /// failed (they print their own).
     fn agree(&self, result: Result<()>) -> Result<()> {
         let failed = u32::from(result.is_err());
         let mut failures = 0u32;
@@ -80,18 +81,19 @@ impl Ranks for Cluster {
         if failures == 0 {
             return Ok(());
         }
-        // Every failing rank says why before any rank quits: mpirun kills the rest of the job
-        // as soon as one rank exits with an error, and its message would be lost.
-        if let Err(e) = &result {
-            // One write, so that the line reaches mpirun whole (eprintln! writes in pieces).
-            let line = format!("error: rank {}: {e:#}\n", self.rank());
-            let _ = std::io::Write::write_all(&mut std::io::stderr(), line.as_bytes());
-        }
+        // Every rank says why it stops before any rank quits: mpirun kills the rest of the job
+        // as soon as one rank exits with an error, and a message printed after the barrier
+        // would be lost. The failing ranks give their error, the others the count.
+        let why = match &result {
+            Err(e) => format!("{e:#}"),
+            Ok(()) => format!("{failures} of {} MPI ranks failed (see their errors)", self.size()),
+        };
+        // One write, so that the line reaches mpirun whole (eprintln! writes in pieces).
+        let line = format!("error: rank {}: {why}\n", self.rank());
+        let _ = std::io::Write::write_all(&mut std::io::stderr(), line.as_bytes());
+        let _ = std::io::Write::flush(&mut std::io::stderr());
         self.world.barrier();
-        match result {
-            Err(_) => Err(Reported.into()),
-            Ok(()) => bail!("{failures} of {} MPI ranks failed (see their errors)", self.size()),
-        }
+        Err(Reported.into())
     }
 
     /// Puts the shares together on rank 0: every other rank sends its share's rows of `film`
