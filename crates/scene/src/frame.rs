@@ -19,10 +19,8 @@ use crate::object::Object;
 use crate::scene::{Background, Scene};
 use crate::shader::{Shader, ShadingModel};
 
-mod surfaces;
 mod visibility;
 
-pub use surfaces::SurfaceLanes;
 use visibility::Visibility;
 
 /// An instance as a frame sees it.

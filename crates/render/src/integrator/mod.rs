@@ -166,7 +166,11 @@ impl<'f> Tracer<'_, 'f> {
 
     /// What is at a hit of `ray` found elsewhere (camera rays are traced in packets).
     pub fn resolve(&self, ray: &Ray, hit: SceneHit, time: f32) -> Hit<'f> {
-        let mut surface = self.frame.surface(ray, &hit, time);
+        self.resolve_at(ray, hit, self.frame.surface(ray, &hit, time), time)
+    }
+
+    /// [`Tracer::resolve`] of a hit whose `surface` is computed already.
+    pub fn resolve_at(&self, ray: &Ray, hit: SceneHit, mut surface: SurfacePoint<'f>, time: f32) -> Hit<'f> {
         let material = self.materials.at(&surface);
         // A normal the map turns away from the viewer would shade the point black (nothing it
         // reflects reaches the viewer): the unmapped normal shades there, as where the map turns
