@@ -71,8 +71,11 @@ pub(crate) fn trace(t: &Tracer<'_, '_>, first: &FirstHits<'_>, time: f32, rays: 
         let mut owners = [0usize; PACKET_SIZE];
         let mut n = 0;
         for k in 0..out.len() {
+            if first.lit & (1 << k) == 0 {
+                continue;
+            }
             // A lit hit is a hit: its surface is there.
-            let (true, Some(surface)) = (first.lit & (1 << k) != 0, &first.surfaces[k]) else { continue };
+            let Some(surface) = &first.surfaces[k] else { continue };
             let normal = surface.geometric_normal;
             segments[n] = match delta {
                 Delta::Positional(light) => {
