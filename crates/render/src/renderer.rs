@@ -577,11 +577,7 @@ impl TileWork {
     /// 0 is written over them). A frame of one sample per pixel looks through pixel centres;
     /// with more, samples spread over the pixel by the filter.
     fn sample(&mut self, t: &Tracer<'_, '_>, camera: &CameraRays, index: u32, sums: &Sums<'_>) {
-        if through_centres(t) && previews_packets(t) {
-            self.preview_centres(t, camera);
-        } else {
-            self.trace_and_shade(t, camera, index);
-        }
+        self.trace_and_shade(t, camera, index);
         // The first sample writes every pixel over what the buffers held.
         sums.add_tile(&self.tile, &self.samples, index == 0);
     }
@@ -673,21 +669,6 @@ impl TileWork {
                 place(&mut self.samples, &self.tile, (x, y), colour, &mut self.counts.non_finite);
             }
         }
-    }
-
-    /// [`TileWork::sample`] of the eye-light preview through pixel centres: packet by packet,
-    /// each packet's camera rays made, traced, shaded and written while they are in cache.
-    fn preview_centres(&mut self, t: &Tracer<'_, '_>, camera: &CameraRays) {
-        let time = t.frame.camera().shutter[0];
-        let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); PACKET_SIZE];
-        let mut hits = [None; PACKET_SIZE];
-        for pixels in self.order.chunks(PACKET_SIZE) {
-            let n = pixels.len();
-            camera.centre_rays(pixels, &mut rays[..n]);
-            t.frame.intersect_many(&rays[..n], &mut hits[..n], time);
-            eyelight::shade(t, &rays[..n], &hits[..n], |k, colour| place(&mut self.samples, &self.tile, pixels[k], colour, &mut self.counts.non_finite));
-        }
-        self.counts.rays.primary += self.order.len() as u64;
     }
 }
 

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use glam::{Vec2, Vec3, Vec4};
-use raystage_kernel::{Aabb, BoxTree, Bvh8, Entries, PACKET_SIZE, PreparedRay, Ray, RayPacket};
+use raystage_kernel::{Aabb, BoxTree, Bvh8, Entries, PACKET_SIZE, PreparedRay, Ray};
 
 use crate::camera::Camera;
 use crate::ids::{InstanceId, ObjectId, ShaderId};
@@ -19,15 +19,9 @@ use crate::object::Object;
 use crate::scene::{Background, Scene};
 use crate::shader::{Shader, ShadingModel};
 
-mod surfaces;
 mod visibility;
 
-pub use surfaces::SurfaceLanes;
 use visibility::Visibility;
-
-/// Up to this many instances the top level is a list of boxes tested one by one: setting up a
-/// tree walk costs more than it saves.
-const LIST_TOP_LEVEL: usize = 4;
 
 /// An instance as a frame sees it.
 struct FrameInstance<'a> {
@@ -304,30 +298,8 @@ impl<'a> Frame<'a> {
         // Prepared once: instances placed by the identity trace the world ray as it is.
         let world = PreparedRay::new(ray);
         let mut best: Option<SceneHit> = None;
-        let mut visit = |item: u32, tfar: f32| self.closest_in(item, ray, &world, time, tfar, &mut best);
-        if self.instances.len() <= LIST_TOP_LEVEL {
-            // A handful of instances: their boxes nearest first, without a tree.
-            let mut entries = [(0.0f32, 0u32); LIST_TOP_LEVEL];
-            let mut n = 0;
-            for (item, b) in self.boxes.iter().enumerate() {
-                if let Some(entry) = b.intersect(&world, ray.tfar) {
-                    entries[n] = (entry, item as u32);
-                    n += 1;
-                }
-            }
-            entries[..n].sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
-            let mut tfar = ray.tfar;
-            for &(_, item) in &entries[..n] {
-                // Boxes that start beyond the closest hit are skipped, as in the tree walk (so
-                // that an object behind a wall is never built).
-                if self.boxes[item as usize].intersect(&world, tfar).is_none() {
-                    break;
-                }
-                tfar = visit(item, tfar);
-            }
-        } else {
-            self.top.closest(&world, visit);
-        }
+        let visit = |item: u32, tfar: f32| self.closest_in(item, ray, &world, time, tfar, &mut best);
+        self.top.closest(&world, visit);
         best
     }
 
@@ -416,15 +388,6 @@ impl<'a> Frame<'a> {
             // The only instance: every ray, entering at once (the object's own root test culls
             // those that miss).
             touch(0, &Entries { rays: all, entry: [f32::NEG_INFINITY; PACKET_SIZE] });
-        } else if self.instances.len() <= LIST_TOP_LEVEL {
-            let lanes = RayPacket::new(&prepared);
-            let segments: [f32; PACKET_SIZE] = std::array::from_fn(|i| rays[i].tfar);
-            for (item, b) in self.boxes.iter().enumerate() {
-                let entries = lanes.touching(b, &segments, all);
-                if entries.rays != 0 {
-                    touch(item as u32, &entries);
-                }
-            }
         } else if !self.top.touched(&prepared, touch) {
             // The rays went one by one: merge what each found of the same instance.
             merge_touched(touched);
@@ -495,11 +458,7 @@ impl<'a> Frame<'a> {
                 bvh.occluded(&placed.ray_to_object(ray))
             }
         };
-        if self.instances.len() <= LIST_TOP_LEVEL {
-            (0..self.boxes.len() as u32).any(|item| self.boxes[item as usize].intersect(&world, ray.tfar).is_some() && blocks(item))
-        } else {
-            self.top.any(&world, blocks)
-        }
+        self.top.any(&world, blocks)
     }
 
     /// Which of up to [`PACKET_SIZE`] rays are blocked in `(tnear, tfar]` at shutter time `time`:
@@ -541,7 +500,7 @@ impl<'a> Frame<'a> {
         let parallel = rays.iter().all(|r| r.dir.to_array().map(f32::to_bits) == rays[0].dir.to_array().map(f32::to_bits));
         // The rays among `live` that instance `item` blocks, `live` being exactly the rays not
         // blocked yet whose segment touches its box: those traced through it together.
-        let block = |item: u32, live: u32| -> u32 {
+        let mut block = |item: u32, live: u32| -> u32 {
             let fi = &self.instances[item as usize];
             let placed = fi.placed_at(time);
             let tree = fi.object.accel(&self.counters);
@@ -561,18 +520,14 @@ impl<'a> Frame<'a> {
             }
             tree.occluded_packet_prepared(&local[..n]) & live
         };
-        if self.instances.len() <= LIST_TOP_LEVEL {
-            let lanes = RayPacket::new(&prepared[..n]);
-            let segments: [f32; PACKET_SIZE] = std::array::from_fn(|i| rays[i.min(n - 1)].tfar);
-            let mut block = block;
-            (0..self.instances.len() as u32).fold(0, |blocked, item| {
-                let live = if blocked == all { 0 } else { lanes.touching(&self.boxes[item as usize], &segments, all & !blocked).rays };
-                if live == 0 { blocked } else { blocked | block(item, live) }
-            })
-        } else {
-            // The walk leaves the rest of the top level to the rays no instance blocked yet.
-            self.top.occluded_by(&prepared[..n], block)
+        if let [only] = &self.boxes[..] {
+            // A top level of one box is a leaf, which the walk takes ray by ray: the rays that
+            // touch it go through the instance together instead.
+            let live = (0..n).filter(|&i| only.intersect(&prepared[i], rays[i].tfar).is_some()).fold(0, |m, i| m | 1 << i);
+            return if live == 0 { 0 } else { block(0, live) };
         }
+        // The walk leaves the rest of the top level to the rays no instance blocked yet.
+        self.top.occluded_by(&prepared[..n], block)
     }
 
     /// For a packet of `rays`, prepared as `prepared`, in a frame whose only instance sits where

@@ -33,7 +33,7 @@ mod texture;
 
 pub use camera::{Camera, CameraRays, Projection};
 pub use error::SceneError;
-pub use frame::{Frame, FrameWork, PreviewAttributes, PreviewPoint, SceneHit, SurfaceLanes, SurfacePoint, WorldTriangle};
+pub use frame::{Frame, FrameWork, PreviewAttributes, PreviewPoint, SceneHit, SurfacePoint, WorldTriangle};
 pub use ids::{InstanceId, LightId, ObjectId, ShaderId, TextureId};
 pub use light::Light;
 pub use mesh::Mesh;

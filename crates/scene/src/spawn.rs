@@ -51,11 +51,6 @@ pub(crate) fn hit_point(tri: &[Vec3; 3], w: [f32; 3], placed: &Placed) -> (Vec3,
     placed_hit_point(local, local_error, placed)
 }
 
-/// The bound of the interpolated point's error: `INTERPOLATION` times the sum of the weighted
-/// vertices' magnitudes, plus `KERNEL` times the largest vertex coordinate (for
-/// [`hit_point`]'s side-by-side form in `frame::surfaces`).
-pub(crate) const ERROR_FACTORS: (f32, f32) = (INTERPOLATION, KERNEL);
-
 /// The world hit point, its object-space point and the world bound of its error, for the
 /// object-space point `local` whose error is bounded by `local_error`, on an instance placed
 /// by `placed`.

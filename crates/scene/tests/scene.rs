@@ -4,7 +4,7 @@
 use glam::{Affine3A, Quat, Vec3};
 use proptest::prelude::*;
 use raystage_kernel::Ray;
-use raystage_scene::{Camera, Frame, Mesh, ObjectId, ObjectKind, ParamValue, Scene, SceneError, SurfaceLanes};
+use raystage_scene::{Camera, Frame, Mesh, ObjectId, ObjectKind, ParamValue, Scene, SceneError};
 
 /// A square of side 2 centred at `centre` in the plane z = centre.z, facing +z.
 fn square(centre: Vec3) -> Mesh {
@@ -311,65 +311,6 @@ proptest! {
             prop_assert!((a.t - c.t).abs() <= tolerance, "t {} vs {} (cos {cos})", a.t, c.t);
             let (na, nc) = (fi.surface(&ray, &a, 0.0).geometric_normal, fb.surface(&ray, &c, 0.0).geometric_normal);
             prop_assert!(na.dot(nc) > 0.99, "normals {na} vs {nc}");
-        }
-    }
-}
-
-proptest! {
-    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
-
-    /// `Frame::surface_lanes` computes, side by side, bit for bit the geometry `Frame::surface`
-    /// computes one by one (and the same spawned origins): on instances with random transforms (mirrored ones too) of a mesh
-    /// with or without per-vertex normals, colours and texture coordinates, for packets of rays
-    /// that hit, miss, and meet triangles from the back.
-    #[test]
-    fn surfaces_of_a_packet_are_exactly_the_surfaces_one_by_one(
-        to_world in prop::collection::vec(transform(), 1..4),
-        positions in prop::collection::vec((-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0), 30..90),
-        attributes in any::<bool>(),
-        eye in (-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0),
-        spread in 0.0f32..0.5,
-    ) {
-        let positions: Vec<Vec3> = positions.iter().map(|&(x, y, z)| Vec3::new(x, y, z)).collect();
-        let n = positions.len() as u32 / 3;
-        let mut mesh = Mesh::new(positions.clone(), (0..n).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect());
-        let mut scene = Scene::new();
-        if attributes {
-            mesh.normals = positions.iter().map(|p| (*p + Vec3::splat(0.1)).normalize_or_zero()).collect();
-            mesh.colors = positions.iter().map(|p| p.abs()).collect();
-            mesh.uvs = positions.iter().map(|p| p.truncate()).collect();
-            let (a, b) = (scene.add_shader("Diffuse").unwrap(), scene.add_shader("Mirror").unwrap());
-            mesh.shaders = (0..n).map(|t| if t % 2 == 0 { a } else { b }).collect();
-        }
-        let o = scene.add_object(ObjectKind::Animated, mesh).unwrap();
-        for t in &to_world {
-            scene.add_instance(o, *t).unwrap();
-        }
-        let frame = scene.frame();
-        let eye = to_world[0].transform_point3(Vec3::new(eye.0, eye.1, eye.2) * 4.0 + Vec3::splat(5.0));
-        let centre = to_world[0].transform_point3(Vec3::ZERO);
-        for packet in 0..8u32 {
-            let rays: Vec<Ray> = (0..8u32)
-                .map(|i| {
-                    let k = (packet * 8 + i) as f32;
-                    let off = Vec3::new((k * 0.37).sin(), (k * 0.71).cos(), (k * 1.3).sin()) * spread * (centre - eye).length();
-                    Ray::new(eye, centre + off - eye)
-                })
-                .collect();
-            let mut hits = vec![None; 8];
-            frame.intersect_many(&rays, &mut hits, 0.0);
-            let mut lanes = SurfaceLanes::default();
-            frame.surface_lanes(&rays, &hits, 0.0, &mut lanes);
-            for (k, hit) in hits.iter().enumerate() {
-                prop_assert_eq!(lanes.hits & (1 << k) != 0, hit.is_some(), "ray {} of packet {}", k, packet);
-                let Some(hit) = hit else { continue };
-                let alone = frame.surface(&rays[k], hit, 0.0);
-                let dir = rays[k].dir;
-                let lane = [lanes.position(k), lanes.geometric_normal(k), lanes.shading_normal(k), lanes.spawn_origin(k, dir), lanes.spawn_origin(k, -dir)];
-                let one = [alone.position, alone.geometric_normal, alone.shading_normal, alone.spawn_origin(dir), alone.spawn_origin(-dir)];
-                prop_assert_eq!(lane.map(|v| v.to_array().map(f32::to_bits)), one.map(|v| v.to_array().map(f32::to_bits)), "ray {} of packet {}", k, packet);
-                prop_assert_eq!((lanes.front_face(k), lanes.shader_id(k)), (alone.front_face, alone.shader_id), "ray {} of packet {}", k, packet);
-            }
         }
     }
 }

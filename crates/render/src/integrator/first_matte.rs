@@ -37,16 +37,20 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, rays: &[Ray], first: &FirstHits<'_>, kno
     let n = rays.len();
     assert!(n <= PACKET_SIZE && known.len() == n && out.len() == n, "one ray, shadow set and answer per hit");
     let mut lanes = Lanes::default();
-    let surfaces = &first.surfaces;
+    let mut missed = 0u32;
     for (k, ray) in rays.iter().enumerate() {
+        let Some(surface) = first.surfaces[k] else {
+            missed |= 1 << k;
+            continue;
+        };
         let Some(albedo) = first.matte[k] else { continue };
-        let shading_normal = surfaces.shading_normal(k);
+        let shading_normal = surface.shading_normal;
         // As the recursion has it: `wo` from the ray, its cosine in the shading frame, and the
         // ambient term first.
         let wo = -ray.dir.normalize();
         lanes.matte[k] = true;
-        lanes.position.set(k, surfaces.position(k));
-        lanes.geometric_normal.set(k, surfaces.geometric_normal(k));
+        lanes.position.set(k, surface.position);
+        lanes.geometric_normal.set(k, surface.geometric_normal);
         lanes.shading_normal.set(k, shading_normal);
         lanes.albedo.set(k, albedo);
         lanes.wo_cos[k] = wo.dot(shading_normal);
@@ -66,7 +70,6 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, rays: &[Ray], first: &FirstHits<'_>, kno
     }
     // Rays that hit nothing see the backdrop, as in the recursion, unless they meet an area
     // light on the way.
-    let missed = !surfaces.hits & ((1 << n) - 1);
     let backdrop_only = missed != 0 && !t.lights.has_area();
     let backdrops = if backdrop_only { t.backdrops(rays, missed) } else { [Vec3::ZERO; PACKET_SIZE] };
     for (k, answer) in out.iter_mut().enumerate() {

@@ -65,7 +65,6 @@ pub(crate) fn applies(t: &Tracer<'_, '_>) -> bool {
 pub(crate) fn trace(t: &Tracer<'_, '_>, first: &FirstHits<'_>, time: f32, rays: &mut RayCounts, out: &mut [KnownShadows]) {
     assert!(out.len() <= PACKET_SIZE, "at most a packet");
     out.fill(KnownShadows::NONE);
-    let lanes = &first.surfaces;
     for light in 0..t.lights.len().min(MAX_LIGHTS) {
         let Some(delta) = t.lights.delta(light) else { continue };
         let mut segments = [Ray::new(Vec3::ZERO, Vec3::X); PACKET_SIZE];
@@ -75,18 +74,20 @@ pub(crate) fn trace(t: &Tracer<'_, '_>, first: &FirstHits<'_>, time: f32, rays: 
             if first.lit & (1 << k) == 0 {
                 continue;
             }
-            let normal = lanes.geometric_normal(k);
+            // A lit hit is a hit: its surface is there.
+            let Some(surface) = &first.surfaces[k] else { continue };
+            let normal = surface.geometric_normal;
             segments[n] = match delta {
                 Delta::Positional(light) => {
                     // The direction need not be a unit vector: only its side of the surface
                     // matters, to `direct` and to the spawned origin. A ray traced for a light
                     // that `direct` then finds dark (a spot light's cone facing away) is wasted,
                     // never wrong: `direct` traces whatever it needs and finds no answer for.
-                    let towards = light.position - lanes.position(k);
+                    let towards = light.position - surface.position;
                     if normal.dot(towards) <= 0.0 {
                         continue;
                     }
-                    let origin = lanes.spawn_origin(k, towards);
+                    let origin = surface.spawn_origin(towards);
                     Ray::segment(light.position, origin - light.position, END_GAP, 1.0 - END_GAP)
                 }
                 // The ray `Tracer::transmittance` traces, for the hits `direct` traces it from.
@@ -94,7 +95,7 @@ pub(crate) fn trace(t: &Tracer<'_, '_>, first: &FirstHits<'_>, time: f32, rays: 
                     if normal.dot(towards) <= 0.0 {
                         continue;
                     }
-                    Ray::segment(lanes.spawn_origin(k, towards), towards, 0.0, f32::INFINITY)
+                    Ray::segment(surface.spawn_origin(towards), towards, 0.0, f32::INFINITY)
                 }
             };
             owners[n] = k;

@@ -8,6 +8,14 @@
 //!   shutter time, light areas and glossy lobes, sharing each pixel sample;
 //! - [`path`]: unbiased path tracing with next-event estimation, multiple importance sampling
 //!   and Russian roulette.
+//!
+//! Beside the recursion, Whitted's and Cook's camera rays have two fast paths, kept because
+//! each saves more than 10 % of a whole frame (issue 24; README, "Shading"): [`first_shadows`]
+//! traces the first hits' shadow rays towards point, spot and directional lights as packets
+//! (about 20 % of a sphere-grid frame), and [`first_matte`] shades matte first hits under such
+//! lights a packet at a time (about 30 %), both from [`first_hits`]. Everything else goes through
+//! the general path: each hit's geometry is [`Frame::surface`]'s, and the preview shades every
+//! frame's packets as the camera rays come out of the tile's trace.
 
 pub(crate) mod eyelight;
 pub(crate) mod first_hits;
@@ -29,7 +37,7 @@ use crate::material::{Material, Materials};
 use crate::sampler::PixelSampler;
 use crate::stats::RayCounts;
 use crate::warp::{Frame3, cosine_hemisphere, power_heuristic};
-use crate::sky::{self, sky};
+use crate::sky::sky;
 use crate::RenderSettings;
 
 /// The deepest nesting of transmissive media a path keeps track of.
@@ -166,7 +174,11 @@ impl<'f> Tracer<'_, 'f> {
 
     /// What is at a hit of `ray` found elsewhere (camera rays are traced in packets).
     pub fn resolve(&self, ray: &Ray, hit: SceneHit, time: f32) -> Hit<'f> {
-        let mut surface = self.frame.surface(ray, &hit, time);
+        self.resolve_at(ray, hit, self.frame.surface(ray, &hit, time), time)
+    }
+
+    /// [`Tracer::resolve`] of a hit whose `surface` is computed already.
+    pub fn resolve_at(&self, ray: &Ray, hit: SceneHit, mut surface: SurfacePoint<'f>, time: f32) -> Hit<'f> {
         let material = self.materials.at(&surface);
         // A normal the map turns away from the viewer would shade the point black (nothing it
         // reflects reaches the viewer): the unmapped normal shades there, as where the map turns
@@ -192,13 +204,9 @@ impl<'f> Tracer<'_, 'f> {
     }
 
     /// [`Tracer::background`] of the camera rays among up to a packet of `rays` that hit
-    /// nothing (bit `k` of `missed` for `rays[k]`; the others get black), bit for bit, the sky's
-    /// colours computed side by side.
+    /// nothing (bit `k` of `missed` for `rays[k]`; the others get black).
     pub fn backdrops(&self, rays: &[Ray], missed: u32) -> [Vec3; PACKET_SIZE] {
-        match self.backdrop {
-            Backdrop::Sky => sky::skies(rays, missed),
-            _ => std::array::from_fn(|k| if missed & (1 << k) != 0 { self.background(rays[k].dir, Seen::Directly) } else { Vec3::ZERO }),
-        }
+        std::array::from_fn(|k| if missed & (1 << k) != 0 { self.background(rays[k].dir, Seen::Directly) } else { Vec3::ZERO })
     }
 
     /// Light the surface at `hit` emits back along `ray`, as the ray was `seen` (see
