@@ -1269,7 +1269,8 @@ RTuint rtGenShaderClasses(RTsizei n);
  * - "Glass": ior (1f, 1 to 4), absorption (3f, per unit length inside).
  * - "Emissive": emission (3f, radiance from its front).
  * - "PhysicallyBased": glTF 2.0's metallic-roughness material; base_color (3f), metallic (1f),
- *   roughness (1f), ior (1f), specular (1f), transmission (1f, the share of the dielectric base
+ *   roughness (1f), ior (1f), specular (1f), specular_color (3f, tinting the reflection
+ *   head-on), sheen_color (3f) and sheen_roughness (1f: cloth's rim of fibres), transmission (1f, the share of the dielectric base
  *   refracted instead of diffusely reflected), thickness (1f: 0 a thin wall, else a volume
  *   whose path length the geometry gives), attenuation_color (3f) and attenuation_distance (1f,
  *   world units: the colour white light turns inside a volume after that distance), clearcoat
@@ -1303,7 +1304,9 @@ RTuint rtGenShaderClasses(RTsizei n);
  * # Safety
  * `name` and `library` must each be NULL or a NUL-terminated string.
  */
-void rtNewShaderClass(RTuint id, const char *name, const char *library);
+void rtNewShaderClass(RTuint id,
+                      const char *name,
+                      const char *library);
 
 /**
  * Binds shader class `id` (defined by `rtNewShaderClass`) for `rtNewShader`; 0 unbinds.

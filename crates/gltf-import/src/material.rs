@@ -38,7 +38,7 @@ pub struct TextureUse {
 /// - `KHR_materials_unlit` → `Constant` with the base colour;
 /// - everything else → `PhysicallyBased`: base colour (factor, texture; vertex colours
 ///   multiply it), metallic and roughness (factors, and their texture), `KHR_materials_ior`,
-///   `KHR_materials_specular`'s factor, `KHR_materials_transmission`'s factor,
+///   `KHR_materials_specular`'s factor and colour, `KHR_materials_sheen`'s colour and roughness, `KHR_materials_transmission`'s factor,
 ///   `KHR_materials_volume`'s thickness factor (0 or absent: a thin wall) with its attenuation
 ///   colour and distance, emissive factor × `KHR_materials_emissive_strength`,
 ///   the normal texture with its scale, the emissive texture (multiplying the emission), the
@@ -94,6 +94,17 @@ pub fn shader_for(material: Option<&gltf::Material<'_>>, vertex_colors: bool) ->
         let factor = |key: &str| coat.get(key).and_then(Value::as_f64).map_or(0.0, |v| fraction(v as f32));
         shader.params.push(("clearcoat", ParamValue::Float(factor("clearcoatFactor"))));
         shader.params.push(("clearcoat_roughness", ParamValue::Float(factor("clearcoatRoughnessFactor"))));
+    }
+    if let Some(specular) = m.specular() {
+        // glTF allows colour factors above 1 (the reflectance head-on is clamped to 1 later).
+        shader.params.push(("specular_color", ParamValue::Color(clean(Vec3::from(specular.specular_color_factor())))));
+    }
+    // KHR_materials_sheen, which the gltf crate does not parse either.
+    if let Some(sheen) = sheen(m) {
+        let colour = sheen.get("sheenColorFactor").and_then(Value::as_array).filter(|c| c.len() == 3).map(|c| Vec3::from_array([0, 1, 2].map(|i| c[i].as_f64().unwrap_or(0.0) as f32)));
+        shader.params.push(("sheen_color", ParamValue::Color(clean(colour.unwrap_or(Vec3::ZERO)).min(Vec3::ONE))));
+        let roughness = sheen.get("sheenRoughnessFactor").and_then(Value::as_f64).map_or(0.0, |v| fraction(v as f32));
+        shader.params.push(("sheen_roughness", ParamValue::Float(roughness)));
     }
     // Checked by the importer (`read`): outside [0, 1] the file is refused.
     if let Some(cutoff) = m.alpha_cutoff() {
@@ -214,6 +225,11 @@ fn clearcoat<'a>(material: &'a gltf::Material<'_>) -> Option<&'a Value> {
     material.extensions()?.get("KHR_materials_clearcoat").filter(|c| c.is_object())
 }
 
+/// The material's `KHR_materials_sheen` object, if it has one.
+fn sheen<'a>(material: &'a gltf::Material<'_>) -> Option<&'a Value> {
+    material.extensions()?.get("KHR_materials_sheen").filter(|c| c.is_object())
+}
+
 /// What `material` has that its shader does not render, one note each.
 pub fn notes(material: &gltf::Material<'_>) -> Vec<String> {
     let name = material.name().map_or_else(|| format!("material {}", material.index().map_or(-1, |i| i as i64)), |n| format!("material `{n}`"));
@@ -237,7 +253,11 @@ pub fn notes(material: &gltf::Material<'_>) -> Vec<String> {
     }
     for (present, what) in [
         (material.alpha_mode() != gltf::material::AlphaMode::Opaque && material.unlit(), "its alpha mode (rendered opaque)"),
-        (material.specular().is_some_and(|s| s.specular_texture().is_some() || s.specular_color_texture().is_some() || s.specular_color_factor() != [1.0; 3]), "its specular colour and textures"),
+        (material.specular().is_some_and(|s| s.specular_texture().is_some() || s.specular_color_texture().is_some()), "its specular textures (the factors alone are rendered)"),
+        (
+            sheen(material).is_some_and(|c| ["sheenColorTexture", "sheenRoughnessTexture"].iter().any(|t| c.get(*t).is_some())),
+            "its sheen textures (the factors alone are rendered)",
+        ),
         (material.transmission().is_some_and(|t| t.transmission_texture().is_some()), "its transmission texture (the factor alone is rendered)"),
         (material.volume().is_some_and(|v| v.thickness_texture().is_some()), "its thickness texture (the path length inside comes from the geometry)"),
         (

@@ -375,19 +375,30 @@ fn clearcoat_maps_to_the_coat_of_the_physically_based_class() {
     }
 }
 
-/// What a material has that raystage does not render yet is said, once per material, by name.
+/// What a material has that raystage does not render yet is said, once per material, by name;
+/// the specular colour and the sheen factors it renders.
 #[test]
 fn what_a_material_leaves_out_is_a_note() {
-    let specular = json!({ "KHR_materials_specular": { "specularColorFactor": [0.5, 0.5, 0.5] } });
-    let material = json!([{ "name": "leaves", "alphaMode": "MASK", "doubleSided": true, "extensions": specular }]);
+    let extensions = json!({
+        "KHR_materials_specular": { "specularColorFactor": [0.5, 0.25, 2.0], "specularTexture": { "index": 0 } },
+        "KHR_materials_sheen": { "sheenColorFactor": [0.9, 0.2, 0.1], "sheenRoughnessFactor": 0.4 },
+    });
+    let material = json!([{ "name": "leaves", "alphaMode": "MASK", "doubleSided": true, "extensions": extensions }]);
     let mut document = quad_gltf(Some(data_uri(&quad_buffer())), material, json!([{ "mesh": 0 }, { "mesh": 0 }]));
     document["textures"] = json!([{ "source": 0 }]);
     document["images"] = json!([{ "uri": "unused.png" }]);
     let file = import(&document).unwrap();
     let notes = file.notes().join("\n");
-    assert!(notes.contains("material `leaves`: its specular colour and textures is not rendered yet"), "{notes}");
-    assert!(!notes.contains("alpha mode"), "a physically based material's alpha mode is rendered: {notes}");
-    assert_eq!(notes.matches("specular colour").count(), 1, "{notes}");
+    assert!(notes.contains("material `leaves`: its specular textures (the factors alone are rendered) is not rendered yet"), "{notes}");
+    assert!(!notes.contains("alpha mode") && !notes.contains("sheen"), "a physically based material's alpha mode and sheen factors are rendered: {notes}");
+    assert_eq!(notes.matches("specular").count(), 1, "{notes}");
+    let mut scene = Scene::new();
+    let added = file.add_to(&mut scene).unwrap();
+    let shader = scene.shader(added.shaders[0]).unwrap();
+    let param = |name: &str| shader.get(name);
+    assert_eq!(param("specular_color"), Some(ParamValue::Color(Vec3::new(0.5, 0.25, 2.0))));
+    assert_eq!(param("sheen_color"), Some(ParamValue::Color(Vec3::new(0.9, 0.2, 0.1))));
+    assert_eq!(param("sheen_roughness"), Some(ParamValue::Float(0.4)));
 }
 
 /// The metallic-roughness texture is data: its values are read as stored, not sRGB-decoded,

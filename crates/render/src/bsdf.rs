@@ -12,7 +12,8 @@
 
 use glam::Vec3;
 
-use crate::warp::{concentric_disc, cosine_hemisphere};
+use crate::sheen;
+use crate::warp::{concentric_disc, cosine_hemisphere, uniform_hemisphere};
 
 /// A sampled scattering direction.
 #[derive(Clone, Copy, Debug)]
@@ -41,26 +42,50 @@ pub(crate) enum Bsdf {
     /// A smooth dielectric boundary; `eta` is the index of refraction on the side `wo` is on
     /// over the index on the other side.
     Glass { eta: f32 },
-    /// glTF 2.0's metallic-roughness BRDF (its Appendix B): a Lambertian base under a GGX
-    /// specular layer of a dielectric (Fresnel from `f0`, 0.04 for index 1.5), blended by
-    /// `metallic` with a GGX conductor of colour `base`. The dielectric's Fresnel runs from
-    /// `f0` head-on to `f90` at grazing (1, or glTF's `KHR_materials_specular` factor, 0 leaving
-    /// a pure Lambertian base). Specular masking is Smith's, height-correlated; `alpha` is the
-    /// roughness squared. Single scattering: rough surfaces lose the light that bounces between
-    /// microfacets (a white rough metal keeps about 80 % seen head-on).
-    ///
-    /// With `transmission` (glTF's KHR_materials_transmission), that fraction of the dielectric
-    /// gives up its diffuse base: it reflects by the exact Fresnel equations of relative index
-    /// `eta` (the side of `wo` over the other side, which knows total internal reflection) and
-    /// transmits the rest through the same GGX microfacets, tinted by `base`. A `thin` wall
-    /// transmits the reflection lobe mirrored through the surface (no bending, no medium
-    /// entered); otherwise the light refracts by Walter et al.'s BTDF.
-    ///
-    /// With `coat` (glTF's KHR_materials_clearcoat), a smooth-to-rough dielectric coat of index
-    /// 1.5 and GGX roughness `coat_alpha` lies over all of it: it reflects `coat` × its Schlick
-    /// Fresnel and lets the rest through to what is under it, on the way in and on the way out
-    /// (so that the coupling stays reciprocal and within its light).
-    PhysicallyBased { base: Vec3, metallic: f32, alpha: f32, f0: f32, f90: f32, transmission: f32, eta: f32, thin: bool, coat: f32, coat_alpha: f32 },
+    /// glTF 2.0's metallic-roughness BSDF and its extensions (see [`Pbr`]).
+    PhysicallyBased(Pbr),
+}
+
+/// glTF 2.0's metallic-roughness BSDF (its Appendix B): a Lambertian base under a GGX
+/// specular layer of a dielectric (Fresnel from `f0`, 0.04 for index 1.5, coloured by glTF's
+/// `KHR_materials_specular` colour), blended by
+/// `metallic` with a GGX conductor of colour `base`. The dielectric's Fresnel runs from
+/// `f0` head-on to `f90` at grazing (1, or glTF's `KHR_materials_specular` factor, 0 leaving
+/// a pure Lambertian base). Specular masking is Smith's, height-correlated; `alpha` is the
+/// roughness squared. Single scattering: rough surfaces lose the light that bounces between
+/// microfacets (a white rough metal keeps about 80 % seen head-on).
+///
+/// With `transmission` (glTF's KHR_materials_transmission), that fraction of the dielectric
+/// gives up its diffuse base: it reflects by the exact Fresnel equations of relative index
+/// `eta` (the side of `wo` over the other side, which knows total internal reflection) and
+/// transmits the rest through the same GGX microfacets, tinted by `base`. A `thin` wall
+/// transmits the reflection lobe mirrored through the surface (no bending, no medium
+/// entered); otherwise the light refracts by Walter et al.'s BTDF.
+///
+/// With `coat` (glTF's KHR_materials_clearcoat), a smooth-to-rough dielectric coat of index
+/// 1.5 and GGX roughness `coat_alpha` lies over all of it: it reflects `coat` × its Schlick
+/// Fresnel and lets the rest through to what is under it, on the way in and on the way out
+/// (so that the coupling stays reciprocal and within its light).
+///
+/// With `sheen` (glTF's KHR_materials_sheen), a layer of fibres, as velvet and other cloth
+/// have, lies over the base and under the coat: Estevez and Kulla's "Charlie" distribution of
+/// microfibre α `sheen_alpha` with Ashikhmin's visibility, as the extension specifies, scaling
+/// what lies under it by the light it leaves (`1 − max(sheen) E(cos)`, where E is the lobe's
+/// directional albedo, the lesser for the two directions, so that it stays reciprocal).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Pbr {
+    pub base: Vec3,
+    pub metallic: f32,
+    pub alpha: f32,
+    pub f0: Vec3,
+    pub f90: f32,
+    pub transmission: f32,
+    pub eta: f32,
+    pub thin: bool,
+    pub coat: f32,
+    pub coat_alpha: f32,
+    pub sheen: Vec3,
+    pub sheen_alpha: f32,
 }
 
 impl Bsdf {
@@ -83,6 +108,10 @@ impl Bsdf {
             }
             return value;
         }
+        if let Some((under, sheen, sheen_alpha)) = self.sheened() {
+            let through = sheen::left(sheen, sheen_alpha, wo.z).min(sheen::left(sheen, sheen_alpha, wi.z.abs()));
+            return under.eval(wo, wi) * through + sheen * sheen::lobe(wo, wi, sheen_alpha);
+        }
         if wi.z < 0.0 {
             return self.transmitted(wo, wi);
         }
@@ -98,7 +127,7 @@ impl Bsdf {
                 let f = schlick(reflectance, wo.dot(h));
                 f * (ggx_d(h, alpha) * smith_g1(wo, alpha) * smith_g1(wi, alpha) / (4.0 * wo.z))
             }
-            Bsdf::PhysicallyBased { base, metallic, alpha, f0, f90, transmission, .. } => {
+            Bsdf::PhysicallyBased(Pbr { base, metallic, alpha, f0, f90, transmission, .. }) => {
                 let h = (wo + wi).normalize();
                 let specular = self.layer_reflectance(wo.dot(h)) * (ggx_d(h, alpha) * smith_height_correlated(wo, wi, alpha));
                 // Light the dielectric's layer lets through, on the way in and on the way out,
@@ -108,10 +137,12 @@ impl Bsdf {
                 // of the light in all. (glTF's reference weighs the base by 1 − F at the half
                 // vector, which reflects up to 1 % more than it receives; this coupling is
                 // reciprocal and keeps within its light.)
-                let average = f0 + (f90 - f0) / 21.0;
-                let dielectric = |cos: f32| fresnel_schlick(Vec3::splat(f0), Vec3::splat(f90), cos).x;
-                let through = (1.0 - dielectric(wo.z)) * (1.0 - dielectric(wi.z)) / (1.0 - average);
-                let diffuse = base * ((1.0 - metallic) * (1.0 - transmission) * through * std::f32::consts::FRAC_1_PI);
+                // Per colour channel, since KHR_materials_specular's colour tints f0; a channel
+                // that reflects everything head-on and at grazing passes nothing (0 / ε).
+                let average = f0 + (Vec3::splat(f90) - f0) / 21.0;
+                let dielectric = |cos: f32| fresnel_schlick(f0, Vec3::splat(f90), cos);
+                let through = (Vec3::ONE - dielectric(wo.z)) * (Vec3::ONE - dielectric(wi.z)) / (Vec3::ONE - average).max(Vec3::splat(1e-6));
+                let diffuse = base * through * ((1.0 - metallic) * (1.0 - transmission) * std::f32::consts::FRAC_1_PI);
                 (specular + diffuse) * wi.z
             }
             Bsdf::Mirror { .. } | Bsdf::Glass { .. } => Vec3::ZERO,
@@ -133,6 +164,11 @@ impl Bsdf {
             };
             return p * lobe + (1.0 - p) * under.pdf(wo, wi);
         }
+        if let Some((under, sheen, sheen_alpha)) = self.sheened() {
+            let p = sheen_probability(sheen, sheen_alpha, wo.z);
+            let lobe = if wi.z > 0.0 { sheen::UNIFORM_PDF } else { 0.0 };
+            return p * lobe + (1.0 - p) * under.pdf(wo, wi);
+        }
         if wi.z < 0.0 {
             return self.transmission_pdf(wo, wi);
         }
@@ -148,7 +184,7 @@ impl Bsdf {
                 let h = (wo + wi).normalize();
                 ggx_d(h, alpha) * smith_g1(wo, alpha) / (4.0 * wo.z)
             }
-            Bsdf::PhysicallyBased { alpha, eta, thin, .. } => {
+            Bsdf::PhysicallyBased(Pbr { alpha, eta, thin, .. }) => {
                 let [specular, diffuse, transmitted] = self.lobe_probabilities(wo);
                 let h = (wo + wi).normalize();
                 // Refraction samples that meet total internal reflection at their microfacet
@@ -174,8 +210,16 @@ impl Bsdf {
             } else {
                 under.sample(wo, u, ((choose - p) / (1.0 - p)).min(1.0 - f32::EPSILON))?.wi
             };
-            let pdf = self.pdf(wo, wi);
-            return (pdf > 0.0).then(|| BsdfSample { wi, weight: self.eval(wo, wi) / pdf, pdf, transmitted: wi.z < 0.0 });
+            return self.weighed(wo, wi);
+        }
+        if let Some((under, sheen, sheen_alpha)) = self.sheened() {
+            if wo.z <= 0.0 {
+                return None;
+            }
+            // As for the coat: the fibres' lobe by its share of the light, else the layer under.
+            let p = sheen_probability(sheen, sheen_alpha, wo.z);
+            let wi = if choose < p { uniform_hemisphere(u) } else { under.sample(wo, u, ((choose - p) / (1.0 - p)).min(1.0 - f32::EPSILON))?.wi };
+            return self.weighed(wo, wi);
         }
         match *self {
             Bsdf::Lambert { albedo } => {
@@ -218,7 +262,7 @@ impl Bsdf {
                 let weight = schlick(reflectance, wo.dot(h)) * smith_g1(wi, alpha);
                 Some(BsdfSample { wi, weight, pdf: self.pdf(wo, wi), transmitted: false })
             }
-            Bsdf::PhysicallyBased { alpha, eta, thin, .. } => {
+            Bsdf::PhysicallyBased(Pbr { alpha, eta, thin, .. }) => {
                 if wo.z <= 0.0 {
                     return None;
                 }
@@ -270,9 +314,9 @@ impl Bsdf {
     /// share where Fresnel reflects all at the macro normal, since rough microfacets there still
     /// let some light through.
     fn lobe_probabilities(&self, wo: Vec3) -> [f32; 3] {
-        let Bsdf::PhysicallyBased { base, metallic, f0, f90, transmission, eta, .. } = *self else { return [0.0; 3] };
+        let Bsdf::PhysicallyBased(Pbr { base, metallic, f0, f90, transmission, eta, .. }) = *self else { return [0.0; 3] };
         let specular = crate::lights::luminance(self.layer_reflectance(wo.z)).max(0.0);
-        let dielectric = fresnel_schlick(Vec3::splat(f0), Vec3::splat(f90), wo.z).x;
+        let dielectric = crate::lights::luminance(fresnel_schlick(f0, Vec3::splat(f90), wo.z));
         let diffuse = crate::lights::luminance(base) * (1.0 - metallic) * (1.0 - transmission) * (1.0 - dielectric);
         let share = (1.0 - metallic) * transmission;
         let transmitted = if share > 0.0 { crate::lights::luminance(base) * share * (1.0 - f90 * fresnel_dielectric(wo.z, eta)).max(0.1) } else { 0.0 };
@@ -291,20 +335,20 @@ impl Bsdf {
     /// instead (Schlick's knows no total internal reflection), so that with what it transmits it
     /// makes one.
     fn layer_reflectance(&self, cos: f32) -> Vec3 {
-        let Bsdf::PhysicallyBased { base, metallic, f0, f90, transmission, eta, .. } = *self else { return Vec3::ZERO };
+        let Bsdf::PhysicallyBased(Pbr { base, metallic, f0, f90, transmission, eta, .. }) = *self else { return Vec3::ZERO };
         let (layer_f0, layer_f90) = layer(base, metallic, f0, f90);
         let schlick = fresnel_schlick(layer_f0, layer_f90, cos);
         if transmission == 0.0 {
             return schlick;
         }
-        let dielectric = fresnel_schlick(Vec3::splat(f0), Vec3::splat(f90), cos).x;
-        schlick + Vec3::splat((1.0 - metallic) * transmission * (f90 * fresnel_dielectric(cos, eta) - dielectric))
+        let dielectric = fresnel_schlick(f0, Vec3::splat(f90), cos);
+        schlick + (Vec3::splat(f90 * fresnel_dielectric(cos, eta)) - dielectric) * ((1.0 - metallic) * transmission)
     }
 
     /// For a transmitting [`Bsdf::PhysicallyBased`], BTDF × |cos θi| for `wi` below the surface
     /// (`wo` above it); zero for every other function.
     fn transmitted(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        let Bsdf::PhysicallyBased { base, metallic, alpha, f90, transmission, eta, thin, .. } = *self else { return Vec3::ZERO };
+        let Bsdf::PhysicallyBased(Pbr { base, metallic, alpha, f90, transmission, eta, thin, .. }) = *self else { return Vec3::ZERO };
         let tint = base * ((1.0 - metallic) * transmission);
         if tint == Vec3::ZERO {
             return Vec3::ZERO;
@@ -325,7 +369,7 @@ impl Bsdf {
 
     /// The density with which [`Bsdf::sample`] picks `wi` below the surface.
     fn transmission_pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let Bsdf::PhysicallyBased { alpha, eta, thin, .. } = *self else { return 0.0 };
+        let Bsdf::PhysicallyBased(Pbr { alpha, eta, thin, .. }) = *self else { return 0.0 };
         let transmitted = self.lobe_probabilities(wo)[2];
         if transmitted == 0.0 {
             return 0.0;
@@ -345,14 +389,14 @@ impl Bsdf {
     pub fn transmits(&self) -> bool {
         match *self {
             Bsdf::Glass { .. } => true,
-            Bsdf::PhysicallyBased { metallic, transmission, .. } => transmission > 0.0 && metallic < 1.0,
+            Bsdf::PhysicallyBased(Pbr { metallic, transmission, .. }) => transmission > 0.0 && metallic < 1.0,
             _ => false,
         }
     }
 
     /// Whether light goes through without entering a medium (a thin transmitting wall).
     pub fn is_thin(&self) -> bool {
-        matches!(*self, Bsdf::PhysicallyBased { thin: true, transmission, .. } if transmission > 0.0)
+        matches!(*self, Bsdf::PhysicallyBased(Pbr { thin: true, transmission, .. }) if transmission > 0.0)
     }
 
     /// The function at a boundary of relative index `eta` (the side the ray comes from over
@@ -361,9 +405,9 @@ impl Bsdf {
     /// 1, where the refraction lobe would collapse to a delta the BTDF cannot evaluate.
     pub fn across(self, eta: f32) -> Bsdf {
         match self {
-            Bsdf::PhysicallyBased { base, metallic, alpha, f0, f90, transmission, thin, coat, coat_alpha, .. } if transmission > 0.0 => {
+            Bsdf::PhysicallyBased(p) if p.transmission > 0.0 => {
                 let eta = if (eta - 1.0).abs() >= MIN_INDEX_CONTRAST { eta } else if eta >= 1.0 { 1.0 + MIN_INDEX_CONTRAST } else { 1.0 - MIN_INDEX_CONTRAST };
-                Bsdf::PhysicallyBased { base, metallic, alpha, f0, f90, transmission, eta, thin, coat, coat_alpha }
+                Bsdf::PhysicallyBased(Pbr { eta, ..p })
             }
             other => other,
         }
@@ -375,7 +419,7 @@ impl Bsdf {
     /// (roughness does not fade it, as it fades the mirror: a rough window still shows what is
     /// behind it, blurred). `None` for other functions, and under total internal reflection.
     pub fn smooth_transmission(&self, wo: Vec3) -> Option<(Vec3, Vec3)> {
-        let Bsdf::PhysicallyBased { base, metallic, f90, transmission, eta, thin, .. } = *self else { return None };
+        let Bsdf::PhysicallyBased(Pbr { base, metallic, f90, transmission, eta, thin, .. }) = *self else { return None };
         if !self.transmits() {
             return None;
         }
@@ -390,7 +434,7 @@ impl Bsdf {
     /// with roughness (a rough surface mirrors nothing). `None` for other functions, and for a
     /// surface without a specular layer.
     pub fn specular_layer(&self, cos_o: f32) -> Option<(Bsdf, Vec3)> {
-        let Bsdf::PhysicallyBased { base, metallic, alpha, f0, f90, .. } = *self else { return None };
+        let Bsdf::PhysicallyBased(Pbr { base, metallic, alpha, f0, f90, .. }) = *self else { return None };
         let (layer_f0, layer_f90) = layer(base, metallic, f0, f90);
         (layer_f90.max_element() > 0.0).then(|| (Bsdf::Glossy { reflectance: layer_f0, alpha }, self.layer_reflectance(cos_o) * (1.0 - alpha.sqrt())))
     }
@@ -409,13 +453,29 @@ impl Bsdf {
         Some((Bsdf::Glossy { reflectance: Vec3::splat(0.04), alpha: coat_alpha }, coat, reflectance * (1.0 - coat_alpha.sqrt()), 1.0 - coat * reflectance))
     }
 
+    /// A sample in direction `wi` with its weight over the whole function's density (the
+    /// one-sample model of layered functions: unbiased whichever layer drew it).
+    fn weighed(&self, wo: Vec3, wi: Vec3) -> Option<BsdfSample> {
+        let pdf = self.pdf(wo, wi);
+        (pdf > 0.0).then(|| BsdfSample { wi, weight: self.eval(wo, wi) / pdf, pdf, transmitted: wi.z < 0.0 })
+    }
+
+    /// A physically based function with sheen (and no coat over it: [`Bsdf::coated`] takes the
+    /// coat off first) as what lies under the fibres, their colour and α; `None` otherwise.
+    fn sheened(&self) -> Option<(Bsdf, Vec3, f32)> {
+        match *self {
+            Bsdf::PhysicallyBased(p) if p.sheen.max_element() > 0.0 => Some((Bsdf::PhysicallyBased(Pbr { sheen: Vec3::ZERO, ..p }), p.sheen, p.sheen_alpha)),
+            _ => None,
+        }
+    }
+
     /// A coated physically based function as what lies under its coat, the coat's weight and
     /// its α; `None` for any other function.
     fn coated(&self) -> Option<(Bsdf, f32, f32)> {
         match *self {
-            Bsdf::PhysicallyBased { coat, coat_alpha, .. } if coat > 0.0 => {
+            Bsdf::PhysicallyBased(Pbr { coat, coat_alpha, .. }) if coat > 0.0 => {
                 let mut under = *self;
-                if let Bsdf::PhysicallyBased { coat, .. } = &mut under {
+                if let Bsdf::PhysicallyBased(Pbr { coat, .. }) = &mut under {
                     *coat = 0.0;
                 }
                 Some((under, coat, coat_alpha))
@@ -428,6 +488,13 @@ impl Bsdf {
 /// The clearcoat's Fresnel reflectance at `cos` (Schlick's, index 1.5: 4 % head-on).
 fn coat_fresnel(cos: f32) -> f32 {
     fresnel_schlick(Vec3::splat(0.04), Vec3::ONE, cos).x
+}
+
+/// Probability that a sample of a function with sheen picks the fibres' lobe: their share of
+/// the light at `wo`, at least a tenth of their strength so that the rim is found head-on.
+fn sheen_probability(sheen: Vec3, alpha: f32, cos_o: f32) -> f32 {
+    let strength = sheen.max_element().min(1.0);
+    (strength * sheen::albedo(cos_o, alpha)).max(0.1 * strength).min(0.9)
 }
 
 /// Probability that a sample of a coated function picks the coat: its reflectance at `wo`, at
@@ -514,10 +581,10 @@ fn fresnel_schlick(f0: Vec3, f90: Vec3, cos: f32) -> Vec3 {
     f0 + (f90 - f0) * (1.0 - cos.clamp(0.0, 1.0)).powi(5)
 }
 
-/// The specular layer of a physically based surface: the dielectric's Fresnel (`f0` to `f90`,
-/// grey) blended by `metallic` to the metal's (`base` to white).
-fn layer(base: Vec3, metallic: f32, f0: f32, f90: f32) -> (Vec3, Vec3) {
-    (Vec3::splat(f0).lerp(base, metallic), Vec3::splat(f90).lerp(Vec3::ONE, metallic))
+/// The specular layer of a physically based surface: the dielectric's Fresnel (`f0` to `f90`)
+/// blended by `metallic` to the metal's (`base` to white).
+fn layer(base: Vec3, metallic: f32, f0: Vec3, f90: f32) -> (Vec3, Vec3) {
+    (f0.lerp(base, metallic), Vec3::splat(f90).lerp(Vec3::ONE, metallic))
 }
 
 /// The height-correlated Smith visibility term `G2 / (4 cos θo cos θi)` for GGX (Heitz 2014,
@@ -601,7 +668,7 @@ mod tests {
 
     /// An opaque physically based surface.
     fn opaque(base: Vec3, metallic: f32, alpha: f32, f0: f32, f90: f32) -> Bsdf {
-        Bsdf::PhysicallyBased { base, metallic, alpha, f0, f90, transmission: 0.0, eta: 1.0 / 1.5, thin: false, coat: 0.0, coat_alpha: 0.01 }
+        Bsdf::PhysicallyBased(Pbr { base, metallic, alpha, f0: Vec3::splat(f0), f90, transmission: 0.0, eta: 1.0 / 1.5, thin: false, coat: 0.0, coat_alpha: 0.01, sheen: Vec3::ZERO, sheen_alpha: 0.25 })
     }
 
     /// The metallic × roughness corners and middle of the physically based BRDF.
@@ -615,12 +682,33 @@ mod tests {
         // Clearcoated: a smooth and a rough coat over a rough dielectric and a metal.
         grid.push(coated(opaque(Vec3::new(0.9, 0.7, 0.4), 0.0, 0.25, 0.04, 1.0), 0.01));
         grid.push(coated(opaque(Vec3::new(0.9, 0.7, 0.4), 1.0, 0.25, 0.04, 1.0), 0.25));
+        // Sheen over a rough and a smooth dielectric, and under a coat; a tinted specular.
+        grid.push(sheened(opaque(Vec3::new(0.2, 0.1, 0.4), 0.0, 0.64, 0.04, 1.0), Vec3::new(1.0, 0.8, 0.6), 0.3));
+        grid.push(sheened(opaque(Vec3::new(0.9, 0.7, 0.4), 0.0, 0.09, 0.04, 1.0), Vec3::new(0.5, 0.5, 0.9), 0.8));
+        grid.push(coated(sheened(opaque(Vec3::new(0.9, 0.7, 0.4), 0.0, 0.25, 0.04, 1.0), Vec3::ONE, 0.5), 0.09));
+        grid.push(tinted(opaque(Vec3::new(0.9, 0.7, 0.4), 0.0, 0.25, 0.04, 1.0), Vec3::new(0.9, 0.1, 0.4)));
         grid
+    }
+
+    /// `bsdf` under fibres of colour `sheen` and perceptual roughness `roughness`.
+    fn sheened(mut bsdf: Bsdf, sheen: Vec3, roughness: f32) -> Bsdf {
+        if let Bsdf::PhysicallyBased(p) = &mut bsdf {
+            (p.sheen, p.sheen_alpha) = (sheen, roughness * roughness);
+        }
+        bsdf
+    }
+
+    /// `bsdf` with its dielectric's head-on reflectance tinted by `colour` (KHR_materials_specular).
+    fn tinted(mut bsdf: Bsdf, colour: Vec3) -> Bsdf {
+        if let Bsdf::PhysicallyBased(p) = &mut bsdf {
+            p.f0 = (p.f0 * colour * 10.0).min(Vec3::ONE);
+        }
+        bsdf
     }
 
     /// `bsdf` under a full clearcoat of microfacet α `coat_alpha`.
     fn coated(mut bsdf: Bsdf, coat_alpha: f32) -> Bsdf {
-        if let Bsdf::PhysicallyBased { coat, coat_alpha: a, .. } = &mut bsdf {
+        if let Bsdf::PhysicallyBased(Pbr { coat, coat_alpha: a, .. }) = &mut bsdf {
             (*coat, *a) = (1.0, coat_alpha);
         }
         bsdf
@@ -629,7 +717,7 @@ mod tests {
     /// A transmitting physically based surface of index 1.5 (`eta` the side of `wo` over the
     /// other).
     fn transmitting(base: Vec3, metallic: f32, roughness: f32, transmission: f32, eta: f32, thin: bool) -> Bsdf {
-        Bsdf::PhysicallyBased { base, metallic, alpha: (roughness * roughness).max(1e-3), f0: 0.04, f90: 1.0, transmission, eta, thin, coat: 0.0, coat_alpha: 0.01 }
+        Bsdf::PhysicallyBased(Pbr { base, metallic, alpha: (roughness * roughness).max(1e-3), f0: Vec3::splat(0.04), f90: 1.0, transmission, eta, thin, coat: 0.0, coat_alpha: 0.01, sheen: Vec3::ZERO, sheen_alpha: 0.25 })
     }
 
     /// Transmitting surfaces: thin walls and volume boundaries seen from outside and inside,
@@ -700,7 +788,9 @@ mod tests {
         for wo in [Vec3::new(0.1, 0.2, 0.95), Vec3::new(0.6, -0.3, 0.5), Vec3::new(-0.9, 0.1, 0.2)].map(Vec3::normalize) {
             // White under a coat: the coat reflects what it does not let through, never more.
             let coated_white = [coated(white(0.0, 0.3), 0.09), coated(white(1.0, 0.2), 0.25)];
-            for bsdf in physically_based_grid().into_iter().chain([white(0.0, 0.3), white(1.0, 0.3), white(0.0, 1.0), white(1.0, 1.0)]).chain(coated_white) {
+            // White fibres over white: the sheen takes its light from the layer under it.
+            let sheened_white = [sheened(white(0.0, 0.5), Vec3::ONE, 0.3), sheened(white(0.0, 1.0), Vec3::ONE, 1.0), tinted(white(0.0, 0.5), Vec3::ONE)];
+            for bsdf in physically_based_grid().into_iter().chain([white(0.0, 0.3), white(1.0, 0.3), white(0.0, 1.0), white(1.0, 1.0)]).chain(coated_white).chain(sheened_white) {
                 let wi = Vec3::new(0.3, 0.5, 0.6).normalize();
                 let (a, b) = (bsdf.eval(wo, wi) / wi.z, bsdf.eval(wi, wo) / wo.z);
                 assert!((a - b).abs().max_element() <= 1e-4 * (1.0 + a.max_element()), "{bsdf:?}: {a} vs {b}");
@@ -715,7 +805,7 @@ mod tests {
                 let m = 256;
                 let given = (0..m * m).filter(|i| bsdf.sample(wo, [((i % m) as f32 + 0.5) / m as f32, ((i / m) as f32 + 0.5) / m as f32], ((i * 7919) % (m * m)) as f32 / (m * m) as f32).is_some()).count();
                 let given = given as f32 / (m * m) as f32;
-                if let Bsdf::PhysicallyBased { alpha, coat, coat_alpha, .. } = bsdf
+                if let Bsdf::PhysicallyBased(Pbr { alpha, coat, coat_alpha, .. }) = bsdf
                     && alpha >= 0.09
                     && (coat == 0.0 || coat_alpha >= 0.09)
                 {
@@ -749,7 +839,7 @@ mod tests {
             for bsdf in transmitting_grid().into_iter().chain([transmitting(Vec3::ONE, 0.0, 0.5, 1.0, 1.5, false), transmitting(Vec3::ONE, 0.0, 1.0, 1.0, 1.0 / 1.5, true)]) {
                 let sampled = albedo(&bsdf, wo, 256);
                 assert!(sampled.max_element() <= 1.0 + 1e-2, "{bsdf:?} at {wo}: sampled albedo {sampled}");
-                let Bsdf::PhysicallyBased { alpha, .. } = bsdf else { unreachable!() };
+                let Bsdf::PhysicallyBased(Pbr { alpha, .. }) = bsdf else { unreachable!() };
                 if alpha >= 0.1 {
                     let q = over_sphere(|wi| bsdf.eval(wo, wi));
                     assert!(q.max_element() <= 1.0 + 1e-2, "{bsdf:?} at {wo}: albedo by quadrature {q}");
@@ -775,7 +865,7 @@ mod tests {
         let mut compared = 0;
         for (wo, wi) in pairs.map(|(a, b)| (a.normalize(), b.normalize())) {
             for bsdf in transmitting_grid() {
-                let Bsdf::PhysicallyBased { eta, thin, .. } = bsdf else { unreachable!() };
+                let Bsdf::PhysicallyBased(Pbr { eta, thin, .. }) = bsdf else { unreachable!() };
                 let back = if thin { bsdf } else { bsdf.across(1.0 / eta) };
                 let there = bsdf.eval(wo, wi) / wi.z.abs();
                 let again = back.eval(flip(wi), flip(wo)) / wo.z.abs();
@@ -795,7 +885,7 @@ mod tests {
     fn transmitted_samples_follow_the_claimed_density() {
         let (rows, columns, per_cell) = (20usize, 20usize, 16usize);
         let wo = Vec3::new(0.5, -0.2, 0.6).normalize();
-        for bsdf in transmitting_grid().into_iter().filter(|b| matches!(b, Bsdf::PhysicallyBased { alpha, .. } if *alpha >= 0.1)) {
+        for bsdf in transmitting_grid().into_iter().filter(|b| matches!(b, Bsdf::PhysicallyBased(Pbr { alpha, .. }) if *alpha >= 0.1)) {
             let m = 512;
             let mut counts = vec![0u32; rows * columns];
             let cell = |w: Vec3| {

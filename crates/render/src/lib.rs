@@ -23,6 +23,7 @@ mod lights;
 mod material;
 mod renderer;
 mod sampler;
+mod sheen;
 mod sky;
 mod srgb;
 mod stats;

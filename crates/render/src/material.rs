@@ -6,7 +6,8 @@
 use glam::{Vec2, Vec3, Vec4};
 use raystage_scene::{Frame, PreviewAttributes, PreviewPoint, Sampler, Shader, ShadingModel, SurfacePoint, Texture};
 
-use crate::bsdf::Bsdf;
+use crate::bsdf::{Bsdf, Pbr};
+use crate::sheen;
 use crate::texture;
 
 /// The smallest microfacet α of a physically based surface: a mirror-smooth α of 0 would make
@@ -300,18 +301,22 @@ impl<'f> Resolved<'f> {
                     m.absorption = (-colour.ln() / shader.float("attenuation_distance")).max(Vec3::ZERO);
                 }
                 m.bsdf = Some(
-                    Bsdf::PhysicallyBased {
+                    Bsdf::PhysicallyBased(Pbr {
                         base: m.albedo,
                         metallic: shader.float("metallic"),
                         alpha: (roughness * roughness).max(MIN_ALPHA),
-                        f0: ((ior - 1.0) / (ior + 1.0)).powi(2) * shader.float("specular"),
+                        // KHR_materials_specular: the colour tints the index's reflectance
+                        // head-on (at most 1), the factor scales it everywhere.
+                        f0: (((ior - 1.0) / (ior + 1.0)).powi(2) * shader.color("specular_color")).min(Vec3::ONE) * shader.float("specular"),
                         f90: shader.float("specular"),
                         transmission,
                         eta: 1.0,
                         thin,
                         coat: shader.float("clearcoat"),
                         coat_alpha: shader.float("clearcoat_roughness").powi(2).max(MIN_ALPHA),
-                    }
+                        sheen: shader.color("sheen_color"),
+                        sheen_alpha: shader.float("sheen_roughness").max(sheen::MIN_ROUGHNESS).powi(2),
+                    })
                     // Entering from air, until a path says which media the boundary separates.
                     .across(1.0 / ior),
                 );
@@ -379,7 +384,8 @@ impl<'f> Resolved<'f> {
         m.bsdf = match m.bsdf {
             Some(Bsdf::Lambert { .. }) => Some(Bsdf::Lambert { albedo: m.albedo }),
             Some(Bsdf::Phong { specular, exponent, .. }) => Some(Bsdf::Phong { diffuse: m.albedo, specular, exponent }),
-            Some(Bsdf::PhysicallyBased { metallic, alpha, f0, f90, transmission, eta, thin, coat, coat_alpha, .. }) => {
+            Some(Bsdf::PhysicallyBased(p)) => {
+                let Pbr { metallic, alpha, .. } = p;
                 // glTF: blue is metalness, green roughness, each scaling its factor.
                 let (metallic, alpha) = match self.slots().metallic_roughness {
                     Some((t, roughness)) => {
@@ -388,7 +394,7 @@ impl<'f> Resolved<'f> {
                     }
                     None => (metallic, alpha),
                 };
-                Some(Bsdf::PhysicallyBased { base: m.albedo, metallic, alpha, f0, f90, transmission, eta, thin, coat, coat_alpha })
+                Some(Bsdf::PhysicallyBased(Pbr { base: m.albedo, metallic, alpha, ..p }))
             }
             other => other,
         };
@@ -412,7 +418,7 @@ mod tests {
         let texture = Texture::Image(Image::new(2, 1, vec![Vec3::new(0.0, 0.2, 1.0), Vec3::new(0.0, 1.0, 0.0)]).unwrap().into());
         let base = Material {
             model: ShadingModel::PhysicallyBased,
-            bsdf: Some(Bsdf::PhysicallyBased { base: Vec3::ONE, metallic: 1.0, alpha: 0.25, f0: 0.04, f90: 1.0, transmission: 0.0, eta: 1.0 / 1.5, thin: true, coat: 0.0, coat_alpha: 0.01 }),
+            bsdf: Some(Bsdf::PhysicallyBased(Pbr { base: Vec3::ONE, metallic: 1.0, alpha: 0.25, f0: Vec3::splat(0.04), f90: 1.0, transmission: 0.0, eta: 1.0 / 1.5, thin: true, coat: 0.0, coat_alpha: 0.01, sheen: Vec3::ZERO, sheen_alpha: 0.25 })),
             albedo: Vec3::ONE,
             emission: Vec3::ZERO,
             ior: 1.0,
@@ -422,7 +428,7 @@ mod tests {
         let slot = Slot { texture: &texture, sampler: Sampler::DEFAULT };
         let resolved = Resolved { base, slots: Some(Box::new(Slots { metallic_roughness: Some((slot, 0.5)), ..NO_SLOTS })) };
         let at = |u: f32| match resolved.apply(Vec3::ZERO, [Some(Vec2::new(u, 0.5)), None], Some(Vec3::new(1.0, 0.5, 0.25))).bsdf {
-            Some(Bsdf::PhysicallyBased { metallic, alpha, base, .. }) => (metallic, alpha, base),
+            Some(Bsdf::PhysicallyBased(Pbr { metallic, alpha, base, .. })) => (metallic, alpha, base),
             other => panic!("{other:?}"),
         };
         let (metallic, alpha, base) = at(0.25);

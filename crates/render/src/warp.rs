@@ -56,6 +56,14 @@ pub(crate) fn cosine_hemisphere(u: [f32; 2]) -> Vec3 {
     Vec3::new(d.x, d.y, (1.0 - d.length_squared()).max(0.0).sqrt())
 }
 
+/// A direction of the hemisphere around +z with uniform density 1 / 2π.
+pub(crate) fn uniform_hemisphere(u: [f32; 2]) -> Vec3 {
+    let z = u[0];
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = std::f32::consts::TAU * u[1];
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
 /// The power heuristic (β = 2) weight of a sample from a strategy with density `f` when another
 /// with density `g` could also have produced it (Veach 1997).
 pub(crate) fn power_heuristic(f: f32, g: f32) -> f32 {

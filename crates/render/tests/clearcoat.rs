@@ -3,26 +3,21 @@
 
 mod common;
 
-use common::{render_with, sphere_scene};
+use common::{lit_from_the_camera, render_with, sphere_scene};
 use glam::Vec3;
 use raystage_render::Integrator;
-use raystage_scene::{Light, ParamValue};
+use raystage_scene::ParamValue;
 
 /// A dark red rough dielectric sphere lit by a point light beside the camera, with a coat of
 /// weight `coat` (roughness 0.3).
 fn paint(coat: f32) -> raystage_scene::Scene {
-    let mut scene = sphere_scene(
-        "PhysicallyBased",
-        &[
-            ("base_color", ParamValue::Color(Vec3::new(0.5, 0.02, 0.02))),
-            ("metallic", ParamValue::Float(0.0)),
-            ("roughness", ParamValue::Float(1.0)),
-            ("clearcoat", ParamValue::Float(coat)),
-            ("clearcoat_roughness", ParamValue::Float(0.3)),
-        ],
-    );
-    scene.add_light(Light::Point { position: Vec3::new(0.0, 0.0, 4.0), intensity: Vec3::splat(10.0) }).unwrap();
-    scene
+    lit_from_the_camera(&[
+        ("base_color", ParamValue::Color(Vec3::new(0.5, 0.02, 0.02))),
+        ("metallic", ParamValue::Float(0.0)),
+        ("roughness", ParamValue::Float(1.0)),
+        ("clearcoat", ParamValue::Float(coat)),
+        ("clearcoat_roughness", ParamValue::Float(0.3)),
+    ])
 }
 
 #[test]

@@ -143,7 +143,7 @@ const fn joined<const N: usize>(own: &[ParamDecl], slots: &[[ParamDecl; SLOT_PAR
 }
 
 /// `PhysicallyBased`'s parameters other than its texture slots.
-const PHYSICALLY_BASED_OWN: [ParamDecl; 18] = [
+const PHYSICALLY_BASED_OWN: [ParamDecl; 21] = [
     ParamDecl { name: "base_color", default: ParamValue::Color(Vec3::ONE), range: FRACTION, choices: ANY, doc: "Base colour, linear RGB: the diffuse albedo of a dielectric, the reflectance of a metal." },
     ParamDecl { name: "metallic", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "0 for a dielectric, 1 for a metal, blended between." },
     ParamDecl { name: "roughness", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "Perceptual roughness in [0, 1]; the microfacets' α is its square." },
@@ -153,6 +153,9 @@ const PHYSICALLY_BASED_OWN: [ParamDecl; 18] = [
     ParamDecl { name: "attenuation_color", default: ParamValue::Color(Vec3::ONE), range: FRACTION, choices: ANY, doc: "The colour white light turns into after `attenuation_distance` inside a volume (Beer–Lambert); white: no absorption. Ignored for thin walls." },
     ParamDecl { name: "attenuation_distance", default: ParamValue::Float(1.0), range: [1e-6, f32::MAX], choices: ANY, doc: "The distance, in world units, after which light inside a volume has the colour `attenuation_color`." },
     ParamDecl { name: "specular", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "Scales the dielectric's specular reflection (glTF's KHR_materials_specular factor): 0 leaves a pure Lambertian base." },
+    ParamDecl { name: "specular_color", default: ParamValue::Color(Vec3::ONE), range: NON_NEGATIVE, choices: ANY, doc: "Tints the dielectric's specular reflection head-on (glTF's KHR_materials_specular colour factor): its reflectance at normal incidence is that of `ior` times this colour, at most 1, times `specular`; white leaves it grey." },
+    ParamDecl { name: "sheen_color", default: ParamValue::Color(Vec3::ZERO), range: FRACTION, choices: ANY, doc: "The colour of a sheen of fibres over the base, as velvet and other cloth have (glTF's KHR_materials_sheen colour factor): a back-scattering rim, brightest at grazing angles, that takes its light from what lies under it; black: none." },
+    ParamDecl { name: "sheen_roughness", default: ParamValue::Float(0.0), range: FRACTION, choices: ANY, doc: "The fibres' perceptual roughness in [0, 1] (glTF's sheenRoughnessFactor; their α is the square, at least 0.07²): low for a narrow rim at grazing angles, high for a soft, wide sheen." },
     ParamDecl { name: "clearcoat", default: ParamValue::Float(0.0), range: FRACTION, choices: ANY, doc: "The weight of a clear dielectric coat (index 1.5) over the whole material, as car paint or varnish has (glTF's KHR_materials_clearcoat factor); 0: none. Every integrator renders it: lit through the whole BSDF, and reflecting the scene (Whitted's mirror ray, Cook's and the path tracer's samples of its lobe)." },
     ParamDecl { name: "clearcoat_roughness", default: ParamValue::Float(0.0), range: FRACTION, choices: ANY, doc: "The coat's perceptual roughness in [0, 1] (its microfacets' α is the square): 0 a mirror-smooth coat." },
     ParamDecl { name: "emissive", default: ParamValue::Color(Vec3::ZERO), range: NON_NEGATIVE, choices: ANY, doc: "Emitted radiance, linear RGB (glTF's emissive factor × strength): an emitting surface is a light." },

@@ -30,7 +30,8 @@ pub extern "C" fn rtGenShaderClasses(n: RTsizei) -> RTuint {
 /// - "Glass": ior (1f, 1 to 4), absorption (3f, per unit length inside).
 /// - "Emissive": emission (3f, radiance from its front).
 /// - "PhysicallyBased": glTF 2.0's metallic-roughness material; base_color (3f), metallic (1f),
-///   roughness (1f), ior (1f), specular (1f), transmission (1f, the share of the dielectric base
+///   roughness (1f), ior (1f), specular (1f), specular_color (3f, tinting the reflection
+///   head-on), sheen_color (3f) and sheen_roughness (1f: cloth's rim of fibres), transmission (1f, the share of the dielectric base
 ///   refracted instead of diffusely reflected), thickness (1f: 0 a thin wall, else a volume
 ///   whose path length the geometry gives), attenuation_color (3f) and attenuation_distance (1f,
 ///   world units: the colour white light turns inside a volume after that distance), clearcoat

@@ -31,6 +31,13 @@ pub fn sphere_scene(class: &str, params: &[(&str, ParamValue)]) -> Scene {
     scene
 }
 
+/// A `PhysicallyBased` sphere of `params` lit by a point light at the camera.
+pub fn lit_from_the_camera(params: &[(&str, ParamValue)]) -> Scene {
+    let mut scene = sphere_scene("PhysicallyBased", params);
+    scene.add_light(Light::Point { position: Vec3::new(0.0, 0.0, 4.0), intensity: Vec3::splat(10.0) }).unwrap();
+    scene
+}
+
 /// A diffuse sphere on a diffuse floor.
 pub fn diffuse_scene() -> Scene {
     let mut scene = sphere_scene("Diffuse", &[]);
