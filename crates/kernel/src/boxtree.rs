@@ -142,6 +142,13 @@ impl BoxTree {
             return blocked;
         }
         let touches = |item: u32, ray: &PreparedRay| self.boxes[item as usize].intersect(ray, ray.tfar).is_some();
+        if self.boxes.len() == 1 {
+            // A tree of one box is a leaf, which the walk below takes ray by ray: the rays that
+            // touch it go to `block` together instead (a scene of one instance's shadow packets
+            // then cross it as a packet).
+            let live = (0..rays.len()).filter(|&i| touches(0, &rays[i])).fold(0, |m, i| m | 1 << i);
+            return if live == 0 { 0 } else { block(0, live) };
+        }
         (0..rays.len()).filter(|&i| self.any(&rays[i], |item| touches(item, &rays[i]) && block(item, 1 << i) != 0)).fold(0, |m, i| m | 1 << i)
     }
 

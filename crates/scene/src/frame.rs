@@ -500,7 +500,7 @@ impl<'a> Frame<'a> {
         let parallel = rays.iter().all(|r| r.dir.to_array().map(f32::to_bits) == rays[0].dir.to_array().map(f32::to_bits));
         // The rays among `live` that instance `item` blocks, `live` being exactly the rays not
         // blocked yet whose segment touches its box: those traced through it together.
-        let mut block = |item: u32, live: u32| -> u32 {
+        let block = |item: u32, live: u32| -> u32 {
             let fi = &self.instances[item as usize];
             let placed = fi.placed_at(time);
             let tree = fi.object.accel(&self.counters);
@@ -520,12 +520,6 @@ impl<'a> Frame<'a> {
             }
             tree.occluded_packet_prepared(&local[..n]) & live
         };
-        if let [only] = &self.boxes[..] {
-            // A top level of one box is a leaf, which the walk takes ray by ray: the rays that
-            // touch it go through the instance together instead.
-            let live = (0..n).filter(|&i| only.intersect(&prepared[i], rays[i].tfar).is_some()).fold(0, |m, i| m | 1 << i);
-            return if live == 0 { 0 } else { block(0, live) };
-        }
         // The walk leaves the rest of the top level to the rays no instance blocked yet.
         self.top.occluded_by(&prepared[..n], block)
     }
