@@ -47,10 +47,9 @@ pub(crate) enum Bsdf {
 }
 
 /// glTF 2.0's metallic-roughness BSDF (its Appendix B): a Lambertian base under a GGX
-/// specular layer of a dielectric (Fresnel from `f0`, 0.04 for index 1.5, coloured by glTF's
-/// `KHR_materials_specular` colour), blended by
-/// `metallic` with a GGX conductor of colour `base`. The dielectric's Fresnel runs from
-/// `f0` head-on to `f90` at grazing (1, or glTF's `KHR_materials_specular` factor, 0 leaving
+/// specular layer of a dielectric (Fresnel from `f0`, 0.04 for index 1.5, tinted by glTF's
+/// `KHR_materials_specular` colour), blended by `metallic` with a GGX conductor of colour
+/// `base`. The dielectric's Fresnel runs from `f0` head-on to `f90` at grazing (1, or glTF's `KHR_materials_specular` factor, 0 leaving
 /// a pure Lambertian base). Specular masking is Smith's, height-correlated; `alpha` is the
 /// roughness squared. Single scattering: rough surfaces lose the light that bounces between
 /// microfacets (a white rough metal keeps about 80 % seen head-on).
@@ -287,8 +286,7 @@ impl Bsdf {
                 } else {
                     Some(cosine_hemisphere(u))
                 }?;
-                let pdf = self.pdf(wo, wi);
-                (pdf > 0.0).then(|| BsdfSample { wi, weight: self.eval(wo, wi) / pdf, pdf, transmitted: wi.z < 0.0 })
+                self.weighed(wo, wi)
             }
             Bsdf::Glass { eta } => {
                 if wo.z <= 0.0 {
@@ -473,13 +471,7 @@ impl Bsdf {
     /// its α; `None` for any other function.
     fn coated(&self) -> Option<(Bsdf, f32, f32)> {
         match *self {
-            Bsdf::PhysicallyBased(Pbr { coat, coat_alpha, .. }) if coat > 0.0 => {
-                let mut under = *self;
-                if let Bsdf::PhysicallyBased(Pbr { coat, .. }) = &mut under {
-                    *coat = 0.0;
-                }
-                Some((under, coat, coat_alpha))
-            }
+            Bsdf::PhysicallyBased(p) if p.coat > 0.0 => Some((Bsdf::PhysicallyBased(Pbr { coat: 0.0, ..p }), p.coat, p.coat_alpha)),
             _ => None,
         }
     }
