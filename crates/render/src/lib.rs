@@ -18,6 +18,7 @@ mod channels;
 mod effects;
 mod error;
 mod film;
+mod footprint;
 mod integrator;
 mod lights;
 mod material;

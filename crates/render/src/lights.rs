@@ -169,7 +169,8 @@ impl<'f> Emitter<'f> {
         let (slot, t) = &**textured;
         let at = |corners: [Vec3; 3]| corners[0] * (1.0 - a - b) + corners[1] * a + corners[2] * b;
         let uv = |set: Option<[Vec2; 3]>| set.map(|c| c[0] * (1.0 - a - b) + c[1] * a + c[2] * b);
-        self.radiance * slot.at(at(t.local), [uv(t.uvs[0]), uv(t.uvs[1])]).truncate()
+        // A point light sample has no footprint: the image itself.
+        self.radiance * slot.at(at(t.local), [uv(t.uvs[0]), uv(t.uvs[1])], [0.0; 2]).truncate()
     }
 }
 

@@ -7,6 +7,7 @@ use glam::{Vec2, Vec3, Vec4};
 use raystage_scene::{Frame, PreviewAttributes, PreviewPoint, Sampler, Shader, ShadingModel, SurfacePoint, Texture};
 
 use crate::bsdf::{Bsdf, Pbr};
+use crate::footprint::PixelFootprint;
 use crate::sheen;
 use crate::texture;
 
@@ -49,10 +50,16 @@ impl<'f> Slot<'f> {
         Some(Slot { texture, sampler: Sampler::of(shader, slot) })
     }
 
-    /// Colour and coverage at a point (see [`texture::sample`]).
+    /// Colour and coverage at a point, for a lookup `footprint` wide in each set of texture
+    /// coordinates (see [`texture::sample`]).
     #[inline(always)]
-    pub fn at(&self, local_position: Vec3, uvs: [Option<Vec2>; 2]) -> Vec4 {
-        texture::sample(self.texture, &self.sampler, local_position, uvs)
+    pub fn at(&self, local_position: Vec3, uvs: [Option<Vec2>; 2], footprint: [f32; 2]) -> Vec4 {
+        texture::sample(self.texture, &self.sampler, local_position, uvs, footprint)
+    }
+
+    /// Whether the texture is an image (which a lookup filters over its footprint).
+    fn is_image(&self) -> bool {
+        matches!(self.texture, Texture::Image(_))
     }
 }
 
@@ -60,6 +67,8 @@ impl<'f> Slot<'f> {
 #[derive(Clone, Debug)]
 struct Resolved<'f> {
     base: Material,
+    /// Whether any of its textures is an image, whose lookups want a footprint.
+    filters: bool,
     /// The textures it uses, if any: kept aside, so that the record every hit reads stays a few
     /// cache lines for the many shaders that have none.
     slots: Option<Box<Slots<'f>>>,
@@ -114,6 +123,8 @@ impl Preview {
 
 /// The frame's shaders, resolved (indexed by shader id), and the default shader.
 pub(crate) struct Materials<'f> {
+    /// How wide a lookup's share of a pixel is, for the image textures.
+    footprint: PixelFootprint,
     by_id: Vec<Option<Resolved<'f>>>,
     default: Resolved<'f>,
     /// Each shader's preview: the default shader's first, then by id (ids without a shader
@@ -122,8 +133,8 @@ pub(crate) struct Materials<'f> {
 }
 
 impl<'f> Materials<'f> {
-    /// Resolves every shader of `frame`.
-    pub fn of(frame: &Frame<'f>) -> Materials<'f> {
+    /// Resolves every shader of `frame`, whose image textures are filtered over `footprint`.
+    pub fn of(frame: &Frame<'f>, footprint: PixelFootprint) -> Materials<'f> {
         let mut by_id = Vec::new();
         for (id, shader) in frame.shaders() {
             let index = id.0 as usize;
@@ -134,13 +145,25 @@ impl<'f> Materials<'f> {
         }
         let default = Resolved::of(frame, frame.default_shader());
         let previews = std::iter::once(Preview::of(&default)).chain(by_id.iter().map(|r| Preview::of(r.as_ref().unwrap_or(&default)))).collect();
-        Materials { by_id, default, previews }
+        Materials { footprint, by_id, default, previews }
     }
 
-    /// The material at `sp`.
+    /// The width of a lookup at `sp` in each set of texture coordinates, given how many units
+    /// of each one unit of world length spans there (`density`, asked only of a surface with
+    /// image textures; see [`PixelFootprint::in_texture`]): what [`Materials::at`] and
+    /// [`Materials::mapped_normal`] filter images over.
+    #[inline]
+    pub fn footprint(&self, sp: &SurfacePoint<'_>, density: impl Fn(usize) -> Option<f32>) -> [f32; 2] {
+        if !self.resolved(sp.shader_id).filters {
+            return [0.0; 2];
+        }
+        self.footprint.in_texture(sp.position, sp.geometric_normal, density)
+    }
+
+    /// The material at `sp`, its images looked up over `footprint` (see [`Materials::footprint`]).
     #[inline(always)]
-    pub fn at(&self, sp: &SurfacePoint<'_>) -> Material {
-        self.resolved(sp.shader_id).apply(sp.local_position, [sp.uv, sp.uv1], sp.color)
+    pub fn at(&self, sp: &SurfacePoint<'_>, footprint: [f32; 2]) -> Material {
+        self.resolved(sp.shader_id).apply(sp.local_position, [sp.uv, sp.uv1], sp.color, footprint)
     }
 
     /// What a preview shows at a preview point: the surface's albedo (textured, vertex
@@ -161,9 +184,10 @@ impl<'f> Materials<'f> {
         let r = self.resolved(pp.shader_id);
         let a = attributes();
         let uvs = [a.uv, a.uv1];
-        let albedo = r.scale(a.local_position, uvs, a.color).map_or(r.base.albedo, |s| r.base.albedo * s);
+        let footprint = if r.filters { self.footprint.in_texture(a.position, pp.normal, |set| a.texture_density[set]) } else { [0.0; 2] };
+        let albedo = r.scale(a.local_position, uvs, a.color, footprint).map_or(r.base.albedo, |s| r.base.albedo * s);
         Some(match r.slots {
-            Some(_) => (albedo * r.occlusion(a.local_position, uvs), true),
+            Some(_) => (albedo * r.occlusion(a.local_position, uvs, footprint), true),
             None => (albedo, true),
         })
     }
@@ -171,8 +195,8 @@ impl<'f> Materials<'f> {
     /// How much the occlusion texture of shader `id` darkens the eye light's preview at a point
     /// (see [`Materials::preview_colour`]): 1 for a shader without one.
     #[inline]
-    pub fn preview_occlusion(&self, id: Option<raystage_scene::ShaderId>, local_position: Vec3, uvs: [Option<Vec2>; 2]) -> f32 {
-        self.resolved(id).occlusion(local_position, uvs)
+    pub fn preview_occlusion(&self, id: Option<raystage_scene::ShaderId>, local_position: Vec3, uvs: [Option<Vec2>; 2], footprint: [f32; 2]) -> f32 {
+        self.resolved(id).occlusion(local_position, uvs, footprint)
     }
 
     /// The emissive texture of shader `id`, which multiplies its emission (see
@@ -210,10 +234,11 @@ impl<'f> Materials<'f> {
     /// has no normal map, or where no tangent frame can be made (degenerate texture coordinates
     /// or tangents, a zero normal), or where the map would turn the normal to the surface's far
     /// side: shading then keeps the unmapped normal.
-    pub fn mapped_normal(&self, sp: &SurfacePoint<'_>, tangent: impl FnOnce(usize) -> Option<Vec4>) -> Option<Vec3> {
+    pub fn mapped_normal(&self, sp: &SurfacePoint<'_>, footprint: [f32; 2], tangent: impl FnOnce(usize) -> Option<Vec4>) -> Option<Vec3> {
         let (slot, scale) = self.resolved(sp.shader_id).slots().normal?;
-        // glTF: texels in [0, 1] are components in [−1, 1]; the scale multiplies X and Y.
-        let texel = slot.at(sp.local_position, [sp.uv, sp.uv1]).truncate();
+        // glTF: texels in [0, 1] are components in [−1, 1]; the scale multiplies X and Y. A
+        // minified map's averaged normals are shorter; the tilt normalises them.
+        let texel = slot.at(sp.local_position, [sp.uv, sp.uv1], footprint).truncate();
         let local = (texel * 2.0 - Vec3::ONE) * Vec3::new(scale, scale, 1.0);
         tilted(sp.shading_normal, sp.geometric_normal, sp.front_face, tangent(slot.sampler.set)?, local)
     }
@@ -333,8 +358,12 @@ impl<'f> Resolved<'f> {
         let metallic_roughness = pbr_slot("metallic_roughness").map(|t| (t, shader.float("roughness")));
         let occlusion = pbr_slot("occlusion").map(|t| (t, shader.float("occlusion_strength")));
         let emissive = pbr_slot("emissive");
-        let textured = texture.is_some() || metallic_roughness.is_some() || normal.is_some() || emissive.is_some() || occlusion.is_some();
-        Resolved { base: m, slots: textured.then(|| Box::new(Slots { texture, metallic_roughness, normal, emissive, occlusion })) }
+        let slots = [texture, metallic_roughness.map(|t| t.0), normal.map(|t| t.0), emissive, occlusion.map(|t| t.0)];
+        Resolved {
+            base: m,
+            filters: slots.iter().flatten().any(Slot::is_image),
+            slots: slots.iter().any(Option::is_some).then(|| Box::new(Slots { texture, metallic_roughness, normal, emissive, occlusion })),
+        }
     }
 
     /// The textures of the shader (none for most).
@@ -345,21 +374,21 @@ impl<'f> Resolved<'f> {
 
     /// glTF's occlusion at a point: 1 + strength × (red − 1), 1 without an occlusion texture.
     #[inline]
-    fn occlusion(&self, local_position: Vec3, uvs: [Option<Vec2>; 2]) -> f32 {
-        self.slots().occlusion.map_or(1.0, |(slot, strength)| 1.0 + strength * (slot.at(local_position, uvs).x.clamp(0.0, 1.0) - 1.0))
+    fn occlusion(&self, local_position: Vec3, uvs: [Option<Vec2>; 2], footprint: [f32; 2]) -> f32 {
+        self.slots().occlusion.map_or(1.0, |(slot, strength)| 1.0 + strength * (slot.at(local_position, uvs, footprint).x.clamp(0.0, 1.0) - 1.0))
     }
 
     /// What scales the albedo at a point (see [`Resolved::apply`]): the texture, or the vertex
     /// colour of a `VertexColor` surface; nothing otherwise.
     #[inline(always)]
-    fn scale(&self, local_position: Vec3, uvs: [Option<Vec2>; 2], color: Option<Vec3>) -> Option<Vec3> {
+    fn scale(&self, local_position: Vec3, uvs: [Option<Vec2>; 2], color: Option<Vec3>, footprint: [f32; 2]) -> Option<Vec3> {
         match (self.slots().texture, self.base.model) {
             // glTF: the base colour is factor × texture × vertex colour.
-            (texture, ShadingModel::PhysicallyBased) => match (texture.map(|t| t.at(local_position, uvs).truncate()), color) {
+            (texture, ShadingModel::PhysicallyBased) => match (texture.map(|t| t.at(local_position, uvs, footprint).truncate()), color) {
                 (Some(t), Some(c)) => Some(t * c),
                 (t, c) => t.or(c),
             },
-            (Some(t), _) => Some(t.at(local_position, uvs).truncate()),
+            (Some(t), _) => Some(t.at(local_position, uvs, footprint).truncate()),
             (None, ShadingModel::VertexColor) => Some(color.unwrap_or(Vec3::ONE)),
             (None, _) => None,
         }
@@ -367,13 +396,13 @@ impl<'f> Resolved<'f> {
 
     /// The material at a point with object-space position `local_position` and the mesh's
     /// interpolated texture coordinates and colour, if it has them: the diffuse albedo scaled by
-    /// the texture or the vertex colour.
+    /// the texture or the vertex colour. Images are looked up over `footprint`.
     #[inline(always)]
-    fn apply(&self, local_position: Vec3, uvs: [Option<Vec2>; 2], color: Option<Vec3>) -> Material {
+    fn apply(&self, local_position: Vec3, uvs: [Option<Vec2>; 2], color: Option<Vec3>, footprint: [f32; 2]) -> Material {
         let mut m = self.base;
-        let scale = self.scale(local_position, uvs, color);
+        let scale = self.scale(local_position, uvs, color, footprint);
         if let Some(emissive) = self.slots().emissive {
-            m.emission *= emissive.at(local_position, uvs).truncate();
+            m.emission *= emissive.at(local_position, uvs, footprint).truncate();
         }
         if scale.is_none() && self.slots().metallic_roughness.is_none() {
             return m;
@@ -389,7 +418,7 @@ impl<'f> Resolved<'f> {
                 // glTF: blue is metalness, green roughness, each scaling its factor.
                 let (metallic, alpha) = match self.slots().metallic_roughness {
                     Some((t, roughness)) => {
-                        let texel = t.at(local_position, uvs);
+                        let texel = t.at(local_position, uvs, footprint);
                         (metallic * texel.z.clamp(0.0, 1.0), (roughness * texel.y.clamp(0.0, 1.0)).powi(2).max(MIN_ALPHA))
                     }
                     None => (metallic, alpha),
@@ -426,8 +455,8 @@ mod tests {
             occlusion_distance: 0.0,
         };
         let slot = Slot { texture: &texture, sampler: Sampler::DEFAULT };
-        let resolved = Resolved { base, slots: Some(Box::new(Slots { metallic_roughness: Some((slot, 0.5)), ..NO_SLOTS })) };
-        let at = |u: f32| match resolved.apply(Vec3::ZERO, [Some(Vec2::new(u, 0.5)), None], Some(Vec3::new(1.0, 0.5, 0.25))).bsdf {
+        let resolved = Resolved { base, filters: true, slots: Some(Box::new(Slots { metallic_roughness: Some((slot, 0.5)), ..NO_SLOTS })) };
+        let at = |u: f32| match resolved.apply(Vec3::ZERO, [Some(Vec2::new(u, 0.5)), None], Some(Vec3::new(1.0, 0.5, 0.25)), [0.0; 2]).bsdf {
             Some(Bsdf::PhysicallyBased(Pbr { metallic, alpha, base, .. })) => (metallic, alpha, base),
             other => panic!("{other:?}"),
         };

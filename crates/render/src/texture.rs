@@ -8,8 +8,9 @@ use crate::sampler::hash;
 
 /// The colour and coverage (alpha) of `texture` sampled by `sampler` at a point with
 /// object-space position `p` and the mesh's texture coordinate sets `uvs` (where it has them;
-/// coordinates it lacks read as 0, 0). Procedural textures are opaque.
-pub(crate) fn sample(texture: &Texture, sampler: &Sampler, p: Vec3, uvs: [Option<Vec2>; 2]) -> Vec4 {
+/// coordinates it lacks read as 0, 0), for a lookup `footprint` wide in each set (images are
+/// filtered over it, see `Sampler::image`). Procedural textures are opaque.
+pub(crate) fn sample(texture: &Texture, sampler: &Sampler, p: Vec3, uvs: [Option<Vec2>; 2], footprint: [f32; 2]) -> Vec4 {
     let uv = sampler.uv(uvs);
     match texture {
         Texture::Checker { a, b, scale } => {
@@ -30,7 +31,7 @@ pub(crate) fn sample(texture: &Texture, sampler: &Sampler, p: Vec3, uvs: [Option
             }
             a.lerp(*b, (0.5 + 0.5 * sum * 1.4).clamp(0.0, 1.0)).extend(1.0)
         }
-        Texture::Image(image) => sampler.image(image, uv.unwrap_or(Vec2::ZERO)),
+        Texture::Image(image) => sampler.image(image, uv.unwrap_or(Vec2::ZERO), footprint[sampler.set.min(1)]),
     }
 }
 
@@ -66,7 +67,7 @@ mod tests {
 
     /// The colour of `texture` at `p`, `uv`, sampled as glTF's default sampler does.
     fn lookup(texture: &Texture, p: Vec3, uv: Option<Vec2>) -> Vec3 {
-        sample(texture, &Sampler::DEFAULT, p, [uv, None]).truncate()
+        sample(texture, &Sampler::DEFAULT, p, [uv, None], [0.0; 2]).truncate()
     }
 
     #[test]
@@ -104,7 +105,7 @@ mod tests {
     /// A 4×1 ramp 0, 1/3, 2/3, 1, sampled by `sampler` at `u` (v mid-image).
     fn ramp(sampler: Sampler, u: f32) -> f32 {
         let img = Image::new(4, 1, (0..4).map(|i| Vec3::splat(i as f32 / 3.0)).collect()).unwrap();
-        sample(&Texture::Image(img.into()), &sampler, Vec3::ZERO, [Some(Vec2::new(u, 0.5)), None]).x
+        sample(&Texture::Image(img.into()), &sampler, Vec3::ZERO, [Some(Vec2::new(u, 0.5)), None], [0.0; 2]).x
     }
 
     #[test]
@@ -152,7 +153,7 @@ mod tests {
         shader.set("base_color_texcoord", raystage_scene::ParamValue::Float(1.0)).unwrap();
         let second = Sampler { transform: None, ..Sampler::of(&shader, "base_color") };
         let img = Image::new(2, 1, vec![Vec3::ZERO, Vec3::ONE]).unwrap();
-        let at = |s: &Sampler| sample(&Texture::Image(img.clone().into()), s, Vec3::ZERO, [Some(Vec2::new(0.25, 0.5)), Some(Vec2::new(0.75, 0.5))]).x;
+        let at = |s: &Sampler| sample(&Texture::Image(img.clone().into()), s, Vec3::ZERO, [Some(Vec2::new(0.25, 0.5)), Some(Vec2::new(0.75, 0.5))], [0.0; 2]).x;
         assert_eq!((at(&Sampler::DEFAULT), at(&second)), (0.0, 1.0));
         assert_eq!(Sampler::of(&Shader::new("Diffuse").unwrap(), "diffuse"), Sampler::DEFAULT);
     }

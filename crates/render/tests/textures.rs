@@ -400,3 +400,48 @@ fn single_sided_surfaces_are_invisible_from_behind() {
     assert_eq!(seen(0.0, -4.0), Vec3::new(0.0, 0.0, 1.0), "single-sided, from behind: the background");
     assert!(seen(1.0, -4.0).x > 0.5, "double-sided, from behind");
 }
+
+/// A floor 400 units square, seen from 1 unit above it towards the horizon, whose physically
+/// based matte shader's base colour is `texture` repeated 200 times across it (a 64-texel image
+/// thus shows 32 texels per unit of floor), lit by a directional light from above: the rows
+/// of a 48 × 32 image rendered by `integrator` at one sample per pixel that see the far floor
+/// (the top of the image is the horizon).
+fn far_floor(texture: Image, integrator: Integrator) -> Vec<Vec<Vec3>> {
+    let mut scene = Scene::new();
+    let texture = scene.add_texture(Texture::Image(texture.into())).unwrap();
+    let matte = [("metallic", ParamValue::Float(0.0)), ("specular", ParamValue::Float(0.0)), ("base_color_texture", ParamValue::Texture(Some(texture)))];
+    let pbr = shader(&mut scene, "PhysicallyBased", &matte);
+    let corners = [(-200.0, -200.0), (200.0, -200.0), (200.0, 200.0), (-200.0, 200.0)];
+    let mut floor = Mesh::new(corners.iter().map(|&(x, z)| Vec3::new(x, 0.0, z)).collect(), vec![[0, 3, 2], [0, 2, 1]]);
+    floor.uvs = corners.iter().map(|&(x, z)| Vec2::new(x + 200.0, z + 200.0) * 0.5).collect();
+    common::place(&mut scene, floor, pbr);
+    scene.add_light(Light::Directional { direction: Vec3::new(0.3, -1.0, 0.2), intensity: Vec3::ONE }).unwrap();
+    // Looking down 15° across the floor: the horizon at the top edge.
+    scene.set_camera(Camera::look_at(Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, 1.0 - (15f32).to_radians().tan(), -1.0), Vec3::Y, 30.0).unwrap()).unwrap();
+    let (film, _) = render_with(&scene, integrator, 48, 32, 1);
+    // Rows 2 to 10: floor 5 to 20 units away, where a pixel spans 3 to 30 texels.
+    (2..10).map(|y| (0..48).map(|x| film.pixel(x, y)).collect()).collect()
+}
+
+/// A texture seen from afar averages its texels, as its mip pyramid has them, instead of
+/// showing whichever texel each pixel's one ray happens to hit: a floor of alternating black
+/// and white texels looks as a floor of flat 50 % grey does, in the preview and in the
+/// integrators that resolve hits in full. (Unfiltered, each pixel is black or white: the far
+/// floor's pixels differ from grey by up to 100 %.)
+#[test]
+fn a_fine_texture_far_away_averages_instead_of_aliasing() {
+    let texels = (0..64 * 64).map(|i| if (i % 64 + i / 64) % 2 == 0 { Vec3::ZERO } else { Vec3::ONE }).collect();
+    let checker = Image::new(64, 64, texels).unwrap();
+    let grey = Image::new(1, 1, vec![Vec3::splat(0.5)]).unwrap();
+    for integrator in [Integrator::EyeLight, Integrator::Whitted, Integrator::Path] {
+        let (seen, expected) = (far_floor(checker.clone(), integrator), far_floor(grey.clone(), integrator));
+        let mut worst: f32 = 0.0;
+        for (row, grey_row) in seen.iter().zip(&expected) {
+            for (pixel, grey) in row.iter().zip(grey_row) {
+                worst = worst.max(((pixel.x - grey.x) / grey.x).abs());
+            }
+        }
+        // Nothing but the floor and the sun: the path tracer's one sample is as exact.
+        assert!(worst < 0.1, "{integrator:?}: the far floor differs from grey by up to {:.0} %", 100.0 * worst);
+    }
+}

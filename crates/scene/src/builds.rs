@@ -8,7 +8,8 @@
 //! workers blocked on the unbuilt object cannot help. So the build is handed to a separate pool
 //! of as many threads as the rendering pool has, and the rendering thread blocks (in the kernel,
 //! not in rayon) until it is done: the cores the blocked workers leave idle build the tree. The
-//! build pool's tasks never wait on rendering work, so nothing can wait in a circle.
+//! build pool's tasks never wait on rendering work, so nothing can wait in a circle. An image's
+//! mip pyramid, built the first time a lookup needs it, runs there for the same reasons.
 
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
@@ -80,7 +81,7 @@ impl BuildCounters {
 
 /// Runs `job` on the build pool sized like the calling thread's rayon pool and blocks until it
 /// is done; a panic in the job comes back as the error.
-fn on_build_pool<R: Send + 'static>(job: impl FnOnce() -> R + Send + 'static) -> std::thread::Result<R> {
+pub(crate) fn on_build_pool<R: Send + 'static>(job: impl FnOnce() -> R + Send + 'static) -> std::thread::Result<R> {
     let pool = build_pool(rayon::current_num_threads());
     let (done, result) = mpsc::sync_channel(1);
     pool.spawn(move || {

@@ -267,6 +267,20 @@ impl CameraRays {
         Ray::new(origin, (focal_point - origin).normalize())
     }
 
+    /// How wide one pixel is at point `p` (the geometric mean of its width and height there,
+    /// seen from the camera: the spacing of neighbouring pixels' rays), and the unit direction
+    /// of the camera's rays to `p`: what texture filtering takes a lookup's footprint from.
+    /// Lens and shutter are left out.
+    pub fn pixel_footprint(&self, p: Vec3) -> (f32, Vec3) {
+        let pixel = (self.right.length() * self.up.length()).sqrt();
+        if self.parallel {
+            return (pixel, self.forward);
+        }
+        let to = p - self.eye;
+        let distance = to.length();
+        (pixel * distance, if distance > 0.0 { to / distance } else { self.forward })
+    }
+
     /// The rays through pixel centres `(x + 0.5, y + 0.5)` of up to eight `pixels`, into
     /// `out`: exactly [`CameraRays::ray`] of each (lens centre), computed four at a time with
     /// the same correctly rounded operations (the square roots and divisions of the

@@ -132,6 +132,10 @@ pub struct PreviewAttributes {
     pub uv: Option<Vec2>,
     /// Interpolated second texture coordinates, if the mesh has them.
     pub uv1: Option<Vec2>,
+    /// The point in the world, from the ray.
+    pub position: Vec3,
+    /// The triangle's [`Frame::texture_density`] for each set of texture coordinates.
+    pub texture_density: [Option<f32>; 2],
 }
 
 /// A triangle of an instance, placed in the world (see [`Frame::world_triangles`]).
@@ -629,7 +633,19 @@ impl<'a> Frame<'a> {
             color: (!mesh.colors.is_empty()).then(|| mesh.colors[a] * w[0] + mesh.colors[b] * w[1] + mesh.colors[c] * w[2]),
             uv: interpolated(&mesh.uvs, [a, b, c], w),
             uv1: interpolated(&mesh.uvs1, [a, b, c], w),
+            position,
+            texture_density: [0, 1].map(|set| texture_density(mesh, hit.prim, &fi.placed, set)),
         }
+    }
+
+    /// How many units of texture coordinates `set` (0 or 1) one unit of length in the world
+    /// spans on the triangle of `hit` at shutter time `time`: the square root of the ratio of
+    /// the triangle's area in texture space to its area in the world, which turns a footprint
+    /// in the world into one in the texture. `None` without those coordinates, or for a
+    /// triangle degenerate in either space.
+    pub fn texture_density(&self, hit: &SceneHit, time: f32, set: usize) -> Option<f32> {
+        let fi = &self.instances[hit.item as usize];
+        texture_density(&fi.object.mesh, hit.prim, &fi.placed_at(time), set)
     }
 
     /// The shader of triangle `prim` of `mesh`, as the frame resolves it, and its id (`None`
@@ -819,6 +835,21 @@ fn shading_normal(mesh: &crate::Mesh, placed: &Placed, corners: [usize; 3], w: [
     // shades with the triangle's own.
     let Some(n) = placed.normal_to_world(n).try_normalize() else { return geometric_normal };
     if n.dot(geometric_normal) < 0.0 { -n } else { n }
+}
+
+/// [`Frame::texture_density`] of triangle `prim` of `mesh` placed by `placed`.
+fn texture_density(mesh: &crate::Mesh, prim: u32, placed: &Placed, set: usize) -> Option<f32> {
+    let uvs = if set == 0 { &mesh.uvs } else { &mesh.uvs1 };
+    if uvs.is_empty() {
+        return None;
+    }
+    let [a, b, c] = mesh.indices[prim as usize].map(|i| i as usize);
+    let (p, t) = ([a, b, c].map(|i| mesh.positions[i]), [a, b, c].map(|i| uvs[i]));
+    let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
+    let world = if placed.identity { e1.cross(e2) } else { placed.to_world.transform_vector3(e1).cross(placed.to_world.transform_vector3(e2)) }.length();
+    let texture = (t[1] - t[0]).perp_dot(t[2] - t[0]).abs();
+    let density = (texture / world).sqrt();
+    (density.is_finite() && density > 0.0).then_some(density)
 }
 
 /// A per-vertex attribute at barycentrics `w` of the triangle with vertices `corners`, if the

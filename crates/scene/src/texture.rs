@@ -1,8 +1,9 @@
 //! Textures: colours that vary over a surface, looked up by shaders through texture parameters.
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use glam::Vec3;
+use rayon::prelude::*;
 
 use crate::error::SceneError;
 
@@ -29,13 +30,36 @@ pub enum Texture {
         /// Frequency: features per unit length.
         scale: f32,
     },
-    /// An image, addressed by the mesh's texture coordinates (wrapping), bilinearly filtered.
+    /// An image, addressed by the mesh's texture coordinates as its sampler says (wrap modes,
+    /// magnification filter), trilinearly across its mip pyramid where a texel is smaller than
+    /// the lookup's footprint.
     Image(Arc<Image>),
 }
 
-/// A linear-RGB image, with coverage (alpha) where the encoded image had it.
-#[derive(Clone, Debug, PartialEq)]
+/// A linear-RGB image, with coverage (alpha) where the encoded image had it, and its mip pyramid:
+/// the same image at every halved size down to one texel, which lookups far from the camera
+/// read so that a texture many texels to the pixel does not alias.
+#[derive(Clone, Debug)]
 pub struct Image {
+    /// The image as given: level 0 of the pyramid. Shared with the build of the coarser levels,
+    /// which runs on the build pool (see [`Image::level`]).
+    base: Arc<Level>,
+    /// Levels 1 and on, each half the size of the one before (rounded down, at least 1), down to
+    /// 1×1: built the first time a lookup needs them.
+    coarser: OnceLock<Vec<Level>>,
+}
+
+/// Equal images have equal texels and coverage; whether their pyramids are built yet does not
+/// matter.
+impl PartialEq for Image {
+    fn eq(&self, other: &Image) -> bool {
+        self.base == other.base
+    }
+}
+
+/// One level of an image's mip pyramid: texels and coverage, row-major from the top row.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Level {
     width: u32,
     height: u32,
     texels: Vec<Vec3>,
@@ -44,9 +68,11 @@ pub struct Image {
 }
 
 impl Image {
-    /// The memory its texels and coverage take.
+    /// The memory its texels and coverage take, with its mip pyramid's (counted whether built
+    /// yet or not, as a budget must: any frame may build it).
     pub fn memory_bytes(&self) -> u64 {
-        (self.texels.len() * 12 + self.alpha.len() * 4) as u64
+        let per_texel = if self.base.alpha.is_empty() { 12 } else { 16 };
+        pyramid_sizes(self.width(), self.height()).map(|(w, h)| w as u64 * h as u64 * per_texel).sum()
     }
 
     /// An image from `width × height` texels, row-major from the top row; every channel finite
@@ -62,20 +88,21 @@ impl Image {
         if let Some(index) = texels.iter().position(|t| !t.is_finite() || t.min_element() < 0.0) {
             return Err(SceneError::NotFinite { field: "texels", index });
         }
-        Ok(Image { width, height, texels, alpha: Vec::new() })
+        Ok(Image { base: Arc::new(Level { width, height, texels, alpha: Vec::new() }), coarser: OnceLock::new() })
     }
 
     /// The same image with coverage `alpha` in [0, 1] per texel (glTF's base colour alpha, for
     /// masked and blended surfaces), in the texels' order.
-    pub fn with_alpha(mut self, alpha: Vec<f32>) -> Result<Image, SceneError> {
-        if alpha.len() != self.texels.len() {
-            return Err(SceneError::WrongLength { field: "alpha", got: alpha.len(), expected: self.texels.len() });
+    pub fn with_alpha(self, alpha: Vec<f32>) -> Result<Image, SceneError> {
+        let expected = self.base.texels.len();
+        if alpha.len() != expected {
+            return Err(SceneError::WrongLength { field: "alpha", got: alpha.len(), expected });
         }
         if let Some(index) = alpha.iter().position(|a| !(0.0..=1.0).contains(a)) {
             return Err(SceneError::OutOfRange { field: "alpha", message: format!("texel {index} is not within [0, 1]") });
         }
-        self.alpha = alpha;
-        Ok(self)
+        let Level { width, height, texels, .. } = Arc::unwrap_or_clone(self.base);
+        Ok(Image { base: Arc::new(Level { width, height, texels, alpha }), coarser: OnceLock::new() })
     }
 
     /// An image from encoded bytes: PNG, JPEG, Radiance HDR (`.hdr`) or OpenEXR, told apart by
@@ -136,6 +163,58 @@ impl Image {
 
     /// Width in texels.
     pub fn width(&self) -> u32 {
+        self.base.width
+    }
+
+    /// Height in texels.
+    pub fn height(&self) -> u32 {
+        self.base.height
+    }
+
+    /// The texel in column `x`, row `y` (wrapping around).
+    pub fn texel(&self, x: i64, y: i64) -> Vec3 {
+        self.base.texel(x, y)
+    }
+
+    /// The coverage of the texel in column `x`, row `y` (wrapping around): 1 for an opaque
+    /// image.
+    pub fn alpha(&self, x: i64, y: i64) -> f32 {
+        self.base.alpha(x, y)
+    }
+
+    /// Whether the image has coverage other than 1 somewhere.
+    pub fn has_alpha(&self) -> bool {
+        self.base.alpha.iter().any(|&a| a < 1.0)
+    }
+
+    /// How many levels its mip pyramid has: 1 for a single texel, 1 + log2 of the longer side,
+    /// rounded down, otherwise.
+    pub fn levels(&self) -> usize {
+        pyramid_sizes(self.width(), self.height()).count()
+    }
+
+    /// Level `i` of the mip pyramid (the last for any `i` beyond it): level 0 is the image.
+    /// The first call for a coarser level builds them all, on the build pool, while any other
+    /// thread that asks waits (as rays wait for a lazily built tree, and for the same reason:
+    /// see `builds`); each level is a box filter of the one before, colours weighted by their
+    /// coverage, so that the colour of a cut-out's transparent texels does not bleed into
+    /// its edges.
+    pub fn level(&self, i: usize) -> &Level {
+        if i == 0 {
+            return &self.base;
+        }
+        let coarser = self.coarser.get_or_init(|| {
+            let base = Arc::clone(&self.base);
+            crate::builds::on_build_pool(move || pyramid(&base)).unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+        });
+        // A 1×1 image has no coarser level: the image itself is the last.
+        coarser.get(i - 1).or(coarser.last()).unwrap_or(&self.base)
+    }
+}
+
+impl Level {
+    /// Width in texels.
+    pub fn width(&self) -> u32 {
         self.width
     }
 
@@ -145,26 +224,93 @@ impl Image {
     }
 
     /// The texel in column `x`, row `y` (wrapping around).
+    #[inline]
     pub fn texel(&self, x: i64, y: i64) -> Vec3 {
         self.texels[self.index(x, y)]
     }
 
     /// The coverage of the texel in column `x`, row `y` (wrapping around): 1 for an opaque
     /// image.
+    #[inline]
     pub fn alpha(&self, x: i64, y: i64) -> f32 {
         if self.alpha.is_empty() { 1.0 } else { self.alpha[self.index(x, y)] }
     }
 
-    /// Whether the image has coverage other than 1 somewhere.
-    pub fn has_alpha(&self) -> bool {
-        self.alpha.iter().any(|&a| a < 1.0)
-    }
-
-    /// The index of texel `(x, y)`, wrapped into the image.
+    /// The index of texel `(x, y)`, wrapped into the level.
+    #[inline]
     fn index(&self, x: i64, y: i64) -> usize {
         let (w, h) = (self.width as i64, self.height as i64);
         (y.rem_euclid(h) * w + x.rem_euclid(w)) as usize
     }
+
+    /// The level half this one's size (rounded down, at least 1 texel): each of its texels the
+    /// average of the part of this level it covers (a box filter; an odd size gives the texels
+    /// on a boundary to both neighbours in part), colours weighted by their coverage.
+    fn halved(&self) -> Level {
+        let (width, height) = ((self.width / 2).max(1), (self.height / 2).max(1));
+        let (across, down) = (box_weights(self.width, width), box_weights(self.height, height));
+        let opaque = self.alpha.is_empty();
+        let mut texels = vec![Vec3::ZERO; width as usize * height as usize];
+        let mut alpha = if opaque { Vec::new() } else { vec![0.0; texels.len()] };
+        let row = |y: usize, texels: &mut [Vec3], mut alpha: Option<&mut [f32]>| {
+            for (x, texel) in texels.iter_mut().enumerate() {
+                let (mut colour, mut coverage, mut plain) = (Vec3::ZERO, 0.0, Vec3::ZERO);
+                for &(sy, wy) in &down[y] {
+                    for &(sx, wx) in &across[x] {
+                        let i = sy as usize * self.width as usize + sx as usize;
+                        let (w, c) = (wx * wy, self.texels[i]);
+                        let a = if opaque { 1.0 } else { self.alpha[i] };
+                        colour += c * (w * a);
+                        coverage += w * a;
+                        plain += c * w;
+                    }
+                }
+                // Where every texel is transparent their colour is all there is.
+                *texel = if coverage > 0.0 { colour / coverage } else { plain };
+                if let Some(alpha) = alpha.as_deref_mut() {
+                    alpha[x] = coverage.min(1.0);
+                }
+            }
+        };
+        let w = width as usize;
+        if opaque {
+            texels.par_chunks_mut(w).enumerate().for_each(|(y, texels)| row(y, texels, None));
+        } else {
+            texels.par_chunks_mut(w).zip(alpha.par_chunks_mut(w)).enumerate().for_each(|(y, (texels, alpha))| row(y, texels, Some(alpha)));
+        }
+        Level { width, height, texels, alpha }
+    }
+}
+
+/// The coarser levels of the pyramid over `base` (see [`Image::level`]), each row of each level
+/// a task.
+fn pyramid(base: &Level) -> Vec<Level> {
+    let mut levels: Vec<Level> = Vec::new();
+    while levels.last().unwrap_or(base).width > 1 || levels.last().unwrap_or(base).height > 1 {
+        let next = levels.last().unwrap_or(base).halved();
+        levels.push(next);
+    }
+    levels
+}
+
+/// The sizes of the levels of the pyramid of a `width × height` image, from the image's own.
+fn pyramid_sizes(width: u32, height: u32) -> impl Iterator<Item = (u32, u32)> {
+    std::iter::successors(Some((width, height)), |&(w, h)| (w > 1 || h > 1).then(|| ((w / 2).max(1), (h / 2).max(1))))
+}
+
+/// For each of the `to` texels of an axis shrunk from `from` texels, the texels of `from` it
+/// covers and the share of it each covers (summing to 1).
+fn box_weights(from: u32, to: u32) -> Vec<Vec<(u32, f32)>> {
+    let ratio = from as f64 / to as f64;
+    (0..to)
+        .map(|i| {
+            let (start, end) = (i as f64 * ratio, (i + 1) as f64 * ratio);
+            (start.floor() as u32..(end.ceil() as u32).min(from))
+                .map(|s| (s, ((end.min(s as f64 + 1.0) - start.max(s as f64)) / ratio) as f32))
+                .filter(|&(_, w)| w > 0.0)
+                .collect()
+        })
+        .collect()
 }
 
 /// The texels of `width × height` pixels of `channels` values each (1, 3 or 4), each value
@@ -275,5 +421,44 @@ mod tests {
         assert!(matches!(Image::from_floats(0, 1, 3, &[]), Err(SceneError::OutOfRange { field: "image size", .. })));
         assert!(matches!(Image::from_floats(1, 1, 3, &[0.0, f32::NAN, 0.0]), Err(SceneError::NotFinite { field: "texels", index: 0 })));
         assert!(matches!(Image::from_floats(1, 1, 3, &[0.0, -1.0, 0.0]), Err(SceneError::NotFinite { field: "texels", index: 0 })));
+    }
+
+    #[test]
+    fn the_pyramid_halves_down_to_one_texel_keeping_the_mean() {
+        // 5 × 3: 2 × 1, then 1 × 1; an odd side shares its middle texel between two.
+        let texels: Vec<Vec3> = (0..15).map(|i| Vec3::splat(i as f32)).collect();
+        let mean = texels.iter().sum::<Vec3>() / 15.0;
+        let image = Image::new(5, 3, texels).unwrap();
+        assert_eq!(image.levels(), 3);
+        let sizes: Vec<_> = (0..4).map(|i| (image.level(i).width(), image.level(i).height())).collect();
+        assert_eq!(sizes, [(5, 3), (2, 1), (1, 1), (1, 1)], "levels past the last are the last");
+        // Left half of 5 columns: columns 0, 1 and half of 2, over the three rows.
+        let left = (0..3).map(|y| (y * 5) as f32 * 2.5 + 1.0 + 0.5 * 2.0).sum::<f32>() / 7.5;
+        assert!((image.level(1).texel(0, 0).x - left).abs() < 1e-4, "{} vs {left}", image.level(1).texel(0, 0));
+        assert!((image.level(2).texel(0, 0) - mean).abs().max_element() < 1e-4);
+        // The pyramid is counted in the memory the image takes before it is built.
+        let fresh = Image::new(5, 3, vec![Vec3::ONE; 15]).unwrap();
+        assert_eq!(fresh.memory_bytes(), (15 + 2 + 1) * 12);
+        assert_eq!(image.memory_bytes(), fresh.memory_bytes());
+    }
+
+    #[test]
+    fn coarser_levels_weigh_colours_by_their_coverage() {
+        // A red texel beside a transparent black one: half covered, and red, not dark red.
+        let image = Image::new(2, 1, vec![Vec3::X, Vec3::ZERO]).unwrap().with_alpha(vec![1.0, 0.0]).unwrap();
+        assert_eq!((image.level(1).texel(0, 0), image.level(1).alpha(0, 0)), (Vec3::X, 0.5));
+        // All transparent: the plain average.
+        let clear = Image::new(2, 1, vec![Vec3::X, Vec3::ZERO]).unwrap().with_alpha(vec![0.0, 0.0]).unwrap();
+        assert_eq!((clear.level(1).texel(0, 0), clear.level(1).alpha(0, 0)), (Vec3::new(0.5, 0.0, 0.0), 0.0));
+    }
+
+    #[test]
+    fn threads_that_meet_an_unbuilt_pyramid_share_one_build() {
+        let image = Image::new(256, 256, (0..256 * 256).map(|i| Vec3::splat((i % 2) as f32)).collect()).unwrap();
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(4).build().unwrap();
+        let firsts: Vec<usize> = pool.install(|| (0..16).into_par_iter().map(|_| image.level(1) as *const Level as usize).collect());
+        assert!(firsts.iter().all(|&p| p == firsts[0]), "one pyramid");
+        // Alternating columns average to grey.
+        assert!((image.level(1).texel(7, 9) - Vec3::splat(0.5)).abs().max_element() < 1e-6);
     }
 }

@@ -35,7 +35,8 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, rays: &[Ray], hits: &[Option<SceneHit>],
             // The normal map's normal needs the hit point's texture coordinates and tangent:
             // the hit is resolved in full (its albedo, occluded, is the preview's colour).
             let full = t.resolve(ray, *hit, 0.0);
-            let occlusion = t.materials.preview_occlusion(point.shader_id, full.surface.local_position, [full.surface.uv, full.surface.uv1]);
+            let footprint = t.materials.footprint(&full.surface, |set| t.frame.texture_density(hit, 0.0, set));
+            let occlusion = t.materials.preview_occlusion(point.shader_id, full.surface.local_position, [full.surface.uv, full.surface.uv1], footprint);
             (colour[k], lit[k]) = (full.material.albedo * occlusion, true);
             (nx[k], ny[k], nz[k]) = (full.surface.shading_normal.x, full.surface.shading_normal.y, full.surface.shading_normal.z);
             continue;

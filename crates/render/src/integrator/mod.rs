@@ -31,6 +31,7 @@ use raystage_scene::{Background, Frame, SceneHit, ShadingModel, SurfacePoint};
 
 use crate::bsdf::{Bsdf, fresnel_dielectric};
 use crate::effects::EffectSet;
+use crate::footprint::PixelFootprint;
 use first_shadows::KnownShadows;
 use crate::lights::{SceneLights, Seen};
 use crate::material::{Material, Materials};
@@ -143,7 +144,9 @@ impl<'a, 'f> Tracer<'a, 'f> {
     /// environment light, else the scene's backdrop, else the sky where the default lights it,
     /// and black.
     pub fn new(frame: &'a Frame<'f>, settings: &'a RenderSettings, samples: u32) -> Tracer<'a, 'f> {
-        let materials = Materials::of(frame);
+        // Image textures are filtered over a pixel's footprint at the frame's samples per pixel.
+        let footprint = PixelFootprint::new(frame.camera().rays(settings.width, settings.height), settings.samples_per_pixel);
+        let materials = Materials::of(frame, footprint);
         let lights = SceneLights::of(frame, &materials, settings.light_samples, settings.default_lights);
         let effects = EffectSet::of(frame, &lights, settings.integrator, samples);
         // An environment of the scene's own shows, as in Cycles and Mitsuba, unless the
@@ -179,11 +182,12 @@ impl<'f> Tracer<'_, 'f> {
 
     /// [`Tracer::resolve`] of a hit whose `surface` is computed already.
     pub fn resolve_at(&self, ray: &Ray, hit: SceneHit, mut surface: SurfacePoint<'f>, time: f32) -> Hit<'f> {
-        let material = self.materials.at(&surface);
+        let footprint = self.materials.footprint(&surface, |set| self.frame.texture_density(&hit, time, set));
+        let material = self.materials.at(&surface, footprint);
         // A normal the map turns away from the viewer would shade the point black (nothing it
         // reflects reaches the viewer): the unmapped normal shades there, as where the map turns
         // it to the surface's far side.
-        if let Some(n) = self.materials.mapped_normal(&surface, |set| self.frame.tangent(&hit, time, set))
+        if let Some(n) = self.materials.mapped_normal(&surface, footprint, |set| self.frame.tangent(&hit, time, set))
             && n.dot(ray.dir) < 0.0
         {
             surface.shading_normal = n;
@@ -250,7 +254,8 @@ impl<'f> Tracer<'_, 'f> {
             rays.shadow += 1;
             let Some(hit) = self.frame.intersect(&ray, time) else { return through };
             let surface = self.frame.surface(&ray, &hit, time);
-            let material = self.materials.at(&surface);
+            // Only whether it is glass, and its index and absorption, matter: no footprint.
+            let material = self.materials.at(&surface, [0.0; 2]);
             if material.model != ShadingModel::Glass {
                 return Vec3::ZERO;
             }

@@ -72,7 +72,9 @@ impl<'a> Visibility<'a> {
         if self.alpha == Alpha::Opaque {
             return true;
         }
-        let coverage = self.opacity * self.texture.map_or(1.0, |(image, sampler)| sampler.image(image, sampler.uv(uvs()).unwrap_or(Vec2::ZERO)).w);
+        // The image's own coverage, never a mip level's: a cut-out keeps its shape at any
+        // distance (averaged coverage would erode thin cut-outs, leaves and fences, to nothing).
+        let coverage = self.opacity * self.texture.map_or(1.0, |(image, sampler)| sampler.image(image, sampler.uv(uvs()).unwrap_or(Vec2::ZERO), 0.0).w);
         match self.alpha {
             Alpha::Mask(cutoff) => coverage >= cutoff,
             // The top 24 bits of the key as a fraction in [0, 1).
