@@ -6,15 +6,16 @@
 //! pixel's as the camera sees the point, whichever path reached it: exact for camera rays,
 //! a fair guess after a bounce, and free of any state carried along the path. Seen at a slant
 //! the footprint stretches across the surface by 1 / cos along one axis; an isotropic filter
-//! takes the geometric mean of the two axes. And since a pixel's own samples already average
+//! takes the longer axis, as GPUs' trilinear filtering does (the geometric mean of the two
+//! leaves a floor's far checks in rings of moiré), blurring across it instead. And since a pixel's own samples already average
 //! over its area, the footprint shrinks with the samples per pixel, as pbrt-v4's does: by
 //! 1 / √spp, down to an eighth of a pixel.
 
 use glam::Vec3;
 use raystage_scene::CameraRays;
 
-/// The slant past which a footprint stretches no further (about 89.4°): the stretch 1 / √cos
-/// stays below 8 instead of growing without bound along silhouettes.
+/// The slant past which a footprint stretches no further (about 89.1°): the stretch 1 / cos
+/// stays below 64 instead of growing without bound along silhouettes.
 const MIN_COS: f32 = 1.0 / 64.0;
 
 /// The smallest share of a pixel a footprint is scaled to, however many samples it takes.
@@ -38,7 +39,7 @@ impl PixelFootprint {
     pub fn width(&self, position: Vec3, normal: Vec3) -> f32 {
         let (pixel, towards) = self.rays.pixel_footprint(position);
         let cos = normal.normalize_or_zero().dot(towards).abs().max(MIN_COS);
-        pixel * self.scale / cos.sqrt()
+        pixel * self.scale / cos
     }
 
     /// The footprint's width in each set of texture coordinates, given how many units of each
@@ -68,11 +69,11 @@ mod tests {
         assert!((one.width(ahead * 10.0, Vec3::Z) - 0.2).abs() < 1e-5);
         // Twice as far, twice as wide; either side of the surface alike.
         assert!((one.width(ahead * 20.0, -Vec3::Z) - 0.4).abs() < 1e-5);
-        // At 60° the stretch 1 / cos = 2 is taken as its square root.
+        // At 60°, stretched by 1 / cos = 2.
         let slanted = Vec3::new(0.0, (60f32).to_radians().sin(), (60f32).to_radians().cos());
-        assert!((one.width(ahead * 10.0, slanted) - 0.2 * 2f32.sqrt()).abs() < 1e-5);
+        assert!((one.width(ahead * 10.0, slanted) - 0.4).abs() < 1e-5);
         // Edge-on, bounded.
-        assert!((one.width(ahead * 10.0, Vec3::Y) - 0.2 * 8.0).abs() < 1e-4);
+        assert!((one.width(ahead * 10.0, Vec3::Y) - 0.2 * 64.0).abs() < 1e-3);
         // 16 samples: a quarter; 1024: an eighth, no less.
         assert!((footprint(16).width(ahead * 10.0, Vec3::Z) - 0.05).abs() < 1e-6);
         assert!((footprint(1024).width(ahead * 10.0, Vec3::Z) - 0.025).abs() < 1e-6);
