@@ -1,0 +1,109 @@
+//! What requests past the server's limits cost it in memory: `raystage serve` as users run it
+//! (default limits), one server per case, its peak resident memory (`VmHWM`, from /proc) before
+//! and after a request that must be refused. Each limit is checked before the memory it guards
+//! is spent, so the peak barely moves; without the checks, each case would take hundreds of
+//! megabytes to gigabytes (the figures in the README's "Limits" section).
+
+#![cfg(target_os = "linux")]
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
+use std::process::{Child, Command, Stdio};
+
+/// A server with default limits and one empty scene (scene 1).
+struct Server {
+    child: Child,
+    addr: String,
+}
+
+impl Server {
+    fn start() -> Server {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_raystage"))
+            .args(["serve", "--addr", "127.0.0.1:0"])
+            .env_remove("RAYSTAGE_TOKEN")
+            .stdout(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let lines = BufReader::new(child.stdout.take().unwrap()).lines();
+        let banner = lines.map(Result::unwrap).find(|l| l.contains("http://")).expect("the server prints its address");
+        let addr = banner.split("http://").nth(1).and_then(|rest| rest.split('/').next()).unwrap().to_string();
+        let server = Server { child, addr };
+        let (status, body) = server.request("POST", "/scenes", "application/json", b"{}");
+        assert_eq!(status, 201, "{body}");
+        server
+    }
+
+    /// The status and body of a request (the connection closed after it).
+    fn request(&self, method: &str, path: &str, content_type: &str, body: &[u8]) -> (u16, String) {
+        let mut stream = TcpStream::connect(&self.addr).unwrap();
+        let head = format!("{method} {path} HTTP/1.1\r\nHost: {}\r\nContent-Type: {content_type}\r\nContent-Length: {}\r\nConnection: close\r\n\r\n", self.addr, body.len());
+        stream.write_all(head.as_bytes()).unwrap();
+        // A server that answers before reading the whole body may close the connection on the
+        // rest: what it answered is still there to read.
+        let _ = stream.write_all(body);
+        let mut response = Vec::new();
+        let _ = stream.read_to_end(&mut response);
+        let response = String::from_utf8_lossy(&response).into_owned();
+        let status = response.split(' ').nth(1).and_then(|s| s.parse().ok()).unwrap_or_else(|| panic!("no status in {response:?}"));
+        (status, response)
+    }
+
+    /// The server's peak resident memory so far, in MiB.
+    fn peak_mib(&self) -> f64 {
+        let status = std::fs::read_to_string(format!("/proc/{}/status", self.child.id())).unwrap();
+        let line = status.lines().find(|l| l.starts_with("VmHWM:")).expect("Linux reports the peak resident set");
+        line.split_whitespace().nth(1).unwrap().parse::<f64>().unwrap() / 1024.0
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// Sends a request that must be refused with `status` naming `limit`, on a fresh server, and
+/// checks that its peak memory grew by less than `budget_mib` (beyond the request body, which
+/// the server holds while it reads it).
+fn refused_within(method: &str, path: &str, content_type: &str, body: &[u8], status: u16, limit: &str, budget_mib: f64) {
+    let server = Server::start();
+    let before = server.peak_mib();
+    let (got, response) = server.request(method, path, content_type, body);
+    assert!(got == status && response.contains(&format!(r#""limit":"{limit}""#)), "{path}: {response}");
+    let grown = server.peak_mib() - before - body.len() as f64 / (1 << 20) as f64;
+    assert!(grown < budget_mib, "{path}: the peak grew by {grown:.0} MiB beyond the body, budget {budget_mib} MiB");
+}
+
+#[test]
+fn an_image_too_large_to_decode_is_refused_without_decoding_it() {
+    // 8192² black texels: 0.2 MB of PNG, 768 MiB decoded (the budget is 256 MiB).
+    let mut png = std::io::Cursor::new(Vec::new());
+    image::RgbImage::new(8192, 8192).write_to(&mut png, image::ImageFormat::Png).unwrap();
+    refused_within("POST", "/scenes/1/textures", "image/png", &png.into_inner(), 413, "max_texture_bytes", 32.0);
+}
+
+#[test]
+fn a_demo_past_the_triangle_limit_is_refused_before_it_is_built() {
+    // Four million triangles would take over 500 MiB.
+    refused_within("POST", "/scenes", "application/json", br#"{"demo": "museum-4000000"}"#, 422, "max_demo_triangles", 32.0);
+}
+
+#[test]
+fn channels_larger_than_the_render_budget_are_refused_before_their_images_are_made() {
+    // 8192² pixels of every channel: 4 GiB (the budget is 2 GiB for every frame together).
+    refused_within("GET", "/scenes/1/channels/depth?width=8192&height=8192", "application/json", b"", 413, "max_render_bytes", 32.0);
+}
+
+#[test]
+fn a_batch_past_the_command_limit_stops_parsing_at_the_first_command_too_many() {
+    // 64 MiB of tiny commands, 3.5 million of them: parsed whole, they took 12 times the body;
+    // parsing stops at the 100,001st.
+    let command = br#"{"set_camera": {}}, "#;
+    let mut body = br#"{"commands": ["#.to_vec();
+    while body.len() < 64 << 20 {
+        body.extend_from_slice(command);
+    }
+    body.extend_from_slice(br#"{"set_camera": {}}]}"#);
+    refused_within("POST", "/scenes/1/commands", "application/json", &body, 413, "max_commands", 96.0);
+}
