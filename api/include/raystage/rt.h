@@ -1279,7 +1279,10 @@ RTuint rtGenShaderClasses(RTsizei n);
  *   occlusion_strength (1f), opacity (1f), alpha_mode (1f: 0 opaque, 1 mask, 2 blend),
  *   alpha_cutoff (1f), double_sided (1f: 0 or 1), and the textures base_color_texture,
  *   metallic_roughness_texture (blue metallic, green roughness), normal_texture,
- *   emissive_texture, occlusion_texture.
+ *   emissive_texture, occlusion_texture, and those of glTF's extensions, each multiplying its
+ *   factor: specular_texture (alpha), specular_color_texture (colour), transmission_texture
+ *   (red), clearcoat_texture (red), clearcoat_roughness_texture (green), sheen_color_texture
+ *   (colour), sheen_roughness_texture (alpha).
  * - "AmbientOcclusion": diffuse (3f), distance (1f, how far occluders count).
  *
  * Every `X_texture` parameter comes with how it is sampled, all 1f: X_wrap_s and X_wrap_t

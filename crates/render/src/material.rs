@@ -88,10 +88,94 @@ struct Slots<'f> {
     emissive: Option<Slot<'f>>,
     /// A physically based shader's occlusion texture, and its strength (the eye light's only).
     occlusion: Option<(Slot<'f>, f32)>,
+    /// A physically based shader's textures of glTF's material extensions, if it has any: one
+    /// field, so that a shader without them pays one test per hit for all seven.
+    layers: Option<Layers<'f>>,
 }
 
 /// No textures.
-const NO_SLOTS: Slots<'static> = Slots { texture: None, metallic_roughness: None, normal: None, emissive: None, occlusion: None };
+const NO_SLOTS: Slots<'static> = Slots { texture: None, metallic_roughness: None, normal: None, emissive: None, occlusion: None, layers: None };
+
+/// A physically based shader's textures of KHR_materials_specular, _transmission, _clearcoat
+/// and _sheen. Each multiplies a factor: where glTF's formula is a product of the factor, the
+/// factor is the resolved BSDF's own field and the texel multiplies it at the hit; where it is
+/// not (a clamp or a floor between the product and the BSDF's field), the factor is kept here.
+#[derive(Clone, Copy, Debug, Default)]
+struct Layers<'f> {
+    /// KHR_materials_specular's texture: its alpha multiplies `specular`, that is f0 and f90.
+    specular: Option<Slot<'f>>,
+    /// Its colour texture, and the index's reflectance head-on × `specular_color`, which the
+    /// texel multiplies before f0 is held to 1.
+    specular_color: Option<(Slot<'f>, Vec3)>,
+    /// KHR_materials_transmission's texture: red multiplies `transmission`.
+    transmission: Option<Slot<'f>>,
+    /// KHR_materials_clearcoat's texture: red multiplies the coat's weight.
+    clearcoat: Option<Slot<'f>>,
+    /// Its roughness texture, and `clearcoat_roughness`, which green multiplies before it is
+    /// squared into α.
+    clearcoat_roughness: Option<(Slot<'f>, f32)>,
+    /// KHR_materials_sheen's colour texture, multiplying `sheen_color`.
+    sheen_color: Option<Slot<'f>>,
+    /// Its roughness texture, and `sheen_roughness`, which alpha multiplies before it is
+    /// floored and squared into α.
+    sheen_roughness: Option<(Slot<'f>, f32)>,
+}
+
+impl<'f> Layers<'f> {
+    /// The extension textures of physically based `shader`, given its index's reflectance
+    /// head-on; `None` if it sets none.
+    fn of(frame: &Frame<'f>, shader: &Shader, reflectance: f32) -> Option<Layers<'f>> {
+        let slot = |name: &str| Slot::of(frame, shader, name);
+        let layers = Layers {
+            specular: slot("specular"),
+            specular_color: slot("specular_color").map(|t| (t, reflectance * shader.color("specular_color"))),
+            transmission: slot("transmission"),
+            clearcoat: slot("clearcoat"),
+            clearcoat_roughness: slot("clearcoat_roughness").map(|t| (t, shader.float("clearcoat_roughness"))),
+            sheen_color: slot("sheen_color"),
+            sheen_roughness: slot("sheen_roughness").map(|t| (t, shader.float("sheen_roughness"))),
+        };
+        layers.slots().iter().any(Option::is_some).then_some(layers)
+    }
+
+    /// Its slots, whichever are set.
+    fn slots(&self) -> [Option<Slot<'f>>; 7] {
+        [self.specular, self.specular_color.map(|t| t.0), self.transmission, self.clearcoat, self.clearcoat_roughness.map(|t| t.0), self.sheen_color, self.sheen_roughness.map(|t| t.0)]
+    }
+
+    /// `p`, resolved from the factors, with each texture's texel at a point multiplied in as the
+    /// extensions say. Texels are held to [0, 1], as the metallic-roughness texture's are, so
+    /// that no texel (of a float image the C ABI was given, say) takes the BSDF beyond its light.
+    /// Images are looked up over `footprint`.
+    fn apply(&self, mut p: Pbr, local_position: Vec3, uvs: [Option<Vec2>; 2], footprint: [f32; 2]) -> Pbr {
+        let at = |slot: Slot<'_>| slot.at(local_position, uvs, footprint).clamp(Vec4::ZERO, Vec4::ONE);
+        // KHR_materials_specular: f0 = min(reflectance × colour factor × colour texel, 1) × s
+        // and f90 = s, with s = factor × alpha; p.f90 holds the factor alone until then.
+        if let Some((t, tinted)) = self.specular_color {
+            p.f0 = (tinted * at(t).truncate()).min(Vec3::ONE) * p.f90;
+        }
+        if let Some(t) = self.specular {
+            let specular = at(t).w;
+            (p.f0, p.f90) = (p.f0 * specular, p.f90 * specular);
+        }
+        if let Some(t) = self.transmission {
+            p.transmission *= at(t).x;
+        }
+        if let Some(t) = self.clearcoat {
+            p.coat *= at(t).x;
+        }
+        if let Some((t, roughness)) = self.clearcoat_roughness {
+            p.coat_alpha = (roughness * at(t).y).powi(2).max(MIN_ALPHA);
+        }
+        if let Some(t) = self.sheen_color {
+            p.sheen *= at(t).truncate();
+        }
+        if let Some((t, roughness)) = self.sheen_roughness {
+            p.sheen_alpha = (roughness * at(t).w).max(sheen::MIN_ROUGHNESS).powi(2);
+        }
+        p
+    }
+}
 
 /// What the eye-light preview shows of a shader, worked out when the frame starts: a hit on a
 /// surface whose colour does not vary then costs one small lookup.
@@ -262,6 +346,11 @@ fn tilted(n: Vec3, ng: Vec3, front: bool, tangent: Vec4, local: Vec3) -> Option<
     (mapped.dot(ng) > 0.0).then_some(mapped)
 }
 
+/// The reflectance head-on of a dielectric of index `ior` in air, ((ior − 1) / (ior + 1))².
+fn reflectance(ior: f32) -> f32 {
+    ((ior - 1.0) / (ior + 1.0)).powi(2)
+}
+
 /// Whether surfaces of `model` emit their material's `emission` as light (a `Constant`'s colour
 /// is a flat look, not light).
 pub(crate) fn emits(model: ShadingModel) -> bool {
@@ -332,7 +421,7 @@ impl<'f> Resolved<'f> {
                         alpha: (roughness * roughness).max(MIN_ALPHA),
                         // KHR_materials_specular: the colour tints the index's reflectance
                         // head-on (at most 1), the factor scales it everywhere.
-                        f0: (((ior - 1.0) / (ior + 1.0)).powi(2) * shader.color("specular_color")).min(Vec3::ONE) * shader.float("specular"),
+                        f0: (reflectance(ior) * shader.color("specular_color")).min(Vec3::ONE) * shader.float("specular"),
                         f90: shader.float("specular"),
                         transmission,
                         eta: 1.0,
@@ -358,11 +447,13 @@ impl<'f> Resolved<'f> {
         let metallic_roughness = pbr_slot("metallic_roughness").map(|t| (t, shader.float("roughness")));
         let occlusion = pbr_slot("occlusion").map(|t| (t, shader.float("occlusion_strength")));
         let emissive = pbr_slot("emissive");
+        let layers = (model == ShadingModel::PhysicallyBased).then(|| Layers::of(frame, shader, reflectance(m.ior))).flatten();
         let slots = [texture, metallic_roughness.map(|t| t.0), normal.map(|t| t.0), emissive, occlusion.map(|t| t.0)];
+        let layer_slots = layers.as_ref().map(Layers::slots).unwrap_or_default();
         Resolved {
             base: m,
-            filters: slots.iter().flatten().any(Slot::is_image),
-            slots: slots.iter().any(Option::is_some).then(|| Box::new(Slots { texture, metallic_roughness, normal, emissive, occlusion })),
+            filters: slots.iter().chain(&layer_slots).flatten().any(Slot::is_image),
+            slots: (slots.iter().any(Option::is_some) || layers.is_some()).then(|| Box::new(Slots { texture, metallic_roughness, normal, emissive, occlusion, layers })),
         }
     }
 
@@ -404,7 +495,7 @@ impl<'f> Resolved<'f> {
         if let Some(emissive) = self.slots().emissive {
             m.emission *= emissive.at(local_position, uvs, footprint).truncate();
         }
-        if scale.is_none() && self.slots().metallic_roughness.is_none() {
+        if scale.is_none() && self.slots().metallic_roughness.is_none() && self.slots().layers.is_none() {
             return m;
         }
         if let Some(scale) = scale {
@@ -423,7 +514,8 @@ impl<'f> Resolved<'f> {
                     }
                     None => (metallic, alpha),
                 };
-                Some(Bsdf::PhysicallyBased(Pbr { base: m.albedo, metallic, alpha, ..p }))
+                let p = Pbr { base: m.albedo, metallic, alpha, ..p };
+                Some(Bsdf::PhysicallyBased(self.slots().layers.as_ref().map_or(p, |layers| layers.apply(p, local_position, uvs, footprint))))
             }
             other => other,
         };
@@ -434,7 +526,7 @@ impl<'f> Resolved<'f> {
 
 #[cfg(test)]
 mod tests {
-    use glam::{Vec2, Vec3};
+    use glam::{Vec2, Vec3, Vec4};
     use raystage_scene::{Image, Texture};
 
     use super::*;
@@ -465,6 +557,48 @@ mod tests {
         assert!((alpha - (0.5f32 * 0.2).powi(2)).abs() < 1e-6, "{alpha}");
         let (metallic, alpha, _) = at(0.75);
         assert_eq!((metallic, alpha), (0.0, 0.25));
+    }
+
+    /// Each texture of glTF's material extensions varies its own field of the BSDF by its own
+    /// channel, as the extension's formula says, and leaves every other field as resolved.
+    #[test]
+    fn extension_textures_vary_their_own_field_of_the_bsdf_by_their_own_channel() {
+        // Every channel different, so that a slot reading the wrong one is seen; the right
+        // texel's alpha is low enough for the sheen's floor.
+        let (left, right) = (Vec4::new(0.2, 0.4, 0.6, 0.8), Vec4::new(0.9, 0.1, 0.3, 0.1));
+        let image = Image::new(2, 1, vec![left.truncate(), right.truncate()]).unwrap().with_alpha(vec![left.w, right.w]).unwrap();
+        let texture = Texture::Image(image.into());
+        let slot = Slot { texture: &texture, sampler: Sampler { nearest: true, ..Sampler::DEFAULT } };
+        // The factors: specular 0.5, specular colour (30, 0.5, 2) at index 1.5 (so that red's
+        // reflectance head-on, 1.2, is held to 1 unless a texel darkens it first),
+        // transmission 0.8, coat 0.6 of roughness 0.5, sheen (0.9, 0.2, 0.1) of roughness 0.4.
+        let tinted = 0.04 * Vec3::new(30.0, 0.5, 2.0);
+        let factors = Pbr { base: Vec3::ONE, metallic: 0.0, alpha: 0.25, f0: tinted.min(Vec3::ONE) * 0.5, f90: 0.5, transmission: 0.8, eta: 1.0 / 1.5, thin: true, coat: 0.6, coat_alpha: 0.25, sheen: Vec3::new(0.9, 0.2, 0.1), sheen_alpha: 0.16 };
+        let base = Material { model: ShadingModel::PhysicallyBased, bsdf: Some(Bsdf::PhysicallyBased(factors)), albedo: Vec3::ONE, emission: Vec3::ZERO, ior: 1.5, absorption: Vec3::ZERO, occlusion_distance: 0.0 };
+        let none = Layers::default();
+        // Each case: one slot, and the BSDF glTF's formula gives from the factors at a texel.
+        type Expected = fn(Pbr, Vec4) -> Pbr;
+        let cases: [(Layers<'_>, Expected); 7] = [
+            (Layers { specular: Some(slot), ..none }, |p, t| Pbr { f0: p.f0 * t.w, f90: 0.5 * t.w, ..p }),
+            (Layers { specular_color: Some((slot, 0.04 * Vec3::new(30.0, 0.5, 2.0))), ..none }, |p, t| Pbr { f0: (0.04 * Vec3::new(30.0, 0.5, 2.0) * t.truncate()).min(Vec3::ONE) * 0.5, ..p }),
+            (Layers { transmission: Some(slot), ..none }, |p, t| Pbr { transmission: 0.8 * t.x, ..p }),
+            (Layers { clearcoat: Some(slot), ..none }, |p, t| Pbr { coat: 0.6 * t.x, ..p }),
+            (Layers { clearcoat_roughness: Some((slot, 0.5)), ..none }, |p, t| Pbr { coat_alpha: (0.5 * t.y).powi(2), ..p }),
+            (Layers { sheen_color: Some(slot), ..none }, |p, t| Pbr { sheen: Vec3::new(0.9, 0.2, 0.1) * t.truncate(), ..p }),
+            (Layers { sheen_roughness: Some((slot, 0.4)), ..none }, |p, t| Pbr { sheen_alpha: (0.4 * t.w).max(0.07).powi(2), ..p }),
+        ];
+        let numbers = |p: Pbr| [p.base.to_array(), p.f0.to_array(), p.sheen.to_array(), [p.metallic, p.alpha, p.f90], [p.transmission, p.eta, p.coat], [p.coat_alpha, p.sheen_alpha, if p.thin { 1.0 } else { 0.0 }]].concat();
+        for (k, (layers, expected)) in cases.into_iter().enumerate() {
+            let resolved = Resolved { base, filters: true, slots: Some(Box::new(Slots { layers: Some(layers), ..NO_SLOTS })) };
+            for (u, texel) in [(0.25, left), (0.75, right)] {
+                let Some(Bsdf::PhysicallyBased(got)) = resolved.apply(Vec3::ZERO, [Some(Vec2::new(u, 0.5)), None], None, [0.0; 2]).bsdf else { panic!("case {k}: a physically based BSDF") };
+                let (got, want) = (numbers(got), numbers(expected(factors, texel)));
+                assert!(got.iter().zip(&want).all(|(a, b)| (a - b).abs() < 1e-6), "case {k}, u = {u}: {got:?} against {want:?}");
+            }
+        }
+        // Where the colour texel is bright, red's reflectance head-on is held to 1 after it
+        // multiplies, not before; the sheen's roughness is floored after alpha multiplies.
+        assert!(((tinted.x * right.x).min(1.0) - 1.0).abs() < 1e-6 && (tinted.x * left.x) < 1.0 && 0.4 * right.w < 0.07, "the cases reach the clamps");
     }
 
     /// A normal map tilts the shading normal within the tangent frame, on either side of the

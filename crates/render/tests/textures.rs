@@ -445,3 +445,74 @@ fn a_fine_texture_far_away_averages_instead_of_aliasing() {
         assert!(worst < 0.1, "{integrator:?}: the far floor differs from grey by up to {:.0} %", 100.0 * worst);
     }
 }
+
+/// A 2 × 1 texture, black on its left half and white on its right, sampled nearest on the quad
+/// of [`quad`]: the parameters of slot `slot` of a physically based shader.
+fn black_then_white(scene: &mut Scene, slot: &str) -> [(String, ParamValue); 2] {
+    let texture = scene.add_texture(Texture::Image(Image::new(2, 1, vec![Vec3::ZERO, Vec3::ONE]).unwrap().with_alpha(vec![0.0, 1.0]).unwrap().into())).unwrap();
+    [(format!("{slot}_texture"), ParamValue::Texture(Some(texture))), (format!("{slot}_filter"), ParamValue::Float(9728.0))]
+}
+
+/// A black quad that reflects nothing itself, under a clear coat whose texture is black on the
+/// left half and white on the right, lit by a point light at the camera: the coat's highlight,
+/// colourless, on the right half only, in every integrator that lights through the BSDF.
+#[test]
+fn a_clearcoat_texture_lays_the_coat_only_where_it_is_white() {
+    for integrator in [Integrator::Whitted, Integrator::Distribution, Integrator::Path] {
+        let mut scene = Scene::new();
+        let mut params = vec![
+            ("base_color".to_string(), ParamValue::Color(Vec3::ZERO)),
+            ("metallic".to_string(), ParamValue::Float(0.0)),
+            ("specular".to_string(), ParamValue::Float(0.0)),
+            ("clearcoat".to_string(), ParamValue::Float(1.0)),
+            ("clearcoat_roughness".to_string(), ParamValue::Float(0.3)),
+        ];
+        params.extend(black_then_white(&mut scene, "clearcoat"));
+        let params: Vec<(&str, ParamValue)> = params.iter().map(|(n, v)| (n.as_str(), *v)).collect();
+        let paint = shader(&mut scene, "PhysicallyBased", &params);
+        common::place(&mut scene, quad(), paint);
+        scene.add_light(Light::Point { position: Vec3::new(0.0, 0.0, 4.0), intensity: Vec3::splat(10.0) }).unwrap();
+        scene.set_camera(Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y, 20.0).unwrap()).unwrap();
+        let (film, stats) = render_with(&scene, integrator, 16, 16, 4);
+        // Pixels 6 and 9 lie a little left and right of the centre, where the light is mirrored.
+        let (left, right) = (film.pixel(6, 8), film.pixel(9, 8));
+        assert!(left.max_element() < 1e-4, "{integrator:?}: no coat on the left: {left}");
+        assert!(right.min_element() > 0.1 && (right.x - right.z).abs() < 1e-3 * right.x, "{integrator:?}: the coat's highlight on the right: {right}");
+        assert!(film.pixels().iter().all(|p| p.is_finite()) && stats.non_finite == 0, "{integrator:?}");
+    }
+}
+
+/// A transmission texture, black on the left and white on the right, on a white, smooth, thin
+/// wall in front of a red backdrop: the red shows through on the right only, and the left is the
+/// wall's lit white. With a transmission factor of 0 the texture cannot make it transmit: the
+/// frame traces no refraction rays at all.
+#[test]
+fn a_transmission_texture_lets_light_through_only_where_it_is_white() {
+    let render = |factor: f32| {
+        let mut scene = Scene::new();
+        let mut params = vec![
+            ("metallic".to_string(), ParamValue::Float(0.0)),
+            ("roughness".to_string(), ParamValue::Float(0.0)),
+            ("specular".to_string(), ParamValue::Float(0.0)),
+            ("transmission".to_string(), ParamValue::Float(factor)),
+        ];
+        params.extend(black_then_white(&mut scene, "transmission"));
+        let params: Vec<(&str, ParamValue)> = params.iter().map(|(n, v)| (n.as_str(), *v)).collect();
+        let wall = shader(&mut scene, "PhysicallyBased", &params);
+        common::place(&mut scene, quad(), wall);
+        let red = shader(&mut scene, "Constant", &[("color", ParamValue::Color(Vec3::X))]);
+        common::place(&mut scene, quad_at(Vec3::new(0.0, 0.0, -1.0)), red);
+        scene.add_light(Light::Directional { direction: -Vec3::Z, intensity: Vec3::ONE }).unwrap();
+        scene.set_camera(Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y, 20.0).unwrap()).unwrap();
+        let (film, stats) = render_with(&scene, Integrator::Whitted, 16, 16, 1);
+        (film.pixel(4, 8), film.pixel(12, 8), stats)
+    };
+    let lit_white = std::f32::consts::FRAC_1_PI;
+    let (left, right, stats) = render(1.0);
+    assert!((left - Vec3::splat(lit_white)).abs().max_element() < 1e-3, "opaque white on the left: {left}");
+    assert!((right - Vec3::X).abs().max_element() < 1e-3, "the red backdrop through the right: {right}");
+    assert!(stats.effects.refraction && stats.rays.refraction > 0);
+    let (left, right, stats) = render(0.0);
+    assert!((left - Vec3::splat(lit_white)).abs().max_element() < 1e-3 && (right - left).abs().max_element() < 1e-6, "opaque everywhere: {left} {right}");
+    assert!(!stats.effects.refraction && stats.rays.refraction == 0, "{:?}", stats.effects);
+}

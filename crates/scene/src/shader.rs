@@ -118,12 +118,19 @@ macro_rules! texture_slot {
 const SLOT_PARAMS: usize = 10;
 
 /// `PhysicallyBased`'s texture slots.
-const PHYSICALLY_BASED_SLOTS: [[ParamDecl; SLOT_PARAMS]; 5] = [
+const PHYSICALLY_BASED_SLOTS: [[ParamDecl; SLOT_PARAMS]; 12] = [
     texture_slot!("base_color", "A texture whose colour multiplies `base_color` (and the mesh's vertex colours do too); its alpha multiplies `opacity`. None by default."),
     texture_slot!("metallic_roughness", "A texture whose blue channel multiplies `metallic` and green channel `roughness` (glTF's; its values are data, not sRGB colours); none by default."),
     texture_slot!("normal", "A tangent-space normal map (glTF's: data, +X along increasing u, +Y up the image, +Z out of the surface), tilting the shading normal in every integrator; none by default. Tangents come from the mesh, or from each triangle's texture coordinates."),
     texture_slot!("emissive", "A texture whose colour multiplies `emissive` (glTF's emissive texture, sRGB colours); none by default. Textured emitters light the scene by their texels."),
     texture_slot!("occlusion", "A texture whose red channel darkens the eye-light preview by `occlusion_strength` (glTF's ambient occlusion texture, data); none by default. The path tracer finds occlusion itself and ignores it."),
+    texture_slot!("specular", "A texture whose alpha channel multiplies `specular`, at normal and grazing incidence alike (glTF's KHR_materials_specular texture; data, not sRGB); none by default. An image without alpha leaves the factor as it is."),
+    texture_slot!("specular_color", "A texture whose colour multiplies `specular_color` before the reflectance head-on is held to 1 (glTF's KHR_materials_specular colour texture, sRGB colours); none by default."),
+    texture_slot!("transmission", "A texture whose red channel multiplies `transmission` (glTF's KHR_materials_transmission texture, data); none by default. It cannot make a surface transmit where `transmission` is 0."),
+    texture_slot!("clearcoat", "A texture whose red channel multiplies `clearcoat`, the coat's weight (glTF's KHR_materials_clearcoat texture, data); none by default."),
+    texture_slot!("clearcoat_roughness", "A texture whose green channel multiplies `clearcoat_roughness` before it is squared (glTF's KHR_materials_clearcoat roughness texture, data); none by default."),
+    texture_slot!("sheen_color", "A texture whose colour multiplies `sheen_color` (glTF's KHR_materials_sheen colour texture, sRGB colours); none by default."),
+    texture_slot!("sheen_roughness", "A texture whose alpha channel multiplies `sheen_roughness` before it is squared (glTF's KHR_materials_sheen roughness texture, data); none by default. An image without alpha leaves the factor as it is."),
 ];
 
 /// The parameters of `PhysicallyBased`: its own, then those of each texture slot.
