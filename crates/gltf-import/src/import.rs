@@ -33,8 +33,8 @@ pub struct Import {
 pub struct Added {
     /// One shader per material (and vertex-colour use) of the file.
     pub shaders: Vec<ShaderId>,
-    /// One texture per image that a material's base colour or metallic-roughness texture uses
-    /// (two if both use one image: as colours and as data).
+    /// One texture per image that a material's textures use (two if one image is used both as
+    /// colours and as data, as the base colour and the metallic-roughness texture may share it).
     pub textures: Vec<TextureId>,
     /// One object per glTF mesh that has triangles.
     pub objects: Vec<ObjectId>,
@@ -52,7 +52,7 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
         }
     }
     let buffers = buffers::load(&gltf.document, gltf.blob.as_deref(), base)?;
-    let mut shaders = MaterialShaders::default();
+    let mut shaders = MaterialShaders::new(&gltf.document);
     let mut budget = Budget::default();
     let objects =
         gltf.document.meshes().map(|mesh| read_mesh(&mesh, &buffers, &mut shaders, &mut budget, limits)).collect::<Result<Vec<_>, _>>()?;

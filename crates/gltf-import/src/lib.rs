@@ -4,7 +4,7 @@
 //! glTF mesh becomes one object (its primitives' triangles together, each bound to the shader of
 //! its material), each node that holds a mesh becomes an instance with the node's world
 //! transform, each material becomes a `PhysicallyBased` shader (see [`shader_for`]) with its
-//! base-colour and metallic-roughness images as textures, and `KHR_lights_punctual` lights and
+//! images as textures, and `KHR_lights_punctual` lights and
 //! the first perspective camera come along. What a material has that is not rendered yet is a
 //! note ([`notes`]).
 //!
@@ -13,9 +13,9 @@
 //! [`Import::add_to`] puts it into a scene. A file that [`read`] accepted cannot fail half-way
 //! into a scene, and nothing a file contains can panic the reader.
 //!
-//! Not in here: textures other than base colour and metallic-roughness (normal, emissive and
-//! occlusion maps), texture samplers' filters and wrap modes (textures repeat and filter
-//! bilinearly), skins, morph targets, animations, points and lines.
+//! Not in here: `KHR_materials_volume`'s thickness texture and the clearcoat's normal texture,
+//! texture coordinate sets beyond the second, skins, morph targets, animations, points and
+//! lines.
 
 mod accessor;
 mod buffers;

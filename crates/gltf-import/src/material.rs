@@ -38,7 +38,9 @@ pub struct TextureUse {
 /// - `KHR_materials_unlit` → `Constant` with the base colour;
 /// - everything else → `PhysicallyBased`: base colour (factor, texture; vertex colours
 ///   multiply it), metallic and roughness (factors, and their texture), `KHR_materials_ior`,
-///   `KHR_materials_specular`'s factor and colour, `KHR_materials_sheen`'s colour and roughness, `KHR_materials_transmission`'s factor,
+///   `KHR_materials_specular`'s factor and colour, `KHR_materials_sheen`'s colour and roughness,
+///   `KHR_materials_clearcoat`'s weight and roughness, `KHR_materials_transmission`'s factor
+///   (the textures of these four extensions too),
 ///   `KHR_materials_volume`'s thickness factor (0 or absent: a thin wall) with its attenuation
 ///   colour and distance, emissive factor × `KHR_materials_emissive_strength`,
 ///   the normal texture with its scale, the emissive texture (multiplying the emission), the
@@ -46,10 +48,12 @@ pub struct TextureUse {
 ///   mode and cut-off, and single- or double-sidedness (a volume's boundary is seen from both
 ///   sides, as KHR_materials_volume says: a ray inside must meet it).
 ///   Each texture keeps its sampler (wrap modes, magnification filter), its texture coordinate
-///   set (the first or second) and its `KHR_texture_transform`.
+///   set (the first or second) and its `KHR_texture_transform`. `document` is the file the
+///   material is of: the clearcoat and sheen extensions, which the gltf crate does not parse,
+///   name their textures by index in it.
 ///
 /// [`notes`] says what the material has beyond that.
-pub fn shader_for(material: Option<&gltf::Material<'_>>, vertex_colors: bool) -> ShaderSpec {
+pub fn shader_for(material: Option<&gltf::Material<'_>>, vertex_colors: bool, document: &gltf::Document) -> ShaderSpec {
     let Some(m) = material else {
         return if vertex_colors { spec("VertexColor", vec![]) } else { spec("Diffuse", vec![]) };
     };
@@ -110,29 +114,74 @@ pub fn shader_for(material: Option<&gltf::Material<'_>>, vertex_colors: bool) ->
     if let Some(cutoff) = m.alpha_cutoff() {
         shader.params.push(("alpha_cutoff", ParamValue::Float(cutoff)));
     }
-    let info = |t: gltf::texture::Info<'_>| TextureRef::of(t.texture(), t.tex_coord(), t.extension_value(TRANSFORM));
-    let normal = m.normal_texture();
-    if let Some(n) = &normal {
+    if let Some(n) = m.normal_texture() {
         shader.params.push(("normal_scale", ParamValue::Float(finite_or(n.scale(), 1.0))));
     }
-    let normal = normal.map(|n| TextureRef::of(n.texture(), n.tex_coord(), n.extension_value(TRANSFORM)));
-    let occlusion = m.occlusion_texture();
-    if let Some(o) = &occlusion {
+    if let Some(o) = m.occlusion_texture() {
         shader.params.push(("occlusion_strength", ParamValue::Float(fraction(o.strength()))));
     }
-    let occlusion = occlusion.map(|o| TextureRef::of(o.texture(), o.tex_coord(), o.extension_value(TRANSFORM)));
-    for (slot, texture, colour) in [
-        ("base_color", pbr.base_color_texture().map(info), true),
-        ("metallic_roughness", pbr.metallic_roughness_texture().map(info), false),
-        ("normal", normal, false),
-        ("emissive", m.emissive_texture().map(info), true),
-        ("occlusion", occlusion, false),
-    ] {
-        if let Some(texture) = texture {
-            shader.add_texture(slot, &texture, colour);
+    for t in textures(m, document) {
+        if let Ok(texture) = &t.texture {
+            shader.add_texture(t.slot, texture, t.colour);
         }
     }
     shader
+}
+
+/// A texture a material uses in a slot of `PhysicallyBased`.
+struct SlotTexture {
+    /// The slot.
+    slot: &'static str,
+    /// What the file calls it, for notes ("clearcoat texture").
+    what: &'static str,
+    /// The texture, or why it cannot be used.
+    texture: Result<TextureRef, String>,
+    /// Whether its image holds colours (sRGB) rather than data.
+    colour: bool,
+}
+
+/// Every texture of `m` that a slot of `PhysicallyBased` renders, in `document`, the file `m` is
+/// of. Colour textures are glTF's sRGB ones (base colour, emissive, and the specular and sheen
+/// colours); every other one is data.
+fn textures(m: &gltf::Material<'_>, document: &gltf::Document) -> Vec<SlotTexture> {
+    let info = |t: gltf::texture::Info<'_>| Ok(TextureRef::of(t.texture(), t.tex_coord(), t.extension_value(TRANSFORM)));
+    let pbr = m.pbr_metallic_roughness();
+    let specular = m.specular();
+    let (coat, sheen) = (clearcoat(m), sheen(m));
+    let raw = |extension: Option<&Value>, key: &str| raw_texture(extension?.get(key)?, document);
+    [
+        ("base_color", "base-colour texture", pbr.base_color_texture().map(info), true),
+        ("metallic_roughness", "metallic-roughness texture", pbr.metallic_roughness_texture().map(info), false),
+        ("normal", "normal texture", m.normal_texture().map(|n| Ok(TextureRef::of(n.texture(), n.tex_coord(), n.extension_value(TRANSFORM)))), false),
+        ("emissive", "emissive texture", m.emissive_texture().map(info), true),
+        ("occlusion", "occlusion texture", m.occlusion_texture().map(|o| Ok(TextureRef::of(o.texture(), o.tex_coord(), o.extension_value(TRANSFORM)))), false),
+        ("specular", "specular texture", specular.as_ref().and_then(|s| s.specular_texture()).map(info), false),
+        ("specular_color", "specular colour texture", specular.as_ref().and_then(|s| s.specular_color_texture()).map(info), true),
+        ("transmission", "transmission texture", m.transmission().and_then(|t| t.transmission_texture()).map(info), false),
+        ("clearcoat", "clearcoat texture", raw(coat, "clearcoatTexture"), false),
+        ("clearcoat_roughness", "clearcoat roughness texture", raw(coat, "clearcoatRoughnessTexture"), false),
+        ("sheen_color", "sheen colour texture", raw(sheen, "sheenColorTexture"), true),
+        ("sheen_roughness", "sheen roughness texture", raw(sheen, "sheenRoughnessTexture"), false),
+    ]
+    .into_iter()
+    .filter_map(|(slot, what, texture, colour)| Some(SlotTexture { slot, what, texture: texture?, colour }))
+    .collect()
+}
+
+/// A `textureInfo` (index, texture coordinate set, `KHR_texture_transform`) read from the raw
+/// JSON of an extension the gltf crate does not parse, which has therefore not checked it: an
+/// index that names no texture of `document` is an error to note, not a panic.
+fn raw_texture(info: &Value, document: &gltf::Document) -> Option<Result<TextureRef, String>> {
+    let index = info.get("index");
+    let texture = index.and_then(Value::as_u64).and_then(|i| document.textures().nth(usize::try_from(i).ok()?));
+    let Some(texture) = texture else {
+        return Some(Err(match index {
+            Some(i) => format!("index {i} names no texture of the file"),
+            None => "it has no index".to_string(),
+        }));
+    };
+    let tex_coord = info.get("texCoord").and_then(Value::as_u64).unwrap_or(0).min(u32::MAX as u64) as u32;
+    Some(Ok(TextureRef::of(texture, tex_coord, info.get("extensions").and_then(|e| e.get(TRANSFORM)))))
 }
 
 /// The name of `KHR_texture_transform` in a `textureInfo`'s extensions.
@@ -230,46 +279,33 @@ fn sheen<'a>(material: &'a gltf::Material<'_>) -> Option<&'a Value> {
     material.extensions()?.get("KHR_materials_sheen").filter(|c| c.is_object())
 }
 
-/// What `material` has that its shader does not render, one note each.
-pub fn notes(material: &gltf::Material<'_>) -> Vec<String> {
+/// What `material` (of the file `document`) has that its shader does not render, one note
+/// each: what raystage does not render yet, and textures a file names wrongly.
+pub fn notes(material: &gltf::Material<'_>, document: &gltf::Document) -> Vec<String> {
     let name = material.name().map_or_else(|| format!("material {}", material.index().map_or(-1, |i| i as i64)), |n| format!("material `{n}`"));
-    let pbr = material.pbr_metallic_roughness();
+    let mut notes = Vec::new();
     let mut left_out = Vec::new();
-    let beyond_second = |t: Option<gltf::texture::Info<'_>>| t.is_some_and(|t| coordinate_set(t.tex_coord(), t.extension_value(TRANSFORM)) > 1);
-    if beyond_second(pbr.base_color_texture()) {
-        left_out.push("a base-colour texture on a third or later set of texture coordinates".to_string());
-    }
-    if beyond_second(pbr.metallic_roughness_texture()) {
-        left_out.push("a metallic-roughness texture on a third or later set of texture coordinates".to_string());
-    }
-    if material.normal_texture().is_some_and(|t| normal_coordinate_set(&t) > 1) {
-        left_out.push("a normal texture on a third or later set of texture coordinates".to_string());
-    }
-    if beyond_second(material.emissive_texture()) {
-        left_out.push("an emissive texture on a third or later set of texture coordinates".to_string());
-    }
-    if material.occlusion_texture().is_some_and(|t| coordinate_set(t.tex_coord(), t.extension_value(TRANSFORM)) > 1) {
-        left_out.push("an occlusion texture on a third or later set of texture coordinates".to_string());
+    for t in textures(material, document) {
+        match t.texture {
+            Ok(texture) if texture.set > 1 => {
+                let article = if t.what.starts_with(['a', 'e', 'i', 'o', 'u']) { "an" } else { "a" };
+                left_out.push(format!("{article} {} on a third or later set of texture coordinates", t.what));
+            }
+            Ok(_) => {}
+            Err(why) => notes.push(format!("{name}: its {} is left out: {why}", t.what)),
+        }
     }
     for (present, what) in [
         (material.alpha_mode() != gltf::material::AlphaMode::Opaque && material.unlit(), "its alpha mode (rendered opaque)"),
-        (material.specular().is_some_and(|s| s.specular_texture().is_some() || s.specular_color_texture().is_some()), "its specular textures (the factors alone are rendered)"),
-        (
-            sheen(material).is_some_and(|c| ["sheenColorTexture", "sheenRoughnessTexture"].iter().any(|t| c.get(*t).is_some())),
-            "its sheen textures (the factors alone are rendered)",
-        ),
-        (material.transmission().is_some_and(|t| t.transmission_texture().is_some()), "its transmission texture (the factor alone is rendered)"),
         (material.volume().is_some_and(|v| v.thickness_texture().is_some()), "its thickness texture (the path length inside comes from the geometry)"),
-        (
-            clearcoat(material).is_some_and(|c| ["clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"].iter().any(|t| c.get(*t).is_some())),
-            "its clearcoat textures (the factors alone are rendered)",
-        ),
+        (clearcoat(material).is_some_and(|c| c.get("clearcoatNormalTexture").is_some()), "its clearcoat normal texture (the coat takes the surface's normal)"),
     ] {
         if present {
             left_out.push(what.to_string());
         }
     }
-    left_out.into_iter().map(|what| format!("{name}: {what} is not rendered yet")).collect()
+    notes.extend(left_out.into_iter().map(|what| format!("{name}: {what} is not rendered yet")));
+    notes
 }
 
 fn spec(class: &'static str, params: Vec<(&'static str, ParamValue)>) -> ShaderSpec {
@@ -296,16 +332,23 @@ fn clean(v: Vec3) -> Vec3 {
 }
 
 /// The shaders an import creates: one per material and vertex-colour combination used.
-#[derive(Debug, Default)]
-pub(crate) struct MaterialShaders {
+#[derive(Debug)]
+pub(crate) struct MaterialShaders<'d> {
     /// The shaders, by local index.
     pub specs: Vec<ShaderSpec>,
     /// What the materials used have that is not rendered, once per material.
     pub notes: Vec<String>,
     index: std::collections::HashMap<(Option<usize>, bool), u32>,
+    /// The file, whose textures the extensions the gltf crate does not parse name by index.
+    document: &'d gltf::Document,
 }
 
-impl MaterialShaders {
+impl<'d> MaterialShaders<'d> {
+    /// No shaders yet, for the materials of `document`.
+    pub fn new(document: &'d gltf::Document) -> MaterialShaders<'d> {
+        MaterialShaders { specs: Vec::new(), notes: Vec::new(), index: std::collections::HashMap::new(), document }
+    }
+
     /// The local index of the shader for `material` with or without vertex colours, made on
     /// first use.
     pub fn get(&mut self, material: &gltf::Material<'_>, vertex_colors: bool) -> u32 {
@@ -319,9 +362,9 @@ impl MaterialShaders {
             let end = (0..=n.len().min(raystage_scene::MAX_SHADER_NAME)).rev().find(|&i| n.is_char_boundary(i)).unwrap_or(0);
             n[..end].to_string()
         });
-        self.specs.push(ShaderSpec { name, ..shader_for(material.index().map(|_| material), vertex_colors) });
+        self.specs.push(ShaderSpec { name, ..shader_for(material.index().map(|_| material), vertex_colors, self.document) });
         if material.index().is_some() && !self.index.keys().any(|(m, _)| *m == material.index()) {
-            self.notes.extend(notes(material));
+            self.notes.extend(notes(material, self.document));
         }
         self.index.insert(key, i);
         i

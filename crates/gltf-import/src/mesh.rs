@@ -52,7 +52,7 @@ struct Primitive {
 pub(crate) fn read_mesh(
     mesh: &gltf::Mesh<'_>,
     buffers: &[Vec<u8>],
-    shaders: &mut MaterialShaders,
+    shaders: &mut MaterialShaders<'_>,
     budget: &mut Budget,
     limits: &Limits,
 ) -> Result<Option<Mesh>, ImportError> {
@@ -69,7 +69,7 @@ pub(crate) fn read_mesh(
 fn read_primitive(
     primitive: &gltf::Primitive<'_>,
     buffers: &[Vec<u8>],
-    shaders: &mut MaterialShaders,
+    shaders: &mut MaterialShaders<'_>,
     budget: &mut Budget,
     limits: &Limits,
     field: &str,

@@ -355,7 +355,8 @@ fn transmission_and_volume_map_to_the_physically_based_class() {
 }
 
 /// KHR_materials_clearcoat (which the gltf crate does not parse) comes through as the coat's
-/// weight and roughness; its textures are a note.
+/// weight and roughness; a texture whose index names no texture of the file (the file has none)
+/// is left out with a note, and the factor stays.
 #[test]
 fn clearcoat_maps_to_the_coat_of_the_physically_based_class() {
     let paint = json!({
@@ -367,7 +368,7 @@ fn clearcoat_maps_to_the_coat_of_the_physically_based_class() {
     let none = json!({});
     for (material, coat, roughness, noted) in [(paint, 0.8, 0.1, false), (textured, 1.0, 0.0, true), (none, 0.0, 0.0, false)] {
         let file = import(&quad_gltf(Some(data_uri(&quad_buffer())), json!([material]), json!([{ "mesh": 0 }]))).unwrap();
-        assert_eq!(file.notes().iter().any(|n| n.contains("clearcoat textures")), noted, "{:?}", file.notes());
+        assert_eq!(file.notes().iter().any(|n| n.contains("clearcoat texture is left out: index 0 names no texture of the file")), noted, "{:?}", file.notes());
         let mut scene = Scene::new();
         let added = file.add_to(&mut scene).unwrap();
         let shader = scene.shader(added.shaders[0]).unwrap();
@@ -380,8 +381,10 @@ fn clearcoat_maps_to_the_coat_of_the_physically_based_class() {
 #[test]
 fn what_a_material_leaves_out_is_a_note() {
     let extensions = json!({
-        "KHR_materials_specular": { "specularColorFactor": [0.5, 0.25, 2.0], "specularTexture": { "index": 0 } },
+        "KHR_materials_specular": { "specularColorFactor": [0.5, 0.25, 2.0] },
         "KHR_materials_sheen": { "sheenColorFactor": [0.9, 0.2, 0.1], "sheenRoughnessFactor": 0.4 },
+        "KHR_materials_transmission": { "transmissionFactor": 0.5 },
+        "KHR_materials_volume": { "thicknessFactor": 1, "thicknessTexture": { "index": 0 } },
     });
     let material = json!([{ "name": "leaves", "alphaMode": "MASK", "doubleSided": true, "extensions": extensions }]);
     let mut document = quad_gltf(Some(data_uri(&quad_buffer())), material, json!([{ "mesh": 0 }, { "mesh": 0 }]));
@@ -389,9 +392,9 @@ fn what_a_material_leaves_out_is_a_note() {
     document["images"] = json!([{ "uri": "unused.png" }]);
     let file = import(&document).unwrap();
     let notes = file.notes().join("\n");
-    assert!(notes.contains("material `leaves`: its specular textures (the factors alone are rendered) is not rendered yet"), "{notes}");
-    assert!(!notes.contains("alpha mode") && !notes.contains("sheen"), "a physically based material's alpha mode and sheen factors are rendered: {notes}");
-    assert_eq!(notes.matches("specular").count(), 1, "{notes}");
+    assert!(notes.contains("material `leaves`: its thickness texture (the path length inside comes from the geometry) is not rendered yet"), "{notes}");
+    assert!(!notes.contains("alpha mode") && !notes.contains("sheen") && !notes.contains("specular"), "a physically based material's alpha mode, specular and sheen factors are rendered: {notes}");
+    assert_eq!(notes.matches("thickness").count(), 1, "{notes}");
     let mut scene = Scene::new();
     let added = file.add_to(&mut scene).unwrap();
     let shader = scene.shader(added.shaders[0]).unwrap();
@@ -399,6 +402,108 @@ fn what_a_material_leaves_out_is_a_note() {
     assert_eq!(param("specular_color"), Some(ParamValue::Color(Vec3::new(0.5, 0.25, 2.0))));
     assert_eq!(param("sheen_color"), Some(ParamValue::Color(Vec3::new(0.9, 0.2, 0.1))));
     assert_eq!(param("sheen_roughness"), Some(ParamValue::Float(0.4)));
+}
+
+/// The textures of KHR_materials_specular, _transmission, _clearcoat and _sheen fill their slots
+/// of the physically based shader, each with its own sampler parameters: the specular and sheen
+/// colours as colours (sRGB-decoded), the others as data, from the one image they all share.
+/// They are no longer notes; the thickness texture and the clearcoat's normal texture still are.
+#[test]
+fn the_extensions_textures_fill_their_slots() {
+    // One grey texel, half covered: 128 of 255 in every channel.
+    let grey = image::RgbaImage::from_pixel(1, 1, image::Rgba([128, 128, 128, 128]));
+    let mut png = std::io::Cursor::new(Vec::new());
+    grey.write_to(&mut png, image::ImageFormat::Png).unwrap();
+    let png = png.into_inner();
+    let mut document = textured_quad(json!({ "bufferView": 3 }), 0, &png);
+    document["materials"][0]["pbrMetallicRoughness"].as_object_mut().unwrap().remove("baseColorTexture");
+    document["materials"][0]["extensions"] = json!({
+        "KHR_materials_specular": { "specularFactor": 0.5, "specularTexture": { "index": 0 }, "specularColorTexture": { "index": 0 } },
+        "KHR_materials_transmission": { "transmissionFactor": 0.8, "transmissionTexture": { "index": 0, "texCoord": 1 } },
+        "KHR_materials_volume": { "thicknessFactor": 0.5, "thicknessTexture": { "index": 0 } },
+        "KHR_materials_clearcoat": {
+            "clearcoatFactor": 0.6,
+            "clearcoatTexture": { "index": 0, "extensions": { "KHR_texture_transform": { "offset": [0.5, 0.25], "scale": [2, 2] } } },
+            "clearcoatRoughnessFactor": 0.3,
+            "clearcoatRoughnessTexture": { "index": 0, "texCoord": 1 },
+            "clearcoatNormalTexture": { "index": 0 }
+        },
+        "KHR_materials_sheen": { "sheenColorFactor": [1, 0.5, 0.25], "sheenColorTexture": { "index": 0 }, "sheenRoughnessFactor": 0.4, "sheenRoughnessTexture": { "index": 0 } }
+    });
+    document["samplers"] = json!([{ "magFilter": 9728, "wrapS": 33071 }]);
+    document["textures"][0]["sampler"] = json!(0);
+    document["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_1"] = json!(2);
+    let file = import(&document).unwrap();
+    let notes = file.notes().join("\n");
+    for rendered in ["specular", "transmission", "sheen", "clearcoat texture", "clearcoat roughness", "left out"] {
+        assert!(!notes.contains(rendered), "{rendered}: {notes}");
+    }
+    assert!(notes.contains("its thickness texture (the path length inside comes from the geometry) is not rendered yet"), "{notes}");
+    assert!(notes.contains("its clearcoat normal texture (the coat takes the surface's normal) is not rendered yet"), "{notes}");
+    let mut scene = Scene::new();
+    let added = file.add_to(&mut scene).unwrap();
+    assert_eq!(added.textures.len(), 2, "one image, read as colours and as data");
+    let shader = scene.shader(added.shaders[0]).unwrap();
+    let texel = |slot: &str| {
+        let Some(ParamValue::Texture(Some(id))) = shader.get(&format!("{slot}_texture")) else { panic!("{slot}_texture is set") };
+        let Texture::Image(image) = scene.texture(id).unwrap() else { panic!("an image texture") };
+        image.texel(0, 0).x
+    };
+    for slot in ["specular_color", "sheen_color"] {
+        assert!((texel(slot) - 0.2158).abs() < 1e-3, "{slot}: a colour, sRGB 128 is 0.216 in linear light");
+    }
+    for slot in ["specular", "transmission", "clearcoat", "clearcoat_roughness", "sheen_roughness"] {
+        assert!((texel(slot) - 128.0 / 255.0).abs() < 1e-3, "{slot}: data, as stored");
+    }
+    let float = |name: &str| match shader.get(name) {
+        Some(ParamValue::Float(f)) => f,
+        other => panic!("{name}: {other:?}"),
+    };
+    // Every slot has the texture's sampler; each its own coordinates and transform.
+    for slot in ["specular", "specular_color", "transmission", "clearcoat", "clearcoat_roughness", "sheen_color", "sheen_roughness"] {
+        assert_eq!([float(&format!("{slot}_wrap_s")), float(&format!("{slot}_filter"))], [33071.0, 9728.0], "{slot}");
+        let set = if matches!(slot, "transmission" | "clearcoat_roughness") { 1.0 } else { 0.0 };
+        assert_eq!(float(&format!("{slot}_texcoord")), set, "{slot}");
+    }
+    assert_eq!(["offset_u", "offset_v", "scale_u", "scale_v"].map(|p| float(&format!("clearcoat_{p}"))), [0.5, 0.25, 2.0, 2.0]);
+    assert_eq!(float("sheen_roughness_offset_u"), 0.0);
+    // The factors stay: the textures multiply them.
+    let factors = ["specular", "transmission", "clearcoat", "clearcoat_roughness", "sheen_roughness"].map(float);
+    assert_eq!(factors, [0.5, 0.8, 0.6, 0.3, 0.4]);
+    assert_eq!(shader.get("sheen_color"), Some(ParamValue::Color(Vec3::new(1.0, 0.5, 0.25))));
+    assert_eq!(shader.get("thickness_texture"), None, "the class has no thickness slot");
+}
+
+/// A clearcoat or sheen texture (read from JSON the gltf crate does not check) whose index
+/// names no texture of the file, or that has no index, is left out with a note: never a panic,
+/// never a refused file.
+#[test]
+fn an_extension_texture_of_a_bad_index_is_a_note() {
+    let png = red_blue_png();
+    for (info, why) in [
+        (json!({ "index": 7 }), "index 7 names no texture of the file"),
+        (json!({ "index": -1 }), "index -1 names no texture of the file"),
+        (json!({ "index": 1e300 }), "index 1e+300 names no texture of the file"),
+        (json!({ "index": "0" }), "index \"0\" names no texture of the file"),
+        (json!({ "texCoord": 0 }), "it has no index"),
+    ] {
+        let mut document = textured_quad(json!({ "bufferView": 3 }), 0, &png);
+        document["materials"][0]["name"] = json!("paint");
+        document["materials"][0]["extensions"] = json!({
+            "KHR_materials_clearcoat": { "clearcoatFactor": 1, "clearcoatTexture": info },
+            "KHR_materials_sheen": { "sheenColorFactor": [1, 1, 1], "sheenRoughnessTexture": info }
+        });
+        let file = import(&document).unwrap();
+        let notes = file.notes().join("\n");
+        assert!(notes.contains(&format!("material `paint`: its clearcoat texture is left out: {why}")), "{notes}");
+        assert!(notes.contains(&format!("material `paint`: its sheen roughness texture is left out: {why}")), "{notes}");
+        let mut scene = Scene::new();
+        let added = file.add_to(&mut scene).unwrap();
+        let shader = scene.shader(added.shaders[0]).unwrap();
+        assert_eq!([shader.get("clearcoat_texture"), shader.get("sheen_roughness_texture")], [Some(ParamValue::Texture(None)); 2]);
+        assert_eq!(shader.get("clearcoat"), Some(ParamValue::Float(1.0)), "the factor stays");
+        assert!(matches!(shader.get("base_color_texture"), Some(ParamValue::Texture(Some(_)))), "the rest of the material is imported");
+    }
 }
 
 /// The metallic-roughness texture is data: its values are read as stored, not sRGB-decoded,
@@ -578,4 +683,35 @@ fn alpha_cut_outs_and_texture_transforms_reach_the_pixels() {
     let (left, right) = render(Some(json!({ "offset": [0.5, 0.0] })));
     assert!(left.z > 0.4 && left.x == 0.0, "moved by half the texture: {left}");
     assert_eq!(right, Vec3::Y);
+}
+
+/// From the file to the pixels: a black quad that reflects nothing itself, under a clear coat
+/// whose texture is black on its left half and white on its right, lit by a point light at the
+/// camera, shows the coat's highlight on its right half only.
+#[test]
+fn a_clearcoat_texture_reaches_the_pixels() {
+    let mask = image::RgbImage::from_fn(2, 1, |x, _| image::Rgb([if x == 0 { 0 } else { 255 }; 3]));
+    let mut png = std::io::Cursor::new(Vec::new());
+    mask.write_to(&mut png, image::ImageFormat::Png).unwrap();
+    let png = png.into_inner();
+    let mut document = textured_quad(json!({ "bufferView": 3 }), 0, &png);
+    document["materials"][0] = json!({
+        "pbrMetallicRoughness": { "baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0 },
+        "extensions": {
+            "KHR_materials_specular": { "specularFactor": 0 },
+            "KHR_materials_clearcoat": { "clearcoatFactor": 1, "clearcoatRoughnessFactor": 0.5, "clearcoatTexture": { "index": 0 } }
+        }
+    });
+    document["samplers"] = json!([{ "magFilter": 9728 }]);
+    document["textures"][0]["sampler"] = json!(0);
+    let mut scene = import(&document).unwrap().into_scene().unwrap();
+    let eye = Vec3::new(0.5, 0.5, 3.0);
+    scene.add_light(Light::Point { position: eye, intensity: Vec3::splat(100.0) }).unwrap();
+    scene.set_camera(raystage_scene::Camera::look_at(eye, Vec3::new(0.5, 0.5, 0.0), Vec3::Y, 30.0).unwrap()).unwrap();
+    let settings = raystage_render::RenderSettings { width: 32, height: 32, integrator: raystage_render::Integrator::Whitted, ..Default::default() };
+    let (film, _) = raystage_render::render(&scene.frame(), &settings).unwrap();
+    // The quad spans pixels 6 to 26 across: u ≈ 0.2 at pixel 10, 0.8 at 22.
+    let (left, right) = (film.pixel(10, 16), film.pixel(22, 16));
+    assert_eq!(left, Vec3::ZERO, "no coat on the left");
+    assert!(right.min_element() > 0.1, "the coat's highlight on the right: {right}");
 }
