@@ -495,7 +495,9 @@ impl<'f> Resolved<'f> {
         if let Some(emissive) = self.slots().emissive {
             m.emission *= emissive.at(local_position, uvs, footprint).truncate();
         }
-        if scale.is_none() && self.slots().metallic_roughness.is_none() && self.slots().layers.is_none() {
+        // Nothing varies the BSDF: the resolved one. A shader without textures (most) is told
+        // by its missing slots alone, one test, before any slot is read.
+        if scale.is_none() && self.slots.as_deref().is_none_or(|s| s.metallic_roughness.is_none() && s.layers.is_none()) {
             return m;
         }
         if let Some(scale) = scale {
