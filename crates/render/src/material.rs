@@ -89,7 +89,7 @@ struct Slots<'f> {
     /// A physically based shader's occlusion texture, and its strength (the eye light's only).
     occlusion: Option<(Slot<'f>, f32)>,
     /// A physically based shader's textures of glTF's material extensions, if it has any: one
-    /// field, so that a shader without them pays one test per hit for all seven.
+    /// field, so that a textured shader without them pays one test per hit for all seven.
     layers: Option<Layers<'f>>,
 }
 
