@@ -446,12 +446,14 @@ fn a_fine_texture_far_away_averages_instead_of_aliasing() {
     }
 }
 
-/// A 2 × 1 texture, black on its left half and white on its right, sampled nearest on the quad
-/// of [`quad`]: the parameters of slot `slot` of a physically based shader.
-fn black_then_white(scene: &mut Scene, slot: &str) -> [(String, ParamValue); 2] {
-    let texture = scene.add_texture(Texture::Image(Image::new(2, 1, vec![Vec3::ZERO, Vec3::ONE]).unwrap().with_alpha(vec![0.0, 1.0]).unwrap().into())).unwrap();
-    [(format!("{slot}_texture"), ParamValue::Texture(Some(texture))), (format!("{slot}_filter"), ParamValue::Float(9728.0))]
+/// A 2 × 1 texture, black on its left half and white on its right (alpha too), to be sampled
+/// nearest on the quad of [`quad`].
+fn black_then_white(scene: &mut Scene) -> ParamValue {
+    ParamValue::Texture(Some(scene.add_texture(Texture::Image(Image::new(2, 1, vec![Vec3::ZERO, Vec3::ONE]).unwrap().with_alpha(vec![0.0, 1.0]).unwrap().into())).unwrap()))
 }
+
+/// glTF's and OpenGL's `NEAREST` magnification.
+const NEAREST: ParamValue = ParamValue::Float(9728.0);
 
 /// A black quad that reflects nothing itself, under a clear coat whose texture is black on the
 /// left half and white on the right, lit by a point light at the camera: the coat's highlight,
@@ -460,16 +462,20 @@ fn black_then_white(scene: &mut Scene, slot: &str) -> [(String, ParamValue); 2] 
 fn a_clearcoat_texture_lays_the_coat_only_where_it_is_white() {
     for integrator in [Integrator::Whitted, Integrator::Distribution, Integrator::Path] {
         let mut scene = Scene::new();
-        let mut params = vec![
-            ("base_color".to_string(), ParamValue::Color(Vec3::ZERO)),
-            ("metallic".to_string(), ParamValue::Float(0.0)),
-            ("specular".to_string(), ParamValue::Float(0.0)),
-            ("clearcoat".to_string(), ParamValue::Float(1.0)),
-            ("clearcoat_roughness".to_string(), ParamValue::Float(0.3)),
-        ];
-        params.extend(black_then_white(&mut scene, "clearcoat"));
-        let params: Vec<(&str, ParamValue)> = params.iter().map(|(n, v)| (n.as_str(), *v)).collect();
-        let paint = shader(&mut scene, "PhysicallyBased", &params);
+        let mask = black_then_white(&mut scene);
+        let paint = shader(
+            &mut scene,
+            "PhysicallyBased",
+            &[
+                ("base_color", ParamValue::Color(Vec3::ZERO)),
+                ("metallic", ParamValue::Float(0.0)),
+                ("specular", ParamValue::Float(0.0)),
+                ("clearcoat", ParamValue::Float(1.0)),
+                ("clearcoat_roughness", ParamValue::Float(0.3)),
+                ("clearcoat_texture", mask),
+                ("clearcoat_filter", NEAREST),
+            ],
+        );
         common::place(&mut scene, quad(), paint);
         scene.add_light(Light::Point { position: Vec3::new(0.0, 0.0, 4.0), intensity: Vec3::splat(10.0) }).unwrap();
         scene.set_camera(Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y, 20.0).unwrap()).unwrap();
@@ -490,15 +496,19 @@ fn a_clearcoat_texture_lays_the_coat_only_where_it_is_white() {
 fn a_transmission_texture_lets_light_through_only_where_it_is_white() {
     let render = |factor: f32| {
         let mut scene = Scene::new();
-        let mut params = vec![
-            ("metallic".to_string(), ParamValue::Float(0.0)),
-            ("roughness".to_string(), ParamValue::Float(0.0)),
-            ("specular".to_string(), ParamValue::Float(0.0)),
-            ("transmission".to_string(), ParamValue::Float(factor)),
-        ];
-        params.extend(black_then_white(&mut scene, "transmission"));
-        let params: Vec<(&str, ParamValue)> = params.iter().map(|(n, v)| (n.as_str(), *v)).collect();
-        let wall = shader(&mut scene, "PhysicallyBased", &params);
+        let mask = black_then_white(&mut scene);
+        let wall = shader(
+            &mut scene,
+            "PhysicallyBased",
+            &[
+                ("metallic", ParamValue::Float(0.0)),
+                ("roughness", ParamValue::Float(0.0)),
+                ("specular", ParamValue::Float(0.0)),
+                ("transmission", ParamValue::Float(factor)),
+                ("transmission_texture", mask),
+                ("transmission_filter", NEAREST),
+            ],
+        );
         common::place(&mut scene, quad(), wall);
         let red = shader(&mut scene, "Constant", &[("color", ParamValue::Color(Vec3::X))]);
         common::place(&mut scene, quad_at(Vec3::new(0.0, 0.0, -1.0)), red);
