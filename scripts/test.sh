@@ -2,7 +2,7 @@
 # Runs every test of the workspace. As root on Debian it first installs the system packages the
 # tests need (Embree 3, for the benchmark's side-by-side checks; gcc, g++, pkg-config and CMake,
 # to build the C and C++ examples against the installed C library; Xvfb and Mesa, for the
-# viewer's window test; Open MPI and libclang, for rendering across MPI ranks); with Embree's
+# viewer's and RTUT's window tests, and xdotool to type into RTUT's; Open MPI and libclang, for rendering across MPI ranks); with Embree's
 # headers present, the benchmark crate is tested with its `embree` feature, and with Open MPI
 # the command line with its `mpi` feature.
 set -euo pipefail
@@ -12,6 +12,8 @@ packages=(libembree-dev gcc g++ pkg-config cmake)
 # The viewer's window test (crates/client/tests/window.rs): a virtual X server, Mesa's software
 # OpenGL through GLX (llvmpipe), and the X libraries winit loads at run time.
 packages+=(xvfb libgl1 libglx-mesa0 libgl1-mesa-dri libegl1 libx11-xcb1 libxcursor1 libxi6 libxkbcommon-x11-0)
+# RTUT's window test (crates/capi/tests/examples.rs) types keys and clicks into its window.
+packages+=(xdotool)
 # Rendering across MPI ranks (the root crate's `mpi` feature, tests/cli_mpi.rs): Open MPI, and
 # libclang for the bindings rsmpi generates at build time.
 packages+=(libopenmpi-dev openmpi-bin libclang1-14 libclang-common-14-dev)

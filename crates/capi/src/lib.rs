@@ -44,6 +44,7 @@ mod matrix;
 mod objects;
 mod parameters;
 mod rendering;
+mod rtut;
 mod shaders;
 mod state;
 mod textures;

@@ -420,3 +420,142 @@ fn cmake_builds_against_the_cpp_targets() {
     let ldd = run(Command::new("ldd").arg(build.join("static_spin")));
     assert!(!ldd.contains("libraystage"), "raystage::cpp_static links the shared library: {ldd}");
 }
+
+/// Builds `tests/c/rtut_window.c` against the installed shared library; returns its path.
+fn rtut_program(name: &str) -> PathBuf {
+    let source = root().join("crates/capi/tests/c/rtut_window.c");
+    let exe = scratch(name).join("rtut_window");
+    run(&mut compile(&source, Linking::Shared, &exe));
+    exe
+}
+
+/// Pixels of `image` at its centre and its corner: the red square and the blue clear colour.
+fn red_square_on_blue(image: &RgbaImage, what: &str) {
+    let (w, h) = image.dimensions();
+    let centre = image.get_pixel(w / 2, h / 2).0;
+    let corner = image.get_pixel(3, 3).0;
+    assert!(centre[0] > 200 && centre[1] < 40 && centre[2] < 40, "{what}: the centre is {centre:?}, not the red square");
+    assert!(corner[2] > 200 && corner[0] < 40 && corner[1] < 40, "{what}: the corner is {corner:?}, not the blue clear colour");
+}
+
+/// RTUT without a display (`tests/c/rtut_window.c`): the main loop calls reshape once, then
+/// display as the idle callback posts redisplays, writes each frame as a PNG file and returns
+/// after `RTUT_FRAMES`; the program checks the calls' errors itself.
+#[test]
+fn rtut_runs_headless_without_a_display() {
+    let exe = rtut_program("rtut-headless");
+    let dir = exe.parent().unwrap();
+    let out = run(Command::new(&exe)
+        .arg("--animate")
+        .current_dir(dir)
+        .env("LD_LIBRARY_PATH", prefix().join("lib"))
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env("RTUT_FRAMES", "3")
+        .env("RTUT_OUTPUT", "frame"));
+    assert_eq!(out.lines().collect::<Vec<_>>(), ["reshape 160 120", "display 1", "display 2", "display 3", "done 3"]);
+    for n in 0..3 {
+        let image = frame(dir, &format!("frame-{n:04}.png"));
+        assert_eq!(image.dimensions(), (160, 120));
+        red_square_on_blue(&image, &format!("frame {n}"));
+    }
+    assert!(!dir.join("frame-0003.png").exists(), "three frames, no more");
+}
+
+/// A virtual X server on a free display, killed when dropped.
+struct Xvfb(std::process::Child, String);
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// Starts Xvfb on a display no other test of this process's number uses.
+fn xvfb() -> Xvfb {
+    let first = 600 + std::process::id() % 300;
+    for n in first..first + 50 {
+        if Path::new(&format!("/tmp/.X{n}-lock")).exists() {
+            continue;
+        }
+        let mut child = Command::new("Xvfb").args([format!(":{n}").as_str(), "-screen", "0", "640x480x24", "-nolisten", "tcp"]).spawn().expect("Xvfb starts");
+        for _ in 0..500 {
+            if Path::new(&format!("/tmp/.X11-unix/X{n}")).exists() {
+                return Xvfb(child, format!(":{n}"));
+            }
+            if child.try_wait().ok().flatten().is_some() {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        let _ = child.kill();
+        let _ = child.wait();
+    }
+    panic!("Xvfb did not start on any display from :{first}");
+}
+
+/// RTUT in a window, under Xvfb: the window shows the frame the display callback rendered (a
+/// screenshot of it), a click reaches the mouse callback at the pixel rtPick reads, 'r'
+/// redisplays and 'q' leaves the main loop, which returns. Input comes from xdotool.
+#[test]
+fn rtut_shows_frames_in_a_window_and_takes_keys_and_clicks() {
+    if missing("Xvfb") || missing("xdotool") {
+        assert!(std::env::var_os("CI").is_none(), "Xvfb and xdotool are needed on CI: scripts/test.sh installs them");
+        return;
+    }
+    use std::io::{BufRead, BufReader};
+    use std::time::Duration;
+    let exe = rtut_program("rtut-window");
+    let dir = exe.parent().unwrap().to_path_buf();
+    let x = xvfb();
+    let mut program = Command::new(&exe)
+        .current_dir(&dir)
+        .env("LD_LIBRARY_PATH", prefix().join("lib"))
+        .env("DISPLAY", &x.1)
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("RTUT_HEADLESS")
+        .env("RTUT_SCREENSHOT", dir.join("shot.png"))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let (lines, seen) = std::sync::mpsc::channel();
+    let stdout = program.stdout.take().unwrap();
+    std::thread::spawn(move || BufReader::new(stdout).lines().map_while(Result::ok).for_each(|l| drop(lines.send(l))));
+    let mut log = Vec::new();
+    let wait_for = |prefix: &str, log: &mut Vec<String>| loop {
+        match seen.recv_timeout(Duration::from_secs(60)) {
+            Ok(line) if line.starts_with(prefix) => {
+                log.push(line.clone());
+                return line;
+            }
+            Ok(line) => log.push(line),
+            Err(_) => panic!("no `{prefix}` line within 60 s; the program printed {log:?}"),
+        }
+    };
+    let xdotool = |args: &[&str]| run(Command::new("xdotool").args(args).env("DISPLAY", &x.1));
+
+    assert_eq!(wait_for("reshape", &mut log), "reshape 160 120");
+    wait_for("display 1", &mut log);
+    let window = xdotool(&["search", "--sync", "--onlyvisible", "--name", "rtut window test"]).lines().next().expect("the window's id").to_string();
+    xdotool(&["windowfocus", "--sync", &window]);
+    // The window's centre: the red square.
+    xdotool(&["mousemove", "--window", &window, "80", "60", "click", "1"]);
+    let down = wait_for("mouse", &mut log);
+    let up = wait_for("mouse", &mut log);
+    assert_eq!((down.as_str(), up.as_str()), ("mouse 0 0 80 60 hit 1", "mouse 0 1 80 60 hit 1"));
+    xdotool(&["key", "r"]);
+    assert_eq!(wait_for("key", &mut log), "key r 80 60");
+    wait_for("display 2", &mut log);
+    xdotool(&["key", "q"]);
+    wait_for("key q", &mut log);
+    let done = wait_for("done", &mut log);
+    let status = program.wait().unwrap();
+    let mut stderr = String::new();
+    std::io::Read::read_to_string(&mut program.stderr.take().unwrap(), &mut stderr).unwrap();
+    assert!(status.success() && done == "done 2", "the program ended {status} after {log:?}: {stderr}");
+    let shot = frame(&dir, "shot.png");
+    assert_eq!(shot.dimensions(), (160, 120), "the window's size");
+    red_square_on_blue(&shot, "the window");
+}

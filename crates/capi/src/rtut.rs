@@ -1,0 +1,251 @@
+//! RTUT, the seed's GLUT replacement (DIGEST §1.2): a window that shows the frames a program
+//! renders, and the callbacks that drive it, so that a GLUT program ports by renaming `glut*` to
+//! `rtut*`. The window is an egui/eframe window (the viewer's toolkit); where there is no
+//! display, the same program runs headless and writes each frame as a PNG file.
+//!
+//! The window owns the context's frame buffer: `rtutSwapBuffers` lends it (RGBA8, the window's
+//! size in pixels) and renders into it, so that `rtPick` in a mouse callback takes the
+//! callback's coordinates. Callbacks run on the thread that called `rtutMainLoop`, whose context
+//! they use, with no `rt*` call in progress (the loop holds no borrow of the context or of this
+//! module's state while it calls them).
+
+mod window;
+
+use std::cell::RefCell;
+use std::ffi::{c_int, c_uchar};
+use std::path::PathBuf;
+use std::ptr::NonNull;
+
+use crate::abi::enums::RT_MAX_FRAMEBUFFER_SIZE;
+use crate::context::Context;
+use crate::error::Error;
+use crate::frames::{FrameBuffer, PixelFormat};
+
+/// A display, idle or other callback without arguments.
+pub type RTUTvoidfunc = Option<unsafe extern "C" fn()>;
+/// A reshape callback: the window's new width and height in pixels.
+pub type RTUTreshapefunc = Option<unsafe extern "C" fn(c_int, c_int)>;
+/// A keyboard callback: the key's ASCII code and the pointer's position in pixels.
+pub type RTUTkeyboardfunc = Option<unsafe extern "C" fn(c_uchar, c_int, c_int)>;
+/// A mouse callback: the button (`RTUT_LEFT_BUTTON`, ...), its state (`RTUT_DOWN`, `RTUT_UP`)
+/// and the pointer's position in pixels.
+pub type RTUTmousefunc = Option<unsafe extern "C" fn(c_int, c_int, c_int, c_int)>;
+
+/// The callbacks a program registered.
+#[derive(Clone, Copy, Default)]
+pub(crate) struct Callbacks {
+    pub display: RTUTvoidfunc,
+    pub reshape: RTUTreshapefunc,
+    pub keyboard: RTUTkeyboardfunc,
+    pub mouse: RTUTmousefunc,
+    pub idle: RTUTvoidfunc,
+}
+
+/// What this thread's RTUT knows: the window asked for, the callbacks, and the frame shown.
+#[derive(Default)]
+pub(crate) struct Rtut {
+    initialised: bool,
+    /// Asked by `rtutInitWindowSize` (GLUT's default: 300 × 300).
+    size: Option<(u32, u32)>,
+    /// The window's title, once `rtutCreateWindow` made it.
+    title: Option<String>,
+    pub callbacks: Callbacks,
+    /// A redisplay is posted: the loop calls the display callback next.
+    pub redisplay: bool,
+    /// `rtutLeaveMainLoop` was called.
+    pub leave: bool,
+    running: bool,
+    /// The frame buffer lent to the context: RGBA8, `frame_size` pixels.
+    pixels: Vec<u8>,
+    frame_size: (u32, u32),
+    /// Frames `rtutSwapBuffers` rendered, and where a headless loop writes them.
+    pub swapped: u64,
+    headless: Option<PathBuf>,
+}
+
+thread_local! {
+    static RTUT: RefCell<Rtut> = RefCell::new(Rtut::default());
+}
+
+/// Runs `f` on this thread's RTUT state (never across a callback).
+pub(crate) fn with<R>(f: impl FnOnce(&mut Rtut) -> R) -> R {
+    RTUT.with(|cell| f(&mut cell.borrow_mut()))
+}
+
+/// GLUT's window size when none is asked for.
+const DEFAULT_SIZE: (u32, u32) = (300, 300);
+
+impl Rtut {
+    /// `rtutInit`.
+    pub fn init(&mut self) {
+        self.initialised = true;
+    }
+
+    /// `rtutInitWindowSize`: each side 1 to `RT_MAX_FRAMEBUFFER_SIZE`.
+    pub fn init_window_size(&mut self, width: c_int, height: c_int) -> Result<(), Error> {
+        let side = 1..=RT_MAX_FRAMEBUFFER_SIZE as c_int;
+        if !side.contains(&width) || !side.contains(&height) {
+            return Err(Error::invalid_value(format!("a window of {width} × {height} pixels; each side must be 1 to {RT_MAX_FRAMEBUFFER_SIZE}")));
+        }
+        self.size = Some((width as u32, height as u32));
+        Ok(())
+    }
+
+    /// `rtutCreateWindow`: the one window, id 1, shown by the main loop with a redisplay posted.
+    pub fn create_window(&mut self, title: String) -> Result<c_int, Error> {
+        if !self.initialised {
+            return Err(Error::invalid_operation("call rtutInit first"));
+        }
+        if self.title.is_some() {
+            return Err(Error::invalid_operation("RTUT has one window, and it exists"));
+        }
+        self.title = Some(title);
+        self.redisplay = true;
+        Ok(1)
+    }
+
+    /// Checks that a window exists, for the calls that need one.
+    pub fn window(&self, what: &str) -> Result<(), Error> {
+        match self.title {
+            Some(_) => Ok(()),
+            None => Err(Error::invalid_operation(format!("{what} needs a window: call rtutCreateWindow first"))),
+        }
+    }
+
+    /// Sizes the frame buffer to `width × height` pixels (it keeps its memory otherwise).
+    pub fn resize(&mut self, width: u32, height: u32) {
+        if self.frame_size != (width, height) {
+            self.frame_size = (width, height);
+            self.pixels = vec![0; width as usize * height as usize * 4];
+        }
+    }
+
+    /// The frame buffer's size, and its pixels (RGBA8, rows from the top).
+    pub fn frame(&self) -> ((u32, u32), &[u8]) {
+        (self.frame_size, &self.pixels)
+    }
+
+    /// Lends the window's frame buffer to `ctx`.
+    fn lend(&mut self, ctx: &mut Context) -> Result<(), Error> {
+        let (width, height) = self.frame_size;
+        let pixels = NonNull::new(self.pixels.as_mut_ptr()).ok_or_else(|| Error::internal("the window has no frame buffer"))?;
+        // SAFETY: `pixels` holds `width × height × 4` bytes. This state owns them, lives as long
+        // as the thread's context, and replaces them only in `resize`, which the next
+        // `rtutSwapBuffers` follows with a new loan before anything renders; nothing else
+        // writes them while a frame renders into them.
+        let target = unsafe { FrameBuffer::new(pixels, width as usize, height as usize, PixelFormat::Rgba8)? };
+        ctx.set_frame_buffer(Some(target))
+    }
+
+    /// `rtutSwapBuffers`: renders a frame into the window's frame buffer; headless, writes it as
+    /// the next PNG file too.
+    pub fn swap_buffers(&mut self, ctx: &mut Context) -> Result<(), Error> {
+        self.window("rtutSwapBuffers")?;
+        if !self.running {
+            return Err(Error::invalid_operation("rtutSwapBuffers shows a frame in the window: call it from a callback of rtutMainLoop"));
+        }
+        self.lend(ctx)?;
+        ctx.swap_buffers()?;
+        if let Some(prefix) = &self.headless {
+            let path = format!("{}-{:04}.png", prefix.display(), self.swapped);
+            ctx.write_png(path.as_bytes())?;
+        }
+        self.swapped += 1;
+        Ok(())
+    }
+}
+
+/// How `rtutMainLoop` runs: in a window, or headless.
+pub(crate) enum Backend {
+    /// A window titled so, of the size asked for; with a screenshot of it saved at the path once
+    /// it shows its first frame (`RTUT_SCREENSHOT`).
+    Window { title: String, size: (u32, u32), screenshot: Option<PathBuf> },
+    /// No display: each frame swapped is written as `PREFIX-NNNN.png` (the prefix is kept in the
+    /// state, where `rtutSwapBuffers` finds it), and the loop ends after `frames` of them.
+    Headless { frames: u64 },
+}
+
+/// What `rtutMainLoop` will do, checked before it starts: a window and a display callback are
+/// needed, and the loop runs once at a time. Headless where `RTUT_HEADLESS` is set or neither
+/// `DISPLAY` nor `WAYLAND_DISPLAY` is; `RTUT_OUTPUT` is the headless files' prefix (default
+/// `rtut-frame`), `RTUT_FRAMES` how many frames a headless loop renders (default 1).
+pub(crate) fn plan() -> Result<Backend, Error> {
+    with(|r| {
+        r.window("rtutMainLoop")?;
+        if r.callbacks.display.is_none() {
+            return Err(Error::invalid_operation("rtutMainLoop needs a display callback: call rtutDisplayFunc first"));
+        }
+        if r.running {
+            return Err(Error::invalid_operation("rtutMainLoop is running already"));
+        }
+        let env = |name: &str| std::env::var_os(name).filter(|v| !v.is_empty());
+        let headless = env("RTUT_HEADLESS").is_some() || (env("DISPLAY").is_none() && env("WAYLAND_DISPLAY").is_none());
+        let (width, height) = r.size.unwrap_or(DEFAULT_SIZE);
+        if headless {
+            let frames = match env("RTUT_FRAMES") {
+                Some(n) => n.to_str().and_then(|n| n.parse().ok()).filter(|&n| n > 0).ok_or_else(|| Error::invalid_value("RTUT_FRAMES must be a whole number above 0"))?,
+                None => 1,
+            };
+            let prefix = env("RTUT_OUTPUT").map_or_else(|| PathBuf::from("rtut-frame"), PathBuf::from);
+            r.resize(width, height);
+            r.headless = Some(prefix);
+            return Ok(Backend::Headless { frames });
+        }
+        let title = r.title.clone().unwrap_or_default();
+        Ok(Backend::Window { title, size: (width, height), screenshot: env("RTUT_SCREENSHOT").map(PathBuf::from) })
+    })
+}
+
+/// Runs the main loop `backend` says until the window closes, `rtutLeaveMainLoop` is called or,
+/// headless, the frames are written (or nothing is left to do: no redisplay posted and no idle
+/// callback). Callbacks are called with no state borrowed.
+pub(crate) fn run(backend: Backend) -> Result<(), Error> {
+    /// Marks the loop ended however it ends, a panic included.
+    struct Running;
+    impl Drop for Running {
+        fn drop(&mut self) {
+            with(|r| {
+                r.running = false;
+                r.headless = None;
+            });
+        }
+    }
+    with(|r| {
+        r.running = true;
+        r.leave = false;
+    });
+    let _running = Running;
+    match backend {
+        Backend::Window { title, size, screenshot } => window::run(title, size, screenshot),
+        Backend::Headless { frames } => {
+            headless(frames);
+            Ok(())
+        }
+    }
+}
+
+/// The headless loop: the reshape callback once, then the display callback whenever a redisplay
+/// is posted, else the idle callback, until `frames` frames are swapped.
+fn headless(frames: u64) {
+    let (reshape, (width, height)) = with(|r| (r.callbacks.reshape, r.frame_size));
+    if let Some(reshape) = reshape {
+        // SAFETY: a callback the program registered, called as GLUT calls it.
+        unsafe { reshape(width as c_int, height as c_int) };
+    }
+    let first = with(|r| r.swapped);
+    loop {
+        let (callbacks, redisplay, leave, swapped) = with(|r| {
+            let redisplay = std::mem::take(&mut r.redisplay);
+            (r.callbacks, redisplay, r.leave, r.swapped)
+        });
+        if leave || swapped - first >= frames {
+            return;
+        }
+        // SAFETY (both calls): callbacks the program registered, called as GLUT calls them.
+        match (redisplay, callbacks.display, callbacks.idle) {
+            (true, Some(display), _) => unsafe { display() },
+            (_, _, Some(idle)) => unsafe { idle() },
+            _ => return,
+        }
+    }
+}
