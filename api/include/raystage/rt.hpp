@@ -291,6 +291,39 @@ inline void load_matrix(const std::array<RTfloat, 16> &m) {
     check();
 }
 
+// The double-precision calls have names of their own, as in rt.h: overloads on float and
+// double would make `translate(1, 0, 0)` ambiguous.
+
+/// rtTranslated.
+inline void translated(RTdouble x, RTdouble y, RTdouble z) {
+    rtTranslated(x, y, z);
+    check();
+}
+
+/// rtRotated: `angle` degrees counter-clockwise about (x, y, z).
+inline void rotated(RTdouble angle, RTdouble x, RTdouble y, RTdouble z) {
+    rtRotated(angle, x, y, z);
+    check();
+}
+
+/// rtScaled.
+inline void scaled(RTdouble x, RTdouble y, RTdouble z) {
+    rtScaled(x, y, z);
+    check();
+}
+
+/// rtMultMatrixd: 16 values in column-major order, last row 0 0 0 1.
+inline void mult_matrixd(const std::array<RTdouble, 16> &m) {
+    rtMultMatrixd(m.data());
+    check();
+}
+
+/// rtLoadMatrixd: 16 values in column-major order, last row 0 0 0 1.
+inline void load_matrixd(const std::array<RTdouble, 16> &m) {
+    rtLoadMatrixd(m.data());
+    check();
+}
+
 /// rtShadeModel: RT_SMOOTH or RT_FLAT, for primitives begun later.
 inline void shade_model(RTenum mode) {
     rtShadeModel(mode);
@@ -685,13 +718,19 @@ enum class FrameStatus {
 /// attached (after releasing its frame in flight, whose image must not reach freed memory).
 class FrameBuffer {
   public:
-    FrameBuffer(std::size_t width, std::size_t height) : width_(width), height_(height) {
+    /// `width` × `height` pixels of `format`: RT_RGBA8 (sRGB bytes, read with `pixel`) or
+    /// RT_RGBA32F (linear floats, unclamped, read with `linear`).
+    FrameBuffer(std::size_t width, std::size_t height, RTenum format = RT_RGBA8)
+        : width_(width), height_(height), format_(format) {
         if (width < 1 || height < 1 || width > RT_MAX_FRAMEBUFFER_SIZE || height > RT_MAX_FRAMEBUFFER_SIZE) {
             throw Error(RT_INVALID_VALUE, "raystage::FrameBuffer: " + std::to_string(width) + " x " +
                                               std::to_string(height) + " pixels: each side must be 1 to " +
                                               std::to_string(RT_MAX_FRAMEBUFFER_SIZE));
         }
-        pixels_.resize(width * height * 4);
+        if (format != RT_RGBA8 && format != RT_RGBA32F) {
+            throw Error(RT_INVALID_ENUM, "raystage::FrameBuffer: the format must be RT_RGBA8 or RT_RGBA32F");
+        }
+        pixels_.resize(width * height * bytes_per_pixel());
     }
     FrameBuffer(FrameBuffer &&other) noexcept;
     FrameBuffer &operator=(FrameBuffer &&other) noexcept;
@@ -705,7 +744,7 @@ class FrameBuffer {
             // rtFrameBuffer(NULL, 0, 0) would detach rather than fail.
             throw Error(RT_INVALID_OPERATION, "raystage::FrameBuffer: this frame buffer was moved from");
         }
-        rtFrameBuffer(pixels_.data(), width_, height_, RT_RGBA8);
+        rtFrameBuffer(pixels_.data(), width_, height_, format_);
         check();
         // This buffer's channels, and none of another buffer's (of another size, or freed).
         for (RTenum channel : detail::channels) {
@@ -767,8 +806,26 @@ class FrameBuffer {
         rtWritePNG(path.c_str());
         check();
     }
-    /// The sRGB bytes (red, green, blue, alpha) of pixel (x, y), row 0 at the top.
-    const std::uint8_t *pixel(std::size_t x, std::size_t y) const { return &pixels_[(y * width_ + x) * 4]; }
+    /// The sRGB bytes (red, green, blue, alpha) of pixel (x, y) of an RT_RGBA8 buffer, row 0 at
+    /// the top.
+    const std::uint8_t *pixel(std::size_t x, std::size_t y) const {
+        if (format_ != RT_RGBA8) {
+            throw Error(RT_INVALID_OPERATION, "raystage::FrameBuffer::pixel: this buffer holds floats: read it with linear()");
+        }
+        return &pixels_[(y * width_ + x) * 4];
+    }
+    /// The linear red, green, blue and alpha of pixel (x, y) of an RT_RGBA32F buffer, row 0 at
+    /// the top.
+    std::array<float, 4> linear(std::size_t x, std::size_t y) const {
+        if (format_ != RT_RGBA32F) {
+            throw Error(RT_INVALID_OPERATION, "raystage::FrameBuffer::linear: this buffer holds sRGB bytes: read it with pixel()");
+        }
+        std::array<float, 4> rgba;
+        std::memcpy(rgba.data(), &pixels_[(y * width_ + x) * 16], sizeof rgba);
+        return rgba;
+    }
+    /// RT_RGBA8 or RT_RGBA32F.
+    RTenum format() const noexcept { return format_; }
     /// Width in pixels.
     std::size_t width() const noexcept { return width_; }
     /// Height in pixels.
@@ -784,6 +841,7 @@ class FrameBuffer {
     void detach() noexcept;
     /// Takes over `other`'s pixels, the attachment and its frame in flight.
     void take(FrameBuffer &other) noexcept;
+    std::size_t bytes_per_pixel() const noexcept { return format_ == RT_RGBA32F ? 16 : 4; }
 
     /// The memory of `channel`, if enabled.
     std::vector<std::uint32_t> *channel_data(RTenum channel) {
@@ -804,6 +862,7 @@ class FrameBuffer {
     }
 
     std::size_t width_, height_;
+    RTenum format_;
     // Moving a vector keeps its memory where it is, so a moved buffer stays attached.
     std::vector<std::uint8_t> pixels_;
     // The channels enabled, each as 4-byte values (floats or ids).
@@ -899,7 +958,7 @@ class [[nodiscard]] Frame {
     detail::Lifetime lifetime_;
 };
 
-inline FrameBuffer::FrameBuffer(FrameBuffer &&other) noexcept : width_(0), height_(0) { take(other); }
+inline FrameBuffer::FrameBuffer(FrameBuffer &&other) noexcept : width_(0), height_(0), format_(RT_RGBA8) { take(other); }
 
 inline FrameBuffer &FrameBuffer::operator=(FrameBuffer &&other) noexcept {
     if (this != &other) {
@@ -938,6 +997,7 @@ inline void FrameBuffer::detach() noexcept {
 inline void FrameBuffer::take(FrameBuffer &other) noexcept {
     width_ = std::exchange(other.width_, 0);
     height_ = std::exchange(other.height_, 0);
+    format_ = other.format_;
     pixels_ = std::move(other.pixels_);
     channels_ = std::move(other.channels_);
     in_flight_ = std::exchange(other.in_flight_, nullptr);

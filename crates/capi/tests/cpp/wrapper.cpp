@@ -328,6 +328,48 @@ void gl_calls() {
     no_error("the GL calls");
 }
 
+/// A float frame buffer holds linear light beyond 1, as rendered; the double-precision calls
+/// move the matrix as the float ones do.
+void float_buffers_and_double_calls() {
+    raystage::Context context;
+    camera();
+    raystage::Shader paint("Constant");
+    paint.set("color", 2.0f, 0.5f, 0.25f); // brighter than white: an sRGB byte would clip it
+    raystage::Object wall = square_object(paint, 10.0f);
+    raystage::Instance instance = wall.instantiate();
+    raystage::FrameBuffer linear(W, H, RT_RGBA32F);
+    CHECK(linear.format() == RT_RGBA32F, "the format");
+    linear.swap();
+    std::array<float, 4> p = linear.linear(W / 2, H / 2);
+    CHECK(p[0] == 2.0f && p[1] == 0.5f && p[2] == 0.25f && p[3] == 1.0f, "a float pixel is %g %g %g %g", p[0], p[1], p[2], p[3]);
+    throws("reading floats as bytes", RT_INVALID_OPERATION, "linear()", [&] { linear.pixel(0, 0); });
+    raystage::FrameBuffer bytes(W, H);
+    bytes.swap();
+    CHECK(pixel_is(bytes, W / 2, H / 2, 255, 188, 137), "the same wall in sRGB bytes");
+    throws("reading bytes as floats", RT_INVALID_OPERATION, "pixel()", [&] { bytes.linear(0, 0); });
+    throws("a format that is not one", RT_INVALID_ENUM, "RT_RGBA32F", [] { raystage::FrameBuffer bad(W, H, RT_QUADS); });
+    // A moved float buffer stays a float buffer, attached.
+    raystage::FrameBuffer moved(std::move(linear));
+    moved.swap();
+    CHECK(moved.format() == RT_RGBA32F && moved.linear(0, 0)[0] == 2.0f, "the moved float buffer");
+
+    raystage::load_identity();
+    raystage::translated(1, 2, 3);
+    raystage::scaled(2, 2, 2);
+    raystage::rotated(90, 0, 0, 1);
+    std::vector<RTfloat> m = raystage::get_floats(RT_MODELVIEW_MATRIX);
+    CHECK(m[12] == 1 && m[13] == 2 && m[14] == 3 && std::abs(m[1] - 2) < 1e-5f, "the double calls' matrix: %g %g %g, %g", m[12],
+          m[13], m[14], m[1]);
+    raystage::load_matrixd({1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 4, 0, 0, 1});
+    raystage::mult_matrixd({1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 5, 0, 1});
+    m = raystage::get_floats(RT_MODELVIEW_MATRIX);
+    CHECK(m[12] == 4 && m[13] == 5, "load_matrixd and mult_matrixd give a translation of %g %g", m[12], m[13]);
+    throws("a double matrix whose last row is not 0 0 0 1", RT_INVALID_VALUE, "rtLoadMatrixd",
+           [] { raystage::load_matrixd({1, 0, 0, 1, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}); });
+    throws("a translation past RT_MAX_COORDINATE", RT_INVALID_VALUE, "RT_MAX_COORDINATE", [] { raystage::translated(1e12, 0, 0); });
+    raystage::load_identity();
+}
+
 /// Textures: an image on a Diffuse wall, seen in the eye-light preview.
 void textures() {
     raystage::Context context;
@@ -425,6 +467,7 @@ int main() {
     run("handles_outlive_their_context", handles_outlive_their_context);
     run("errors_carry_code_and_message", errors_carry_code_and_message);
     run("gl_calls", gl_calls);
+    run("float_buffers_and_double_calls", float_buffers_and_double_calls);
     run("textures", textures);
     run("channels", channels);
     run("classes", classes);
