@@ -1,7 +1,8 @@
 //! `mpirun -n N raystage render … --mpi` end to end (built with the `mpi` feature): the image
 //! is byte for byte the one a single process writes, whatever the number of ranks, for every
 //! integrator, adaptive sampling, an animated demo at several frames and a glTF file; a rank
-//! that cannot read the scene stops the whole job with an error instead of hanging it.
+//! that cannot read the scene stops the whole job with an error instead of hanging it, and so
+//! does a worker killed mid-frame.
 
 #![cfg(feature = "mpi")]
 
@@ -105,4 +106,76 @@ fn a_scene_no_rank_can_read_stops_every_rank_with_an_error() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(!output.status.success() && stderr.contains("error: rank 0: cannot create /nonexistent/dir/out.png"), "{stderr}");
     assert!(stderr.contains("1 of 2 MPI ranks failed"), "the other rank says why it stops: {stderr}");
+}
+
+/// The processes of this user running `raystage` whose MPI rank (Open MPI's
+/// `OMPI_COMM_WORLD_RANK`, in their environment) is `rank` and whose job's output is `out`.
+fn rank_pids(rank: u32, out: &std::path::Path) -> Vec<u32> {
+    let Ok(entries) = std::fs::read_dir("/proc") else { return Vec::new() };
+    let wanted_rank = format!("OMPI_COMM_WORLD_RANK={rank}");
+    let out = out.to_string_lossy().into_owned();
+    entries
+        .filter_map(|e| e.ok()?.file_name().to_str()?.parse::<u32>().ok())
+        .filter(|pid| {
+            let cmdline = std::fs::read(format!("/proc/{pid}/cmdline")).unwrap_or_default();
+            let environ = std::fs::read(format!("/proc/{pid}/environ")).unwrap_or_default();
+            let has = |bytes: &[u8], s: &str| bytes.split(|&b| b == 0).any(|part| part == s.as_bytes());
+            has(&cmdline, &out) && has(&environ, &wanted_rank) && cmdline.starts_with(env!("CARGO_BIN_EXE_raystage").as_bytes())
+        })
+        .collect()
+}
+
+/// A worker killed while the frame renders ends the job with an error naming it, within the
+/// deadline, never a hang; no rank is left behind.
+#[test]
+fn a_worker_killed_mid_frame_ends_the_job_with_an_error() {
+    let out = out_path("killed.png");
+    let mut command = Command::new("mpirun");
+    command
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .args(["--oversubscribe", "--tag-output", "-n", "2"])
+        .arg(env!("CARGO_BIN_EXE_raystage"))
+        // Minutes of path tracing: the worker is killed long before the frame could end.
+        .args(["render", "--demo", "cornell", "--integrator", "path", "--spp", "4096", "--width", "256", "--height", "256", "--threads", "1", "--mpi", "--out"])
+        .arg(&out)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    let mut job = command.spawn().expect("mpirun starts");
+    let start = Instant::now();
+    // Wait until both ranks run (rank 0 logs the job before the frame starts), then a moment
+    // into the frame.
+    let worker = loop {
+        if let ([worker], [_]) = (rank_pids(1, &out).as_slice(), rank_pids(0, &out).as_slice()) {
+            break *worker;
+        }
+        assert!(job.try_wait().unwrap().is_none(), "the job ended before its worker was killed");
+        assert!(start.elapsed() < DEADLINE, "the ranks did not start within {DEADLINE:?}");
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    std::thread::sleep(Duration::from_secs(2));
+    let root = rank_pids(0, &out);
+    assert!(Command::new("kill").args(["-KILL", &worker.to_string()]).status().unwrap().success());
+    let killed = Instant::now();
+    while job.try_wait().unwrap().is_none() {
+        if killed.elapsed() > DEADLINE {
+            let _ = job.kill();
+            panic!("the job still runs {DEADLINE:?} after its worker was killed: hung");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let output = job.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success(), "the job reports the failure in its status: {stderr}");
+    assert!(stderr.contains("rank 1") && stderr.contains("signal 9"), "mpirun names the lost rank and why: {stderr}");
+    // Rank 0 creates the file before the frame, to know it can; a frame that did not finish
+    // leaves it empty.
+    assert!(std::fs::metadata(&out).map_or(0, |m| m.len()) == 0, "no image from a frame that did not finish");
+    // Rank 0 is gone too, once the system has reaped it.
+    let gone = |pid: &u32| std::fs::read_to_string(format!("/proc/{pid}/stat")).map_or(true, |stat| stat.contains(") Z "));
+    let reaped = Instant::now();
+    while !root.iter().all(gone) {
+        assert!(reaped.elapsed() < Duration::from_secs(10), "rank 0 ({root:?}) still runs after the job ended");
+        std::thread::sleep(Duration::from_millis(50));
+    }
 }
