@@ -70,7 +70,29 @@ pub(crate) fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> ApiResult<T> {
 
 /// [`parse_json`] through a seed: a deserializer that knows more than the type, such as a
 /// limit to check while parsing.
-pub(crate) fn parse_json_seed<'de, S: DeserializeSeed<'de>>(bytes: &'de [u8], seed: S) -> ApiResult<S::Value> {
+///
+/// JSON Schema counts `2.0` as the integer 2, and so does the API's description: when a body
+/// fails to parse as its type and holds whole numbers written with a fraction or an exponent,
+/// it is parsed again with those written as integers (serde reads `2.0` as a float only, which
+/// an id or an index refuses). Bodies that parse the first time are not copied.
+pub(crate) fn parse_json_seed<V, S: for<'de> DeserializeSeed<'de, Value = V> + Clone>(bytes: &[u8], seed: S) -> ApiResult<V> {
+    // Every body the API takes is an object; serde would also read a struct from an array of its
+    // fields in order (`[null, null]` as `{}`), which no client means and the description forbids.
+    if bytes.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'[') {
+        return Err(ApiError::bad_request(None, "the body must be a JSON object, not an array"));
+    }
+    let first = parse_json_once(bytes, seed.clone());
+    match first {
+        Err(ref e) if e.status == StatusCode::BAD_REQUEST => match integers_as_integers(bytes) {
+            Some(rewritten) => parse_json_once(&rewritten, seed),
+            None => first,
+        },
+        _ => first,
+    }
+}
+
+/// One parse of [`parse_json_seed`].
+fn parse_json_once<V, S: for<'de> DeserializeSeed<'de, Value = V>>(bytes: &[u8], seed: S) -> ApiResult<V> {
     let mut de = serde_json::Deserializer::from_slice(bytes);
     let mut track = serde_path_to_error::Track::new();
     let value = seed.deserialize(serde_path_to_error::Deserializer::new(&mut de, &mut track)).map_err(|inner| {
@@ -86,6 +108,56 @@ pub(crate) fn parse_json_seed<'de, S: DeserializeSeed<'de>>(bytes: &'de [u8], se
     })?;
     de.end().map_err(|e| ApiError::bad_request(None, e.to_string()))?;
     Ok(value)
+}
+
+/// `bytes` with every number outside strings that is a whole number written with a fraction or
+/// an exponent (`2.0`, `1e3`) written as an integer instead, or `None` if there is none. Whole
+/// numbers past 2⁵³, where a float stops spelling every integer, and negative zero, which an
+/// integer cannot keep, stay as they are.
+fn integers_as_integers(bytes: &[u8]) -> Option<Vec<u8>> {
+    let mut out = Vec::new();
+    let (mut copied, mut i, mut in_string, mut changed) = (0, 0, false, false);
+    while i < bytes.len() {
+        let b = bytes[i];
+        if in_string {
+            match b {
+                b'\\' => i += 1,
+                b'"' => in_string = false,
+                _ => {}
+            }
+            i += 1;
+            continue;
+        }
+        if b == b'"' {
+            in_string = true;
+            i += 1;
+            continue;
+        }
+        if !(b == b'-' || b.is_ascii_digit()) {
+            i += 1;
+            continue;
+        }
+        let start = i;
+        while i < bytes.len() && matches!(bytes[i], b'-' | b'+' | b'.' | b'e' | b'E' | b'0'..=b'9') {
+            i += 1;
+        }
+        let token = &bytes[start..i];
+        if !token.iter().any(|c| matches!(c, b'.' | b'e' | b'E')) {
+            continue;
+        }
+        let Some(value) = std::str::from_utf8(token).ok().and_then(|t| t.parse::<f64>().ok()) else { continue };
+        if value.fract() != 0.0 || value.abs() > (1u64 << 53) as f64 || (value == 0.0 && token[0] == b'-') {
+            continue;
+        }
+        out.extend_from_slice(&bytes[copied..start]);
+        out.extend_from_slice((value as i64).to_string().as_bytes());
+        copied = i;
+        changed = true;
+    }
+    changed.then(|| {
+        out.extend_from_slice(&bytes[copied..]);
+        out
+    })
 }
 
 /// Whether a syntax error at `line`, `column` (1-based, as serde_json reports them) is a `NaN`
@@ -173,5 +245,23 @@ mod tests {
         let err = parse_json::<Point>(br#"{"xyz": [1, 2, 3]} trailing"#).unwrap_err();
         assert_eq!(err.status, StatusCode::BAD_REQUEST);
         assert!(parse_json::<Point>(br#"{"xyz": [1, 2, 3]}"#).is_ok());
+        let err = parse_json::<Point>(br#" [[1, 2, 3]]"#).unwrap_err();
+        assert_eq!(err.status, StatusCode::BAD_REQUEST);
+    }
+
+    #[test]
+    fn whole_numbers_with_a_fraction_are_integers_as_json_schema_counts_them() {
+        #[derive(Debug, PartialEq, serde::Deserialize)]
+        struct Ids {
+            ids: Vec<u32>,
+            name: String,
+            x: f32,
+        }
+        let ids = parse_json::<Ids>(br#"{"ids": [2.0, 1e3, 7], "name": "1.0", "x": -0.0}"#).unwrap();
+        assert_eq!(ids, Ids { ids: vec![2, 1000, 7], name: "1.0".into(), x: -0.0 });
+        assert!(ids.x.is_sign_negative());
+        let err = parse_json::<Ids>(br#"{"ids": [2.5], "name": "", "x": 0}"#).unwrap_err();
+        assert_eq!((err.status, err.detail.field.as_deref()), (StatusCode::BAD_REQUEST, Some("ids[0]")));
+        assert_eq!(integers_as_integers(br#"{"a": "2.0", "b": [1.5, 3.0, 1e300]}"#).as_deref(), Some(&br#"{"a": "2.0", "b": [1.5, 3, 1e300]}"#[..]));
     }
 }

@@ -74,7 +74,7 @@ async fn jobs_are_bounded_and_checked_like_frames() {
     fails(&app, "POST", "/scenes/99/renders", Value::Null, StatusCode::NOT_FOUND).await;
     ok(&app, "POST", &format!("/scenes/{s}/renders?width=8&height=8"), Value::Null, StatusCode::ACCEPTED).await;
     let (status, error) = call(&app, "POST", &format!("/scenes/{s}/renders?width=8&height=8"), Value::Null).await;
-    assert_eq!((status, error["error"]["limit"].as_str()), (StatusCode::SERVICE_UNAVAILABLE, Some("max_render_jobs")), "{error}");
+    assert_eq!((status, error["error"]["limit"].as_str()), (StatusCode::PAYLOAD_TOO_LARGE, Some("max_render_jobs")), "{error}");
     for id in ["7", "x"] {
         let (status, error) = call(&app, "GET", &format!("/renders/{id}"), Value::Null).await;
         assert_eq!((status, error["error"]["field"].as_str()), (StatusCode::NOT_FOUND, Some("id")), "{error}");

@@ -117,7 +117,7 @@ impl MeshSpec {
         };
         check_count(uvs.len(), limits.max_vertices, "uvs", "vertices")?;
         let binding = match (self.shader, self.shaders) {
-            (Some(_), Some(_)) => return Err(ApiError::bad_request(Some("shaders".into()), "give `shader` or `shaders`, not both")),
+            (Some(_), Some(_)) => return Err(ApiError::unprocessable(Some("shaders".into()), "give `shader` or `shaders`, not both")),
             (Some(one), None) => Binding::All(one),
             (None, Some(each)) => Binding::Each(each),
             (None, None) => Binding::Default,
@@ -130,7 +130,7 @@ impl MeshSpec {
 /// Positions for a PATCH of an object's vertices: JSON or base64, one of them.
 pub(crate) fn decode_positions(json: Option<Vec<[f32; 3]>>, base64: Option<String>, limits: &Limits) -> ApiResult<Vec<Vec3>> {
     vectors(json, base64, "positions", limits.max_vertices)?
-        .ok_or_else(|| ApiError::bad_request(Some("positions".into()), "give `positions` or `positions_base64`"))
+        .ok_or_else(|| ApiError::unprocessable(Some("positions".into()), "give `positions` or `positions_base64`"))
 }
 
 enum Either<T> {
@@ -138,10 +138,13 @@ enum Either<T> {
     Base64(String),
 }
 
-/// The one of an attribute's two spellings that is present.
+/// The one of an attribute's two spellings that is present. Both is 422, as is neither for the
+/// positions (above): each field is well formed, their combination is refused, as other
+/// relations between a mesh's fields are (indices in range); the description says it in words,
+/// since a schema of every pair's exclusion is more than schema-driven clients can generate from.
 fn pick<T>(json: Option<T>, base64: Option<String>, name: &str) -> ApiResult<Option<Either<T>>> {
     match (json, base64) {
-        (Some(_), Some(_)) => Err(ApiError::bad_request(Some(format!("{name}_base64")), format!("give `{name}` or `{name}_base64`, not both"))),
+        (Some(_), Some(_)) => Err(ApiError::unprocessable(Some(format!("{name}_base64")), format!("give `{name}` or `{name}_base64`, not both"))),
         (Some(j), None) => Ok(Some(Either::Json(j))),
         (None, Some(b)) => Ok(Some(Either::Base64(b))),
         (None, None) => Ok(None),

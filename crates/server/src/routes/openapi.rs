@@ -36,7 +36,7 @@ use crate::stream::{ClientMessage, FrameMessage, ServerMessage, SettingsChange};
     ),
     components(schemas(
         ErrorBody, ErrorDetail, FrameReport, RaysJson, Rgb, Transform, Rotation, Scale, Ref, ParamJson, ParamOut, Kind, MeshSpec,
-        TextureParam, TextureKind, TextureDescription, IntegratorName, ToneMapName,
+        TextureParam, TextureKind, TextureDescription, IntegratorName, ToneMapName, super::gltf::CameraChoice,
         ClientMessage, SettingsChange, ServerMessage, FrameMessage, Command, CommandResult,
     )),
     modifiers(&Exact),
@@ -141,7 +141,8 @@ fn fix_length(schema: &mut utoipa::openapi::RefOr<utoipa::openapi::schema::Schem
 /// - shader and light classes are enums of the built-in classes, and demo names a pattern;
 /// - `POST /scenes` takes no body at all for an empty scene;
 /// - a light as the API answers it (`LightInfo`) is a `LightSpec` with an `id`: its own object,
-///   since `LightSpec` forbids other properties and an `allOf` of the two would forbid `id`.
+///   since `LightSpec` forbids other properties and an `allOf` of the two would forbid `id`;
+/// - and what [`exact_json`] says.
 struct Exact;
 
 impl utoipa::Modify for Exact {
@@ -176,5 +177,112 @@ impl utoipa::Modify for Exact {
         info.properties.insert("id".into(), RefOr::T(Schema::Object(id.build())));
         info.required.push("id".into());
         components.schemas.insert("LightInfo".into(), RefOr::T(Schema::Object(info)));
+        // The rest is said most plainly in the description's JSON.
+        let mut json = serde_json::to_value(&*openapi).expect("the description is JSON");
+        exact_json(&mut json);
+        *openapi = serde_json::from_value(json).expect("the description reads back");
+    }
+}
+
+/// A decimal number that is not negative, as the query's colours and radii are written (Rust
+/// reads more spellings; these are the ones the description promises).
+const DECIMAL: &str = "(0|[1-9][0-9]{0,5})(\\.[0-9]{1,6})?";
+
+/// The rules of the description that the derive cannot state, on its JSON:
+/// - `u32` is an integer up to 2³² − 1 (the derive calls it `int32`, whose range stops at 2³¹ − 1,
+///   so a client that believes it cannot name ids and indices past that, and a server that
+///   answers them looks as if it accepts what the description forbids);
+/// - query parameters have the ranges (of the default [`Limits`](crate::Limits)) and spellings
+///   the server checks: image sizes and samples, backgrounds, filters, environments;
+/// - fields that exclude each other (`matrix` or translate/rotate/scale, `rotate` or
+///   `quaternion`, a demo's `frame` without `demo`) say so: one side must be absent or null (a
+///   mesh's attributes and their `_base64` spellings say it in words: the schema of every pair's
+///   exclusion is more than schemathesis can generate from, and the server answers 422);
+/// - a projection's kinds take their own fields only, and a mesh or new positions need
+///   `positions` or `positions_base64`;
+/// - a light takes the parameters of its class only: `LightSpec` and `LightInfo` are one-ofs by
+///   `class`, each class's other parameters null if present (the server reads null as absent).
+fn exact_json(json: &mut serde_json::Value) {
+    use serde_json::{Value, json};
+    fn unsigned(node: &mut Value) {
+        match node {
+            Value::Object(map) => {
+                let integer = map.get("type").is_some_and(|t| t == "integer" || t.as_array().is_some_and(|a| a.contains(&json!("integer"))));
+                if integer && map.get("format") == Some(&json!("int32")) && map.get("minimum") == Some(&json!(0)) {
+                    map.insert("format".into(), json!("int64"));
+                    map.insert("maximum".into(), json!(u32::MAX));
+                }
+                map.values_mut().for_each(unsigned);
+            }
+            Value::Array(list) => list.iter_mut().for_each(unsigned),
+            _ => {}
+        }
+    }
+    unsigned(json);
+
+    let limits = crate::Limits::default();
+    let colour = format!("{DECIMAL}(,{DECIMAL},{DECIMAL})?");
+    let radius = "0\\.[0-9]{0,5}[1-9]|[1-3](\\.[0-9]{1,6})?|4(\\.0{1,6})?";
+    let query: [(&str, Value); 6] = [
+        ("width", json!({ "maximum": limits.max_dimension })),
+        ("height", json!({ "maximum": limits.max_dimension })),
+        ("spp", json!({ "maximum": limits.max_spp })),
+        ("background", json!({ "pattern": format!("^(sky|black|{colour})$") })),
+        ("environment", json!({ "pattern": format!("^{colour}$") })),
+        ("filter", json!({ "pattern": format!("^(box|gaussian|gaussian:({radius}))$") })),
+    ];
+    for operation in json["paths"].as_object_mut().into_iter().flat_map(|p| p.values_mut()).filter_map(Value::as_object_mut).flat_map(|o| o.values_mut()) {
+        for parameter in operation.get_mut("parameters").and_then(Value::as_array_mut).into_iter().flatten() {
+            let Some((_, rule)) = query.iter().find(|(name, _)| parameter["name"] == *name && parameter["in"] == "query") else { continue };
+            if let (Some(schema), Some(rule)) = (parameter["schema"].as_object_mut(), rule.as_object()) {
+                schema.extend(rule.clone());
+            }
+        }
+    }
+
+    let schemas = &mut json["components"]["schemas"];
+    for kind in schemas["ProjectionJson"]["oneOf"].as_array_mut().into_iter().flatten() {
+        kind["additionalProperties"] = json!(false);
+    }
+    let absent = |names: &[&str]| json!({ "type": "object", "properties": names.iter().map(|n| (n.to_string(), json!({ "type": "null" }))).collect::<serde_json::Map<_, _>>() });
+    // An object with these as well is an `allOf` of it and them: the description's types hold
+    // no `anyOf` beside `properties`.
+    let mut both = |name: &str, rules: Vec<Value>| {
+        let object = schemas[name].clone();
+        schemas[name] = json!({ "description": object["description"], "allOf": std::iter::once(object).chain(rules).collect::<Vec<_>>() });
+    };
+    both("Transform", vec![
+        json!({ "anyOf": [absent(&["matrix"]), absent(&["translate", "rotate", "quaternion", "scale"])] }),
+        json!({ "anyOf": [absent(&["rotate"]), absent(&["quaternion"])] }),
+    ]);
+    let positions = json!({ "anyOf": [
+        { "type": "object", "required": ["positions"], "properties": { "positions": { "type": "array" } } },
+        { "type": "object", "required": ["positions_base64"], "properties": { "positions_base64": { "type": "string" } } },
+    ] });
+    both("PositionsBody", vec![positions.clone()]);
+    both("MeshSpec", vec![positions]);
+    both("NewScene", vec![json!({ "anyOf": [absent(&["frame"]), { "type": "object", "required": ["demo"], "properties": { "demo": { "type": "string" } } }] })]);
+
+    for (name, with_id) in [("LightSpec", false), ("LightInfo", true)] {
+        let spec = schemas[name].clone();
+        let variants: Vec<Value> = LIGHT_CLASSES
+            .iter()
+            .map(|(class, params)| {
+                let mut properties = serde_json::Map::new();
+                properties.insert("class".into(), json!({ "type": "string", "enum": [class] }));
+                for (key, value) in spec["properties"].as_object().into_iter().flatten() {
+                    match key.as_str() {
+                        "class" => {}
+                        "label" if with_id => {}
+                        "label" | "id" => _ = properties.insert(key.clone(), value.clone()),
+                        _ if params.contains(&key.as_str()) => _ = properties.insert(key.clone(), value.clone()),
+                        _ => _ = properties.insert(key.clone(), json!({ "type": "null" })),
+                    }
+                }
+                let required = if with_id { json!(["class", "id"]) } else { json!(["class"]) };
+                json!({ "type": "object", "title": class, "required": required, "properties": properties, "additionalProperties": false })
+            })
+            .collect();
+        schemas[name] = json!({ "description": spec["description"], "oneOf": variants });
     }
 }

@@ -102,7 +102,8 @@ impl Job {
 
 /// Starts rendering a frame of the scene (the query as `frame.png` takes it) and answers at
 /// once, 202 with the job; `Location` names it. At most `max_render_jobs` jobs are held at once,
-/// finished ones included until deleted (503 naming the limit).
+/// finished ones included until deleted (413 naming the limit, as for `max_scenes`: the client
+/// holds them and must delete some, so it is not the server failing, which a 5xx would say).
 #[utoipa::path(post, path = "/scenes/{scene}/renders", tag = "frames",
     params(("scene" = u32, Path, description = "The scene's id"), FrameQuery),
     responses(
@@ -110,7 +111,7 @@ impl Job {
         (status = 400, description = "Malformed request: the error names the field", body = ErrorBody),
         (status = 404, description = "No such scene, resource or route", body = ErrorBody),
         (status = 422, description = "A value is not acceptable: the error names the field", body = ErrorBody),
-        (status = 503, description = "As many render jobs as the server holds", body = ErrorBody),
+        (status = 413, description = "As many render jobs as the server holds", body = ErrorBody),
     ))]
 pub(crate) async fn start(State(state): State<AppState>, target: Target, Params(query): Params<FrameQuery>) -> ApiResult<Response> {
     let limits = state.config().limits;
@@ -120,7 +121,7 @@ pub(crate) async fn start(State(state): State<AppState>, target: Target, Params(
         let mut held = jobs.jobs.lock().unwrap_or_else(|e| e.into_inner());
         if held.len() >= limits.max_render_jobs {
             let message = format!("the server holds {} render jobs, its limit: delete finished ones first", limits.max_render_jobs);
-            return Err(ApiError::busy(message).limit("max_render_jobs"));
+            return Err(ApiError::too_large(None, message).limit("max_render_jobs"));
         }
         let id = jobs.issued.fetch_add(1, Ordering::Relaxed) + 1;
         let job = Arc::new(Job {
