@@ -14,6 +14,8 @@ packages=(libembree-dev gcc g++ pkg-config cmake)
 packages+=(xvfb libgl1 libglx-mesa0 libgl1-mesa-dri libegl1 libx11-xcb1 libxcursor1 libxi6 libxkbcommon-x11-0)
 # RTUT's window test (crates/capi/tests/examples.rs) types keys and clicks into its window.
 packages+=(xdotool)
+# The API's schemathesis run (scripts/schemathesis.sh) waits for the server with curl.
+packages+=(curl)
 # Rendering across MPI ranks (the root crate's `mpi` feature, tests/cli_mpi.rs): Open MPI, and
 # libclang for the bindings rsmpi generates at build time.
 packages+=(libopenmpi-dev openmpi-bin libclang1-14 libclang-common-14-dev)
