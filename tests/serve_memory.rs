@@ -107,3 +107,36 @@ fn a_batch_past_the_command_limit_stops_parsing_at_the_first_command_too_many() 
     body.extend_from_slice(br#"{"set_camera": {}}]}"#);
     refused_within("POST", "/scenes/1/commands", "application/json", &body, 413, "max_commands", 96.0);
 }
+
+/// A stream whose client stops reading: the server keeps one frame for it, the newest, instead
+/// of queueing every pass's PNG, so its memory stays flat while the renderer goes on refining.
+#[test]
+fn a_stream_whose_client_does_not_read_is_not_buffered() {
+    let server = Server::start();
+    let (status, body) = server.request("POST", "/scenes", "application/json", br#"{"demo": "cornell"}"#);
+    assert_eq!(status, 201, "{body}");
+    let before = server.peak_mib();
+    let mut stream = TcpStream::connect(&server.addr).unwrap();
+    // A path-traced 512 × 512 stream refining to 2,000 samples: hundreds of noisy PNGs of
+    // about half a megabyte each while the client reads nothing.
+    let upgrade = format!(
+        "GET /scenes/2/stream?width=512&height=512&integrator=path&max_samples=2000 HTTP/1.1\r\nHost: {}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n",
+        server.addr
+    );
+    stream.write_all(upgrade.as_bytes()).unwrap();
+    std::thread::sleep(std::time::Duration::from_secs(8));
+    let grown = server.peak_mib() - before;
+    // The stream was live all along: what it sent is waiting in the socket.
+    stream.set_read_timeout(Some(std::time::Duration::from_secs(5))).unwrap();
+    let mut received = vec![0u8; 1 << 20];
+    let mut got = 0;
+    while got < received.len() {
+        match stream.read(&mut received[got..]) {
+            Ok(0) | Err(_) => break,
+            Ok(n) => got += n,
+        }
+    }
+    let text = String::from_utf8_lossy(&received[..got]);
+    assert!(text.starts_with("HTTP/1.1 101") && text.contains(r#""type":"frame""#), "the stream sent no frame: {:?}", &text[..text.len().min(300)]);
+    assert!(grown < 64.0, "the server's peak grew by {grown:.0} MiB for a stream nobody read");
+}
