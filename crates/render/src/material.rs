@@ -254,10 +254,16 @@ impl<'f> Materials<'f> {
     /// coloured, darkened by an occlusion texture) and `true` for the models that reflect
     /// light, or the emitted or constant colour and `false` for those that do not. The parts of
     /// [`Materials::at`] a preview needs, without making the whole material; `attributes` is
-    /// asked only by surfaces whose colour varies. `None` for a normal-mapped surface, whose
-    /// normal needs the hit resolved in full.
+    /// asked only by surfaces whose colour varies, and `density` (see
+    /// [`Materials::footprint`]) only by those with image textures. `None` for a normal-mapped
+    /// surface, whose normal needs the hit resolved in full.
     #[inline(always)]
-    pub fn preview_colour(&self, pp: &PreviewPoint, attributes: impl FnOnce() -> PreviewAttributes) -> Option<(Vec3, bool)> {
+    pub fn preview_colour(
+        &self,
+        pp: &PreviewPoint,
+        attributes: impl FnOnce() -> PreviewAttributes,
+        density: impl Fn(usize) -> Option<f32>,
+    ) -> Option<(Vec3, bool)> {
         let preview = self.preview(pp.shader_id);
         if !preview.varies {
             return Some((preview.colour, preview.lit));
@@ -268,7 +274,7 @@ impl<'f> Materials<'f> {
         let r = self.resolved(pp.shader_id);
         let a = attributes();
         let uvs = [a.uv, a.uv1];
-        let footprint = if r.filters { self.footprint.in_texture(a.position, pp.normal, |set| a.texture_density[set]) } else { [0.0; 2] };
+        let footprint = if r.filters { self.footprint.in_texture(a.position, pp.normal, density) } else { [0.0; 2] };
         let albedo = r.scale(a.local_position, uvs, a.color, footprint).map_or(r.base.albedo, |s| r.base.albedo * s);
         Some(match r.slots {
             Some(_) => (albedo * r.occlusion(a.local_position, uvs, footprint), true),

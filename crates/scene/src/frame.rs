@@ -134,8 +134,6 @@ pub struct PreviewAttributes {
     pub uv1: Option<Vec2>,
     /// The point in the world, from the ray.
     pub position: Vec3,
-    /// The triangle's [`Frame::texture_density`] for each set of texture coordinates.
-    pub texture_density: [Option<f32>; 2],
 }
 
 /// A triangle of an instance, placed in the world (see [`Frame::world_triangles`]).
@@ -634,7 +632,6 @@ impl<'a> Frame<'a> {
             uv: interpolated(&mesh.uvs, [a, b, c], w),
             uv1: interpolated(&mesh.uvs1, [a, b, c], w),
             position,
-            texture_density: [0, 1].map(|set| texture_density(mesh, hit.prim, &fi.placed, set)),
         }
     }
 

@@ -31,7 +31,7 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, rays: &[Ray], hits: &[Option<SceneHit>],
             continue;
         };
         let point = t.frame.preview(hit);
-        let Some(preview) = t.materials.preview_colour(&point, || t.frame.preview_attributes(ray, hit)) else {
+        let Some(preview) = t.materials.preview_colour(&point, || t.frame.preview_attributes(ray, hit), |set| t.frame.texture_density(hit, 0.0, set)) else {
             // The normal map's normal needs the hit point's texture coordinates and tangent:
             // the hit is resolved in full (its albedo, occluded, is the preview's colour).
             let full = t.resolve(ray, *hit, 0.0);
