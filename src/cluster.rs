@@ -13,7 +13,11 @@
 //! in a vote, so that all ranks go on or all stop with an error — never one rank waiting for a
 //! message that will not come. A rank that dies makes `mpirun` end the whole job with an error.
 
-use anyhow::{Result, bail};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+use anyhow::{Result, bail, ensure};
+use mpi::Threading;
 use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
@@ -43,11 +47,24 @@ pub struct Cluster {
 
 impl Cluster {
     /// Joins the MPI job this process was started in (a process started without `mpirun` is a
-    /// job of one).
+    /// job of one). MPI is asked to let any thread call it, one at a time: the server's
+    /// requests reach the cluster from whichever thread serves them ([`MpiTransport`] takes
+    /// turns).
     pub fn join() -> Result<Cluster> {
-        let Some(universe) = mpi::initialize() else { bail!("MPI was initialised already") };
+        let Some((universe, threading)) = mpi::initialize_with_threading(Threading::Serialized) else { bail!("MPI was initialised already") };
+        ensure!(threading >= Threading::Serialized, "this MPI library cannot be called from several threads (it offers {threading:?}, raystage needs Serialized)");
         let world = universe.world();
         Ok(Cluster { _universe: universe, world })
+    }
+
+    /// Ends the whole job at once, with `code` (when ranks cannot be told to stop).
+    pub fn abort(&self, code: i32) -> ! {
+        self.world.abort(code)
+    }
+
+    /// The job as the server's transport (see [`MpiTransport`]).
+    pub fn transport(&self) -> MpiTransport {
+        MpiTransport { world: Mutex::new(self.world.duplicate()) }
     }
 
     /// This rank: 0 is the application side, which writes the image and logs.
@@ -108,8 +125,7 @@ impl Ranks for Cluster {
             for y in self.share().rows(w, h).into_iter().flatten() {
                 (0..w).for_each(|x| rows.extend(film.pixel(x, y).to_array()));
             }
-            let rays = stats.rays;
-            let counts = [rays.primary, rays.shadow, rays.reflection, rays.refraction, rays.diffuse, stats.non_finite];
+            let counts = stats.share_counts();
             let root = self.world.process_at_rank(0);
             root.send(&rows[..]);
             root.send(&counts[..]);
@@ -134,14 +150,85 @@ impl Ranks for Cluster {
                     pixels[(y * w + x) as usize] = glam::Vec3::new(v[0], v[1], v[2]);
                 }
             }
-            stats.rays.primary += counts[0];
-            stats.rays.shadow += counts[1];
-            stats.rays.reflection += counts[2];
-            stats.rays.refraction += counts[3];
-            stats.rays.diffuse += counts[4];
-            stats.non_finite += counts[5];
+            stats.add_share_counts(counts.try_into().expect("six counts, checked above"));
             samples += their_mean * owned_pixels(share) as f64;
         }
         Ok(Some((Film::from_pixels(w, h, pixels), stats, samples / (w as f64 * h as f64))))
+    }
+}
+
+/// The MPI job as the messages of `raystage serve --mpi` travel (see
+/// [`raystage_server::cluster`]): point-to-point messages on a communicator of their own. A
+/// rank waiting for a message probes for it and sleeps in between, rather than blocking in MPI
+/// (Open MPI spins while it waits, which would take a core from the rank's render threads), and
+/// rank 0 can give up a worker that does not answer in time.
+pub struct MpiTransport {
+    /// Every MPI call is made with this lock held: MPI was initialised for calls from any
+    /// thread, one at a time.
+    world: Mutex<SimpleCommunicator>,
+}
+
+// SAFETY: a communicator is a handle MPI lets any thread use once initialised with
+// `Threading::Serialized` (checked in `Cluster::join`), provided the calls do not overlap;
+// every use goes through the mutex.
+unsafe impl Send for MpiTransport {}
+// SAFETY: as above: shared use is serialised by the mutex.
+unsafe impl Sync for MpiTransport {}
+
+/// Bytes in one MPI message at most: MPI counts elements in an `int`, so a larger message
+/// (a big frame's share of floats) goes in pieces.
+const PIECE: usize = 1 << 30;
+
+impl MpiTransport {
+    fn world(&self) -> std::sync::MutexGuard<'_, SimpleCommunicator> {
+        self.world.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+impl raystage_server::cluster::Transport for MpiTransport {
+    fn rank(&self) -> u32 {
+        self.world().rank() as u32
+    }
+
+    fn ranks(&self) -> u32 {
+        self.world().size() as u32
+    }
+
+    /// The length first, then the bytes in pieces of at most [`PIECE`].
+    fn send(&self, rank: u32, message: &[u8]) -> Result<(), String> {
+        let world = self.world();
+        let to = world.process_at_rank(rank as i32);
+        to.send(&(message.len() as u64));
+        for piece in message.chunks(PIECE) {
+            to.send(piece);
+        }
+        Ok(())
+    }
+
+    fn receive(&self, rank: u32, deadline: Option<Instant>) -> Result<Option<Vec<u8>>, String> {
+        let mut pause = Duration::from_micros(20);
+        loop {
+            {
+                let world = self.world();
+                let from = world.process_at_rank(rank as i32);
+                if from.immediate_probe().is_some() {
+                    // The pieces follow the length at once: receiving them blocks only while they
+                    // are on their way.
+                    let (length, _) = from.receive::<u64>();
+                    let mut message = Vec::with_capacity(length as usize);
+                    while message.len() < length as usize {
+                        let (piece, _) = from.receive_vec::<u8>();
+                        message.extend_from_slice(&piece);
+                    }
+                    return Ok(Some(message));
+                }
+            }
+            if deadline.is_some_and(|d| Instant::now() >= d) {
+                return Ok(None);
+            }
+            std::thread::sleep(pause);
+            // Quick answers are caught quickly; a long wait costs a wake-up a millisecond.
+            pause = (pause * 2).min(Duration::from_millis(1));
+        }
     }
 }

@@ -6,7 +6,8 @@
 //! serve`, the HTTP/JSON server ([`serve`]), `raystage report`, the accuracy report of a
 //! scene ([`run_report`]), and `raystage view`, a server in-process with the viewer's window
 //! on it ([`view`]). Built with the `mpi` feature, `raystage render --mpi` renders one frame
-//! on every rank of an MPI job (`Cluster`, `render_scene_mpi`).
+//! on every rank of an MPI job (`Cluster`, `render_scene_mpi`), and `raystage serve --mpi`
+//! serves the API from rank 0 with every other rank rendering (`serve_mpi`).
 //!
 //! Not in here: the scene, rendering ([`raystage_render`]), the demo scenes
 //! ([`raystage_demo`]), glTF import ([`raystage_gltf_import`]), the server
@@ -29,5 +30,7 @@ pub use cluster::{Cluster, Reported};
 #[cfg(feature = "mpi")]
 pub use render::render_scene_mpi;
 pub use serve::{ServeJob, serve};
+#[cfg(feature = "mpi")]
+pub use serve::serve_mpi;
 pub use report::{ReportJob, run_report};
 pub use view::{ViewJob, view};

@@ -120,6 +120,17 @@ enum Command {
         /// The bearer token every request must carry (`Authorization: Bearer <token>`).
         #[arg(long, env = "RAYSTAGE_TOKEN", hide_env_values = true)]
         token: Option<String>,
+        /// Serve from every rank of the MPI job this process was started in by `mpirun`: rank 0
+        /// serves the API, every other rank holds a replica of the scenes and renders its share
+        /// of every frame.
+        #[cfg(feature = "mpi")]
+        #[arg(long)]
+        mpi: bool,
+        /// With --mpi: seconds rank 0 waits for a worker's answer before giving the workers up
+        /// and serving alone.
+        #[cfg(feature = "mpi")]
+        #[arg(long, default_value_t = 90, value_parser = clap::value_parser!(u64).range(1..=86_400))]
+        mpi_timeout: u64,
     },
     /// View a glTF file or a demo scene in a window: serves it on 127.0.0.1 (a free port) and
     /// opens the viewer on it. Left-drag orbits, right- or middle-drag pans, scroll zooms.
@@ -228,8 +239,22 @@ fn main() -> ExitCode {
             }
             raystage::render_scene(&job, &mut std::io::stdout().lock()).map(|_| ())
         }
-        Command::Serve { scene, demo, addr, token } => {
+        Command::Serve {
+            scene,
+            demo,
+            addr,
+            token,
+            #[cfg(feature = "mpi")]
+            mpi,
+            #[cfg(feature = "mpi")]
+            mpi_timeout,
+        } => {
             let job = raystage::ServeJob { addr, token, scene: SceneSource::from_args(scene, demo, 0) };
+            #[cfg(feature = "mpi")]
+            if mpi {
+                let timeout = std::time::Duration::from_secs(mpi_timeout);
+                return finish(raystage::Cluster::join().and_then(|cluster| raystage::serve_mpi(&job, &mut std::io::stdout().lock(), &cluster, timeout)));
+            }
             raystage::serve(&job, &mut std::io::stdout().lock())
         }
         Command::View { scene, demo, integrator, max_samples, screenshot } => {

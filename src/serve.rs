@@ -29,6 +29,60 @@ pub fn serve(job: &ServeJob, log: &mut impl Write) -> Result<()> {
         let id = state.add_scene(scene, source.name()).map_err(|e| anyhow::anyhow!(e.detail.message))?;
         writeln!(log, "scene {id}: {}", source.name())?;
     }
+    listen(job, state, log)
+}
+
+/// [`serve`] from every rank of an MPI job started by `mpirun`: rank 0 serves the API and
+/// every other rank is a render worker (see [`raystage_server::cluster`]) until rank 0 stops.
+/// Every rank loads the scene of the command line (a vote makes all go on or all stop); from
+/// then on rank 0 sends the workers every edit, and renders every frame with them. Rank 0
+/// gives up a worker that does not answer within `timeout` and serves alone from then on.
+#[cfg(feature = "mpi")]
+pub fn serve_mpi(job: &ServeJob, log: &mut impl Write, mpi: &crate::Cluster, timeout: std::time::Duration) -> Result<()> {
+    use crate::render::Ranks;
+    let config = Config { token: job.token.clone(), limits: Limits::default() };
+    let root = mpi.rank() == 0;
+    let loaded = (|| {
+        if root {
+            config.check_address(job.addr)?;
+        }
+        match &job.scene {
+            Some(source) if root => source.load(log).map(|scene| Some((scene, source.name()))),
+            Some(source) => source.load(&mut std::io::sink()).map(|scene| Some((scene, source.name()))),
+            None => Ok(None),
+        }
+    })();
+    let loaded = match loaded {
+        Ok(loaded) => {
+            mpi.agree(Ok(()))?;
+            loaded
+        }
+        Err(e) => return Err(mpi.agree(Err(e)).expect_err("a failure is agreed as one")),
+    };
+    let transport = mpi.transport();
+    if !root {
+        // The scene of the command line is scene 1 on every rank.
+        let scenes = loaded.into_iter().map(|(scene, name)| (1, scene, name)).collect();
+        return raystage_server::cluster::work(&transport, config, scenes).map_err(|e| anyhow::anyhow!("rank {}: {e}", mpi.rank()));
+    }
+    let cluster = raystage_server::cluster::Cluster::new(Box::new(transport), timeout);
+    let state = AppState::clustered(config, cluster.clone());
+    if let Some((scene, name)) = loaded {
+        let id = state.add_scene(scene, name.clone()).map_err(|e| anyhow::anyhow!(e.detail.message))?;
+        writeln!(log, "scene {id}: {name}")?;
+    }
+    writeln!(log, "MPI: {} ranks: rank 0 serves, the others render with it", mpi.size())?;
+    let served = listen(job, state, log);
+    if let Err(why) = cluster.stop() {
+        // Workers that were given up cannot be told to stop: the job ends with them.
+        eprintln!("error: {why}: ending the MPI job");
+        mpi.abort(1);
+    }
+    served
+}
+
+/// Serves `state` on the job's address until Ctrl-C.
+fn listen(job: &ServeJob, state: AppState, log: &mut impl Write) -> Result<()> {
     let runtime = tokio::runtime::Runtime::new().context("cannot start the server's threads")?;
     runtime.block_on(async {
         let listener = tokio::net::TcpListener::bind(job.addr).await.with_context(|| format!("cannot listen on {}", job.addr))?;

@@ -125,6 +125,24 @@ impl FrameStats {
         (self.effects, self.work, self.accumulated_samples, self.default_lights) = (pass.effects, pass.work, pass.accumulated_samples, pass.default_lights);
     }
 
+    /// What a share of a frame rendered elsewhere counts, as it travels to the process that
+    /// puts the frame together: rays by kind (primary, shadow, reflection, refraction,
+    /// diffuse), then non-finite samples.
+    pub fn share_counts(&self) -> [u64; 6] {
+        let r = self.rays;
+        [r.primary, r.shadow, r.reflection, r.refraction, r.diffuse, self.non_finite]
+    }
+
+    /// Adds another share's [`FrameStats::share_counts`] to this frame's.
+    pub fn add_share_counts(&mut self, counts: [u64; 6]) {
+        self.rays.primary += counts[0];
+        self.rays.shadow += counts[1];
+        self.rays.reflection += counts[2];
+        self.rays.refraction += counts[3];
+        self.rays.diffuse += counts[4];
+        self.non_finite += counts[5];
+    }
+
     /// Tracing throughput in millions of rays per second, not counting lazy object builds (the
     /// wall time during which one ran: other threads may have traced meanwhile, so this errs
     /// high by at most the share of the frame spent building).

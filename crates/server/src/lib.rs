@@ -13,12 +13,18 @@
 //! against [`Limits`] before work starts, and nothing a request sends can panic the server or
 //! leave a scene half-edited.
 //!
+//! [`cluster`] serves from every rank of a cluster (`raystage serve --mpi`): edits replicated to
+//! render workers as they happen, frames rendered by all ranks; over a [`cluster::Transport`] the
+//! command line provides (MPI), so this crate does not depend on MPI.
+//!
 //! Not in here: the scene ([`raystage_scene`]), rendering ([`raystage_render`]), glTF reading
 //! ([`raystage_gltf_import`]), and the command line that starts the server.
 
 mod auth;
 mod batch;
+pub mod cluster;
 mod config;
+mod edit;
 mod error;
 mod extract;
 mod model;

@@ -10,6 +10,7 @@ use raystage_scene::{Background, Scene};
 use serde::Deserialize;
 use utoipa::{IntoParams, ToSchema};
 
+use crate::cluster::Accumulator;
 use crate::config::Limits;
 use crate::error::{ApiError, ApiResult};
 use crate::state::{AppState, SceneSlot};
@@ -268,13 +269,32 @@ pub(crate) async fn render_png(
     rows_done: Arc<AtomicU32>,
 ) -> ApiResult<Rendered> {
     let bytes = request.width as u64 * request.height as u64 * FRAME_BYTES_PER_PIXEL;
+    let cluster = state.cluster().filter(|c| c.ranks() > 1).cloned();
+    let scene_id = slot.id;
     let rendered = on_a_turn(state, slot, snapshot, bytes, move |scene, version, cancel| {
         let settings = request.settings(&scene);
-        let (png, stats, rendered, encoded) = crate::png::render_png(&scene.frame(), &settings, request.setup.look, cancel, &rows_done)?;
-        let mut report = FrameReport::new(&settings, &stats, encoded, version);
-        // The whole render, with the film's allocation and resolve, which the frame
-        // statistics leave out.
+        let Some(cluster) = cluster else {
+            let (png, stats, rendered, encoded) = crate::png::render_png(&scene.frame(), &settings, request.setup.look, cancel, &rows_done)?;
+            let mut report = FrameReport::new(&settings, &stats, encoded, version);
+            // The whole render, with the film's allocation and resolve, which the frame
+            // statistics leave out.
+            report.render_seconds = rendered;
+            return Ok(Rendered { png, report });
+        };
+        // Across the cluster: one pass of every sample, gathered, then encoded (a worker's rows
+        // arrive together, so encoding cannot overlap the render here).
+        let start = std::time::Instant::now();
+        let mut accumulator = Accumulator::new(settings, Some(&cluster)).map_err(|e| ApiError::unprocessable(None, e.to_string()))?;
+        let stats = accumulator.add(scene_id, &scene, version, settings.samples_per_pixel, true, cancel).map_err(|e| match e {
+            raystage_render::Error::Cancelled => ApiError::busy(e.to_string()),
+            e => ApiError::unprocessable(None, e.to_string()),
+        })?;
+        let rendered = start.elapsed().as_secs_f64();
+        rows_done.store(settings.height, std::sync::atomic::Ordering::Relaxed);
+        let png = crate::png::encode(&accumulator.film(), request.setup.look)?;
+        let mut report = FrameReport::new(&settings, &stats, start.elapsed().as_secs_f64() - rendered, version);
         report.render_seconds = rendered;
+        report.cluster = accumulator.times();
         Ok(Rendered { png, report })
     })
     .await?;

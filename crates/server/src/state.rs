@@ -8,7 +8,9 @@ use std::sync::{Arc, Mutex, RwLock};
 use raystage_scene::Scene;
 use tokio::sync::{OwnedSemaphorePermit, Semaphore, watch};
 
-use crate::config::Config;
+use crate::cluster::{Cluster, SceneBuild};
+use crate::config::{Config, Limits};
+use crate::edit::{Applied, Edit, apply};
 use crate::error::{ApiError, ApiResult};
 use crate::stats::FrameReport;
 
@@ -34,6 +36,9 @@ struct Shared {
     jobs: crate::routes::renders::Jobs,
     /// What every scene's memory adds up to (see [`Limits::max_total_scene_bytes`]).
     scene_bytes: Arc<AtomicU64>,
+    /// The cluster whose workers replicate the scenes and render with this server (rank 0 of
+    /// `raystage serve --mpi`), if any.
+    cluster: Option<Arc<Cluster>>,
 }
 
 /// A scene held by the server.
@@ -93,6 +98,16 @@ impl Budget {
 impl AppState {
     /// A server with no scenes.
     pub fn new(config: Config) -> AppState {
+        AppState::build(config, None)
+    }
+
+    /// A server with no scenes that renders with `cluster`'s workers and replicates its
+    /// scenes' edits to them (rank 0 of `raystage serve --mpi`).
+    pub fn clustered(config: Config, cluster: Arc<Cluster>) -> AppState {
+        AppState::build(config, Some(cluster))
+    }
+
+    fn build(config: Config, cluster: Option<Arc<Cluster>>) -> AppState {
         let renders = Arc::new(Semaphore::new(config.limits.concurrent_renders.max(1)));
         let render_memory = Arc::new(Semaphore::new(config.limits.max_render_bytes / MIB));
         AppState(Arc::new(Shared {
@@ -105,7 +120,13 @@ impl AppState {
             streams: AtomicUsize::new(0),
             jobs: Default::default(),
             scene_bytes: Arc::default(),
+            cluster,
         }))
+    }
+
+    /// The cluster this server renders with, if any.
+    pub(crate) fn cluster(&self) -> Option<&Arc<Cluster>> {
+        self.0.cluster.as_ref()
     }
 
     /// The render jobs.
@@ -121,16 +142,42 @@ impl AppState {
     /// Adds a scene; returns its id (ids start at 1 and are never reused). Refused (413) if the
     /// server holds as many scenes as it may, or the scene's memory is past the budget.
     pub fn add_scene(&self, scene: Scene, origin: impl Into<String>) -> ApiResult<u32> {
+        self.insert(None, scene, origin.into())
+    }
+
+    /// Adds a scene a request built from `build` and, in a cluster, has every worker build and
+    /// add it too (refused everywhere if one cannot). Returns its id.
+    pub(crate) fn create_scene(&self, scene: Scene, origin: String, build: &SceneBuild) -> ApiResult<u32> {
+        let id = self.insert(None, scene, origin.clone())?;
+        if let Some(cluster) = self.cluster()
+            && let Err(e) = cluster.replicate_new_scene(id, &origin, build)
+        {
+            let _ = self.forget_scene(id);
+            return Err(e);
+        }
+        Ok(id)
+    }
+
+    /// Adds a scene as `id` (a worker's replica of rank 0's scene `id`), with the same checks
+    /// as [`AppState::add_scene`].
+    pub(crate) fn insert_scene(&self, id: u32, scene: Scene, origin: String) -> ApiResult<u32> {
+        self.insert(Some(id), scene, origin)
+    }
+
+    fn insert(&self, id: Option<u32>, scene: Scene, origin: String) -> ApiResult<u32> {
         let mut scenes = self.0.scenes.write().unwrap_or_else(|e| e.into_inner());
         self.room_for(scenes.len())?;
+        if id.is_some_and(|id| scenes.contains_key(&id)) {
+            return Err(ApiError::internal(format!("scene {} exists already", id.unwrap_or_default())));
+        }
         let limits = &self.0.config.limits;
         let budget = Budget { per_scene: limits.max_scene_bytes, total: limits.max_total_scene_bytes, used: Arc::clone(&self.0.scene_bytes) };
         let bytes = scene.memory_bytes();
         budget.change(0, bytes)?;
-        let id = self.0.next_scene.fetch_add(1, Ordering::Relaxed);
+        let id = id.unwrap_or_else(|| self.0.next_scene.fetch_add(1, Ordering::Relaxed));
         let slot = SceneSlot {
             id,
-            origin: origin.into(),
+            origin,
             scene: Arc::new(tokio::sync::RwLock::new(scene)),
             version: watch::Sender::new(0),
             last_frame: Mutex::new(None),
@@ -169,8 +216,18 @@ impl AppState {
         self.0.scenes.read().unwrap_or_else(|e| e.into_inner()).values().cloned().collect()
     }
 
-    /// Forgets a scene: renders that hold it finish with it, its streams end.
-    pub(crate) fn remove_scene(&self, id: u32) -> ApiResult<()> {
+    /// Forgets a scene: renders that hold it finish with it, its streams end; in a cluster,
+    /// the workers forget their replicas.
+    pub(crate) async fn delete_scene(&self, id: u32) -> ApiResult<()> {
+        self.forget_scene(id)?;
+        if let Some(cluster) = self.cluster().cloned() {
+            tokio::task::spawn_blocking(move || cluster.replicate_delete(id)).await.map_err(|e| ApiError::internal(e.to_string()))?;
+        }
+        Ok(())
+    }
+
+    /// Forgets a scene here: renders that hold it finish with it, its streams end.
+    pub(crate) fn forget_scene(&self, id: u32) -> ApiResult<()> {
         let mut scenes = self.0.scenes.write().unwrap_or_else(|e| e.into_inner());
         let slot = scenes.remove(&id).ok_or_else(|| ApiError::not_found(Some("scene".into()), format!("unknown scene {id}")))?;
         slot.deleted.store(true, Ordering::Release);
@@ -259,33 +316,75 @@ impl Drop for StreamGuard {
 }
 
 impl SceneSlot {
-    /// Runs `edit` on the scene under the write lock, on a blocking thread; if it succeeds and
-    /// says it changed something, advances the version. Returns its result and the version. An
-    /// edit that leaves the scene past its memory budget is undone (413 naming the limit): the
-    /// scene is kept as it was (a clone shares its objects and images, so keeping it is cheap).
-    pub(crate) async fn edit<R: Send + 'static>(
-        self: &Arc<Self>,
-        edit: impl FnOnce(&mut Scene) -> ApiResult<(R, bool)> + Send + 'static,
-    ) -> ApiResult<(R, u64)> {
+    /// Applies `edit` to the scene under the write lock, on a blocking thread (in a cluster,
+    /// on every rank: see [`SceneSlot::edit_blocking`]). Returns what it gave back and the
+    /// version after it.
+    pub(crate) async fn edit(self: &Arc<Self>, state: &AppState, edit: Edit) -> ApiResult<(Applied, u64)> {
         let mut guard = self.scene.clone().write_owned().await;
-        *self.last_snapshot.lock().unwrap_or_else(|e| e.into_inner()) = None;
         let slot = self.clone();
+        let limits = state.config().limits;
+        let cluster = state.cluster().cloned();
         tokio::task::spawn_blocking(move || {
-            let before = guard.clone();
-            let (result, changed) = edit(&mut guard)?;
-            if changed {
-                let (old, new) = (slot.bytes.load(Ordering::Acquire), guard.memory_bytes());
-                if let Err(e) = slot.budget.change(old, new) {
-                    *guard = before;
-                    return Err(e);
-                }
-                slot.bytes.store(new, Ordering::Release);
-                slot.version.send_modify(|v| *v += 1);
-            }
-            Ok((result, *slot.version.borrow()))
+            // Encoded before it is applied, which consumes it.
+            let message = cluster.as_ref().map(|_| Cluster::edit_message(slot.id, &edit));
+            slot.edit_locked(&mut guard, edit, &limits, |local| match (local, &cluster, message) {
+                (Ok(()), Some(cluster), Some(message)) => cluster.replicate(&message),
+                _ => Ok(()),
+            })
         })
         .await
         .map_err(|e| ApiError::internal(format!("an edit failed: {e}")))?
+    }
+
+    /// [`SceneSlot::edit`] on this thread (a cluster's worker, which has no runtime), asking
+    /// `vote` once the edit was tried here (with its error's message if it failed) whether it
+    /// stands.
+    pub(crate) fn edit_blocking(
+        &self,
+        edit: Edit,
+        limits: &Limits,
+        vote: impl FnOnce(Result<(), String>) -> ApiResult<()>,
+    ) -> ApiResult<(Applied, u64)> {
+        let mut guard = self.scene.blocking_write();
+        self.edit_locked(&mut guard, edit, limits, vote)
+    }
+
+    /// Applies `edit` to `scene` (the scene, its write lock held); if it succeeds, changes
+    /// something and stays within the memory budget, and `vote` agrees, advances the version.
+    /// `vote` is asked in every case, with the edit's error message if it failed here: in a
+    /// cluster it answers whether every rank applied the edit. An edit that fails, or is voted
+    /// down, leaves the scene as it was (a clone shares its objects and images, so keeping it
+    /// is cheap).
+    fn edit_locked(&self, scene: &mut Scene, edit: Edit, limits: &Limits, vote: impl FnOnce(Result<(), String>) -> ApiResult<()>) -> ApiResult<(Applied, u64)> {
+        *self.last_snapshot.lock().unwrap_or_else(|e| e.into_inner()) = None;
+        let before = scene.clone();
+        let old = self.bytes.load(Ordering::Acquire);
+        let outcome = apply(scene, edit, limits).and_then(|(applied, changed)| {
+            let new = if changed { scene.memory_bytes() } else { old };
+            self.budget.change(old, new)?;
+            Ok((applied, changed, new))
+        });
+        let voted = vote(outcome.as_ref().map(|_| ()).map_err(|e| e.detail.message.clone()));
+        match (outcome, voted) {
+            (Ok((applied, changed, new)), Ok(())) => {
+                if changed {
+                    self.bytes.store(new, Ordering::Release);
+                    self.version.send_modify(|v| *v += 1);
+                }
+                Ok((applied, *self.version.borrow()))
+            }
+            (outcome, voted) => {
+                if let Ok((_, _, new)) = &outcome {
+                    // Voted down: its memory goes back to the budget.
+                    let _ = self.budget.change(*new, old);
+                }
+                *scene = before;
+                Err(match outcome {
+                    Err(e) => e,
+                    Ok(_) => voted.expect_err("the other case"),
+                })
+            }
+        }
     }
 
     /// Runs `read` on a snapshot of the scene, on a blocking thread (it may trace rays or build
@@ -299,7 +398,17 @@ impl SceneSlot {
     /// change both under the write lock). Taking one holds the read lock only while the scene is
     /// cloned, which shares its objects, trees, shaders and textures (see [`Scene`]).
     pub(crate) async fn snapshot(&self) -> (Arc<Scene>, u64) {
-        let guard = self.scene.read().await;
+        self.snapshot_of(&*self.scene.read().await)
+    }
+
+    /// [`SceneSlot::snapshot`] on this thread (a cluster's worker, which has no runtime).
+    pub(crate) fn snapshot_blocking(&self) -> (u64, Arc<Scene>) {
+        let (scene, version) = self.snapshot_of(&self.scene.blocking_read());
+        (version, scene)
+    }
+
+    /// The snapshot of `guard`, the scene with its lock held.
+    fn snapshot_of(&self, guard: &Scene) -> (Arc<Scene>, u64) {
         let version = *self.version.borrow();
         let mut last = self.last_snapshot.lock().unwrap_or_else(|e| e.into_inner());
         match &*last {

@@ -53,6 +53,28 @@ pub struct FrameReport {
     pub mrays_per_second: f64,
     /// The scene version rendered.
     pub scene_version: u64,
+    /// Where the frame's (or pass's) time went across a cluster's ranks (`raystage serve
+    /// --mpi`); absent where one process rendered it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cluster: Option<ClusterTimes>,
+}
+
+/// Where a frame's (or pass's) time went across the ranks of a cluster, as rank 0 saw it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, ToSchema)]
+pub struct ClusterTimes {
+    /// Ranks that rendered it.
+    pub ranks: u32,
+    /// Sending the pass to the workers.
+    pub send_seconds: f64,
+    /// Rank 0's own share.
+    pub render_seconds: f64,
+    /// From rank 0's share done to every share in: waiting for the slowest rank, and the
+    /// transfer.
+    pub gather_seconds: f64,
+    /// The workers' longest share.
+    pub slowest_share_seconds: f64,
+    /// Bytes of pixels gathered from the workers.
+    pub gathered_bytes: u64,
 }
 
 impl FrameReport {
@@ -74,6 +96,7 @@ impl FrameReport {
             encode_seconds,
             mrays_per_second: stats.mrays_per_second(),
             scene_version,
+            cluster: None,
         }
     }
 }

@@ -9,54 +9,11 @@ use base64::Engine;
 use common::*;
 use serde_json::{Value, json};
 
-/// Two triangles forming a unit square in the xy plane, centred on the origin.
-fn square_buffer() -> Vec<u8> {
-    let mut bytes = Vec::new();
-    for p in [[-0.5f32, -0.5, 0.0], [0.5, -0.5, 0.0], [0.5, 0.5, 0.0], [-0.5, 0.5, 0.0]] {
-        p.iter().for_each(|c| bytes.extend(c.to_le_bytes()));
-    }
-    for i in [0u16, 1, 2, 0, 2, 3] {
-        bytes.extend(i.to_le_bytes());
-    }
-    bytes
-}
-
-/// A glTF document: the square as one mesh with an unlit orange material, placed by two nodes
-/// side by side, and a camera looking at them; buffer 0 as `uri` (or the GLB chunk).
-fn document(uri: Option<String>) -> Value {
-    let mut buffer = json!({ "byteLength": 60 });
-    if let Some(uri) = uri {
-        buffer["uri"] = json!(uri);
-    }
-    json!({
-        "asset": { "version": "2.0" },
-        "extensionsUsed": ["KHR_materials_unlit"],
-        "buffers": [buffer],
-        "bufferViews": [{ "buffer": 0, "byteLength": 48 }, { "buffer": 0, "byteOffset": 48, "byteLength": 12 }],
-        "accessors": [
-            { "bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-0.5, -0.5, 0], "max": [0.5, 0.5, 0] },
-            { "bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR" }
-        ],
-        "materials": [{ "name": "orange", "pbrMetallicRoughness": { "baseColorFactor": [1, 0.5, 0, 1] }, "extensions": { "KHR_materials_unlit": {} } }],
-        "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0 }, "indices": 1, "material": 0 }] }],
-        "cameras": [{ "type": "perspective", "perspective": { "yfov": 0.8, "znear": 0.1 } }],
-        "nodes": [
-            { "mesh": 0, "translation": [-0.6, 0, 0] },
-            { "mesh": 0, "translation": [0.6, 0, 0] },
-            { "camera": 0, "translation": [0, 0, 3] }
-        ],
-        "scenes": [{ "nodes": [0, 1, 2] }]
-    })
-}
-
 fn embedded() -> Vec<u8> {
     let uri = format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(square_buffer()));
     serde_json::to_vec(&document(Some(uri))).unwrap()
 }
 
-fn glb() -> Vec<u8> {
-    raystage_gltf_import::glb(&serde_json::to_vec(&document(None)).unwrap(), &square_buffer())
-}
 
 async fn upload(app: &axum::Router, uri: &str, body: Vec<u8>, content_type: &str) -> (StatusCode, Value) {
     let (status, _, bytes) = send(app, "POST", uri, Body::from(body), &[("content-type", content_type)]).await;

@@ -8,7 +8,7 @@ use utoipa::ToSchema;
 use crate::error::{ApiError, ApiResult};
 
 /// A change of the camera: the fields given replace the camera's, the others stay.
-#[derive(Clone, Debug, Default, PartialEq, Deserialize, ToSchema)]
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CameraPatch {
     /// Eye position.

@@ -15,7 +15,7 @@ use crate::model::texture::TextureSpec;
 use crate::model::transform::Transform;
 
 /// A new object (`POST /scenes/{scene}/objects`, batch `add_object`).
-#[derive(Clone, Debug, Deserialize, ToSchema)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ObjectBody {
     /// In a batch, a name later commands can use for this object instead of its id.
@@ -27,7 +27,7 @@ pub struct ObjectBody {
 }
 
 /// New geometry for an object (`PUT /scenes/{scene}/objects/{id}`): every instance follows.
-#[derive(Clone, Debug, Deserialize, ToSchema)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ObjectUpdate {
     /// Its kind from now on; default `unstructured`, whose tree is refitted when the triangle
@@ -38,7 +38,7 @@ pub struct ObjectUpdate {
 }
 
 /// Batch `define_object`: [`ObjectUpdate`] of object `id`.
-#[derive(Clone, Debug, Deserialize, ToSchema)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DefineObject {
     /// The object.
@@ -51,7 +51,7 @@ pub struct DefineObject {
 
 /// New vertex positions, same count, same triangles (`PATCH /scenes/{scene}/objects/{id}`):
 /// the cheapest way to animate an unstructured object.
-#[derive(Clone, Debug, Deserialize, ToSchema)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PositionsBody {
     /// The positions.
@@ -61,7 +61,7 @@ pub struct PositionsBody {
 }
 
 /// Batch `set_positions`: [`PositionsBody`] of object `id`.
-#[derive(Clone, Debug, Deserialize, ToSchema)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SetPositions {
     /// The object.
@@ -73,7 +73,7 @@ pub struct SetPositions {
 }
 
 /// A new instance (`POST /scenes/{scene}/instances`, batch `add_instance`).
-#[derive(Clone, Debug, Deserialize, ToSchema)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct InstanceBody {
     /// In a batch, a name later commands can use for this instance instead of its id.
@@ -88,7 +88,7 @@ pub struct InstanceBody {
 }
 
 /// A move of an instance (`PUT /scenes/{scene}/instances/{id}`).
-#[derive(Clone, Debug, Deserialize, ToSchema)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct InstanceUpdate {
     /// Object to world; default the identity.
@@ -99,7 +99,7 @@ pub struct InstanceUpdate {
 }
 
 /// Batch `set_instance`: [`InstanceUpdate`] of instance `id`.
-#[derive(Clone, Debug, Deserialize, ToSchema)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SetInstance {
     /// The instance.
@@ -112,7 +112,7 @@ pub struct SetInstance {
 }
 
 /// A new shader (`POST /scenes/{scene}/shaders`, batch `add_shader`).
-#[derive(Clone, Debug, Deserialize, ToSchema)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ShaderBody {
     /// In a batch, a name later commands can use for this shader instead of its id.
@@ -127,7 +127,7 @@ pub struct ShaderBody {
 
 /// A shader's replacement (`PUT /scenes/{scene}/shaders/{id}`): a class, parameters at their
 /// defaults but for `params`. Every triangle bound to it changes with it.
-#[derive(Clone, Debug, Deserialize, ToSchema)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ShaderUpdate {
     /// Its class.
@@ -138,7 +138,7 @@ pub struct ShaderUpdate {
 }
 
 /// Batch `define_shader`: [`ShaderUpdate`] of shader `id`.
-#[derive(Clone, Debug, Deserialize, ToSchema)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DefineShader {
     /// The shader.
@@ -151,7 +151,7 @@ pub struct DefineShader {
 }
 
 /// Parameter writes (`PATCH /scenes/{scene}/shaders/{id}`).
-#[derive(Clone, Debug, Deserialize, ToSchema)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ParamsBody {
     /// Parameter values by name.
@@ -159,7 +159,7 @@ pub struct ParamsBody {
 }
 
 /// Batch `set_params`: [`ParamsBody`] of shader `id`.
-#[derive(Clone, Debug, Deserialize, ToSchema)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SetParams {
     /// The shader.
@@ -169,7 +169,7 @@ pub struct SetParams {
 }
 
 /// Batch `set_light`: light `id` replaced.
-#[derive(Clone, Debug, Deserialize, ToSchema)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SetLight {
     /// The light.
@@ -180,7 +180,7 @@ pub struct SetLight {
 
 /// Batch `set_texture`: texture `id` replaced by a procedural texture (every shader and
 /// environment light using it changes with it).
-#[derive(Clone, Debug, Deserialize, ToSchema)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SetTexture {
     /// The texture.
@@ -190,7 +190,7 @@ pub struct SetTexture {
 }
 
 /// Batch `delete_*`: the resource to delete.
-#[derive(Clone, Debug, Deserialize, ToSchema)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Delete {
     /// Its id or label.
@@ -199,7 +199,7 @@ pub struct Delete {
 
 /// One edit of a batch: an object with one key, the operation, whose value is its arguments
 /// (`{"add_instance": {"object": 1, "transform": {"translate": [0, 1, 0]}}}`).
-#[derive(Clone, Debug, Deserialize, ToSchema)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Command {
     /// Adds an object.
@@ -269,7 +269,7 @@ impl Command {
 
 /// A batch (`POST /scenes/{scene}/commands`): every command is checked before any is applied,
 /// so a batch changes everything it says or nothing.
-#[derive(Clone, Debug, Deserialize, ToSchema)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Commands {
     /// The edits, applied in order.

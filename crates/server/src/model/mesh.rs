@@ -5,7 +5,7 @@
 use base64::Engine;
 use glam::{Vec2, Vec3};
 use raystage_scene::{Mesh, ObjectKind};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
 use crate::config::Limits;
@@ -47,7 +47,7 @@ impl Kind {
 
 /// A triangle mesh. Each attribute comes either as a JSON array or as base64 (the `_base64`
 /// field), not both. Without indices, every three positions make a triangle.
-#[derive(Clone, Debug, Default, Deserialize, ToSchema)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MeshSpec {
     /// Vertex positions.

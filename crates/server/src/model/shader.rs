@@ -12,7 +12,7 @@ use crate::model::refs::Ref;
 /// A parameter value as sent: a number, a colour (three numbers), a texture
 /// (`{"texture": id}`, in a batch also the label of a texture an earlier command created) or
 /// null (no texture). A number written to a colour parameter sets all three channels.
-#[derive(Clone, Debug, PartialEq, Deserialize, ToSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
 #[serde(untagged, expecting = "a number, three numbers (a colour), {\"texture\": id} or null")]
 pub enum ParamJson {
     /// A number.
@@ -26,7 +26,7 @@ pub enum ParamJson {
 }
 
 /// The value of a texture parameter: the texture, or null for none.
-#[derive(Clone, Debug, PartialEq, Deserialize, ToSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TextureParam {
     /// The texture's id (or, in a batch, its label), or null for none.

@@ -12,7 +12,7 @@ use crate::error::{ApiError, ApiResult};
 use crate::model::light::Rgb;
 
 /// The kinds of procedural texture.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, ToSchema)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize, ToSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum TextureKind {
     /// A 3D checkerboard of cubes of edge `1 / scale` alternating `a` and `b` (in texture
@@ -26,7 +26,7 @@ pub enum TextureKind {
 /// A procedural texture (`POST`/`PUT /scenes/{scene}/textures` with a JSON body, batch
 /// `add_texture` and `set_texture`). Fields left out take their defaults. Image textures are
 /// uploaded as files instead, to the routes only.
-#[derive(Clone, Debug, PartialEq, Deserialize, ToSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TextureSpec {
     /// In a batch's `add_texture`, a name later commands can use for this texture instead of

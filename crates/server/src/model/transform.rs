@@ -1,7 +1,7 @@
 //! Transforms in JSON: a 4×4 matrix, or translate / rotate / scale.
 
 use glam::{Affine3A, Mat4, Quat, Vec3, Vec4};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
 use crate::error::{ApiError, ApiResult};
@@ -9,7 +9,7 @@ use crate::error::{ApiError, ApiResult};
 /// An object-to-world transform: either `matrix`, or any of `translate`, `rotate` (or
 /// `quaternion`) and `scale`, applied as scale first, then rotation, then translation.
 /// Omitted, it is the identity.
-#[derive(Clone, Debug, Default, PartialEq, Deserialize, ToSchema)]
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Transform {
     /// A 4×4 matrix, row by row, acting on column vectors (the translation is the last
@@ -26,7 +26,7 @@ pub struct Transform {
 }
 
 /// A rotation by `degrees` counter-clockwise about `axis` (any length but zero).
-#[derive(Clone, Copy, Debug, PartialEq, Deserialize, ToSchema)]
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Rotation {
     /// The axis.
@@ -36,7 +36,7 @@ pub struct Rotation {
 }
 
 /// A scale: one factor, or one per axis.
-#[derive(Clone, Copy, Debug, PartialEq, Deserialize, ToSchema)]
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
 #[serde(untagged, expecting = "a number or three numbers")]
 pub enum Scale {
     /// The same factor on every axis.

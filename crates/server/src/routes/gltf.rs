@@ -8,12 +8,13 @@ use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
 
 use crate::config::Limits;
+use crate::edit::{Applied, Blob, Edit};
 use crate::error::{ApiError, ApiResult, ErrorBody};
 use crate::extract::{Params, RawBody, Target};
 use crate::state::AppState;
 
 /// What to do with the camera.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, ToSchema)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize, ToSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum CameraChoice {
     /// The file's camera if it has one; else, if the scene had no instances before, one that
@@ -29,7 +30,7 @@ pub enum CameraChoice {
 }
 
 /// Options of an upload.
-#[derive(Clone, Debug, Default, Deserialize, IntoParams)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, IntoParams)]
 #[serde(deny_unknown_fields)]
 #[into_params(parameter_in = Query)]
 pub struct GltfQuery {
@@ -104,41 +105,17 @@ pub(crate) fn import_limits(limits: &Limits) -> raystage_gltf_import::Limits {
     ))]
 pub(crate) async fn upload(State(state): State<AppState>, target: Target, Params(query): Params<GltfQuery>, RawBody(body): RawBody) -> ApiResult<Json<GltfAdded>> {
     let limits = import_limits(&state.config().limits);
-    let import = tokio::task::spawn_blocking(move || raystage_gltf_import::read(&body, None, &limits))
+    let (body, import) = tokio::task::spawn_blocking(move || raystage_gltf_import::read(&body, None, &limits).map(|import| (body, import)))
         .await
         .map_err(|e| ApiError::internal(e.to_string()))??;
-    let choice = query.camera.unwrap_or_default();
-    let environment = query.environment.as_deref().map(environment_light).transpose()?;
-    let (added, version) = target
-        .scene
-        .edit(move |scene| {
-            let was_empty = scene.instances().next().is_none();
-            let camera = match choice {
-                CameraChoice::Auto => import.camera().or_else(|| was_empty.then(|| import.framing_camera())),
-                CameraChoice::File => import.camera(),
-                CameraChoice::Frame => Some(import.framing_camera()),
-                CameraChoice::Keep => None,
-            };
-            let (triangles, notes) = (import.triangles(), import.notes().to_vec());
-            let mut added = import.add_to(scene)?;
-            if let Some(light) = environment {
-                added.lights.push(scene.add_light(light)?);
-            }
-            if let Some(camera) = camera {
-                scene.set_camera(camera)?;
-            }
-            let result = GltfAdded {
-                shaders: added.shaders.iter().map(|s| s.0).collect(),
-                objects: added.objects.iter().map(|o| o.0).collect(),
-                instances: added.instances.iter().map(|i| i.0).collect(),
-                lights: added.lights.iter().map(|l| l.0).collect(),
-                camera_changed: camera.is_some(),
-                triangles,
-                notes,
-                version: 0,
-            };
-            Ok((result, true))
-        })
-        .await?;
+    // Checked before the edit, which then adds what was imported here.
+    let edit = Edit::Gltf { file: Blob(body.into()), camera: query.camera.unwrap_or_default(), environment: query.environment, import: Some(Box::new(import)) };
+    if let Edit::Gltf { environment: Some(text), .. } = &edit {
+        environment_light(text)?;
+    }
+    let (added, version) = match target.scene.edit(&state, edit).await? {
+        (Applied::Gltf(added), version) => (added, version),
+        _ => return Err(ApiError::internal("a glTF file gave back something else")),
+    };
     Ok(Json(GltfAdded { version, ..added }))
 }

@@ -5,7 +5,7 @@ mod camera;
 mod classes;
 pub(crate) mod commands;
 mod frame;
-mod gltf;
+pub(crate) mod gltf;
 mod instances;
 mod lights;
 mod objects;
@@ -13,7 +13,7 @@ pub(crate) mod openapi;
 pub(crate) mod renders;
 mod scenes;
 mod shaders;
-mod textures;
+pub(crate) mod textures;
 
 use std::sync::Arc;
 
@@ -24,7 +24,7 @@ use serde::Serialize;
 use utoipa::ToSchema;
 
 use crate::auth::require_token;
-use crate::batch;
+use crate::edit::{Applied, Edit};
 use crate::error::{ApiError, ApiResult};
 use crate::model::{Command, CommandResult};
 use crate::state::{AppState, SceneSlot};
@@ -110,14 +110,10 @@ pub struct CreatedResponse {
 
 /// Runs edits on a scene (see [`crate::batch`]); returns their results and the new version.
 pub(crate) async fn edit(state: &AppState, scene: &Arc<SceneSlot>, commands: Vec<Command>, in_batch: bool) -> ApiResult<(Vec<CommandResult>, u64)> {
-    let limits = state.config().limits;
-    scene
-        .edit(move |s| {
-            let results = batch::execute(s, commands, &limits, in_batch)?;
-            let changed = !results.is_empty();
-            Ok((results, changed))
-        })
-        .await
+    match scene.edit(state, Edit::Commands { commands, in_batch }).await? {
+        (Applied::Commands(results), version) => Ok((results, version)),
+        _ => Err(ApiError::internal("commands gave back something else")),
+    }
 }
 
 /// Runs one edit that creates a resource: 201 with its id.

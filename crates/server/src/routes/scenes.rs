@@ -4,11 +4,12 @@
 use axum::Json;
 use axum::extract::{FromRequest, Request, State};
 use axum::http::{HeaderMap, StatusCode, header};
-use raystage_demo::animated::Demo;
 use raystage_scene::Scene;
 use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
 
+use crate::cluster::{SceneBuild, SceneStart};
+use crate::edit::Blob;
 use crate::error::{ApiError, ApiResult, ErrorBody};
 use crate::extract::{Params, RawBody, Target, parse_json};
 use crate::model::CameraJson;
@@ -120,47 +121,32 @@ pub(crate) async fn create(
     headers: HeaderMap,
     request: Request,
 ) -> ApiResult<(StatusCode, Json<SceneInfo>)> {
-    let environment = query.environment.as_deref().map(super::gltf::environment_light).transpose()?;
+    if let Some(text) = &query.environment {
+        super::gltf::environment_light(text)?;
+    }
     let gltf = headers.get(header::CONTENT_TYPE).and_then(|v| v.to_str().ok()).is_some_and(|t| t.starts_with("model/gltf"));
     let body = RawBody::from_request(request, &state).await?.0;
     let limits = state.config().limits;
     state.check_room_for_scene()?;
-    let (mut scene, origin) = if gltf {
-        let scene = tokio::task::spawn_blocking(move || -> ApiResult<Scene> {
-            let import = raystage_gltf_import::read(&body, None, &super::gltf::import_limits(&limits))?;
-            Ok(import.into_scene()?)
-        })
-        .await
-        .map_err(|e| ApiError::internal(e.to_string()))??;
-        (scene, "gltf".to_string())
+    let start = if gltf {
+        SceneStart::Gltf(Blob(body.into()))
     } else {
         let new: NewScene = if body.iter().all(u8::is_ascii_whitespace) { NewScene::default() } else { parse_json(&body)? };
         match new.demo {
             None if new.frame.is_some() => return Err(ApiError::bad_request(Some("frame".into()), "`frame` needs a `demo`")),
-            None => (Scene::new(), "empty".to_string()),
-            Some(name) => {
-                let demo = Demo::from_name(&name)
-                    .ok_or_else(|| ApiError::unprocessable(Some("demo".into()), format!("unknown demo scene `{name}`: expected {}", Demo::NAMES)))?;
-                if let Demo::Museum(triangles) = demo
-                    && triangles > limits.max_demo_triangles
-                {
-                    let max = limits.max_demo_triangles;
-                    return Err(ApiError::unprocessable(Some("demo".into()), format!("`{name}` has {triangles} triangles: the limit is {max}")).limit("max_demo_triangles"));
-                }
-                let frame = new.frame.unwrap_or(0);
-                let origin = format!("demo:{}", demo.name());
-                let scene = tokio::task::spawn_blocking(move || demo.scene(frame))
-                    .await
-                    .map_err(|e| ApiError::internal(e.to_string()))?
-                    .map_err(|e| ApiError::internal(format!("cannot build the demo scene: {e}")))?;
-                (scene, origin)
-            }
+            None => SceneStart::Empty,
+            Some(name) => SceneStart::Demo { name, frame: new.frame.unwrap_or(0) },
         }
     };
-    if let Some(light) = environment {
-        scene.add_light(light)?;
-    }
-    let id = state.add_scene(scene, origin)?;
+    let build = SceneBuild { start, environment: query.environment };
+    // The same build, in a cluster, makes every worker's replica.
+    let state_for_build = state.clone();
+    let id = tokio::task::spawn_blocking(move || {
+        let (scene, origin) = build.build(&limits)?;
+        state_for_build.create_scene(scene, origin, &build)
+    })
+    .await
+    .map_err(|e| ApiError::internal(e.to_string()))??;
     let slot = state.scene(id)?;
     let s = slot.clone();
     Ok((StatusCode::CREATED, Json(slot.read(move |scene, version| info_of(&s, scene, version)).await?)))
@@ -186,7 +172,7 @@ pub(crate) async fn info(target: Target) -> ApiResult<Json<SceneInfo>> {
         (status = 404, description = "No such scene, resource or route", body = ErrorBody),
     ))]
 pub(crate) async fn delete(State(state): State<AppState>, target: Target) -> ApiResult<StatusCode> {
-    state.remove_scene(target.scene.id)?;
+    state.delete_scene(target.scene.id).await?;
     Ok(StatusCode::NO_CONTENT)
 }
 

@@ -3,14 +3,13 @@
 //! told apart by its content type. JSON edits run through [`crate::batch`] as batch commands
 //! do; image uploads are decoded off the reactor and edit the scene directly.
 
-use std::sync::Arc;
-
 use axum::Json;
 use axum::extract::{FromRequest, Request, State};
 use axum::http::{StatusCode, header};
-use raystage_scene::{Image, Texture, TextureId};
+use raystage_scene::{Image, TextureId};
 
 use super::{CreatedResponse, Updated, create, update};
+use crate::edit::{Applied, Blob, Edit};
 use crate::error::{ApiError, ApiResult, ErrorBody};
 use crate::extract::{JsonBody, RawBody, Target};
 use crate::model::{Command, Delete, Ref, SetTexture, TextureInfo, TextureSpec, decode_image};
@@ -23,8 +22,8 @@ const IMAGE_TYPES: [&str; 4] = ["image/png", "image/jpeg", "image/vnd.radiance",
 pub(crate) enum TextureBody {
     /// JSON: a checker or noise texture.
     Procedural(TextureSpec),
-    /// A PNG, JPEG or Radiance HDR file, decoded to linear RGB.
-    Image(Image),
+    /// A PNG, JPEG or Radiance HDR file: its bytes, and decoded to linear RGB.
+    Image(Vec<u8>, Image),
 }
 
 impl FromRequest<AppState> for TextureBody {
@@ -43,8 +42,10 @@ impl FromRequest<AppState> for TextureBody {
         if essence.as_deref().is_some_and(|t| IMAGE_TYPES.contains(&t)) {
             let bytes = RawBody::from_request(req, state).await?.0;
             let limits = state.config().limits;
-            let image = tokio::task::spawn_blocking(move || decode_image(&bytes, &limits)).await.map_err(|e| ApiError::internal(e.to_string()))??;
-            return Ok(TextureBody::Image(image));
+            let (bytes, image) = tokio::task::spawn_blocking(move || decode_image(&bytes, &limits).map(|image| (bytes, image)))
+                .await
+                .map_err(|e| ApiError::internal(e.to_string()))??;
+            return Ok(TextureBody::Image(bytes.into(), image));
         }
         Err(ApiError::unsupported_media_type(format!(
             "content type `{}` is not a texture: send JSON (application/json) for a procedural texture, or a file as {}",
@@ -59,7 +60,7 @@ async fn all(target: &Target) -> ApiResult<Vec<TextureInfo>> {
 }
 
 /// 404 naming the path's `id`.
-fn unknown(id: u32) -> ApiError {
+pub(crate) fn unknown(id: u32) -> ApiError {
     ApiError::not_found(Some("id".into()), format!("unknown texture {id}"))
 }
 
@@ -98,9 +99,8 @@ pub(crate) async fn list(target: Target) -> ApiResult<Json<Vec<TextureInfo>>> {
 pub(crate) async fn add(State(state): State<AppState>, target: Target, body: TextureBody) -> ApiResult<(StatusCode, Json<CreatedResponse>)> {
     match body {
         TextureBody::Procedural(spec) => create(&state, &target.scene, Command::AddTexture(spec)).await,
-        TextureBody::Image(image) => {
-            let texture = Texture::Image(Arc::new(image));
-            let (id, version) = target.scene.edit(move |scene| Ok((scene.add_texture(texture)?.0, true))).await?;
+        TextureBody::Image(file, image) => {
+            let (id, version) = image_edit(&state, &target, None, file, image).await?;
             Ok((StatusCode::CREATED, Json(CreatedResponse { id, version, ignored: Vec::new() })))
         }
     }
@@ -146,17 +146,19 @@ pub(crate) async fn set(State(state): State<AppState>, target: Target, body: Tex
             let command = Command::SetTexture(SetTexture { id: Ref::Id(id), texture });
             update(&state, &target.scene, command).await.map_err(|e| e.without_prefix("texture."))
         }
-        TextureBody::Image(image) => {
-            let texture = Texture::Image(Arc::new(image));
-            let ((), version) = target
-                .scene
-                .edit(move |scene| {
-                    scene.texture(TextureId(id)).map_err(|_| unknown(id))?;
-                    Ok((scene.set_texture(TextureId(id), texture)?, true))
-                })
-                .await?;
+        TextureBody::Image(file, image) => {
+            let (_, version) = image_edit(&state, &target, Some(id), file, image).await?;
             Ok(Json(Updated { version, ignored: Vec::new() }))
         }
+    }
+}
+
+/// Adds an image `file` (decoded as `image`) as a texture, or replaces texture `texture` with
+/// it; returns the texture's id and the scene's version.
+async fn image_edit(state: &AppState, target: &Target, texture: Option<u32>, file: Vec<u8>, image: Image) -> ApiResult<(u32, u64)> {
+    match target.scene.edit(state, Edit::Image { texture, file: Blob(file), decoded: Some(image) }).await? {
+        (Applied::Texture(id), version) => Ok((id, version)),
+        _ => Err(ApiError::internal("an image texture gave back something else")),
     }
 }
 

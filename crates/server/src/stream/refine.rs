@@ -7,13 +7,14 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
-use raystage_render::{Cancel, Film, Integrator, Look, Progressive, RenderSettings};
+use raystage_render::{Cancel, Film, Integrator, Look, RenderSettings};
 use raystage_scene::Scene;
 use tokio::sync::{OwnedSemaphorePermit, mpsc, watch};
 
 use crate::render::{CancelOnDrop, FrameRequest, STREAM_BYTES_PER_PIXEL, Setup};
 use crate::state::{AppState, SceneSlot};
 use crate::stats::FrameReport;
+use crate::cluster::Accumulator;
 use crate::error::ApiError;
 use crate::stream::protocol::{FrameMessage, ServerMessage};
 
@@ -75,7 +76,7 @@ struct Accumulation {
     /// What it renders, and how its last frame was graded.
     settings: StreamSettings,
     version: u64,
-    progressive: Progressive,
+    progressive: Accumulator,
     /// Its share of the memory for images being rendered, given back with it.
     memory: OwnedSemaphorePermit,
     /// The statistics of the last frame sent, sent again with a re-graded image.
@@ -163,7 +164,7 @@ pub(crate) async fn refine(
                 let Some(memory) = memory.or_else(|| old.map(|a| a.memory)) else {
                     return; // One of the two holds the memory.
                 };
-                let Ok(progressive) = Progressive::new(wanted.render_settings(&scene)) else {
+                let Ok(progressive) = Accumulator::new(wanted.render_settings(&scene), state.cluster()) else {
                     return; // The settings were checked when they were received.
                 };
                 Accumulation { settings: wanted, version, progressive, memory, sent: None }
@@ -172,13 +173,14 @@ pub(crate) async fn refine(
         let samples = pass_samples.min(wanted.max_samples - acc.progressive.samples());
         let last = acc.progressive.samples() + samples >= wanted.max_samples;
         let sent = taken.clone();
+        let scene_id = slot.id;
         // Dropped with this future when the stream closes (the session aborts it), which stops
         // the pass; cancelled by hand when a change supersedes a long pass.
         let cancel = CancelOnDrop(Cancel::new());
         let token = cancel.0.clone();
         let mut pass = tokio::task::spawn_blocking(move || {
             let _running = turn.running();
-            let stats = acc.progressive.add_cancellable(&scene.frame(), samples, &token);
+            let stats = acc.progressive.add(scene_id, &scene, acc.version, samples, false, &token);
             drop(scene);
             // Decided after the pass, which gave the sender its duration to deliver the last frame.
             let png = (stats.is_ok() && (last || sent.load(Ordering::Acquire))).then(|| timed_png(&acc.progressive.film(), acc.settings.setup.look));
@@ -210,7 +212,8 @@ pub(crate) async fn refine(
         };
         if let Some((png, encode_seconds)) = png {
             seq += 1;
-            let report = FrameReport::new(acc.progressive.settings(), &stats, encode_seconds, acc.version);
+            let mut report = FrameReport::new(acc.progressive.settings(), &stats, encode_seconds, acc.version);
+            report.cluster = acc.progressive.times();
             let message = FrameMessage {
                 seq,
                 scene_version: acc.version,

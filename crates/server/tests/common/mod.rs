@@ -115,3 +115,48 @@ pub async fn eventually(deadline: std::time::Duration, mut done: impl FnMut() ->
     }
     done()
 }
+
+/// Two triangles forming a unit square in the xy plane, centred on the origin.
+pub fn square_buffer() -> Vec<u8> {
+    let mut bytes = Vec::new();
+    for p in [[-0.5f32, -0.5, 0.0], [0.5, -0.5, 0.0], [0.5, 0.5, 0.0], [-0.5, 0.5, 0.0]] {
+        p.iter().for_each(|c| bytes.extend(c.to_le_bytes()));
+    }
+    for i in [0u16, 1, 2, 0, 2, 3] {
+        bytes.extend(i.to_le_bytes());
+    }
+    bytes
+}
+
+/// A glTF document: the square as one mesh with an unlit orange material, placed by two nodes
+/// side by side, and a camera looking at them; buffer 0 as `uri` (or the GLB chunk).
+pub fn document(uri: Option<String>) -> Value {
+    let mut buffer = json!({ "byteLength": 60 });
+    if let Some(uri) = uri {
+        buffer["uri"] = json!(uri);
+    }
+    json!({
+        "asset": { "version": "2.0" },
+        "extensionsUsed": ["KHR_materials_unlit"],
+        "buffers": [buffer],
+        "bufferViews": [{ "buffer": 0, "byteLength": 48 }, { "buffer": 0, "byteOffset": 48, "byteLength": 12 }],
+        "accessors": [
+            { "bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-0.5, -0.5, 0], "max": [0.5, 0.5, 0] },
+            { "bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR" }
+        ],
+        "materials": [{ "name": "orange", "pbrMetallicRoughness": { "baseColorFactor": [1, 0.5, 0, 1] }, "extensions": { "KHR_materials_unlit": {} } }],
+        "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0 }, "indices": 1, "material": 0 }] }],
+        "cameras": [{ "type": "perspective", "perspective": { "yfov": 0.8, "znear": 0.1 } }],
+        "nodes": [
+            { "mesh": 0, "translation": [-0.6, 0, 0] },
+            { "mesh": 0, "translation": [0.6, 0, 0] },
+            { "camera": 0, "translation": [0, 0, 3] }
+        ],
+        "scenes": [{ "nodes": [0, 1, 2] }]
+    })
+}
+
+/// [`document`] as GLB, the square's buffer in its binary chunk.
+pub fn glb() -> Vec<u8> {
+    raystage_gltf_import::glb(&serde_json::to_vec(&document(None)).unwrap(), &square_buffer())
+}

@@ -1,0 +1,336 @@
+//! Serving from every rank of a cluster (`mpirun -n N raystage serve --mpi`), as OpenRT served
+//! its applications from a cluster: rank 0 runs the HTTP server, every other rank is a render
+//! worker ([`work`]) holding a replica of every scene.
+//!
+//! - **Edits** are replicated as they happen: rank 0 applies an [`Edit`] under the scene's
+//!   write lock, sends the same value to every worker, each applies it and answers, and rank 0
+//!   tells all whether it stands (every rank applied it) or is refused everywhere (some rank
+//!   could not). Every rank so holds the same scene at the same version; files (images, glTF)
+//!   go once, as the client sent them.
+//! - **Frames** are progressive passes: every rank adds the pass's samples to its share of the
+//!   frame (the static interleave of bands of tiles of [`Share`]: no messages while it renders)
+//!   and rank 0 gathers the shares' pixel means into the film. Streams accumulate across ranks
+//!   as on one machine, and the image is the one a single process renders, to the bit.
+//! - **One exchange at a time**: the messages of an edit or a pass go out and their answers
+//!   come back under one lock, so that every worker sees them in one order; renders wait for
+//!   each other here, as a cluster renders one frame at a time with all its ranks.
+//! - **Faults**: a worker that does not answer within the timeout is given up: rank 0 says so
+//!   in its log and in the error of that request, and serves alone from then on (its scenes are
+//!   whole, the workers' replicas are only copies). A worker that dies makes `mpirun` end the
+//!   whole job. A worker that refuses an edit (an error where rank 0 had none) has it refused
+//!   everywhere.
+//!
+//! The messages travel over a [`Transport`] (MPI in the command line; this crate does not
+//! depend on MPI), encoded as CBOR: compact, and self-describing enough for the API's untagged
+//! values.
+
+mod wire;
+mod worker;
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::time::{Duration, Instant};
+
+use glam::Vec3;
+use raystage_render::{Cancel, Error as RenderError, Film, FrameStats, Progressive, RenderSettings, Share};
+use raystage_scene::Scene;
+
+use crate::edit::Edit;
+use crate::error::{ApiError, ApiResult};
+use crate::stats::ClusterTimes;
+pub use wire::{SceneBuild, SceneStart};
+use wire::{Message, PassMessage, Reply, WireSettings, decode, encode};
+pub use worker::work;
+
+/// How rank 0 and the workers exchange messages: MPI, in the command line.
+pub trait Transport: Send + Sync + 'static {
+    /// This process's rank: 0 serves, the others are workers.
+    fn rank(&self) -> u32;
+    /// Processes in the job, this one included.
+    fn ranks(&self) -> u32;
+    /// Sends `message` to `rank` (returns once it may reuse the buffer).
+    fn send(&self, rank: u32, message: &[u8]) -> Result<(), String>;
+    /// The next message from `rank`, waiting until `deadline` at most (`None`: as long as it
+    /// takes); `Ok(None)` if the deadline passed first.
+    fn receive(&self, rank: u32, deadline: Option<Instant>) -> Result<Option<Vec<u8>>, String>;
+}
+
+/// Rank 0's side of a cluster: the workers, and whether they still answer.
+pub struct Cluster {
+    transport: Box<dyn Transport>,
+    /// How long rank 0 waits for a worker's answer before giving it up.
+    timeout: Duration,
+    /// Held for each exchange; `Some(why)` once the workers were given up.
+    link: Mutex<Option<String>>,
+    /// Keys of accumulations (see [`Accumulator`]).
+    next_key: AtomicU64,
+    /// Accumulations ended since the last pass: their workers' state is dropped with the next.
+    ended: Mutex<Vec<u64>>,
+}
+
+impl Cluster {
+    /// Rank 0's side of the job `transport` reaches, giving up a worker that takes longer
+    /// than `timeout` to answer.
+    pub fn new(transport: Box<dyn Transport>, timeout: Duration) -> Arc<Cluster> {
+        Arc::new(Cluster { transport, timeout, link: Mutex::new(None), next_key: AtomicU64::new(1), ended: Mutex::default() })
+    }
+
+    /// Ranks rendering now: all of the job's, or 1 once the workers were given up.
+    pub fn ranks(&self) -> u32 {
+        if self.lock().is_some() { 1 } else { self.transport.ranks() }
+    }
+
+    /// Ends the job's workers (they return from [`work`]); `Err` with why if they were given
+    /// up: then they cannot be reached, and the job must be aborted.
+    pub fn stop(&self) -> Result<(), String> {
+        let mut link = self.lock();
+        if let Some(why) = link.as_ref() {
+            return Err(why.clone());
+        }
+        self.send_all(&mut link, &encode(&Message::<&Edit>::Stop)).map(|_| ())
+    }
+
+    fn lock(&self) -> MutexGuard<'_, Option<String>> {
+        self.link.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Sends `message` to every worker; gives them up on a failure. Returns the seconds taken.
+    fn send_all(&self, link: &mut Option<String>, message: &[u8]) -> Result<f64, String> {
+        let start = Instant::now();
+        for rank in 1..self.transport.ranks() {
+            if let Err(e) = self.transport.send(rank, message) {
+                return Err(self.give_up(link, format!("cannot send to rank {rank}: {e}")));
+            }
+        }
+        Ok(start.elapsed().as_secs_f64())
+    }
+
+    /// Every worker's answer, in rank order; gives them up if one does not answer in time.
+    fn collect(&self, link: &mut Option<String>) -> Result<Vec<Reply>, String> {
+        let deadline = Instant::now() + self.timeout;
+        let mut replies = Vec::new();
+        for rank in 1..self.transport.ranks() {
+            let reply = match self.transport.receive(rank, Some(deadline)) {
+                Ok(Some(bytes)) => decode::<Reply>(&bytes).map_err(|e| format!("rank {rank} answered with a message that cannot be read: {e}")),
+                Ok(None) => Err(format!("rank {rank} did not answer within {} s", self.timeout.as_secs_f64())),
+                Err(e) => Err(format!("cannot receive from rank {rank}: {e}")),
+            };
+            match reply {
+                Ok(reply) => replies.push(reply),
+                Err(why) => return Err(self.give_up(link, why)),
+            }
+        }
+        Ok(replies)
+    }
+
+    /// Gives the workers up for `why`, once, saying so in the log; returns the message.
+    fn give_up(&self, link: &mut Option<String>, why: String) -> String {
+        let message = format!("{why}: the cluster's workers are given up, rank 0 renders alone from now on");
+        eprintln!("error: {message}");
+        *link = Some(message.clone());
+        message
+    }
+
+    /// Applies an edit on every worker, after rank 0 applied `message`'s edit: `Ok` if every
+    /// rank did (the edit stands), an error naming the rank that could not (the edit is refused
+    /// everywhere). Once the workers are given up, rank 0's edit stands alone.
+    pub(crate) fn replicate(&self, message: &[u8]) -> ApiResult<()> {
+        let mut link = self.lock();
+        if link.is_some() {
+            return Ok(());
+        }
+        if self.send_all(&mut link, message).is_err() {
+            return Ok(());
+        }
+        let Ok(replies) = self.collect(&mut link) else { return Ok(()) };
+        let refused = replies.iter().enumerate().find_map(|(i, r)| match r {
+            Reply::Refused(why) => Some(format!("rank {} could not apply the edit: {why}", i + 1)),
+            Reply::Applied => None,
+            _ => Some(format!("rank {} answered the edit out of turn", i + 1)),
+        });
+        let _ = self.send_all(&mut link, &encode(&Message::<&Edit>::Verdict { stands: refused.is_none() }));
+        match refused {
+            None => Ok(()),
+            Some(why) => Err(ApiError::internal(format!("{why}; the edit is refused on every rank"))),
+        }
+    }
+
+    /// The message that replicates `edit` of scene `scene` (encoded before the edit is applied,
+    /// which consumes it).
+    pub(crate) fn edit_message(scene: u32, edit: &Edit) -> Vec<u8> {
+        encode(&Message::Edit { scene, edit })
+    }
+
+    /// Replicates a new scene that rank 0 built from `build` and holds as `id`.
+    pub(crate) fn replicate_new_scene(&self, id: u32, origin: &str, build: &SceneBuild) -> ApiResult<()> {
+        self.replicate(&encode(&Message::<&Edit>::NewScene { id, origin: origin.to_string(), build: build.clone() }))
+    }
+
+    /// Replicates the deletion of scene `id` (a worker that cannot is only logged: the scene is
+    /// gone on rank 0, which is what clients see).
+    pub(crate) fn replicate_delete(&self, id: u32) {
+        if let Err(e) = self.replicate(&encode(&Message::<&Edit>::DeleteScene { id })) {
+            eprintln!("warning: deleting scene {id} on the workers: {}", e.detail.message);
+        }
+    }
+}
+
+/// An accumulation of samples rendered by this process alone, or by every rank of a cluster:
+/// the stream's and `frame.png`'s renders in a cluster (`Progressive` behind the same calls).
+pub(crate) struct Accumulator {
+    progressive: Progressive,
+    /// The cluster rendering it and the accumulation's key there; `None` alone.
+    cluster: Option<(Arc<Cluster>, u64)>,
+    /// The whole image, the workers' shares included (in a cluster).
+    film: Option<Film>,
+    /// What the last pass cost on rank 0.
+    times: Option<ClusterTimes>,
+}
+
+impl Accumulator {
+    /// An empty accumulation of `settings`, across `cluster`'s ranks if given and still
+    /// working.
+    pub(crate) fn new(settings: RenderSettings, cluster: Option<&Arc<Cluster>>) -> Result<Accumulator, RenderError> {
+        let cluster = cluster.filter(|c| c.ranks() > 1);
+        let mut progressive = Progressive::new(settings)?;
+        let cluster = match cluster {
+            Some(cluster) => {
+                progressive = progressive.with_share(Share { index: 0, count: cluster.transport.ranks() })?;
+                Some((Arc::clone(cluster), cluster.next_key.fetch_add(1, Ordering::Relaxed)))
+            }
+            None => None,
+        };
+        Ok(Accumulator { progressive, cluster, film: None, times: None })
+    }
+
+    /// The settings it renders with.
+    pub(crate) fn settings(&self) -> &RenderSettings {
+        self.progressive.settings()
+    }
+
+    /// Samples per pixel so far.
+    pub(crate) fn samples(&self) -> u32 {
+        self.progressive.samples()
+    }
+
+    /// The image so far.
+    pub(crate) fn film(&self) -> Film {
+        self.film.clone().unwrap_or_else(|| self.progressive.film())
+    }
+
+    /// Ranks that rendered the last pass, and where its time went on rank 0 (`None` alone).
+    pub(crate) fn times(&self) -> Option<ClusterTimes> {
+        self.times
+    }
+
+    /// Adds `samples` samples per pixel of `scene` at `version` (scene `scene_id`), stopping
+    /// rank 0's share soon after `cancel` says so (the workers finish theirs: they are not
+    /// reached while they render). If the cluster fails (a worker gave up, or lacks the
+    /// version), the accumulation goes on alone from an empty image, rendering this pass.
+    /// `last` says no pass follows: the workers drop their state at once.
+    pub(crate) fn add(&mut self, scene_id: u32, scene: &Scene, version: u64, samples: u32, last: bool, cancel: &Cancel) -> Result<FrameStats, RenderError> {
+        let Some((cluster, key)) = self.cluster.clone() else {
+            return self.progressive.add_cancellable(&scene.frame(), samples, cancel);
+        };
+        match self.add_across(&cluster, key, (scene_id, scene, version), samples, last, cancel) {
+            Ok(stats) => Ok(stats),
+            Err(Failed::Render(e)) => Err(e),
+            Err(Failed::Cluster(why)) => {
+                eprintln!("warning: a pass across the cluster failed ({why}): rendering it on rank 0 alone");
+                self.alone()?;
+                self.progressive.add_cancellable(&scene.frame(), samples, cancel)
+            }
+        }
+    }
+
+    /// Goes on alone, from an empty image.
+    fn alone(&mut self) -> Result<(), RenderError> {
+        let settings = *self.progressive.settings();
+        self.forget();
+        *self = Accumulator { progressive: Progressive::new(settings)?, cluster: None, film: None, times: None };
+        Ok(())
+    }
+
+    fn add_across(&mut self, cluster: &Cluster, key: u64, (scene_id, scene, version): (u32, &Scene, u64), samples: u32, last: bool, cancel: &Cancel) -> Result<FrameStats, Failed> {
+        let mut link = cluster.lock();
+        if let Some(why) = link.as_ref() {
+            return Err(Failed::Cluster(why.clone()));
+        }
+        let ended = std::mem::take(&mut *cluster.ended.lock().unwrap_or_else(|e| e.into_inner()));
+        let pass = PassMessage {
+            key,
+            scene: scene_id,
+            version,
+            settings: WireSettings::from(self.progressive.settings()),
+            samples,
+            reset: self.progressive.samples() == 0,
+            last,
+            ended,
+        };
+        let send_seconds = cluster.send_all(&mut link, &encode(&Message::<&Edit>::Pass(pass))).map_err(Failed::Cluster)?;
+        let start = Instant::now();
+        let own = self.progressive.add_cancellable(&scene.frame(), samples, cancel);
+        let render_seconds = start.elapsed().as_secs_f64();
+        // Collected even when rank 0's share was cancelled: the workers answer every pass.
+        let replies = cluster.collect(&mut link).map_err(Failed::Cluster)?;
+        drop(link);
+        let gather_seconds = start.elapsed().as_secs_f64() - render_seconds;
+        let mut stats = own.map_err(Failed::Render)?;
+        let settings = *self.progressive.settings();
+        let (width, height, ranks) = (settings.width, settings.height, cluster.transport.ranks());
+        let mut pixels = self.progressive.film().pixels().to_vec();
+        let mut times = ClusterTimes { ranks, send_seconds, render_seconds, gather_seconds, ..ClusterTimes::default() };
+        for (i, reply) in replies.into_iter().enumerate() {
+            let rank = i as u32 + 1;
+            let share = Share { index: rank, count: ranks };
+            let (values, counts, seconds) = match reply {
+                Reply::Share { pixels, counts, seconds } => (pixels, counts, seconds),
+                Reply::Failed(why) => return Err(Failed::Cluster(format!("rank {rank}: {why}"))),
+                _ => return Err(Failed::Cluster(format!("rank {rank} answered the pass out of turn"))),
+            };
+            let rows = share.rows(width, height);
+            let owned = rows.iter().map(|r| (r.end - r.start) as usize * width as usize).sum::<usize>();
+            if values.0.len() != owned * 12 {
+                return Err(Failed::Cluster(format!("rank {rank} sent {} bytes for its share of {owned} pixels", values.0.len())));
+            }
+            let mut floats = values.0.chunks_exact(4).map(|b| f32::from_le_bytes(b.try_into().expect("four bytes")));
+            for y in rows.into_iter().flatten() {
+                for x in 0..width {
+                    let mut next = || floats.next().expect("counted above");
+                    pixels[(y * width + x) as usize] = Vec3::new(next(), next(), next());
+                }
+            }
+            stats.add_share_counts(counts);
+            times.slowest_share_seconds = times.slowest_share_seconds.max(seconds);
+            times.gathered_bytes += values.0.len() as u64;
+        }
+        self.film = Some(Film::from_pixels(width, height, pixels));
+        self.times = Some(times);
+        if last {
+            // The workers dropped it with this pass.
+            self.cluster = None;
+        }
+        Ok(stats)
+    }
+
+    /// Tells the workers (with the next pass) that this accumulation's state can go.
+    fn forget(&mut self) {
+        if let Some((cluster, key)) = self.cluster.take() {
+            cluster.ended.lock().unwrap_or_else(|e| e.into_inner()).push(key);
+        }
+    }
+}
+
+impl Drop for Accumulator {
+    fn drop(&mut self) {
+        self.forget();
+    }
+}
+
+/// Why a pass across the cluster failed.
+enum Failed {
+    /// Rank 0's own share: cancelled, or bad settings.
+    Render(RenderError),
+    /// The cluster: the pass is rendered alone instead.
+    Cluster(String),
+}

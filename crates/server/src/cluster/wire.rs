@@ -1,0 +1,189 @@
+//! The messages between rank 0 and the workers, and their encoding (CBOR).
+
+use raystage_demo::animated::Demo;
+use raystage_render::{Filter, Integrator, RenderSettings};
+use raystage_scene::{Background, Scene};
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Serialize};
+
+use crate::config::Limits;
+use crate::edit::Blob;
+use crate::error::{ApiError, ApiResult};
+use crate::routes::gltf::{environment_light, import_limits};
+
+/// From rank 0 to the workers. `E` is the edit: borrowed when rank 0 encodes it, owned when a
+/// worker decodes it (the two encode alike).
+#[derive(Serialize, Deserialize)]
+pub(super) enum Message<E> {
+    /// A scene built on rank 0 as `build` says, held as `id`. Answered, then a verdict.
+    NewScene { id: u32, origin: String, build: SceneBuild },
+    /// Scene `id` deleted. Answered, then a verdict.
+    DeleteScene { id: u32 },
+    /// An edit of scene `scene`. Answered, then a verdict.
+    Edit { scene: u32, edit: E },
+    /// Whether the edit just answered stands (every rank applied it) or is undone.
+    Verdict { stands: bool },
+    /// A progressive pass of a frame. Answered with the share's pixels.
+    Pass(PassMessage),
+    /// The job ends: the worker returns.
+    Stop,
+}
+
+/// A pass of accumulation `key`: `samples` more samples per pixel of scene `scene` as it was
+/// at `version`.
+#[derive(Serialize, Deserialize)]
+pub(super) struct PassMessage {
+    pub key: u64,
+    pub scene: u32,
+    pub version: u64,
+    pub settings: WireSettings,
+    pub samples: u32,
+    /// The accumulation starts over (its first pass, or rank 0's was cancelled).
+    pub reset: bool,
+    /// No pass of this accumulation follows.
+    pub last: bool,
+    /// Accumulations that ended: their state can go.
+    pub ended: Vec<u64>,
+}
+
+/// From a worker to rank 0.
+#[derive(Serialize, Deserialize)]
+pub(super) enum Reply {
+    /// The edit (or new scene, or deletion) was applied here.
+    Applied,
+    /// It could not be, for this reason.
+    Refused(String),
+    /// A pass's share: its pixels' means (row by row over the share's rows, RGB as
+    /// little-endian `f32`: the very bits rank 0 would have computed), its ray counts
+    /// (primary, shadow, reflection, refraction, diffuse, then non-finite samples) and the
+    /// seconds it took.
+    Share { pixels: Blob, counts: [u64; 6], seconds: f64 },
+    /// The pass could not be rendered here, for this reason.
+    Failed(String),
+}
+
+/// How a new scene is built: what `POST /scenes` was given.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct SceneBuild {
+    /// What it starts as.
+    pub start: SceneStart,
+    /// A uniform environment light to add (`R,G,B` or one number).
+    pub environment: Option<String>,
+}
+
+/// What a new scene starts as.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub enum SceneStart {
+    /// Nothing.
+    Empty,
+    /// A built-in demo at a frame of its animation.
+    Demo { name: String, frame: u32 },
+    /// A glTF 2.0 file.
+    Gltf(Blob),
+}
+
+impl SceneBuild {
+    /// Builds the scene (on a blocking thread: demos and files take time), and its origin's
+    /// name (`empty`, `demo:NAME`, `gltf`); 422 naming the field that is wrong.
+    pub(crate) fn build(&self, limits: &Limits) -> ApiResult<(Scene, String)> {
+        let (mut scene, origin) = match &self.start {
+            SceneStart::Empty => (Scene::new(), "empty".to_string()),
+            SceneStart::Gltf(file) => (raystage_gltf_import::read(&file.0, None, &import_limits(limits))?.into_scene()?, "gltf".to_string()),
+            SceneStart::Demo { name, frame } => {
+                let demo =
+                    Demo::from_name(name).ok_or_else(|| ApiError::unprocessable(Some("demo".into()), format!("unknown demo scene `{name}`: expected {}", Demo::NAMES)))?;
+                if let Demo::Museum(triangles) = demo
+                    && triangles > limits.max_demo_triangles
+                {
+                    let max = limits.max_demo_triangles;
+                    return Err(ApiError::unprocessable(Some("demo".into()), format!("`{name}` has {triangles} triangles: the limit is {max}")).limit("max_demo_triangles"));
+                }
+                let scene = demo.scene(*frame).map_err(|e| ApiError::internal(format!("cannot build the demo scene: {e}")))?;
+                (scene, format!("demo:{}", demo.name()))
+            }
+        };
+        if let Some(light) = self.environment.as_deref().map(environment_light).transpose()? {
+            scene.add_light(light)?;
+        }
+        Ok((scene, origin))
+    }
+}
+
+/// [`RenderSettings`] as a message carries them.
+#[derive(Serialize, Deserialize)]
+pub(super) struct WireSettings {
+    width: u32,
+    height: u32,
+    integrator: String,
+    samples_per_pixel: u32,
+    max_depth: u32,
+    light_samples: u32,
+    russian_roulette: bool,
+    /// `None` for the box filter, else the Gaussian's radius.
+    gaussian: Option<f32>,
+    seed: u32,
+    noise_threshold: Option<f32>,
+    default_lights: bool,
+    /// `None`: the scene's choice; `Some(None)`: the sky; `Some(Some(c))`: colour `c`.
+    background: Option<Option<[f32; 3]>>,
+    specialize: bool,
+}
+
+impl From<&RenderSettings> for WireSettings {
+    fn from(s: &RenderSettings) -> WireSettings {
+        WireSettings {
+            width: s.width,
+            height: s.height,
+            integrator: s.integrator.name().to_string(),
+            samples_per_pixel: s.samples_per_pixel,
+            max_depth: s.max_depth,
+            light_samples: s.light_samples,
+            russian_roulette: s.russian_roulette,
+            gaussian: match s.filter {
+                Filter::Box => None,
+                Filter::Gaussian { radius } => Some(radius),
+            },
+            seed: s.seed,
+            noise_threshold: s.noise_threshold,
+            default_lights: s.default_lights,
+            background: s.background.map(|b| match b {
+                Background::Sky => None,
+                Background::Color(c) => Some(c.to_array()),
+            }),
+            specialize: s.specialize,
+        }
+    }
+}
+
+impl WireSettings {
+    /// The settings sent, or why they cannot be read.
+    pub(super) fn settings(&self) -> Result<RenderSettings, String> {
+        Ok(RenderSettings {
+            width: self.width,
+            height: self.height,
+            integrator: Integrator::from_name(&self.integrator).ok_or_else(|| format!("unknown integrator `{}`", self.integrator))?,
+            samples_per_pixel: self.samples_per_pixel,
+            max_depth: self.max_depth,
+            light_samples: self.light_samples,
+            russian_roulette: self.russian_roulette,
+            filter: self.gaussian.map_or(Filter::Box, |radius| Filter::Gaussian { radius }),
+            seed: self.seed,
+            noise_threshold: self.noise_threshold,
+            default_lights: self.default_lights,
+            background: self.background.map(|b| b.map_or(Background::Sky, |c| Background::Color(c.into()))),
+            specialize: self.specialize,
+        })
+    }
+}
+
+/// `value` as CBOR.
+pub(super) fn encode<T: Serialize>(value: &T) -> Vec<u8> {
+    let mut bytes = Vec::new();
+    ciborium::into_writer(value, &mut bytes).expect("writing to memory cannot fail, and every message serialises");
+    bytes
+}
+
+/// A value from CBOR, or why it cannot be read.
+pub(super) fn decode<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, String> {
+    ciborium::from_reader(bytes).map_err(|e| e.to_string())
+}
