@@ -13,15 +13,13 @@
 //! in a vote, so that all ranks go on or all stop with an error — never one rank waiting for a
 //! message that will not come. A rank that dies makes `mpirun` end the whole job with an error.
 
-use std::sync::Mutex;
-use std::time::{Duration, Instant};
-
-use anyhow::{Result, bail, ensure};
-use mpi::Threading;
+use anyhow::{Result, bail};
 use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use raystage_render::{Film, FrameStats, Share};
+
+use raystage_server::cluster::{MpiJob, MpiTransport};
 
 use crate::render::Ranks;
 
@@ -41,20 +39,17 @@ impl std::error::Error for Reported {}
 /// This process's place in the MPI job.
 pub struct Cluster {
     /// Keeps MPI initialised; finalised when dropped.
-    _universe: mpi::environment::Universe,
+    job: MpiJob,
     world: SimpleCommunicator,
 }
 
 impl Cluster {
     /// Joins the MPI job this process was started in (a process started without `mpirun` is a
-    /// job of one). MPI is asked to let any thread call it, one at a time: the server's
-    /// requests reach the cluster from whichever thread serves them ([`MpiTransport`] takes
-    /// turns).
+    /// job of one; see [`MpiJob::join`]).
     pub fn join() -> Result<Cluster> {
-        let Some((universe, threading)) = mpi::initialize_with_threading(Threading::Serialized) else { bail!("MPI was initialised already") };
-        ensure!(threading >= Threading::Serialized, "this MPI library cannot be called from several threads (it offers {threading:?}, raystage needs Serialized)");
-        let world = universe.world();
-        Ok(Cluster { _universe: universe, world })
+        let job = MpiJob::join().map_err(anyhow::Error::msg)?;
+        let world = job.world();
+        Ok(Cluster { job, world })
     }
 
     /// Ends the whole job at once, with `code` (when ranks cannot be told to stop).
@@ -64,7 +59,7 @@ impl Cluster {
 
     /// The job as the server's transport (see [`MpiTransport`]).
     pub fn transport(&self) -> MpiTransport {
-        MpiTransport { world: Mutex::new(self.world.duplicate()) }
+        self.job.transport()
     }
 
     /// This rank: 0 is the application side, which writes the image and logs.
@@ -157,78 +152,3 @@ impl Ranks for Cluster {
     }
 }
 
-/// The MPI job as the messages of `raystage serve --mpi` travel (see
-/// [`raystage_server::cluster`]): point-to-point messages on a communicator of their own. A
-/// rank waiting for a message probes for it and sleeps in between, rather than blocking in MPI
-/// (Open MPI spins while it waits, which would take a core from the rank's render threads), and
-/// rank 0 can give up a worker that does not answer in time.
-pub struct MpiTransport {
-    /// Every MPI call is made with this lock held: MPI was initialised for calls from any
-    /// thread, one at a time.
-    world: Mutex<SimpleCommunicator>,
-}
-
-// SAFETY: a communicator is a handle MPI lets any thread use once initialised with
-// `Threading::Serialized` (checked in `Cluster::join`), provided the calls do not overlap;
-// every use goes through the mutex.
-unsafe impl Send for MpiTransport {}
-// SAFETY: as above: shared use is serialised by the mutex.
-unsafe impl Sync for MpiTransport {}
-
-/// Bytes in one MPI message at most: MPI counts elements in an `int`, so a larger message
-/// (a big frame's share of floats) goes in pieces.
-const PIECE: usize = 1 << 30;
-
-impl MpiTransport {
-    fn world(&self) -> std::sync::MutexGuard<'_, SimpleCommunicator> {
-        self.world.lock().unwrap_or_else(|e| e.into_inner())
-    }
-}
-
-impl raystage_server::cluster::Transport for MpiTransport {
-    fn rank(&self) -> u32 {
-        self.world().rank() as u32
-    }
-
-    fn ranks(&self) -> u32 {
-        self.world().size() as u32
-    }
-
-    /// The length first, then the bytes in pieces of at most [`PIECE`].
-    fn send(&self, rank: u32, message: &[u8]) -> Result<(), String> {
-        let world = self.world();
-        let to = world.process_at_rank(rank as i32);
-        to.send(&(message.len() as u64));
-        for piece in message.chunks(PIECE) {
-            to.send(piece);
-        }
-        Ok(())
-    }
-
-    fn receive(&self, rank: u32, deadline: Option<Instant>) -> Result<Option<Vec<u8>>, String> {
-        let mut pause = Duration::from_micros(20);
-        loop {
-            {
-                let world = self.world();
-                let from = world.process_at_rank(rank as i32);
-                if from.immediate_probe().is_some() {
-                    // The pieces follow the length at once: receiving them blocks only while they
-                    // are on their way.
-                    let (length, _) = from.receive::<u64>();
-                    let mut message = Vec::with_capacity(length as usize);
-                    while message.len() < length as usize {
-                        let (piece, _) = from.receive_vec::<u8>();
-                        message.extend_from_slice(&piece);
-                    }
-                    return Ok(Some(message));
-                }
-            }
-            if deadline.is_some_and(|d| Instant::now() >= d) {
-                return Ok(None);
-            }
-            std::thread::sleep(pause);
-            // Quick answers are caught quickly; a long wait costs a wake-up a millisecond.
-            pause = (pause * 2).min(Duration::from_millis(1));
-        }
-    }
-}

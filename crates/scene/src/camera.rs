@@ -11,7 +11,7 @@ use crate::error::SceneError;
 /// stays open over part of the frame's time (motion blur). Its [`Projection`] says how pixels
 /// map to rays: by default a symmetric field of view whose horizontal extent follows from the
 /// image's aspect ratio.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Camera {
     /// Eye position (the centre of the lens).
     pub eye: Vec3,
@@ -52,7 +52,7 @@ impl Default for Camera {
 /// How a camera maps the image to rays. The window variants are OpenGL's `glFrustum` and
 /// `glOrtho`: the window `[left, right] × [bottom, top]` (in the camera's frame: x right, y up)
 /// fills the whole image, whatever its aspect ratio, as OpenGL's viewport does.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Projection {
     /// Rays from the eye, through a window centred on the view direction that spans the
     /// camera's `fov_y_degrees` vertically and the image's aspect ratio horizontally.

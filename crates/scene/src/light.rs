@@ -9,7 +9,7 @@ use crate::error::SceneError;
 use crate::ids::TextureId;
 
 /// A light source.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Light {
     /// Light from a point, falling off with the square of the distance.
     Point {

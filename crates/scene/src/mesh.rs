@@ -11,7 +11,7 @@ use crate::ids::ShaderId;
 const COVER_CELLS: u32 = 4;
 
 /// An indexed triangle mesh with its attributes.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Mesh {
     /// Vertex positions.
     pub positions: Vec<Vec3>,

@@ -9,7 +9,7 @@ use crate::builds::{BuildCounters, BuildOutcome};
 use crate::mesh::Mesh;
 
 /// How an object's geometry changes over time, which decides how its tree is built.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum ObjectKind {
     /// Never changes: the best (binned SAH) tree, built once.
     #[default]

@@ -10,6 +10,7 @@ use crate::error::SceneError;
 use crate::frame::Frame;
 use crate::ids::{InstanceId, LightId, ObjectId, ShaderId, Table, TextureId};
 use crate::instance::{Instance, validate_transform};
+use crate::journal::{Journal, SceneEdit};
 use crate::light::Light;
 use crate::mesh::Mesh;
 use crate::object::{Object, ObjectKind};
@@ -35,11 +36,13 @@ pub struct Scene {
     default_shader: Shader,
     /// What camera rays that leave the scene show, if the scene says.
     background: Option<Background>,
+    /// The edits made since the journal was last taken, if it is on (see [`crate::journal`]).
+    pub(crate) journal: Journal,
 }
 
 /// What camera rays that hit nothing show: a backdrop, which lights nothing (OpenGL's clear
 /// colour). Light from around the scene is an environment light.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Background {
     /// A soft gradient from a pale horizon to a blue zenith.
     Sky,
@@ -110,6 +113,7 @@ impl Scene {
             camera: Camera::default(),
             default_shader: Shader::new("Diffuse").expect("Diffuse is built in"),
             background: None,
+            journal: Journal::default(),
         }
     }
 
@@ -118,12 +122,14 @@ impl Scene {
     /// Reserves `n` consecutive object ids (`rtGenObjects`) without defining them; returns the
     /// first.
     pub fn reserve_objects(&mut self, n: u32) -> ObjectId {
+        self.journal.record(self.recording(|| SceneEdit::ReserveObjects { n }));
         ObjectId(self.objects.reserve(n))
     }
 
     /// Adds an object under a new id.
     pub fn add_object(&mut self, kind: ObjectKind, mesh: Mesh) -> Result<ObjectId, SceneError> {
         self.check_mesh(&mesh)?;
+        self.journal.record(self.recording(|| SceneEdit::AddObject { kind, mesh: mesh.clone() }));
         Ok(ObjectId(self.objects.insert(Arc::new(Object::new(kind, mesh)))))
     }
 
@@ -135,6 +141,7 @@ impl Scene {
             return Err(SceneError::UnknownObject(id));
         }
         self.check_mesh(&mesh)?;
+        self.journal.record(self.recording(|| SceneEdit::DefineObject { id, kind, mesh: mesh.clone() }));
         match self.objects.get_mut(id.0) {
             Some(object) if object.kind == kind => Arc::make_mut(object).redefine(mesh),
             _ => {
@@ -156,6 +163,7 @@ impl Scene {
         if let Some(index) = positions.iter().position(|p| !p.is_finite()) {
             return Err(SceneError::NotFinite { field: "positions", index });
         }
+        self.journal.record(self.recording(|| SceneEdit::SetPositions { id, positions: positions.clone() }));
         let object = self.objects.get_mut(id.0).expect("checked above");
         Arc::make_mut(object).move_vertices(positions);
         Ok(())
@@ -164,6 +172,7 @@ impl Scene {
     /// Deletes an object and every instance of it.
     pub fn delete_object(&mut self, id: ObjectId) -> Result<(), SceneError> {
         self.objects.take(id.0).ok_or(SceneError::UnknownObject(id))?;
+        self.journal.record(self.recording(|| SceneEdit::DeleteObject { id }));
         let doomed: Vec<u32> = self.instances.iter().filter(|(_, i)| i.object == id).map(|(k, _)| k).collect();
         for k in doomed {
             self.instances.take(k);
@@ -205,6 +214,7 @@ impl Scene {
     pub fn add_instance(&mut self, object: ObjectId, transform: Affine3A) -> Result<InstanceId, SceneError> {
         self.object_record(object).ok_or(SceneError::UnknownObject(object))?;
         let start = validate_transform("transform", transform)?;
+        self.journal.record(self.recording(|| SceneEdit::AddInstance { object, transform }));
         Ok(InstanceId(self.instances.insert(Instance { object, start, end: None })))
     }
 
@@ -228,19 +238,24 @@ impl Scene {
     pub fn set_motion(&mut self, id: InstanceId, start: Affine3A, end: Option<Affine3A>) -> Result<(), SceneError> {
         let start = validate_transform("transform", start)?;
         let end = end.map(|e| validate_transform("end_transform", e)).transpose()?;
+        let edit = self.recording(|| SceneEdit::SetMotion { id, start, end });
         let instance = self.instances.get_mut(id.0).ok_or(SceneError::UnknownInstance(id))?;
         instance.start = start;
         instance.end = end;
+        self.journal.record(edit);
         Ok(())
     }
 
     /// Removes an instance.
     pub fn remove_instance(&mut self, id: InstanceId) -> Result<(), SceneError> {
-        self.instances.take(id.0).map(|_| ()).ok_or(SceneError::UnknownInstance(id))
+        self.instances.take(id.0).ok_or(SceneError::UnknownInstance(id))?;
+        self.journal.record(self.recording(|| SceneEdit::RemoveInstance { id }));
+        Ok(())
     }
 
     /// Removes every instance (`rtDeleteAllInstances`); objects stay.
     pub fn clear_instances(&mut self) {
+        self.journal.record(self.recording(|| SceneEdit::ClearInstances));
         self.instances = Table::default();
     }
 
@@ -253,12 +268,15 @@ impl Scene {
 
     /// Reserves `n` consecutive shader ids (`rtGenShaders`); returns the first.
     pub fn reserve_shaders(&mut self, n: u32) -> ShaderId {
+        self.journal.record(self.recording(|| SceneEdit::ReserveShaders { n }));
         ShaderId(self.shaders.reserve(n))
     }
 
     /// Adds a shader of class `class` under a new id.
     pub fn add_shader(&mut self, class: &str) -> Result<ShaderId, SceneError> {
-        Ok(ShaderId(self.shaders.insert(Arc::new(Shader::new(class)?))))
+        let shader = Arc::new(Shader::new(class)?);
+        self.journal.record(self.recording(|| SceneEdit::AddShader { class: class.to_string() }));
+        Ok(ShaderId(self.shaders.insert(shader)))
     }
 
     /// Defines a reserved shader id as a shader of class `class` (parameters at their defaults),
@@ -268,6 +286,7 @@ impl Scene {
             return Err(SceneError::UnknownShader(id));
         }
         self.shaders.set(id.0, Arc::new(Shader::new(class)?));
+        self.journal.record(self.recording(|| SceneEdit::DefineShader { id, class: class.to_string() }));
         Ok(())
     }
 
@@ -277,24 +296,30 @@ impl Scene {
         if let ParamValue::Texture(Some(texture)) = value {
             self.texture(texture)?;
         }
-        Arc::make_mut(self.shaders.get_mut(id.0).ok_or(SceneError::UnknownShader(id))?).set(name, value)
+        let exported = Arc::make_mut(self.shaders.get_mut(id.0).ok_or(SceneError::UnknownShader(id))?).set(name, value)?;
+        self.journal.record(self.recording(|| SceneEdit::SetParam { id, name: name.to_string(), value }));
+        Ok(exported)
     }
 
     /// Names a shader (see [`Shader::set_name`]).
     pub fn set_shader_name(&mut self, id: ShaderId, name: Option<&str>) -> Result<(), SceneError> {
-        Arc::make_mut(self.shaders.get_mut(id.0).ok_or(SceneError::UnknownShader(id))?).set_name(name)
+        Arc::make_mut(self.shaders.get_mut(id.0).ok_or(SceneError::UnknownShader(id))?).set_name(name)?;
+        self.journal.record(self.recording(|| SceneEdit::SetShaderName { id, name: name.map(str::to_string) }));
+        Ok(())
     }
 
     // ----- textures -----
 
     /// Reserves `n` consecutive texture ids (`rtGenTextures`); returns the first.
     pub fn reserve_textures(&mut self, n: u32) -> TextureId {
+        self.journal.record(self.recording(|| SceneEdit::ReserveTextures { n }));
         TextureId(self.textures.reserve(n))
     }
 
     /// Adds a texture.
     pub fn add_texture(&mut self, texture: Texture) -> Result<TextureId, SceneError> {
         texture.validate()?;
+        self.journal.record(self.recording(|| SceneEdit::AddTexture { texture: texture.clone() }));
         Ok(TextureId(self.textures.insert(Arc::new(texture))))
     }
 
@@ -305,6 +330,7 @@ impl Scene {
             return Err(SceneError::UnknownTexture(id));
         }
         texture.validate()?;
+        self.journal.record(self.recording(|| SceneEdit::DefineTexture { id, texture: texture.clone() }));
         self.textures.set(id.0, Arc::new(texture));
         Ok(())
     }
@@ -343,14 +369,18 @@ impl Scene {
     /// only: from the next frame on they look as if they had none. The id stays reserved:
     /// [`Scene::define_texture`] can define it again.
     pub fn remove_texture(&mut self, id: TextureId) -> Result<(), SceneError> {
-        self.textures.take(id.0).map(|_| ()).ok_or(SceneError::UnknownTexture(id))
+        self.textures.take(id.0).ok_or(SceneError::UnknownTexture(id))?;
+        self.journal.record(self.recording(|| SceneEdit::RemoveTexture { id }));
+        Ok(())
     }
 
     /// Removes a shader (`rtDeleteShaders`). Triangles bound to it are shaded with the default
     /// shader from the next frame on, since they refer to it by id only; new geometry can no
     /// longer bind it. The id stays reserved: [`Scene::define_shader`] can define it again.
     pub fn remove_shader(&mut self, id: ShaderId) -> Result<(), SceneError> {
-        self.shaders.take(id.0).map(|_| ()).ok_or(SceneError::UnknownShader(id))
+        self.shaders.take(id.0).ok_or(SceneError::UnknownShader(id))?;
+        self.journal.record(self.recording(|| SceneEdit::RemoveShader { id }));
+        Ok(())
     }
 
     /// A shader.
@@ -373,6 +403,7 @@ impl Scene {
     /// Adds a light.
     pub fn add_light(&mut self, light: Light) -> Result<LightId, SceneError> {
         self.check_light(&light)?;
+        self.journal.record(self.recording(|| SceneEdit::AddLight { light }));
         Ok(LightId(self.lights.insert(light)))
     }
 
@@ -380,6 +411,7 @@ impl Scene {
     pub fn set_light(&mut self, id: LightId, light: Light) -> Result<(), SceneError> {
         self.check_light(&light)?;
         *self.lights.get_mut(id.0).ok_or(SceneError::UnknownLight(id))? = light;
+        self.journal.record(self.recording(|| SceneEdit::SetLight { id, light }));
         Ok(())
     }
 
@@ -393,7 +425,9 @@ impl Scene {
 
     /// Removes a light.
     pub fn remove_light(&mut self, id: LightId) -> Result<(), SceneError> {
-        self.lights.take(id.0).map(|_| ()).ok_or(SceneError::UnknownLight(id))
+        self.lights.take(id.0).ok_or(SceneError::UnknownLight(id))?;
+        self.journal.record(self.recording(|| SceneEdit::RemoveLight { id }));
+        Ok(())
     }
 
     /// Every light with its id.
@@ -405,6 +439,7 @@ impl Scene {
     pub fn set_camera(&mut self, camera: Camera) -> Result<(), SceneError> {
         camera.validate()?;
         self.camera = camera;
+        self.journal.record(self.recording(|| SceneEdit::SetCamera { camera }));
         Ok(())
     }
 
@@ -420,6 +455,7 @@ impl Scene {
             b.validate()?;
         }
         self.background = background;
+        self.journal.record(self.recording(|| SceneEdit::SetBackground { background }));
         Ok(())
     }
 

@@ -35,7 +35,7 @@ impl ParamType {
 }
 
 /// A shader parameter value.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum ParamValue {
     /// One number.
     Float(f32),

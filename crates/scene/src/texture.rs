@@ -9,7 +9,7 @@ use crate::error::SceneError;
 
 /// A texture. Procedural textures are evaluated where they are needed; image textures hold
 /// linear RGB texels.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Texture {
     /// A 3D checkerboard of cubes of edge `1 / scale`, alternating `a` and `b` (in object space,
     /// or in texture coordinates where the mesh has them).
@@ -49,6 +49,24 @@ pub struct Image {
     coarser: OnceLock<Vec<Level>>,
 }
 
+/// An image travels as its texels and coverage (level 0); the pyramid is built where it is
+/// needed, as it was here.
+impl serde::Serialize for Image {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        self.base.serialize(serializer)
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for Image {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Image, D::Error> {
+        let base = Level::deserialize(deserializer)?;
+        if base.texels.len() != base.width as usize * base.height as usize || !(base.alpha.is_empty() || base.alpha.len() == base.texels.len()) {
+            return Err(serde::de::Error::custom("an image's texels do not match its size"));
+        }
+        Ok(Image { base: Arc::new(base), coarser: OnceLock::new() })
+    }
+}
+
 /// Equal images have equal texels and coverage; whether their pyramids are built yet does not
 /// matter.
 impl PartialEq for Image {
@@ -58,7 +76,7 @@ impl PartialEq for Image {
 }
 
 /// One level of an image's mip pyramid: texels and coverage, row-major from the top row.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Level {
     width: u32,
     height: u32,

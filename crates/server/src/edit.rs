@@ -5,7 +5,7 @@
 //! at the same version. Files (images, glTF) travel as the client sent them, once.
 
 use raystage_gltf_import::Import;
-use raystage_scene::{Image, Scene, Texture, TextureId};
+use raystage_scene::{Image, Scene, SceneEdit, Texture, TextureId};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use crate::batch;
@@ -47,6 +47,12 @@ pub enum Edit {
         #[serde(skip)]
         import: Option<Box<Import>>,
     },
+    /// Edits an application made to its own scene (the C ABI's), replayed in order (see
+    /// [`cluster::Mirror`](crate::cluster::Mirror)).
+    Journal {
+        /// The edits.
+        edits: Vec<SceneEdit>,
+    },
 }
 
 /// What an edit gave back.
@@ -57,6 +63,8 @@ pub enum Applied {
     Texture(u32),
     /// What a glTF file added (its `version` is left 0 for the caller to fill).
     Gltf(GltfAdded),
+    /// A journal was replayed.
+    Replayed,
 }
 
 /// Applies `edit` to `scene`; returns what it gave back and whether it changed anything. On
@@ -117,6 +125,11 @@ pub(crate) fn apply(scene: &mut Scene, edit: Edit, limits: &Limits) -> ApiResult
                 version: 0,
             };
             Ok((Applied::Gltf(result), true))
+        }
+        Edit::Journal { edits } => {
+            let changed = !edits.is_empty();
+            scene.replay(edits)?;
+            Ok((Applied::Replayed, changed))
         }
     }
 }

@@ -42,6 +42,7 @@ pub use config::{Config, Limits, Refused};
 pub use error::{ApiError, ErrorBody, ErrorDetail};
 pub use routes::openapi::ApiDoc;
 pub use state::AppState;
+pub use stats::ClusterTimes;
 
 /// The whole API as a router, ready for `axum::serve` or `tower::ServiceExt::oneshot`.
 pub fn router(state: AppState) -> axum::Router {

@@ -24,6 +24,8 @@
 //! depend on MPI), encoded as CBOR: compact, and self-describing enough for the API's untagged
 //! values.
 
+#[cfg(feature = "mpi")]
+mod mpi;
 mod wire;
 mod worker;
 
@@ -33,7 +35,7 @@ use std::time::{Duration, Instant};
 
 use glam::Vec3;
 use raystage_render::{Cancel, Error as RenderError, Film, FrameStats, Progressive, RenderSettings, Share};
-use raystage_scene::Scene;
+use raystage_scene::{Scene, SceneEdit};
 
 use crate::edit::Edit;
 use crate::error::{ApiError, ApiResult};
@@ -41,6 +43,8 @@ use crate::stats::ClusterTimes;
 pub use wire::{SceneBuild, SceneStart};
 use wire::{Message, PassMessage, Reply, WireSettings, decode, encode};
 pub use worker::work;
+#[cfg(feature = "mpi")]
+pub use mpi::{MpiJob, MpiTransport};
 
 /// How rank 0 and the workers exchange messages: MPI, in the command line.
 pub trait Transport: Send + Sync + 'static {
@@ -172,6 +176,58 @@ impl Cluster {
         if let Err(e) = self.replicate(&encode(&Message::<&Edit>::DeleteScene { id })) {
             eprintln!("warning: deleting scene {id} on the workers: {}", e.detail.message);
         }
+    }
+}
+
+/// A scene an application holds itself (the C ABI's `rtInitMPI`), kept on every worker as
+/// scene 1: the edits the application made since the last frame (its scene's journal) go to the
+/// workers when a frame starts, and the frame renders across the ranks.
+pub struct Mirror {
+    cluster: Arc<Cluster>,
+    /// The workers' replica's version: one more with each non-empty journal.
+    version: u64,
+}
+
+impl Mirror {
+    /// The scene the workers mirror.
+    const SCENE: u32 = 1;
+
+    /// Makes the workers' replica: an empty scene, as the application's starts.
+    pub fn new(cluster: Arc<Cluster>) -> Result<Mirror, String> {
+        let build = SceneBuild { start: SceneStart::Empty, environment: None };
+        cluster.replicate_new_scene(Mirror::SCENE, "application", &build).map_err(|e| e.detail.message)?;
+        Ok(Mirror { cluster, version: 0 })
+    }
+
+    /// Ranks rendering now: all of the job's, or 1 once the workers were given up.
+    pub fn ranks(&self) -> u32 {
+        self.cluster.ranks()
+    }
+
+    /// The cluster, to stop it when the application is done.
+    pub fn cluster(&self) -> &Arc<Cluster> {
+        &self.cluster
+    }
+
+    /// Sends `edits` (the application's scene's journal since the last call) to every worker;
+    /// `Err` naming the rank that could not replay them (the replicas then differ: no frame can
+    /// be rendered across the ranks, and none is).
+    pub fn sync(&mut self, edits: Vec<SceneEdit>) -> Result<(), String> {
+        if edits.is_empty() {
+            return Ok(());
+        }
+        let edit = Edit::Journal { edits };
+        self.cluster.replicate(&Cluster::edit_message(Mirror::SCENE, &edit)).map_err(|e| e.detail.message)?;
+        self.version += 1;
+        Ok(())
+    }
+
+    /// Renders a frame of `scene` (as the workers hold it after [`Mirror::sync`]) with every
+    /// rank: one pass of all its samples, the image the one this process would render alone.
+    pub fn render(&self, scene: &Scene, settings: RenderSettings) -> Result<(Film, FrameStats, Option<ClusterTimes>), RenderError> {
+        let mut accumulator = Accumulator::new(settings, Some(&self.cluster))?;
+        let stats = accumulator.add(Mirror::SCENE, scene, self.version, settings.samples_per_pixel, true, &Cancel::new())?;
+        Ok((accumulator.film(), stats, accumulator.times()))
     }
 }
 

@@ -1,0 +1,124 @@
+//! MPI as the cluster's transport (the `mpi` feature: rsmpi needs an MPI installation and
+//! libclang to build): joining the job, and messages between its ranks.
+
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+use mpi::Threading;
+use mpi::environment::Universe;
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::*;
+
+use super::Transport;
+
+/// This process's place in the MPI job it was started in: MPI stays initialised while it
+/// lives, and is finalised when it is dropped.
+pub struct MpiJob {
+    universe: Universe,
+}
+
+// SAFETY: MPI was initialised with `Threading::Serialized` (checked in `MpiJob::join`): any
+// thread may use it, one at a time. The job is only finalised (dropped) or asked for its world
+// communicator; callers serialise their calls (the C ABI holds its context's lock throughout).
+unsafe impl Send for MpiJob {}
+
+impl MpiJob {
+    /// Joins the MPI job this process was started in (a process started without `mpirun` is a
+    /// job of one). MPI is asked to let any thread call it, one at a time: a server's requests
+    /// reach the cluster from whichever thread serves them ([`MpiTransport`] takes turns).
+    pub fn join() -> Result<MpiJob, String> {
+        let Some((universe, threading)) = mpi::initialize_with_threading(Threading::Serialized) else {
+            return Err("MPI was initialised already".into());
+        };
+        if threading < Threading::Serialized {
+            return Err(format!("this MPI library cannot be called from several threads (it offers {threading:?}, raystage needs Serialized)"));
+        }
+        Ok(MpiJob { universe })
+    }
+
+    /// The job's communicator of all ranks.
+    pub fn world(&self) -> SimpleCommunicator {
+        self.universe.world()
+    }
+
+    /// The job as the cluster's transport, on a communicator of its own.
+    pub fn transport(&self) -> MpiTransport {
+        MpiTransport { world: Mutex::new(self.world().duplicate()) }
+    }
+}
+
+/// The MPI job as the messages of `raystage serve --mpi` travel (see
+/// [`crate::cluster`]): point-to-point messages on a communicator of their own. A
+/// rank waiting for a message probes for it and sleeps in between, rather than blocking in MPI
+/// (Open MPI spins while it waits, which would take a core from the rank's render threads), and
+/// rank 0 can give up a worker that does not answer in time.
+pub struct MpiTransport {
+    /// Every MPI call is made with this lock held: MPI was initialised for calls from any
+    /// thread, one at a time ([`MpiJob::join`]).
+    world: Mutex<SimpleCommunicator>,
+}
+
+// SAFETY: a communicator is a handle MPI lets any thread use once initialised with
+// `Threading::Serialized` (checked in [`MpiJob::join`]), provided the calls do not overlap;
+// every use goes through the mutex.
+unsafe impl Send for MpiTransport {}
+// SAFETY: as above: shared use is serialised by the mutex.
+unsafe impl Sync for MpiTransport {}
+
+/// Bytes in one MPI message at most: MPI counts elements in an `int`, so a larger message
+/// (a big frame's share of floats) goes in pieces.
+const PIECE: usize = 1 << 30;
+
+impl MpiTransport {
+    fn world(&self) -> std::sync::MutexGuard<'_, SimpleCommunicator> {
+        self.world.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+impl Transport for MpiTransport {
+    fn rank(&self) -> u32 {
+        self.world().rank() as u32
+    }
+
+    fn ranks(&self) -> u32 {
+        self.world().size() as u32
+    }
+
+    /// The length first, then the bytes in pieces of at most [`PIECE`].
+    fn send(&self, rank: u32, message: &[u8]) -> Result<(), String> {
+        let world = self.world();
+        let to = world.process_at_rank(rank as i32);
+        to.send(&(message.len() as u64));
+        for piece in message.chunks(PIECE) {
+            to.send(piece);
+        }
+        Ok(())
+    }
+
+    fn receive(&self, rank: u32, deadline: Option<Instant>) -> Result<Option<Vec<u8>>, String> {
+        let mut pause = Duration::from_micros(20);
+        loop {
+            {
+                let world = self.world();
+                let from = world.process_at_rank(rank as i32);
+                if from.immediate_probe().is_some() {
+                    // The pieces follow the length at once: receiving them blocks only while they
+                    // are on their way.
+                    let (length, _) = from.receive::<u64>();
+                    let mut message = Vec::with_capacity(length as usize);
+                    while message.len() < length as usize {
+                        let (piece, _) = from.receive_vec::<u8>();
+                        message.extend_from_slice(&piece);
+                    }
+                    return Ok(Some(message));
+                }
+            }
+            if deadline.is_some_and(|d| Instant::now() >= d) {
+                return Ok(None);
+            }
+            std::thread::sleep(pause);
+            // Quick answers are caught quickly; a long wait costs a wake-up a millisecond.
+            pause = (pause * 2).min(Duration::from_millis(1));
+        }
+    }
+}
