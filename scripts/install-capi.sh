@@ -44,6 +44,10 @@ version="$(sed -n 's/^version = "\(.*\)"/\1/p' "$root/Cargo.toml" | head -n 1)"
 # What Rust's standard library needs from the system when linked statically
 # (rustc --print native-static-libs).
 static_deps=(gcc_s util rt pthread m dl c)
+# A library built with the `mpi` feature (rtInitMPI) needs MPI's too.
+if readelf -d "$lib_dir/libraystage.so" 2>/dev/null | grep -q 'NEEDED.*libmpi'; then
+    static_deps=(mpi "${static_deps[@]}")
+fi
 
 install -d "$prefix/lib/pkgconfig" "$prefix/lib/cmake/raystage" "$prefix/include/raystage"
 install -m 0755 "$lib_dir/libraystage.so" "$prefix/lib/libraystage.so"

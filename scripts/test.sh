@@ -4,7 +4,7 @@
 # to build the C and C++ examples against the installed C library; Xvfb and Mesa, for the
 # viewer's and RTUT's window tests, and xdotool to type into RTUT's; Open MPI and libclang, for rendering across MPI ranks); with Embree's
 # headers present, the benchmark crate is tested with its `embree` feature, and with Open MPI
-# the command line with its `mpi` feature.
+# the command line and the C library with their `mpi` features.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -38,7 +38,7 @@ if [[ -f /usr/include/embree3/rtcore.h ]] && grep -qE '^embree[[:space:]]*=' cra
     args+=(--features raystage-bench/embree)
 fi
 if command -v mpirun >/dev/null && [[ -f /usr/lib/x86_64-linux-gnu/openmpi/include/mpi.h || -f /usr/include/mpi.h ]]; then
-    args+=(--features raystage/mpi)
+    args+=(--features raystage/mpi --features raystage-capi/mpi)
 fi
 echo "+ cargo test ${args[*]}"
 status=0

@@ -92,6 +92,11 @@ typedef size_t RTsizei;
 typedef uint32_t RTenum;
 
 /**
+ * A signed integer (parameter handles).
+ */
+typedef int32_t RTint;
+
+/**
  * A truth value: 0 is false, 1 is true.
  */
 typedef uint8_t RTboolean;
@@ -100,11 +105,6 @@ typedef uint8_t RTboolean;
  * An unsigned integer: object, instance, shader and shader class ids (0 names nothing).
  */
 typedef uint32_t RTuint;
-
-/**
- * A signed integer (parameter handles).
- */
-typedef int32_t RTint;
 
 /**
  * A display, idle or other callback without arguments.
@@ -792,6 +792,24 @@ void rtGetShaderParameterDefault(RTsizei index, RTsizei param_index, RTfloat *va
  * `range` must point to two writable floats.
  */
 void rtGetShaderParameterRange(RTsizei index, RTsizei param_index, RTfloat *range);
+
+/**
+ * Joins the MPI job the program was started in (`mpirun -n N program`): from then on every
+ * `rtSwapBuffers` renders with all N ranks, and the image is the one one process renders. Call
+ * it first, before anything is built (else `RT_INVALID_OPERATION`). On rank 0 it returns N and
+ * the program goes on; on every other rank it does not return: the rank renders its share of
+ * rank 0's frames until rank 0 calls `rtFinishMPI`, then the process exits (status 0). Only the
+ * calling thread's frames use the ranks, and `rtRenderFrameAsync` renders on rank 0 alone.
+ * Returns 0 and records `RT_INVALID_OPERATION` if this libraystage was built without MPI, if
+ * MPI was joined already, or if the job cannot be joined.
+ */
+RTint rtInitMPI(void);
+
+/**
+ * Ends the workers of `rtInitMPI` (their processes exit) and leaves MPI; frames render in this
+ * process alone afterwards. Call it before the program exits, as MPI requires of every rank.
+ */
+void rtFinishMPI(void);
 
 /**
  * Returns the first error recorded since the last call of `rtGetError` (`RT_NO_ERROR` if none)

@@ -42,6 +42,9 @@ pub(crate) struct Context {
     /// The asynchronous frames, by handle; dropping the context (`rtResetContext`, thread exit)
     /// stops and joins those in flight.
     pub async_frames: AsyncFrames,
+    /// The MPI job whose ranks render this context's frames (`rtInitMPI`), if any.
+    #[cfg(feature = "mpi")]
+    pub cluster: Option<crate::cluster::Session>,
 }
 
 impl Context {

@@ -165,10 +165,15 @@ impl Context {
         self.no_frame_in_flight("rtSwapBuffers")?;
         let (width, height) = self.frame_buffer_size()?;
         let wanted = self.wanted_channels()?;
+        let settings = self.rendering.settings(&self.scene.frame(), width, height);
+        // Across the MPI job's ranks if `rtInitMPI` joined one.
+        let across = self.render_across_ranks(settings)?;
         let frame = self.scene.frame();
-        let settings = self.rendering.settings(&frame, width, height);
         // The settings were checked as they were set, and the size as the frame buffer was lent.
-        let (film, _stats) = render(&frame, &settings).map_err(|e| Error::internal(e.to_string()))?;
+        let film = match across {
+            Some(film) => film,
+            None => render(&frame, &settings).map_err(|e| Error::internal(e.to_string()))?.0,
+        };
         let channels = render_channels(&frame, width, height, &wanted).map_err(|e| Error::internal(e.to_string()))?;
         self.deliver(film, channels);
         Ok(())

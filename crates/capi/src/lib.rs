@@ -33,6 +33,7 @@ mod async_frames;
 mod boundary;
 mod builder;
 mod camera;
+mod cluster;
 mod context;
 mod error;
 mod frames;

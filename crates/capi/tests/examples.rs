@@ -32,10 +32,13 @@ fn artifact_dir() -> &'static Path {
             None => panic!("no profile directory above {}", exe.display()),
         };
         let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-        run(Command::new(cargo)
-            .args(["build", "--quiet", "-p", "libraystage", "--profile", profile, "--target-dir"])
-            .arg(target)
-            .current_dir(root()));
+        let mut build = Command::new(cargo);
+        build.args(["build", "--quiet", "-p", "libraystage", "--profile", profile, "--target-dir"]).arg(target).current_dir(root());
+        // The library these tests were built for: with MPI (rtInitMPI) if they were.
+        if cfg!(feature = "mpi") {
+            build.args(["--features", "libraystage/mpi"]);
+        }
+        run(&mut build);
         for lib in ["libraystage.so", "libraystage.a"] {
             assert!(dir.join(lib).is_file(), "cargo build did not write {}", dir.join(lib).display());
         }
@@ -218,6 +221,59 @@ fn three_kinds_of_objects_move_as_their_kinds_do() {
         assert_eq!(ground(&frames[0]), ground(&frames[2]), "{linking:?}: the ground's corner does not change");
         assert_ne!(frames[0], frames[2], "{linking:?}: the cube and the flag move");
     }
+}
+
+/// `three_kinds --mpi` under `mpirun -n 2` and `-n 3` (libraystage built with MPI): every frame
+/// is the same PNG as the program writes alone, static, animated and unstructured objects
+/// changing between frames; linked shared and static.
+#[cfg(feature = "mpi")]
+#[test]
+fn three_kinds_renders_the_same_frames_on_every_rank_of_an_mpi_job() {
+    for linking in [Linking::Shared, Linking::Static] {
+        // Its own build (three_kinds_of_objects_move_as_their_kinds_do builds another).
+        let exe = scratch(&format!("three_kinds-mpi-{linking:?}")).join("three_kinds");
+        run(&mut compile(&root().join("examples/c/three_kinds.c"), linking, &exe));
+        let alone = scratch(&format!("three_kinds-mpi-{linking:?}-1"));
+        run(Command::new(&exe).args(["3", "160", "90"]).current_dir(&alone).env("LD_LIBRARY_PATH", prefix().join("lib")));
+        for ranks in ["2", "3"] {
+            let dir = scratch(&format!("three_kinds-mpi-{linking:?}-{ranks}"));
+            let output = Command::new("mpirun")
+                .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+                .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+                .env("LD_LIBRARY_PATH", prefix().join("lib"))
+                // One render thread per rank: the ranks share this machine's cores.
+                .env("RAYON_NUM_THREADS", "1")
+                .args(["--oversubscribe", "-n", ranks])
+                .arg(&exe)
+                .args(["3", "160", "90", "--mpi"])
+                .current_dir(&dir)
+                .output()
+                .unwrap();
+            let (out, err) = (String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
+            assert!(output.status.success(), "{linking:?}, {ranks} ranks: {out}\n{err}");
+            // A pass the workers could not render would fall back to rank 0 alone, with a warning.
+            assert!(!err.contains("alone"), "{linking:?}, {ranks} ranks: every frame renders across the ranks: {err}");
+            assert_eq!(out.matches("rendering on").count(), 1, "only rank 0 runs the program: {out}");
+            assert!(out.contains(&format!("rendering on {ranks} MPI ranks")), "{out}");
+            for i in 0..3 {
+                let name = format!("three_kinds_{i:03}.png");
+                let (one, many) = (std::fs::read(alone.join(&name)).unwrap(), std::fs::read(dir.join(&name)).unwrap());
+                assert!(one == many, "{linking:?}, {ranks} ranks: {name} differs from the one one process writes");
+            }
+        }
+    }
+}
+
+/// Built without MPI, `rtInitMPI` says so and the program renders alone.
+#[cfg(not(feature = "mpi"))]
+#[test]
+fn without_mpi_rt_init_mpi_says_so() {
+    let dir = scratch("three_kinds-no-mpi");
+    let exe = dir.join("three_kinds");
+    run(&mut compile(&root().join("examples/c/three_kinds.c"), Linking::Shared, &exe));
+    let output = Command::new(&exe).args(["1", "32", "18", "--mpi"]).current_dir(&dir).env("LD_LIBRARY_PATH", prefix().join("lib")).output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success() && stderr.contains("built without MPI"), "{stderr}");
 }
 
 #[test]

@@ -28,5 +28,12 @@ pub extern "C" fn rtGetErrorString() -> *const c_char {
 /// cancelled and waited for (promptly), and their handles released. Allowed anywhere.
 #[unsafe(no_mangle)]
 pub extern "C" fn rtResetContext() {
-    query((), |ctx| *ctx = Context::default());
+    query((), |ctx| {
+        // The MPI job outlives the context: the workers start the new, empty scene over.
+        #[cfg(feature = "mpi")]
+        let cluster = ctx.cluster.take();
+        *ctx = Context::default();
+        #[cfg(feature = "mpi")]
+        ctx.keep_cluster(cluster);
+    });
 }

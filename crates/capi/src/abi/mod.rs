@@ -5,6 +5,7 @@
 
 pub mod camera;
 pub mod classes;
+pub mod cluster;
 pub mod enums;
 pub mod errors;
 pub mod frames;

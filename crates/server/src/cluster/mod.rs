@@ -204,6 +204,15 @@ impl Mirror {
         self.cluster.ranks()
     }
 
+    /// Starts the workers' replica over, empty (the application's scene was).
+    pub fn restart(&mut self) -> Result<(), String> {
+        self.cluster.replicate_delete(Mirror::SCENE);
+        let build = SceneBuild { start: SceneStart::Empty, environment: None };
+        self.cluster.replicate_new_scene(Mirror::SCENE, "application", &build).map_err(|e| e.detail.message)?;
+        self.version = 0;
+        Ok(())
+    }
+
     /// The cluster, to stop it when the application is done.
     pub fn cluster(&self) -> &Arc<Cluster> {
         &self.cluster
