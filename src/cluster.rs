@@ -13,6 +13,9 @@
 //! in a vote, so that all ranks go on or all stop with an error — never one rank waiting for a
 //! message that will not come. A rank that dies makes `mpirun` end the whole job with an error.
 
+use std::cell::RefCell;
+use std::time::Instant;
+
 use anyhow::{Result, bail};
 use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
@@ -41,6 +44,42 @@ pub struct Cluster {
     /// Keeps MPI initialised; finalised when dropped.
     job: MpiJob,
     world: SimpleCommunicator,
+    /// What rank 0's last gather took, kept for its timing line: [`Ranks::gather`] is shared
+    /// with one-process rendering, which has nothing of this to report.
+    gathered: RefCell<Option<Gathered>>,
+}
+
+/// What putting one frame together took, seen from rank 0 (issue 28: where a cluster frame's
+/// time goes).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Gathered {
+    /// Each rank's seconds rendering its share, by rank (rank 0's first).
+    pub render_seconds: Vec<f64>,
+    /// Seconds from rank 0 finishing its own share to holding every share: the transfers, and
+    /// the wait for ranks slower than rank 0.
+    pub seconds: f64,
+    /// Bytes rank 0 received: every other rank's pixels, ray counts and timings.
+    pub bytes: usize,
+}
+
+impl std::fmt::Display for Gathered {
+    /// `share render s per rank A B …: min A, max B, imbalance R (max/mean); gather S s on rank 0;
+    /// N bytes gathered`, the end of rank 0's timing line.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let seconds = &self.render_seconds;
+        let min = seconds.iter().copied().fold(f64::INFINITY, f64::min);
+        let max = seconds.iter().copied().fold(0.0, f64::max);
+        let mean = seconds.iter().sum::<f64>() / seconds.len().max(1) as f64;
+        let each: Vec<String> = seconds.iter().map(|s| format!("{s:.3}")).collect();
+        write!(
+            f,
+            "share render s per rank {}: min {min:.3}, max {max:.3}, imbalance {:.3} (max/mean); gather {:.3} s on rank 0; {} bytes gathered",
+            each.join(" "),
+            max / mean,
+            self.seconds,
+            self.bytes
+        )
+    }
 }
 
 impl Cluster {
@@ -49,7 +88,7 @@ impl Cluster {
     pub fn join() -> Result<Cluster> {
         let job = MpiJob::join().map_err(anyhow::Error::msg)?;
         let world = job.world();
-        Ok(Cluster { job, world })
+        Ok(Cluster { job, world, gathered: RefCell::new(None) })
     }
 
     /// Ends the whole job at once, with `code` (when ranks cannot be told to stop).
@@ -72,6 +111,10 @@ impl Cluster {
         self.world.size() as u32
     }
 
+    /// What the last frame's gather took, on rank 0 once it has gathered one; `None` elsewhere.
+    pub fn gathered(&self) -> Option<Gathered> {
+        self.gathered.borrow().clone()
+    }
 }
 
 impl Ranks for Cluster {
@@ -109,10 +152,12 @@ impl Ranks for Cluster {
     }
 
     /// Puts the shares together on rank 0: every other rank sends its share's rows of `film`
-    /// (its pixels' means, as floats: the very bits rank 0 would have computed), its ray counts
-    /// and its mean samples per pixel. Returns, on rank 0, the whole film, the statistics with
-    /// every rank's rays and the mean samples per pixel over the frame; `None` on the others.
+    /// (its pixels' means, as floats: the very bits rank 0 would have computed), its ray counts,
+    /// its mean samples per pixel and its render seconds (kept in [`Cluster::gathered`]).
+    /// Returns, on rank 0, the whole film, the statistics with every rank's rays and the mean
+    /// samples per pixel over the frame; `None` on the others.
     fn gather(&self, film: Film, mut stats: FrameStats, mean_samples: f64) -> Result<Option<(Film, FrameStats, f64)>> {
+        let start = Instant::now();
         let (w, h) = (film.width(), film.height());
         let owned_pixels = |share: Share| share.rows(w, h).iter().map(|r| (r.end - r.start) as usize * w as usize).sum::<usize>();
         if self.rank() != 0 {
@@ -124,18 +169,19 @@ impl Ranks for Cluster {
             let root = self.world.process_at_rank(0);
             root.send(&rows[..]);
             root.send(&counts[..]);
-            root.send(&mean_samples);
+            root.send(&[mean_samples, stats.seconds][..]);
             return Ok(None);
         }
         let mut pixels = film.pixels().to_vec();
         let mut samples = mean_samples * owned_pixels(self.share()) as f64;
+        let mut gathered = Gathered { render_seconds: vec![stats.seconds], seconds: 0.0, bytes: 0 };
         for rank in 1..self.size() {
             let share = Share { index: rank, count: self.size() };
             let source = self.world.process_at_rank(rank as i32);
             let (rows, _) = source.receive_vec::<f32>();
             let (counts, _) = source.receive_vec::<u64>();
-            let (their_mean, _) = source.receive::<f64>();
-            if rows.len() != owned_pixels(share) * 3 || counts.len() != 6 {
+            let (means, _) = source.receive_vec::<f64>();
+            if rows.len() != owned_pixels(share) * 3 || counts.len() != 6 || means.len() != 2 {
                 bail!("rank {rank} sent {} values for its share of {} pixels", rows.len(), owned_pixels(share));
             }
             let mut values = rows.chunks_exact(3);
@@ -145,9 +191,13 @@ impl Ranks for Cluster {
                     pixels[(y * w + x) as usize] = glam::Vec3::new(v[0], v[1], v[2]);
                 }
             }
+            gathered.bytes += std::mem::size_of_val(&rows[..]) + std::mem::size_of_val(&counts[..]) + std::mem::size_of_val(&means[..]);
             stats.add_share_counts(counts.try_into().expect("six counts, checked above"));
-            samples += their_mean * owned_pixels(share) as f64;
+            samples += means[0] * owned_pixels(share) as f64;
+            gathered.render_seconds.push(means[1]);
         }
+        gathered.seconds = start.elapsed().as_secs_f64();
+        *self.gathered.borrow_mut() = Some(gathered);
         Ok(Some((Film::from_pixels(w, h, pixels), stats, samples / (w as f64 * h as f64))))
     }
 }

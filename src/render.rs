@@ -202,6 +202,8 @@ pub struct RenderReport {
     pub threads: usize,
     /// The frame's statistics, lazy BVH builds included.
     pub frame: FrameStats,
+    /// Seconds to load the scene and, on several ranks, agree that every rank has it.
+    pub setup_seconds: f64,
 }
 
 /// Parses an integrator name: eyelight, whitted, distribution or path.
@@ -274,6 +276,14 @@ pub fn render_scene_mpi(job: &RenderJob, log: &mut impl Write, cluster: &crate::
     if cluster.rank() == 0 {
         let report = render_on(job, log, cluster)?;
         writeln!(log, "MPI: {} ranks, each rendering its share of the frame's bands of tiles on {} threads", cluster.size(), report.threads)?;
+        let gathered = cluster.gathered().context("rank 0 gathered the frame")?;
+        writeln!(
+            log,
+            "MPI timing: {} ranks x {} threads; setup {:.3} s (load + vote); {gathered}",
+            cluster.size(),
+            report.threads,
+            report.setup_seconds
+        )?;
         Ok(Some(report))
     } else {
         render_on(job, &mut std::io::sink(), cluster).map(|_| None)
@@ -294,6 +304,7 @@ fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Resul
     let format = OutputFormat::from_path(&job.out)?;
     ensure!(job.look.exposure.is_finite(), "--exposure must be a number of stops, got {}", job.look.exposure);
     // What one rank can fail at alone is voted on, so that no rank waits for another that quit.
+    let setup = Instant::now();
     let prepared = (|| {
         let out = if ranks.is_root() { Some(File::create(&job.out).with_context(|| format!("cannot create {}", job.out.display()))?) } else { None };
         let mut scene = job.scene.load(log)?;
@@ -309,6 +320,7 @@ fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Resul
         }
         Err(e) => return Err(ranks.agree(Err(e)).expect_err("a failure is agreed as one")),
     };
+    let setup_seconds = setup.elapsed().as_secs_f64();
     // Whitted's ray tracing for anything lit (the default sky lights every scene that allows
     // it); the preview for a scene that nothing lights.
     let lit = scene.lights().next().is_some() || job.settings.default_lights || scene.shaders().any(|(_, s)| s.emits());
@@ -318,7 +330,7 @@ fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Resul
     let (film, frame, mean_samples) = pool.install(|| render_with_progress(&scene, &settings, share)).context("bad render settings")?;
     let triangles = scene.object_ids().map(|id| scene.mesh(id).map_or(0, |m| m.indices.len())).sum();
     let Some((film, frame, mean_samples)) = ranks.gather(film, frame, mean_samples)? else {
-        return Ok(RenderReport { triangles, threads: pool.current_num_threads(), frame });
+        return Ok(RenderReport { triangles, threads: pool.current_num_threads(), frame, setup_seconds });
     };
     let channels = pool.install(|| raystage_render::render_channels(&scene.frame(), settings.width, settings.height, &job.channels))?;
     // An OpenEXR image holds its channels; other formats have them beside.
@@ -335,7 +347,7 @@ fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Resul
         writeln!(log, "{} -> {}", image.channel.name(), path.display())?;
     }
 
-    let report = RenderReport { triangles, threads: pool.current_num_threads(), frame };
+    let report = RenderReport { triangles, threads: pool.current_num_threads(), frame, setup_seconds };
     if frame.default_lights {
         writeln!(log, "note: nothing in the scene gives light: the default sky lights it (--no-default-lights turns it off)")?;
     }
