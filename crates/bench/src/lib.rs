@@ -9,8 +9,10 @@
 
 #[cfg(feature = "embree")]
 pub mod embree;
+pub mod cluster_model;
 pub mod dynamic;
 pub mod kernel;
+pub mod mpi;
 pub mod pathtrace;
 pub mod plot;
 pub mod rays;

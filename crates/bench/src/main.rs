@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
 use raystage_bench::kernel::Api;
-use raystage_bench::{dynamic, kernel, pathtrace, plot, render, scaling, table};
+use raystage_bench::{cluster_model, dynamic, kernel, mpi, pathtrace, plot, render, scaling, table};
 use raystage_demo::animated::{Animation, Baked, Museum, Robots, Still, Terrain};
 use raystage_demo::StandardScene;
 
@@ -123,10 +123,95 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// One frame on 1, 2, 3, 4 MPI ranks of this machine (`mpirun … raystage render --mpi`)
+    /// against one process on all cores: frame time, rank 0's gather and the ranks' imbalance,
+    /// the images compared byte for byte; then a model of the frame on 1 to 32 nodes over 10 GbE
+    /// and 1 GbE (issue 28).
+    Mpi {
+        /// Rank counts, comma-separated.
+        #[arg(long, default_value = "1,2,3,4", value_delimiter = ',')]
+        ranks: Vec<u32>,
+        /// Cores shared among the ranks (each gets cores/ranks threads, at least one).
+        #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
+        cores: usize,
+        /// The `raystage` binary, built with `--features mpi` (default: the one beside this one).
+        #[arg(long)]
+        raystage: Option<PathBuf>,
+        /// Demo scene.
+        #[arg(long, default_value = "cornell")]
+        demo: String,
+        /// Integrator.
+        #[arg(long, default_value = "path")]
+        integrator: String,
+        /// Image width.
+        #[arg(long, default_value_t = 640)]
+        width: u32,
+        /// Image height.
+        #[arg(long, default_value_t = 360)]
+        height: u32,
+        /// Samples per pixel (the default makes a frame of a few seconds on 2 cores).
+        #[arg(long, default_value_t = 16)]
+        spp: u32,
+        /// Runs of each configuration; the median frame is reported.
+        #[arg(long, default_value_t = 3)]
+        reps: usize,
+        /// Cores of each node in the cluster model.
+        #[arg(long, default_value_t = 16)]
+        cores_per_node: usize,
+        /// Samples per pixel of the cluster model's frames, comma-separated (default: the
+        /// measured frame's, then 1, an interactive frame's).
+        #[arg(long, value_delimiter = ',')]
+        model_spp: Option<Vec<u32>>,
+        /// Where to write the images.
+        #[arg(long, default_value = "mpi")]
+        dir: PathBuf,
+        /// Print the runs and the model's predictions as JSON objects, one per line.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 fn main() {
     match Cli::parse().command {
+        Command::Mpi { ranks, cores, raystage, demo, integrator, width, height, spp, reps, cores_per_node, model_spp, dir, json } => {
+            let raystage = raystage.unwrap_or_else(|| {
+                let bench = std::env::current_exe().unwrap_or_else(|e| fail(&format!("cannot find this executable: {e}")));
+                bench.with_file_name("raystage")
+            });
+            let render_args = ["--demo", &demo, "--integrator", &integrator, "--width", &width.to_string(), "--height", &height.to_string(), "--spp", &spp.to_string()]
+                .map(String::from)
+                .to_vec();
+            let config = mpi::Config { raystage, ranks, cores: cores.max(1), render_args, reps, dir };
+            let report = mpi::run(&config, |line| eprintln!("{line}")).unwrap_or_else(|e| {
+                eprintln!("error: {e}");
+                std::process::exit(1);
+            });
+            let mut model_spp = model_spp.unwrap_or_else(|| vec![spp, 1]);
+            model_spp.dedup();
+            let frames: Vec<_> = model_spp.iter().map(|&s| report.model_frame(spp, s, cores_per_node.max(1))).collect();
+            let encodings = report.encodings();
+            let links = [cluster_model::TEN_GBE, cluster_model::ONE_GBE];
+            if json {
+                for run in &report.runs {
+                    println!("{}", serde_json::to_string(run).expect("report serialises"));
+                }
+                for frame in &frames {
+                    for link in &links {
+                        for e in &encodings {
+                            for nodes in cluster_model::NODES {
+                                let p = cluster_model::predict(frame, nodes, link, e);
+                                println!("{}", serde_json::json!({ "link": link, "encoding": e, "frame": frame, "prediction": p }));
+                            }
+                        }
+                    }
+                }
+            } else {
+                print!("{}", table::mpi_table(&report));
+                for frame in &frames {
+                    print!("{}", table::cluster_model_table(frame, &encodings, &links));
+                }
+            }
+        }
         Command::Scaling { threads, scene, integrators, reps, json } => {
             let scenes = match scene.as_str() {
                 "all" => scaling::BenchScene::ALL.to_vec(),

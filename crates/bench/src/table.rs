@@ -295,3 +295,76 @@ pub fn scaling_table(points: &[crate::scaling::Point]) -> String {
     }
     out
 }
+
+/// The MPI runs as a table: per configuration (one process first) the median frame, rank 0's
+/// render plus gather, its rays per second, its speed against one process, the slowest rank's
+/// share render over the fastest's, the gather and what it received; then whether every image
+/// was the one process's.
+pub fn mpi_table(report: &crate::mpi::Report) -> String {
+    let mut out = String::new();
+    let base = report.baseline();
+    let _ = writeln!(
+        out,
+        "MPI on this machine: raystage render {} on {} cores; {}x{}, median of the runs; frame = rank 0's render + gather",
+        report.render_args.join(" "),
+        report.cores,
+        base.summary.width,
+        base.summary.height
+    );
+    let _ = writeln!(out, "  {:>5} {:>7} {:>8} {:>7} {:>8} {:>8} {:>10} {:>8} {:>11}", "ranks", "threads", "frame s", "wall s", "Mrays/s", "vs one", "max/min", "gather s", "gathered MB");
+    for run in &report.runs {
+        let timing = run.timing.as_ref();
+        let _ = writeln!(
+            out,
+            "  {:>5} {:>7} {:>8.3} {:>7.3} {:>8.2} {:>7.2}x {:>10} {:>8} {:>11}",
+            run.ranks.map_or("alone".to_string(), |k| k.to_string()),
+            run.threads,
+            run.frame_s,
+            run.wall_s,
+            run.mrays_per_s(),
+            base.frame_s / run.frame_s,
+            timing.map_or("-".to_string(), |t| format!("{:.2}", t.max_over_min())),
+            timing.map_or("-".to_string(), |t| format!("{:.3}", t.gather_s)),
+            timing.map_or("-".to_string(), |t| format!("{:.2}", t.bytes as f64 / 1e6)),
+        );
+    }
+    let same = if report.all_same_bytes() { "every run's PNG is byte for byte the one process's" } else { "SOME PNGs DIFFER from the one process's (see the log)" };
+    let _ = writeln!(out, "  {same}");
+    out
+}
+
+/// The cluster model as tables, one per link: per node count, each node's render, then for each
+/// encoding the gather in ms, frames per second and efficiency (speedup over nodes), and the
+/// efficiency with the gather overlapping the render; `*` marks efficiencies at or above
+/// [`crate::cluster_model::GOOD_EFFICIENCY`].
+pub fn cluster_model_table(frame: &crate::cluster_model::Frame, encodings: &[crate::cluster_model::Encoding], links: &[crate::cluster_model::Link]) -> String {
+    use crate::cluster_model::{GOOD_EFFICIENCY, NODES, predict};
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "cluster model: 1920x1080 at {} spp, {:.3e} core-s per pixel (measured, one process) on nodes of {} cores: {:.3} s per frame on one node",
+        frame.spp,
+        frame.core_seconds_per_pixel,
+        frame.cores_per_node,
+        frame.one_node_s()
+    );
+    let _ = writeln!(out, "  per encoding: gather ms, frames/s, efficiency, efficiency with the gather overlapping the render; * efficiency >= {GOOD_EFFICIENCY}");
+    let mark = |e: f64| format!("{e:.2}{}", if e >= GOOD_EFFICIENCY { "*" } else { " " });
+    for link in links {
+        let _ = writeln!(out, "  {} ({:.3} GB/s, {:.0} us per message, serialised into node 0)", link.name, link.bytes_per_s / 1e9, link.latency_s * 1e6);
+        let _ = write!(out, "  {:>5} {:>8}", "nodes", "render s");
+        for e in encodings {
+            let _ = write!(out, " | {:<25}", format!("{} {:.2} B/px", e.name, e.bytes_per_pixel));
+        }
+        let _ = writeln!(out);
+        for nodes in NODES {
+            let _ = write!(out, "  {nodes:>5} {:>8.3}", frame.one_node_s() / f64::from(nodes));
+            for e in encodings {
+                let p = predict(frame, nodes, link, e);
+                let _ = write!(out, " | {:>7.1} {:>6.2} {} {}", p.gather_s * 1e3, p.frames_per_s, mark(p.efficiency), mark(p.overlapped_efficiency));
+            }
+            let _ = writeln!(out);
+        }
+    }
+    out
+}
