@@ -68,7 +68,8 @@ fn same_bytes(n: u32, args: &[&str], name: &str) {
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert!(output.status.success(), "{args:?} on {n} ranks: {stdout}\n{}", String::from_utf8_lossy(&output.stderr));
     assert!(stdout.contains(&format!("MPI: {n} ranks")), "rank 0 logs the job: {stdout}");
-    let timing = stdout.lines().find(|l| l.starts_with(&format!("MPI timing: {n} ranks x 1 threads; setup "))).unwrap_or_else(|| panic!("rank 0 logs the timing split: {stdout}"));
+    // Lines come tagged with the rank by `--tag-output`.
+    let timing = stdout.lines().find(|l| l.contains(&format!("MPI timing: {n} ranks x 1 threads; setup "))).unwrap_or_else(|| panic!("rank 0 logs the timing split: {stdout}"));
     assert_eq!(timing.split("share render s per rank ").nth(1).map(|rest| rest.split(':').next().unwrap().split_whitespace().count()), Some(n as usize), "one render time per rank: {timing}");
     assert!(timing.contains(" bytes gathered"), "{timing}");
     assert_eq!(stdout.matches(" rays (").count(), 1, "only rank 0 logs the frame: {stdout}");
