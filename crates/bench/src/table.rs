@@ -297,7 +297,7 @@ pub fn scaling_table(points: &[crate::scaling::Point]) -> String {
 }
 
 /// The MPI runs as a table: per configuration (one process first) the median frame, rank 0's
-/// render plus gather, its rays per second, its speed against one process, the slowest rank's
+/// render plus gather, and the fastest, the median's rays per second, its speed against one process, the slowest rank's
 /// share render over the fastest's, the gather and what it received; then whether every image
 /// was the one process's.
 pub fn mpi_table(report: &crate::mpi::Report) -> String {
@@ -311,15 +311,20 @@ pub fn mpi_table(report: &crate::mpi::Report) -> String {
         base.summary.width,
         base.summary.height
     );
-    let _ = writeln!(out, "  {:>5} {:>7} {:>8} {:>7} {:>8} {:>8} {:>10} {:>8} {:>11}", "ranks", "threads", "frame s", "wall s", "Mrays/s", "vs one", "max/min", "gather s", "gathered MB");
+    let _ = writeln!(
+        out,
+        "  {:>5} {:>7} {:>8} {:>8} {:>7} {:>8} {:>8} {:>10} {:>8} {:>11}",
+        "ranks", "threads", "frame s", "fastest", "wall s", "Mrays/s", "vs one", "max/min", "gather s", "gathered MB"
+    );
     for run in &report.runs {
         let timing = run.timing.as_ref();
         let _ = writeln!(
             out,
-            "  {:>5} {:>7} {:>8.3} {:>7.3} {:>8.2} {:>7.2}x {:>10} {:>8} {:>11}",
+            "  {:>5} {:>7} {:>8.3} {:>8.3} {:>7.3} {:>8.2} {:>7.2}x {:>10} {:>8} {:>11}",
             run.ranks.map_or("alone".to_string(), |k| k.to_string()),
             run.threads,
             run.frame_s,
+            run.fastest_frame_s,
             run.wall_s,
             run.mrays_per_s(),
             base.frame_s / run.frame_s,
