@@ -170,10 +170,14 @@ impl Report {
     /// count and to `spp` samples per pixel, at its measured core-seconds per pixel, on nodes of
     /// `cores_per_node` cores. The cost is taken as proportional to the samples: each sample of
     /// a path tracer is a path of its own, nothing cached between them.
+    ///
+    /// The cost is the fastest baseline frame's, not the median's: a cluster node renders alone,
+    /// and on a machine shared with other work the median can be twice the idle cost, which would
+    /// make the gather look cheaper beside the render than it is.
     pub fn model_frame(&self, measured_spp: u32, spp: u32, cores_per_node: usize) -> Frame {
         let base = self.baseline();
         let pixels = f64::from(base.summary.width) * f64::from(base.summary.height);
-        let per_sample = base.frame_s * base.threads as f64 / pixels / f64::from(measured_spp.max(1));
+        let per_sample = base.fastest_frame_s * base.threads as f64 / pixels / f64::from(measured_spp.max(1));
         Frame { pixels: 1920.0 * 1080.0, spp, core_seconds_per_pixel: per_sample * f64::from(spp), cores_per_node }
     }
 
@@ -335,8 +339,10 @@ mod tests {
         let summary = parse_summary(SUMMARY).unwrap();
         let run = |ranks, frame_s, timing| Run { ranks, threads: 2, frame_s, fastest_frame_s: frame_s, wall_s: frame_s, summary, timing, same_bytes: true, png_bytes: 640 * 360 * 2 };
         let timing = Timing { bytes: 12 * sent_pixels(640, 360, 3) + 128, ..parse_timing(TIMING).unwrap() };
-        let report = Report { cores: 2, render_args: Vec::new(), runs: vec![run(None, 4.0, None), run(Some(3), 3.0, Some(timing))] };
-        // 8 core-seconds over 640×360 pixels at 16 spp; the model's frame is 1080p at 1 spp.
+        let mut base = run(None, 5.0, None);
+        base.fastest_frame_s = 4.0;
+        let report = Report { cores: 2, render_args: Vec::new(), runs: vec![base, run(Some(3), 3.0, Some(timing))] };
+        // The fastest frame: 8 core-seconds over 640×360 pixels at 16 spp; the model's frame is 1080p at 1 spp.
         let frame = report.model_frame(16, 1, 16);
         assert_eq!((frame.pixels, frame.spp, frame.cores_per_node), (1920.0 * 1080.0, 1, 16));
         assert!((frame.core_seconds_per_pixel - 8.0 / (640.0 * 360.0) / 16.0).abs() < 1e-15);

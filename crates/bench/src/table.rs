@@ -347,7 +347,7 @@ pub fn cluster_model_table(frame: &crate::cluster_model::Frame, encodings: &[cra
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "cluster model: 1920x1080 at {} spp, {:.3e} core-s per pixel (measured, one process) on nodes of {} cores: {:.3} s per frame on one node",
+        "cluster model: 1920x1080 at {} spp, {:.3e} core-s per pixel (one process's fastest frame) on nodes of {} cores: {:.3} s per frame on one node",
         frame.spp,
         frame.core_seconds_per_pixel,
         frame.cores_per_node,
