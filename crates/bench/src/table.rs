@@ -371,5 +371,6 @@ pub fn cluster_model_table(frame: &crate::cluster_model::Frame, encodings: &[cra
             let _ = writeln!(out);
         }
     }
-    out
+    // The padding of the last column and unmarked figures would end lines in spaces.
+    out.lines().map(|line| format!("{}\n", line.trim_end())).collect()
 }
