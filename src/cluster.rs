@@ -1,13 +1,13 @@
 //! Rendering one frame on every rank of an MPI job (`mpirun -n N raystage render … --mpi`), as
 //! OpenRT rendered on its cluster: every rank holds the whole scene, renders its share of the
-//! frame's bands of tiles with all its threads, and rank 0 gathers the shares into the film and
+//! frame's tiles with all its threads, and rank 0 gathers the shares into the film and
 //! writes the image. The application side cannot tell one process from N: the image is the one
 //! a single process renders, to the bit.
 //!
 //! The scene is replicated by each rank building it from the same command line (a demo, or a
 //! glTF file on a file system every node sees, as clusters share their home directories).
-//! Shares are a static interleave of bands of tiles (see [`Share`]): no messages while the frame
-//! renders, and interleaving spreads expensive regions over every rank.
+//! Shares are a static interleave of tiles (see [`Share`]): no messages while the frame renders,
+//! and interleaving spreads expensive regions over every rank.
 //!
 //! Faults: every step a rank can fail alone (creating the output file, reading the scene) ends
 //! in a vote, so that all ranks go on or all stop with an error — never one rank waiting for a
@@ -151,7 +151,7 @@ impl Ranks for Cluster {
         Err(Reported.into())
     }
 
-    /// Puts the shares together on rank 0: every other rank sends its share's rows of `film`
+    /// Puts the shares together on rank 0: every other rank sends its share's pixels of `film`
     /// (its pixels' means, as floats: the very bits rank 0 would have computed), its ray counts,
     /// its mean samples per pixel and its render seconds (kept in [`Cluster::gathered`]).
     /// Returns, on rank 0, the whole film, the statistics with every rank's rays and the mean
@@ -159,15 +159,15 @@ impl Ranks for Cluster {
     fn gather(&self, film: Film, mut stats: FrameStats, mean_samples: f64) -> Result<Option<(Film, FrameStats, f64)>> {
         let start = Instant::now();
         let (w, h) = (film.width(), film.height());
-        let owned_pixels = |share: Share| share.rows(w, h).iter().map(|r| (r.end - r.start) as usize * w as usize).sum::<usize>();
+        let owned_pixels = |share: Share| share.pixel_count(w, h);
         if self.rank() != 0 {
-            let mut rows = Vec::with_capacity(owned_pixels(self.share()) * 3);
-            for y in self.share().rows(w, h).into_iter().flatten() {
-                (0..w).for_each(|x| rows.extend(film.pixel(x, y).to_array()));
+            let mut floats = Vec::with_capacity(owned_pixels(self.share()) * 3);
+            for (x, y) in self.share().pixels(w, h) {
+                floats.extend(film.pixel(x, y).to_array());
             }
             let counts = stats.share_counts();
             let root = self.world.process_at_rank(0);
-            root.send(&rows[..]);
+            root.send(&floats[..]);
             root.send(&counts[..]);
             root.send(&[mean_samples, stats.seconds][..]);
             return Ok(None);
@@ -178,20 +178,18 @@ impl Ranks for Cluster {
         for rank in 1..self.size() {
             let share = Share { index: rank, count: self.size() };
             let source = self.world.process_at_rank(rank as i32);
-            let (rows, _) = source.receive_vec::<f32>();
+            let (floats, _) = source.receive_vec::<f32>();
             let (counts, _) = source.receive_vec::<u64>();
             let (means, _) = source.receive_vec::<f64>();
-            if rows.len() != owned_pixels(share) * 3 || counts.len() != 6 || means.len() != 2 {
-                bail!("rank {rank} sent {} values for its share of {} pixels", rows.len(), owned_pixels(share));
+            if floats.len() != owned_pixels(share) * 3 || counts.len() != 6 || means.len() != 2 {
+                bail!("rank {rank} sent {} values for its share of {} pixels", floats.len(), owned_pixels(share));
             }
-            let mut values = rows.chunks_exact(3);
-            for y in share.rows(w, h).into_iter().flatten() {
-                for x in 0..w {
-                    let v = values.next().expect("counted above");
-                    pixels[(y * w + x) as usize] = glam::Vec3::new(v[0], v[1], v[2]);
-                }
+            let mut values = floats.chunks_exact(3);
+            for (x, y) in share.pixels(w, h) {
+                let v = values.next().expect("counted above");
+                pixels[(y * w + x) as usize] = glam::Vec3::new(v[0], v[1], v[2]);
             }
-            gathered.bytes += std::mem::size_of_val(&rows[..]) + std::mem::size_of_val(&counts[..]) + std::mem::size_of_val(&means[..]);
+            gathered.bytes += std::mem::size_of_val(&floats[..]) + std::mem::size_of_val(&counts[..]) + std::mem::size_of_val(&means[..]);
             stats.add_share_counts(counts.try_into().expect("six counts, checked above"));
             samples += means[0] * owned_pixels(share) as f64;
             gathered.render_seconds.push(means[1]);

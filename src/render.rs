@@ -275,7 +275,7 @@ impl Ranks for Alone {
 pub fn render_scene_mpi(job: &RenderJob, log: &mut impl Write, cluster: &crate::Cluster) -> Result<Option<RenderReport>> {
     if cluster.rank() == 0 {
         let report = render_on(job, log, cluster)?;
-        writeln!(log, "MPI: {} ranks, each rendering its share of the frame's bands of tiles on {} threads", cluster.size(), report.threads)?;
+        writeln!(log, "MPI: {} ranks, each rendering its share of the frame's tiles on {} threads", cluster.size(), report.threads)?;
         let gathered = cluster.gathered().context("rank 0 gathered the frame")?;
         writeln!(
             log,

@@ -224,8 +224,8 @@ pub fn render_rows(frame: &Frame<'_>, settings: &RenderSettings, cancel: Option<
     render_share_rows(frame, settings, Share::WHOLE, cancel, finished)
 }
 
-/// [`render`] of one share of the frame: the rows [`Share::rows`] lists hold exactly the
-/// pixels a whole-frame render gives them, the others are left black. Processes (MPI ranks)
+/// [`render`] of one share of the frame: the pixels [`Share::pixels`] lists are exactly those a
+/// whole-frame render gives, the others are left black. Processes (MPI ranks)
 /// that each render one share of `Share { index, count }` make the frame between them.
 pub fn render_share(frame: &Frame<'_>, settings: &RenderSettings, share: Share) -> Result<(Film, FrameStats), Error> {
     render_share_rows(frame, settings, share, None, |_| {})
@@ -374,7 +374,7 @@ impl Progressive {
     /// Whether pixel `i` (row-major) is in the share rendered.
     fn owns(&self, i: usize) -> bool {
         let (w, h) = (self.settings.width, self.settings.height);
-        self.share == Share::WHOLE || self.share.owns_band(i as u32 / w / crate::tiles::tile_size(w, h))
+        self.share == Share::WHOLE || self.share.owns_tile(crate::tiles::tile_of(i as u32 % w, i as u32 / w, w, h) as u32)
     }
 
     /// The samples pixel `i` (row-major) has.

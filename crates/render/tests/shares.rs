@@ -10,9 +10,9 @@ fn assembled(scene: &raystage_scene::Scene, settings: &RenderSettings, count: u3
     for index in 0..count {
         let share = Share { index, count };
         let (film, _) = render_share(&frame, settings, share).unwrap();
-        for rows in share.rows(w, h) {
-            let range = (rows.start * w) as usize..(rows.end * w) as usize;
-            pixels[range.clone()].copy_from_slice(&film.pixels()[range]);
+        for (x, y) in share.pixels(w, h) {
+            let i = (y * w + x) as usize;
+            pixels[i] = film.pixels()[i];
         }
     }
     Film::from_pixels(w, h, pixels)
@@ -38,26 +38,32 @@ fn shares_put_together_are_the_whole_frame_bit_for_bit() {
 }
 
 #[test]
-fn every_row_is_in_exactly_one_share_and_the_rest_stays_black() {
-    for (w, h) in [(1, 1), (67, 45), (640, 360), (8, 1000)] {
+fn every_pixel_is_in_exactly_one_share_and_the_rest_stays_black() {
+    for (w, h) in [(1, 1), (67, 45), (640, 360), (8, 1000), (1920, 1080)] {
         for count in [1, 2, 3, 16] {
-            let mut seen = vec![0; h as usize];
+            let mut seen = vec![0u8; (w * h) as usize];
+            let mut counts = Vec::new();
             for index in 0..count {
-                for rows in (Share { index, count }).rows(w, h) {
-                    rows.for_each(|y| seen[y as usize] += 1);
-                }
+                let share = Share { index, count };
+                share.pixels(w, h).for_each(|(x, y)| seen[(y * w + x) as usize] += 1);
+                counts.push(share.tiles(w, h).len());
+                assert_eq!(share.pixel_count(w, h), share.pixels(w, h).count());
             }
-            assert!(seen.iter().all(|&n| n == 1), "{w}x{h}, {count} shares: {seen:?}");
+            assert!(seen.iter().all(|&n| n == 1), "{w}x{h}, {count} shares");
+            // Tile by tile: the shares' tile counts differ by one at most.
+            assert!(counts.iter().max().unwrap() - counts.iter().min().unwrap() <= 1, "{w}x{h}, {count} shares: {counts:?}");
         }
     }
     let scene = raystage_demo::shading::cornell_room().unwrap();
     let settings = RenderSettings { width: 32, height: 64, integrator: Integrator::Whitted, ..RenderSettings::default() };
     let share = Share { index: 1, count: 2 };
     let (film, _) = render_share(&scene.frame(), &settings, share).unwrap();
-    let owned = share.rows(32, 64);
+    let owned: Vec<(u32, u32)> = share.pixels(32, 64).collect();
     for y in 0..64 {
-        if !owned.iter().any(|r| r.contains(&y)) {
-            assert!((0..32).all(|x| film.pixel(x, y) == glam::Vec3::ZERO), "row {y} is not the share's");
+        for x in 0..32 {
+            if !owned.contains(&(x, y)) {
+                assert_eq!(film.pixel(x, y), glam::Vec3::ZERO, "({x}, {y}) is not the share's");
+            }
         }
     }
     assert!(render_share(&scene.frame(), &settings, Share { index: 2, count: 2 }).is_err());

@@ -8,7 +8,7 @@
 //!   could not). Every rank so holds the same scene at the same version; files (images, glTF)
 //!   go once, as the client sent them.
 //! - **Frames** are progressive passes: every rank adds the pass's samples to its share of the
-//!   frame (the static interleave of bands of tiles of [`Share`]: no messages while it renders)
+//!   frame (the static interleave of tiles of [`Share`]: no messages while it renders)
 //!   and rank 0 gathers the shares' pixel means into the film. Streams accumulate across ranks
 //!   as on one machine, and the image is the one a single process renders, to the bit.
 //! - **One exchange at a time**: the messages of an edit or a pass go out and their answers
@@ -353,17 +353,14 @@ impl Accumulator {
                 Reply::Failed(why) => return Err(Failed::Cluster(format!("rank {rank}: {why}"))),
                 _ => return Err(Failed::Cluster(format!("rank {rank} answered the pass out of turn"))),
             };
-            let rows = share.rows(width, height);
-            let owned = rows.iter().map(|r| (r.end - r.start) as usize * width as usize).sum::<usize>();
+            let owned = share.pixel_count(width, height);
             if values.0.len() != owned * 12 {
                 return Err(Failed::Cluster(format!("rank {rank} sent {} bytes for its share of {owned} pixels", values.0.len())));
             }
             let mut floats = values.0.chunks_exact(4).map(|b| f32::from_le_bytes(b.try_into().expect("four bytes")));
-            for y in rows.into_iter().flatten() {
-                for x in 0..width {
-                    let mut next = || floats.next().expect("counted above");
-                    pixels[(y * width + x) as usize] = Vec3::new(next(), next(), next());
-                }
+            for (x, y) in share.pixels(width, height) {
+                let mut next = || floats.next().expect("counted above");
+                pixels[(y * width + x) as usize] = Vec3::new(next(), next(), next());
             }
             stats.add_share_counts(counts);
             times.slowest_share_seconds = times.slowest_share_seconds.max(seconds);

@@ -53,8 +53,8 @@ pub(super) enum Reply {
     Applied,
     /// It could not be, for this reason.
     Refused(String),
-    /// A pass's share: its pixels' means (row by row over the share's rows, RGB as
-    /// little-endian `f32`: the very bits rank 0 would have computed), its ray counts
+    /// A pass's share: its pixels' means (in [`Share::pixels`](raystage_render::Share::pixels)
+    /// order, RGB as little-endian `f32`: the very bits rank 0 would have computed), its ray counts
     /// (primary, shadow, reflection, refraction, diffuse, then non-finite samples) and the
     /// seconds it took.
     Share { pixels: Blob, counts: [u64; 6], seconds: f64 },

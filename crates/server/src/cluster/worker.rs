@@ -151,10 +151,8 @@ impl Worker<'_> {
         let film = progressive.film();
         let (width, height) = (film.width(), film.height());
         let mut pixels = Vec::new();
-        for y in share.rows(width, height).into_iter().flatten() {
-            for x in 0..width {
-                pixels.extend(film.pixel(x, y).to_array().iter().flat_map(|v| v.to_le_bytes()));
-            }
+        for (x, y) in share.pixels(width, height) {
+            pixels.extend(film.pixel(x, y).to_array().iter().flat_map(|v| v.to_le_bytes()));
         }
         let reply = Reply::Share {
             pixels: Blob(pixels),
