@@ -156,15 +156,12 @@ impl Ranks for Cluster {
     /// its mean samples per pixel and its render seconds (kept in [`Cluster::gathered`]).
     /// Returns, on rank 0, the whole film, the statistics with every rank's rays and the mean
     /// samples per pixel over the frame; `None` on the others.
-    fn gather(&self, film: Film, mut stats: FrameStats, mean_samples: f64) -> Result<Option<(Film, FrameStats, f64)>> {
+    fn gather(&self, mut film: Film, mut stats: FrameStats, mean_samples: f64) -> Result<Option<(Film, FrameStats, f64)>> {
         let start = Instant::now();
         let (w, h) = (film.width(), film.height());
         let owned_pixels = |share: Share| share.pixel_count(w, h);
         if self.rank() != 0 {
-            let mut floats = Vec::with_capacity(owned_pixels(self.share()) * 3);
-            for (x, y) in self.share().pixels(w, h) {
-                floats.extend(film.pixel(x, y).to_array());
-            }
+            let floats = film.share_values(self.share());
             let counts = stats.share_counts();
             let root = self.world.process_at_rank(0);
             root.send(&floats[..]);
@@ -172,7 +169,6 @@ impl Ranks for Cluster {
             root.send(&[mean_samples, stats.seconds][..]);
             return Ok(None);
         }
-        let mut pixels = film.pixels().to_vec();
         let mut samples = mean_samples * owned_pixels(self.share()) as f64;
         let mut gathered = Gathered { render_seconds: vec![stats.seconds], seconds: 0.0, bytes: 0 };
         for rank in 1..self.size() {
@@ -181,13 +177,8 @@ impl Ranks for Cluster {
             let (floats, _) = source.receive_vec::<f32>();
             let (counts, _) = source.receive_vec::<u64>();
             let (means, _) = source.receive_vec::<f64>();
-            if floats.len() != owned_pixels(share) * 3 || counts.len() != 6 || means.len() != 2 {
+            if counts.len() != 6 || means.len() != 2 || !film.set_share_values(share, &floats) {
                 bail!("rank {rank} sent {} values for its share of {} pixels", floats.len(), owned_pixels(share));
-            }
-            let mut values = floats.chunks_exact(3);
-            for (x, y) in share.pixels(w, h) {
-                let v = values.next().expect("counted above");
-                pixels[(y * w + x) as usize] = glam::Vec3::new(v[0], v[1], v[2]);
             }
             gathered.bytes += std::mem::size_of_val(&floats[..]) + std::mem::size_of_val(&counts[..]) + std::mem::size_of_val(&means[..]);
             stats.add_share_counts(counts.try_into().expect("six counts, checked above"));
@@ -196,7 +187,7 @@ impl Ranks for Cluster {
         }
         gathered.seconds = start.elapsed().as_secs_f64();
         *self.gathered.borrow_mut() = Some(gathered);
-        Ok(Some((Film::from_pixels(w, h, pixels), stats, samples / (w as f64 * h as f64))))
+        Ok(Some((film, stats, samples / (w as f64 * h as f64))))
     }
 }
 

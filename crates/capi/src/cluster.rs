@@ -117,24 +117,23 @@ impl Context {
     pub fn finish_mpi(&mut self) -> Result<(), Error> {
         Err(Error::invalid_operation("rtFinishMPI without rtInitMPI (this libraystage was built without MPI)"))
     }
+}
 
-    /// Renders `settings`' frame of the scene across the cluster's ranks, after sending the
-    /// workers the edits made since the last frame; `None` where there is no cluster (or its
-    /// workers diverged), for the caller to render alone.
-    #[cfg(feature = "mpi")]
-    pub fn render_across_ranks(&mut self, settings: raystage_render::RenderSettings) -> Result<Option<raystage_render::Film>, Error> {
-        let Some(session) = self.cluster.as_mut().filter(|s| !s.diverged) else { return Ok(None) };
-        if let Err(why) = session.mirror.sync(self.scene.take_edits()) {
-            session.diverged = true;
-            return Err(Error::internal(format!("the MPI workers could not follow the scene ({why}): frames render on rank 0 alone from now on")));
-        }
-        let (film, _, _) = session.mirror.render(&self.scene, settings).map_err(|e| Error::internal(e.to_string()))?;
-        Ok(Some(film))
+/// Renders `frame` with `settings` across the ranks of `cluster` (`rtInitMPI`'s), after sending
+/// the workers `edits`, the scene's edits since the last frame; `None` where there is no cluster
+/// (or its workers diverged), for the caller to render alone.
+#[cfg(feature = "mpi")]
+pub(crate) fn render_across_ranks(
+    cluster: &mut Option<Session>,
+    edits: Vec<raystage_scene::SceneEdit>,
+    frame: &raystage_scene::Frame<'_>,
+    settings: raystage_render::RenderSettings,
+) -> Result<Option<raystage_render::Film>, Error> {
+    let Some(session) = cluster.as_mut().filter(|s| !s.diverged) else { return Ok(None) };
+    if let Err(why) = session.mirror.sync(edits) {
+        session.diverged = true;
+        return Err(Error::internal(format!("the MPI workers could not follow the scene ({why}): frames render on rank 0 alone from now on")));
     }
-
-    /// Without the `mpi` feature: never a cluster.
-    #[cfg(not(feature = "mpi"))]
-    pub fn render_across_ranks(&mut self, _settings: raystage_render::RenderSettings) -> Result<Option<raystage_render::Film>, Error> {
-        Ok(None)
-    }
+    let (film, _, _) = session.mirror.render(frame, settings).map_err(|e| Error::internal(e.to_string()))?;
+    Ok(Some(film))
 }

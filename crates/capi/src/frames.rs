@@ -165,10 +165,17 @@ impl Context {
         self.no_frame_in_flight("rtSwapBuffers")?;
         let (width, height) = self.frame_buffer_size()?;
         let wanted = self.wanted_channels()?;
-        let settings = self.rendering.settings(&self.scene.frame(), width, height);
-        // Across the MPI job's ranks if `rtInitMPI` joined one.
-        let across = self.render_across_ranks(settings)?;
+        // What `rtInitMPI`'s workers have not seen yet (nothing without MPI), taken before the
+        // frame borrows the scene.
+        #[cfg(feature = "mpi")]
+        let edits = self.scene.take_edits();
         let frame = self.scene.frame();
+        let settings = self.rendering.settings(&frame, width, height);
+        // Across the MPI job's ranks if `rtInitMPI` joined one.
+        #[cfg(feature = "mpi")]
+        let across = crate::cluster::render_across_ranks(&mut self.cluster, edits, &frame, settings)?;
+        #[cfg(not(feature = "mpi"))]
+        let across = None;
         // The settings were checked as they were set, and the size as the frame buffer was lent.
         let film = match across {
             Some(film) => film,

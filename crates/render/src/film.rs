@@ -9,7 +9,7 @@ use image::ImageEncoder;
 use image::codecs::png::PngEncoder;
 use rayon::prelude::*;
 
-use crate::{Error, srgb};
+use crate::{Error, Share, srgb};
 
 /// A `width × height` image of linear RGB pixels, stored row by row with row 0 at the top.
 ///
@@ -80,6 +80,24 @@ impl Film {
     pub fn pixel(&self, x: u32, y: u32) -> Vec3 {
         assert!(x < self.width && y < self.height, "pixel ({x}, {y}) outside a {}×{} film", self.width, self.height);
         self.pixels[y as usize * self.width as usize + x as usize]
+    }
+
+    /// The pixels of `share` (in [`Share::pixels`] order), three floats each: what a rank of a
+    /// cluster sends of the share it rendered, the very bits the frame is put together from.
+    pub fn share_values(&self, share: Share) -> Vec<f32> {
+        share.pixels(self.width, self.height).flat_map(|(x, y)| self.pixel(x, y).to_array()).collect()
+    }
+
+    /// Puts `values` (as [`Film::share_values`] gives them) into the pixels of `share`; `false`,
+    /// changing nothing, if there are not three per pixel of the share.
+    pub fn set_share_values(&mut self, share: Share, values: &[f32]) -> bool {
+        if values.len() != share.pixel_count(self.width, self.height) * 3 {
+            return false;
+        }
+        for ((x, y), v) in share.pixels(self.width, self.height).zip(values.chunks_exact(3)) {
+            self.pixels[y as usize * self.width as usize + x as usize] = Vec3::new(v[0], v[1], v[2]);
+        }
+        true
     }
 
     /// Rows `rows` of the film seen through `look`, as sRGB-encoded RGB8, row by row from the

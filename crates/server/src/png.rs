@@ -60,14 +60,20 @@ pub fn render_png(frame: &Frame<'_>, settings: &RenderSettings, look: Look, canc
         compressed?;
         return Err(ApiError::internal("the frame was not rendered"));
     };
-    let (_, stats) = result.map_err(|e| match e {
-        // Whoever cancelled has answered the client already; this is for the record.
-        raystage_render::Error::Cancelled => ApiError::busy(e.to_string()),
-        e => ApiError::unprocessable(None, e.to_string()),
-    })?;
+    let (_, stats) = result.map_err(render_error)?;
     // After the render's own error: a cancelled render leaves the PNG short of rows.
     let (png, done) = compressed?;
     Ok((png, stats, render_seconds, done.duration_since(start).as_secs_f64() - render_seconds))
+}
+
+/// A render's error as the API reports it: a cancelled render as busy (whoever cancelled has
+/// answered the client already; this is for the record), anything else as settings the
+/// renderer refused.
+pub(crate) fn render_error(e: raystage_render::Error) -> ApiError {
+    match e {
+        raystage_render::Error::Cancelled => ApiError::busy(e.to_string()),
+        e => ApiError::unprocessable(None, e.to_string()),
+    }
 }
 
 /// A `width × height` PNG of the RGB8 rows that `produce` sends as `(first row, bytes)` pairs,

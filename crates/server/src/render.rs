@@ -284,11 +284,8 @@ pub(crate) async fn render_png(
         // Across the cluster: one pass of every sample, gathered, then encoded (a worker's rows
         // arrive together, so encoding cannot overlap the render here).
         let start = std::time::Instant::now();
-        let mut accumulator = Accumulator::new(settings, Some(&cluster)).map_err(|e| ApiError::unprocessable(None, e.to_string()))?;
-        let stats = accumulator.add(scene_id, &scene, version, settings.samples_per_pixel, true, cancel).map_err(|e| match e {
-            raystage_render::Error::Cancelled => ApiError::busy(e.to_string()),
-            e => ApiError::unprocessable(None, e.to_string()),
-        })?;
+        let mut accumulator = Accumulator::new(settings, Some(&cluster)).map_err(crate::png::render_error)?;
+        let stats = accumulator.add(scene_id, &scene.frame(), version, settings.samples_per_pixel, true, cancel).map_err(crate::png::render_error)?;
         let rendered = start.elapsed().as_secs_f64();
         rows_done.store(settings.height, std::sync::atomic::Ordering::Relaxed);
         let png = crate::png::encode(&accumulator.film(), request.setup.look)?;

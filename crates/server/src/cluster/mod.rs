@@ -33,9 +33,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
-use glam::Vec3;
 use raystage_render::{Cancel, Error as RenderError, Film, FrameStats, Progressive, RenderSettings, Share};
-use raystage_scene::{Scene, SceneEdit};
+use raystage_scene::{Frame, SceneEdit};
 
 use crate::edit::Edit;
 use crate::error::{ApiError, ApiResult};
@@ -231,11 +230,11 @@ impl Mirror {
         Ok(())
     }
 
-    /// Renders a frame of `scene` (as the workers hold it after [`Mirror::sync`]) with every
+    /// Renders `frame` (of the scene as the workers hold it after [`Mirror::sync`]) with every
     /// rank: one pass of all its samples, the image the one this process would render alone.
-    pub fn render(&self, scene: &Scene, settings: RenderSettings) -> Result<(Film, FrameStats, Option<ClusterTimes>), RenderError> {
+    pub fn render(&self, frame: &Frame<'_>, settings: RenderSettings) -> Result<(Film, FrameStats, Option<ClusterTimes>), RenderError> {
         let mut accumulator = Accumulator::new(settings, Some(&self.cluster))?;
-        let stats = accumulator.add(Mirror::SCENE, scene, self.version, settings.samples_per_pixel, true, &Cancel::new())?;
+        let stats = accumulator.add(Mirror::SCENE, frame, self.version, settings.samples_per_pixel, true, &Cancel::new())?;
         Ok((accumulator.film(), stats, accumulator.times()))
     }
 }
@@ -288,22 +287,22 @@ impl Accumulator {
         self.times
     }
 
-    /// Adds `samples` samples per pixel of `scene` at `version` (scene `scene_id`), stopping
+    /// Adds `samples` samples per pixel of `frame`, of scene `scene_id` at `version`, stopping
     /// rank 0's share soon after `cancel` says so (the workers finish theirs: they are not
     /// reached while they render). If the cluster fails (a worker gave up, or lacks the
     /// version), the accumulation goes on alone from an empty image, rendering this pass.
     /// `last` says no pass follows: the workers drop their state at once.
-    pub(crate) fn add(&mut self, scene_id: u32, scene: &Scene, version: u64, samples: u32, last: bool, cancel: &Cancel) -> Result<FrameStats, RenderError> {
+    pub(crate) fn add(&mut self, scene_id: u32, frame: &Frame<'_>, version: u64, samples: u32, last: bool, cancel: &Cancel) -> Result<FrameStats, RenderError> {
         let Some((cluster, key)) = self.cluster.clone() else {
-            return self.progressive.add_cancellable(&scene.frame(), samples, cancel);
+            return self.progressive.add_cancellable(frame, samples, cancel);
         };
-        match self.add_across(&cluster, key, (scene_id, scene, version), samples, last, cancel) {
+        match self.add_across(&cluster, key, (scene_id, frame, version), samples, last, cancel) {
             Ok(stats) => Ok(stats),
             Err(Failed::Render(e)) => Err(e),
             Err(Failed::Cluster(why)) => {
                 eprintln!("warning: a pass across the cluster failed ({why}): rendering it on rank 0 alone");
                 self.alone()?;
-                self.progressive.add_cancellable(&scene.frame(), samples, cancel)
+                self.progressive.add_cancellable(frame, samples, cancel)
             }
         }
     }
@@ -316,7 +315,7 @@ impl Accumulator {
         Ok(())
     }
 
-    fn add_across(&mut self, cluster: &Cluster, key: u64, (scene_id, scene, version): (u32, &Scene, u64), samples: u32, last: bool, cancel: &Cancel) -> Result<FrameStats, Failed> {
+    fn add_across(&mut self, cluster: &Cluster, key: u64, (scene_id, frame, version): (u32, &Frame<'_>, u64), samples: u32, last: bool, cancel: &Cancel) -> Result<FrameStats, Failed> {
         let mut link = cluster.lock();
         if let Some(why) = link.as_ref() {
             return Err(Failed::Cluster(why.clone()));
@@ -334,16 +333,15 @@ impl Accumulator {
         };
         let send_seconds = cluster.send_all(&mut link, &encode(&Message::<&Edit>::Pass(pass))).map_err(Failed::Cluster)?;
         let start = Instant::now();
-        let own = self.progressive.add_cancellable(&scene.frame(), samples, cancel);
+        let own = self.progressive.add_cancellable(frame, samples, cancel);
         let render_seconds = start.elapsed().as_secs_f64();
         // Collected even when rank 0's share was cancelled: the workers answer every pass.
         let replies = cluster.collect(&mut link).map_err(Failed::Cluster)?;
         drop(link);
         let gather_seconds = start.elapsed().as_secs_f64() - render_seconds;
         let mut stats = own.map_err(Failed::Render)?;
-        let settings = *self.progressive.settings();
-        let (width, height, ranks) = (settings.width, settings.height, cluster.transport.ranks());
-        let mut pixels = self.progressive.film().pixels().to_vec();
+        let ranks = cluster.transport.ranks();
+        let mut film = self.progressive.film();
         let mut times = ClusterTimes { ranks, send_seconds, render_seconds, gather_seconds, ..ClusterTimes::default() };
         for (i, reply) in replies.into_iter().enumerate() {
             let rank = i as u32 + 1;
@@ -353,20 +351,16 @@ impl Accumulator {
                 Reply::Failed(why) => return Err(Failed::Cluster(format!("rank {rank}: {why}"))),
                 _ => return Err(Failed::Cluster(format!("rank {rank} answered the pass out of turn"))),
             };
-            let owned = share.pixel_count(width, height);
-            if values.0.len() != owned * 12 {
+            let floats: Vec<f32> = values.0.chunks_exact(4).map(|b| f32::from_le_bytes(b.try_into().expect("four bytes"))).collect();
+            if values.0.len() % 4 != 0 || !film.set_share_values(share, &floats) {
+                let owned = share.pixel_count(film.width(), film.height());
                 return Err(Failed::Cluster(format!("rank {rank} sent {} bytes for its share of {owned} pixels", values.0.len())));
-            }
-            let mut floats = values.0.chunks_exact(4).map(|b| f32::from_le_bytes(b.try_into().expect("four bytes")));
-            for (x, y) in share.pixels(width, height) {
-                let mut next = || floats.next().expect("counted above");
-                pixels[(y * width + x) as usize] = Vec3::new(next(), next(), next());
             }
             stats.add_share_counts(counts);
             times.slowest_share_seconds = times.slowest_share_seconds.max(seconds);
             times.gathered_bytes += values.0.len() as u64;
         }
-        self.film = Some(Film::from_pixels(width, height, pixels));
+        self.film = Some(film);
         self.times = Some(times);
         if last {
             // The workers dropped it with this pass.

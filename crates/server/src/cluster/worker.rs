@@ -148,12 +148,7 @@ impl Worker<'_> {
         let start = Instant::now();
         let stats = progressive.add(&scene.frame(), pass.samples);
         let seconds = start.elapsed().as_secs_f64();
-        let film = progressive.film();
-        let (width, height) = (film.width(), film.height());
-        let mut pixels = Vec::new();
-        for (x, y) in share.pixels(width, height) {
-            pixels.extend(film.pixel(x, y).to_array().iter().flat_map(|v| v.to_le_bytes()));
-        }
+        let pixels = progressive.film().share_values(share).iter().flat_map(|v| v.to_le_bytes()).collect();
         let reply = Reply::Share {
             pixels: Blob(pixels),
             counts: stats.share_counts(),

@@ -180,7 +180,7 @@ pub(crate) async fn refine(
         let token = cancel.0.clone();
         let mut pass = tokio::task::spawn_blocking(move || {
             let _running = turn.running();
-            let stats = acc.progressive.add(scene_id, &scene, acc.version, samples, false, &token);
+            let stats = acc.progressive.add(scene_id, &scene.frame(), acc.version, samples, false, &token);
             drop(scene);
             // Decided after the pass, which gave the sender its duration to deliver the last frame.
             let png = (stats.is_ok() && (last || sent.load(Ordering::Acquire))).then(|| timed_png(&acc.progressive.film(), acc.settings.setup.look));
