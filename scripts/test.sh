@@ -16,6 +16,8 @@ packages+=(xvfb libgl1 libglx-mesa0 libgl1-mesa-dri libegl1 libx11-xcb1 libxcurs
 packages+=(xdotool)
 # The API's schemathesis run (scripts/schemathesis.sh) waits for the server with curl.
 packages+=(curl)
+# The C ABI's memory checks (crates/capi/tests: random_calls.rs, examples.rs) run under valgrind.
+packages+=(valgrind)
 # Rendering across MPI ranks (the root crate's `mpi` feature, tests/cli_mpi.rs): Open MPI, and
 # libclang for the bindings rsmpi generates at build time.
 packages+=(libopenmpi-dev openmpi-bin libclang1-14 libclang-common-14-dev)

@@ -636,9 +636,9 @@ typedef void (*RTUTmousefunc)(int, int, int, int);
 #define RT_MAX_LIGHT_SAMPLES 256
 
 /**
- * Largest magnitude of a vertex coordinate once transformed by the modelview matrix, and of a
- * matrix entry: `rtVertex*`, `rtTriangleMesh` and the matrix calls refuse more with
- * `RT_INVALID_VALUE`. Single-precision arithmetic renders scenes within it correctly; beyond it
+ * Largest magnitude of a vertex coordinate once transformed by the modelview matrix, of a
+ * matrix's translation, and of the camera's points and planes: `rtVertex*`, `rtTriangleMesh`,
+ * the matrix calls, `rtLookAt`, `rtOrtho` and `rtFrustum` refuse more with `RT_INVALID_VALUE`. Single-precision arithmetic renders scenes within it correctly; beyond it
  * shading and hit points lose their precision, and squared distances overflow.
  */
 #define RT_MAX_COORDINATE 1e8
@@ -666,7 +666,8 @@ void rtPerspective(RTfloat fovy, RTfloat aspect, RTfloat znear, RTfloat zfar);
  * the window `[left, right] × [bottom, top]` on the plane at distance `znear` in front of it
  * (x to the right, y up, in the camera's frame that `rtLookAt` sets). The window fills the
  * frame buffer whatever its aspect ratio, as OpenGL's viewport does. Needs `left != right`,
- * `bottom != top` and 0 < `znear` < `zfar` (else `RT_INVALID_VALUE`); `zfar` clips nothing.
+ * `bottom != top`, 0 < `znear` < `zfar` and every argument within ±`RT_MAX_COORDINATE` (else
+ * `RT_INVALID_VALUE`); `zfar` clips nothing.
  * Replaces the projection `rtPerspective` or `rtOrtho` set.
  */
 void rtFrustum(RTdouble left,
@@ -682,7 +683,9 @@ void rtFrustum(RTdouble left,
  * camera's frame), starting `znear` in front of the eye; `znear` may be negative, so that what
  * lies just behind the eye shows, as in OpenGL (`rtOrtho(0, w, 0, h, -1, 1)` with the camera at
  * z = 0 draws the plane z = 0). The window fills the frame buffer. Needs `left != right`,
- * `bottom != top` and `znear != zfar` (else `RT_INVALID_VALUE`); `zfar` clips nothing. There
+ * `bottom != top`, `znear != zfar` and every argument within ±`RT_MAX_COORDINATE` (else
+ * `RT_INVALID_VALUE`: a ray starting farther away would measure its depth beyond single
+ * precision); `zfar` clips nothing. There
  * is no depth of field: `rtLens` has no effect while it is in force. Replaces the projection
  * `rtPerspective` or `rtFrustum` set.
  */
@@ -696,7 +699,8 @@ void rtOrtho(RTdouble left,
 /**
  * Places the camera at the eye point, looking at the centre point, with `up` pointing up in the
  * image (it must not be parallel to the view direction). World coordinates: the modelview
- * matrix does not apply.
+ * matrix does not apply. Each coordinate of the eye and the centre must be within
+ * ±`RT_MAX_COORDINATE` (else `RT_INVALID_VALUE`), as vertices are.
  */
 void rtLookAt(RTfloat eye_x,
               RTfloat eye_y,
@@ -911,7 +915,9 @@ void rtWritePNG(const char *path);
  * without a frame buffer or while an object is being defined.
  *
  * Handles belong to the context (the thread) that started the frame; each is released with
- * `rtFrameRelease` (or `rtResetContext`), and never names another frame afterwards.
+ * `rtFrameRelease` (or `rtResetContext`), and never names another frame afterwards: handles are
+ * unique for the life of the process, across threads and `rtResetContext`, so a stale one
+ * records `RT_INVALID_VALUE` whatever was started since.
  */
 RTuint rtRenderFrameAsync(void);
 

@@ -60,21 +60,32 @@ impl Drop for AsyncFrame {
     }
 }
 
+/// How many frame handles were handed out, by every context of the process. Handles are never
+/// reused, not even by a context that `rtResetContext` made anew, so a released one is told apart
+/// from one never issued, and a stale handle never names a newer frame.
+static ISSUED: AtomicU32 = AtomicU32::new(0);
+
+/// The next frame handle, unique for the life of the process.
+fn issue_handle() -> Result<RTuint, Error> {
+    ISSUED
+        .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |issued| issued.checked_add(1))
+        .map(|issued| issued + 1)
+        .map_err(|_| Error::out_of_memory(format!("all {} frame handles were handed out", RTuint::MAX)))
+}
+
 /// The asynchronous frames of a context, by handle.
 #[derive(Debug, Default)]
 pub(crate) struct AsyncFrames {
     frames: HashMap<RTuint, AsyncFrame>,
-    /// How many handles were handed out. Handles are never reused, so a released one is told
-    /// apart from one never issued, and a stale handle never names a newer frame.
-    issued: RTuint,
 }
 
 impl AsyncFrames {
     fn get(&mut self, handle: RTuint) -> Result<&mut AsyncFrame, Error> {
-        let issued = self.issued;
         self.frames.get_mut(&handle).ok_or_else(|| match handle {
             0 => Error::invalid_value("frame handle 0 names no frame"),
-            h if h <= issued => Error::invalid_value(format!("frame {h} was released")),
+            h if h <= ISSUED.load(Ordering::Relaxed) => {
+                Error::invalid_value(format!("frame {h} was released or belongs to another thread's context"))
+            }
             h => Error::invalid_value(format!("frame {h} does not exist")),
         })
     }
@@ -97,12 +108,8 @@ impl Context {
         self.outside_definition("rtRenderFrameAsync")?;
         self.no_frame_in_flight("rtRenderFrameAsync")?;
         let (width, height) = self.frame_buffer_size()?;
-        let channels = self.wanted_channels()?;
-        let handle = self
-            .async_frames
-            .issued
-            .checked_add(1)
-            .ok_or_else(|| Error::out_of_memory(format!("all {} frame handles were handed out", RTuint::MAX)))?;
+        let channels = self.wanted_channels(width, height)?;
+        let handle = issue_handle()?;
         // The snapshot: a clone shares the scene's objects and trees, so it is cheap, and edits
         // made after this call change the context's scene, not the frame's.
         let scene = self.scene.clone();
@@ -122,7 +129,6 @@ impl Context {
                 Ok((film, raystage_render::render_channels(&frame, width, height, &channels)?))
             })
             .map_err(|e| Error::out_of_memory(format!("cannot start a render thread: {e}")))?;
-        self.async_frames.issued = handle;
         self.async_frames.frames.insert(handle, AsyncFrame { cancel, progress, state: State::InFlight(thread) });
         Ok(handle)
     }

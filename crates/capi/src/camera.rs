@@ -2,7 +2,8 @@
 //! camera directly. As the seed says
 //! (*The OpenRT API* §2.1), they take OpenGL's arguments but do not build matrices: there is no
 //! projection matrix to distort, so the image's aspect ratio is always the frame buffer's, and a
-//! ray tracer needs no clipping planes. Both are checked all the same. `rtLens` and `rtShutter`
+//! ray tracer needs no clipping planes. Both are checked all the same, and the camera's points
+//! and planes are bound by `RT_MAX_COORDINATE` as vertices are. `rtLens` and `rtShutter`
 //! set the camera's thin lens and shutter, which only the distribution ray tracer and the path
 //! tracer sample; each call keeps what the others set.
 
@@ -10,7 +11,7 @@ use glam::Vec3;
 use raystage_scene::{Camera, Projection};
 
 use crate::context::Context;
-use crate::error::{Error, finite, single};
+use crate::error::{Error, coordinates, finite, single};
 
 impl Context {
     /// `rtPerspective`: the vertical field of view, in degrees.
@@ -29,7 +30,9 @@ impl Context {
 
     /// `rtOrtho` (`orthographic`) or `rtFrustum`: a window projection, with OpenGL's checks.
     pub fn window_projection(&mut self, orthographic: bool, values: [f64; 6]) -> Result<(), Error> {
-        let [left, right, bottom, top, near, far] = single("(left, right, bottom, top, znear, zfar)", values)?;
+        let what = "(left, right, bottom, top, znear, zfar)";
+        let [left, right, bottom, top, near, far] = single(what, values)?;
+        coordinates(what, &[left, right, bottom, top, near, far])?;
         for (what, a, b) in [("left and right", left, right), ("bottom and top", bottom, top), ("znear and zfar", near, far)] {
             if a == b {
                 return Err(Error::invalid_value(format!("{what} are both {a}: the volume is empty")));
@@ -49,8 +52,8 @@ impl Context {
 
     /// `rtLookAt`: where the camera is, what it looks at, and which way is up.
     pub fn look_at(&mut self, eye: [f32; 3], center: [f32; 3], up: [f32; 3]) -> Result<(), Error> {
-        finite("eye", &eye)?;
-        finite("center", &center)?;
+        coordinates("eye", &eye)?;
+        coordinates("center", &center)?;
         finite("up", &up)?;
         let camera = Camera { eye: Vec3::from(eye), target: Vec3::from(center), up: Vec3::from(up), ..*self.scene.camera() };
         self.scene.set_camera(camera)?;

@@ -75,6 +75,22 @@ pub(crate) fn finite(what: &str, values: &[f32]) -> Result<(), Error> {
     }
 }
 
+/// Checks that every value of `values` (named `what`, as [`finite`] names them) is a coordinate
+/// within [`RT_MAX_COORDINATE`](crate::abi::enums::RT_MAX_COORDINATE): the camera's points and
+/// planes are bound as vertices are, so that a ray's origin and distance stay within single
+/// precision's range wherever it meets the scene.
+pub(crate) fn coordinates(what: &str, values: &[f32]) -> Result<(), Error> {
+    use crate::abi::enums::RT_MAX_COORDINATE;
+    finite(what, values)?;
+    match values.iter().position(|v| v.abs() > RT_MAX_COORDINATE) {
+        Some(i) => {
+            let at = if values.len() == 1 { String::new() } else { format!("[{i}]") };
+            Err(Error::invalid_value(format!("{what}{at} is {:e}, beyond RT_MAX_COORDINATE ({RT_MAX_COORDINATE:e})", values[i])))
+        }
+        None => Ok(()),
+    }
+}
+
 /// Converts the arguments of a double-precision call to the single precision raystage computes
 /// in, checking each is finite and within single precision's range (so none becomes infinite);
 /// `what` names them in the message as [`finite`] does.

@@ -1,10 +1,19 @@
 //! Frames: the application's frame buffer (seed: *The OpenRT API* §2.5.3, "an
 //! application-supplied memory region"), `rtSwapBuffers` which resolves every reference and
 //! renders (frame semantics, §2.5.1), picking, and PNG output of the last frame.
+//!
+//! The frame buffer and the channel buffers are the only memory the library keeps a pointer to
+//! without owning it: the application's, valid by `rtFrameBuffer`'s and `rtChannelBuffer`'s
+//! promise until it is replaced, taken back or the context reset, and written only inside the
+//! calls that deliver a frame. Everything else a call is given (vertices, meshes, texture pixels,
+//! strings) is copied before it returns, and RTUT's window pixels are owned jointly
+//! ([`SharedPixels`]), so no call can free memory a frame still goes to.
 
+use std::cell::RefCell;
 use std::ffi::OsStr;
 use std::os::unix::ffi::OsStrExt;
 use std::ptr::NonNull;
+use std::rc::Rc;
 
 use raystage_render::{Channel, ChannelImage, Film, NO_ID, render, render_channels};
 use raystage_scene::SceneHit;
@@ -44,10 +53,32 @@ impl PixelFormat {
     }
 }
 
-/// Memory the application lent for frames: `width × height` pixels, row 0 at the top.
+/// Pixels shared between RTUT's window and the context: whoever holds them keeps them alive, so
+/// the window can replace its pixels (a resize) while the context still holds the old ones.
+pub(crate) type SharedPixels = Rc<RefCell<Vec<u8>>>;
+
+/// Where a frame buffer's pixels live.
+enum Memory {
+    /// The application's memory (`rtFrameBuffer`), valid by its promise.
+    Lent(NonNull<u8>),
+    /// RTUT's window pixels, owned together with the window: no sequence of calls can free them
+    /// while the context writes them.
+    Shared(SharedPixels),
+}
+
+impl std::fmt::Debug for Memory {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Memory::Lent(pixels) => write!(f, "Lent({pixels:?})"),
+            Memory::Shared(_) => f.write_str("Shared"),
+        }
+    }
+}
+
+/// Memory for frames: `width × height` pixels, row 0 at the top.
 #[derive(Debug)]
 pub(crate) struct FrameBuffer {
-    pixels: NonNull<u8>,
+    memory: Memory,
     pub width: u32,
     pub height: u32,
     format: PixelFormat,
@@ -62,14 +93,31 @@ impl FrameBuffer {
     /// documents), and that nothing else writes while `rtSwapBuffers` runs.
     pub unsafe fn new(pixels: NonNull<u8>, width: usize, height: usize, format: PixelFormat) -> Result<FrameBuffer, Error> {
         let (width, height) = lent_size("a frame buffer", width, height)?;
-        Ok(FrameBuffer { pixels, width, height, format })
+        Ok(FrameBuffer { memory: Memory::Lent(pixels), width, height, format })
     }
 
-    /// Writes `film` (of the same size) into the application's memory.
+    /// A frame buffer in `pixels` (RGBA8, `width × height`, as many bytes as that needs), shared
+    /// with their owner.
+    pub fn shared(pixels: SharedPixels, width: usize, height: usize) -> Result<FrameBuffer, Error> {
+        let (width, height) = lent_size("a frame buffer", width, height)?;
+        if pixels.borrow().len() != width as usize * height as usize * 4 {
+            return Err(Error::internal(format!("shared pixels of {} bytes for {width} × {height} RGBA8 pixels", pixels.borrow().len())));
+        }
+        Ok(FrameBuffer { memory: Memory::Shared(pixels), width, height, format: PixelFormat::Rgba8 })
+    }
+
+    /// Writes `film` (of the same size) into the frame buffer's memory.
     fn write(&self, film: &Film) {
         let len = self.width as usize * self.height as usize * self.format.bytes_per_pixel();
-        // SAFETY: `new`'s contract: `len` writable bytes, not touched by anyone else meanwhile.
-        let bytes = unsafe { std::slice::from_raw_parts_mut(self.pixels.as_ptr(), len) };
+        let mut shared;
+        let bytes: &mut [u8] = match &self.memory {
+            // SAFETY: `new`'s contract: `len` writable bytes, not touched by anyone else meanwhile.
+            Memory::Lent(pixels) => unsafe { std::slice::from_raw_parts_mut(pixels.as_ptr(), len) },
+            Memory::Shared(pixels) => {
+                shared = pixels.borrow_mut();
+                &mut shared[..len]
+            }
+        };
         match self.format {
             PixelFormat::Rgba8 => bytes.copy_from_slice(&film.to_rgba8()),
             PixelFormat::Rgba32F => {
@@ -161,10 +209,18 @@ impl Context {
     /// `rtSwapBuffers`: renders the scene as it is now into the frame buffer, with the render
     /// settings as they are now.
     pub fn swap_buffers(&mut self) -> Result<(), Error> {
-        self.outside_definition("rtSwapBuffers")?;
-        self.no_frame_in_flight("rtSwapBuffers")?;
         let (width, height) = self.frame_buffer_size()?;
-        let wanted = self.wanted_channels()?;
+        let (film, channels) = self.render_frame("rtSwapBuffers", width, height)?;
+        self.deliver(film, channels);
+        Ok(())
+    }
+
+    /// Renders a `width × height` frame of the scene as it is now, with the channels lent, and
+    /// changes nothing else: [`Context::deliver`] puts it where it goes. `what` names the call.
+    pub fn render_frame(&mut self, what: &str, width: u32, height: u32) -> Result<(Film, Vec<ChannelImage>), Error> {
+        self.outside_definition(what)?;
+        self.no_frame_in_flight(what)?;
+        let wanted = self.wanted_channels(width, height)?;
         // What `rtInitMPI`'s workers have not seen yet (nothing without MPI), taken before the
         // frame borrows the scene.
         #[cfg(feature = "mpi")]
@@ -182,14 +238,12 @@ impl Context {
             None => render(&frame, &settings).map_err(|e| Error::internal(e.to_string()))?.0,
         };
         let channels = render_channels(&frame, width, height, &wanted).map_err(|e| Error::internal(e.to_string()))?;
-        self.deliver(film, channels);
-        Ok(())
+        Ok((film, channels))
     }
 
-    /// The channels lent, checked against the frame buffer's size (an error names the first that
-    /// differs: its memory was lent for another size).
-    pub fn wanted_channels(&self) -> Result<Vec<Channel>, Error> {
-        let (width, height) = self.frame_buffer_size()?;
+    /// The channels lent, checked against the frame's size `width × height` (an error names the
+    /// first that differs: its memory was lent for another size).
+    pub fn wanted_channels(&self, width: u32, height: u32) -> Result<Vec<Channel>, Error> {
         for c in &self.frames.channels {
             if (c.width, c.height) != (width, height) {
                 return Err(Error::invalid_operation(format!(

@@ -3,9 +3,10 @@
 //! `rtut*`. The window is an egui/eframe window (the viewer's toolkit); where there is no
 //! display, the same program runs headless and writes each frame as a PNG file.
 //!
-//! The window owns the context's frame buffer: `rtutSwapBuffers` lends it (RGBA8, the window's
-//! size in pixels) and renders into it, so that `rtPick` in a mouse callback takes the
-//! callback's coordinates. Callbacks run on the thread that called `rtutMainLoop`, whose context
+//! The window shares its pixels with the context: `rtutSwapBuffers` makes them the context's
+//! frame buffer (RGBA8, the window's size in pixels) and renders into them, so that `rtPick` in a
+//! mouse callback takes the callback's coordinates. The two own the pixels together, so a resize
+//! (which gives the window new pixels) never frees memory the context still writes. Callbacks run on the thread that called `rtutMainLoop`, whose context
 //! they use, with no `rt*` call in progress (the loop holds no borrow of the context or of this
 //! module's state while it calls them).
 
@@ -14,12 +15,12 @@ mod window;
 use std::cell::RefCell;
 use std::ffi::{c_int, c_uchar};
 use std::path::PathBuf;
-use std::ptr::NonNull;
+use std::rc::Rc;
 
 use crate::abi::enums::RT_MAX_FRAMEBUFFER_SIZE;
 use crate::context::Context;
 use crate::error::Error;
-use crate::frames::{FrameBuffer, PixelFormat};
+use crate::frames::{FrameBuffer, SharedPixels};
 
 /// A display, idle or other callback without arguments.
 pub type RTUTvoidfunc = Option<unsafe extern "C" fn()>;
@@ -55,8 +56,8 @@ pub(crate) struct Rtut {
     /// `rtutLeaveMainLoop` was called.
     pub leave: bool,
     running: bool,
-    /// The frame buffer lent to the context: RGBA8, `frame_size` pixels.
-    pixels: Vec<u8>,
+    /// The window's pixels, shared with the context by `rtutSwapBuffers`: RGBA8, `frame_size`.
+    pixels: SharedPixels,
     frame_size: (u32, u32),
     /// Frames `rtutSwapBuffers` rendered, and where a headless loop writes them.
     pub swapped: u64,
@@ -112,44 +113,40 @@ impl Rtut {
         }
     }
 
-    /// Sizes the frame buffer to `width × height` pixels (it keeps its memory otherwise).
+    /// Sizes the frame buffer to `width × height` pixels (it keeps its memory otherwise). New
+    /// pixels, not the old ones resized: the context may still hold those as its frame buffer.
     pub fn resize(&mut self, width: u32, height: u32) {
         if self.frame_size != (width, height) {
             self.frame_size = (width, height);
-            self.pixels = vec![0; width as usize * height as usize * 4];
+            self.pixels = Rc::new(RefCell::new(vec![0; width as usize * height as usize * 4]));
         }
     }
 
     /// The frame buffer's size, and its pixels (RGBA8, rows from the top).
-    pub fn frame(&self) -> ((u32, u32), &[u8]) {
-        (self.frame_size, &self.pixels)
+    pub fn frame(&self) -> ((u32, u32), std::cell::Ref<'_, Vec<u8>>) {
+        (self.frame_size, self.pixels.borrow())
     }
 
-    /// Lends the window's frame buffer to `ctx`.
-    fn lend(&mut self, ctx: &mut Context) -> Result<(), Error> {
-        let (width, height) = self.frame_size;
-        let pixels = NonNull::new(self.pixels.as_mut_ptr()).ok_or_else(|| Error::internal("the window has no frame buffer"))?;
-        // SAFETY: `pixels` holds `width × height × 4` bytes. This state owns them, lives as long
-        // as the thread's context, and replaces them only in `resize`, which the next
-        // `rtutSwapBuffers` follows with a new loan before anything renders; nothing else
-        // writes them while a frame renders into them.
-        let target = unsafe { FrameBuffer::new(pixels, width as usize, height as usize, PixelFormat::Rgba8)? };
-        ctx.set_frame_buffer(Some(target))
-    }
-
-    /// `rtutSwapBuffers`: renders a frame into the window's frame buffer; headless, writes it as
-    /// the next PNG file too.
+    /// `rtutSwapBuffers`: renders a frame into the window's pixels, which become the context's
+    /// frame buffer; headless, writes it as the next PNG file too. Everything that can fail
+    /// (the render, the file) comes before the frame buffer changes, so a refused call leaves
+    /// the context's frame buffer, its last frame and the count of frames as they were.
     pub fn swap_buffers(&mut self, ctx: &mut Context) -> Result<(), Error> {
         self.window("rtutSwapBuffers")?;
         if !self.running {
             return Err(Error::invalid_operation("rtutSwapBuffers shows a frame in the window: call it from a callback of rtutMainLoop"));
         }
-        self.lend(ctx)?;
-        ctx.swap_buffers()?;
+        let (width, height) = self.frame_size;
+        let target = FrameBuffer::shared(Rc::clone(&self.pixels), width as usize, height as usize)?;
+        let (film, channels) = ctx.render_frame("rtutSwapBuffers", width, height)?;
         if let Some(prefix) = &self.headless {
-            let path = format!("{}-{:04}.png", prefix.display(), self.swapped);
-            ctx.write_png(path.as_bytes())?;
+            let mut path = prefix.clone().into_os_string();
+            path.push(format!("-{:04}.png", self.swapped));
+            film.write_png(path).map_err(|e| Error::io(e.to_string()))?;
         }
+        // Cannot fail: `render_frame` found no frame in flight.
+        ctx.set_frame_buffer(Some(target))?;
+        ctx.deliver(film, channels);
         self.swapped += 1;
         Ok(())
     }

@@ -375,6 +375,23 @@ fn async_frame_checks_pass() {
     }
 }
 
+/// Sequences of public calls that once broke rt.h's rules (`tests/c/call_sequences.c`): a
+/// window resized while the context rendered into its pixels, frame handles reused after
+/// `rtResetContext`, a refused `rtutSwapBuffers` that kept its loan, and depths beyond single
+/// precision; the program checks itself. Where valgrind is installed it runs again under it,
+/// which fails on any access to freed memory (the resize wrote 16 KiB into freed heap).
+#[test]
+fn call_sequence_checks_pass() {
+    let dir = build_and_run("crates/capi/tests/c/call_sequences.c", Linking::Shared, &[]);
+    if missing("valgrind") {
+        return;
+    }
+    run(Command::new("valgrind")
+        .args(["--quiet", "--error-exitcode=99", "--errors-for-leak-kinds=none", "./call_sequences"])
+        .current_dir(&dir)
+        .env("LD_LIBRARY_PATH", prefix().join("lib")));
+}
+
 /// The build tree's library has the installed one's name: a program links with `-lraystage`
 /// against cargo's output directory as against an install, and finds it by its SONAME.
 #[test]

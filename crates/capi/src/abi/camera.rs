@@ -17,7 +17,8 @@ pub extern "C" fn rtPerspective(fovy: RTfloat, aspect: RTfloat, znear: RTfloat, 
 /// the window `[left, right] × [bottom, top]` on the plane at distance `znear` in front of it
 /// (x to the right, y up, in the camera's frame that `rtLookAt` sets). The window fills the
 /// frame buffer whatever its aspect ratio, as OpenGL's viewport does. Needs `left != right`,
-/// `bottom != top` and 0 < `znear` < `zfar` (else `RT_INVALID_VALUE`); `zfar` clips nothing.
+/// `bottom != top`, 0 < `znear` < `zfar` and every argument within ±`RT_MAX_COORDINATE` (else
+/// `RT_INVALID_VALUE`); `zfar` clips nothing.
 /// Replaces the projection `rtPerspective` or `rtOrtho` set.
 #[unsafe(no_mangle)]
 pub extern "C" fn rtFrustum(left: RTdouble, right: RTdouble, bottom: RTdouble, top: RTdouble, znear: RTdouble, zfar: RTdouble) {
@@ -29,7 +30,9 @@ pub extern "C" fn rtFrustum(left: RTdouble, right: RTdouble, bottom: RTdouble, t
 /// camera's frame), starting `znear` in front of the eye; `znear` may be negative, so that what
 /// lies just behind the eye shows, as in OpenGL (`rtOrtho(0, w, 0, h, -1, 1)` with the camera at
 /// z = 0 draws the plane z = 0). The window fills the frame buffer. Needs `left != right`,
-/// `bottom != top` and `znear != zfar` (else `RT_INVALID_VALUE`); `zfar` clips nothing. There
+/// `bottom != top`, `znear != zfar` and every argument within ±`RT_MAX_COORDINATE` (else
+/// `RT_INVALID_VALUE`: a ray starting farther away would measure its depth beyond single
+/// precision); `zfar` clips nothing. There
 /// is no depth of field: `rtLens` has no effect while it is in force. Replaces the projection
 /// `rtPerspective` or `rtFrustum` set.
 #[unsafe(no_mangle)]
@@ -39,7 +42,8 @@ pub extern "C" fn rtOrtho(left: RTdouble, right: RTdouble, bottom: RTdouble, top
 
 /// Places the camera at the eye point, looking at the centre point, with `up` pointing up in the
 /// image (it must not be parallel to the view direction). World coordinates: the modelview
-/// matrix does not apply.
+/// matrix does not apply. Each coordinate of the eye and the centre must be within
+/// ±`RT_MAX_COORDINATE` (else `RT_INVALID_VALUE`), as vertices are.
 #[unsafe(no_mangle)]
 pub extern "C" fn rtLookAt(
     eye_x: RTfloat,

@@ -268,9 +268,9 @@ pub const RT_MAX_LIGHT_SAMPLES: RTint = 256;
 
 // ----- limits -----
 
-/// Largest magnitude of a vertex coordinate once transformed by the modelview matrix, and of a
-/// matrix entry: `rtVertex*`, `rtTriangleMesh` and the matrix calls refuse more with
-/// `RT_INVALID_VALUE`. Single-precision arithmetic renders scenes within it correctly; beyond it
+/// Largest magnitude of a vertex coordinate once transformed by the modelview matrix, of a
+/// matrix's translation, and of the camera's points and planes: `rtVertex*`, `rtTriangleMesh`,
+/// the matrix calls, `rtLookAt`, `rtOrtho` and `rtFrustum` refuse more with `RT_INVALID_VALUE`. Single-precision arithmetic renders scenes within it correctly; beyond it
 /// shading and hit points lose their precision, and squared distances overflow.
 pub const RT_MAX_COORDINATE: RTfloat = 1e8;
 

@@ -126,7 +126,9 @@ pub unsafe extern "C" fn rtWritePNG(path: *const c_char) {
 /// without a frame buffer or while an object is being defined.
 ///
 /// Handles belong to the context (the thread) that started the frame; each is released with
-/// `rtFrameRelease` (or `rtResetContext`), and never names another frame afterwards.
+/// `rtFrameRelease` (or `rtResetContext`), and never names another frame afterwards: handles are
+/// unique for the life of the process, across threads and `rtResetContext`, so a stale one
+/// records `RT_INVALID_VALUE` whatever was started since.
 #[unsafe(no_mangle)]
 pub extern "C" fn rtRenderFrameAsync() -> RTuint {
     call("rtRenderFrameAsync", |ctx| ctx.render_frame_async())

@@ -23,6 +23,7 @@ pub mod types;
 
 pub use camera::*;
 pub use classes::*;
+pub use cluster::*;
 pub use enums::*;
 pub use errors::*;
 pub use frames::*;

@@ -123,7 +123,7 @@ impl eframe::App for Window {
         if swapped != self.shown && swapped > 0 {
             let image = with(|r| {
                 let ((width, height), rgba) = r.frame();
-                ColorImage::from_rgba_unmultiplied([width as usize, height as usize], rgba)
+                ColorImage::from_rgba_unmultiplied([width as usize, height as usize], &rgba)
             });
             match &mut self.texture {
                 Some(texture) => texture.set(image, TextureOptions::NEAREST),
