@@ -22,7 +22,7 @@ mod report;
 mod view;
 
 pub use render::{
-    Environment, EnvironmentSource, MAX_DIMENSION, MAX_THREADS, RenderJob, RenderReport, SceneSource, parse_background, parse_demo, parse_environment, parse_filter,
+    AUTO_NOISE_THRESHOLD, AUTO_SAMPLES, Environment, EnvironmentSource, MAX_DIMENSION, MAX_THREADS, RenderJob, RenderReport, SceneSource, parse_background, parse_demo, parse_environment, parse_filter,
     parse_integrator, parse_switch, parse_tone_map, render_scene,
 };
 #[cfg(feature = "mpi")]

@@ -43,32 +43,22 @@ enum Command {
         /// Threads for the BVH build and the render [default: one per core].
         #[arg(long)]
         threads: Option<usize>,
-        /// How pixels are shaded: eyelight, whitted, distribution or path [default: whitted if
-        /// the scene has lights, else eyelight].
+        /// How pixels are shaded: eyelight, whitted, distribution or path [default: path where
+        /// an image environment lights the scene (the studio a glTF file gets), else whitted if
+        /// anything lights it, else eyelight].
         #[arg(long, value_parser = raystage::parse_integrator)]
         integrator: Option<Integrator>,
-        /// Samples per pixel.
-        #[arg(long, default_value_t = 1)]
-        spp: u32,
-        /// Light from all around the scene: a radiance (R,G,B or one number) or an
-        /// equirectangular image (.hdr, .exr, .png, .jpg; its top row straight up), sampled by
-        /// brightness.
-        #[arg(long, value_parser = raystage::parse_environment, allow_hyphen_values = true)]
-        environment: Option<raystage::EnvironmentSource>,
-        /// Turns the environment about the up axis by this many degrees.
-        #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-        environment_rotate: f32,
-        /// Scales the environment's radiance.
-        #[arg(long, default_value_t = 1.0)]
-        environment_intensity: f32,
+        /// Samples per pixel [default: 1; where the path tracer is chosen for the scene, up to
+        /// 256 with adaptive sampling to a noise threshold of 0.02].
+        #[arg(long)]
+        spp: Option<u32>,
+        #[command(flatten)]
+        lighting: Lighting,
         /// What camera rays that hit nothing show: sky, black or R,G,B [default: the
         /// environment if there is one, else the scene's backdrop, else the sky where the
         /// default lights the scene, else black].
         #[arg(long, value_parser = raystage::parse_background, allow_hyphen_values = true)]
         background: Option<raystage_scene::Background>,
-        /// Leave a scene that nothing lights dark, instead of lighting it by the default sky.
-        #[arg(long)]
-        no_default_lights: bool,
         /// Longest path in segments, the camera ray included (as Mitsuba counts), or deepest
         /// recursion: 1 to 64.
         #[arg(long, default_value_t = raystage_render::RenderSettings::default().max_depth)]
@@ -150,6 +140,8 @@ enum Command {
         /// Save a PNG screenshot of the window here once the first frame is shown, then exit.
         #[arg(long)]
         screenshot: Option<PathBuf>,
+        #[command(flatten)]
+        lighting: Lighting,
     },
     /// Measure what accuracy costs in time: render a converged reference of a scene, sweep
     /// each knob that trades accuracy for time, and write report.md, plots and images.
@@ -199,11 +191,8 @@ fn main() -> ExitCode {
             threads,
             integrator,
             spp,
-            environment,
-            environment_rotate,
-            environment_intensity,
+            lighting,
             background,
-            no_default_lights,
             max_depth,
             russian_roulette,
             filter,
@@ -219,20 +208,18 @@ fn main() -> ExitCode {
             let settings = raystage_render::RenderSettings {
                 width,
                 height,
-                samples_per_pixel: spp,
                 max_depth,
                 russian_roulette,
                 filter,
                 seed,
                 noise_threshold,
-                default_lights: !no_default_lights,
+                default_lights: !lighting.no_default_lights,
                 background,
                 ..Default::default()
             };
-            let environment =
-                environment.map(|source| raystage::Environment { source, rotate_degrees: environment_rotate, intensity: environment_intensity });
+            let environment = lighting.environment();
             let look = raystage_render::Look { exposure, tone_map: tonemap };
-            let job = RenderJob { scene, threads, integrator, settings, environment, look, out, channels };
+            let job = RenderJob { scene, threads, integrator, samples_per_pixel: spp, settings, environment, look, out, channels };
             #[cfg(feature = "mpi")]
             if mpi {
                 return finish(raystage::Cluster::join().and_then(|cluster| raystage::render_scene_mpi(&job, &mut std::io::stdout().lock(), &cluster).map(|_| ())));
@@ -257,9 +244,10 @@ fn main() -> ExitCode {
             }
             raystage::serve(&job, &mut std::io::stdout().lock())
         }
-        Command::View { scene, demo, integrator, max_samples, screenshot } => {
+        Command::View { scene, demo, integrator, max_samples, screenshot, lighting } => {
             let scene = SceneSource::from_args(scene, demo, 0).expect("clap requires a file or a demo");
-            let job = raystage::ViewJob { scene, integrator, max_samples, screenshot };
+            let (environment, default_lights) = (lighting.environment(), !lighting.no_default_lights);
+            let job = raystage::ViewJob { scene, environment, default_lights, integrator, max_samples, screenshot };
             raystage::view(&job, &mut std::io::stdout().lock())
         }
         Command::Report { scene, reference, width, height, repeats, target, out, quick, threads } => {
@@ -268,6 +256,34 @@ fn main() -> ExitCode {
         }
     };
     finish(result)
+}
+
+/// How `render` and `view` light a scene besides its own lights.
+#[derive(clap::Args, Debug)]
+struct Lighting {
+    /// Light from all around the scene: studio (the neutral studio glTF viewers light a file
+    /// with), a radiance (R,G,B or one number) or an equirectangular image (.hdr, .exr, .png,
+    /// .jpg; its top row straight up), sampled by brightness [default: studio for a glTF file
+    /// without lights of its own].
+    #[arg(long, value_parser = raystage::parse_environment, allow_hyphen_values = true)]
+    environment: Option<raystage::EnvironmentSource>,
+    /// Turns the environment (the default studio too) about the up axis by this many degrees.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    environment_rotate: f32,
+    /// Scales the environment's radiance (the default studio's too).
+    #[arg(long, default_value_t = 1.0)]
+    environment_intensity: f32,
+    /// Leave a scene that nothing lights dark: no studio for a glTF file without lights of its
+    /// own, no sky for a demo that nothing lights.
+    #[arg(long)]
+    no_default_lights: bool,
+}
+
+impl Lighting {
+    /// The environment the flags ask for (its source `None` for the default).
+    fn environment(&self) -> raystage::Environment {
+        raystage::Environment { source: self.environment.clone(), rotate_degrees: self.environment_rotate, intensity: self.environment_intensity }
+    }
 }
 
 /// The exit status of a command, its error (if any) printed on standard error.

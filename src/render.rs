@@ -19,6 +19,14 @@ pub const MAX_DIMENSION: u32 = 16_384;
 /// Largest accepted number of render threads.
 pub const MAX_THREADS: usize = 1024;
 
+/// Samples per pixel at most where the path tracer is chosen for a scene and no sample count is
+/// given (adaptive sampling stops most tiles well before).
+pub const AUTO_SAMPLES: u32 = 256;
+
+/// The noise threshold of [`AUTO_SAMPLES`]: each pixel's standard error below 2 % of its
+/// brightness, where noise stops being visible in an 8-bit image.
+pub const AUTO_NOISE_THRESHOLD: f32 = 0.02;
+
 /// Where a scene comes from.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SceneSource {
@@ -41,19 +49,38 @@ impl SceneSource {
         file.map(SceneSource::File).or(demo.map(|demo| SceneSource::Demo { demo, frame }))
     }
 
-    /// Builds or reads the scene. A file's notes (what it had that was left out) go to `log`.
-    pub fn load(&self, log: &mut impl Write) -> Result<Scene> {
-        match self {
-            SceneSource::Demo { demo, frame } => demo.scene(*frame).context("cannot build the demo scene"),
+    /// Builds or reads the scene, lit by `environment` if it names a source. Else, with
+    /// `default_lights`, a glTF file that brings no lights of its own (`KHR_lights_punctual`) is
+    /// lit by the studio environment, turned and scaled as `environment` says, as glTF viewers
+    /// light such a file, whatever emitting surfaces it has (a demo keeps the renderer's
+    /// default, the sky where nothing lights it). A file's notes (what it had that was left out)
+    /// and the studio go to `log`.
+    pub fn load(&self, log: &mut impl Write, environment: &Environment, default_lights: bool) -> Result<Scene> {
+        let (mut scene, unlit_file) = match self {
+            SceneSource::Demo { demo, frame } => (demo.scene(*frame).context("cannot build the demo scene")?, false),
             SceneSource::File(path) => {
                 let import = raystage_gltf_import::read_file(path, &raystage_gltf_import::Limits::default())
                     .with_context(|| format!("cannot import {}", path.display()))?;
                 for note in import.notes() {
                     writeln!(log, "note: {}: {note}", path.display())?;
                 }
-                import.into_scene().with_context(|| format!("cannot import {}", path.display()))
+                let unlit = import.lights().is_empty();
+                (import.into_scene().with_context(|| format!("cannot import {}", path.display()))?, unlit)
             }
+        };
+        match &environment.source {
+            Some(source) => add_environment(&mut scene, source, environment)?,
+            None if unlit_file && default_lights => {
+                add_environment(&mut scene, &EnvironmentSource::Studio, environment)?;
+                writeln!(
+                    log,
+                    "note: {}: no lights of its own: the studio environment lights it, as glTF viewers do (--environment replaces it, --no-default-lights turns it off)",
+                    self.name()
+                )?;
+            }
+            None => {}
         }
+        Ok(scene)
     }
 
     /// The name in logs: the demo's, or the file's.
@@ -72,16 +99,18 @@ pub struct RenderJob {
     pub scene: SceneSource,
     /// Threads for the BVH build and the render, `1..=MAX_THREADS`; `None` for one per core.
     pub threads: Option<usize>,
-    /// How pixels are shaded; `None` for Whitted's ray tracing if anything lights the scene
-    /// (the default sky does, unless `settings.default_lights` is off) and the eye-light
-    /// preview if nothing does.
+    /// How pixels are shaded; `None` for [`Integrator::default_for`] the scene.
     pub integrator: Option<Integrator>,
-    /// Everything else about the frame: size (each side `1..=MAX_DIMENSION`), samples per
-    /// pixel, path length, filter, backdrop, default lights, seed. Its integrator is replaced by
-    /// `integrator`'s choice.
+    /// Samples per pixel; `None` for one, or, where the path tracer is chosen for the scene
+    /// (neither named), [`AUTO_SAMPLES`] with adaptive sampling to [`AUTO_NOISE_THRESHOLD`]
+    /// unless `settings` has a threshold: a clean picture from a command with no options.
+    pub samples_per_pixel: Option<u32>,
+    /// Everything else about the frame: size (each side `1..=MAX_DIMENSION`), path length,
+    /// filter, backdrop, default lights, seed, noise threshold. Its integrator and samples per
+    /// pixel are replaced by `integrator`'s and `samples_per_pixel`'s choice.
     pub settings: RenderSettings,
-    /// An environment light to add to the scene.
-    pub environment: Option<Environment>,
+    /// An environment light to add to the scene, or the default's turn and scale.
+    pub environment: Environment,
     /// How the image is graded for the file: exposure, and the tone curve of a PNG.
     pub look: Look,
     /// The image file to write (created or replaced): `.png` (sRGB, tone-mapped), `.exr` or
@@ -105,21 +134,31 @@ fn channel_path(out: &std::path::Path, channel: Channel) -> (PathBuf, bool) {
 /// An environment light as the command line asks for it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Environment {
-    /// Where its light comes from.
-    pub source: EnvironmentSource,
+    /// Where its light comes from; `None` for the default (the studio for a glTF file without
+    /// lights of its own, else nothing).
+    pub source: Option<EnvironmentSource>,
     /// Turns it about the up axis (+y) by this many degrees.
     pub rotate_degrees: f32,
     /// Scales its radiance.
     pub intensity: f32,
 }
 
-/// Light from all around: one radiance, or a latitude-longitude image.
+impl Default for Environment {
+    /// The default environment, neither turned nor scaled.
+    fn default() -> Environment {
+        Environment { source: None, rotate_degrees: 0.0, intensity: 1.0 }
+    }
+}
+
+/// Light from all around: one radiance, a latitude-longitude image, or the studio.
 #[derive(Clone, Debug, PartialEq)]
 pub enum EnvironmentSource {
     /// The same radiance from every direction, linear RGB.
     Uniform(Vec3),
     /// An equirectangular image (Radiance HDR, OpenEXR, PNG or JPEG), its top row straight up.
     Image(PathBuf),
+    /// The neutral studio raystage makes ([`raystage_scene::studio_environment`]).
+    Studio,
 }
 
 /// Parses `R,G,B` (three numbers) or one number as a non-negative linear colour.
@@ -127,8 +166,12 @@ fn parse_colour(text: &str) -> Option<Vec3> {
     raystage_scene::parse_color(text).filter(|c| c.is_finite() && c.min_element() >= 0.0)
 }
 
-/// Parses `--environment`: a radiance (`R,G,B` or one number) or an image file's path.
+/// Parses `--environment`: `studio`, a radiance (`R,G,B` or one number) or an image file's
+/// path.
 pub fn parse_environment(text: &str) -> Result<EnvironmentSource> {
+    if text == "studio" {
+        return Ok(EnvironmentSource::Studio);
+    }
     if let Some(colour) = parse_colour(text) {
         return Ok(EnvironmentSource::Uniform(colour));
     }
@@ -136,7 +179,7 @@ pub fn parse_environment(text: &str) -> Result<EnvironmentSource> {
     let known = ["hdr", "exr", "png", "jpg", "jpeg"];
     match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase) {
         Some(ext) if known.contains(&ext.as_str()) => Ok(EnvironmentSource::Image(path)),
-        _ => bail!("`{text}` is neither a radiance (R,G,B or one number, not negative) nor an image file (.hdr, .exr, .png, .jpg)"),
+        _ => bail!("`{text}` is neither `studio`, a radiance (R,G,B or one number, not negative) nor an image file (.hdr, .exr, .png, .jpg)"),
     }
 }
 
@@ -165,21 +208,24 @@ pub fn parse_switch(text: &str) -> Result<bool> {
     }
 }
 
-/// Adds `environment` to `scene`.
-fn add_environment(scene: &mut Scene, environment: &Environment) -> Result<()> {
+/// Adds an environment light of `source` to `scene`, turned and scaled as `environment` says.
+fn add_environment(scene: &mut Scene, source: &EnvironmentSource, environment: &Environment) -> Result<()> {
     let intensity = environment.intensity;
     ensure!(intensity.is_finite() && intensity >= 0.0, "--environment-intensity must be a number not below 0, got {intensity}");
     ensure!(environment.rotate_degrees.is_finite(), "--environment-rotate must be a number of degrees");
-    let light = match &environment.source {
-        EnvironmentSource::Uniform(radiance) => Light::Environment { radiance: *radiance * intensity, map: None },
+    let image = match source {
+        EnvironmentSource::Uniform(radiance) => {
+            scene.add_light(Light::Environment { radiance: *radiance * intensity, map: None })?;
+            return Ok(());
+        }
         EnvironmentSource::Image(path) => {
             let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
-            let image = Image::decode(&bytes).with_context(|| format!("cannot decode {}", path.display()))?;
-            let image = rotated_about_up(&image, environment.rotate_degrees);
-            let texture = scene.add_texture(Texture::Image(image.into()))?;
-            Light::Environment { radiance: Vec3::splat(intensity), map: Some(texture) }
+            Image::decode(&bytes).with_context(|| format!("cannot decode {}", path.display()))?
         }
+        EnvironmentSource::Studio => raystage_scene::studio_environment(),
     };
+    let texture = scene.add_texture(Texture::Image(rotated_about_up(&image, environment.rotate_degrees).into()))?;
+    let light = Light::Environment { radiance: Vec3::splat(intensity), map: Some(texture) };
     scene.add_light(light)?;
     Ok(())
 }
@@ -307,10 +353,7 @@ fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Resul
     let setup = Instant::now();
     let prepared = (|| {
         let out = if ranks.is_root() { Some(File::create(&job.out).with_context(|| format!("cannot create {}", job.out.display()))?) } else { None };
-        let mut scene = job.scene.load(log)?;
-        if let Some(environment) = &job.environment {
-            add_environment(&mut scene, environment)?;
-        }
+        let scene = job.scene.load(log, &job.environment, job.settings.default_lights)?;
         Ok((out, scene))
     })();
     let (mut out, scene) = match prepared {
@@ -321,11 +364,15 @@ fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Resul
         Err(e) => return Err(ranks.agree(Err(e)).expect_err("a failure is agreed as one")),
     };
     let setup_seconds = setup.elapsed().as_secs_f64();
-    // Whitted's ray tracing for anything lit (the default sky lights every scene that allows
-    // it); the preview for a scene that nothing lights.
-    let lit = scene.lights().next().is_some() || job.settings.default_lights || scene.shaders().any(|(_, s)| s.emits());
-    let integrator = job.integrator.unwrap_or(if lit { Integrator::Whitted } else { Integrator::EyeLight });
-    let settings = RenderSettings { integrator, ..job.settings };
+    let integrator = job.integrator.unwrap_or_else(|| Integrator::default_for(&scene, job.settings.default_lights));
+    let (samples_per_pixel, noise_threshold) = match job.samples_per_pixel {
+        Some(spp) => (spp, job.settings.noise_threshold),
+        None if job.integrator.is_none() && integrator == Integrator::Path => {
+            (AUTO_SAMPLES, job.settings.noise_threshold.or(Some(AUTO_NOISE_THRESHOLD)))
+        }
+        None => (1, job.settings.noise_threshold),
+    };
+    let settings = RenderSettings { integrator, samples_per_pixel, noise_threshold, ..job.settings };
     let share = ranks.share();
     let (film, frame, mean_samples) = pool.install(|| render_with_progress(&scene, &settings, share)).context("bad render settings")?;
     let triangles = scene.object_ids().map(|id| scene.mesh(id).map_or(0, |m| m.indices.len())).sum();

@@ -25,7 +25,7 @@ pub fn serve(job: &ServeJob, log: &mut impl Write) -> Result<()> {
     config.check_address(job.addr)?;
     let state = AppState::new(config);
     if let Some(source) = &job.scene {
-        let scene = source.load(log)?;
+        let scene = source.load(log, &crate::Environment::default(), true)?;
         let id = state.add_scene(scene, source.name()).map_err(|e| anyhow::anyhow!(e.detail.message))?;
         writeln!(log, "scene {id}: {}", source.name())?;
     }
@@ -47,8 +47,8 @@ pub fn serve_mpi(job: &ServeJob, log: &mut impl Write, mpi: &crate::Cluster, tim
             config.check_address(job.addr)?;
         }
         match &job.scene {
-            Some(source) if root => source.load(log).map(|scene| Some((scene, source.name()))),
-            Some(source) => source.load(&mut std::io::sink()).map(|scene| Some((scene, source.name()))),
+            Some(source) if root => source.load(log, &crate::Environment::default(), true).map(|scene| Some((scene, source.name()))),
+            Some(source) => source.load(&mut std::io::sink(), &crate::Environment::default(), true).map(|scene| Some((scene, source.name()))),
             None => Ok(None),
         }
     })();

@@ -9,13 +9,18 @@ use std::time::Duration;
 use anyhow::{Context, Result};
 use raystage_server::{AppState, Config};
 
-use crate::render::SceneSource;
+use crate::render::{Environment, SceneSource};
 
 /// What to view.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ViewJob {
     /// The scene.
     pub scene: SceneSource,
+    /// An environment light to add to the scene, or the default's turn and scale.
+    pub environment: Environment,
+    /// Whether a scene that nothing lights gets the default light (the studio for a glTF file
+    /// without lights of its own, the sky for a demo).
+    pub default_lights: bool,
     /// The integrator, or `None` for the server's choice.
     pub integrator: Option<String>,
     /// Samples per pixel the image refines to.
@@ -27,7 +32,7 @@ pub struct ViewJob {
 /// Loads the scene, serves it on 127.0.0.1 (a free port) and opens the viewer on it; returns
 /// when the window is closed.
 pub fn view(job: &ViewJob, log: &mut impl Write) -> Result<()> {
-    let scene = job.scene.load(log)?;
+    let scene = job.scene.load(log, &job.environment, job.default_lights)?;
     let state = AppState::new(Config::default());
     let id = state.add_scene(scene, job.scene.name()).map_err(|e| anyhow::anyhow!(e.detail.message))?;
     let runtime = tokio::runtime::Runtime::new().context("cannot start the server's threads")?;
@@ -42,6 +47,7 @@ pub fn view(job: &ViewJob, log: &mut impl Write) -> Result<()> {
         scene: Some(id),
         integrator: job.integrator.clone(),
         max_samples: job.max_samples,
+        default_lights: job.default_lights,
         screenshot: job.screenshot.clone(),
         ..raystage_client::Options::default()
     };

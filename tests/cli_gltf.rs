@@ -16,7 +16,8 @@ fn renders_a_gltf_file_framed_by_an_automatic_camera() {
         .unwrap();
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert!(output.status.success(), "stdout: {stdout}\nstderr: {}", String::from_utf8_lossy(&output.stderr));
-    assert!(stdout.contains("48x48 ") && stdout.contains("triangle.gltf (1 triangles), whitted at 4 spp [shadows, multisampling]"), "{stdout}");
+    // A file without lights is lit by the studio, so it is path traced (see below).
+    assert!(stdout.contains("48x48 ") && stdout.contains("triangle.gltf (1 triangles), path at 4 spp ["), "{stdout}");
     let image = image::open(&out).unwrap().to_rgba8();
     assert_eq!(image.get_pixel(24, 26).0, [0, 255, 0, 255], "the triangle fills the middle of the frame");
     assert_ne!(image.get_pixel(2, 2).0, [0, 255, 0, 255], "but not the corner");
@@ -33,4 +34,88 @@ fn a_file_and_a_demo_together_or_a_missing_file_are_errors() {
     let missing = run(&["render", "/nonexistent/scene.glb", "--out", out.to_str().unwrap()]);
     let stderr = String::from_utf8_lossy(&missing.stderr);
     assert!(!missing.status.success() && stderr.contains("cannot import /nonexistent/scene.glb"), "{stderr}");
+}
+
+/// A grey, fairly rough square facing +z with a small emitting triangle beside it (as
+/// DamagedHelmet has glowing decals), written as `name.gltf` with its buffer beside it; with
+/// `lamp`, a `KHR_lights_punctual` point light in front of it too.
+fn write_decorated_square(name: &str, lamp: bool) -> std::path::PathBuf {
+    let mut buffer = Vec::new();
+    let square = [[-1.0f32, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]];
+    let decal = [[1.1f32, -0.1, 0.0], [1.3, -0.1, 0.0], [1.2, 0.1, 0.0]];
+    for p in square.iter().chain(&decal) {
+        p.iter().for_each(|c| buffer.extend(c.to_le_bytes()));
+    }
+    for i in [0u16, 1, 2, 0, 2, 3] {
+        buffer.extend(i.to_le_bytes());
+    }
+    let bin = temp(&format!("{name}.bin"));
+    std::fs::write(&bin, &buffer).unwrap();
+    let (extensions, light_node, light_ref) = if lamp {
+        (
+            r#""extensionsUsed": ["KHR_lights_punctual"], "extensions": { "KHR_lights_punctual": { "lights": [{ "type": "point", "intensity": 20 }] } },"#,
+            r#", { "translation": [0, 0, 2], "extensions": { "KHR_lights_punctual": { "light": 0 } } }"#,
+            ", 1",
+        )
+    } else {
+        ("", "", "")
+    };
+    let document = format!(
+        r#"{{
+            "asset": {{ "version": "2.0" }}, {extensions}
+            "buffers": [{{ "byteLength": {}, "uri": "{}" }}],
+            "bufferViews": [{{ "buffer": 0, "byteLength": 48 }}, {{ "buffer": 0, "byteOffset": 48, "byteLength": 36 }}, {{ "buffer": 0, "byteOffset": 84, "byteLength": 12 }}],
+            "accessors": [
+                {{ "bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, -1, 0], "max": [1, 1, 0] }},
+                {{ "bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC3", "min": [1.1, -0.1, 0], "max": [1.3, 0.1, 0] }},
+                {{ "bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR" }}
+            ],
+            "materials": [
+                {{ "pbrMetallicRoughness": {{ "baseColorFactor": [0.6, 0.6, 0.6, 1], "metallicFactor": 0, "roughnessFactor": 0.8 }} }},
+                {{ "pbrMetallicRoughness": {{ "baseColorFactor": [0, 0, 0, 1] }}, "emissiveFactor": [1, 0.5, 0] }}
+            ],
+            "meshes": [{{ "primitives": [{{ "attributes": {{ "POSITION": 0 }}, "indices": 2, "material": 0 }}, {{ "attributes": {{ "POSITION": 1 }}, "material": 1 }}] }}],
+            "nodes": [{{ "mesh": 0 }}{light_node}],
+            "scenes": [{{ "nodes": [0{light_ref}] }}]
+        }}"#,
+        buffer.len(),
+        bin.file_name().unwrap().to_str().unwrap()
+    );
+    let path = temp(&format!("{name}.gltf"));
+    std::fs::write(&path, document).unwrap();
+    path
+}
+
+/// Runs `raystage render FILE --out OUT ARGS...` at 64 × 64; returns its standard output and the
+/// mean sRGB brightness (0 to 255) of the middle of the image, where the square is.
+fn render_square(file: &std::path::Path, name: &str, args: &[&str]) -> (String, f64) {
+    let out = temp(&format!("{name}.png"));
+    let output = Command::new(env!("CARGO_BIN_EXE_raystage"))
+        .args(["render", file.to_str().unwrap(), "--out", out.to_str().unwrap(), "--width", "64", "--height", "64"])
+        .args(args)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    assert!(output.status.success(), "stdout: {stdout}\nstderr: {}", String::from_utf8_lossy(&output.stderr));
+    let image = image::open(&out).unwrap().to_rgb8();
+    let middle: Vec<f64> = (24..40).flat_map(|y| (24..40).map(move |x| (x, y))).flat_map(|(x, y)| image.get_pixel(x, y).0).map(f64::from).collect();
+    (stdout, middle.iter().sum::<f64>() / middle.len() as f64)
+}
+
+/// A glTF file without lights of its own is lit by the studio environment whatever emitting
+/// surfaces it has, path traced to a noise threshold, and about as bright as under a uniform
+/// environment of radiance 1; `--no-default-lights` leaves it to its decal (dark), and a file
+/// with its own lamp gets no studio.
+#[test]
+fn a_gltf_file_without_lights_is_lit_by_the_studio() {
+    let file = write_decorated_square("decorated", false);
+    let (stdout, studio) = render_square(&file, "studio", &[]);
+    assert!(stdout.contains("no lights of its own: the studio environment lights it"), "{stdout}");
+    assert!(stdout.contains("path at 256 spp") && stdout.contains("adaptive sampling"), "{stdout}");
+    let (_, uniform) = render_square(&file, "uniform", &["--environment", "1", "--integrator", "path", "--spp", "64"]);
+    assert!((studio / uniform - 1.0).abs() < 0.25, "the studio gives {studio:.1}, a uniform environment {uniform:.1}");
+    let (stdout, dark) = render_square(&file, "dark", &["--no-default-lights"]);
+    assert!(!stdout.contains("studio") && dark < 0.5 * uniform, "without the default the decal alone lights it: {dark:.1}\n{stdout}");
+    let (stdout, _) = render_square(&write_decorated_square("lamp", true), "lamp", &[]);
+    assert!(!stdout.contains("studio") && stdout.contains("whitted at 1 spp"), "{stdout}");
 }

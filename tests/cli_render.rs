@@ -155,8 +155,8 @@ fn lighting_options_reach_the_image() {
     assert!(stdout.contains("path at 4 spp [shadows, area-lights") && stdout.contains("adaptive sampling: 4.0 samples per pixel on average, of 4"), "{stdout}");
 
     for (args, expected) in [
-        (&["--environment", "nowhere.xyz"][..], "neither a radiance"),
-        (&["--environment", "-1"][..], "neither a radiance"),
+        (&["--environment", "nowhere.xyz"][..], "nor an image file"),
+        (&["--environment", "-1"][..], "nor an image file"),
         (&["--background", "blue"][..], "not sky, black or a colour"),
         (&["--filter", "tent"][..], "not box, gaussian"),
         (&["--max-depth", "0"][..], "max_depth"),
@@ -173,21 +173,22 @@ fn lighting_options_reach_the_image() {
     }
 }
 
-/// A glTF file with neither lights nor emitting materials is lit by the default sky, and the
-/// summary says so; `--no-default-lights` leaves it dark.
+/// A glTF file with neither lights nor emitting materials is lit by the default light, the
+/// studio glTF viewers give such a file, and the log says so; `--no-default-lights` leaves it to
+/// the eye-light preview (nothing lights it; not even the renderer's default sky).
 #[test]
-fn a_scene_nothing_lights_gets_the_default_sky_unless_told_not_to() {
+fn a_scene_nothing_lights_gets_the_default_light_unless_told_not_to() {
     let file = common::write_gltf();
     let out = out_path("defaulted.png");
     let args = ["render", file.to_str().unwrap(), "--out", out.to_str().unwrap(), "--width", "16", "--height", "16"];
     let output = raystage(&args);
     let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(output.status.success() && stdout.contains("default sky") && stdout.contains("note: nothing in the scene gives light"), "{stdout}");
+    assert!(output.status.success() && stdout.contains("the studio environment lights it") && stdout.contains("path at 256 spp"), "{stdout}");
     let mut dark = args.to_vec();
     dark.push("--no-default-lights");
     let output = raystage(&dark);
     let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(output.status.success() && !stdout.contains("default sky") && stdout.contains("eyelight"), "{stdout}");
+    assert!(output.status.success() && !stdout.contains("studio") && !stdout.contains("default sky") && stdout.contains("eyelight"), "{stdout}");
 }
 
 /// The output's extension chooses its format: linear OpenEXR and PFM keep light above white,

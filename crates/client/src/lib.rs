@@ -67,6 +67,8 @@ pub struct Options {
     pub integrator: Option<String>,
     /// Samples per pixel to refine to.
     pub max_samples: u32,
+    /// Whether a scene that nothing lights is lit by the server's default sky.
+    pub default_lights: bool,
     /// Save a screenshot of the window here once the first frame is shown, then exit.
     pub screenshot: Option<PathBuf>,
     /// Seconds to keep streaming after the first frame is shown before the screenshot.
@@ -83,6 +85,7 @@ impl Default for Options {
             token: None,
             integrator: None,
             max_samples: 256,
+            default_lights: true,
             screenshot: None,
             screenshot_delay: 0.0,
             window_size: [1280.0, 760.0],
@@ -105,7 +108,13 @@ pub fn run(options: Options) -> Result<(), Error> {
     let config = StreamConfig {
         server: server.clone(),
         scene: options.scene,
-        settings: Settings { integrator: options.integrator.clone(), max_samples: Some(options.max_samples), ..Settings::default() },
+        settings: Settings {
+            integrator: options.integrator.clone(),
+            max_samples: Some(options.max_samples),
+            // Sent only when off, so that the server's default stands otherwise.
+            default_lights: (!options.default_lights).then_some(false),
+            ..Settings::default()
+        },
     };
     let slot: Option<ScreenshotSlot> = options.screenshot.as_ref().map(|_| Arc::new(Mutex::new(None)));
     let viewer_options = ViewerOptions { integrator: options.integrator.clone(), max_samples: options.max_samples, screenshot: slot.clone(), screenshot_delay: options.screenshot_delay };

@@ -51,6 +51,7 @@ fn main() -> ExitCode {
         screenshot: cli.screenshot,
         screenshot_delay: cli.screenshot_delay,
         window_size: [cli.width, cli.height],
+        ..raystage_client::Options::default()
     };
     match raystage_client::run(options) {
         Ok(()) => ExitCode::SUCCESS,

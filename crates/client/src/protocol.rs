@@ -200,6 +200,9 @@ pub struct Settings {
     /// The tone curve: `clamp` or `neutral`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tonemap: Option<String>,
+    /// Whether a scene that nothing lights is lit by the default sky (the server's default).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub default_lights: Option<bool>,
 }
 
 impl Settings {
@@ -211,6 +214,7 @@ impl Settings {
         self.max_samples = later.max_samples.or(self.max_samples);
         self.exposure = later.exposure.or(self.exposure);
         self.tonemap = later.tonemap.or(self.tonemap);
+        self.default_lights = later.default_lights.or(self.default_lights);
         self
     }
 

@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use glam::Vec3;
 use raystage_kernel::{PACKET_SIZE, Ray};
-use raystage_scene::{Background, CameraRays, Frame, SceneHit};
+use raystage_scene::{Background, CameraRays, Frame, Light, Scene, SceneHit};
 
 use crate::integrator::first_shadows::{self, KnownShadows};
 use crate::integrator::first_hits::FirstHits;
@@ -61,6 +61,23 @@ impl Integrator {
     /// Parses a name as printed by [`Integrator::name`].
     pub fn from_name(name: &str) -> Option<Integrator> {
         Integrator::ALL.into_iter().find(|i| i.name() == name)
+    }
+
+    /// The integrator `scene` is rendered with when none is named (the command line and the
+    /// HTTP API choose alike): the path tracer where an image environment lights it (a studio or
+    /// an HDR sky, as a glTF file is lit by default), since the recursive integrators see such
+    /// light only through shadow rays and mirror reflections, which turns glossy materials into
+    /// mirrors; Whitted's ray tracing where anything else lights it (its lights, an emitting
+    /// surface, or the default sky with `default_lights`); the eye-light preview where nothing
+    /// does, so that an unlit scene is not black.
+    pub fn default_for(scene: &Scene, default_lights: bool) -> Integrator {
+        if scene.lights().any(|(_, light)| matches!(light, Light::Environment { map: Some(_), .. })) {
+            Integrator::Path
+        } else if default_lights || scene.lights().next().is_some() || scene.shaders().any(|(_, s)| s.emits()) {
+            Integrator::Whitted
+        } else {
+            Integrator::EyeLight
+        }
     }
 }
 

@@ -29,6 +29,7 @@ mod sampling;
 mod scene;
 mod shader;
 mod spawn;
+mod studio;
 mod tangents;
 mod texture;
 
@@ -43,4 +44,5 @@ pub use object::{ObjectKind, REBUILD_DEGRADATION};
 pub use sampling::{Sampler, Wrap, hash};
 pub use scene::{Background, Scene, TREE_BYTES_PER_TRIANGLE, parse_color};
 pub use shader::{ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, MAX_SHADER_NAME, ParamDecl, ParamType, ParamValue, SHADER_CLASSES, Shader, ShaderClass, ShadingModel, shader_class};
+pub use studio::studio_environment;
 pub use texture::{Image, Level, Texture, srgb_to_linear};

@@ -12,7 +12,7 @@ use crate::batch;
 use crate::config::Limits;
 use crate::error::ApiResult;
 use crate::model::{Command, CommandResult, decode_image};
-use crate::routes::gltf::{CameraChoice, GltfAdded, environment_light, import_limits};
+use crate::routes::gltf::{CameraChoice, GltfAdded, add_environment, import_limits, parse_environment};
 
 /// A change to one scene's contents.
 #[derive(Serialize, Deserialize)]
@@ -98,8 +98,9 @@ pub(crate) fn apply(scene: &mut Scene, edit: Edit, limits: &Limits) -> ApiResult
                 Some(import) => *import,
                 None => raystage_gltf_import::read(&file.0, None, &import_limits(limits))?,
             };
-            let environment = environment.as_deref().map(environment_light).transpose()?;
+            let environment = environment.as_deref().map(parse_environment).transpose()?;
             let was_empty = scene.instances().next().is_none();
+            let unlit = import.lights().is_empty() && scene.lights().next().is_none();
             let camera = match choice {
                 CameraChoice::Auto => import.camera().or_else(|| was_empty.then(|| import.framing_camera())),
                 CameraChoice::File => import.camera(),
@@ -108,9 +109,7 @@ pub(crate) fn apply(scene: &mut Scene, edit: Edit, limits: &Limits) -> ApiResult
             };
             let (triangles, notes) = (import.triangles(), import.notes().to_vec());
             let mut added = import.add_to(scene)?;
-            if let Some(light) = environment {
-                added.lights.push(scene.add_light(light)?);
-            }
+            added.lights.extend(add_environment(scene, environment, unlit)?);
             if let Some(camera) = camera {
                 scene.set_camera(camera)?;
             }

@@ -228,7 +228,7 @@ impl FrameRequest {
             width: self.width,
             height: self.height,
             samples_per_pixel: self.spp,
-            integrator: self.integrator.unwrap_or_else(|| default_integrator(scene, self.setup.default_lights)),
+            integrator: self.integrator.unwrap_or_else(|| Integrator::default_for(scene, self.setup.default_lights)),
             background: self.setup.background,
             default_lights: self.setup.default_lights,
             max_depth: self.setup.max_depth,
@@ -239,14 +239,6 @@ impl FrameRequest {
             ..RenderSettings::default()
         }
     }
-}
-
-/// Whitted's ray tracing if anything lights the scene (its lights, an emitting surface, or the
-/// default sky when `default_lights`), else the eye-light preview (so that an unlit scene is
-/// not black), as `raystage render` chooses.
-pub(crate) fn default_integrator(scene: &Scene, default_lights: bool) -> Integrator {
-    let lit = default_lights || scene.lights().next().is_some() || scene.shaders().any(|(_, s)| s.emits());
-    if lit { Integrator::Whitted } else { Integrator::EyeLight }
 }
 
 /// A rendered frame.

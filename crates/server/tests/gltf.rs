@@ -102,3 +102,40 @@ async fn an_import_may_light_the_scene_with_a_uniform_environment() {
     assert_eq!(scenes.as_array().unwrap().len(), 2, "refused imports add no scene");
     assert_eq!(ok(&app, "GET", &format!("/scenes/{s}"), Value::Null, StatusCode::OK).await["lights"], 1, "nor change one");
 }
+
+/// A file without lights of its own is lit by the studio environment by default, as glTF
+/// viewers light it (and path traced where no integrator is named); `environment=none` leaves it
+/// unlit, `environment=studio` asks for the studio in any case, a file with a lamp or a scene
+/// with lights gets none by default.
+#[tokio::test]
+async fn a_file_without_lights_is_lit_by_the_studio_by_default() {
+    let app = app();
+    let studio = |lights: &Value| lights.as_array().unwrap().iter().filter(|l| l["class"] == "EnvironmentLight" && !l["map"].is_null()).count();
+    let (status, info) = upload(&app, "/scenes", glb(), "model/gltf-binary").await;
+    assert_eq!((status, info["lights"].as_u64()), (StatusCode::CREATED, Some(1)), "{info}");
+    let s = info["id"].as_u64().unwrap();
+    let lights = ok(&app, "GET", &format!("/scenes/{s}/lights"), Value::Null, StatusCode::OK).await;
+    assert_eq!(studio(&lights), 1, "{lights}");
+    frame(&app, &format!("/scenes/{s}/frame.png?width=16&height=16")).await;
+    let stats = ok(&app, "GET", &format!("/scenes/{s}/stats"), Value::Null, StatusCode::OK).await;
+    assert_eq!(stats["last_frame"]["integrator"], "path", "an image environment is path traced by default: {stats}");
+
+    // Added to a scene that has lights: none by default, the studio when asked for.
+    let (status, added) = upload(&app, &format!("/scenes/{s}/gltf?camera=keep"), glb(), "model/gltf-binary").await;
+    assert_eq!((status, added["lights"].as_array().map(Vec::len)), (StatusCode::OK, Some(0)), "{added}");
+    let (status, added) = upload(&app, &format!("/scenes/{s}/gltf?camera=keep&environment=studio"), glb(), "model/gltf-binary").await;
+    assert_eq!((status, added["lights"].as_array().map(Vec::len)), (StatusCode::OK, Some(1)), "{added}");
+
+    let (status, info) = upload(&app, "/scenes?environment=none", glb(), "model/gltf-binary").await;
+    assert_eq!((status, info["lights"].as_u64()), (StatusCode::CREATED, Some(0)), "{info}");
+    let mut lamp = document(Some(format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(square_buffer()))));
+    lamp["extensionsUsed"] = json!(["KHR_materials_unlit", "KHR_lights_punctual"]);
+    lamp["extensions"] = json!({ "KHR_lights_punctual": { "lights": [{ "type": "point", "intensity": 5 }] } });
+    lamp["nodes"].as_array_mut().unwrap().push(json!({ "translation": [0, 0, 2], "extensions": { "KHR_lights_punctual": { "light": 0 } } }));
+    let last = lamp["nodes"].as_array().unwrap().len() - 1;
+    lamp["scenes"][0]["nodes"].as_array_mut().unwrap().push(json!(last));
+    let (status, info) = upload(&app, "/scenes", serde_json::to_vec(&lamp).unwrap(), "model/gltf+json").await;
+    assert_eq!((status, info["lights"].as_u64()), (StatusCode::CREATED, Some(1)), "the file's lamp alone: {info}");
+    let lights = ok(&app, "GET", &format!("/scenes/{}/lights", info["id"]), Value::Null, StatusCode::OK).await;
+    assert_eq!(studio(&lights), 0, "{lights}");
+}

@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 use crate::config::Limits;
 use crate::edit::Blob;
 use crate::error::{ApiError, ApiResult};
-use crate::routes::gltf::{environment_light, import_limits};
+use crate::routes::gltf::{add_environment, import_limits, parse_environment};
 
 /// From rank 0 to the workers. `E` is the edit: borrowed when rank 0 encodes it, owned when a
 /// worker decodes it (the two encode alike).
@@ -67,7 +67,8 @@ pub(super) enum Reply {
 pub struct SceneBuild {
     /// What it starts as.
     pub start: SceneStart,
-    /// A uniform environment light to add (`R,G,B` or one number).
+    /// The environment to light it with (`studio`, `none`, `R,G,B` or one number); `None`
+    /// for the default (the studio for a glTF file without lights).
     pub environment: Option<String>,
 }
 
@@ -86,9 +87,14 @@ impl SceneBuild {
     /// Builds the scene (on a blocking thread: demos and files take time), and its origin's
     /// name (`empty`, `demo:NAME`, `gltf`); 422 naming the field that is wrong.
     pub(crate) fn build(&self, limits: &Limits) -> ApiResult<(Scene, String)> {
-        let (mut scene, origin) = match &self.start {
-            SceneStart::Empty => (Scene::new(), "empty".to_string()),
-            SceneStart::Gltf(file) => (raystage_gltf_import::read(&file.0, None, &import_limits(limits))?.into_scene()?, "gltf".to_string()),
+        let environment = self.environment.as_deref().map(parse_environment).transpose()?;
+        let (mut scene, origin, unlit) = match &self.start {
+            SceneStart::Empty => (Scene::new(), "empty".to_string(), false),
+            SceneStart::Gltf(file) => {
+                let import = raystage_gltf_import::read(&file.0, None, &import_limits(limits))?;
+                let unlit = import.lights().is_empty();
+                (import.into_scene()?, "gltf".to_string(), unlit)
+            }
             SceneStart::Demo { name, frame } => {
                 let demo =
                     Demo::from_name(name).ok_or_else(|| ApiError::unprocessable(Some("demo".into()), format!("unknown demo scene `{name}`: expected {}", Demo::NAMES)))?;
@@ -99,12 +105,10 @@ impl SceneBuild {
                     return Err(ApiError::unprocessable(Some("demo".into()), format!("`{name}` has {triangles} triangles: the limit is {max}")).limit("max_demo_triangles"));
                 }
                 let scene = demo.scene(*frame).map_err(|e| ApiError::internal(format!("cannot build the demo scene: {e}")))?;
-                (scene, format!("demo:{}", demo.name()))
+                (scene, format!("demo:{}", demo.name()), false)
             }
         };
-        if let Some(light) = self.environment.as_deref().map(environment_light).transpose()? {
-            scene.add_light(light)?;
-        }
+        add_environment(&mut scene, environment, unlit)?;
         Ok((scene, origin))
     }
 }

@@ -3,7 +3,7 @@
 use axum::Json;
 use axum::extract::State;
 use glam::Vec3;
-use raystage_scene::Light;
+use raystage_scene::{Light, LightId, Scene, SceneError, Texture, studio_environment};
 use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
 
@@ -36,16 +36,36 @@ pub enum CameraChoice {
 pub struct GltfQuery {
     /// What to do with the camera; default `auto`.
     pub camera: Option<CameraChoice>,
-    /// Lights the scene with a uniform environment of this radiance as well: `R,G,B` or one
-    /// number (glTF has no environment; an image environment is an `EnvironmentLight` with a
-    /// texture, `POST /scenes/{scene}/lights`).
+    /// The environment that lights the scene besides the file's own lights: `studio` (the
+    /// neutral studio glTF viewers light a file with), `none`, or a uniform radiance (`R,G,B`
+    /// or one number). Default: the studio where neither the file nor the scene has lights of
+    /// its own, else none. (An image environment of your own is an `EnvironmentLight` with a
+    /// texture, `POST /scenes/{scene}/lights`.)
     pub environment: Option<String>,
 }
 
-/// The uniform environment light that an `environment` query parameter asks for (422 naming
-/// it unless it is one or three finite radiances, none negative).
-pub(crate) fn environment_light(text: &str) -> ApiResult<Light> {
-    let wrong = || ApiError::unprocessable(Some("environment".into()), format!("environment `{text}` is not a radiance: one number or R,G,B, none negative"));
+/// An environment an `environment` query parameter asks for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Environment {
+    /// The studio ([`studio_environment`]).
+    Studio,
+    /// None at all, not even the default.
+    None,
+    /// The same radiance from every direction.
+    Uniform(Vec3),
+}
+
+/// Parses an `environment` query parameter (422 naming it unless it is `studio`, `none`, or one
+/// or three finite radiances, none negative).
+pub(crate) fn parse_environment(text: &str) -> ApiResult<Environment> {
+    match text {
+        "studio" => return Ok(Environment::Studio),
+        "none" => return Ok(Environment::None),
+        _ => {}
+    }
+    let wrong = || {
+        ApiError::unprocessable(Some("environment".into()), format!("environment `{text}` is neither studio, none nor a radiance: one number or R,G,B, none negative"))
+    };
     let values: Vec<f32> = text.split(',').map(|v| v.trim().parse::<f32>()).collect::<Result<_, _>>().map_err(|_| wrong())?;
     let radiance = match values[..] {
         [v] => Vec3::splat(v),
@@ -55,7 +75,22 @@ pub(crate) fn environment_light(text: &str) -> ApiResult<Light> {
     if !(radiance.is_finite() && radiance.min_element() >= 0.0) {
         return Err(wrong());
     }
-    Ok(Light::Environment { radiance, map: None })
+    Ok(Environment::Uniform(radiance))
+}
+
+/// Adds the environment `asked` for to `scene`, or, where none was asked for and `unlit` (a
+/// glTF file without lights went into a scene without lights), the studio, as glTF viewers light
+/// such a file. Returns the light added, if any.
+pub(crate) fn add_environment(scene: &mut Scene, asked: Option<Environment>, unlit: bool) -> Result<Option<LightId>, SceneError> {
+    let light = match asked.unwrap_or(if unlit { Environment::Studio } else { Environment::None }) {
+        Environment::None => return Ok(None),
+        Environment::Uniform(radiance) => Light::Environment { radiance, map: None },
+        Environment::Studio => {
+            let texture = scene.add_texture(Texture::Image(studio_environment().into()))?;
+            Light::Environment { radiance: Vec3::ONE, map: Some(texture) }
+        }
+    };
+    scene.add_light(light).map(Some)
 }
 
 /// What an upload added.
@@ -67,7 +102,8 @@ pub struct GltfAdded {
     pub objects: Vec<u32>,
     /// One instance per node holding such a mesh.
     pub instances: Vec<u32>,
-    /// The file's punctual lights, and the environment if the query asked for one.
+    /// The file's punctual lights, and the environment the query asked for (or the default
+    /// studio).
     pub lights: Vec<u32>,
     /// Whether the camera changed.
     pub camera_changed: bool,
@@ -111,7 +147,7 @@ pub(crate) async fn upload(State(state): State<AppState>, target: Target, Params
     // Checked before the edit, which then adds what was imported here.
     let edit = Edit::Gltf { file: Blob(body.into()), camera: query.camera.unwrap_or_default(), environment: query.environment, import: Some(Box::new(import)) };
     if let Edit::Gltf { environment: Some(text), .. } = &edit {
-        environment_light(text)?;
+        parse_environment(text)?;
     }
     let (added, version) = match target.scene.edit(&state, edit).await? {
         (Applied::Gltf(added), version) => (added, version),

@@ -228,7 +228,7 @@ fn exact_json(json: &mut serde_json::Value) {
         ("height", json!({ "maximum": limits.max_dimension })),
         ("spp", json!({ "maximum": limits.max_spp })),
         ("background", json!({ "pattern": format!("^(sky|black|{colour})$") })),
-        ("environment", json!({ "pattern": format!("^{colour}$") })),
+        ("environment", json!({ "pattern": format!("^(studio|none|{colour})$") })),
         ("filter", json!({ "pattern": format!("^(box|gaussian|gaussian:({radius}))$") })),
     ];
     for operation in json["paths"].as_object_mut().into_iter().flat_map(|p| p.values_mut()).filter_map(Value::as_object_mut).flat_map(|o| o.values_mut()) {

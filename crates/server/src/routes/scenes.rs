@@ -33,8 +33,9 @@ pub struct NewScene {
 #[serde(deny_unknown_fields)]
 #[into_params(parameter_in = Query)]
 pub struct NewSceneQuery {
-    /// Lights the new scene with a uniform environment of this radiance as well: `R,G,B` or
-    /// one number (what a glTF file, which has no environment, often needs).
+    /// The environment that lights the new scene besides its own lights: `studio` (the neutral
+    /// studio glTF viewers light a file with), `none`, or a uniform radiance (`R,G,B` or one
+    /// number). Default: the studio for a glTF file without lights of its own, else none.
     pub environment: Option<String>,
 }
 
@@ -122,7 +123,7 @@ pub(crate) async fn create(
     request: Request,
 ) -> ApiResult<(StatusCode, Json<SceneInfo>)> {
     if let Some(text) = &query.environment {
-        super::gltf::environment_light(text)?;
+        super::gltf::parse_environment(text)?;
     }
     let gltf = headers.get(header::CONTENT_TYPE).and_then(|v| v.to_str().ok()).is_some_and(|t| t.starts_with("model/gltf"));
     let body = RawBody::from_request(request, &state).await?.0;
