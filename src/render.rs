@@ -212,10 +212,9 @@ pub fn parse_switch(text: &str) -> Result<bool> {
 fn add_environment(scene: &mut Scene, source: &EnvironmentSource, environment: &Environment) -> Result<()> {
     let intensity = environment.intensity;
     ensure!(intensity.is_finite() && intensity >= 0.0, "--environment-intensity must be a number not below 0, got {intensity}");
-    ensure!(environment.rotate_degrees.is_finite(), "--environment-rotate must be a number of degrees");
     let image = match source {
         EnvironmentSource::Uniform(radiance) => {
-            scene.add_light(Light::Environment { radiance: *radiance * intensity, map: None })?;
+            scene.add_light(Light::Environment { radiance: *radiance * intensity, map: None, rotate_degrees: 0.0 })?;
             return Ok(());
         }
         EnvironmentSource::Image(path) => {
@@ -224,19 +223,10 @@ fn add_environment(scene: &mut Scene, source: &EnvironmentSource, environment: &
         }
         EnvironmentSource::Studio => raystage_scene::studio_environment(),
     };
-    let texture = scene.add_texture(Texture::Image(rotated_about_up(&image, environment.rotate_degrees).into()))?;
-    let light = Light::Environment { radiance: Vec3::splat(intensity), map: Some(texture) };
+    let texture = scene.add_texture(Texture::Image(image.into()))?;
+    let light = Light::Environment { radiance: Vec3::splat(intensity), map: Some(texture), rotate_degrees: environment.rotate_degrees };
     scene.add_light(light)?;
     Ok(())
-}
-
-/// A latitude-longitude image turned about the up axis by `degrees` (counter-clockwise seen
-/// from above): its columns shifted, to the nearest column.
-fn rotated_about_up(image: &Image, degrees: f32) -> Image {
-    let (w, h) = (image.width() as i64, image.height() as i64);
-    let shift = (degrees / 360.0 * w as f32).round() as i64;
-    let texels = (0..h).flat_map(|y| (0..w).map(move |x| image.texel((x + shift).rem_euclid(w), y))).collect();
-    Image::new(w as u32, h as u32, texels).expect("the same size as a valid image")
 }
 
 /// What a render cost.

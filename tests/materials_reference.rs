@@ -86,7 +86,7 @@ fn import(scene: MaterialScene) -> Scene {
     let import = raystage_gltf_import::read(scene.gltf().as_bytes(), None, &Limits::default()).unwrap();
     assert!(import.notes().is_empty(), "{}: {:?}", scene.name(), import.notes());
     let mut imported = import.into_scene().unwrap();
-    imported.add_light(Light::Environment { radiance: Vec3::from(ENVIRONMENT), map: None }).unwrap();
+    imported.add_light(Light::Environment { radiance: Vec3::from(ENVIRONMENT), map: None, rotate_degrees: 0.0 }).unwrap();
     imported
 }
 

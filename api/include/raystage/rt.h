@@ -1456,7 +1456,8 @@ RTuint rtGenShaderClasses(RTsizei n);
  * - "AreaLight": corner, edge_u, edge_v (3f: the parallelogram, emitting towards
  *   edge_u × edge_v), radiance (3f).
  * - "EnvironmentLight": radiance (3f, from every direction), map (texture: a
- *   latitude-longitude image, top row straight up, that the radiance scales).
+ *   latitude-longitude image, top row straight up, that the radiance scales), rotate (1f,
+ *   degrees the map turns about +y, counter-clockwise seen from above; default 0).
  *
  * # Safety
  * `name` and `library` must each be NULL or a NUL-terminated string.

@@ -180,7 +180,7 @@ pub(crate) static LIGHT_CLASSES: &[LightClass] = &[
     LightClass {
         name: "EnvironmentLight",
         doc: "Light arriving from every direction (a sky), optionally from a latitude-longitude image.",
-        default: Light::Environment { radiance: Vec3::ONE, map: None },
+        default: Light::Environment { radiance: Vec3::ONE, map: None, rotate_degrees: 0.0 },
         params: &[
             triple!("radiance", Environment, radiance, POWER, "Linear RGB radiance from every direction, scaling the map if there is one; default 1."),
             LightParam {
@@ -190,6 +190,7 @@ pub(crate) static LIGHT_CLASSES: &[LightClass] = &[
                 range: [0.0, 0.0],
                 doc: "A texture whose latitude-longitude image (top row straight up, +y) gives the radiance by direction; none by default.",
             },
+            number!("rotate", Environment, rotate_degrees, ANY, "Turns the map about the up axis (+y) by this many degrees, counter-clockwise seen from above; default 0."),
         ],
     },
 ];
@@ -231,7 +232,7 @@ mod tests {
         let Setter::Texture(set) = environment.params.iter().find(|p| p.name == "map").unwrap().set else { panic!("a texture parameter") };
         let mut light = environment.default;
         set(&mut light, Some(TextureId(3)));
-        assert_eq!(light, Light::Environment { radiance: Vec3::ONE, map: Some(TextureId(3)) });
+        assert_eq!(light, Light::Environment { radiance: Vec3::ONE, map: Some(TextureId(3)), rotate_degrees: 0.0 });
         set(&mut light, None);
         assert_eq!(light, environment.default);
     }

@@ -21,7 +21,7 @@ use tokio_tungstenite::tungstenite::http::HeaderValue;
 
 use crate::Error;
 use crate::http::Server;
-use crate::protocol::{CameraPatch, FrameStats, Hello, InstanceInfo, ObjectInfo, PROTOCOL, Request, SceneInfo, ServerMessage, Settings};
+use crate::protocol::{CameraPatch, FrameStats, Hello, InstanceInfo, LightInfo, ObjectInfo, PROTOCOL, Request, SceneInfo, ServerMessage, Settings};
 
 /// A camera change whose reply has not come in this long is taken as lost.
 const CAMERA_REPLY_TIMEOUT: Duration = Duration::from_secs(2);
@@ -52,6 +52,8 @@ pub struct SceneSnapshot {
     pub objects: Vec<ObjectInfo>,
     /// Every instance.
     pub instances: Vec<InstanceInfo>,
+    /// Every light.
+    pub lights: Vec<LightInfo>,
 }
 
 /// A frame: its statistics and its pixels.
@@ -165,6 +167,8 @@ async fn session(config: StreamConfig, events: &Events, requests: &mut Unbounded
     // the first frame already fills the window.
     let mut settings = config.settings;
     let mut camera = CameraQueue::default();
+    // Edits asked for before the stream opens go out once it has.
+    let mut edits = Vec::new();
     let deadline = tokio::time::Instant::now() + FIRST_SIZE_WAIT;
     loop {
         let request = if settings.width.is_some() {
@@ -182,6 +186,7 @@ async fn session(config: StreamConfig, events: &Events, requests: &mut Unbounded
         match request {
             Request::Settings(s) => settings = settings.merged(s),
             Request::Camera(c) => camera.pending = Some(c),
+            Request::Commands(commands) => edits.push(Request::Commands(commands)),
             Request::RefreshScene => {}
         }
     }
@@ -195,6 +200,11 @@ async fn session(config: StreamConfig, events: &Events, requests: &mut Unbounded
     let (mut socket, _) = tokio_tungstenite::connect_async(upgrade).await.map_err(|e| Error::Stream(format!("cannot open {url}: {e}")))?;
 
     let mut next_request = 1u64;
+    for edit in edits {
+        let message = edit.message(next_request).expect("commands are stream messages");
+        next_request += 1;
+        socket.send(Message::text(message.to_string())).await.map_err(|e| Error::Stream(format!("sending: {e}")))?;
+    }
     let mut frame_stats: Option<FrameStats> = None;
     loop {
         // A camera change waiting for its turn goes out as soon as the last one is answered.
@@ -255,7 +265,7 @@ async fn session(config: StreamConfig, events: &Events, requests: &mut Unbounded
                     });
                 }
                 Some(request) => {
-                    let message = request.message(next_request).expect("settings are stream messages");
+                    let message = request.message(next_request).expect("settings and commands are stream messages");
                     next_request += 1;
                     socket.send(Message::text(message.to_string())).await.map_err(|e| Error::Stream(format!("sending: {e}")))?;
                 }
@@ -297,7 +307,8 @@ async fn fetch_scene(server: &Server, scene: u32) -> Result<SceneSnapshot, Error
     let info = server.get(&format!("/scenes/{scene}")).await?;
     let objects = server.get(&format!("/scenes/{scene}/objects")).await?;
     let instances = server.get(&format!("/scenes/{scene}/instances")).await?;
-    Ok(SceneSnapshot { info, objects, instances })
+    let lights = server.get(&format!("/scenes/{scene}/lights")).await?;
+    Ok(SceneSnapshot { info, objects, instances, lights })
 }
 
 /// The frame decoder: a thread that decodes the newest PNG offered to it.

@@ -132,6 +132,25 @@ pub struct CameraJson {
     pub fov_y_degrees: f32,
 }
 
+/// A light as `GET /scenes/{scene}/lights` lists it: what the viewer's lighting controls need
+/// (other classes' parameters are left out).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+pub struct LightInfo {
+    /// Its id.
+    pub id: u32,
+    /// `EnvironmentLight`, `PointLight`, ...
+    pub class: String,
+    /// An environment's radiance (or its map's scale), linear RGB.
+    #[serde(default)]
+    pub radiance: Option<[f32; 3]>,
+    /// An environment's map: a texture id.
+    #[serde(default)]
+    pub map: Option<u32>,
+    /// An environment's turn about +y, in degrees.
+    #[serde(default)]
+    pub rotate: Option<f32>,
+}
+
 /// A scene at a glance (`GET /scenes/{scene}`).
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 pub struct SceneInfo {
@@ -259,8 +278,11 @@ pub enum Request {
     Camera(CameraPatch),
     /// Change the stream's image (`settings` message).
     Settings(Settings),
-    /// Fetch the scene's summary, objects and instances again (HTTP).
+    /// Fetch the scene's summary, objects, instances and lights again (HTTP).
     RefreshScene,
+    /// Edit the scene: a batch of commands, as `POST /scenes/{scene}/commands` takes them
+    /// (`commands` message).
+    Commands(Value),
 }
 
 impl Request {
@@ -275,6 +297,7 @@ impl Request {
                 message["request"] = json!(request);
                 Some(message)
             }
+            Request::Commands(commands) => Some(json!({ "type": "commands", "request": request, "commands": commands })),
             Request::RefreshScene => None,
         }
     }

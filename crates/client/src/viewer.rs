@@ -1,6 +1,6 @@
 //! The viewer's window: the newest frame filling the central panel, mouse controls that move
-//! the camera, and a side panel with the render settings, the frame statistics and the scene's
-//! objects and instances.
+//! the camera, and a side panel with the render settings, the scene's environment light, the
+//! frame statistics and the scene's objects and instances.
 //!
 //! [`Viewer`] is all UI state and no I/O: what it learns comes from [`Link::events`], what it
 //! wants goes out on [`Link::requests`], so a test can play the server on the other end of the
@@ -14,7 +14,7 @@ use eframe::egui::{self, Color32, ColorImage, PointerButton, Rect, Sense, Textur
 
 use crate::net::{Event, Link, SceneSnapshot};
 use crate::orbit::Orbit;
-use crate::protocol::{FrameStats, Hello, Request, Settings};
+use crate::protocol::{FrameStats, Hello, LightInfo, Request, Settings};
 
 /// The integrators a stream can use, as the server names them.
 pub const INTEGRATORS: [&str; 4] = ["eyelight", "whitted", "distribution", "path"];
@@ -76,6 +76,55 @@ pub struct Viewer {
     passes_with_frame: u32,
     first_shown: Option<f64>,
     screenshot: Screenshot,
+    /// The scene's environment light as the lighting controls edit it.
+    environment: Option<Environment>,
+}
+
+/// The scene's (first) environment light, as the panel shows and edits it: every change is a
+/// batch of commands on the stream, so every client of the scene sees it.
+#[derive(Clone, Debug, PartialEq)]
+struct Environment {
+    /// Whether it is in the scene.
+    state: Presence,
+    /// Its map (the studio, an HDR sky), if any.
+    map: Option<u32>,
+    /// Its radiance divided by `intensity`.
+    colour: [f32; 3],
+    /// The largest component of its radiance.
+    intensity: f32,
+    /// Its turn about +y, in degrees.
+    rotate: f32,
+}
+
+/// Where the environment light is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Presence {
+    /// In the scene, with this id.
+    On(u32),
+    /// Switched off here: deleted, its parameters kept to add it again.
+    Off,
+    /// Added again, its id not fetched yet.
+    Adding,
+}
+
+impl Environment {
+    /// The panel's view of `light`, an `EnvironmentLight`.
+    fn of(light: &LightInfo) -> Environment {
+        let radiance = light.radiance.unwrap_or([1.0; 3]);
+        let intensity = radiance.into_iter().fold(0.0f32, f32::max);
+        let colour = if intensity > 0.0 { radiance.map(|c| c / intensity) } else { [1.0; 3] };
+        Environment { state: Presence::On(light.id), map: light.map, colour, intensity, rotate: light.rotate.unwrap_or(0.0) }
+    }
+
+    /// The light as the API describes it.
+    fn spec(&self) -> serde_json::Value {
+        serde_json::json!({
+            "class": "EnvironmentLight",
+            "radiance": self.colour.map(|c| c * self.intensity),
+            "map": self.map,
+            "rotate": self.rotate,
+        })
+    }
 }
 
 /// The stream's resolution follows the view's, once it has stopped changing.
@@ -119,6 +168,7 @@ impl Viewer {
             passes_with_frame: 0,
             first_shown: None,
             screenshot: Screenshot::NotYet,
+            environment: None,
         }
     }
 
@@ -152,6 +202,10 @@ impl Viewer {
                     // The camera is the scene's until the mouse moves it.
                     if self.orbit.is_none() {
                         self.orbit = Some(Orbit::from_camera(&snapshot.info.camera));
+                    }
+                    // The scene's environment light, unless the panel has it switched off.
+                    if self.environment.as_ref().is_none_or(|e| e.state != Presence::Off) {
+                        self.environment = snapshot.lights.iter().find(|l| l.class == "EnvironmentLight").map(Environment::of);
                     }
                     self.scene = Some(*snapshot);
                 }
@@ -338,6 +392,9 @@ impl Viewer {
         }
         ui.separator();
 
+        self.lighting(ui);
+        ui.separator();
+
         ui.strong("Statistics");
         egui::Grid::new("stats").num_columns(2).show(ui, |ui| {
             let rows: Vec<(&str, String)> = match &self.stats {
@@ -386,6 +443,43 @@ impl Viewer {
             });
         });
         if ui.button("Refresh scene").clicked() {
+            self.send(Request::RefreshScene);
+        }
+    }
+
+    /// The environment light's controls: on or off, its intensity and, for a map, its turn.
+    /// Sliders send their value when let go (or when moved by keys), not at every step of a drag.
+    fn lighting(&mut self, ui: &mut egui::Ui) {
+        ui.strong("Lighting");
+        let Some(environment) = &mut self.environment else {
+            ui.label("no environment light");
+            return;
+        };
+        ui.label(if environment.map.is_some() { "environment: image (a studio or a sky)" } else { "environment: uniform" });
+        let mut on = environment.state != Presence::Off;
+        let switched = ui.checkbox(&mut on, "environment on").changed();
+        let settle = |r: egui::Response| r.drag_stopped() || (r.changed() && !r.dragged());
+        let mut moved = settle(ui.add(egui::Slider::new(&mut environment.intensity, 0.0..=4.0).step_by(0.05).text("intensity")));
+        if environment.map.is_some() {
+            moved |= settle(ui.add(egui::Slider::new(&mut environment.rotate, -180.0..=180.0).step_by(5.0).text("rotation (degrees)")));
+        }
+        let (commands, refresh) = match (switched, environment.state) {
+            (true, Presence::On(id)) => {
+                environment.state = Presence::Off;
+                (Some(serde_json::json!([{ "delete_light": { "id": id } }])), false)
+            }
+            // Back on: a new light, whose id the next fetch of the scene tells.
+            (true, Presence::Off) => {
+                environment.state = Presence::Adding;
+                (Some(serde_json::json!([{ "add_light": environment.spec() }])), true)
+            }
+            (false, Presence::On(id)) if moved => (Some(serde_json::json!([{ "set_light": { "id": id, "light": environment.spec() } }])), false),
+            _ => (None, false),
+        };
+        if let Some(commands) = commands {
+            self.send(Request::Commands(commands));
+        }
+        if refresh {
             self.send(Request::RefreshScene);
         }
     }

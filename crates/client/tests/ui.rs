@@ -1,7 +1,8 @@
 //! The viewer's UI state, with the test playing the server on the other end of the viewer's
 //! channels (egui_kittest, no window, no rendering): statistics show up in the side panel,
 //! choosing an integrator sends a `settings` message, a drag sends the orbited camera, and the
-//! first frame of a scene version refreshes objects the panel shows as not built.
+//! first frame of a scene version refreshes objects the panel shows as not built; the lighting
+//! controls edit the scene's environment light with `commands` messages.
 
 use std::time::{Duration, Instant};
 
@@ -9,14 +10,14 @@ use eframe::egui::{self, Color32, ColorImage};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use raystage_client::net::{Event, Frame, Link, Remote, SceneSnapshot};
-use raystage_client::protocol::{CameraJson, FrameStats, Hello, ObjectInfo, Rays, Request, SceneInfo, Settings};
+use raystage_client::protocol::{CameraJson, FrameStats, Hello, LightInfo, ObjectInfo, Rays, Request, SceneInfo, Settings};
 use raystage_client::{Viewer, ViewerOptions};
 use serde_json::json;
 
 fn scene() -> SceneSnapshot {
     let camera = CameraJson { eye: [0.0, 0.0, 5.0], target: [0.0; 3], up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0 };
     let info = SceneInfo { id: 1, origin: "demo:test".into(), version: 0, objects: 0, instances: 0, lights: 0, triangles: 0, camera };
-    SceneSnapshot { info, objects: Vec::new(), instances: Vec::new() }
+    SceneSnapshot { info, objects: Vec::new(), instances: Vec::new(), lights: Vec::new() }
 }
 
 fn frame(seq: u64, samples: u32, received: Instant) -> Event {
@@ -165,4 +166,45 @@ fn the_first_frame_of_a_version_refreshes_objects_shown_as_not_built() {
     harness.run();
     assert!(harness.query_by_label("#0 static: 12 triangles, built").is_some());
     assert_eq!(refreshes(requests(&mut remote)), 0, "everything is built: nothing to refresh");
+}
+
+/// The scene's environment light: switched off (deleted) and on again (added with the same
+/// parameters, its id fetched anew), its intensity and turn sent as `set_light` commands.
+#[test]
+fn the_lighting_controls_edit_the_environment_light() {
+    let (mut harness, mut remote) = viewer();
+    // The edits sent, not the stream's size (the panel's width may change with its contents).
+    let requests = |remote: &mut Remote| requests(remote).into_iter().filter(|r| !matches!(r, Request::Settings(_))).collect::<Vec<_>>();
+    let studio = |id| LightInfo { id, class: "EnvironmentLight".into(), radiance: Some([1.0; 3]), map: Some(1), rotate: Some(0.0) };
+    let with_lights = |lights: Vec<LightInfo>| SceneSnapshot { lights, ..scene() };
+    remote.events.send(Event::Scene(Box::new(with_lights(vec![studio(3)])))).unwrap();
+    remote.events.send(hello()).unwrap();
+    harness.run();
+    requests(&mut remote);
+    assert!(harness.query_by_label("environment: image (a studio or a sky)").is_some());
+
+    harness.get_by_label("environment on").click();
+    harness.run();
+    assert_eq!(requests(&mut remote), [Request::Commands(json!([{ "delete_light": { "id": 3 } }]))]);
+    // A fetch of the scene (it has no environment light now) keeps the switched-off one.
+    remote.events.send(Event::Scene(Box::new(with_lights(Vec::new())))).unwrap();
+    harness.run();
+    harness.get_by_label("environment on").click();
+    harness.run();
+    let spec = json!({ "class": "EnvironmentLight", "radiance": [1.0, 1.0, 1.0], "map": 1, "rotate": 0.0 });
+    assert_eq!(requests(&mut remote), [Request::Commands(json!([{ "add_light": spec }])), Request::RefreshScene]);
+    remote.events.send(Event::Scene(Box::new(with_lights(vec![studio(4)])))).unwrap();
+    harness.run();
+
+    // A slider moved by a key sends its value once.
+    harness.get_by_role_and_label(egui::accesskit::Role::Slider, "intensity").focus();
+    harness.run();
+    harness.key_press(egui::Key::ArrowRight);
+    harness.run();
+    let sent = requests(&mut remote);
+    let [Request::Commands(commands)] = sent.as_slice() else { panic!("one batch, got {sent:?}") };
+    assert_eq!(commands[0]["set_light"]["id"], 4, "{commands}");
+    let radiance = commands[0]["set_light"]["light"]["radiance"][0].as_f64().unwrap();
+    assert!((radiance - 1.05).abs() < 1e-6, "{commands}");
+    assert_eq!(Request::Commands(commands.clone()).message(5).unwrap()["type"], "commands");
 }

@@ -73,7 +73,7 @@ pub fn materials() -> Result<Scene, SceneError> {
     mesh.painted_cube(Vec3::new(-0.4, 0.0, 1.2), 0.6, painted);
     let object = scene.add_object(ObjectKind::Static, mesh.mesh)?;
     scene.add_instance(object, glam::Affine3A::IDENTITY)?;
-    scene.add_light(Light::Environment { radiance: Vec3::new(0.35, 0.45, 0.6), map: None })?;
+    scene.add_light(Light::Environment { radiance: Vec3::new(0.35, 0.45, 0.6), map: None, rotate_degrees: 0.0 })?;
     scene.add_light(Light::Spot {
         position: Vec3::new(4.0, 6.0, 5.0),
         direction: Vec3::new(-4.0, -6.0, -5.0),
@@ -126,7 +126,7 @@ pub fn area_lit_spheres() -> Result<Scene, SceneError> {
         edge_v: Vec3::new(0.0, 0.0, 0.4),
         radiance: Vec3::new(30.0, 36.0, 48.0),
     })?;
-    scene.add_light(Light::Environment { radiance: Vec3::ZERO, map: None })?;
+    scene.add_light(Light::Environment { radiance: Vec3::ZERO, map: None, rotate_degrees: 0.0 })?;
     scene.set_camera(Camera::look_at(Vec3::new(0.0, 1.6, 4.5), Vec3::new(0.0, 0.5, -0.2), Vec3::Y, 40.0)?)?;
     Ok(scene)
 }
@@ -146,7 +146,7 @@ pub fn glass_over_checker() -> Result<Scene, SceneError> {
     mesh.sphere(Vec3::new(0.0, 0.9, 0.0), 0.8, 64, 32, glass);
     let object = scene.add_object(ObjectKind::Static, mesh.mesh)?;
     scene.add_instance(object, glam::Affine3A::IDENTITY)?;
-    scene.add_light(Light::Environment { radiance: Vec3::new(0.9, 0.95, 1.0), map: None })?;
+    scene.add_light(Light::Environment { radiance: Vec3::new(0.9, 0.95, 1.0), map: None, rotate_degrees: 0.0 })?;
     scene.set_camera(Camera::look_at(Vec3::new(0.0, 2.2, 4.0), Vec3::new(0.0, 0.6, 0.0), Vec3::Y, 40.0)?)?;
     Ok(scene)
 }

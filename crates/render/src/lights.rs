@@ -240,12 +240,12 @@ impl<'f> SceneLights<'f> {
                     let cross = edge_u.cross(edge_v);
                     Prepared::Area { corner, edge_u, edge_v, normal: cross.normalize(), area: cross.length(), radiance }
                 }
-                Light::Environment { radiance, map } => {
+                Light::Environment { radiance, map, rotate_degrees } => {
                     let image = map.and_then(|id| frame.texture(id)).and_then(|t| match t {
                         Texture::Image(image) => Some(&**image),
                         _ => None,
                     });
-                    Prepared::Environment { radiance, map: image.and_then(|i| EnvironmentMap::new(Cow::Borrowed(i))) }
+                    Prepared::Environment { radiance, map: image.and_then(|i| EnvironmentMap::new(Cow::Borrowed(i), rotate_degrees)) }
                 }
             };
             lights.push(prepared);
@@ -261,7 +261,7 @@ impl<'f> SceneLights<'f> {
         });
         let defaulted = defaults && lights.is_empty() && ambient == Vec3::ZERO;
         if defaulted {
-            lights.push(Prepared::Environment { radiance: Vec3::ONE, map: EnvironmentMap::new(Cow::Owned(default_sky())) });
+            lights.push(Prepared::Environment { radiance: Vec3::ONE, map: EnvironmentMap::new(Cow::Owned(default_sky()), 0.0) });
         }
         let environment = lights.iter().any(|l| matches!(l, Prepared::Environment { .. }));
         let area = lights.iter().any(|l| matches!(l, Prepared::Area { .. }));
@@ -456,11 +456,13 @@ fn hit_parallelogram(origin: Vec3, dir: Vec3, corner: Vec3, edge_u: Vec3, edge_v
 }
 
 /// A latitude-longitude environment image with the distribution that samples it by brightness.
-/// Row 0 looks straight up (+y); column `x` looks at azimuth `φ = 2π (x / width − 1/2)`
+/// Row 0 looks straight up (+y); column `x` looks at azimuth `φ = 2π (x / width − 1/2 − turn)`
 /// measured from −z towards +x.
 struct EnvironmentMap<'f> {
     /// The scene's image, or one baked for the frame (the default sky).
     image: Cow<'f, Image>,
+    /// How far the image is turned about +y, in turns (the light's degrees / 360).
+    turn: f32,
     /// Rows by their total brightness.
     rows: Distribution,
     /// Within each row, columns by brightness.
@@ -470,7 +472,7 @@ struct EnvironmentMap<'f> {
 impl<'f> EnvironmentMap<'f> {
     /// The map of `image`, or `None` if it is black everywhere. Rows in parallel: every frame
     /// prepares its map, and an HDR image has millions of texels.
-    fn new(image: Cow<'f, Image>) -> Option<EnvironmentMap<'f>> {
+    fn new(image: Cow<'f, Image>, rotate_degrees: f32) -> Option<EnvironmentMap<'f>> {
         use rayon::prelude::*;
         let (w, h) = (image.width() as usize, image.height() as usize);
         let columns: Vec<Distribution> = (0..h)
@@ -482,7 +484,7 @@ impl<'f> EnvironmentMap<'f> {
             })
             .collect();
         let rows = Distribution::new(columns.iter().map(|c| c.total).collect());
-        (rows.total > 0.0).then_some(EnvironmentMap { image, rows, columns })
+        (rows.total > 0.0).then_some(EnvironmentMap { image, turn: rotate_degrees / 360.0, rows, columns })
     }
 
     /// The texel `dir` looks at (unfiltered, so that lookup and sampling density agree).
@@ -495,7 +497,7 @@ impl<'f> EnvironmentMap<'f> {
     fn texel_of(&self, dir: Vec3) -> (usize, usize) {
         let (w, h) = (self.image.width() as usize, self.image.height() as usize);
         let v = dir.y.clamp(-1.0, 1.0).acos() / PI;
-        let u = dir.x.atan2(-dir.z) / TAU + 0.5;
+        let u = (dir.x.atan2(-dir.z) / TAU + 0.5 + self.turn).rem_euclid(1.0);
         (((u * w as f32) as usize).min(w - 1), ((v * h as f32) as usize).min(h - 1))
     }
 
@@ -504,7 +506,7 @@ impl<'f> EnvironmentMap<'f> {
         let (row, v) = self.rows.sample(u[1]);
         let (_, uu) = self.columns[row].sample(u[0]);
         let theta = v * PI;
-        let phi = (uu - 0.5) * TAU;
+        let phi = (uu - 0.5 - self.turn) * TAU;
         let dir = Vec3::new(theta.sin() * phi.sin(), theta.cos(), -theta.sin() * phi.cos());
         let pdf = self.pdf(dir);
         (pdf > 0.0).then_some((dir, pdf))
@@ -617,7 +619,7 @@ mod tests {
         let (w, h) = (16, 8);
         let texels = (0..w * h).map(|i| if i % w == 3 && i / w == 2 { Vec3::splat(50.0) } else { Vec3::splat(0.5) }).collect();
         let image = Image::new(w as u32, h as u32, texels).unwrap();
-        let map = EnvironmentMap::new(Cow::Borrowed(&image)).unwrap();
+        let map = EnvironmentMap::new(Cow::Borrowed(&image), 0.0).unwrap();
         let n = 400;
         let mut integral = 0.0;
         for i in 0..n {
@@ -637,6 +639,29 @@ mod tests {
             bright += (map.texel_of(dir) == (3, 2)) as u32;
         }
         assert!(bright > 500, "{bright} of 1000 samples in the bright texel");
+    }
+
+    /// A turned map looks the same everywhere but turned: counter-clockwise seen from above, so
+    /// that what lay towards −z lies towards −x after a quarter turn, and its samples follow.
+    #[test]
+    fn a_turned_environment_turns_lookups_and_samples_alike() {
+        let (w, h) = (16, 8);
+        // One bright texel in the middle column (towards −z), just above the horizon.
+        let texels = (0..w * h).map(|i| if i % w == 8 && i / w == 3 { Vec3::splat(50.0) } else { Vec3::splat(0.5) }).collect();
+        let image = Image::new(w as u32, h as u32, texels).unwrap();
+        let (plain, turned) = (EnvironmentMap::new(Cow::Borrowed(&image), 0.0).unwrap(), EnvironmentMap::new(Cow::Borrowed(&image), 90.0).unwrap());
+        let up = 0.2;
+        assert_eq!(plain.radiance(Vec3::new(0.0, up, -1.0)), Vec3::splat(50.0));
+        assert_eq!(turned.radiance(Vec3::new(-1.0, up, 0.0)), Vec3::splat(50.0), "a quarter turn counter-clockwise");
+        assert_eq!(turned.radiance(Vec3::new(0.0, up, -1.0)), Vec3::splat(0.5));
+        for k in 0..200 {
+            let u = [((k * 7919) % 200) as f32 / 200.0, k as f32 / 200.0];
+            let (a, pa) = plain.sample(u).unwrap();
+            let (b, pb) = turned.sample(u).unwrap();
+            let quarter = Vec3::new(a.z, a.y, -a.x);
+            assert!((b - quarter).length() < 1e-4 && (pa - pb).abs() <= 1e-3 * pa, "{a} turned is {quarter}, sampled {b}");
+            assert!((pb - turned.pdf(b)).abs() <= 1e-3 * pb);
+        }
     }
 
     /// Veach's test of multiple importance sampling: a small bright emitter and a large dim one

@@ -13,7 +13,7 @@ use raystage_scene::{Light, ParamValue, Scene};
 
 /// `scene` under a uniform environment of radiance 1.
 fn in_furnace(mut scene: Scene) -> Scene {
-    scene.add_light(Light::Environment { radiance: Vec3::ONE, map: None }).unwrap();
+    scene.add_light(Light::Environment { radiance: Vec3::ONE, map: None, rotate_degrees: 0.0 }).unwrap();
     scene
 }
 

@@ -22,7 +22,7 @@ fn slab(thickness: f32, sigma: Vec3) -> Scene {
     let wall = shader(&mut scene, "Constant", &[("color", ParamValue::Color(Vec3::ONE))]);
     place(&mut scene, box_mesh(Vec3::new(-500.0, -500.0, -20.0), Vec3::new(500.0, 500.0, -19.0)), wall);
     // A black environment: what the slab reflects towards the camera is dark.
-    scene.add_light(Light::Environment { radiance: Vec3::ZERO, map: None }).unwrap();
+    scene.add_light(Light::Environment { radiance: Vec3::ZERO, map: None, rotate_degrees: 0.0 }).unwrap();
     scene.set_camera(Camera::look_at(Vec3::new(0.0, 0.0, 10.0), Vec3::ZERO, Vec3::Y, 1.0).unwrap()).unwrap();
     scene
 }
@@ -92,7 +92,7 @@ fn total_internal_reflection_turns_a_prism_into_a_mirror() {
     place(&mut scene, box_mesh(Vec3::new(-31.0, -100.0, -100.0), Vec3::new(-30.0, 100.0, 100.0)), red);
     place(&mut scene, box_mesh(Vec3::new(30.0, -100.0, -100.0), Vec3::new(31.0, 100.0, 100.0)), green);
     place(&mut scene, box_mesh(Vec3::new(-29.0, 30.0, -100.0), Vec3::new(29.0, 31.0, 100.0)), green);
-    scene.add_light(Light::Environment { radiance: Vec3::ZERO, map: None }).unwrap();
+    scene.add_light(Light::Environment { radiance: Vec3::ZERO, map: None, rotate_degrees: 0.0 }).unwrap();
     scene.set_camera(Camera::look_at(Vec3::new(0.5, -10.0, 0.0), Vec3::new(0.5, 0.0, 0.0), Vec3::Z, 1.0).unwrap()).unwrap();
     for integrator in [Integrator::Whitted, Integrator::Path] {
         let (film, _) = render_with(&scene, integrator, 4, 4, 64);

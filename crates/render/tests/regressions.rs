@@ -121,7 +121,7 @@ fn the_tolerance_catches_a_dimmer_light() {
     let lights: Vec<_> = scene.lights().map(|(id, l)| (id, *l)).collect();
     for (id, light) in lights {
         let dimmer = match light {
-            raystage_scene::Light::Environment { radiance, map } => raystage_scene::Light::Environment { radiance: radiance * 0.5, map },
+            raystage_scene::Light::Environment { radiance, map, rotate_degrees } => raystage_scene::Light::Environment { radiance: radiance * 0.5, map, rotate_degrees },
             other => other,
         };
         scene.set_light(id, dimmer).unwrap();

@@ -162,7 +162,7 @@ fn light_never_leaks_through_thin_walls_far_from_the_origin() {
                 place(&mut scene, box_mesh(a, b), white);
             }
         }
-        scene.add_light(Light::Environment { radiance: Vec3::splat(5.0), map: None }).unwrap();
+        scene.add_light(Light::Environment { radiance: Vec3::splat(5.0), map: None, rotate_degrees: 0.0 }).unwrap();
         scene.add_light(Light::Directional { direction: Vec3::new(0.3, -1.0, 0.2), intensity: Vec3::splat(10.0) }).unwrap();
         scene.add_light(Light::Point { position: offset + Vec3::new(1.5, 0.3, -0.2) * size, intensity: Vec3::splat(100.0 * size * size) }).unwrap();
         scene.set_camera(Camera::look_at(offset + Vec3::new(0.7, 0.2, 0.6) * size, offset + Vec3::new(-1.0, -0.6, -0.9) * size, Vec3::Y, 100.0).unwrap()).unwrap();
@@ -176,7 +176,7 @@ fn light_never_leaks_through_thin_walls_far_from_the_origin() {
 
 /// `scene` in a uniform white environment.
 fn in_furnace(mut scene: Scene) -> Scene {
-    scene.add_light(Light::Environment { radiance: Vec3::ONE, map: None }).unwrap();
+    scene.add_light(Light::Environment { radiance: Vec3::ONE, map: None, rotate_degrees: 0.0 }).unwrap();
     scene.set_camera(Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y, 35.0).unwrap()).unwrap();
     scene
 }
@@ -246,7 +246,7 @@ fn a_glass_slab_transmits_what_fresnel_says_at_every_angle() {
         place(&mut scene, box_mesh(Vec3::new(-50.0, -50.0, -0.5), Vec3::new(50.0, 50.0, 0.5)), glass);
         let wall = shader(&mut scene, "Constant", &[("color", ParamValue::Color(Vec3::ONE))]);
         place(&mut scene, box_mesh(Vec3::new(-5e3, -5e3, -40.0), Vec3::new(5e3, 5e3, -39.0)), wall);
-        scene.add_light(Light::Environment { radiance: Vec3::ZERO, map: None }).unwrap();
+        scene.add_light(Light::Environment { radiance: Vec3::ZERO, map: None, rotate_degrees: 0.0 }).unwrap();
         let angle = degrees.to_radians();
         let eye = Vec3::new(angle.sin(), 0.0, angle.cos()) * 10.0;
         scene.set_camera(Camera::look_at(eye, Vec3::ZERO, Vec3::Y, 0.5).unwrap()).unwrap();

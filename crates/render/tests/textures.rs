@@ -54,7 +54,7 @@ fn a_radiance_hdr_environment_map_is_seen_at_its_linear_values() {
     let hdr = image::Rgb32FImage::from_pixel(16, 8, image::Rgb(sky.to_array()));
     let mut scene = Scene::new();
     let map = scene.add_texture(Texture::Image(Image::decode(&file(hdr.into(), image::ImageFormat::Hdr)).unwrap().into())).unwrap();
-    scene.add_light(Light::Environment { radiance: Vec3::splat(2.0), map: Some(map) }).unwrap();
+    scene.add_light(Light::Environment { radiance: Vec3::splat(2.0), map: Some(map), rotate_degrees: 0.0 }).unwrap();
     scene.set_camera(Camera::look_at(Vec3::ZERO, Vec3::Z, Vec3::Y, 60.0).unwrap()).unwrap();
     let (film, _) = render_with(&scene, Integrator::Path, 8, 8, 1);
     for pixel in pixels(&film) {

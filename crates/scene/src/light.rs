@@ -57,12 +57,17 @@ pub enum Light {
         radiance: Vec3,
     },
     /// Light arriving from infinitely far away in every direction: a constant colour, or a
-    /// latitude-longitude image (its top row straight up, +y) scaled by that colour.
+    /// latitude-longitude image (its top row straight up, +y; its middle column towards −z)
+    /// scaled by that colour.
     Environment {
         /// Radiance, or the scale of the image.
         radiance: Vec3,
         /// The image, if any.
         map: Option<TextureId>,
+        /// Turns the image about the up axis (+y) by this many degrees, counter-clockwise seen
+        /// from above: what lay at azimuth `a` lies at `a` minus this (0 by default).
+        #[serde(default)]
+        rotate_degrees: f32,
     },
 }
 
@@ -112,7 +117,12 @@ impl Light {
                 nonzero("light.edges", edge_u.cross(edge_v))?;
                 power("light.radiance", radiance)
             }
-            Light::Environment { radiance, .. } => power("light.radiance", radiance),
+            Light::Environment { radiance, rotate_degrees, .. } => {
+                if !rotate_degrees.is_finite() {
+                    return Err(SceneError::NotFinite { field: "light.rotate_degrees", index: 0 });
+                }
+                power("light.radiance", radiance)
+            }
         }
     }
 }

@@ -335,7 +335,7 @@ fn nan_and_infinity_are_refused_everywhere() {
             Light::Ambient { intensity: v },
             Light::Area { corner: v, edge_u: Vec3::X, edge_v: Vec3::Z, radiance: Vec3::ONE },
             Light::Area { corner: Vec3::ZERO, edge_u: v, edge_v: Vec3::Z, radiance: Vec3::ONE },
-            Light::Environment { radiance: v, map: None },
+            Light::Environment { radiance: v, map: None, rotate_degrees: 0.0 },
         ];
         for l in lights {
             not_finite(scene.add_light(l).map(|_| ()), &format!("{l:?}"));

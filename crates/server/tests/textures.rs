@@ -100,7 +100,7 @@ async fn a_radiance_hdr_environment_map_is_seen_where_nothing_is_hit() {
     let light = json!({ "class": "EnvironmentLight", "radiance": 1.6, "map": map });
     let l = ok(&app, "POST", &format!("/scenes/{s}/lights"), light, StatusCode::CREATED).await["id"].as_u64().unwrap();
     let shown = ok(&app, "GET", &format!("/scenes/{s}/lights/{l}"), json!(null), StatusCode::OK).await;
-    assert_eq!(shown, json!({ "id": l, "class": "EnvironmentLight", "radiance": [1.6, 1.6, 1.6], "map": map }));
+    assert_eq!(shown, json!({ "id": l, "class": "EnvironmentLight", "radiance": [1.6, 1.6, 1.6], "map": map, "rotate": 0.0 }));
 
     // The map scaled by the radiance: linear (0.8, 0.4, 0.2), sRGB (231, 170, 124).
     let near = |pixel: image::Rgba<u8>, srgb: [u8; 3]| pixel.0[..3].iter().zip(srgb).all(|(&c, e)| c.abs_diff(e) <= 2);

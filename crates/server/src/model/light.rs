@@ -35,7 +35,7 @@ pub const LIGHT_CLASSES: &[(&str, &[&str])] = &[
     ("DirectionalLight", &["direction", "intensity"]),
     ("AmbientLight", &["intensity"]),
     ("AreaLight", &["corner", "edge_u", "edge_v", "radiance"]),
-    ("EnvironmentLight", &["radiance", "map"]),
+    ("EnvironmentLight", &["radiance", "map", "rotate"]),
 ];
 
 /// A light: a class and the parameters it takes; parameters left out keep the class default
@@ -84,6 +84,10 @@ pub struct LightSpec {
     /// the same radiance from everywhere.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub map: Option<Ref>,
+    /// Environment: turns the map about the up axis (+y) by this many degrees,
+    /// counter-clockwise seen from above; default 0.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rotate: Option<f32>,
 }
 
 /// A light with its id.
@@ -128,7 +132,7 @@ impl LightSpec {
                 edge_v: v(self.edge_v, Vec3::Z),
                 radiance: c(self.radiance, Vec3::ONE),
             },
-            _ => Light::Environment { radiance: c(self.radiance, Vec3::ONE), map: None },
+            _ => Light::Environment { radiance: c(self.radiance, Vec3::ONE), map: None, rotate_degrees: self.rotate.unwrap_or(0.0) },
         };
         light.validate().map_err(|e| {
             let e = ApiError::from(e).without_prefix("light.");
@@ -143,7 +147,7 @@ impl LightSpec {
     }
 
     /// Which parameters were given.
-    fn given(&self) -> [(&'static str, bool); 10] {
+    fn given(&self) -> [(&'static str, bool); 11] {
         [
             ("position", self.position.is_some()),
             ("direction", self.direction.is_some()),
@@ -155,6 +159,7 @@ impl LightSpec {
             ("edge_v", self.edge_v.is_some()),
             ("radiance", self.radiance.is_some()),
             ("map", self.map.is_some()),
+            ("rotate", self.rotate.is_some()),
         ]
     }
 
@@ -178,7 +183,9 @@ impl LightSpec {
             Light::Area { corner, edge_u, edge_v, radiance } => {
                 LightSpec { corner: a(corner), edge_u: a(edge_u), edge_v: a(edge_v), radiance: c(radiance), ..class("AreaLight") }
             }
-            Light::Environment { radiance, map } => LightSpec { radiance: c(radiance), map: map.map(|t| Ref::Id(t.0)), ..class("EnvironmentLight") },
+            Light::Environment { radiance, map, rotate_degrees } => {
+                LightSpec { radiance: c(radiance), map: map.map(|t| Ref::Id(t.0)), rotate: Some(rotate_degrees), ..class("EnvironmentLight") }
+            }
         }
     }
 }
@@ -209,9 +216,9 @@ mod tests {
 
     #[test]
     fn an_environment_map_is_shown_and_only_environment_lights_take_one() {
-        let mapped = Light::Environment { radiance: Vec3::splat(2.0), map: Some(raystage_scene::TextureId(4)) };
+        let mapped = Light::Environment { radiance: Vec3::splat(2.0), map: Some(raystage_scene::TextureId(4)), rotate_degrees: 90.0 };
         let json = serde_json::to_value(LightSpec::from_light(&mapped)).unwrap();
-        assert_eq!(json, serde_json::json!({ "class": "EnvironmentLight", "radiance": [2.0, 2.0, 2.0], "map": 4 }));
+        assert_eq!(json, serde_json::json!({ "class": "EnvironmentLight", "radiance": [2.0, 2.0, 2.0], "map": 4, "rotate": 90.0 }));
         let point = LightSpec { class: "PointLight".into(), map: Some(Ref::Id(4)), ..LightSpec::default() };
         assert_eq!(point.to_light().unwrap_err().detail.field.as_deref(), Some("map"));
     }

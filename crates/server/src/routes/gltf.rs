@@ -84,10 +84,10 @@ pub(crate) fn parse_environment(text: &str) -> ApiResult<Environment> {
 pub(crate) fn add_environment(scene: &mut Scene, asked: Option<Environment>, unlit: bool) -> Result<Option<LightId>, SceneError> {
     let light = match asked.unwrap_or(if unlit { Environment::Studio } else { Environment::None }) {
         Environment::None => return Ok(None),
-        Environment::Uniform(radiance) => Light::Environment { radiance, map: None },
+        Environment::Uniform(radiance) => Light::Environment { radiance, map: None, rotate_degrees: 0.0 },
         Environment::Studio => {
             let texture = scene.add_texture(Texture::Image(studio_environment().into()))?;
-            Light::Environment { radiance: Vec3::ONE, map: Some(texture) }
+            Light::Environment { radiance: Vec3::ONE, map: Some(texture), rotate_degrees: 0.0 }
         }
     };
     scene.add_light(light).map(Some)
