@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Installs raystage's C library under PREFIX (any writable directory; no root needed):
 #
-#   PREFIX/lib/libraystage.so, PREFIX/lib/libraystage.a
+#   PREFIX/lib/libraystage.so.X.Y.Z (SONAME libraystage.so.X), with the links libraystage.so.X
+#     and libraystage.so to it; PREFIX/lib/libraystage.a. Both stripped of debug information,
+#     which goes to PREFIX/lib/.debug/ (where gdb looks for the .so's .gnu_debuglink)
 #   PREFIX/include/raystage/rt.h, PREFIX/include/raystage/rt.hpp (the C++ wrapper, header-only)
 #   PREFIX/lib/pkgconfig/raystage.pc          pkg-config --cflags --libs raystage
 #   PREFIX/lib/pkgconfig/raystage-static.pc   pkg-config --cflags --libs raystage-static
@@ -49,9 +51,24 @@ if readelf -d "$lib_dir/libraystage.so" 2>/dev/null | grep -q 'NEEDED.*libmpi'; 
     static_deps=(mpi "${static_deps[@]}")
 fi
 
-install -d "$prefix/lib/pkgconfig" "$prefix/lib/cmake/raystage" "$prefix/include/raystage"
-install -m 0755 "$lib_dir/libraystage.so" "$prefix/lib/libraystage.so"
+install -d "$prefix/lib/pkgconfig" "$prefix/lib/cmake/raystage" "$prefix/include/raystage" "$prefix/lib/.debug"
+major="${version%%.*}"
+install -m 0755 "$lib_dir/libraystage.so" "$prefix/lib/libraystage.so.$version"
+ln -sfn "libraystage.so.$version" "$prefix/lib/libraystage.so.$major"
+ln -sfn "libraystage.so.$major" "$prefix/lib/libraystage.so"
 install -m 0644 "$lib_dir/libraystage.a" "$prefix/lib/libraystage.a"
+# Debug information apart, as distributions ship it (-dbg packages): a program linked against
+# the library does not carry it, a debugger still finds it.
+for file in "libraystage.so.$version" libraystage.a; do
+    if command -v objcopy >/dev/null; then
+        objcopy --only-keep-debug "$prefix/lib/$file" "$prefix/lib/.debug/$file.debug"
+        objcopy --strip-debug "$prefix/lib/$file"
+        # An archive's members cannot carry a debug link; the .so can.
+        if [[ "$file" == *.so.* ]]; then
+            objcopy --add-gnu-debuglink="$prefix/lib/.debug/$file.debug" "$prefix/lib/$file"
+        fi
+    fi
+done
 install -m 0644 "$root/api/include/raystage/rt.h" "$root/api/include/raystage/rt.hpp" "$prefix/include/raystage/"
 
 # The .pc files find the prefix from their own location (pkg-config's pcfiledir), as the CMake
@@ -82,7 +99,7 @@ EOF
 
 cat >"$prefix/lib/cmake/raystage/raystageConfig.cmake" <<EOF
 # raystage's C library. Imported targets:
-#   raystage::raystage         the shared library libraystage.so
+#   raystage::raystage         the shared library libraystage.so (SONAME libraystage.so.$major)
 #   raystage::raystage_static  the static library libraystage.a, with the system libraries it needs
 #   raystage::cpp              the C++ wrapper raystage/rt.hpp (header-only, C++17) on the shared library
 #   raystage::cpp_static       the same on the static library
@@ -92,7 +109,7 @@ if(NOT TARGET raystage::raystage)
   add_library(raystage::raystage SHARED IMPORTED)
   set_target_properties(raystage::raystage PROPERTIES
     IMPORTED_LOCATION "\${_raystage_prefix}/lib/libraystage.so"
-    IMPORTED_SONAME "libraystage.so"
+    IMPORTED_SONAME "libraystage.so.$major"
     INTERFACE_INCLUDE_DIRECTORIES "\${_raystage_prefix}/include")
   add_library(raystage::raystage_static STATIC IMPORTED)
   set_target_properties(raystage::raystage_static PROPERTIES

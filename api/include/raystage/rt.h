@@ -43,6 +43,9 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 /**
  * The left mouse button, as the mouse callback names it (GLUT's `GLUT_LEFT_BUTTON`).
@@ -648,10 +651,6 @@ typedef void (*RTUTmousefunc)(int, int, int, int);
  * generate.
  */
 #define RT_MAX_IDS (1 << 20)
-
-#ifdef __cplusplus
-extern "C" {
-#endif // __cplusplus
 
 /**
  * Sets a symmetric perspective projection with a vertical field of view of `fovy` degrees, in
@@ -1615,7 +1614,7 @@ void rtTexNoise(RTenum target, const RTfloat *a, const RTfloat *b, RTfloat scale
 void rtDeleteTextures(RTuint first, RTsizei n);
 
 #ifdef __cplusplus
-}  // extern "C"
-#endif  // __cplusplus
+} /* extern "C" */
+#endif
 
-#endif  /* RAYSTAGE_RT_H */
+#endif /* RAYSTAGE_RT_H */

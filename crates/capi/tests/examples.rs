@@ -392,6 +392,30 @@ fn call_sequence_checks_pass() {
         .env("LD_LIBRARY_PATH", prefix().join("lib")));
 }
 
+/// rt.h as GL 1.x-era code builds it: a C program including it (twice, as headers get) builds
+/// and links against the installed library with `-std=c89 -pedantic -Werror`, and with C99, C11,
+/// C++98 and C++17 under `-Wall -Wextra -Werror -pedantic`.
+#[test]
+fn the_header_builds_under_every_c_and_cpp_standard() {
+    if missing("gcc") || missing("g++") {
+        return;
+    }
+    let dir = scratch("standards");
+    let source = "#include <raystage/rt.h>\n#include <raystage/rt.h>\nint main(void) { rtResetContext(); return (int)rtGetError(); }\n";
+    for (compiler, standard, name) in [("gcc", "c89", "c89.c"), ("gcc", "c99", "c99.c"), ("gcc", "c11", "c11.c"), ("g++", "c++98", "cxx98.cpp"), ("g++", "c++17", "cxx17.cpp")] {
+        let file = dir.join(name);
+        std::fs::write(&file, source).unwrap();
+        let exe = dir.join(format!("{standard}-program"));
+        run(Command::new(compiler)
+            .args([&format!("-std={standard}"), "-pedantic", "-Wall", "-Wextra", "-Werror"])
+            .arg(&file)
+            .arg("-o")
+            .arg(&exe)
+            .args(pkg_config("raystage")));
+        run(Command::new(&exe).env("LD_LIBRARY_PATH", prefix().join("lib")));
+    }
+}
+
 /// The build tree's library has the installed one's name: a program links with `-lraystage`
 /// against cargo's output directory as against an install, and finds it by its SONAME.
 #[test]
@@ -406,9 +430,29 @@ fn the_build_tree_links_with_the_installed_name() {
         .args(["-lraystage", "-lm", "-o"])
         .arg(&exe));
     let needed = run(Command::new("readelf").arg("-d").arg(&exe));
-    assert!(needed.contains("Shared library: [libraystage.so]"), "{needed}");
+    assert!(needed.contains("Shared library: [libraystage.so.0]"), "the versioned SONAME: {needed}");
     run(Command::new(&exe).current_dir(&dir).env("LD_LIBRARY_PATH", artifact_dir()));
     assert!(frame(&dir, "late_binding.png").get_pixel(116, 45)[1] > 200, "triangle B is green");
+}
+
+/// The library is installed as distributions ship one: `libraystage.so.0.Y.Z` with the SONAME
+/// `libraystage.so.0` and the links a linker and the loader follow, stripped of its debug
+/// information, which lies beside it in `lib/.debug` (linked for gdb); the archive stripped too.
+#[test]
+fn the_installed_library_is_versioned_and_stripped() {
+    let lib = prefix().join("lib");
+    let version = env!("CARGO_PKG_VERSION");
+    let real = lib.join(format!("libraystage.so.{version}"));
+    assert_eq!(std::fs::read_link(lib.join("libraystage.so")).unwrap(), Path::new("libraystage.so.0"));
+    assert_eq!(std::fs::read_link(lib.join("libraystage.so.0")).unwrap(), Path::new(&format!("libraystage.so.{version}")));
+    let dynamic = run(Command::new("readelf").arg("-d").arg(&real));
+    assert!(dynamic.contains("Library soname: [libraystage.so.0]"), "{dynamic}");
+    let sections = run(Command::new("readelf").arg("-S").arg(&real));
+    assert!(!sections.contains(".debug_line") && sections.contains(".gnu_debuglink"), "stripped, with a debug link: {sections}");
+    let debug = run(Command::new("readelf").arg("-S").arg(lib.join(format!(".debug/libraystage.so.{version}.debug"))));
+    assert!(debug.contains(".debug_line"), "the line tables kept apart");
+    let archive = run(Command::new("readelf").arg("-S").arg(lib.join("libraystage.a")));
+    assert!(!archive.contains(".debug_line"), "the archive stripped");
 }
 
 /// The installed tree works where it is moved: the `.pc` files find the prefix from their own
