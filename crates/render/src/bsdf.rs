@@ -45,6 +45,11 @@ pub(crate) enum Bsdf {
     Glass { eta: f32 },
     /// glTF 2.0's metallic-roughness BSDF and its extensions (see [`Pbr`]).
     PhysicallyBased(Pbr),
+    /// The specular layer of a [`Pbr`] alone, its GGX reflection and the multiple scattering
+    /// of it, without the base, transmission, coat or sheen: what Whitted's and Cook's
+    /// recursions trace for the layer's reflection of the scene (see [`Bsdf::specular_layer`]),
+    /// so that every integrator reflects by the same lobes.
+    Layer(Pbr),
 }
 
 /// glTF 2.0's metallic-roughness BSDF (its Appendix B): a Lambertian base under a GGX
@@ -101,6 +106,29 @@ pub(crate) struct Pbr {
 }
 
 impl Pbr {
+    /// The specular layer's Fresnel reflectance for a direction at `cos` to the microfacet
+    /// normal: the dielectric's grey Schlick term blended to the metal's colour; the
+    /// transmitting share of the dielectric reflects by the exact equations instead (Schlick's
+    /// knows no total internal reflection), so that with what it transmits it makes one.
+    fn layer_reflectance(&self, cos: f32) -> Vec3 {
+        let Pbr { base, metallic, f0, f90, transmission, eta, .. } = *self;
+        let (layer_f0, layer_f90) = layer(base, metallic, f0, f90);
+        let schlick = fresnel_schlick(layer_f0, layer_f90, cos);
+        if transmission == 0.0 {
+            return schlick;
+        }
+        let dielectric = fresnel_schlick(f0, Vec3::splat(f90), cos);
+        schlick + (Vec3::splat(f90 * fresnel_dielectric(cos, eta)) - dielectric) * ((1.0 - metallic) * transmission)
+    }
+
+    /// The specular layer's reflection, BRDF × cos θi: its GGX lobe and the multiple
+    /// scattering of it.
+    fn reflection(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        let h = (wo + wi).normalize();
+        let single = self.layer_reflectance(wo.dot(h)) * (ggx_d(h, self.alpha) * smith_height_correlated(wo, wi, self.alpha) * wi.z);
+        single + self.compensation() * microfacet::multiple_scattering(wo.z, wi.z, self.alpha)
+    }
+
     /// The colour of the specular layer's multiple-scattering lobe ([`microfacet`]): the
     /// metal's and the opaque dielectric's, blended as their single scattering is. The
     /// transmitting share's reflection, by the exact Fresnel equations, has none (its rough
@@ -164,11 +192,10 @@ impl Bsdf {
                 f * (ggx_d(h, alpha) * smith_g1(wo, alpha) * smith_g1(wi, alpha) / (4.0 * wo.z))
             }
             Bsdf::PhysicallyBased(p) => {
-                let h = (wo + wi).normalize();
-                let specular = self.layer_reflectance(wo.dot(h)) * (ggx_d(h, p.alpha) * smith_height_correlated(wo, wi, p.alpha));
                 let diffuse = p.base * p.base_through(wo.z, wi.z) * ((1.0 - p.metallic) * (1.0 - p.transmission) * std::f32::consts::FRAC_1_PI);
-                (specular + diffuse) * wi.z + p.compensation() * microfacet::multiple_scattering(wo.z, wi.z, p.alpha)
+                p.reflection(wo, wi) + diffuse * wi.z
             }
+            Bsdf::Layer(p) => p.reflection(wo, wi),
             Bsdf::Mirror { .. } | Bsdf::Glass { .. } => Vec3::ZERO,
         }
     }
@@ -208,7 +235,7 @@ impl Bsdf {
                 let h = (wo + wi).normalize();
                 ggx_d(h, alpha) * smith_g1(wo, alpha) / (4.0 * wo.z)
             }
-            Bsdf::PhysicallyBased(Pbr { alpha, eta, thin, .. }) => {
+            Bsdf::PhysicallyBased(Pbr { alpha, eta, thin, .. }) | Bsdf::Layer(Pbr { alpha, eta, thin, .. }) => {
                 let [specular, diffuse, transmitted] = self.lobe_probabilities(wo);
                 let h = (wo + wi).normalize();
                 // Refraction samples that meet total internal reflection at their microfacet
@@ -286,7 +313,7 @@ impl Bsdf {
                 let weight = schlick(reflectance, wo.dot(h)) * smith_g1(wi, alpha);
                 Some(BsdfSample { wi, weight, pdf: self.pdf(wo, wi), transmitted: false })
             }
-            Bsdf::PhysicallyBased(Pbr { alpha, eta, thin, .. }) => {
+            Bsdf::PhysicallyBased(Pbr { alpha, eta, thin, .. }) | Bsdf::Layer(Pbr { alpha, eta, thin, .. }) => {
                 if wo.z <= 0.0 {
                     return None;
                 }
@@ -330,19 +357,25 @@ impl Bsdf {
 }
 
 impl Bsdf {
-    /// For [`Bsdf::PhysicallyBased`], the probabilities that a sample picks the specular, the
-    /// cosine-distributed (the diffuse base and the specular layer's multiple scattering) and
-    /// the transmission lobe: each lobe's share of the light at `wo`'s angle (the specular lobe
-    /// at least 10 % of them, so that a dark base's highlights are still found; 0 without a
-    /// specular layer). Transmission keeps at least a tenth of its share where Fresnel reflects
-    /// all at the macro normal, since rough microfacets there still let some light through.
+    /// For [`Bsdf::PhysicallyBased`] and [`Bsdf::Layer`], the probabilities that a sample picks
+    /// the specular, the cosine-distributed (the diffuse base and the specular layer's multiple
+    /// scattering) and the transmission lobe: each lobe's share of the light at `wo`'s angle
+    /// (the specular lobe at least 10 % of them, so that a dark base's highlights are still
+    /// found; 0 without a specular layer). Transmission keeps at least a tenth of its share
+    /// where Fresnel reflects all at the macro normal, since rough microfacets there still let
+    /// some light through.
     fn lobe_probabilities(&self, wo: Vec3) -> [f32; 3] {
-        let Bsdf::PhysicallyBased(p @ Pbr { base, metallic, alpha, f0, f90, transmission, eta, .. }) = *self else { return [0.0; 3] };
-        let specular = crate::lights::luminance(self.layer_reflectance(wo.z)).max(0.0);
+        let (p @ Pbr { base, metallic, alpha, f0, f90, eta, .. }, whole) = match *self {
+            Bsdf::PhysicallyBased(p) => (p, true),
+            Bsdf::Layer(p) => (p, false),
+            _ => return [0.0; 3],
+        };
+        // The layer alone has neither base nor transmission.
+        let (base_share, share) = if whole { ((1.0 - metallic) * (1.0 - p.transmission), (1.0 - metallic) * p.transmission) } else { (0.0, 0.0) };
+        let specular = crate::lights::luminance(p.layer_reflectance(wo.z)).max(0.0);
         let dielectric = crate::lights::luminance(microfacet::albedo(f0, Vec3::splat(f90), wo.z, alpha));
         let multiple = crate::lights::luminance(p.compensation()) * (1.0 - microfacet::single_scattering(Vec3::ONE, Vec3::ONE, wo.z, alpha).x);
-        let diffuse = crate::lights::luminance(base) * (1.0 - metallic) * (1.0 - transmission) * (1.0 - dielectric).max(0.0) + multiple;
-        let share = (1.0 - metallic) * transmission;
+        let diffuse = crate::lights::luminance(base) * base_share * (1.0 - dielectric).max(0.0) + multiple;
         let transmitted = if share > 0.0 { crate::lights::luminance(base) * share * (1.0 - f90 * fresnel_dielectric(wo.z, eta)).max(0.1) } else { 0.0 };
         let total = specular + diffuse + transmitted;
         if specular == 0.0 || total == 0.0 {
@@ -351,22 +384,6 @@ impl Bsdf {
         let p = (specular / total).max(0.1);
         let rest = diffuse + transmitted;
         if rest == 0.0 { [1.0, 0.0, 0.0] } else { [p, (1.0 - p) * diffuse / rest, (1.0 - p) * transmitted / rest] }
-    }
-
-    /// For [`Bsdf::PhysicallyBased`], the specular layer's Fresnel reflectance for a direction
-    /// at `cos` to the microfacet normal: the dielectric's grey Schlick term blended to the
-    /// metal's colour; the transmitting share of the dielectric reflects by the exact equations
-    /// instead (Schlick's knows no total internal reflection), so that with what it transmits it
-    /// makes one.
-    fn layer_reflectance(&self, cos: f32) -> Vec3 {
-        let Bsdf::PhysicallyBased(Pbr { base, metallic, f0, f90, transmission, eta, .. }) = *self else { return Vec3::ZERO };
-        let (layer_f0, layer_f90) = layer(base, metallic, f0, f90);
-        let schlick = fresnel_schlick(layer_f0, layer_f90, cos);
-        if transmission == 0.0 {
-            return schlick;
-        }
-        let dielectric = fresnel_schlick(f0, Vec3::splat(f90), cos);
-        schlick + (Vec3::splat(f90 * fresnel_dielectric(cos, eta)) - dielectric) * ((1.0 - metallic) * transmission)
     }
 
     /// For a transmitting [`Bsdf::PhysicallyBased`], BTDF × |cos θi| for `wi` below the surface
@@ -452,29 +469,42 @@ impl Bsdf {
     }
 
     /// What Whitted's and Cook's recursions trace for a physically based surface seen at
-    /// `cos_o` from its normal: its specular layer as a GGX metal of the layer's colour at
-    /// normal incidence (the diffuse base is lit by the lights alone), for Cook's samples of
-    /// the lobe; and for Whitted's one mirror ray, the layer's Fresnel reflectance faded out
-    /// with roughness (a rough surface mirrors nothing). `None` for other functions, and for a
-    /// surface without a specular layer.
+    /// `cos_o` from its normal: its specular layer alone ([`Bsdf::Layer`]; the diffuse base is
+    /// lit by the lights alone), for Cook's samples of the lobe; and for Whitted's one mirror
+    /// ray, the layer's Fresnel reflectance faded out with roughness (a rough surface mirrors
+    /// nothing). The coat and sheen over the layer take their share with
+    /// [`Bsdf::through_layers`]. `None` for other functions, and for a surface without a
+    /// specular layer.
     pub fn specular_layer(&self, cos_o: f32) -> Option<(Bsdf, Vec3)> {
-        let Bsdf::PhysicallyBased(Pbr { base, metallic, alpha, f0, f90, .. }) = *self else { return None };
-        let (layer_f0, layer_f90) = layer(base, metallic, f0, f90);
-        (layer_f90.max_element() > 0.0).then(|| (Bsdf::Glossy { reflectance: layer_f0, alpha }, self.layer_reflectance(cos_o) * (1.0 - alpha.sqrt())))
+        let Bsdf::PhysicallyBased(p @ Pbr { base, metallic, alpha, f0, f90, .. }) = *self else { return None };
+        let (_, layer_f90) = layer(base, metallic, f0, f90);
+        let alone = Pbr { coat: 0.0, sheen: Vec3::ZERO, ..p };
+        (layer_f90.max_element() > 0.0).then(|| (Bsdf::Layer(alone), p.layer_reflectance(cos_o) * (1.0 - alpha.sqrt())))
     }
 }
 
 impl Bsdf {
     /// What Whitted's and Cook's recursions trace for a coated physically based function seen
     /// at `cos_o` from its normal, as [`Bsdf::specular_layer`] gives for the layer under it:
-    /// the coat as a GGX dielectric of its roughness (Schlick's Fresnel from 4 %), the coat's
-    /// weight, Whitted's one mirror ray's weight before it (the coat's Fresnel reflectance faded
-    /// out with roughness), and the share of light the coat lets through to what is under it.
-    /// `None` without a coat.
-    pub fn coat_layer(&self, cos_o: f32) -> Option<(Bsdf, f32, f32, f32)> {
-        let (_, coat, coat_alpha) = self.coated()?;
-        let reflectance = coat_fresnel(cos_o);
-        Some((Bsdf::Glossy { reflectance: Vec3::splat(0.04), alpha: coat_alpha }, coat, reflectance * (1.0 - coat_alpha.sqrt()), 1.0 - coat * reflectance))
+    /// the coat's lobe (a GGX dielectric of its roughness, Schlick's Fresnel from 4 %, as a
+    /// [`Bsdf::Layer`] over a black base), the coat's weight, and Whitted's one mirror ray's
+    /// weight before it (the coat's Fresnel reflectance faded out with roughness). `None`
+    /// without a coat.
+    pub fn coat_layer(&self, cos_o: f32) -> Option<(Bsdf, f32, f32)> {
+        let (under, coat, coat_alpha) = self.coated()?;
+        let Bsdf::PhysicallyBased(p) = under else { return None };
+        let lobe = Pbr { base: Vec3::ZERO, metallic: 0.0, alpha: coat_alpha, f0: Vec3::splat(0.04), f90: 1.0, transmission: 0.0, sheen: Vec3::ZERO, ..p };
+        Some((Bsdf::Layer(lobe), coat, coat_fresnel(cos_o) * (1.0 - coat_alpha.sqrt())))
+    }
+
+    /// The share of the light seen at `cos_o` that a physically based function's coat and
+    /// sheen leave to the layers under them, as [`Bsdf::eval`] scales those layers: one minus
+    /// each one's directional albedo. 1 without either, and for other functions.
+    pub fn through_layers(&self, cos_o: f32) -> f32 {
+        if let Some((under, coat, coat_alpha)) = self.coated() {
+            return (1.0 - coat * coat_albedo(cos_o, coat_alpha)) * under.through_layers(cos_o);
+        }
+        self.sheened().map_or(1.0, |(_, sheen, sheen_alpha)| sheen::left(sheen, sheen_alpha, cos_o))
     }
 
     /// A sample in direction `wi` with its weight over the whole function's density (the
@@ -725,6 +755,8 @@ mod tests {
         .into_iter()
         .chain(physically_based_grid())
         .chain(transmitting_grid())
+        // The layers Whitted's and Cook's recursions sample alone.
+        .chain(physically_based_grid().into_iter().chain(transmitting_grid()).flat_map(|b| [b.specular_layer(wo.z).map(|l| l.0), b.coat_layer(wo.z).map(|l| l.0)]).flatten())
         {
             for i in 0..200 {
                 let u = [(i as f32 * 0.618) % 1.0, (i as f32 * 0.414) % 1.0];
