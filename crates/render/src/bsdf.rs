@@ -134,7 +134,11 @@ impl Pbr {
         // has none (its rough microfacets lose what bounces between them, as its
         // transmission does).
         let compensation = metal * self.metallic + dielectric * ((1.0 - self.metallic) * (1.0 - self.transmission));
-        Energy { ggx, o: ggx.at(cos_o), dielectric, compensation }
+        let o = ggx.at(cos_o);
+        let (f0, f90) = (self.f0, Vec3::splat(self.f90));
+        let layer = ggx.albedo(f0, f90, dielectric, o);
+        let base = (Vec3::ONE - layer).max(Vec3::ZERO) / (Vec3::ONE - ggx.average_albedo(f0, f90, dielectric)).max(Vec3::splat(1e-6));
+        Energy { ggx, o, dielectric, compensation, layer, base }
     }
 
     /// The specular layer's reflection, BRDF × cos θi, for `wi` seen by the tables as `i`: its
@@ -153,9 +157,7 @@ impl Pbr {
     /// KHR_materials_specular's colour tints f0; a channel whose layer reflects everything
     /// passes nothing (0 / ε).
     fn base_through(&self, energy: &Energy, i: Seen) -> Vec3 {
-        let (ggx, f0, f90) = (energy.ggx, self.f0, Vec3::splat(self.f90));
-        let left = |seen: Seen| (Vec3::ONE - ggx.albedo(f0, f90, energy.dielectric, seen)).max(Vec3::ZERO);
-        left(energy.o) * left(i) / (Vec3::ONE - ggx.average_albedo(f0, f90, energy.dielectric)).max(Vec3::splat(1e-6))
+        energy.base * (Vec3::ONE - energy.ggx.albedo(self.f0, Vec3::splat(self.f90), energy.dielectric, i)).max(Vec3::ZERO)
     }
 }
 
@@ -169,6 +171,11 @@ struct Energy {
     dielectric: Vec3,
     /// The colour of the whole layer's multiple-scattering lobe.
     compensation: Vec3,
+    /// The dielectric layer's directional albedo E(μo).
+    layer: Vec3,
+    /// (1 − E(μo)) / (1 − E_avg): the base's share of the light for `wo`, but for the other
+    /// direction's (see [`Pbr::base_through`]).
+    base: Vec3,
 }
 
 impl Bsdf {
@@ -382,7 +389,7 @@ impl Bsdf {
     /// where Fresnel reflects all at the macro normal, since rough microfacets there still let
     /// some light through.
     fn lobe_probabilities(&self, wo: Vec3, energy: &Energy) -> [f32; 3] {
-        let (p @ Pbr { base, metallic, f0, f90, eta, .. }, whole) = match *self {
+        let (p @ Pbr { base, metallic, f90, eta, .. }, whole) = match *self {
             Bsdf::PhysicallyBased(p) => (p, true),
             Bsdf::Layer(p) => (p, false),
             _ => return [0.0; 3],
@@ -390,7 +397,7 @@ impl Bsdf {
         // The layer alone has neither base nor transmission.
         let (base_share, share) = if whole { ((1.0 - metallic) * (1.0 - p.transmission), (1.0 - metallic) * p.transmission) } else { (0.0, 0.0) };
         let specular = crate::lights::luminance(p.layer_reflectance(wo.z)).max(0.0);
-        let dielectric = crate::lights::luminance(energy.ggx.albedo(f0, Vec3::splat(f90), energy.dielectric, energy.o));
+        let dielectric = crate::lights::luminance(energy.layer);
         let multiple = crate::lights::luminance(energy.compensation) * (1.0 - energy.o.e);
         let diffuse = crate::lights::luminance(base) * base_share * (1.0 - dielectric).max(0.0) + multiple;
         let transmitted = if share > 0.0 { crate::lights::luminance(base) * share * (1.0 - f90 * fresnel_dielectric(wo.z, eta)).max(0.1) } else { 0.0 };
