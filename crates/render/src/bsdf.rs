@@ -62,10 +62,11 @@ pub(crate) enum Bsdf {
 /// The layers keep their energy as OpenPBR's and Cycles' Principled BSDF do, where glTF's
 /// Appendix B loses it (a white rough dielectric seen at 75° kept 0.78 of the light, a white
 /// metal of roughness 1 seen head-on 0.31): the GGX layer gets Kulla and Conty's
-/// multiple-scattering lobe (see [`crate::microfacet`]), and the base under the dielectric is scaled
-/// by one minus the layer's directional albedo E, tabulated over angle and roughness, for both
-/// directions (`(1 − E(μo))(1 − E(μi)) / (1 − E_avg)`, reciprocal): a white dielectric or a
-/// white metal at any roughness, index and angle reflects all the light it receives.
+/// multiple-scattering lobe (see [`crate::microfacet`]), and the base under the dielectric is
+/// scaled by one minus the layer's directional albedo E, tabulated over angle and roughness,
+/// for both directions (`(1 − E(μo))(1 − E(μi)) / (1 − E_avg)`, reciprocal): a white
+/// dielectric or a white metal at any roughness, index and angle reflects all the light it
+/// receives.
 ///
 /// With `transmission` (glTF's KHR_materials_transmission), that fraction of the dielectric
 /// gives up its diffuse base: it reflects by the exact Fresnel equations of relative index
@@ -121,10 +122,10 @@ impl Pbr {
         schlick + (Vec3::splat(f90 * fresnel_dielectric(cos, eta)) - dielectric) * ((1.0 - metallic) * transmission)
     }
 
-    /// What the layers take of the albedo tables ([`crate::microfacet`]) for a direction at `cos_o` to
-    /// the normal: read once per evaluation, since a path's bounce evaluates the function and
-    /// its density several times (a frame of the sphere grid was 1.6× slower reading the
-    /// tables for each term).
+    /// What the layers take of the albedo tables ([`crate::microfacet`]) for a direction at
+    /// `cos_o` to the normal: read once per evaluation, since a path's bounce evaluates the
+    /// function and its density several times (a frame of the sphere grid was 1.6× slower
+    /// reading the tables for each term).
     fn energy(&self, cos_o: f32) -> Energy {
         let ggx = Ggx::new(self.alpha);
         let dielectric = ggx.multiple_scattering_colour(self.f0, Vec3::splat(self.f90));
@@ -173,8 +174,7 @@ struct Energy {
     compensation: Vec3,
     /// The dielectric layer's directional albedo E(μo).
     layer: Vec3,
-    /// (1 − E(μo)) / (1 − E_avg): the base's share of the light for `wo`, but for the other
-    /// direction's (see [`Pbr::base_through`]).
+    /// (1 − E(μo)) / (1 − E_avg): [`Pbr::base_through`] but for the other direction's factor.
     base: Vec3,
 }
 
