@@ -12,8 +12,9 @@
 
 use glam::Vec3;
 
+use crate::microfacet::{Ggx, Seen, ggx_d, sample_visible_normal, smith_g1, smith_g2, smith_height_correlated};
 use crate::sheen;
-use crate::warp::{concentric_disc, cosine_hemisphere, uniform_hemisphere};
+use crate::warp::{cosine_hemisphere, uniform_hemisphere};
 
 /// A sampled scattering direction.
 #[derive(Clone, Copy, Debug)]
@@ -44,15 +45,28 @@ pub(crate) enum Bsdf {
     Glass { eta: f32 },
     /// glTF 2.0's metallic-roughness BSDF and its extensions (see [`Pbr`]).
     PhysicallyBased(Pbr),
+    /// The specular layer of a [`Pbr`] alone, its GGX reflection and the multiple scattering
+    /// of it, without the base, transmission, coat or sheen: what Whitted's and Cook's
+    /// recursions trace for the layer's reflection of the scene (see [`Bsdf::specular_layer`]),
+    /// so that every integrator reflects by the same lobes.
+    Layer(Pbr),
 }
 
 /// glTF 2.0's metallic-roughness BSDF (its Appendix B): a Lambertian base under a GGX
 /// specular layer of a dielectric (Fresnel from `f0`, 0.04 for index 1.5, tinted by glTF's
 /// `KHR_materials_specular` colour), blended by `metallic` with a GGX conductor of colour
-/// `base`. The dielectric's Fresnel runs from `f0` head-on to `f90` at grazing (1, or glTF's `KHR_materials_specular` factor, 0 leaving
-/// a pure Lambertian base). Specular masking is Smith's, height-correlated; `alpha` is the
-/// roughness squared. Single scattering: rough surfaces lose the light that bounces between
-/// microfacets (a white rough metal keeps about 80 % seen head-on).
+/// `base`. The dielectric's Fresnel runs from `f0` head-on to `f90` at grazing (1, or glTF's
+/// `KHR_materials_specular` factor, 0 leaving a pure Lambertian base). Specular masking is
+/// Smith's, height-correlated; `alpha` is the roughness squared.
+///
+/// The layers keep their energy as OpenPBR's and Cycles' Principled BSDF do, where glTF's
+/// Appendix B loses it (a white rough dielectric seen at 75° kept 0.78 of the light, a white
+/// metal of roughness 1 seen head-on 0.31): the GGX layer gets Kulla and Conty's
+/// multiple-scattering lobe (see [`crate::microfacet`]), and the base under the dielectric is
+/// scaled by one minus the layer's directional albedo E, tabulated over angle and roughness,
+/// for both directions (`(1 − E(μo))(1 − E(μi)) / (1 − E_avg)`, reciprocal): a white
+/// dielectric or a white metal at any roughness, index and angle reflects all the light it
+/// receives.
 ///
 /// With `transmission` (glTF's KHR_materials_transmission), that fraction of the dielectric
 /// gives up its diffuse base: it reflects by the exact Fresnel equations of relative index
@@ -63,14 +77,19 @@ pub(crate) enum Bsdf {
 ///
 /// With `coat` (glTF's KHR_materials_clearcoat), a smooth-to-rough dielectric coat of index
 /// 1.5 and GGX roughness `coat_alpha` lies over all of it: it reflects `coat` × its Schlick
-/// Fresnel and lets the rest through to what is under it, on the way in and on the way out
-/// (so that the coupling stays reciprocal and within its light).
+/// Fresnel, and what lies under it is scaled by one minus the coat's directional albedo seen
+/// from `wo` (OpenPBR's and Cycles' albedo scaling). A reciprocal scaling by both directions
+/// cannot keep the light of every layer under it: (1 − E(μo))(1 − E(μi)) / (1 − E_avg) is
+/// exact over a diffuse base but makes 5 % over a mirror seen head-on, and the coupling by
+/// the Fresnel of both directions loses 4 % over a diffuse one. The coat's own multiple
+/// scattering is left out: its Fresnel average (9 %) squared leaves it under 0.3 % of the light.
 ///
 /// With `sheen` (glTF's KHR_materials_sheen), a layer of fibres, as velvet and other cloth
 /// have, lies over the base and under the coat: Estevez and Kulla's "Charlie" distribution of
 /// microfibre α `sheen_alpha` with Ashikhmin's visibility, as the extension specifies, scaling
-/// what lies under it by the light it leaves (`1 − max(sheen) E(cos)`, where E is the lobe's
-/// directional albedo, the lesser for the two directions, so that it stays reciprocal).
+/// what lies under it by the light it leaves, `1 − max(sheen) E(μo)` with E the lobe's
+/// directional albedo, seen from `wo` as for the coat (the extension takes the lesser of the
+/// scalings for the two directions, reciprocal, which loses light at every angle).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Pbr {
     pub base: Vec3,
@@ -87,6 +106,78 @@ pub(crate) struct Pbr {
     pub sheen_alpha: f32,
 }
 
+impl Pbr {
+    /// The specular layer's Fresnel reflectance for a direction at `cos` to the microfacet
+    /// normal: the dielectric's grey Schlick term blended to the metal's colour; the
+    /// transmitting share of the dielectric reflects by the exact equations instead (Schlick's
+    /// knows no total internal reflection), so that with what it transmits it makes one.
+    fn layer_reflectance(&self, cos: f32) -> Vec3 {
+        let Pbr { base, metallic, f0, f90, transmission, eta, .. } = *self;
+        let (layer_f0, layer_f90) = layer(base, metallic, f0, f90);
+        let schlick = fresnel_schlick(layer_f0, layer_f90, cos);
+        if transmission == 0.0 {
+            return schlick;
+        }
+        let dielectric = fresnel_schlick(f0, Vec3::splat(f90), cos);
+        schlick + (Vec3::splat(f90 * fresnel_dielectric(cos, eta)) - dielectric) * ((1.0 - metallic) * transmission)
+    }
+
+    /// What the layers take of the albedo tables ([`crate::microfacet`]) for a direction at
+    /// `cos_o` to the normal: read once per evaluation, since a path's bounce evaluates the
+    /// function and its density several times (a frame of the sphere grid was 1.6× slower
+    /// reading the tables for each term).
+    fn energy(&self, cos_o: f32) -> Energy {
+        let ggx = Ggx::new(self.alpha);
+        let dielectric = ggx.multiple_scattering_colour(self.f0, Vec3::splat(self.f90));
+        let metal = if self.metallic > 0.0 { ggx.multiple_scattering_colour(self.base, Vec3::ONE) } else { Vec3::ZERO };
+        // The metal's and the opaque dielectric's multiple scattering, blended as their single
+        // scattering is. The transmitting share's reflection, by the exact Fresnel equations,
+        // has none (its rough microfacets lose what bounces between them, as its
+        // transmission does).
+        let compensation = metal * self.metallic + dielectric * ((1.0 - self.metallic) * (1.0 - self.transmission));
+        let o = ggx.at(cos_o);
+        let (f0, f90) = (self.f0, Vec3::splat(self.f90));
+        let layer = ggx.albedo(f0, f90, dielectric, o);
+        let base = (Vec3::ONE - layer).max(Vec3::ZERO) / (Vec3::ONE - ggx.average_albedo(f0, f90, dielectric)).max(Vec3::splat(1e-6));
+        Energy { ggx, o, dielectric, compensation, layer, base }
+    }
+
+    /// The specular layer's reflection, BRDF × cos θi, for `wi` seen by the tables as `i`: its
+    /// GGX lobe and the multiple scattering of it.
+    fn reflection(&self, energy: &Energy, i: Seen, wo: Vec3, wi: Vec3) -> Vec3 {
+        let h = (wo + wi).normalize();
+        let single = self.layer_reflectance(wo.dot(h)) * (ggx_d(h, self.alpha) * smith_height_correlated(wo, wi, self.alpha) * wi.z);
+        single + energy.compensation * energy.ggx.multiple_scattering(energy.o, i, wi.z)
+    }
+
+    /// What of the light reaches the diffuse base through the dielectric's specular layer and
+    /// leaves it again, for `wo` and a direction seen by the tables as `i`: (1 − E(μo))
+    /// (1 − E(μi)) / (1 − E_avg), E the layer's directional albedo with its multiple scattering
+    /// (Kulla and Conty 2017). A Lambertian base under it reflects base × (1 − E(μo)), all that
+    /// the layer leaves, and the coupling is reciprocal. Per colour channel, since
+    /// KHR_materials_specular's colour tints f0; a channel whose layer reflects everything
+    /// passes nothing (0 / ε).
+    fn base_through(&self, energy: &Energy, i: Seen) -> Vec3 {
+        energy.base * (Vec3::ONE - energy.ggx.albedo(self.f0, Vec3::splat(self.f90), energy.dielectric, i)).max(Vec3::ZERO)
+    }
+}
+
+/// What a [`Pbr`]'s layers take of the albedo tables for one direction `wo` (see
+/// [`Pbr::energy`]).
+struct Energy {
+    ggx: Ggx,
+    /// `wo` as the tables see it.
+    o: Seen,
+    /// The colour of the dielectric's multiple-scattering lobe.
+    dielectric: Vec3,
+    /// The colour of the whole layer's multiple-scattering lobe.
+    compensation: Vec3,
+    /// The dielectric layer's directional albedo E(μo).
+    layer: Vec3,
+    /// (1 − E(μo)) / (1 − E_avg): [`Pbr::base_through`] but for the other direction's factor.
+    base: Vec3,
+}
+
 impl Bsdf {
     /// Whether the function is a delta (cannot be evaluated for a given pair of directions).
     pub fn is_specular(&self) -> bool {
@@ -99,8 +190,7 @@ impl Bsdf {
             return Vec3::ZERO;
         }
         if let Some((under, coat, coat_alpha)) = self.coated() {
-            let through = (1.0 - coat * coat_fresnel(wo.z)) * (1.0 - coat * coat_fresnel(wi.z.abs()));
-            let mut value = under.eval(wo, wi) * through;
+            let mut value = under.eval(wo, wi) * (1.0 - coat * coat_albedo(wo.z, coat_alpha));
             if wi.z > 0.0 {
                 let h = (wo + wi).normalize();
                 value += Vec3::splat(coat * coat_fresnel(wo.dot(h)) * ggx_d(h, coat_alpha) * smith_height_correlated(wo, wi, coat_alpha) * wi.z);
@@ -108,13 +198,11 @@ impl Bsdf {
             return value;
         }
         if let Some((under, sheen, sheen_alpha)) = self.sheened() {
-            let through = sheen::left(sheen, sheen_alpha, wo.z).min(sheen::left(sheen, sheen_alpha, wi.z.abs()));
-            return under.eval(wo, wi) * through + sheen * sheen::lobe(wo, wi, sheen_alpha);
-        }
-        if wi.z < 0.0 {
-            return self.transmitted(wo, wi);
+            return under.eval(wo, wi) * sheen::left(sheen, sheen_alpha, wo.z) + sheen * sheen::lobe(wo, wi, sheen_alpha);
         }
         match *self {
+            Bsdf::PhysicallyBased(p) | Bsdf::Layer(p) => self.physically_based_eval(&p.energy(wo.z), wo, wi),
+            _ if wi.z < 0.0 => Vec3::ZERO,
             Bsdf::Lambert { albedo } => albedo * (wi.z * std::f32::consts::FRAC_1_PI),
             Bsdf::Phong { diffuse, specular, exponent } => {
                 let h = (wo + wi).normalize();
@@ -126,25 +214,19 @@ impl Bsdf {
                 let f = schlick(reflectance, wo.dot(h));
                 f * (ggx_d(h, alpha) * smith_g1(wo, alpha) * smith_g1(wi, alpha) / (4.0 * wo.z))
             }
-            Bsdf::PhysicallyBased(Pbr { base, metallic, alpha, f0, f90, transmission, .. }) => {
-                let h = (wo + wi).normalize();
-                let specular = self.layer_reflectance(wo.dot(h)) * (ggx_d(h, alpha) * smith_height_correlated(wo, wi, alpha));
-                // Light the dielectric's layer lets through, on the way in and on the way out,
-                // reaches the diffuse base and leaves it; what the layer turns back inside is
-                // given back to the base on average (divided by 1 − the layer's hemispherical
-                // reflectance, f0 + (f90 − f0)/21 for Schlick's), so the base reflects 1 − F(wo)
-                // of the light in all. (glTF's reference weighs the base by 1 − F at the half
-                // vector, which reflects up to 1 % more than it receives; this coupling is
-                // reciprocal and keeps within its light.)
-                // Per colour channel, since KHR_materials_specular's colour tints f0; a channel
-                // that reflects everything head-on and at grazing passes nothing (0 / ε).
-                let average = f0 + (Vec3::splat(f90) - f0) / 21.0;
-                let dielectric = |cos: f32| fresnel_schlick(f0, Vec3::splat(f90), cos);
-                let through = (Vec3::ONE - dielectric(wo.z)) * (Vec3::ONE - dielectric(wi.z)) / (Vec3::ONE - average).max(Vec3::splat(1e-6));
-                let diffuse = base * through * ((1.0 - metallic) * (1.0 - transmission) * std::f32::consts::FRAC_1_PI);
-                (specular + diffuse) * wi.z
-            }
             Bsdf::Mirror { .. } | Bsdf::Glass { .. } => Vec3::ZERO,
+        }
+    }
+
+    /// [`Bsdf::eval`] and [`Bsdf::pdf`] at once: a physically based function reads its albedo
+    /// tables once for both (next-event estimation needs both for each light sample).
+    pub fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
+        match *self {
+            Bsdf::PhysicallyBased(p) | Bsdf::Layer(p) if p.coat == 0.0 && p.sheen == Vec3::ZERO && wo.z > 0.0 && wi.z != 0.0 => {
+                let energy = p.energy(wo.z);
+                (self.physically_based_eval(&energy, wo, wi), self.physically_based_pdf(wo, wi, self.lobe_probabilities(wo, &energy)))
+            }
+            _ => (self.eval(wo, wi), self.pdf(wo, wi)),
         }
     }
 
@@ -168,10 +250,9 @@ impl Bsdf {
             let lobe = if wi.z > 0.0 { sheen::UNIFORM_PDF } else { 0.0 };
             return p * lobe + (1.0 - p) * under.pdf(wo, wi);
         }
-        if wi.z < 0.0 {
-            return self.transmission_pdf(wo, wi);
-        }
         match *self {
+            Bsdf::PhysicallyBased(p) | Bsdf::Layer(p) => self.physically_based_pdf(wo, wi, self.lobe_probabilities(wo, &p.energy(wo.z))),
+            _ if wi.z < 0.0 => 0.0,
             Bsdf::Lambert { .. } => wi.z * std::f32::consts::FRAC_1_PI,
             Bsdf::Phong { diffuse, specular, exponent } => {
                 let p = phong_specular_probability(diffuse, specular);
@@ -182,14 +263,6 @@ impl Bsdf {
             Bsdf::Glossy { alpha, .. } => {
                 let h = (wo + wi).normalize();
                 ggx_d(h, alpha) * smith_g1(wo, alpha) / (4.0 * wo.z)
-            }
-            Bsdf::PhysicallyBased(Pbr { alpha, eta, thin, .. }) => {
-                let [specular, diffuse, transmitted] = self.lobe_probabilities(wo);
-                let h = (wo + wi).normalize();
-                // Refraction samples that meet total internal reflection at their microfacet
-                // reflect off it instead.
-                let reflected = if transmitted > 0.0 && !thin && refract_about(wo, h, eta).is_none() { specular + transmitted } else { specular };
-                reflected * ggx_d(h, alpha) * smith_g1(wo, alpha) / (4.0 * wo.z) + diffuse * wi.z * std::f32::consts::FRAC_1_PI
             }
             Bsdf::Mirror { .. } | Bsdf::Glass { .. } => 0.0,
         }
@@ -261,7 +334,7 @@ impl Bsdf {
                 let weight = schlick(reflectance, wo.dot(h)) * smith_g1(wi, alpha);
                 Some(BsdfSample { wi, weight, pdf: self.pdf(wo, wi), transmitted: false })
             }
-            Bsdf::PhysicallyBased(Pbr { alpha, eta, thin, .. }) => {
+            Bsdf::PhysicallyBased(p @ Pbr { alpha, eta, thin, .. }) | Bsdf::Layer(p @ Pbr { alpha, eta, thin, .. }) => {
                 if wo.z <= 0.0 {
                     return None;
                 }
@@ -269,7 +342,9 @@ impl Bsdf {
                 // one-sample model: unbiased whichever lobe drew it). A lobe's direction on the
                 // wrong side of the surface is refused, so that each side's density is that of
                 // the lobes that give directions there.
-                let [specular, _, transmitted] = self.lobe_probabilities(wo);
+                let energy = p.energy(wo.z);
+                let probabilities = self.lobe_probabilities(wo, &energy);
+                let [specular, _, transmitted] = probabilities;
                 let wi = if choose < specular {
                     Some(reflect(wo, sample_visible_normal(wo, alpha, u))).filter(|wi| wi.z > 0.0)
                 } else if choose < specular + transmitted {
@@ -286,7 +361,8 @@ impl Bsdf {
                 } else {
                     Some(cosine_hemisphere(u))
                 }?;
-                self.weighed(wo, wi)
+                let pdf = self.physically_based_pdf(wo, wi, probabilities);
+                (pdf > 0.0).then(|| BsdfSample { wi, weight: self.physically_based_eval(&energy, wo, wi) / pdf, pdf, transmitted: wi.z < 0.0 })
             }
             Bsdf::Glass { eta } => {
                 if wo.z <= 0.0 {
@@ -305,18 +381,25 @@ impl Bsdf {
 }
 
 impl Bsdf {
-    /// For [`Bsdf::PhysicallyBased`], the probabilities that a sample picks the specular, the
-    /// diffuse and the transmission lobe: each lobe's share of the light at `wo`'s angle (the
-    /// specular lobe at least 10 % of them, so that a dark base's highlights are still found; 1
-    /// for a pure metal, 0 without a specular layer). Transmission keeps at least a tenth of its
-    /// share where Fresnel reflects all at the macro normal, since rough microfacets there still
-    /// let some light through.
-    fn lobe_probabilities(&self, wo: Vec3) -> [f32; 3] {
-        let Bsdf::PhysicallyBased(Pbr { base, metallic, f0, f90, transmission, eta, .. }) = *self else { return [0.0; 3] };
-        let specular = crate::lights::luminance(self.layer_reflectance(wo.z)).max(0.0);
-        let dielectric = crate::lights::luminance(fresnel_schlick(f0, Vec3::splat(f90), wo.z));
-        let diffuse = crate::lights::luminance(base) * (1.0 - metallic) * (1.0 - transmission) * (1.0 - dielectric);
-        let share = (1.0 - metallic) * transmission;
+    /// For [`Bsdf::PhysicallyBased`] and [`Bsdf::Layer`], the probabilities that a sample picks
+    /// the specular, the cosine-distributed (the diffuse base and the specular layer's multiple
+    /// scattering) and the transmission lobe: each lobe's share of the light at `wo`'s angle
+    /// (the specular lobe at least 10 % of them, so that a dark base's highlights are still
+    /// found; 0 without a specular layer). Transmission keeps at least a tenth of its share
+    /// where Fresnel reflects all at the macro normal, since rough microfacets there still let
+    /// some light through.
+    fn lobe_probabilities(&self, wo: Vec3, energy: &Energy) -> [f32; 3] {
+        let (p @ Pbr { base, metallic, f90, eta, .. }, whole) = match *self {
+            Bsdf::PhysicallyBased(p) => (p, true),
+            Bsdf::Layer(p) => (p, false),
+            _ => return [0.0; 3],
+        };
+        // The layer alone has neither base nor transmission.
+        let (base_share, share) = if whole { ((1.0 - metallic) * (1.0 - p.transmission), (1.0 - metallic) * p.transmission) } else { (0.0, 0.0) };
+        let specular = crate::lights::luminance(p.layer_reflectance(wo.z)).max(0.0);
+        let dielectric = crate::lights::luminance(energy.layer);
+        let multiple = crate::lights::luminance(energy.compensation) * (1.0 - energy.o.e);
+        let diffuse = crate::lights::luminance(base) * base_share * (1.0 - dielectric).max(0.0) + multiple;
         let transmitted = if share > 0.0 { crate::lights::luminance(base) * share * (1.0 - f90 * fresnel_dielectric(wo.z, eta)).max(0.1) } else { 0.0 };
         let total = specular + diffuse + transmitted;
         if specular == 0.0 || total == 0.0 {
@@ -325,22 +408,6 @@ impl Bsdf {
         let p = (specular / total).max(0.1);
         let rest = diffuse + transmitted;
         if rest == 0.0 { [1.0, 0.0, 0.0] } else { [p, (1.0 - p) * diffuse / rest, (1.0 - p) * transmitted / rest] }
-    }
-
-    /// For [`Bsdf::PhysicallyBased`], the specular layer's Fresnel reflectance for a direction
-    /// at `cos` to the microfacet normal: the dielectric's grey Schlick term blended to the
-    /// metal's colour; the transmitting share of the dielectric reflects by the exact equations
-    /// instead (Schlick's knows no total internal reflection), so that with what it transmits it
-    /// makes one.
-    fn layer_reflectance(&self, cos: f32) -> Vec3 {
-        let Bsdf::PhysicallyBased(Pbr { base, metallic, f0, f90, transmission, eta, .. }) = *self else { return Vec3::ZERO };
-        let (layer_f0, layer_f90) = layer(base, metallic, f0, f90);
-        let schlick = fresnel_schlick(layer_f0, layer_f90, cos);
-        if transmission == 0.0 {
-            return schlick;
-        }
-        let dielectric = fresnel_schlick(f0, Vec3::splat(f90), cos);
-        schlick + (Vec3::splat(f90 * fresnel_dielectric(cos, eta)) - dielectric) * ((1.0 - metallic) * transmission)
     }
 
     /// For a transmitting [`Bsdf::PhysicallyBased`], BTDF × |cos θi| for `wi` below the surface
@@ -365,10 +432,42 @@ impl Bsdf {
         tint * ((1.0 - f) * ggx_d(h, alpha) * smith_g2(wo, wi, alpha) * (i * o).abs() / (denominator * wo.z))
     }
 
-    /// The density with which [`Bsdf::sample`] picks `wi` below the surface.
-    fn transmission_pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    /// For [`Bsdf::PhysicallyBased`] and [`Bsdf::Layer`] (without coat or sheen), BSDF ×
+    /// |cos θi| with the tables read for `wo` as `energy`.
+    fn physically_based_eval(&self, energy: &Energy, wo: Vec3, wi: Vec3) -> Vec3 {
+        if wi.z < 0.0 {
+            return self.transmitted(wo, wi);
+        }
+        match *self {
+            Bsdf::PhysicallyBased(p) => {
+                let i = energy.ggx.at(wi.z);
+                let weight = (1.0 - p.metallic) * (1.0 - p.transmission);
+                let diffuse = if weight > 0.0 { p.base * p.base_through(energy, i) * (weight * std::f32::consts::FRAC_1_PI) } else { Vec3::ZERO };
+                p.reflection(energy, i, wo, wi) + diffuse * wi.z
+            }
+            Bsdf::Layer(p) => p.reflection(energy, energy.ggx.at(wi.z), wo, wi),
+            _ => Vec3::ZERO,
+        }
+    }
+
+    /// For [`Bsdf::PhysicallyBased`] and [`Bsdf::Layer`] (without coat or sheen), the density
+    /// of `wi` for its [`Bsdf::lobe_probabilities`].
+    fn physically_based_pdf(&self, wo: Vec3, wi: Vec3, [specular, diffuse, transmitted]: [f32; 3]) -> f32 {
+        let (Bsdf::PhysicallyBased(Pbr { alpha, eta, thin, .. }) | Bsdf::Layer(Pbr { alpha, eta, thin, .. })) = *self else { return 0.0 };
+        if wi.z < 0.0 {
+            return self.transmission_pdf(wo, wi, transmitted);
+        }
+        let h = (wo + wi).normalize();
+        // Refraction samples that meet total internal reflection at their microfacet reflect
+        // off it instead.
+        let reflected = if transmitted > 0.0 && !thin && refract_about(wo, h, eta).is_none() { specular + transmitted } else { specular };
+        reflected * ggx_d(h, alpha) * smith_g1(wo, alpha) / (4.0 * wo.z) + diffuse * wi.z * std::f32::consts::FRAC_1_PI
+    }
+
+    /// The density with which [`Bsdf::sample`] picks `wi` below the surface, for a transmission
+    /// lobe picked with probability `transmitted`.
+    fn transmission_pdf(&self, wo: Vec3, wi: Vec3, transmitted: f32) -> f32 {
         let Bsdf::PhysicallyBased(Pbr { alpha, eta, thin, .. }) = *self else { return 0.0 };
-        let transmitted = self.lobe_probabilities(wo)[2];
         if transmitted == 0.0 {
             return 0.0;
         }
@@ -426,36 +525,49 @@ impl Bsdf {
     }
 
     /// What Whitted's and Cook's recursions trace for a physically based surface seen at
-    /// `cos_o` from its normal: its specular layer as a GGX metal of the layer's colour at
-    /// normal incidence (the diffuse base is lit by the lights alone), for Cook's samples of
-    /// the lobe; and for Whitted's one mirror ray, the layer's Fresnel reflectance faded out
-    /// with roughness (a rough surface mirrors nothing). `None` for other functions, and for a
-    /// surface without a specular layer.
+    /// `cos_o` from its normal: its specular layer alone ([`Bsdf::Layer`]; the diffuse base is
+    /// lit by the lights alone), for Cook's samples of the lobe; and for Whitted's one mirror
+    /// ray, the layer's Fresnel reflectance faded out with roughness (a rough surface mirrors
+    /// nothing). The coat and sheen over the layer take their share with
+    /// [`Bsdf::through_layers`]. `None` for other functions, and for a surface without a
+    /// specular layer.
     pub fn specular_layer(&self, cos_o: f32) -> Option<(Bsdf, Vec3)> {
-        let Bsdf::PhysicallyBased(Pbr { base, metallic, alpha, f0, f90, .. }) = *self else { return None };
-        let (layer_f0, layer_f90) = layer(base, metallic, f0, f90);
-        (layer_f90.max_element() > 0.0).then(|| (Bsdf::Glossy { reflectance: layer_f0, alpha }, self.layer_reflectance(cos_o) * (1.0 - alpha.sqrt())))
+        let Bsdf::PhysicallyBased(p @ Pbr { base, metallic, alpha, f0, f90, .. }) = *self else { return None };
+        let (_, layer_f90) = layer(base, metallic, f0, f90);
+        let alone = Pbr { coat: 0.0, sheen: Vec3::ZERO, ..p };
+        (layer_f90.max_element() > 0.0).then(|| (Bsdf::Layer(alone), p.layer_reflectance(cos_o) * (1.0 - alpha.sqrt())))
     }
 }
 
 impl Bsdf {
     /// What Whitted's and Cook's recursions trace for a coated physically based function seen
     /// at `cos_o` from its normal, as [`Bsdf::specular_layer`] gives for the layer under it:
-    /// the coat as a GGX dielectric of its roughness (Schlick's Fresnel from 4 %), the coat's
-    /// weight, Whitted's one mirror ray's weight before it (the coat's Fresnel reflectance faded
-    /// out with roughness), and the share of light the coat lets through to what is under it.
-    /// `None` without a coat.
-    pub fn coat_layer(&self, cos_o: f32) -> Option<(Bsdf, f32, f32, f32)> {
-        let (_, coat, coat_alpha) = self.coated()?;
-        let reflectance = coat_fresnel(cos_o);
-        Some((Bsdf::Glossy { reflectance: Vec3::splat(0.04), alpha: coat_alpha }, coat, reflectance * (1.0 - coat_alpha.sqrt()), 1.0 - coat * reflectance))
+    /// the coat's lobe (a GGX dielectric of its roughness, Schlick's Fresnel from 4 %, as a
+    /// [`Bsdf::Layer`] over a black base), the coat's weight, and Whitted's one mirror ray's
+    /// weight before it (the coat's Fresnel reflectance faded out with roughness). `None`
+    /// without a coat.
+    pub fn coat_layer(&self, cos_o: f32) -> Option<(Bsdf, f32, f32)> {
+        let (under, coat, coat_alpha) = self.coated()?;
+        let Bsdf::PhysicallyBased(p) = under else { return None };
+        let lobe = Pbr { base: Vec3::ZERO, metallic: 0.0, alpha: coat_alpha, f0: Vec3::splat(0.04), f90: 1.0, transmission: 0.0, sheen: Vec3::ZERO, ..p };
+        Some((Bsdf::Layer(lobe), coat, coat_fresnel(cos_o) * (1.0 - coat_alpha.sqrt())))
+    }
+
+    /// The share of the light seen at `cos_o` that a physically based function's coat and
+    /// sheen leave to the layers under them, as [`Bsdf::eval`] scales those layers: one minus
+    /// each one's directional albedo. 1 without either, and for other functions.
+    pub fn through_layers(&self, cos_o: f32) -> f32 {
+        if let Some((under, coat, coat_alpha)) = self.coated() {
+            return (1.0 - coat * coat_albedo(cos_o, coat_alpha)) * under.through_layers(cos_o);
+        }
+        self.sheened().map_or(1.0, |(_, sheen, sheen_alpha)| sheen::left(sheen, sheen_alpha, cos_o))
     }
 
     /// A sample in direction `wi` with its weight over the whole function's density (the
     /// one-sample model of layered functions: unbiased whichever layer drew it).
     fn weighed(&self, wo: Vec3, wi: Vec3) -> Option<BsdfSample> {
-        let pdf = self.pdf(wo, wi);
-        (pdf > 0.0).then(|| BsdfSample { wi, weight: self.eval(wo, wi) / pdf, pdf, transmitted: wi.z < 0.0 })
+        let (value, pdf) = self.eval_pdf(wo, wi);
+        (pdf > 0.0).then(|| BsdfSample { wi, weight: value / pdf, pdf, transmitted: wi.z < 0.0 })
     }
 
     /// A physically based function with sheen (and no coat over it: [`Bsdf::coated`] takes the
@@ -480,6 +592,13 @@ impl Bsdf {
 /// The clearcoat's Fresnel reflectance at `cos` (Schlick's, index 1.5: 4 % head-on).
 fn coat_fresnel(cos: f32) -> f32 {
     fresnel_schlick(Vec3::splat(0.04), Vec3::ONE, cos).x
+}
+
+/// The full clearcoat's directional albedo seen at `cos`, for α `alpha`: what it reflects,
+/// which the layers under it do not receive.
+fn coat_albedo(cos: f32, alpha: f32) -> f32 {
+    let ggx = Ggx::new(alpha);
+    ggx.single_scattering(Vec3::splat(0.04), Vec3::ONE, ggx.at(cos)).x
 }
 
 /// Probability that a sample of a function with sheen picks the fibres' lobe: their share of
@@ -579,60 +698,6 @@ fn layer(base: Vec3, metallic: f32, f0: Vec3, f90: f32) -> (Vec3, Vec3) {
     (f0.lerp(base, metallic), Vec3::splat(f90).lerp(Vec3::ONE, metallic))
 }
 
-/// The height-correlated Smith visibility term `G2 / (4 cos θo cos θi)` for GGX (Heitz 2014,
-/// as glTF's Appendix B writes it).
-fn smith_height_correlated(wo: Vec3, wi: Vec3, alpha: f32) -> f32 {
-    if wo.z <= 0.0 || wi.z <= 0.0 {
-        return 0.0;
-    }
-    let a2 = alpha * alpha;
-    let lambda_o = wi.z * (wo.z * wo.z * (1.0 - a2) + a2).sqrt();
-    let lambda_i = wo.z * (wi.z * wi.z * (1.0 - a2) + a2).sqrt();
-    0.5 / (lambda_o + lambda_i)
-}
-
-/// Smith's height-correlated masking-shadowing G2 for GGX, for directions on either side of the
-/// surface: 1 / (1 + Λ(wo) + Λ(wi)).
-fn smith_g2(wo: Vec3, wi: Vec3, alpha: f32) -> f32 {
-    let lambda = |w: Vec3| {
-        let cos2 = w.z * w.z;
-        let tan2 = (1.0 - cos2).max(0.0) / cos2;
-        0.5 * ((1.0 + alpha * alpha * tan2).sqrt() - 1.0)
-    };
-    1.0 / (1.0 + lambda(wo) + lambda(wi))
-}
-
-/// The GGX normal distribution.
-fn ggx_d(h: Vec3, alpha: f32) -> f32 {
-    if h.z <= 0.0 {
-        return 0.0;
-    }
-    let a2 = alpha * alpha;
-    let t = h.z * h.z * (a2 - 1.0) + 1.0;
-    a2 / (std::f32::consts::PI * t * t)
-}
-
-/// Smith's masking term for GGX.
-fn smith_g1(w: Vec3, alpha: f32) -> f32 {
-    if w.z <= 0.0 {
-        return 0.0;
-    }
-    let tan2 = (1.0 - w.z * w.z).max(0.0) / (w.z * w.z);
-    2.0 / (1.0 + (1.0 + alpha * alpha * tan2).sqrt())
-}
-
-/// A microfacet normal sampled from the normals GGX surface shows to `wo` (Heitz 2018).
-fn sample_visible_normal(wo: Vec3, alpha: f32, u: [f32; 2]) -> Vec3 {
-    let v = Vec3::new(alpha * wo.x, alpha * wo.y, wo.z).normalize();
-    let t1 = if v.z < 0.9999 { Vec3::Z.cross(v).normalize() } else { Vec3::X };
-    let t2 = v.cross(t1);
-    let d = concentric_disc(u);
-    let s = 0.5 * (1.0 + v.z);
-    let p2 = (1.0 - s) * (1.0 - d.x * d.x).max(0.0).sqrt() + s * d.y;
-    let p = t1 * d.x + t2 * p2 + v * (1.0 - d.x * d.x - p2 * p2).max(0.0).sqrt();
-    Vec3::new(alpha * p.x, alpha * p.y, p.z.max(1e-6)).normalize()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -648,6 +713,16 @@ mod tests {
             }
         }
         sum / (n * n) as f32
+    }
+
+    /// Independent uniform numbers (a 64-bit LCG's high bits), not a lattice: a lattice mapped
+    /// through the lobes and the lobe choice lands in moiré bands.
+    fn uniform_numbers() -> impl FnMut() -> f32 {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        move || {
+            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        }
     }
 
     #[test]
@@ -737,6 +812,8 @@ mod tests {
         .into_iter()
         .chain(physically_based_grid())
         .chain(transmitting_grid())
+        // The layers Whitted's and Cook's recursions sample alone.
+        .chain(physically_based_grid().into_iter().chain(transmitting_grid()).flat_map(|b| [b.specular_layer(wo.z).map(|l| l.0), b.coat_layer(wo.z).map(|l| l.0)]).flatten())
         {
             for i in 0..200 {
                 let u = [(i as f32 * 0.618) % 1.0, (i as f32 * 0.414) % 1.0];
@@ -771,9 +848,11 @@ mod tests {
         over_hemisphere(|wi| bsdf.eval(wo, wi))
     }
 
-    /// The physically based BRDF is reciprocal, never reflects more than it receives, loses
-    /// little when smooth (a white dielectric keeps its light, a white metal nearly all), and
-    /// its sampling density integrates to one over the hemisphere.
+    /// The physically based BRDF never reflects more than it receives, loses little when smooth
+    /// (a white dielectric keeps its light, a white metal nearly all), and its sampling density
+    /// integrates to one over the hemisphere. Without a coat or sheen it is reciprocal; the
+    /// coat and the sheen scale what lies under them by the light they take from the view
+    /// direction alone (see [`Pbr`]), which is not.
     #[test]
     fn physically_based_is_reciprocal_bounded_and_normalised() {
         let white = |metallic: f32, roughness: f32| opaque(Vec3::ONE, metallic, roughness * roughness, 0.04, 1.0);
@@ -785,7 +864,8 @@ mod tests {
             for bsdf in physically_based_grid().into_iter().chain([white(0.0, 0.3), white(1.0, 0.3), white(0.0, 1.0), white(1.0, 1.0)]).chain(coated_white).chain(sheened_white) {
                 let wi = Vec3::new(0.3, 0.5, 0.6).normalize();
                 let (a, b) = (bsdf.eval(wo, wi) / wi.z, bsdf.eval(wi, wo) / wo.z);
-                assert!((a - b).abs().max_element() <= 1e-4 * (1.0 + a.max_element()), "{bsdf:?}: {a} vs {b}");
+                let layered = matches!(bsdf, Bsdf::PhysicallyBased(p) if p.coat > 0.0 || p.sheen != Vec3::ZERO);
+                assert!(layered || (a - b).abs().max_element() <= 1e-4 * (1.0 + a.max_element()), "{bsdf:?}: {a} vs {b}");
                 let q = albedo_by_quadrature(&bsdf, wo);
                 assert!(q.max_element() <= 1.0 + 5e-3, "{bsdf:?} at {wo}: albedo {q}");
                 // The density over the hemisphere, by the same quadrature.
@@ -819,6 +899,69 @@ mod tests {
     fn over_sphere(f: impl Fn(Vec3) -> Vec3) -> Vec3 {
         let below = over_hemisphere(|w| f(Vec3::new(w.x, w.y, -w.z)));
         over_hemisphere(f) + below
+    }
+
+    /// The white furnace of the issue (36): under light from everywhere, a white dielectric of
+    /// any roughness and index 1 to 2 reflects all of it, seen from any angle to 85°, and so
+    /// does a white metal (F0 = 1, its Fresnel average 1), as Cycles' Principled BSDF does.
+    /// Measured (by the mean weight of 256² independent samples per direction, whose own error
+    /// is about 0.3 %; a lattice of samples, as [`albedo`] takes, is up to 1.6 % off at grazing
+    /// angles for a smooth metal): within 0.4 % everywhere. The same surfaces without the
+    /// multiple-scattering lobe fall well outside (a white metal of roughness 1 keeps 0.31
+    /// head-on), and with glTF's Fresnel-weighted base (before) the dielectric of roughness 1
+    /// kept 0.78 at 75°, 0.41 at 85°.
+    #[test]
+    fn white_surfaces_reflect_all_the_light() {
+        let mut worst_without = 0.0f32;
+        for metallic in [0.0f32, 1.0] {
+            for ior in [1.0f32, 1.2, 1.5, 2.0] {
+                for roughness in [0.0f32, 0.25, 0.5, 0.75, 1.0] {
+                    let f0 = ((ior - 1.0) / (ior + 1.0)).powi(2);
+                    let Bsdf::PhysicallyBased(p) = opaque(Vec3::ONE, metallic, (roughness * roughness).max(1e-3), f0, 1.0) else { unreachable!() };
+                    let p = Pbr { eta: 1.0 / ior, ..p };
+                    let bsdf = Bsdf::PhysicallyBased(p);
+                    for degrees in [0.0f32, 30.0, 60.0, 75.0, 85.0] {
+                        let wo = Vec3::new(degrees.to_radians().sin(), 0.0, degrees.to_radians().cos());
+                        let mut uniform = uniform_numbers();
+                        let a = (0..256 * 256).filter_map(|_| bsdf.sample(wo, [uniform(), uniform()], uniform())).map(|s| s.weight).sum::<Vec3>() / (256 * 256) as f32;
+                        assert!((a - Vec3::ONE).abs().max_element() < 0.01, "metallic {metallic}, ior {ior}, roughness {roughness}, {degrees}°: {a}");
+                        // The compensation taken out: the multiple-scattering lobe's albedo.
+                        let energy = p.energy(wo.z);
+                        let without = a - energy.compensation * (1.0 - energy.o.e);
+                        worst_without = worst_without.max((Vec3::ONE - without).max_element());
+                    }
+                }
+            }
+        }
+        assert!(worst_without > 0.5, "without the compensation the worst loses only {worst_without}");
+    }
+
+    /// A coat or fibres over a white surface, and a coat over fibres over it, take their light
+    /// from what lies under them and give back what they do not reflect: the stack reflects all
+    /// of it, from any angle, smooth or rough.
+    #[test]
+    fn white_stacks_reflect_all_the_light() {
+        let white = |metallic: f32, roughness: f32| opaque(Vec3::ONE, metallic, roughness * roughness, 0.04, 1.0);
+        let mut worst = 0.0f32;
+        for (metallic, roughness) in [(0.0, 0.3), (1.0, 0.2), (0.0, 1.0), (1.0, 0.8)] {
+            let stacks = [
+                coated(white(metallic, roughness), 0.01),
+                coated(white(metallic, roughness), 0.5),
+                sheened(white(metallic, roughness), Vec3::ONE, 0.3),
+                sheened(white(metallic, roughness), Vec3::ONE, 1.0),
+                coated(sheened(white(metallic, roughness), Vec3::ONE, 0.5), 0.09),
+            ];
+            for bsdf in stacks {
+                for degrees in [0.0f32, 40.0, 70.0, 85.0] {
+                    let wo = Vec3::new(degrees.to_radians().sin(), 0.0, degrees.to_radians().cos());
+                    let mut uniform = uniform_numbers();
+                    let a = (0..256 * 256).filter_map(|_| bsdf.sample(wo, [uniform(), uniform()], uniform())).map(|s| s.weight).sum::<Vec3>() / (256 * 256) as f32;
+                    worst = worst.max((a - Vec3::ONE).abs().max_element());
+                }
+            }
+        }
+        // Measured: 0.75 % at worst (fibres of roughness 0.3 seen at 85°).
+        assert!(worst < 0.01, "a white stack is off by {worst}");
     }
 
     /// Transmission never makes light (whatever side of a boundary the light comes from, total
@@ -886,13 +1029,7 @@ mod tests {
                 row * columns + ((phi / std::f32::consts::TAU * columns as f32) as usize).min(columns - 1)
             };
             let mut given = 0;
-            // Independent uniform numbers (a 64-bit LCG's high bits), not a lattice: a lattice
-            // mapped through the lobes and the lobe choice lands in moiré bands.
-            let mut state = 0x2545_f491_4f6c_dd1du64;
-            let mut uniform = || {
-                state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-                (state >> 40) as f32 / (1u64 << 24) as f32
-            };
+            let mut uniform = uniform_numbers();
             for _ in 0..m * m {
                 if let Some(s) = bsdf.sample(wo, [uniform(), uniform()], uniform()) {
                     counts[cell(s.wi)] += 1;
@@ -944,33 +1081,6 @@ mod tests {
                 let q = albedo_by_quadrature(&bsdf, wo);
                 assert!((a - q).abs().max_element() < 0.01, "alpha {alpha}: sampled {a}, quadrature {q}");
             }
-        }
-    }
-
-    /// The GGX distribution projects to the unit disc, and the visible normals it shows a
-    /// direction, masked by Smith's term, cover that direction's projected area exactly (the
-    /// "weak white furnace" test): so energy the metal loses is light that would bounce between
-    /// facets, not an error in either term.
-    #[test]
-    fn ggx_terms_are_normalised() {
-        let wo = Vec3::new(0.6, 0.0, 0.8);
-        for alpha in [0.1, 0.3, 1.0] {
-            let (n, m) = (4096, 64);
-            let (mut projected, mut visible) = (0.0f64, 0.0f64);
-            for i in 0..n {
-                let cos = (i as f32 + 0.5) / n as f32;
-                let sin = (1.0 - cos * cos).sqrt();
-                for j in 0..m {
-                    let phi = std::f32::consts::TAU * (j as f32 + 0.5) / m as f32;
-                    let h = Vec3::new(sin * phi.cos(), sin * phi.sin(), cos);
-                    let d = ggx_d(h, alpha) as f64;
-                    projected += d * cos as f64;
-                    visible += smith_g1(wo, alpha) as f64 * wo.dot(h).max(0.0) as f64 * d / wo.z as f64;
-                }
-            }
-            let cell = std::f64::consts::TAU / (n * m) as f64;
-            assert!((projected * cell - 1.0).abs() < 2e-3, "alpha {alpha}: ∫D cos = {}", projected * cell);
-            assert!((visible * cell - 1.0).abs() < 2e-3, "alpha {alpha}: weak furnace {}", visible * cell);
         }
     }
 

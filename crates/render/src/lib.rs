@@ -22,6 +22,7 @@ mod footprint;
 mod integrator;
 mod lights;
 mod material;
+mod microfacet;
 mod renderer;
 mod sampler;
 mod sheen;

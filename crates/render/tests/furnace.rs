@@ -138,10 +138,13 @@ fn a_white_sphere_inside_a_sphere_of_emitters_disappears() {
 }
 
 /// The physically based material under the uniform environment, across metallic × roughness:
-/// a white surface never shines brighter than its light, and keeps most of it (single
-/// scattering loses the light that bounces between microfacets: most for a fully rough metal).
+/// a white surface disappears, dielectric or metal, smooth or rough. Its layers keep their
+/// energy (the multiple-scattering lobe gives back what bounces between microfacets, the base
+/// gets what the specular layer leaves). Measured: 1.000 for every one (0.999–1.002); before,
+/// with a single-scattering layer and the base weighted by Fresnel, 0.97 for the rough
+/// dielectric and 0.89 and 0.37 for the metals of roughness 0.5 and 1.
 #[test]
-fn physically_based_white_never_gains_and_loses_little() {
+fn physically_based_white_disappears() {
     for metallic in [0.0, 1.0] {
         for roughness in [0.1, 0.5, 1.0] {
             let params = [
@@ -150,19 +153,18 @@ fn physically_based_white_never_gains_and_loses_little() {
                 ("roughness", ParamValue::Float(roughness)),
             ];
             let scene = in_furnace(sphere_scene("PhysicallyBased", &params));
-            let (mean, _) = furnace_pixels(&scene, Integrator::Path, 32, 16, 1.0);
-            eprintln!("metallic {metallic}, roughness {roughness}: {mean}");
-            assert!(mean <= 1.01, "metallic {metallic}, roughness {roughness}: mean {mean}");
-            // Measured: 1.00 and 1.00 at roughness 0.1 (dielectric, metal), 0.99 and 0.89 at 0.5,
-            // 0.97 and 0.37 at 1: a fully rough metal loses most, for want of multiple-scattering
-            // compensation (Kulla and Conty 2017), the documented loss.
-            let floor = match (metallic == 1.0, roughness) {
-                (_, 0.1) => 0.98,
-                (false, _) => 0.95,
-                (true, 0.5) => 0.85,
-                (true, _) => 0.3,
-            };
-            assert!(mean > floor, "metallic {metallic}, roughness {roughness}: mean {mean}");
+            // The distribution tracer lights the surface through the same BSDF (its glossy rays
+            // see no environment: the light samples count it), and agrees where light samples
+            // find the lobe (measured 0.994–1.000 from roughness 0.5; 0.81 for the metal of
+            // roughness 0.1, whose sharp lobe cosine-distributed samples of the environment
+            // rarely meet). Whitted adds a mirror ray to the lights seen through the whole
+            // BSDF, an approximation that counts the specular layer's light twice (measured
+            // 1.00–1.10).
+            let integrators: &[Integrator] = if roughness >= 0.5 { &[Integrator::Path, Integrator::Distribution] } else { &[Integrator::Path] };
+            for &integrator in integrators {
+                let (mean, _) = furnace_pixels(&scene, integrator, 32, 16, 1.0);
+                assert!((mean - 1.0).abs() < 0.01, "{integrator:?}, metallic {metallic}, roughness {roughness}: mean {mean}");
+            }
         }
     }
 }
@@ -205,9 +207,10 @@ fn a_transmitting_white_sphere_disappears_when_smooth_and_never_gains() {
             // smallest α, at every reflection inside the sphere.
             let (mean, _) = furnace_pixels(&scene, Integrator::Whitted, 32, 1, 1.0);
             assert!(mean > 0.93, "thickness {thickness}: Whitted keeps {mean}");
-            // The distribution tracer samples the BTDF where Whitted refracts one ray; its
-            // reflection samples a Schlick metal of the layer's colour, which knows no total
-            // internal reflection (measured 0.93 for the volume, 0.94 for the thin shell).
+            // The distribution tracer samples the BTDF where Whitted refracts one ray, and its
+            // reflection samples the specular layer itself (measured 0.947 for the volume and
+            // the thin shell; 0.93 and 0.94 when it sampled a Schlick metal of the layer's
+            // colour, which knows no total internal reflection).
             let (mean, _) = furnace_pixels(&scene, Integrator::Distribution, 32, 16, 1.0);
             assert!(mean > 0.9 && mean <= 1.01, "thickness {thickness}: the distribution tracer keeps {mean}");
         }

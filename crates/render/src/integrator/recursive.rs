@@ -143,15 +143,13 @@ impl<const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED: bool> Recursio
                     _ => Vec3::ZERO,
                 };
                 let transmitted = if REFRACT && deeper && bsdf.transmits() { self.transmission(hit, &bsdf, wo, media, depth, weight) } else { Vec3::ZERO };
-                // A clear coat reflects the scene too, and passes on the rest to what is under it.
-                let (coat_reflected, under) = match bsdf.coat_layer(cos_o) {
-                    Some((lobe, coat, mirror, under)) if REFLECT && deeper => {
-                        (coat * self.glossy_reflection(hit, &lobe, Vec3::splat(mirror), wo, media, depth, weight * coat), under)
-                    }
-                    Some((.., under)) => (Vec3::ZERO, under),
-                    None => (Vec3::ZERO, 1.0),
+                // A clear coat reflects the scene too; it and the sheen pass on the rest to what
+                // is under them, as the BSDF scales it.
+                let coat_reflected = match bsdf.coat_layer(cos_o) {
+                    Some((lobe, coat, mirror)) if REFLECT && deeper => coat * self.glossy_reflection(hit, &lobe, Vec3::splat(mirror), wo, media, depth, weight * coat),
+                    _ => Vec3::ZERO,
                 };
-                emitted + direct + (reflected + transmitted) * under + coat_reflected
+                emitted + direct + reflected * bsdf.through_layers(cos_o) + transmitted + coat_reflected
             }
             ShadingModel::Diffuse | ShadingModel::VertexColor | ShadingModel::Phong => {
                 let bsdf = m.bsdf.expect("matte materials scatter");
@@ -191,10 +189,10 @@ impl<const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED: bool> Recursio
     }
 
     /// Light through a transmitting physically based surface: Whitted refracts one smooth ray
-    /// (straight through a thin wall); the distributed variant samples the BSDF and follows the
-    /// samples that went through, weighted as the path tracer weighs them (unbiased for the
-    /// transmitted light: the other samples stand for reflection, which
-    /// [`Recursion::glossy_reflection`] and the lights already count).
+    /// (straight through a thin wall), with what a coat or sheen over it leaves; the distributed
+    /// variant samples the BSDF and follows the samples that went through, weighted as the path
+    /// tracer weighs them (unbiased for the transmitted light: the other samples stand for
+    /// reflection, which [`Recursion::glossy_reflection`] and the lights already count).
     fn transmission(&mut self, hit: &Hit<'_>, bsdf: &Bsdf, wo: Vec3, media: Media, depth: u32, weight: f32) -> Vec3 {
         let frame3 = Frame3::around(hit.surface.shading_normal);
         let wo_local = frame3.to_local(wo);
@@ -202,7 +200,7 @@ impl<const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED: bool> Recursio
             let (u, choose) = (self.sampler.next_2d(), self.sampler.next_1d());
             bsdf.sample(wo_local, u, choose).filter(|s| s.transmitted).map(|s| (s.wi, s.weight))
         } else {
-            bsdf.smooth_transmission(wo_local)
+            bsdf.smooth_transmission(wo_local).map(|(wi, tint)| (wi, tint * bsdf.through_layers(wo_local.z)))
         };
         let Some((wi, tint)) = through else { return Vec3::ZERO };
         tint * self.trace_on(hit, frame3.to_world(wi), Kind::Refraction, media.crossed(hit), depth, weight * tint.max_element())
