@@ -28,6 +28,11 @@ pub struct BoxTree {
 }
 
 impl BoxTree {
+    /// Bytes a tree holds per box, for memory budgets: the box's copy and its share of the
+    /// 8-wide nodes (leaves hold up to eight boxes and inner nodes add about one in seven more,
+    /// so a node per six boxes).
+    pub const BYTES_PER_BOX: usize = size_of::<Aabb>() + size_of::<Node8>() / 6;
+
     /// Builds the tree over `boxes`; empty or non-finite boxes are left out (no ray reaches them).
     ///
     /// # Panics

@@ -171,6 +171,10 @@ pub struct FrameWork {
     pub build_seconds: f64,
 }
 
+/// Bytes a frame holds per instance, for memory budgets: the instance as placed, its world box
+/// and its share of the top-level tree. A scene that renders holds a frame most of the time.
+pub(crate) const FRAME_BYTES_PER_INSTANCE: usize = size_of::<FrameInstance<'static>>() + size_of::<Aabb>() + BoxTree::BYTES_PER_BOX;
+
 /// The scene frozen for rendering: see the module documentation.
 pub struct Frame<'a> {
     scene: &'a Scene,

@@ -93,6 +93,11 @@ impl<T> Table<T> {
         self.slots.get_mut(id as usize).and_then(Option::as_mut)
     }
 
+    /// The bytes its slots take (empty ones too), for memory budgets.
+    pub fn slot_bytes(&self) -> u64 {
+        (self.slots.capacity() * size_of::<Option<T>>()) as u64
+    }
+
     /// The filled slots with their ids, in id order.
     pub fn iter(&self) -> impl Iterator<Item = (u32, &T)> {
         self.slots.iter().enumerate().filter_map(|(i, s)| s.as_ref().map(|v| (i as u32, v)))

@@ -347,9 +347,11 @@ impl Scene {
         self.textures.get(id.0).map(|t| &**t).ok_or(SceneError::UnknownTexture(id))
     }
 
-    /// The memory the scene's geometry and images take, with every object's tree counted as
-    /// built ([`TREE_BYTES_PER_TRIANGLE`] a triangle, whether a frame has built it yet or not):
-    /// what a server budgets scenes by. Objects and images that snapshots share count once.
+    /// The memory the scene takes, with every object's tree counted as built
+    /// ([`TREE_BYTES_PER_TRIANGLE`] a triangle, whether a frame has built it yet or not) and
+    /// every instance with what a frame builds for it: geometry, images, instances and the
+    /// tables of lights, shaders and textures. What a server budgets scenes by. Objects and
+    /// images that snapshots share count once.
     pub fn memory_bytes(&self) -> u64 {
         let objects: u64 = self
             .objects
@@ -357,7 +359,10 @@ impl Scene {
             .map(|(_, o)| o.mesh.memory_bytes() + (o.cover.len() * size_of::<raystage_kernel::Aabb>()) as u64 + o.mesh.indices.len() as u64 * TREE_BYTES_PER_TRIANGLE)
             .sum();
         let images: u64 = self.textures.iter().map(|(_, t)| if let Texture::Image(image) = &**t { image.memory_bytes() } else { 0 }).sum();
-        objects + images
+        // Instances are small but may be millions (a glTF file of a million nodes): their
+        // records, and what each frame builds for them.
+        let instances = self.instances.slot_bytes() + self.instances.iter().count() as u64 * crate::frame::FRAME_BYTES_PER_INSTANCE as u64;
+        objects + images + instances + self.lights.slot_bytes() + self.shaders.slot_bytes() + self.textures.slot_bytes()
     }
 
     /// Every texture with its id, in id order.
