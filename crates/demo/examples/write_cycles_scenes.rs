@@ -1,5 +1,5 @@
 //! Writes the scenes Blender's Cycles is the reference for into the folder given, as
-//! `NAME.gltf`: the Cornell box with rough dielectric walls (`cycles_cornell_box.gltf`, see
+//! `NAME.gltf`: the Cornell box with rough dielectric walls (`cornell_box.gltf`, see
 //! `raystage_demo::cornell_box::rough_dielectric_gltf`) and `MaterialScene::CYCLES`.
 //! `scripts/references/cycles_gltf.py` renders them; `tests/cycles_reference.rs` compares.
 
@@ -12,7 +12,7 @@ fn main() -> std::io::Result<()> {
     };
     let folder = std::path::PathBuf::from(folder);
     std::fs::create_dir_all(&folder)?;
-    std::fs::write(folder.join("cycles_cornell_box.gltf"), raystage_demo::cornell_box::rough_dielectric_gltf())?;
+    std::fs::write(folder.join("cornell_box.gltf"), raystage_demo::cornell_box::rough_dielectric_gltf())?;
     for scene in MaterialScene::CYCLES {
         std::fs::write(folder.join(format!("{}.gltf", scene.name())), scene.gltf())?;
     }
