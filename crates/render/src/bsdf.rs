@@ -12,7 +12,7 @@
 
 use glam::Vec3;
 
-use crate::microfacet::{self, ggx_d, sample_visible_normal, smith_g1, smith_g2, smith_height_correlated};
+use crate::microfacet::{Ggx, Seen, ggx_d, sample_visible_normal, smith_g1, smith_g2, smith_height_correlated};
 use crate::sheen;
 use crate::warp::{cosine_hemisphere, uniform_hemisphere};
 
@@ -62,10 +62,11 @@ pub(crate) enum Bsdf {
 /// The layers keep their energy as OpenPBR's and Cycles' Principled BSDF do, where glTF's
 /// Appendix B loses it (a white rough dielectric seen at 75° kept 0.78 of the light, a white
 /// metal of roughness 1 seen head-on 0.31): the GGX layer gets Kulla and Conty's
-/// multiple-scattering lobe (see [`microfacet`]), and the base under the dielectric is scaled
-/// by one minus the layer's directional albedo E, tabulated over angle and roughness, for both
-/// directions (`(1 − E(μo))(1 − E(μi)) / (1 − E_avg)`, reciprocal): a white dielectric or a
-/// white metal at any roughness, index and angle reflects all the light it receives.
+/// multiple-scattering lobe (see [`crate::microfacet`]), and the base under the dielectric is
+/// scaled by one minus the layer's directional albedo E, tabulated over angle and roughness,
+/// for both directions (`(1 − E(μo))(1 − E(μi)) / (1 − E_avg)`, reciprocal): a white
+/// dielectric or a white metal at any roughness, index and angle reflects all the light it
+/// receives.
 ///
 /// With `transmission` (glTF's KHR_materials_transmission), that fraction of the dielectric
 /// gives up its diffuse base: it reflects by the exact Fresnel equations of relative index
@@ -121,37 +122,60 @@ impl Pbr {
         schlick + (Vec3::splat(f90 * fresnel_dielectric(cos, eta)) - dielectric) * ((1.0 - metallic) * transmission)
     }
 
-    /// The specular layer's reflection, BRDF × cos θi: its GGX lobe and the multiple
-    /// scattering of it.
-    fn reflection(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        let h = (wo + wi).normalize();
-        let single = self.layer_reflectance(wo.dot(h)) * (ggx_d(h, self.alpha) * smith_height_correlated(wo, wi, self.alpha) * wi.z);
-        single + self.compensation() * microfacet::multiple_scattering(wo.z, wi.z, self.alpha)
+    /// What the layers take of the albedo tables ([`crate::microfacet`]) for a direction at
+    /// `cos_o` to the normal: read once per evaluation, since a path's bounce evaluates the
+    /// function and its density several times (a frame of the sphere grid was 1.6× slower
+    /// reading the tables for each term).
+    fn energy(&self, cos_o: f32) -> Energy {
+        let ggx = Ggx::new(self.alpha);
+        let dielectric = ggx.multiple_scattering_colour(self.f0, Vec3::splat(self.f90));
+        let metal = if self.metallic > 0.0 { ggx.multiple_scattering_colour(self.base, Vec3::ONE) } else { Vec3::ZERO };
+        // The metal's and the opaque dielectric's multiple scattering, blended as their single
+        // scattering is. The transmitting share's reflection, by the exact Fresnel equations,
+        // has none (its rough microfacets lose what bounces between them, as its
+        // transmission does).
+        let compensation = metal * self.metallic + dielectric * ((1.0 - self.metallic) * (1.0 - self.transmission));
+        let o = ggx.at(cos_o);
+        let (f0, f90) = (self.f0, Vec3::splat(self.f90));
+        let layer = ggx.albedo(f0, f90, dielectric, o);
+        let base = (Vec3::ONE - layer).max(Vec3::ZERO) / (Vec3::ONE - ggx.average_albedo(f0, f90, dielectric)).max(Vec3::splat(1e-6));
+        Energy { ggx, o, dielectric, compensation, layer, base }
     }
 
-    /// The colour of the specular layer's multiple-scattering lobe ([`microfacet`]): the
-    /// metal's and the opaque dielectric's, blended as their single scattering is. The
-    /// transmitting share's reflection, by the exact Fresnel equations, has none (its rough
-    /// microfacets lose what bounces between them, as its transmission does).
-    fn compensation(&self) -> Vec3 {
-        let alpha = self.alpha;
-        let metal = microfacet::multiple_scattering_colour(self.base, Vec3::ONE, alpha);
-        let dielectric = microfacet::multiple_scattering_colour(self.f0, Vec3::splat(self.f90), alpha);
-        metal * self.metallic + dielectric * ((1.0 - self.metallic) * (1.0 - self.transmission))
+    /// The specular layer's reflection, BRDF × cos θi, for `wi` seen by the tables as `i`: its
+    /// GGX lobe and the multiple scattering of it.
+    fn reflection(&self, energy: &Energy, i: Seen, wo: Vec3, wi: Vec3) -> Vec3 {
+        let h = (wo + wi).normalize();
+        let single = self.layer_reflectance(wo.dot(h)) * (ggx_d(h, self.alpha) * smith_height_correlated(wo, wi, self.alpha) * wi.z);
+        single + energy.compensation * energy.ggx.multiple_scattering(energy.o, i, wi.z)
     }
 
     /// What of the light reaches the diffuse base through the dielectric's specular layer and
-    /// leaves it again, for directions at `cos_o` and `cos_i` to the normal: (1 − E(μo))
+    /// leaves it again, for `wo` and a direction seen by the tables as `i`: (1 − E(μo))
     /// (1 − E(μi)) / (1 − E_avg), E the layer's directional albedo with its multiple scattering
     /// (Kulla and Conty 2017). A Lambertian base under it reflects base × (1 − E(μo)), all that
     /// the layer leaves, and the coupling is reciprocal. Per colour channel, since
     /// KHR_materials_specular's colour tints f0; a channel whose layer reflects everything
     /// passes nothing (0 / ε).
-    fn base_through(&self, cos_o: f32, cos_i: f32) -> Vec3 {
-        let (f0, f90) = (self.f0, Vec3::splat(self.f90));
-        let left = |cos: f32| (Vec3::ONE - microfacet::albedo(f0, f90, cos, self.alpha)).max(Vec3::ZERO);
-        left(cos_o) * left(cos_i) / (Vec3::ONE - microfacet::average_albedo(f0, f90, self.alpha)).max(Vec3::splat(1e-6))
+    fn base_through(&self, energy: &Energy, i: Seen) -> Vec3 {
+        energy.base * (Vec3::ONE - energy.ggx.albedo(self.f0, Vec3::splat(self.f90), energy.dielectric, i)).max(Vec3::ZERO)
     }
+}
+
+/// What a [`Pbr`]'s layers take of the albedo tables for one direction `wo` (see
+/// [`Pbr::energy`]).
+struct Energy {
+    ggx: Ggx,
+    /// `wo` as the tables see it.
+    o: Seen,
+    /// The colour of the dielectric's multiple-scattering lobe.
+    dielectric: Vec3,
+    /// The colour of the whole layer's multiple-scattering lobe.
+    compensation: Vec3,
+    /// The dielectric layer's directional albedo E(μo).
+    layer: Vec3,
+    /// (1 − E(μo)) / (1 − E_avg): [`Pbr::base_through`] but for the other direction's factor.
+    base: Vec3,
 }
 
 impl Bsdf {
@@ -176,10 +200,9 @@ impl Bsdf {
         if let Some((under, sheen, sheen_alpha)) = self.sheened() {
             return under.eval(wo, wi) * sheen::left(sheen, sheen_alpha, wo.z) + sheen * sheen::lobe(wo, wi, sheen_alpha);
         }
-        if wi.z < 0.0 {
-            return self.transmitted(wo, wi);
-        }
         match *self {
+            Bsdf::PhysicallyBased(p) | Bsdf::Layer(p) => self.physically_based_eval(&p.energy(wo.z), wo, wi),
+            _ if wi.z < 0.0 => Vec3::ZERO,
             Bsdf::Lambert { albedo } => albedo * (wi.z * std::f32::consts::FRAC_1_PI),
             Bsdf::Phong { diffuse, specular, exponent } => {
                 let h = (wo + wi).normalize();
@@ -191,12 +214,19 @@ impl Bsdf {
                 let f = schlick(reflectance, wo.dot(h));
                 f * (ggx_d(h, alpha) * smith_g1(wo, alpha) * smith_g1(wi, alpha) / (4.0 * wo.z))
             }
-            Bsdf::PhysicallyBased(p) => {
-                let diffuse = p.base * p.base_through(wo.z, wi.z) * ((1.0 - p.metallic) * (1.0 - p.transmission) * std::f32::consts::FRAC_1_PI);
-                p.reflection(wo, wi) + diffuse * wi.z
-            }
-            Bsdf::Layer(p) => p.reflection(wo, wi),
             Bsdf::Mirror { .. } | Bsdf::Glass { .. } => Vec3::ZERO,
+        }
+    }
+
+    /// [`Bsdf::eval`] and [`Bsdf::pdf`] at once: a physically based function reads its albedo
+    /// tables once for both (next-event estimation needs both for each light sample).
+    pub fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
+        match *self {
+            Bsdf::PhysicallyBased(p) | Bsdf::Layer(p) if p.coat == 0.0 && p.sheen == Vec3::ZERO && wo.z > 0.0 && wi.z != 0.0 => {
+                let energy = p.energy(wo.z);
+                (self.physically_based_eval(&energy, wo, wi), self.physically_based_pdf(wo, wi, self.lobe_probabilities(wo, &energy)))
+            }
+            _ => (self.eval(wo, wi), self.pdf(wo, wi)),
         }
     }
 
@@ -220,10 +250,9 @@ impl Bsdf {
             let lobe = if wi.z > 0.0 { sheen::UNIFORM_PDF } else { 0.0 };
             return p * lobe + (1.0 - p) * under.pdf(wo, wi);
         }
-        if wi.z < 0.0 {
-            return self.transmission_pdf(wo, wi);
-        }
         match *self {
+            Bsdf::PhysicallyBased(p) | Bsdf::Layer(p) => self.physically_based_pdf(wo, wi, self.lobe_probabilities(wo, &p.energy(wo.z))),
+            _ if wi.z < 0.0 => 0.0,
             Bsdf::Lambert { .. } => wi.z * std::f32::consts::FRAC_1_PI,
             Bsdf::Phong { diffuse, specular, exponent } => {
                 let p = phong_specular_probability(diffuse, specular);
@@ -234,14 +263,6 @@ impl Bsdf {
             Bsdf::Glossy { alpha, .. } => {
                 let h = (wo + wi).normalize();
                 ggx_d(h, alpha) * smith_g1(wo, alpha) / (4.0 * wo.z)
-            }
-            Bsdf::PhysicallyBased(Pbr { alpha, eta, thin, .. }) | Bsdf::Layer(Pbr { alpha, eta, thin, .. }) => {
-                let [specular, diffuse, transmitted] = self.lobe_probabilities(wo);
-                let h = (wo + wi).normalize();
-                // Refraction samples that meet total internal reflection at their microfacet
-                // reflect off it instead.
-                let reflected = if transmitted > 0.0 && !thin && refract_about(wo, h, eta).is_none() { specular + transmitted } else { specular };
-                reflected * ggx_d(h, alpha) * smith_g1(wo, alpha) / (4.0 * wo.z) + diffuse * wi.z * std::f32::consts::FRAC_1_PI
             }
             Bsdf::Mirror { .. } | Bsdf::Glass { .. } => 0.0,
         }
@@ -313,7 +334,7 @@ impl Bsdf {
                 let weight = schlick(reflectance, wo.dot(h)) * smith_g1(wi, alpha);
                 Some(BsdfSample { wi, weight, pdf: self.pdf(wo, wi), transmitted: false })
             }
-            Bsdf::PhysicallyBased(Pbr { alpha, eta, thin, .. }) | Bsdf::Layer(Pbr { alpha, eta, thin, .. }) => {
+            Bsdf::PhysicallyBased(p @ Pbr { alpha, eta, thin, .. }) | Bsdf::Layer(p @ Pbr { alpha, eta, thin, .. }) => {
                 if wo.z <= 0.0 {
                     return None;
                 }
@@ -321,7 +342,9 @@ impl Bsdf {
                 // one-sample model: unbiased whichever lobe drew it). A lobe's direction on the
                 // wrong side of the surface is refused, so that each side's density is that of
                 // the lobes that give directions there.
-                let [specular, _, transmitted] = self.lobe_probabilities(wo);
+                let energy = p.energy(wo.z);
+                let probabilities = self.lobe_probabilities(wo, &energy);
+                let [specular, _, transmitted] = probabilities;
                 let wi = if choose < specular {
                     Some(reflect(wo, sample_visible_normal(wo, alpha, u))).filter(|wi| wi.z > 0.0)
                 } else if choose < specular + transmitted {
@@ -338,7 +361,8 @@ impl Bsdf {
                 } else {
                     Some(cosine_hemisphere(u))
                 }?;
-                self.weighed(wo, wi)
+                let pdf = self.physically_based_pdf(wo, wi, probabilities);
+                (pdf > 0.0).then(|| BsdfSample { wi, weight: self.physically_based_eval(&energy, wo, wi) / pdf, pdf, transmitted: wi.z < 0.0 })
             }
             Bsdf::Glass { eta } => {
                 if wo.z <= 0.0 {
@@ -364,8 +388,8 @@ impl Bsdf {
     /// found; 0 without a specular layer). Transmission keeps at least a tenth of its share
     /// where Fresnel reflects all at the macro normal, since rough microfacets there still let
     /// some light through.
-    fn lobe_probabilities(&self, wo: Vec3) -> [f32; 3] {
-        let (p @ Pbr { base, metallic, alpha, f0, f90, eta, .. }, whole) = match *self {
+    fn lobe_probabilities(&self, wo: Vec3, energy: &Energy) -> [f32; 3] {
+        let (p @ Pbr { base, metallic, f90, eta, .. }, whole) = match *self {
             Bsdf::PhysicallyBased(p) => (p, true),
             Bsdf::Layer(p) => (p, false),
             _ => return [0.0; 3],
@@ -373,8 +397,8 @@ impl Bsdf {
         // The layer alone has neither base nor transmission.
         let (base_share, share) = if whole { ((1.0 - metallic) * (1.0 - p.transmission), (1.0 - metallic) * p.transmission) } else { (0.0, 0.0) };
         let specular = crate::lights::luminance(p.layer_reflectance(wo.z)).max(0.0);
-        let dielectric = crate::lights::luminance(microfacet::albedo(f0, Vec3::splat(f90), wo.z, alpha));
-        let multiple = crate::lights::luminance(p.compensation()) * (1.0 - microfacet::single_scattering(Vec3::ONE, Vec3::ONE, wo.z, alpha).x);
+        let dielectric = crate::lights::luminance(energy.layer);
+        let multiple = crate::lights::luminance(energy.compensation) * (1.0 - energy.o.e);
         let diffuse = crate::lights::luminance(base) * base_share * (1.0 - dielectric).max(0.0) + multiple;
         let transmitted = if share > 0.0 { crate::lights::luminance(base) * share * (1.0 - f90 * fresnel_dielectric(wo.z, eta)).max(0.1) } else { 0.0 };
         let total = specular + diffuse + transmitted;
@@ -408,10 +432,42 @@ impl Bsdf {
         tint * ((1.0 - f) * ggx_d(h, alpha) * smith_g2(wo, wi, alpha) * (i * o).abs() / (denominator * wo.z))
     }
 
-    /// The density with which [`Bsdf::sample`] picks `wi` below the surface.
-    fn transmission_pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    /// For [`Bsdf::PhysicallyBased`] and [`Bsdf::Layer`] (without coat or sheen), BSDF ×
+    /// |cos θi| with the tables read for `wo` as `energy`.
+    fn physically_based_eval(&self, energy: &Energy, wo: Vec3, wi: Vec3) -> Vec3 {
+        if wi.z < 0.0 {
+            return self.transmitted(wo, wi);
+        }
+        match *self {
+            Bsdf::PhysicallyBased(p) => {
+                let i = energy.ggx.at(wi.z);
+                let weight = (1.0 - p.metallic) * (1.0 - p.transmission);
+                let diffuse = if weight > 0.0 { p.base * p.base_through(energy, i) * (weight * std::f32::consts::FRAC_1_PI) } else { Vec3::ZERO };
+                p.reflection(energy, i, wo, wi) + diffuse * wi.z
+            }
+            Bsdf::Layer(p) => p.reflection(energy, energy.ggx.at(wi.z), wo, wi),
+            _ => Vec3::ZERO,
+        }
+    }
+
+    /// For [`Bsdf::PhysicallyBased`] and [`Bsdf::Layer`] (without coat or sheen), the density
+    /// of `wi` for its [`Bsdf::lobe_probabilities`].
+    fn physically_based_pdf(&self, wo: Vec3, wi: Vec3, [specular, diffuse, transmitted]: [f32; 3]) -> f32 {
+        let (Bsdf::PhysicallyBased(Pbr { alpha, eta, thin, .. }) | Bsdf::Layer(Pbr { alpha, eta, thin, .. })) = *self else { return 0.0 };
+        if wi.z < 0.0 {
+            return self.transmission_pdf(wo, wi, transmitted);
+        }
+        let h = (wo + wi).normalize();
+        // Refraction samples that meet total internal reflection at their microfacet reflect
+        // off it instead.
+        let reflected = if transmitted > 0.0 && !thin && refract_about(wo, h, eta).is_none() { specular + transmitted } else { specular };
+        reflected * ggx_d(h, alpha) * smith_g1(wo, alpha) / (4.0 * wo.z) + diffuse * wi.z * std::f32::consts::FRAC_1_PI
+    }
+
+    /// The density with which [`Bsdf::sample`] picks `wi` below the surface, for a transmission
+    /// lobe picked with probability `transmitted`.
+    fn transmission_pdf(&self, wo: Vec3, wi: Vec3, transmitted: f32) -> f32 {
         let Bsdf::PhysicallyBased(Pbr { alpha, eta, thin, .. }) = *self else { return 0.0 };
-        let transmitted = self.lobe_probabilities(wo)[2];
         if transmitted == 0.0 {
             return 0.0;
         }
@@ -510,8 +566,8 @@ impl Bsdf {
     /// A sample in direction `wi` with its weight over the whole function's density (the
     /// one-sample model of layered functions: unbiased whichever layer drew it).
     fn weighed(&self, wo: Vec3, wi: Vec3) -> Option<BsdfSample> {
-        let pdf = self.pdf(wo, wi);
-        (pdf > 0.0).then(|| BsdfSample { wi, weight: self.eval(wo, wi) / pdf, pdf, transmitted: wi.z < 0.0 })
+        let (value, pdf) = self.eval_pdf(wo, wi);
+        (pdf > 0.0).then(|| BsdfSample { wi, weight: value / pdf, pdf, transmitted: wi.z < 0.0 })
     }
 
     /// A physically based function with sheen (and no coat over it: [`Bsdf::coated`] takes the
@@ -541,7 +597,8 @@ fn coat_fresnel(cos: f32) -> f32 {
 /// The full clearcoat's directional albedo seen at `cos`, for α `alpha`: what it reflects,
 /// which the layers under it do not receive.
 fn coat_albedo(cos: f32, alpha: f32) -> f32 {
-    microfacet::single_scattering(Vec3::splat(0.04), Vec3::ONE, cos, alpha).x
+    let ggx = Ggx::new(alpha);
+    ggx.single_scattering(Vec3::splat(0.04), Vec3::ONE, ggx.at(cos)).x
 }
 
 /// Probability that a sample of a function with sheen picks the fibres' lobe: their share of
@@ -869,7 +926,8 @@ mod tests {
                         let a = (0..256 * 256).filter_map(|_| bsdf.sample(wo, [uniform(), uniform()], uniform())).map(|s| s.weight).sum::<Vec3>() / (256 * 256) as f32;
                         assert!((a - Vec3::ONE).abs().max_element() < 0.01, "metallic {metallic}, ior {ior}, roughness {roughness}, {degrees}°: {a}");
                         // The compensation taken out: the multiple-scattering lobe's albedo.
-                        let without = a - p.compensation() * (1.0 - microfacet::single_scattering(Vec3::ONE, Vec3::ONE, wo.z, p.alpha).x);
+                        let energy = p.energy(wo.z);
+                        let without = a - energy.compensation * (1.0 - energy.o.e);
                         worst_without = worst_without.max((Vec3::ONE - without).max_element());
                     }
                 }

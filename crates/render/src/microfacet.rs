@@ -78,48 +78,93 @@ pub(crate) fn sample_visible_normal(wo: Vec3, alpha: f32, u: [f32; 2]) -> Vec3 {
     Vec3::new(alpha * p.x, alpha * p.y, p.z.max(1e-6)).normalize()
 }
 
-/// The directional albedo of the single-scattering GGX reflection (height-correlated masking)
-/// of microfacet α `alpha` seen at `cos` from the normal, with Schlick's Fresnel from `f0`
-/// head-on to `f90` at grazing.
-pub(crate) fn single_scattering(f0: Vec3, f90: Vec3, cos: f32, alpha: f32) -> Vec3 {
-    let [e, grazing] = tables().at(cos, alpha);
-    f0 * (e - grazing) + f90 * grazing
+/// A GGX reflection lobe of one microfacet α as the albedo tables see it: the row of the tables
+/// found once, so that the several albedos one evaluation of a layered BSDF needs cost a lookup
+/// of a cosine each.
+#[derive(Clone, Copy)]
+pub(crate) struct Ggx {
+    tables: &'static Tables,
+    row: usize,
+    /// Where α lies between `row` and the next, in √α.
+    between: f32,
+    /// 2 ∫ E(μ) μ dμ and 2 ∫ E₅(μ) μ dμ.
+    average: [f32; 2],
 }
 
-/// The colour of Kulla and Conty's multiple-scattering lobe for Schlick's Fresnel from `f0` to
-/// `f90`: of the light that the facets send into each other, the share that leaves after any
-/// number of bounces, F_avg² E_avg / (1 − F_avg (1 − E_avg)) with F_avg the cosine-weighted
-/// mean Fresnel reflectance, f0 + (f90 − f0) / 21. 1 for a white lobe (F = 1).
-pub(crate) fn multiple_scattering_colour(f0: Vec3, f90: Vec3, alpha: f32) -> Vec3 {
-    let [e_avg, _] = tables().average(alpha);
-    let f_avg = f0 + (f90 - f0) / 21.0;
-    f_avg * f_avg * e_avg / (Vec3::ONE - f_avg * (1.0 - e_avg)).max(Vec3::splat(1e-6))
+/// The single-scattering albedo of a [`Ggx`] lobe seen at one angle: E for F = 1 and E₅, its
+/// part for F = (1 − cos θh)⁵.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Seen {
+    pub e: f32,
+    pub grazing: f32,
 }
 
-/// Kulla and Conty's white multiple-scattering lobe, BRDF × cos θi, for the cosines of the two
-/// directions to the normal: (1 − E(μo)) (1 − E(μi)) μi / (π (1 − E_avg)). Its albedo is
-/// 1 − E(μo), what the single-scattering lobe of F = 1 misses.
-pub(crate) fn multiple_scattering(cos_o: f32, cos_i: f32, alpha: f32) -> f32 {
-    let t = tables();
-    let [e_avg, _] = t.average(alpha);
-    if e_avg >= 1.0 {
-        return 0.0;
+impl Ggx {
+    /// The lobe of microfacet α `alpha`.
+    pub fn new(alpha: f32) -> Ggx {
+        let tables = tables();
+        let r = alpha.max(0.0).sqrt().min(1.0) * (TABLE_SIZE - 1) as f32;
+        let row = (r as usize).min(TABLE_SIZE - 2);
+        let between = r - row as f32;
+        let (a, b) = (tables.averages[row], tables.averages[row + 1]);
+        // The rows' averages are linear in √α as the rows are: the mean of the interpolated row.
+        let average = [a[0] + (b[0] - a[0]) * between, a[1] + (b[1] - a[1]) * between];
+        Ggx { tables, row, between, average }
     }
-    (1.0 - t.at(cos_o, alpha)[0]) * (1.0 - t.at(cos_i, alpha)[0]) * cos_i * FRAC_1_PI / (1.0 - e_avg)
-}
 
-/// The directional albedo of the compensated lobe (single scattering plus
-/// [`multiple_scattering`] of [`multiple_scattering_colour`]) seen at `cos`.
-pub(crate) fn albedo(f0: Vec3, f90: Vec3, cos: f32, alpha: f32) -> Vec3 {
-    let [e, _] = tables().at(cos, alpha);
-    single_scattering(f0, f90, cos, alpha) + multiple_scattering_colour(f0, f90, alpha) * (1.0 - e)
-}
+    /// The lobe seen at `cos` from the normal: bilinear in cos θ and √α.
+    pub fn at(&self, cos: f32) -> Seen {
+        let c = cos.clamp(0.0, 1.0) * (TABLE_SIZE - 1) as f32;
+        let column = (c as usize).min(TABLE_SIZE - 2);
+        let t = c - column as f32;
+        let entry = |row: usize| {
+            let (a, b) = (self.tables.entries[row * TABLE_SIZE + column], self.tables.entries[row * TABLE_SIZE + column + 1]);
+            [a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t]
+        };
+        let (low, high) = (entry(self.row), entry(self.row + 1));
+        Seen { e: low[0] + (high[0] - low[0]) * self.between, grazing: low[1] + (high[1] - low[1]) * self.between }
+    }
 
-/// The cosine-weighted mean of [`albedo`] over the hemisphere, 2 ∫ albedo(μ) μ dμ: the share of
-/// light from everywhere at once that the compensated lobe reflects.
-pub(crate) fn average_albedo(f0: Vec3, f90: Vec3, alpha: f32) -> Vec3 {
-    let [e_avg, grazing_avg] = tables().average(alpha);
-    f0 * (e_avg - grazing_avg) + f90 * grazing_avg + multiple_scattering_colour(f0, f90, alpha) * (1.0 - e_avg)
+    /// The directional albedo of the single-scattering reflection seen as `seen`, with
+    /// Schlick's Fresnel from `f0` head-on to `f90` at grazing.
+    pub fn single_scattering(&self, f0: Vec3, f90: Vec3, seen: Seen) -> Vec3 {
+        f0 * (seen.e - seen.grazing) + f90 * seen.grazing
+    }
+
+    /// The colour of Kulla and Conty's multiple-scattering lobe for Schlick's Fresnel from `f0`
+    /// to `f90`: of the light that the facets send into each other, the share that leaves
+    /// after any number of bounces, F_avg² E_avg / (1 − F_avg (1 − E_avg)) with F_avg the
+    /// cosine-weighted mean Fresnel reflectance, f0 + (f90 − f0) / 21. 1 for a white lobe.
+    pub fn multiple_scattering_colour(&self, f0: Vec3, f90: Vec3) -> Vec3 {
+        let e_avg = self.average[0];
+        let f_avg = f0 + (f90 - f0) / 21.0;
+        f_avg * f_avg * e_avg / (Vec3::ONE - f_avg * (1.0 - e_avg)).max(Vec3::splat(1e-6))
+    }
+
+    /// Kulla and Conty's white multiple-scattering lobe, BRDF × cos θi, for the two directions
+    /// seen as `o` and `i`, `cos_i` from the normal: (1 − E(μo)) (1 − E(μi)) μi / (π (1 − E_avg)).
+    /// Its albedo is 1 − E(μo), what the single-scattering lobe of F = 1 misses.
+    pub fn multiple_scattering(&self, o: Seen, i: Seen, cos_i: f32) -> f32 {
+        let e_avg = self.average[0];
+        if e_avg >= 1.0 {
+            return 0.0;
+        }
+        (1.0 - o.e) * (1.0 - i.e) * cos_i * FRAC_1_PI / (1.0 - e_avg)
+    }
+
+    /// The directional albedo seen as `seen` of the compensated lobe: single scattering with
+    /// Schlick's Fresnel from `f0` to `f90`, plus [`Ggx::multiple_scattering`] of `colour` (its
+    /// [`Ggx::multiple_scattering_colour`]).
+    pub fn albedo(&self, f0: Vec3, f90: Vec3, colour: Vec3, seen: Seen) -> Vec3 {
+        self.single_scattering(f0, f90, seen) + colour * (1.0 - seen.e)
+    }
+
+    /// The cosine-weighted mean of [`Ggx::albedo`] over the hemisphere, 2 ∫ albedo(μ) μ dμ: the
+    /// share of light from everywhere at once that the compensated lobe reflects.
+    pub fn average_albedo(&self, f0: Vec3, f90: Vec3, colour: Vec3) -> Vec3 {
+        let [e_avg, grazing_avg] = self.average;
+        f0 * (e_avg - grazing_avg) + f90 * grazing_avg + colour * (1.0 - e_avg)
+    }
 }
 
 /// Entries per axis of the albedo tables: 32 cosines by 32 roughnesses, within 0.3 % of a fine
@@ -189,7 +234,7 @@ impl Tables {
         Tables { entries, averages }
     }
 
-    /// 2 ∫ E(μ) μ dμ of a row as [`Tables::at`] interpolates it (piecewise linear, integrated
+    /// 2 ∫ E(μ) μ dμ of a row as [`Ggx::at`] interpolates it (piecewise linear, integrated
     /// exactly), so that a lobe normalised by the average keeps exactly the light it should.
     fn row_average(row: &[[f32; 2]]) -> [f32; 2] {
         let step = 1.0 / (TABLE_SIZE - 1) as f32;
@@ -202,25 +247,6 @@ impl Tables {
             }
         }
         sum.map(|s| 2.0 * s)
-    }
-
-    /// Bilinear in cos θ and √α.
-    fn at(&self, cos: f32, alpha: f32) -> [f32; 2] {
-        let last = (TABLE_SIZE - 1) as f32;
-        let (r, c) = (alpha.max(0.0).sqrt().min(1.0) * last, cos.clamp(0.0, 1.0) * last);
-        let (r0, c0) = ((r as usize).min(TABLE_SIZE - 2), (c as usize).min(TABLE_SIZE - 2));
-        let (fr, fc) = (r - r0 as f32, c - c0 as f32);
-        let at = |i: usize, j: usize| self.entries[i * TABLE_SIZE + j];
-        let lerp = |a: [f32; 2], b: [f32; 2], t: f32| [a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t];
-        lerp(lerp(at(r0, c0), at(r0, c0 + 1), fc), lerp(at(r0 + 1, c0), at(r0 + 1, c0 + 1), fc), fr)
-    }
-
-    /// The rows' averages, linear in √α as the rows are (so the mean of the interpolated row).
-    fn average(&self, alpha: f32) -> [f32; 2] {
-        let r = alpha.max(0.0).sqrt().min(1.0) * (TABLE_SIZE - 1) as f32;
-        let r0 = (r as usize).min(TABLE_SIZE - 2);
-        let (a, b, t) = (self.averages[r0], self.averages[r0 + 1], r - r0 as f32);
-        [a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t]
     }
 }
 
@@ -286,9 +312,10 @@ mod tests {
                 };
                 let e = over_hemisphere(1024, |wi| lobe(wi, false));
                 let grazing = over_hemisphere(1024, |wi| lobe(wi, true));
-                let [te, tg] = tables().at(cos, alpha);
+                let ggx = Ggx::new(alpha);
+                let Seen { e: te, grazing: tg } = ggx.at(cos);
                 assert!((te - e).abs() < 5e-3 && (tg - grazing).abs() < 5e-3, "roughness {roughness}, {degrees}°: table {te} {tg}, quadrature {e} {grazing}");
-                let white = e + over_hemisphere(256, |wi| multiple_scattering(cos, wi.z, alpha));
+                let white = e + over_hemisphere(256, |wi| ggx.multiple_scattering(ggx.at(cos), ggx.at(wi.z), wi.z));
                 assert!((white - 1.0).abs() < 5e-3, "roughness {roughness}, {degrees}°: a white lobe reflects {white}");
             }
         }
@@ -300,10 +327,11 @@ mod tests {
     fn the_averages_are_the_rows_integrated() {
         let (f0, f90) = (Vec3::new(0.04, 0.5, 0.9), Vec3::new(1.0, 0.8, 1.0));
         for roughness in [0.0f32, 0.3, 0.55, 1.0] {
-            let alpha = roughness * roughness;
+            let ggx = Ggx::new(roughness * roughness);
+            let colour = ggx.multiple_scattering_colour(f0, f90);
             let n = 4096;
-            let mean = (0..n).map(|i| (i as f32 + 0.5) / n as f32).map(|mu| albedo(f0, f90, mu, alpha) * mu).sum::<Vec3>() * 2.0 / n as f32;
-            let average = average_albedo(f0, f90, alpha);
+            let mean = (0..n).map(|i| (i as f32 + 0.5) / n as f32).map(|mu| ggx.albedo(f0, f90, colour, ggx.at(mu)) * mu).sum::<Vec3>() * 2.0 / n as f32;
+            let average = ggx.average_albedo(f0, f90, colour);
             assert!((mean - average).abs().max_element() < 1e-4, "roughness {roughness}: {mean} vs {average}");
         }
     }

@@ -301,12 +301,11 @@ impl<'f> Tracer<'_, 'f> {
                     continue;
                 }
                 let wi_local = frame3.to_local(ls.wi);
-                let f = bsdf.eval(wo_local, wi_local);
+                let (f, pdf) = bsdf.eval_pdf(wo_local, wi_local);
                 if f == Vec3::ZERO {
                     continue;
                 }
-                let weight =
-                    if ls.pdf > 0.0 && self.effects.global_illumination { power_heuristic(samples as f32 * ls.pdf, bsdf.pdf(wo_local, wi_local)) } else { 1.0 };
+                let weight = if ls.pdf > 0.0 && self.effects.global_illumination { power_heuristic(samples as f32 * ls.pdf, pdf) } else { 1.0 };
                 let visible = match known.get(index) {
                     Some(visible) => Vec3::splat(visible as u32 as f32),
                     None if self.effects.shadows => self.transmittance(sp, ls.wi, ls.distance, time, rays),
