@@ -56,7 +56,8 @@
 //! 68° of its normal), where the two models agree within 2.5 % of the mean.
 
 use glam::Vec3;
-use raystage_demo::material_scenes::{ENVIRONMENT, MaterialScene, ROUGHNESS, TRANSMISSION_ROUGHNESS};
+use raystage_demo::image_compare;
+use raystage_demo::material_scenes::{ENVIRONMENT, MaterialScene};
 use raystage_gltf_import::Limits;
 use raystage_render::{Film, Integrator, Look, OutputFormat, RenderSettings, render};
 use raystage_scene::{ALPHA_OPAQUE, Background, Light, ParamValue, Scene};
@@ -145,30 +146,17 @@ impl Comparison {
     fn of(scene: MaterialScene, image: &[Vec3], reference: &[Vec3]) -> Comparison {
         let (width, height) = scene.size();
         let (width, height) = (width as usize, height as usize);
-        let tone = |c: Vec3| c / (Vec3::ONE + c);
-        let squares: f64 = image.iter().zip(reference).map(|(a, b)| (tone(*a) - tone(*b)).length_squared() as f64).sum();
-        let psnr = (10.0 * (3.0 * image.len() as f64 / squares).log10()) as f32;
-        let lum = |img: &[Vec3]| img.iter().map(|c| tone(*c).dot(Vec3::new(0.2126, 0.7152, 0.0722))).collect::<Vec<f32>>();
-        let ssim = ssim(&lum(image), &lum(reference), width, height);
-        let mean = |img: &[Vec3], cells: usize, cell: usize| {
-            let side = height / cells;
-            let (cx, cy) = (cell % (width / side), cell / (width / side));
-            let pixels = (0..side * side).map(|i| img[(cy * side + i / side) * width + cx * side + i % side]);
-            pixels.sum::<Vec3>() / (side * side) as f32
-        };
-        let columns = match scene {
-            MaterialScene::Spheres => ROUGHNESS.len(),
-            MaterialScene::Transmission => TRANSMISSION_ROUGHNESS.len(),
-            _ => 0,
-        };
         let worst_cell = match scene {
-            MaterialScene::Spheres | MaterialScene::Transmission => (0..2 * columns)
-                .map(|cell| (mean(image, 2, cell) / mean(reference, 2, cell) - Vec3::ONE).abs().max_element())
-                .fold(0.0, f32::max),
+            // Two rows of square cells.
+            MaterialScene::Spheres | MaterialScene::Transmission => image_compare::cell_differences(image, reference, width, height / 2).into_iter().fold(0.0, f32::max),
             _ => 0.0,
         };
-        let channel_ratio = image.iter().sum::<Vec3>() / reference.iter().sum::<Vec3>();
-        Comparison { psnr, ssim, channel_ratio, worst_cell }
+        Comparison {
+            psnr: image_compare::psnr(image, reference),
+            ssim: image_compare::ssim(image, reference, width),
+            channel_ratio: image_compare::channel_ratio(image, reference),
+            worst_cell,
+        }
     }
 
     /// Whether the comparison is within the test's tolerances.
@@ -178,30 +166,6 @@ impl Comparison {
             && (self.channel_ratio - Vec3::ONE).abs().max_element() <= MEAN_TOLERANCE
             && self.worst_cell <= CELL_TOLERANCE
     }
-}
-
-/// Mean SSIM (Wang et al. 2004) of two images of values in [0, 1] over every 7×7 window.
-fn ssim(a: &[f32], b: &[f32], width: usize, height: usize) -> f32 {
-    const W: usize = 7;
-    let (c1, c2) = (0.01f64 * 0.01, 0.03f64 * 0.03);
-    let mut total = 0.0f64;
-    for y in 0..=height - W {
-        for x in 0..=width - W {
-            let window = || (0..W * W).map(|i| (y + i / W) * width + x + i % W);
-            let n = (W * W) as f64;
-            let (ma, mb) = (window().map(|i| a[i] as f64).sum::<f64>() / n, window().map(|i| b[i] as f64).sum::<f64>() / n);
-            let (mut va, mut vb, mut cov) = (0.0, 0.0, 0.0);
-            for i in window() {
-                let (da, db) = (a[i] as f64 - ma, b[i] as f64 - mb);
-                va += da * da;
-                vb += db * db;
-                cov += da * db;
-            }
-            let (va, vb, cov) = (va / (n - 1.0), vb / (n - 1.0), cov / (n - 1.0));
-            total += (2.0 * ma * mb + c1) * (2.0 * cov + c2) / ((ma * ma + mb * mb + c1) * (va + vb + c2));
-        }
-    }
-    (total / ((height - W + 1) * (width - W + 1)) as f64) as f32
 }
 
 /// Renders `scene` and compares it with its reference.

@@ -2,7 +2,7 @@
 """Renders the reference images of glTF 2.0's metallic-roughness material with Mitsuba 3.
 
 The scenes come from raystage's own glTF files (`cargo run -p raystage-demo --example
-write_material_scenes -- scenes/`), so that both renderers read the very same arrays and
+write_material_scenes -- --mitsuba scenes/`), so that both renderers read the very same arrays and
 texels: every primitive becomes a Mitsuba mesh (with its normals and texture coordinates), its
 material a BSDF, emissive ones a one-sided area light, the scene's `extras.environment` a
 constant environment, and the glTF camera a perspective sensor with its vertical field of view.

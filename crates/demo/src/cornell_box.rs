@@ -20,6 +20,9 @@ pub const GREEN: [f32; 3] = [0.14, 0.45, 0.091];
 /// Radiance of the light.
 pub const LIGHT: [f32; 3] = [17.0, 12.0, 4.0];
 
+/// The side of the rough dielectric room's image, as `tests/cycles_reference.rs` compares it.
+pub const CYCLES_SIZE: u32 = 64;
+
 /// Height of the light under the ceiling's 548.8 mm: clear of the ceiling, so that the two
 /// never overlap.
 const LIGHT_HEIGHT: f32 = 548.0;
@@ -88,6 +91,29 @@ fn surfaces() -> Vec<Surface> {
 /// materials are Lambertian (`KHR_materials_specular` factor 0); the light's emits `LIGHT` as a
 /// unit colour times `KHR_materials_emissive_strength`.
 pub fn gltf() -> String {
+    document(Walls::Lambertian)
+}
+
+/// The same room with rough dielectric walls: glTF's metallic-roughness material as a user
+/// writes it (metallic 0, roughness 1, the default specular layer of index 1.5 over the base),
+/// the light still reflecting nothing. This is the room of issue 36, where Blender's Cycles
+/// (`scripts/references/cycles_gltf.py`) is the reference; the extras name the image size it
+/// is compared at.
+pub fn rough_dielectric_gltf() -> String {
+    document(Walls::RoughDielectric)
+}
+
+/// What the walls and blocks are made of.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Walls {
+    /// A dielectric without its specular layer (`KHR_materials_specular` factor 0).
+    Lambertian,
+    /// The default dielectric, metallic 0 and roughness 1.
+    RoughDielectric,
+}
+
+/// The room's glTF document, its walls as `walls` says.
+fn document(walls: Walls) -> String {
     let mut bin: Vec<u8> = Vec::new();
     let mut buffer_views = Vec::new();
     let mut accessors = Vec::new();
@@ -109,15 +135,18 @@ pub fn gltf() -> String {
         accessors.push(json!({ "bufferView": position_view, "componentType": 5126, "count": positions.len(), "type": "VEC3", "min": lo, "max": hi }));
         accessors.push(json!({ "bufferView": index_view, "componentType": 5125, "count": indices.len(), "type": "SCALAR" }));
         let [r, g, b] = surface.reflectance;
+        let strength = surface.emission.into_iter().fold(0.0f32, f32::max);
         // Lambertian walls, as the measured room has them: a dielectric without its specular
-        // layer.
+        // layer. The light reflects nothing in either room.
         let mut material = json!({
             "name": surface.name,
             "pbrMetallicRoughness": { "baseColorFactor": [r, g, b, 1.0], "metallicFactor": 0.0, "roughnessFactor": 1.0 },
             "doubleSided": true,
             "extensions": { "KHR_materials_specular": { "specularFactor": 0.0 } },
         });
-        let strength = surface.emission.into_iter().fold(0.0f32, f32::max);
+        if walls == Walls::RoughDielectric && strength == 0.0 {
+            material.as_object_mut().expect("a JSON object").remove("extensions");
+        }
         if strength > 0.0 {
             material["emissiveFactor"] = json!(surface.emission.map(|c| c / strength));
             material["extensions"]["KHR_materials_emissive_strength"] = json!({ "emissiveStrength": strength });
@@ -127,7 +156,7 @@ pub fn gltf() -> String {
     }
     let uri = format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(&bin));
     let eye = EYE_MM.map(|c| c / 1000.0);
-    let document = json!({
+    let mut document = json!({
         "asset": { "version": "2.0", "generator": "raystage-demo cornell_box" },
         "extensionsUsed": ["KHR_materials_emissive_strength", "KHR_materials_specular"],
         "scene": 0,
@@ -144,6 +173,9 @@ pub fn gltf() -> String {
         "bufferViews": buffer_views,
         "buffers": [{ "byteLength": bin.len(), "uri": uri }],
     });
+    if walls == Walls::RoughDielectric {
+        document["scenes"][0]["extras"] = json!({ "image_size": [CYCLES_SIZE, CYCLES_SIZE] });
+    }
     serde_json::to_string_pretty(&document).expect("JSON values serialise")
 }
 

@@ -12,6 +12,7 @@
 
 pub mod animated;
 pub mod cornell_box;
+pub mod image_compare;
 pub mod material_scenes;
 pub mod probe_math;
 mod scenes;

@@ -2,14 +2,17 @@
 //! account against another renderer: spheres across metallic × roughness, a textured,
 //! normal-mapped quad under a grazing light, an alpha-masked cut-out casting its shadow, and
 //! transmitting spheres (KHR_materials_transmission and KHR_materials_volume) before a checker
-//! wall.
+//! wall; and, for Blender's Cycles only, spheres across metallic × roughness in a white furnace
+//! and a sphere painted by vertex colours.
 //! Each is a glTF file with its buffers and PNG images inline, so that raystage's importer and
-//! `scripts/references/materials.py` (which renders it with Mitsuba 3) read the very same
-//! arrays and texels; `tests/materials_reference.rs` compares the two.
+//! `scripts/references/materials.py` (which renders it with Mitsuba 3) or
+//! `scripts/references/cycles_gltf.py` (Blender's glTF importer and Cycles) read the very same
+//! arrays and texels; `tests/materials_reference.rs` and `tests/cycles_reference.rs` compare
+//! them.
 //!
 //! Every scene is lit by a uniform environment (its radiance is the scene's
 //! `extras.environment`, since glTF has no environment light) and, but the transmitting
-//! spheres, by an emissive quad out of the camera's view, so that highlights show (behind glass
+//! spheres and the furnace, by an emissive quad out of the camera's view, so that highlights show (behind glass
 //! it would cast caustics, which unidirectional path tracers resolve slowly); camera rays that
 //! miss everything see black.
 //! The scene's `extras.image_size` is the size it is compared at.
@@ -22,8 +25,14 @@ use serde_json::{Value, json};
 
 use crate::shading::sphere_mesh;
 
-/// Radiance of the uniform environment of every scene.
+/// Radiance of the uniform environment of every scene but the furnace.
 pub const ENVIRONMENT: [f32; 3] = [0.25, 0.25, 0.25];
+/// Radiance of the furnace's environment: white, the only light.
+pub const FURNACE_ENVIRONMENT: [f32; 3] = [1.0, 1.0, 1.0];
+/// The rows of the furnace's spheres, top to bottom: metallic and base colour. A white
+/// dielectric (which keeps all the light it receives: it vanishes into the furnace where the
+/// layers keep their energy), a coloured one, and a copper.
+pub const FURNACE_ROWS: [(f32, [f32; 3]); 3] = [(0.0, [1.0, 1.0, 1.0]), (0.0, DIELECTRIC_BASE), (1.0, METAL_BASE)];
 /// The roughness of the spheres' columns, left to right: above ~0.1 only, where a test-sized
 /// sample count still resolves the highlights.
 pub const ROUGHNESS: [f32; 4] = [0.1, 0.3, 0.6, 1.0];
@@ -57,11 +66,31 @@ pub enum MaterialScene {
     /// tinted and absorbing, [`ABSORBING`], below) across [`TRANSMISSION_ROUGHNESS`], before a
     /// matte checker wall that their refraction shows, bent and blurred.
     Transmission,
+    /// Three rows of spheres ([`FURNACE_ROWS`]) across [`ROUGHNESS`] in a uniform white
+    /// environment ([`FURNACE_ENVIRONMENT`]), each in its own square cell: how much light each
+    /// material keeps, at every angle its sphere shows.
+    Furnace,
+    /// A sphere whose base colour is its `COLOR_0` (a hue that turns around the camera's axis
+    /// and pales towards the middle) over a base colour factor of 1, lit as the material spheres are.
+    VertexColours,
 }
 
 impl MaterialScene {
+    /// The scenes Mitsuba renders (`scripts/references/materials.py`): every material of
+    /// theirs is one it translates.
+    pub const MITSUBA: [MaterialScene; 4] = [MaterialScene::Spheres, MaterialScene::NormalMapped, MaterialScene::Cutout, MaterialScene::Transmission];
+    /// The scenes Blender's Cycles renders (`scripts/references/cycles_gltf.py`).
+    pub const CYCLES: [MaterialScene; 5] =
+        [MaterialScene::Spheres, MaterialScene::Furnace, MaterialScene::NormalMapped, MaterialScene::Cutout, MaterialScene::VertexColours];
     /// Every scene.
-    pub const ALL: [MaterialScene; 4] = [MaterialScene::Spheres, MaterialScene::NormalMapped, MaterialScene::Cutout, MaterialScene::Transmission];
+    pub const ALL: [MaterialScene; 6] = [
+        MaterialScene::Spheres,
+        MaterialScene::NormalMapped,
+        MaterialScene::Cutout,
+        MaterialScene::Transmission,
+        MaterialScene::Furnace,
+        MaterialScene::VertexColours,
+    ];
 
     /// The name of the scene's files (`NAME.gltf`, `tests/references/NAME.pfm`).
     pub fn name(self) -> &'static str {
@@ -70,6 +99,8 @@ impl MaterialScene {
             MaterialScene::NormalMapped => "normal_mapped_quad",
             MaterialScene::Cutout => "alpha_cutout",
             MaterialScene::Transmission => "transmission_spheres",
+            MaterialScene::Furnace => "furnace_spheres",
+            MaterialScene::VertexColours => "vertex_colours",
         }
     }
 
@@ -78,8 +109,14 @@ impl MaterialScene {
     pub fn size(self) -> (u32, u32) {
         match self {
             MaterialScene::Spheres | MaterialScene::Transmission => (96, 48),
-            MaterialScene::NormalMapped | MaterialScene::Cutout => (64, 64),
+            MaterialScene::NormalMapped | MaterialScene::Cutout | MaterialScene::VertexColours => (64, 64),
+            MaterialScene::Furnace => (96, 72),
         }
+    }
+
+    /// The radiance of the scene's uniform environment (its `extras.environment`).
+    pub fn environment(self) -> [f32; 3] {
+        if self == MaterialScene::Furnace { FURNACE_ENVIRONMENT } else { ENVIRONMENT }
     }
 
     /// The scene as a glTF 2.0 JSON document.
@@ -89,17 +126,7 @@ impl MaterialScene {
         let aspect = width as f32 / height as f32;
         match self {
             MaterialScene::Spheres => {
-                for (row, (metallic, base)) in [(0.0, DIELECTRIC_BASE), (1.0, METAL_BASE)].into_iter().enumerate() {
-                    for (column, roughness) in ROUGHNESS.into_iter().enumerate() {
-                        let material = doc.material(json!({
-                            "name": format!("metallic {metallic} roughness {roughness}"),
-                            "pbrMetallicRoughness": { "baseColorFactor": [base[0], base[1], base[2], 1.0], "metallicFactor": metallic, "roughnessFactor": roughness },
-                        }));
-                        let centre = Vec3::new(column as f32 - 1.5, 0.5 - row as f32, 0.0);
-                        let mesh = sphere_mesh(centre, 0.42, 48, 24);
-                        doc.mesh(&mesh.positions, &mesh.normals, &mesh.uvs, &mesh.indices, material);
-                    }
-                }
+                doc.sphere_grid(&[(0.0, DIELECTRIC_BASE), (1.0, METAL_BASE)]);
                 // Up, left and in front: its reflection sits in the upper left of each sphere.
                 doc.light(Vec3::new(-2.5, 3.0, 4.0), Vec3::ZERO, 1.2, 30.0);
                 // Cells of 1 × 1 at the spheres' plane, 6 away: the 2 rows fill the height.
@@ -168,7 +195,7 @@ impl MaterialScene {
                         }));
                         let centre = Vec3::new(column as f32 - 1.5, 0.5 - row as f32, 0.0);
                         let mesh = sphere_mesh(centre, diameter / 2.0, 48, 24);
-                        doc.mesh(&mesh.positions, &mesh.normals, &mesh.uvs, &mesh.indices, material);
+                        doc.mesh(&mesh.positions, &mesh.normals, &mesh.uvs, None, &mesh.indices, material);
                     }
                 }
                 // A Lambertian checker (no specular layer: `KHR_materials_specular` factor 0),
@@ -182,8 +209,24 @@ impl MaterialScene {
                 doc.wall(Vec2::new(8.0, 4.0), -1.5, 4.0, wall);
                 doc.camera(Vec3::new(0.0, 0.0, 6.0), Vec3::ZERO, 2.0 * (1.0f32 / 6.0).atan(), aspect);
             }
+            MaterialScene::Furnace => {
+                doc.sphere_grid(&FURNACE_ROWS);
+                // Cells of 1 × 1 at the spheres' plane, 6 away: the 3 rows fill the height.
+                doc.camera(Vec3::new(0.0, 0.0, 6.0), Vec3::ZERO, 2.0 * (1.5f32 / 6.0).atan(), aspect);
+            }
+            MaterialScene::VertexColours => {
+                let material = doc.material(json!({
+                    "name": "vertex colours",
+                    "pbrMetallicRoughness": { "metallicFactor": 0.0, "roughnessFactor": 0.5 },
+                }));
+                let mesh = sphere_mesh(Vec3::ZERO, 0.9, 48, 24);
+                let colours: Vec<Vec3> = mesh.positions.iter().map(|p| paint(*p / 0.9)).collect();
+                doc.mesh(&mesh.positions, &mesh.normals, &mesh.uvs, Some(&colours), &mesh.indices, material);
+                doc.light(Vec3::new(-2.5, 3.0, 4.0), Vec3::ZERO, 1.2, 30.0);
+                doc.camera(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, 2.0 * (1.0f32 / 5.0).atan(), aspect);
+            }
         }
-        doc.finish(self.name(), self.size())
+        doc.finish(self.name(), self.size(), self.environment())
     }
 }
 
@@ -244,9 +287,9 @@ impl Document {
         self.accessors.len() - 1
     }
 
-    /// Adds a triangle mesh (world coordinates, with normals and texture coordinates) of one
-    /// material, and a node that holds it.
-    fn mesh(&mut self, positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[[u32; 3]], material: usize) {
+    /// Adds a triangle mesh (world coordinates, with normals, texture coordinates and perhaps
+    /// linear vertex colours) of one material, and a node that holds it.
+    fn mesh(&mut self, positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], colours: Option<&[Vec3]>, indices: &[[u32; 3]], material: usize) {
         let floats = |values: &mut dyn Iterator<Item = f32>| values.flat_map(f32::to_le_bytes).collect::<Vec<u8>>();
         let bounds = positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
         let position = self.accessor(floats(&mut positions.iter().flat_map(|p| p.to_array())), positions.len(), "VEC3", 5126, Some(bounds));
@@ -254,12 +297,28 @@ impl Document {
         let uv = self.accessor(floats(&mut uvs.iter().flat_map(|t| t.to_array())), uvs.len(), "VEC2", 5126, None);
         let index_bytes = indices.iter().flatten().flat_map(|i| i.to_le_bytes()).collect();
         let index = self.accessor(index_bytes, indices.len() * 3, "SCALAR", 5125, None);
-        self.meshes.push(json!({ "primitives": [{
-            "attributes": { "POSITION": position, "NORMAL": normal, "TEXCOORD_0": uv },
-            "indices": index,
-            "material": material,
-        }] }));
+        let mut attributes = json!({ "POSITION": position, "NORMAL": normal, "TEXCOORD_0": uv });
+        if let Some(colours) = colours {
+            attributes["COLOR_0"] = json!(self.accessor(floats(&mut colours.iter().flat_map(|c| c.to_array())), colours.len(), "VEC3", 5126, None));
+        }
+        self.meshes.push(json!({ "primitives": [{ "attributes": attributes, "indices": index, "material": material }] }));
         self.nodes.push(json!({ "mesh": self.meshes.len() - 1 }));
+    }
+
+    /// Spheres in cells of 1 × 1 centred on the origin in the plane z = 0: a row for each
+    /// (metallic, base colour) of `rows`, top to bottom, a column for each of [`ROUGHNESS`].
+    fn sphere_grid(&mut self, rows: &[(f32, [f32; 3])]) {
+        for (row, (metallic, base)) in rows.iter().enumerate() {
+            for (column, roughness) in ROUGHNESS.into_iter().enumerate() {
+                let material = self.material(json!({
+                    "name": format!("metallic {metallic} roughness {roughness}"),
+                    "pbrMetallicRoughness": { "baseColorFactor": [base[0], base[1], base[2], 1.0], "metallicFactor": metallic, "roughnessFactor": roughness },
+                }));
+                let centre = Vec3::new(column as f32 - 1.5, (rows.len() - 1) as f32 / 2.0 - row as f32, 0.0);
+                let mesh = sphere_mesh(centre, 0.42, 48, 24);
+                self.mesh(&mesh.positions, &mesh.normals, &mesh.uvs, None, &mesh.indices, material);
+            }
+        }
     }
 
     /// A square of side `size` in the plane y = `height`, facing up, its texture's u along +x
@@ -268,7 +327,7 @@ impl Document {
         let h = size / 2.0;
         let corners = [Vec3::new(-h, height, -h), Vec3::new(-h, height, h), Vec3::new(h, height, h), Vec3::new(h, height, -h)];
         let uvs = [Vec2::new(0.0, 0.0), Vec2::new(0.0, 1.0), Vec2::new(1.0, 1.0), Vec2::new(1.0, 0.0)];
-        self.mesh(&corners, &[Vec3::Y; 4], &uvs, &[[0, 1, 2], [0, 2, 3]], material);
+        self.mesh(&corners, &[Vec3::Y; 4], &uvs, None, &[[0, 1, 2], [0, 2, 3]], material);
     }
 
     /// A square of side `size` standing upright in the plane z = 0 on y = `lift`, facing +z,
@@ -278,7 +337,7 @@ impl Document {
         let (bottom, top) = (lift, lift + size);
         let corners = [Vec3::new(-h, top, 0.0), Vec3::new(-h, bottom, 0.0), Vec3::new(h, bottom, 0.0), Vec3::new(h, top, 0.0)];
         let uvs = [Vec2::new(0.0, 0.0), Vec2::new(0.0, 1.0), Vec2::new(1.0, 1.0), Vec2::new(1.0, 0.0)];
-        self.mesh(&corners, &[Vec3::Z; 4], &uvs, &[[0, 1, 2], [0, 2, 3]], material);
+        self.mesh(&corners, &[Vec3::Z; 4], &uvs, None, &[[0, 1, 2], [0, 2, 3]], material);
     }
 
     /// A `size` rectangle centred on the z axis in the plane z = `depth`, facing +z, its texture
@@ -288,7 +347,7 @@ impl Document {
         let corners = [Vec3::new(-w, h, depth), Vec3::new(-w, -h, depth), Vec3::new(w, -h, depth), Vec3::new(w, h, depth)];
         let (u, v) = (repeats * size.x / size.y, repeats);
         let uvs = [Vec2::new(0.0, 0.0), Vec2::new(0.0, v), Vec2::new(u, v), Vec2::new(u, 0.0)];
-        self.mesh(&corners, &[Vec3::Z; 4], &uvs, &[[0, 1, 2], [0, 2, 3]], material);
+        self.mesh(&corners, &[Vec3::Z; 4], &uvs, None, &[[0, 1, 2], [0, 2, 3]], material);
     }
 
     /// A square emitter of side `size` at `centre` facing `target`, emitting `radiance` from its
@@ -308,7 +367,7 @@ impl Document {
         // Counter-clockwise seen from the front (where `normal` points).
         let corners = [centre - u - v, centre + u - v, centre + u + v, centre - u + v];
         let uvs = [Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y];
-        self.mesh(&corners, &[normal; 4], &uvs, &[[0, 1, 2], [0, 2, 3]], material);
+        self.mesh(&corners, &[normal; 4], &uvs, None, &[[0, 1, 2], [0, 2, 3]], material);
     }
 
     /// A perspective camera at `eye` looking at `target` (+y up), with vertical field of view
@@ -324,13 +383,13 @@ impl Document {
 
     /// The finished JSON document, its buffer inline (a `data:` URI), with the environment's
     /// radiance and the size the scene is compared at in the scene's `extras`.
-    fn finish(self, name: &str, (width, height): (u32, u32)) -> String {
+    fn finish(self, name: &str, (width, height): (u32, u32), environment: [f32; 3]) -> String {
         let uri = format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(&self.bin));
         let mut document = json!({
             "asset": { "version": "2.0", "generator": format!("raystage-demo material_scenes {name}") },
             "extensionsUsed": ["KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_ior"],
             "scene": 0,
-            "scenes": [{ "nodes": (0..self.nodes.len()).collect::<Vec<_>>(), "extras": { "environment": ENVIRONMENT, "image_size": [width, height] } }],
+            "scenes": [{ "nodes": (0..self.nodes.len()).collect::<Vec<_>>(), "extras": { "environment": environment, "image_size": [width, height] } }],
             "nodes": self.nodes,
             "cameras": self.cameras,
             "meshes": self.meshes,
@@ -346,6 +405,16 @@ impl Document {
         }
         serde_json::to_string_pretty(&document).expect("JSON values serialise")
     }
+}
+
+/// The vertex colour at `p` on the unit sphere: a hue that turns once around the z axis (the
+/// camera's), saturated at the rim that the camera sees at grazing angles and pale where the
+/// sphere faces it (linear, in [0.05, 0.9]).
+fn paint(p: Vec3) -> Vec3 {
+    let angle = p.y.atan2(p.x);
+    let hue = Vec3::new(angle.cos(), (angle - std::f32::consts::TAU / 3.0).cos(), (angle + std::f32::consts::TAU / 3.0).cos()) * 0.5 + Vec3::splat(0.5);
+    let pale = p.z.abs();
+    (hue * (1.0 - pale) + Vec3::splat(0.6 * pale)) * 0.85 + Vec3::splat(0.05)
 }
 
 /// 8-bit sRGB of a linear value in [0, 1].
