@@ -142,7 +142,7 @@ fn import(scene: CyclesScene) -> Scene {
     assert!(import.notes().is_empty(), "{}: {:?}", scene.name(), import.notes());
     let mut imported = import.into_scene().unwrap();
     if let CyclesScene::Material(material) = scene {
-        imported.add_light(Light::Environment { radiance: Vec3::from(material.environment()), map: None }).unwrap();
+        imported.add_light(Light::Environment { radiance: Vec3::from(material.environment()), map: None, rotate_degrees: 0.0 }).unwrap();
     }
     imported
 }
