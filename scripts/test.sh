@@ -34,6 +34,10 @@ if [[ $(id -u) -eq 0 ]] && command -v apt-get >/dev/null; then
     fi
 fi
 
+status=0
+# The documentation's relative links (README.md, CHANGELOG.md, docs/) name files that exist.
+scripts/check-doc-links.sh || status=$?
+
 # --no-fail-fast: one run reports every failing test binary, not just the first.
 args=(--workspace --no-fail-fast)
 if [[ -f /usr/include/embree3/rtcore.h ]] && grep -qE '^embree[[:space:]]*=' crates/bench/Cargo.toml 2>/dev/null; then
@@ -43,7 +47,6 @@ if command -v mpirun >/dev/null && [[ -f /usr/lib/x86_64-linux-gnu/openmpi/inclu
     args+=(--features raystage/mpi --features raystage-capi/mpi)
 fi
 echo "+ cargo test ${args[*]}"
-status=0
 cargo test "${args[@]}" || status=$?
 
 # The API against its OpenAPI description (scripts/schemathesis.sh), with the debug server the

@@ -49,8 +49,7 @@ pub struct Cluster {
     gathered: RefCell<Option<Gathered>>,
 }
 
-/// What putting one frame together took, seen from rank 0 (issue 28: where a cluster frame's
-/// time goes).
+/// What putting one frame together took, seen from rank 0: where a cluster frame's time goes.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Gathered {
     /// Each rank's seconds rendering its share, by rank (rank 0's first).

@@ -17,7 +17,7 @@
 //! room but its light in the Cornell box, and the light's own pixels) and, on the sphere
 //! grids, over each sphere's cell. Measured at the test's sample counts against the
 //! checked-in references (PSNR dB, SSIM, channel means over Cycles', worst cell), with the
-//! compensation of issue 36 and without it (the `PhysicallyBased` of 472d0e9, before the
+//! energy compensation and without it (the `PhysicallyBased` of 472d0e9, before the
 //! energy work: its `bsdf.rs`, `recursive.rs` and `lib.rs` checked out over this tree):
 //!
 //! | scene | compensated (now) | uncompensated (472d0e9) |

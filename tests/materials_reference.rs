@@ -41,10 +41,10 @@
 //! (The rows of the quad and the cut-out other than "correct", and the Fresnel and green-channel
 //! rows, were measured before the energy-preserving layering.)
 //!
-//! Where the two renderers differ: raystage's layers keep their energy (issue 36: Kulla and
-//! Conty's multiple-scattering lobe on the GGX layer, the base scaled by one minus the layer's
-//! directional albedo for both directions), where Appendix B's single scattering and its base
-//! weighted by 1 − F(v·h) lose it. Mitsuba's Appendix B image of the spheres is therefore no
+//! Where the two renderers differ: raystage's layers keep their energy (docs/design/materials.md:
+//! Kulla and Conty's multiple-scattering lobe on the GGX layer, the base scaled by one minus the
+//! layer's directional albedo for both directions), where Appendix B's single scattering and its
+//! base weighted by 1 − F(v·h) lose it. Mitsuba's Appendix B image of the spheres is therefore no
 //! reference for them any more: against it raystage's channel means are 1.12, 1.10, 1.09 and its
 //! cells 0.98–1.05 for the dielectric spheres, 1.00 and 1.04 for the metal ones of roughness 0.1
 //! and 0.3, 1.31 / 1.20 / 1.17 at 0.6 and 2.44 / 1.72 / 1.57 at 1 (a white metal of roughness

@@ -2,7 +2,7 @@
 //! (default limits), one server per case, its peak resident memory (`VmHWM`, from /proc) before
 //! and after a request that must be refused. Each limit is checked before the memory it guards
 //! is spent, so the peak barely moves; without the checks, each case would take hundreds of
-//! megabytes to gigabytes (the figures in the README's "Limits" section).
+//! megabytes to gigabytes (the figures in docs/performance.md, "HTTP server").
 
 #![cfg(target_os = "linux")]
 

@@ -2,7 +2,8 @@
  * gears.c: glxgears (Brian Paul's OpenGL demo, in the public domain) ported to raystage.
  *
  * The port renames gl -> rt, and the display lists become objects, which is what OpenRT asks of
- * an OpenGL program (DIGEST §1.1). Every other change is marked "raystage:"; in short:
+ * an OpenGL program (docs/design/seeds.md §1.1). Every other change is marked "raystage:";
+ * in short:
  *  - No window: each frame is rendered into memory and written as gears_NNN.png.
  *  - Materials are shaders: glMaterialfv(GL_AMBIENT_AND_DIFFUSE) becomes a "Diffuse" shader
  *    whose "diffuse" parameter is written by name.

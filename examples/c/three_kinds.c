@@ -1,6 +1,6 @@
 /*
  * three_kinds.c: an animation with the three kinds of objects of the seed's dynamic scenes
- * (Wald, "Handling Dynamic Scenes"; DIGEST §1.3):
+ * (Wald, "Handling Dynamic Scenes"; docs/design/seeds.md §1.3):
  *  - static:       the ground and a flag pole, defined once, never changed;
  *  - animated:     a cube that spins and bobs, moved every frame with rtMoveInstance only;
  *  - unstructured: a flag waving in the wind, redefined every frame (rtNewObject on the same id)

@@ -13,7 +13,7 @@ of one pixel, and the image is written as a little-endian PFM of linear RGB.
     python3 scripts/references/cornell_box.py room.gltf out.pfm --size 64 --spp 32768
 
 Mitsuba's scalar variant needs nothing else; `--variant llvm_ad_rgb` needs LLVM (see the
-README's path-tracing benchmark).
+path-tracing benchmark in docs/performance.md).
 """
 
 import argparse

@@ -1,4 +1,4 @@
-//! A model of one frame on a cluster (issue 28): what `raystage render --mpi` would take on N
+//! A model of one frame on a cluster: what `raystage render --mpi` would take on N
 //! nodes, from a cost per pixel measured on this machine and a network's bandwidth and latency.
 //!
 //! Each node renders 1/N of the frame with all its cores, at the measured per-core rate (the

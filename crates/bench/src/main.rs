@@ -50,7 +50,7 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Shading costs (issue 6): eye-light and point-light frames against the bare kernel,
+    /// Shading costs: eye-light and point-light frames against the bare kernel,
     /// specialised against general shading, and the path tracer's convergence.
     Render {
         /// Threads of every measurement.
@@ -75,7 +75,7 @@ enum Command {
     },
     /// The path tracer against Mitsuba 3 on the classic Cornell box: time and error at each
     /// sample count, both systems in turns on the same threads, and each one's time to 1 %
-    /// relative RMSE (issue 22).
+    /// relative RMSE.
     Pathtrace {
         /// Image side in pixels (a multiple of 4).
         #[arg(long, default_value_t = 256)]
@@ -105,7 +105,7 @@ enum Command {
     },
     /// Frame time against threads (1, 2, 4, … up to `--threads`) for every integrator on the
     /// sphere grid at 1920x1080 and the Cornell room at 256x256: speedup, lazy build time, and
-    /// the tasks a frame offers with the largest one's share of the work (issue 24).
+    /// the tasks a frame offers with the largest one's share of the work.
     Scaling {
         /// Most threads.
         #[arg(long, default_value_t = std::thread::available_parallelism().map_or(1, |n| n.get()))]
@@ -126,7 +126,7 @@ enum Command {
     /// One frame on 1, 2, 3, 4 MPI ranks of this machine (`mpirun … raystage render --mpi`)
     /// against one process on all cores: frame time, rank 0's gather and the ranks' imbalance,
     /// the images compared byte for byte; then a model of the frame on 1 to 32 nodes over 10 GbE
-    /// and 1 GbE (issue 28).
+    /// and 1 GbE.
     Mpi {
         /// Rank counts, comma-separated.
         #[arg(long, default_value = "1,2,3,4", value_delimiter = ',')]

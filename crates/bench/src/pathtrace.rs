@@ -1,4 +1,4 @@
-//! The path-tracing benchmark (issue 22): what accuracy costs in time, raystage against Mitsuba 3
+//! The path-tracing benchmark: what accuracy costs in time, raystage against Mitsuba 3
 //! on the same scene in the same run.
 //!
 //! The scene is the classic Cornell box (`raystage_demo::cornell_box`), written as glTF; raystage

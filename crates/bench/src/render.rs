@@ -1,4 +1,4 @@
-//! The render benchmark (issue 6): what shading costs on top of the kernel, what specialising the
+//! The render benchmark: what shading costs on top of the kernel, what specialising the
 //! shading kernel to the frame's effect set saves, and how fast the path tracer converges.
 //!
 //! *Shading cost*: on the probe's sphere grid at 1920×1080, the kernel's bare primary rays (in
@@ -321,7 +321,7 @@ pub fn run_shading(threads: usize, reps: usize, mut progress: impl FnMut(&str)) 
     }
 }
 
-/// What the physically based material costs against `Diffuse` (issue 23): one integrator's
+/// What the physically based material costs against `Diffuse`: one integrator's
 /// frame of the point-lit sphere grid with every sphere `Diffuse`, and with every sphere
 /// `PhysicallyBased` of the same base colour (a dielectric of roughness 0.5), medians over the
 /// repetitions, the two taking turns.

@@ -1,4 +1,4 @@
-//! How frames scale with threads (issue 24): every integrator on the sphere grid at 1920×1080 and
+//! How frames scale with threads: every integrator on the sphere grid at 1920×1080 and
 //! on the Cornell room at 256×256, at 1, 2, 4, … threads up to the machine's cores. Each thread
 //! count starts from a fresh scene, so its first frame builds the object trees lazily (the build
 //! time is reported apart); the frame time is the best of the warm frames that follow. Beside the

@@ -143,8 +143,9 @@ pub fn dynamic_table(scene: &str, triangles: u64, instances: usize, frames: usiz
 }
 
 /// Each scene's tracing throughput relative to `baseline`'s (the still sphere grid), system by
-/// system: issue 4 asks terrain for at least 0.7 of the sphere grid's Mrays/s. Scenes or
-/// systems without a baseline run are left out.
+/// system: the target asks terrain for at least 0.7 of the sphere grid's Mrays/s
+/// (docs/performance.md, "Dynamic scenes"). Scenes or systems without a baseline run are left
+/// out.
 pub fn throughput_against(baseline: &str, reports: &[crate::dynamic::DynamicReport]) -> String {
     let mut out = String::new();
     let scenes = reports.iter().map(|r| r.scene.as_str()).filter(|&s| s != baseline);
@@ -171,8 +172,8 @@ pub fn throughput_against(baseline: &str, reports: &[crate::dynamic::DynamicRepo
 
 /// The shading measurements as a table: median time per frame of the bare kernel and of each
 /// rendered frame, its ratio to the kernel's (median of the repetitions' ratios) and the rays it
-/// traced; then the ratios issue 6 sets targets for, and whether specialised and general shading
-/// gave the same image.
+/// traced; then the ratios with targets (docs/performance.md, "Shading"), and whether specialised
+/// and general shading gave the same image.
 pub fn shading_table(run: &ShadingRun) -> String {
     let mut out = String::new();
     let reps = run.samples.first().map_or(0, |(_, m)| m.len());

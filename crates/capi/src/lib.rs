@@ -1,11 +1,11 @@
 //! # raystage-capi
 //!
 //! The OpenGL-like C ABI of raystage, after the OpenRT API of the seed (Wald, *The OpenRT API*,
-//! DIGEST §1.1–§1.2). A C program builds **objects** between `rtNewObject` and `rtEndObject`
-//! with `rtBegin`/`rtVertex3f`/`rtEnd` (or `rtTriangleMesh`), places **instances** of them with
-//! the current modelview matrix, binds **shaders** and writes their parameters by name, and calls
-//! `rtSwapBuffers` to render a frame into memory it owns, or `rtRenderFrameAsync` to render it on
-//! a thread of its own while it goes on (`async_frames`).
+//! docs/design/seeds.md §1.1–§1.2). A C program builds **objects** between `rtNewObject` and
+//! `rtEndObject` with `rtBegin`/`rtVertex3f`/`rtEnd` (or `rtTriangleMesh`), places **instances** of
+//! them with the current modelview matrix, binds **shaders** and writes their parameters by name,
+//! and calls `rtSwapBuffers` to render a frame into memory it owns, or `rtRenderFrameAsync` to
+//! render it on a thread of its own while it goes on (`async_frames`).
 //!
 //! This crate is the state machine behind those calls: the current object and primitive, the
 //! matrix stacks, the current vertex attributes, the bound shader class, shader and texture,

@@ -1,7 +1,7 @@
-//! Light shader classes. As in OpenRT (DIGEST §1.1, "lighting only via light shaders"), a light
-//! is a shader: `rtNewShaderClass(cid, "PointLight", NULL)`, `rtNewShader(id)`, then its
-//! parameters are written by name with `rtParameter3f` or `rtParameter1f`. Each class declares
-//! its parameters next to their documentation and defaults, like the surface classes of
+//! Light shader classes. As in OpenRT (docs/design/seeds.md §1.1, "lighting only via light
+//! shaders"), a light is a shader: `rtNewShaderClass(cid, "PointLight", NULL)`, `rtNewShader(id)`,
+//! then its parameters are written by name with `rtParameter3f` or `rtParameter1f`. Each class
+//! declares its parameters next to their documentation and defaults, like the surface classes of
 //! `raystage-scene`. Positions and directions are in world space.
 
 use glam::Vec3;

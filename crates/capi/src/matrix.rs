@@ -1,6 +1,6 @@
 //! The matrix stacks (`rtMatrixMode`, `rtPushMatrix`, ...), with OpenGL's semantics (seed: the
-//! matrix stack of a scene graph, DIGEST §1.1): every operation multiplies the top matrix on the
-//! right, so the last transform named applies to the vertices first.
+//! matrix stack of a scene graph, docs/design/seeds.md §1.1): every operation multiplies the top
+//! matrix on the right, so the last transform named applies to the vertices first.
 //!
 //! raystage's matrices are affine (there is no projection matrix: the camera is set with
 //! `rtPerspective` and `rtLookAt`), so each stack holds [`Affine3A`]s.

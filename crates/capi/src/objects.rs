@@ -1,7 +1,7 @@
-//! Objects and instances (seed: *The OpenRT API* §2.2, DIGEST §1.1): objects are defined like
-//! OpenGL display lists, between `rtNewObject` and `rtEndObject`; defining an object again under
-//! the same id changes every instance of it; instances place objects with the modelview matrix
-//! in force at `rtInstantiateObject`.
+//! Objects and instances (seed: *The OpenRT API* §2.2, docs/design/seeds.md §1.1): objects are
+//! defined like OpenGL display lists, between `rtNewObject` and `rtEndObject`; defining an object
+//! again under the same id changes every instance of it; instances place objects with the modelview
+//! matrix in force at `rtInstantiateObject`.
 
 use glam::{Affine3A, Vec3};
 use raystage_scene::{InstanceId, ObjectId, ObjectKind};

@@ -1,7 +1,7 @@
-//! RTUT, the seed's GLUT replacement (DIGEST §1.2): a window that shows the frames a program
-//! renders, and the callbacks that drive it, so that a GLUT program ports by renaming `glut*` to
-//! `rtut*`. The window is an egui/eframe window (the viewer's toolkit); where there is no
-//! display, the same program runs headless and writes each frame as a PNG file.
+//! RTUT, OpenRT's GLUT replacement (docs/design/seeds.md §1.1): a window that shows the frames a
+//! program renders, and the callbacks that drive it, so that a GLUT program ports by renaming
+//! `glut*` to `rtut*`. The window is an egui/eframe window (the viewer's toolkit); where there is
+//! no display, the same program runs headless and writes each frame as a PNG file.
 //!
 //! The window shares its pixels with the context: `rtutSwapBuffers` makes them the context's
 //! frame buffer (RGBA8, the window's size in pixels) and renders into them, so that `rtPick` in a

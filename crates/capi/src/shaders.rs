@@ -1,6 +1,6 @@
 //! Shader classes and shaders, handled like OpenGL texture objects (seed: *The OpenRT API* §2.3,
-//! DIGEST §1.1): `rtGenShaderClasses`/`rtNewShaderClass` load a built-in class by name and bind
-//! it, `rtGenShaders`/`rtNewShader` create a shader of the bound class and bind it,
+//! docs/design/seeds.md §1.1): `rtGenShaderClasses`/`rtNewShaderClass` load a built-in class by
+//! name and bind it, `rtGenShaders`/`rtNewShader` create a shader of the bound class and bind it,
 //! `rtBindShader` binds a shader for the triangles issued next and for `rtParameter*`.
 //! Triangles keep the shader's id only, so redefining or changing the shader changes them all.
 //!

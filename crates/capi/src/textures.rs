@@ -1,8 +1,8 @@
 //! Textures, named and bound like OpenGL's (seed: *The OpenRT API*, "texture calls have identical
-//! syntax and semantics to OpenGL", DIGEST §1.1): `rtGenTextures` reserves ids, `rtBindTexture`
-//! binds one, and `rtTexImage2D` gives the bound texture its image from the program's memory.
-//! Beyond OpenGL, `rtTexImageFile` loads a PNG, JPEG or Radiance HDR file, and `rtTexChecker`
-//! and `rtTexNoise` make the bound texture one of the scene's procedural textures.
+//! syntax and semantics to OpenGL", docs/design/seeds.md §1.1): `rtGenTextures` reserves ids,
+//! `rtBindTexture` binds one, and `rtTexImage2D` gives the bound texture its image from the
+//! program's memory. Beyond OpenGL, `rtTexImageFile` loads a PNG, JPEG or Radiance HDR file, and
+//! `rtTexChecker` and `rtTexNoise` make the bound texture one of the scene's procedural textures.
 //!
 //! Shaders and environment lights refer to a texture by id (`rtParameterTexture`), so a texture
 //! redefined later changes them from the next frame on, and a deleted one leaves them untextured.

@@ -1,5 +1,5 @@
-//! NaN and infinity at the C ABI (DESIGN.md, "Numerical hard cases: NaN/Inf input rejected at the
-//! API"): the calls `random_calls.rs` does not reach with them — whole matrices, products of
+//! NaN and infinity at the C ABI (docs/design/hard-cases.md: NaN and infinity refused at
+//! every API): the calls `random_calls.rs` does not reach with them — whole matrices, products of
 //! finite matrices that overflow, singular instance transforms, whole meshes — each refused with
 //! `RT_INVALID_VALUE` and leaving the state as it was; and huge coordinates: a scene as large as
 //! `RT_MAX_COORDINATE` renders as it does at unit scale, and geometry beyond it is refused.

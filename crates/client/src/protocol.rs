@@ -1,9 +1,9 @@
 //! What the client reads and writes on the wire: the stream's messages (`api/stream.md`) and the
 //! few HTTP resources the side panel shows (`api/openapi.json`).
 //!
-//! The client talks to the server only over the network (DESIGN.md), so these are its own
-//! definitions of the published contract, not the server's types: each reads only the fields
-//! the viewer uses, and unknown fields are ignored, so a newer server still works.
+//! The client talks to the server only over the network (docs/design/architecture.md), so these are
+//! its own definitions of the published contract, not the server's types: each reads only the
+//! fields the viewer uses, and unknown fields are ignored, so a newer server still works.
 
 use serde::{Deserialize, Serialize};
 use serde_json::{Value, json};

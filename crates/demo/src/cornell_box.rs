@@ -96,7 +96,7 @@ pub fn gltf() -> String {
 
 /// The same room with rough dielectric walls: glTF's metallic-roughness material as a user
 /// writes it (metallic 0, roughness 1, the default specular layer of index 1.5 over the base),
-/// the light still reflecting nothing. This is the room of issue 36, where Blender's Cycles
+/// the light still reflecting nothing. This is the room where Blender's Cycles
 /// (`scripts/references/cycles_gltf.py`) is the reference; the extras name the image size it
 /// is compared at.
 pub fn rough_dielectric_gltf() -> String {

@@ -308,10 +308,10 @@ impl Bvh8 {
     /// Returns the degradation: how much more work a ray does in the refitted tree than in the
     /// freshly built one, as the relative growth of the tree's surface-area cost (the summed
     /// area of all child boxes over the tree's own). It is about zero for rigid motion and grows
-    /// as the grouping of triangles stops matching their positions. RT-DEFORM (seed DIGEST §1.3)
-    /// measures the same loosening node by node, by each node's area against its children's; the
-    /// whole-tree cost also catches children that swell together with their parent, as scattered
-    /// triangles make them.
+    /// as the grouping of triangles stops matching their positions. RT-DEFORM (docs/design/seeds.md
+    /// §1.3) measures the same loosening node by node, by each node's area against its children's;
+    /// the whole-tree cost also catches children that swell together with their parent, as
+    /// scattered triangles make them.
     pub fn refit(&mut self, tris: &(impl TriangleSource + ?Sized)) -> f32 {
         // Each block's box comes with its triangles, so the walk up the tree reads no vertices.
         let mut leaf_bounds = vec![Aabb::EMPTY; self.blocks.len()];

@@ -40,10 +40,11 @@ pub struct PreparedRay {
     /// Start of the segment.
     pub(crate) tnear: f32,
     /// Exact IEEE reciprocal of the direction: `±∞` for a `±0` component. The box tests then
-    /// follow Williams et al. 2005 (seed DIGEST §3.1): the sign of the reciprocal picks the near
-    /// plane, so `+0` and `−0` are told apart, and a ray lying exactly in a slab plane produces
-    /// `0 · ∞ = NaN` for that plane, which the tests' NaN-ignoring `min`/`max` skip, leaving the
-    /// axis unconstrained: such a ray counts as inside the slab for every `t`, as it is.
+    /// follow Williams et al. 2005 (docs/design/seeds.md §3.1): the sign of the reciprocal picks
+    /// the near plane, so `+0` and `−0` are told apart, and a ray lying exactly in a slab plane
+    /// produces `0 · ∞ = NaN` for that plane, which the tests' NaN-ignoring `min`/`max` skip,
+    /// leaving the axis unconstrained: such a ray counts as inside the slab for every `t`, as
+    /// it is.
     pub(crate) inv: [f32; 3],
     /// End of the segment as given by the caller.
     pub(crate) tfar: f32,

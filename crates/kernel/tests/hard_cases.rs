@@ -1,4 +1,4 @@
-//! Numerically hard cases for the kernel (DESIGN.md, "Numerical hard cases"): closed meshes hit
+//! Numerically hard cases for the kernel (docs/design/hard-cases.md): closed meshes hit
 //! through their shared edges and vertices at every scale and far from the origin, degenerate
 //! and sliver triangles, coincident triangles, a tiny object in a huge scene, and the corner
 //! cases of the ray/box test that the property tests in `against_brute_force.rs` do not reach.

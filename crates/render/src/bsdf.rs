@@ -4,11 +4,11 @@
 //!
 //! The models follow the seed's ray tracing chapter (Shirley: Lambert, Phong, mirror reflection,
 //! Snell refraction, Schlick's Fresnel approximation for metals and the exact dielectric Fresnel
-//! equations, DIGEST §1.6) and, for rough metal, the GGX microfacet distribution with visible-normal
-//! sampling (Heitz 2018), so that the path tracer's estimates stay unbiased. Rough transmission
-//! through the same microfacets is Walter et al.'s (2007) BTDF, as pbrt-v4's dielectric writes it
-//! (without the η² compression of radiance, which cancels on every path that enters a volume and
-//! leaves it again, as the smooth `Glass` leaves it out).
+//! equations, docs/design/seeds.md §1.6) and, for rough metal, the GGX microfacet distribution with
+//! visible-normal sampling (Heitz 2018), so that the path tracer's estimates stay unbiased. Rough
+//! transmission through the same microfacets is Walter et al.'s (2007) BTDF, as pbrt-v4's
+//! dielectric writes it (without the η² compression of radiance, which cancels on every path that
+//! enters a volume and leaves it again, as the smooth `Glass` leaves it out).
 
 use glam::Vec3;
 

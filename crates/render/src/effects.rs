@@ -1,7 +1,7 @@
-//! The effect set: what a frame has to simulate, derived from the scene (DESIGN.md, "simulate
-//! only what the scene calls for"). The integrators run only the effects in the set: a frame
-//! without lights traces no shadow rays, an opaque scene no refraction code, a still scene no
-//! time samples.
+//! The effect set: what a frame has to simulate, derived from the scene
+//! (docs/design/architecture.md, "The effect set"). The integrators run only the effects in the
+//! set: a frame without lights traces no shadow rays, an opaque scene no refraction code, a still
+//! scene no time samples.
 
 use raystage_scene::{Frame, ShadingModel};
 

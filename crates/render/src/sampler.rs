@@ -9,7 +9,7 @@
 //! keeps those properties while making the points random, and its own shuffle of the sample
 //! order, so that pairs of dimensions are not correlated with each other (Burley 2020, *Practical
 //! Hash-based Owen Scrambling*; the seed's Cook 1986 shuffles jittered samples between
-//! dimensions for the same reason, DIGEST §1.6).
+//! dimensions for the same reason, docs/design/seeds.md §1.6).
 
 /// The samples of one pixel: call [`PixelSampler::next_2d`] for each pair of dimensions a path
 /// uses, in the same order for every sample.

@@ -1,4 +1,4 @@
-//! Numerically hard cases for the renderer (DESIGN.md, "Numerical hard cases"): secondary rays
+//! Numerically hard cases for the renderer (docs/design/hard-cases.md): secondary rays
 //! at scales from 1e-4 to 1e6 leave their surface without acne and without skipping walls
 //! (Wächter and Binder, Ray Tracing Gems ch. 6, 2019; pbrt-v4 §6.8), nested dielectrics never
 //! create energy, a glass slab transmits what Fresnel's equations say at every angle, and NaN

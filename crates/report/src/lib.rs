@@ -1,6 +1,6 @@
 //! # raystage-report
 //!
-//! The accuracy report (`raystage report`, DESIGN.md "Accuracy report"): what each knob that
+//! The accuracy report (`raystage report`, docs/guide/accuracy-report.md): what each knob that
 //! trades accuracy for time costs and buys, told truthfully. For one scene it measures against a
 //! reference — an image from another renderer (`.exr`, `.pfm`, `.npy`), where raystage's biases
 //! show, or a converged raystage render, and says which — and sweeps one knob at a time, only

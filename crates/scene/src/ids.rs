@@ -1,5 +1,6 @@
 //! Identifiers: every object, instance, shader and light is referred to by id only, so that
-//! references resolve when a frame starts (the OpenRT API's frame semantics, DIGEST §1.1).
+//! references resolve when a frame starts (the OpenRT API's frame semantics,
+//! docs/design/seeds.md §1.1).
 
 use std::fmt;
 

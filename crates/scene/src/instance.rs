@@ -85,7 +85,7 @@ impl Placed {
 /// around its turned parts instead, each part's the tight box of a turned box (Arvo 1990),
 /// padded by a few ulps of the terms a turned vertex sums, for the rounding. Without a cover,
 /// or unturned, it gets the box around the eight turned corners of `bounds` (the seed's
-/// conservative instance bounds, DIGEST §1.3).
+/// conservative instance bounds, docs/design/seeds.md §1.3).
 pub(crate) fn world_bounds(bounds: &Aabb, cover: &[Aabb], t: &Affine3A) -> Aabb {
     if bounds.is_empty() {
         return Aabb::EMPTY;

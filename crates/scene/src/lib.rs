@@ -1,11 +1,11 @@
 //! # raystage-scene
 //!
 //! The retained two-level scene of raystage (seed: Wald, *Handling Dynamic Scenes* and *The
-//! OpenRT API*, DIGEST §1.1–§1.3). Objects own geometry and their own acceleration structure;
-//! instances place objects in the world with a transform; shaders, lights and the camera complete
-//! the description. Everything refers to everything else by id, and [`Scene::frame`] resolves
-//! the ids when a frame starts, so a shader parameter written after the geometry was issued
-//! still changes that geometry (OpenRT's frame semantics).
+//! OpenRT API*, docs/design/seeds.md §1.1–§1.3). Objects own geometry and their own acceleration
+//! structure; instances place objects in the world with a transform; shaders, lights and the camera
+//! complete the description. Everything refers to everything else by id, and [`Scene::frame`]
+//! resolves the ids when a frame starts, so a shader parameter written after the geometry was
+//! issued still changes that geometry (OpenRT's frame semantics).
 //!
 //! Objects come in three kinds ([`ObjectKind`]): static ones get the best tree once, animated
 //! ones move only through their instances and are never rebuilt, unstructured ones are redefined

@@ -1,7 +1,7 @@
 //! Light sources: the OpenGL/VRML kinds the OpenRT API ships as default light shaders (point,
-//! spot, directional, ambient; DIGEST §1.1), plus the two a ray tracer adds: a parallelogram
-//! area light for soft shadows and an environment that surrounds the scene. Intensities are
-//! linear RGB.
+//! spot, directional, ambient; docs/design/seeds.md §1.1), plus the two a ray tracer adds: a
+//! parallelogram area light for soft shadows and an environment that surrounds the scene.
+//! Intensities are linear RGB.
 
 use glam::Vec3;
 

@@ -1,5 +1,5 @@
 //! Objects: geometry with its own acceleration structure, built lazily, the first time a ray
-//! reaches the object (seed: Wald, *Handling Dynamic Scenes*, DIGEST §1.3 and §4).
+//! reaches the object (seed: Wald, *Handling Dynamic Scenes*, docs/design/seeds.md §1.3 and §4).
 
 use std::sync::{Arc, Mutex, OnceLock};
 

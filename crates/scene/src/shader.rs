@@ -1,11 +1,11 @@
 //! Surface shaders: built-in shader classes with named, typed, documented parameters, and shader
 //! instances that hold values for them.
 //!
-//! As in the OpenRT API (DIGEST §1.1), geometry refers to shaders by id, and parameters are
-//! written by name: writing a parameter a class does not export is silently ignored, so a scene
-//! graph front end can write the same material fields to every shader. Every class declares its
-//! parameters and their defaults in one table, next to their documentation (as pbrt-v4's
-//! `ParameterDictionary` readers do).
+//! As in the OpenRT API (docs/design/seeds.md §1.1), geometry refers to shaders by id, and
+//! parameters are written by name: writing a parameter a class does not export is silently ignored,
+//! so a scene graph front end can write the same material fields to every shader. Every class
+//! declares its parameters and their defaults in one table, next to their documentation (as
+//! pbrt-v4's `ParameterDictionary` readers do).
 
 use glam::Vec3;
 

@@ -1,4 +1,4 @@
-//! Numerically hard cases for the two-level scene (DESIGN.md, "Numerical hard cases"): secondary
+//! Numerically hard cases for the two-level scene (docs/design/hard-cases.md): secondary
 //! rays spawned from hit points at scales from 1e-4 to 1e4 and up to 1e6 from the origin, thin
 //! walls, instances with tiny, huge, squashed and mirroring transforms, a tiny object in a huge
 //! scene, and NaN or infinite input at every entry point of the scene API.

@@ -1,8 +1,8 @@
 // discarded.cpp: dropping a result of raystage/rt.hpp that must be kept is a compile error under
 // -Werror (crates/capi/tests/examples.rs compiles this file three times). An Instance dropped at
 // once would be deleted at once, and a Frame released (cancelled) at once: the example header
-// this one replaced let `object.instantiate();` compile and silently delete the instance
-// (issue 27). Built with -DDISCARD_INSTANCE or -DDISCARD_FRAME it drops one and must not compile;
+// this one replaced let `object.instantiate();` compile and silently delete the instance.
+// Built with -DDISCARD_INSTANCE or -DDISCARD_FRAME it drops one and must not compile;
 // built with neither it keeps both and must compile, so that the failure is the drop's.
 #include <raystage/rt.hpp>
 

@@ -1,5 +1,5 @@
 // wrapper.cpp: checks raystage/rt.hpp, the C++ wrapper. First the four faults of the example
-// header it replaced (issue 27): each FrameBuffer gets its own frames, destroying a buffer leaves
+// header it replaced: each FrameBuffer gets its own frames, destroying a buffer leaves
 // the attached one attached, an exception thrown inside Object::define leaves no error behind,
 // and a kept Instance stays in the scene (dropping one does not compile: discarded.cpp). Then
 // ownership across moves, Objects dying before their Instances and handles outliving their

@@ -1,8 +1,8 @@
 //! Animated scenes after the BART benchmark (Lext, Assarsson and Möller 2000, described in the
-//! seeds, DIGEST §5): robots walking through a city (hierarchical motion), a museum of triangles
-//! morphing from a cloud into a sphere (unstructured motion), and a terrain covered with hundreds
-//! of instanced trees. Each is procedural, deterministic, and described independently of any
-//! renderer, so that the benchmark can drive raystage and Embree with the same frames.
+//! seeds, docs/design/seeds.md §5): robots walking through a city (hierarchical motion), a museum
+//! of triangles morphing from a cloud into a sphere (unstructured motion), and a terrain covered
+//! with hundreds of instanced trees. Each is procedural, deterministic, and described independently
+//! of any renderer, so that the benchmark can drive raystage and Embree with the same frames.
 
 mod museum;
 mod parts;

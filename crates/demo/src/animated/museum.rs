@@ -1,7 +1,7 @@
 //! BART *museum* look-alike: in a hall, a set of small triangles flies from a random cloud into
 //! a sphere and back (period 80 frames), every triangle on its own path: unstructured motion,
-//! the case RT-DEFORM calls the worst for refitting (seed DIGEST §1.3, §5). The triangle count
-//! is configurable (BART: 64 to 64k).
+//! the case RT-DEFORM calls the worst for refitting (docs/design/seeds.md §1.3, §5). The triangle
+//! count is configurable (BART: 64 to 64k).
 
 use glam::{Affine3A, Vec3};
 use raystage_scene::ObjectKind;

@@ -1,6 +1,7 @@
-//! The seeds' *terrain* look-alike (Wald, *Handling Dynamic Scenes*, DIGEST §5): 661 instances of
-//! two procedurally grown trees on a hilly ground mesh, more than ten million triangles after
-//! instancing, the trees swaying a little every frame (so the top level is rebuilt every frame).
+//! The seeds' *terrain* look-alike (Wald, *Handling Dynamic Scenes*, docs/design/seeds.md §5): 661
+//! instances of two procedurally grown trees on a hilly ground mesh, more than ten million
+//! triangles after instancing, the trees swaying a little every frame (so the top level is rebuilt
+//! every frame).
 
 use glam::{Affine3A, Quat, Vec3};
 use raystage_scene::ObjectKind;

@@ -6,7 +6,7 @@
 //! a spatial median split along the axis that bit encodes. No cost function is evaluated, so the
 //! build is an order of magnitude faster than binned SAH; the trees trace somewhat slower. That is
 //! the right trade for geometry whose tree is rebuilt every few frames (RT-DEFORM rebuilds with a
-//! spatial-median builder for the same reason, seed DIGEST §1.3).
+//! spatial-median builder for the same reason, docs/design/seeds.md §1.3).
 
 use super::{PrimRef, SetBounds};
 use crate::aabb::Aabb;

@@ -1,4 +1,4 @@
-//! Binned SAH construction (Wald 2007; seed DIGEST §3, RTRT core SAH build).
+//! Binned SAH construction (Wald 2007; the RTRT core's SAH build, docs/design/seeds.md §1.4).
 //!
 //! Top-down: at each node, primitive centroids are binned along all three axes, the split plane
 //! with the lowest surface-area-heuristic cost is chosen, and the primitive references are

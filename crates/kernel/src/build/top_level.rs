@@ -1,5 +1,5 @@
 //! The per-frame builder of the top level over instance boxes, after the seed's fast top-level
-//! construction (Wald, *Handling Dynamic Scenes*, §5, DIGEST §1.3):
+//! construction (Wald, *Handling Dynamic Scenes*, §5; docs/design/seeds.md §1.3):
 //!
 //! 1. split the node along its axis of largest extent (else the next largest);
 //! 2. consider only planes at the borders of the boxes it holds;

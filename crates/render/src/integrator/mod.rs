@@ -10,7 +10,7 @@
 //!   and Russian roulette.
 //!
 //! Beside the recursion, Whitted's and Cook's camera rays have two fast paths, kept because
-//! each saves more than 10 % of a whole frame (issue 24; README, "Shading"): [`first_shadows`]
+//! each saves more than 10 % of a whole frame (docs/design/fast-paths.md): [`first_shadows`]
 //! traces the first hits' shadow rays towards point, spot and directional lights as packets
 //! (about 20 % of a sphere-grid frame), and [`first_matte`] shades matte first hits under such
 //! lights a packet at a time (about 30 %), both from [`first_hits`]. Everything else goes through

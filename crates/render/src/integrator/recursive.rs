@@ -1,6 +1,6 @@
 //! Recursive ray tracing: Whitted's (1980) model and Cook's distribution ray tracing (1984),
-//! which is the same recursion with its choices made at random per pixel sample (seed DIGEST
-//! §1.6, §1.7).
+//! which is the same recursion with its choices made at random per pixel sample
+//! (docs/design/seeds.md §1.6, §1.7).
 //!
 //! At each hit: emission, light from every source (a shadow ray each, when the frame has
 //! shadows), then a reflection ray for reflective surfaces and a refraction ray for transmissive
@@ -13,8 +13,8 @@
 //!
 //! `REFLECT` and `REFRACT` compile the reflection and refraction code in or out: the renderer
 //! instantiates the variant the frame's effect set calls for, so a purely diffuse scene runs a
-//! kernel with no trace of either (DESIGN.md, "a specialised kernel must not be slower than a
-//! hand-written one").
+//! kernel with no trace of either (docs/design/architecture.md, "The effect set": a specialised
+//! kernel must not be slower than one written by hand).
 
 use glam::Vec3;
 use raystage_kernel::Ray;

@@ -3,12 +3,12 @@
 //!
 //! Each node is first tested once against the packet's *frustum*: per axis, the interval spanned
 //! by the rays' reciprocal directions (interval arithmetic, in the spirit of the frustum
-//! traversal of the multi-level ray tracing seed, DIGEST §2). Rounding is monotonic, so the
-//! interval bounds enclose every ray's own rounded slab distances and no child any ray would
-//! visit is dropped. Only the children the frustum hits are then tested ray by ray, one ray per
-//! lane, with exactly the single-ray box arithmetic; a child is deferred with the mask of rays
-//! that hit it and their entry distances, so every ray skips whatever its own closest hit has
-//! culled. Triangles are tested per ray with the single-ray block test. Hits are therefore
+//! traversal of the multi-level ray tracing seed, MLRTA, docs/design/seeds.md §1.4). Rounding is
+//! monotonic, so the interval bounds enclose every ray's own rounded slab distances and no child
+//! any ray would visit is dropped. Only the children the frustum hits are then tested ray by ray,
+//! one ray per lane, with exactly the single-ray box arithmetic; a child is deferred with the mask
+//! of rays that hit it and their entry distances, so every ray skips whatever its own closest hit
+//! has culled. Triangles are tested per ray with the single-ray block test. Hits are therefore
 //! bit-identical to tracing the rays one by one, while the node tests, the serial part of
 //! single-ray traversal, are shared by the packet. When no more than `FEW` rays need a subtree,
 //! they finish it as single rays (the hybrid scheme of Embree's packet kernels).
