@@ -19,10 +19,10 @@ pub enum ImportError {
         /// What is wrong.
         message: String,
     },
-    /// More triangles, vertices or instances than the limits allow.
+    /// More triangles, vertices, instances or levels of nodes than the limits allow.
     #[error("the file has {count} {what}, more than the limit of {limit}")]
     TooLarge {
-        /// Triangles, vertices or instances.
+        /// Triangles, vertices, instances or levels of nodes.
         what: &'static str,
         /// How many the file has (at least).
         count: usize,

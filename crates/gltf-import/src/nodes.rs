@@ -9,8 +9,9 @@ use raystage_scene::{Camera, Light};
 use crate::error::ImportError;
 use crate::Limits;
 
-/// Deepest node hierarchy followed.
-const MAX_DEPTH: usize = 256;
+/// Most levels a node hierarchy may have: a file with more is refused whole, never imported
+/// with its deepest meshes left out.
+pub(crate) const MAX_LEVELS: usize = 256;
 
 /// What the nodes place in the world.
 #[derive(Debug, Default)]
@@ -46,8 +47,8 @@ pub(crate) fn place(document: &gltf::Document, limits: &Limits) -> Result<Placem
 
 struct Walk<'l> {
     out: Placements,
-    /// Nodes already placed: a node belongs to one parent, so a cycle or a shared child is
-    /// followed once.
+    /// Nodes already placed: glTF gives a node one parent, so a node reached twice (a cycle,
+    /// or a second parent) makes the file invalid.
     visited: Vec<bool>,
     limits: &'l Limits,
 }
@@ -55,9 +56,11 @@ struct Walk<'l> {
 impl Walk<'_> {
     fn node(&mut self, node: &gltf::Node<'_>, parent: Mat4, depth: usize) -> Result<(), ImportError> {
         let field = format!("nodes[{}]", node.index());
-        if std::mem::replace(&mut self.visited[node.index()], true) || depth > MAX_DEPTH {
-            self.out.notes.push(format!("{field}: visited twice or nested too deeply; followed once"));
-            return Ok(());
+        if std::mem::replace(&mut self.visited[node.index()], true) {
+            return Err(ImportError::invalid(field, "is reached twice (a cycle, or a second parent): glTF gives a node one parent"));
+        }
+        if depth >= MAX_LEVELS {
+            return Err(ImportError::TooLarge { what: "levels of nodes", count: depth + 1, limit: MAX_LEVELS });
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
         let affine = Affine3A::from_mat4(world);

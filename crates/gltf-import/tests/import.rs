@@ -215,19 +215,41 @@ fn limits_are_checked_before_reading() {
 }
 
 #[test]
-fn node_cycles_and_singular_nodes_do_not_hang_or_fail() {
+fn node_cycles_are_refused_and_singular_nodes_left_out() {
     let nodes = json!([{ "mesh": 0, "children": [1] }, { "mesh": 0, "children": [0] }, { "mesh": 0, "scale": [0, 1, 1] }]);
     let mut document = quad_gltf(Some(data_uri(&quad_buffer())), red(), nodes);
     document["scenes"] = json!([{ "nodes": [0, 2] }]);
-    // A cycle breaks the schema's rules: either the validator refuses it, or each node is
-    // placed once.
+    // A cycle breaks the schema's rules: the validator or the walk refuses the file whole.
     match import(&document) {
-        Ok(file) => {
-            assert_eq!(file.instance_count(), 2);
-            assert!(file.notes().iter().any(|n| n.contains("singular")), "{:?}", file.notes());
-        }
-        Err(err) => assert!(matches!(err, ImportError::Syntax(_)), "{err}"),
+        Err(ImportError::Syntax(_)) => {}
+        Err(ImportError::Invalid { field, .. }) => assert_eq!(field, "nodes[0]"),
+        other => panic!("a cycle is refused, not {other:?}"),
     }
+    // A node with a second parent likewise.
+    document["nodes"] = json!([{ "mesh": 0, "children": [2] }, { "mesh": 0, "children": [2] }, { "mesh": 0 }]);
+    document["scenes"] = json!([{ "nodes": [0, 1] }]);
+    assert!(matches!(import(&document), Err(ImportError::Syntax(_) | ImportError::Invalid { .. })));
+    // A singular transform only hides its own mesh, with a note.
+    document["nodes"] = json!([{ "mesh": 0 }, { "mesh": 0, "scale": [0, 1, 1] }]);
+    let file = import(&document).unwrap();
+    assert_eq!(file.instance_count(), 1);
+    assert!(file.notes().iter().any(|n| n.contains("singular")), "{:?}", file.notes());
+}
+
+/// A hierarchy deeper than the importer follows is refused whole, naming the limit; one at the
+/// limit is imported whole, its deepest mesh included.
+#[test]
+fn a_hierarchy_too_deep_is_refused_whole() {
+    let chain = |levels: usize| {
+        let nodes: Vec<Value> = (0..levels).map(|i| if i + 1 < levels { json!({ "children": [i + 1] }) } else { json!({ "mesh": 0 }) }).collect();
+        let mut document = quad_gltf(Some(data_uri(&quad_buffer())), red(), json!(nodes));
+        document["scenes"] = json!([{ "nodes": [0] }]);
+        document
+    };
+    assert_eq!(import(&chain(256)).unwrap().instance_count(), 1, "the mesh at the 256th level");
+    let err = import(&chain(257)).unwrap_err();
+    assert!(matches!(err, ImportError::TooLarge { what: "levels of nodes", count: 257, limit: 256 }), "{err}");
+    assert!(err.to_string().contains("more than the limit of 256"), "{err}");
 }
 
 /// A 2 × 1 PNG: a red texel, then a blue one.

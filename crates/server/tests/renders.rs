@@ -65,6 +65,23 @@ async fn deleting_a_running_job_stops_its_render() {
     assert!(eventually(Duration::from_secs(10), || state.active_renders() == 0).await, "the render still runs after its job was deleted");
 }
 
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn deleting_a_scene_stops_its_running_jobs() {
+    let state = AppState::new(Config::default());
+    let app = raystage_server::router(state.clone());
+    let s = grey_square_scene(&app, 50.0).await;
+    let job = ok(&app, "POST", &format!("/scenes/{s}/renders?width=1920&height=1080&integrator=path&spp=256"), Value::Null, StatusCode::ACCEPTED).await;
+    let id = job["id"].as_u64().unwrap();
+    assert!(eventually(Duration::from_secs(10), || state.active_renders() == 1).await, "the job renders");
+    let (status, _, _) = send(&app, "DELETE", &format!("/scenes/{s}"), axum::body::Body::empty(), &[]).await;
+    assert_eq!(status, StatusCode::NO_CONTENT);
+    assert!(eventually(Duration::from_secs(10), || state.active_renders() == 0).await, "the render runs on after its scene was deleted");
+    // The job stays listed, failed, saying why.
+    let info = ok(&app, "GET", &format!("/renders/{id}"), Value::Null, StatusCode::OK).await;
+    assert_eq!((info["status"].as_str(), info["error"]["field"].as_str()), (Some("failed"), Some("scene")), "{info}");
+    assert!(info["error"]["message"].as_str().unwrap().contains("was deleted"), "{info}");
+}
+
 #[tokio::test]
 async fn jobs_are_bounded_and_checked_like_frames() {
     let state = AppState::new(Config { limits: Limits { max_render_jobs: 1, ..Limits::default() }, ..Config::default() });
