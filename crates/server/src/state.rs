@@ -216,8 +216,8 @@ impl AppState {
         self.0.scenes.read().unwrap_or_else(|e| e.into_inner()).values().cloned().collect()
     }
 
-    /// Forgets a scene: renders that hold it finish with it, its streams end; in a cluster,
-    /// the workers forget their replicas.
+    /// Forgets a scene: its render jobs stop, its streams end; in a cluster, the workers forget
+    /// their replicas.
     pub(crate) async fn delete_scene(&self, id: u32) -> ApiResult<()> {
         self.forget_scene(id)?;
         if let Some(cluster) = self.cluster().cloned() {
@@ -226,7 +226,8 @@ impl AppState {
         Ok(())
     }
 
-    /// Forgets a scene here: renders that hold it finish with it, its streams end.
+    /// Forgets a scene here: its render jobs stop (failed, naming the deletion), frames being
+    /// rendered for a request finish with their snapshots, its streams end.
     pub(crate) fn forget_scene(&self, id: u32) -> ApiResult<()> {
         let mut scenes = self.0.scenes.write().unwrap_or_else(|e| e.into_inner());
         let slot = scenes.remove(&id).ok_or_else(|| ApiError::not_found(Some("scene".into()), format!("unknown scene {id}")))?;
@@ -237,6 +238,8 @@ impl AppState {
         let _ = slot.budget.change(bytes, 0);
         // Wakes the streams waiting for a change.
         slot.version.send_modify(|_| ());
+        drop(scenes);
+        self.jobs().stop_scene(id);
         Ok(())
     }
 

@@ -44,6 +44,22 @@ pub(crate) struct Jobs {
 }
 
 impl Jobs {
+    /// Stops the jobs still rendering scene `scene`, which was deleted: each fails with that
+    /// reason (and stays listed until deleted, so a client polling it learns why), and its render
+    /// stops at once instead of running on to the time limit.
+    pub(crate) fn stop_scene(&self, scene: u32) {
+        let held: Vec<Arc<Job>> = self.jobs.lock().unwrap_or_else(|e| e.into_inner()).values().filter(|j| j.scene == scene).cloned().collect();
+        for job in held {
+            let mut outcome = job.outcome.lock().unwrap_or_else(|e| e.into_inner());
+            if outcome.is_none() {
+                *outcome = Some(Err(ApiError::not_found(Some("scene".into()), format!("scene {scene} was deleted while the job rendered"))));
+                if let Some(task) = job.task.lock().unwrap_or_else(|e| e.into_inner()).take() {
+                    task.abort();
+                }
+            }
+        }
+    }
+
     fn get(&self, id: &str) -> ApiResult<Arc<Job>> {
         let unknown = || ApiError::not_found(Some("id".into()), format!("unknown render job {id}"));
         let id: u32 = id.parse().map_err(|_| unknown())?;
