@@ -201,7 +201,8 @@ const DECIMAL: &str = "(0|[1-9][0-9]{0,5})(\\.[0-9]{1,6})?";
 /// - a projection's kinds take their own fields only, and a mesh or new positions need
 ///   `positions` or `positions_base64`;
 /// - a light takes the parameters of its class only: `LightSpec` and `LightInfo` are one-ofs by
-///   `class`, each class's other parameters null if present (the server reads null as absent).
+///   `class`, each class's other parameters null if present (the server reads null as absent);
+/// - a `_base64` field is padded standard base64 (the server refuses other text with 400).
 fn exact_json(json: &mut serde_json::Value) {
     use serde_json::{Value, json};
     fn unsigned(node: &mut Value) {
@@ -219,6 +220,23 @@ fn exact_json(json: &mut serde_json::Value) {
         }
     }
     unsigned(json);
+    fn base64(node: &mut Value) {
+        match node {
+            Value::Object(map) => {
+                for (key, value) in map.iter_mut() {
+                    if key.ends_with("_base64")
+                        && let Some(schema) = value.as_object_mut()
+                    {
+                        schema.insert("pattern".into(), json!("^(?:[A-Za-z0-9+/]{4})*(?:[A-Za-z0-9+/]{2}==|[A-Za-z0-9+/]{3}=)?$"));
+                    }
+                    base64(value);
+                }
+            }
+            Value::Array(list) => list.iter_mut().for_each(base64),
+            _ => {}
+        }
+    }
+    base64(json);
 
     let limits = crate::Limits::default();
     let colour = format!("{DECIMAL}(,{DECIMAL},{DECIMAL})?");
