@@ -88,6 +88,15 @@ fn listen(job: &ServeJob, state: AppState, log: &mut impl Write) -> Result<()> {
         let listener = tokio::net::TcpListener::bind(job.addr).await.with_context(|| format!("cannot listen on {}", job.addr))?;
         let addr = listener.local_addr()?;
         writeln!(log, "raystage serving http://{addr}/ (API description: http://{addr}/openapi.json); Ctrl-C stops")?;
+        let (limits, (usable, source)) = (state.config().limits, raystage_server::usable_memory());
+        let gib = |bytes: u64| bytes as f64 / (1u64 << 30) as f64;
+        writeln!(
+            log,
+            "scene memory budget: {:.1} GiB in all ({source}: {:.1} GiB), {:.1} GiB a scene",
+            gib(limits.max_total_scene_bytes),
+            gib(usable),
+            gib(limits.max_scene_bytes)
+        )?;
         log.flush()?;
         let stop = async {
             let _ = tokio::signal::ctrl_c().await;

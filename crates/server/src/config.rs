@@ -39,7 +39,8 @@ pub struct Limits {
     /// [`Scene::memory_bytes`]: raystage_scene::Scene::memory_bytes
     pub max_scene_bytes: u64,
     /// Most memory all scenes together may take, counted as `max_scene_bytes` is; default half
-    /// the machine's memory.
+    /// the memory the server may use ([`usable_memory`]: the cgroup's limit where one is set,
+    /// as in a container, else the machine's).
     pub max_total_scene_bytes: u64,
     /// Most bytes one image texture may take once decoded, counted from the image's header
     /// before it is decoded as width × height × 16 (three colour channels and coverage, as
@@ -85,7 +86,7 @@ impl Default for Limits {
             max_commands: 100_000,
             max_scenes: 64,
             max_scene_bytes: 4 << 30,
-            max_total_scene_bytes: half_the_memory(),
+            max_total_scene_bytes: usable_memory().0 / 2,
             // 4096 × 4096 texels, or 8192 × 2048.
             max_texture_bytes: 256 << 20,
             // The standard scenes' million (the sphere grid has 1,000,002).
@@ -103,12 +104,32 @@ impl Default for Limits {
 }
 
 /// Half the machine's physical memory (from `/proc/meminfo`), or 8 GiB where it cannot be read.
-fn half_the_memory() -> u64 {
-    let total_kib = std::fs::read_to_string("/proc/meminfo").ok().and_then(|info| {
+/// The memory this process may use, in bytes, and where the figure comes from: the cgroup's
+/// limit (v2 `memory.max`, v1 `memory.limit_in_bytes`) where one is set below the machine's
+/// memory, as in a container whose limit would kill the server before a budget of the machine's
+/// memory refused anything; else the machine's (`MemTotal`); 16 GiB where neither can be read.
+pub fn usable_memory() -> (u64, &'static str) {
+    let read = |path: &str| std::fs::read_to_string(path).ok();
+    usable_memory_of(
+        read("/proc/meminfo").as_deref(),
+        read("/sys/fs/cgroup/memory.max").or_else(|| read("/sys/fs/cgroup/memory/memory.limit_in_bytes")).as_deref(),
+    )
+}
+
+/// [`usable_memory`] from the texts of `/proc/meminfo` and of the cgroup's limit.
+fn usable_memory_of(meminfo: Option<&str>, cgroup_limit: Option<&str>) -> (u64, &'static str) {
+    let machine = meminfo.and_then(|info| {
         let line = info.lines().find(|l| l.starts_with("MemTotal:"))?;
-        line.split_whitespace().nth(1)?.parse::<u64>().ok()
+        Some(line.split_whitespace().nth(1)?.parse::<u64>().ok()? * 1024)
     });
-    total_kib.map_or(8 << 30, |kib| kib * 1024 / 2)
+    // "max" (v2) or a huge number (v1, and v2 on some kernels) means no limit.
+    let limit = cgroup_limit.and_then(|text| text.trim().parse::<u64>().ok());
+    match (machine, limit) {
+        (Some(machine), Some(limit)) if limit < machine => (limit, "the cgroup's memory limit"),
+        (None, Some(limit)) if limit < 1 << 50 => (limit, "the cgroup's memory limit"),
+        (Some(machine), _) => (machine, "the machine's memory"),
+        (None, _) => (16 << 30, "a guess (neither the machine's memory nor a cgroup limit could be read)"),
+    }
 }
 
 /// Why a server refuses to start with a configuration.
@@ -138,6 +159,19 @@ impl Config {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_memory_budget_follows_a_container_limit() {
+        let meminfo = "MemTotal:       24576000 kB\nMemFree:         1000 kB\n";
+        let machine = 24_576_000 * 1024;
+        assert_eq!(usable_memory_of(Some(meminfo), None), (machine, "the machine's memory"));
+        assert_eq!(usable_memory_of(Some(meminfo), Some("max\n")).0, machine, "no limit (v2)");
+        assert_eq!(usable_memory_of(Some(meminfo), Some("9223372036854771712\n")).0, machine, "no limit (v1)");
+        assert_eq!(usable_memory_of(Some(meminfo), Some("4294967296\n")), (4 << 30, "the cgroup's memory limit"));
+        assert_eq!(usable_memory_of(None, Some("4294967296")).0, 4 << 30);
+        assert_eq!(usable_memory_of(None, None).0, 16 << 30);
+        assert_eq!(Limits::default().max_total_scene_bytes, usable_memory().0 / 2);
+    }
 
     #[test]
     fn only_loopback_is_served_without_a_token() {

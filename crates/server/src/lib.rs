@@ -38,7 +38,7 @@ mod stream;
 use std::future::Future;
 use std::time::Duration;
 
-pub use config::{Config, Limits, Refused};
+pub use config::{Config, Limits, Refused, usable_memory};
 pub use error::{ApiError, ErrorBody, ErrorDetail};
 pub use routes::openapi::ApiDoc;
 pub use state::AppState;
