@@ -87,12 +87,12 @@ fn listen(job: &ServeJob, state: AppState, log: &mut impl Write) -> Result<()> {
     runtime.block_on(async {
         let listener = tokio::net::TcpListener::bind(job.addr).await.with_context(|| format!("cannot listen on {}", job.addr))?;
         let addr = listener.local_addr()?;
-        writeln!(log, "raystage serving http://{addr}/ (API description: http://{addr}/openapi.json); Ctrl-C stops")?;
+        // One line: scripts and tests read the address from it and may stop reading there.
         let (limits, (usable, source)) = (state.config().limits, raystage_server::usable_memory());
         let gib = |bytes: u64| bytes as f64 / (1u64 << 30) as f64;
         writeln!(
             log,
-            "scene memory budget: {:.1} GiB in all ({source}: {:.1} GiB), {:.1} GiB a scene",
+            "raystage serving http://{addr}/ (API description: http://{addr}/openapi.json; scenes may take {:.1} GiB in all, half of {source} ({:.1} GiB), {:.1} GiB each); Ctrl-C stops",
             gib(limits.max_total_scene_bytes),
             gib(usable),
             gib(limits.max_scene_bytes)
