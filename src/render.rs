@@ -11,7 +11,7 @@ use glam::Vec3;
 use indicatif::{ProgressBar, ProgressStyle};
 use raystage_demo::animated::Demo;
 use raystage_render::{Channel, Film, Filter, FrameStats, Integrator, Look, OutputFormat, Progressive, RenderSettings, Share, ToneMap};
-use raystage_scene::{Background, Image, Light, Scene, Texture};
+use raystage_scene::{Background, Image, Light, Scene};
 
 /// Largest accepted image width or height in pixels.
 pub const MAX_DIMENSION: u32 = 16_384;
@@ -223,9 +223,7 @@ fn add_environment(scene: &mut Scene, source: &EnvironmentSource, environment: &
         }
         EnvironmentSource::Studio => raystage_scene::studio_environment(),
     };
-    let texture = scene.add_texture(Texture::Image(image.into()))?;
-    let light = Light::Environment { radiance: Vec3::splat(intensity), map: Some(texture), rotate_degrees: environment.rotate_degrees };
-    scene.add_light(light)?;
+    scene.add_environment_map(image, Vec3::splat(intensity), environment.rotate_degrees)?;
     Ok(())
 }
 

@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use glam::Affine3A;
+use glam::{Affine3A, Vec3};
 
 use crate::camera::Camera;
 use crate::error::SceneError;
@@ -15,7 +15,7 @@ use crate::light::Light;
 use crate::mesh::Mesh;
 use crate::object::{Object, ObjectKind};
 use crate::shader::{ParamValue, Shader};
-use crate::texture::Texture;
+use crate::texture::{Image, Texture};
 
 /// A retained two-level scene. Every edit is checked first and either happens entirely or
 /// returns an error and changes nothing.
@@ -410,6 +410,16 @@ impl Scene {
         self.check_light(&light)?;
         self.journal.record(self.recording(|| SceneEdit::AddLight { light }));
         Ok(LightId(self.lights.insert(light)))
+    }
+
+    /// Adds an environment light of `image`, a latitude-longitude map added as a texture, scaled
+    /// by `radiance` and turned `rotate_degrees` about +y: the one way the command line and the
+    /// server add an image environment (an HDR sky, the studio). The light is checked before the
+    /// texture is added, so a refused one leaves no texture behind.
+    pub fn add_environment_map(&mut self, image: Image, radiance: Vec3, rotate_degrees: f32) -> Result<LightId, SceneError> {
+        Light::Environment { radiance, map: None, rotate_degrees }.validate()?;
+        let map = self.add_texture(Texture::Image(image.into()))?;
+        self.add_light(Light::Environment { radiance, map: Some(map), rotate_degrees })
     }
 
     /// Replaces a light.

@@ -399,3 +399,17 @@ fn packets_through_the_top_level_hit_and_are_blocked_as_single_rays() {
     }
     assert!(hits.get() > 48, "only {} of the rays hit anything", hits.get());
 }
+
+/// An image environment is its texture and its light, added together: a refused light (a turn
+/// that is not a number, a negative radiance) leaves no texture behind.
+#[test]
+fn an_environment_map_is_added_with_its_texture_or_not_at_all() {
+    let mut scene = Scene::new();
+    let sky = || raystage_scene::Image::new(2, 1, vec![Vec3::ONE, Vec3::X]).unwrap();
+    assert!(scene.add_environment_map(sky(), Vec3::ONE, f32::NAN).is_err());
+    assert!(scene.add_environment_map(sky(), -Vec3::ONE, 0.0).is_err());
+    assert_eq!(scene.textures().count(), 0, "no texture left behind");
+    let id = scene.add_environment_map(sky(), Vec3::splat(2.0), 90.0).unwrap();
+    let (texture, _) = scene.textures().next().unwrap();
+    assert_eq!(scene.lights().find(|(l, _)| *l == id).map(|(_, l)| *l), Some(raystage_scene::Light::Environment { radiance: Vec3::splat(2.0), map: Some(texture), rotate_degrees: 90.0 }));
+}

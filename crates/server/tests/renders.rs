@@ -46,15 +46,21 @@ async fn a_job_renders_the_scene_as_it_started_and_its_image_is_fetched_when_don
     assert_eq!(fails(&app, "GET", &format!("/renders/{id}"), Value::Null, StatusCode::NOT_FOUND).await, "id");
 }
 
-#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn deleting_a_running_job_stops_its_render() {
+/// A server with a scene and a job rendering it: a path-traced frame of minutes, so that it is
+/// still running when the test stops it. Returns the state, the router, the scene and the job.
+async fn long_job() -> (AppState, axum::Router, u64, u64) {
     let state = AppState::new(Config::default());
     let app = raystage_server::router(state.clone());
     let s = grey_square_scene(&app, 50.0).await;
-    // A path-traced frame of minutes: still running when it is deleted.
     let job = ok(&app, "POST", &format!("/scenes/{s}/renders?width=1920&height=1080&integrator=path&spp=256"), Value::Null, StatusCode::ACCEPTED).await;
     let id = job["id"].as_u64().unwrap();
     assert!(eventually(Duration::from_secs(10), || state.active_renders() == 1).await, "the job renders");
+    (state, app, s, id)
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn deleting_a_running_job_stops_its_render() {
+    let (state, app, _, id) = long_job().await;
     let info = ok(&app, "GET", &format!("/renders/{id}"), Value::Null, StatusCode::OK).await;
     assert_eq!(info["status"], "running");
     let (status, early) = call(&app, "GET", &format!("/renders/{id}/image.png"), Value::Null).await;
@@ -67,12 +73,7 @@ async fn deleting_a_running_job_stops_its_render() {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn deleting_a_scene_stops_its_running_jobs() {
-    let state = AppState::new(Config::default());
-    let app = raystage_server::router(state.clone());
-    let s = grey_square_scene(&app, 50.0).await;
-    let job = ok(&app, "POST", &format!("/scenes/{s}/renders?width=1920&height=1080&integrator=path&spp=256"), Value::Null, StatusCode::ACCEPTED).await;
-    let id = job["id"].as_u64().unwrap();
-    assert!(eventually(Duration::from_secs(10), || state.active_renders() == 1).await, "the job renders");
+    let (state, app, s, id) = long_job().await;
     let (status, _, _) = send(&app, "DELETE", &format!("/scenes/{s}"), axum::body::Body::empty(), &[]).await;
     assert_eq!(status, StatusCode::NO_CONTENT);
     assert!(eventually(Duration::from_secs(10), || state.active_renders() == 0).await, "the render runs on after its scene was deleted");

@@ -3,7 +3,7 @@
 use axum::Json;
 use axum::extract::State;
 use glam::Vec3;
-use raystage_scene::{Light, LightId, Scene, SceneError, Texture, studio_environment};
+use raystage_scene::{Light, LightId, Scene, SceneError, studio_environment};
 use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
 
@@ -85,10 +85,7 @@ pub(crate) fn add_environment(scene: &mut Scene, asked: Option<Environment>, unl
     let light = match asked.unwrap_or(if unlit { Environment::Studio } else { Environment::None }) {
         Environment::None => return Ok(None),
         Environment::Uniform(radiance) => Light::Environment { radiance, map: None, rotate_degrees: 0.0 },
-        Environment::Studio => {
-            let texture = scene.add_texture(Texture::Image(studio_environment().into()))?;
-            Light::Environment { radiance: Vec3::ONE, map: Some(texture), rotate_degrees: 0.0 }
-        }
+        Environment::Studio => return scene.add_environment_map(studio_environment(), Vec3::ONE, 0.0).map(Some),
     };
     scene.add_light(light).map(Some)
 }
