@@ -136,10 +136,11 @@ impl LightSpec {
         };
         light.validate().map_err(|e| {
             let e = ApiError::from(e).without_prefix("light.");
-            // The scene calls the spot angles by their full names.
+            // The scene calls the spot angles and the environment's turn by their full names.
             match e.detail.field.as_deref() {
                 Some("cone_degrees") => ApiError { detail: crate::error::ErrorDetail { field: Some("cone".into()), ..e.detail }, ..e },
                 Some("falloff_degrees") => ApiError { detail: crate::error::ErrorDetail { field: Some("falloff".into()), ..e.detail }, ..e },
+                Some("rotate_degrees") => ApiError { detail: crate::error::ErrorDetail { field: Some("rotate".into()), ..e.detail }, ..e },
                 _ => e,
             }
         })?;
@@ -210,6 +211,8 @@ mod tests {
         assert_eq!(wide.to_light().unwrap_err().detail.field.as_deref(), Some("cone"));
         let dark = LightSpec { class: "PointLight".into(), intensity: Some(Rgb::Rgb([-1.0, 0.0, 0.0])), ..LightSpec::default() };
         assert_eq!(dark.to_light().unwrap_err().detail.field.as_deref(), Some("intensity"));
+        let turned = LightSpec { class: "EnvironmentLight".into(), rotate: Some(f32::INFINITY), ..LightSpec::default() };
+        assert_eq!(turned.to_light().unwrap_err().detail.field.as_deref(), Some("rotate"));
         let unknown = LightSpec { class: "Sun".into(), ..LightSpec::default() };
         assert_eq!(unknown.to_light().unwrap_err().detail.field.as_deref(), Some("class"));
     }
