@@ -1,7 +1,8 @@
-//! The few HTTP requests the viewer makes (GETs of JSON resources), over plain HTTP/1.1.
+//! The few HTTP requests the viewer makes (GETs of JSON resources, POSTs of an image file and
+//! of a batch of commands), over plain HTTP/1.1.
 //!
-//! Four GETs of small JSON bodies do not need an HTTP client library: one connection per
-//! request (`Connection: close`), the body read to its end, `Content-Length` or chunked.
+//! A handful of requests with JSON answers do not need an HTTP client library: one connection
+//! per request (`Connection: close`), the body read to its end, `Content-Length` or chunked.
 
 use std::time::Duration;
 
@@ -49,28 +50,43 @@ impl Server {
 
     /// GETs `path` and reads the JSON body as `T`.
     pub async fn get<T: DeserializeOwned>(&self, path: &str) -> Result<T, Error> {
-        let (status, body) = tokio::time::timeout(TIMEOUT, self.get_raw(path))
-            .await
-            .map_err(|_| Error::Http(format!("GET {path}: no answer in {} s", TIMEOUT.as_secs())))??;
-        if status != 200 {
-            let message = match serde_json::from_slice::<ErrorBody>(&body) {
-                Ok(e) => e.error.message,
-                Err(_) => String::from_utf8_lossy(&body).chars().take(200).collect(),
-            };
-            return Err(Error::Http(format!("GET {path}: {status} {message}")));
-        }
-        serde_json::from_slice(&body).map_err(|e| Error::Http(format!("GET {path}: unexpected answer: {e}")))
+        self.request("GET", path, None).await
     }
 
-    async fn get_raw(&self, path: &str) -> Result<(u16, Vec<u8>), Error> {
-        let io = |e: std::io::Error| Error::Http(format!("GET {path} from {}: {e}", self.authority));
+    /// POSTs `body` of type `content_type` to `path` and reads the JSON answer as `T`.
+    pub async fn post<T: DeserializeOwned>(&self, path: &str, content_type: &str, body: &[u8]) -> Result<T, Error> {
+        self.request("POST", path, Some((content_type, body))).await
+    }
+
+    /// Sends a request and reads a successful (2xx) answer's JSON body as `T`; the server's
+    /// error message otherwise.
+    async fn request<T: DeserializeOwned>(&self, method: &str, path: &str, body: Option<(&str, &[u8])>) -> Result<T, Error> {
+        let (status, answer) = tokio::time::timeout(TIMEOUT, self.exchange(method, path, body))
+            .await
+            .map_err(|_| Error::Http(format!("{method} {path}: no answer in {} s", TIMEOUT.as_secs())))??;
+        if !(200..300).contains(&status) {
+            let message = match serde_json::from_slice::<ErrorBody>(&answer) {
+                Ok(e) => e.error.message,
+                Err(_) => String::from_utf8_lossy(&answer).chars().take(200).collect(),
+            };
+            return Err(Error::Http(format!("{method} {path}: {status} {message}")));
+        }
+        serde_json::from_slice(&answer).map_err(|e| Error::Http(format!("{method} {path}: unexpected answer: {e}")))
+    }
+
+    async fn exchange(&self, method: &str, path: &str, body: Option<(&str, &[u8])>) -> Result<(u16, Vec<u8>), Error> {
+        let io = |e: std::io::Error| Error::Http(format!("{method} {path} at {}: {e}", self.authority));
         let mut stream = TcpStream::connect(&self.authority).await.map_err(io)?;
         let auth = self.token.as_deref().map(|t| format!("Authorization: Bearer {t}\r\n")).unwrap_or_default();
-        let request = format!("GET {path} HTTP/1.1\r\nHost: {}\r\nAccept: application/json\r\n{auth}Connection: close\r\n\r\n", self.authority);
-        stream.write_all(request.as_bytes()).await.map_err(io)?;
+        let content = body.map(|(kind, bytes)| format!("Content-Type: {kind}\r\nContent-Length: {}\r\n", bytes.len())).unwrap_or_default();
+        let head = format!("{method} {path} HTTP/1.1\r\nHost: {}\r\nAccept: application/json\r\n{auth}{content}Connection: close\r\n\r\n", self.authority);
+        stream.write_all(head.as_bytes()).await.map_err(io)?;
+        if let Some((_, bytes)) = body {
+            stream.write_all(bytes).await.map_err(io)?;
+        }
         let mut response = Vec::new();
         (&mut stream).take(MAX_BODY as u64 + 65536).read_to_end(&mut response).await.map_err(io)?;
-        parse_response(&response).ok_or_else(|| Error::Http(format!("GET {path}: not an HTTP response")))
+        parse_response(&response).ok_or_else(|| Error::Http(format!("{method} {path}: not an HTTP response")))
     }
 }
 

@@ -187,6 +187,7 @@ async fn session(config: StreamConfig, events: &Events, requests: &mut Unbounded
             Request::Settings(s) => settings = settings.merged(s),
             Request::Camera(c) => camera.pending = Some(c),
             Request::Commands(commands) => edits.push(Request::Commands(commands)),
+            Request::EnvironmentImage { path, id, light } => spawn_environment_image(&server, scene, events, path, id, light),
             Request::RefreshScene => {}
         }
     }
@@ -264,6 +265,7 @@ async fn session(config: StreamConfig, events: &Events, requests: &mut Unbounded
                         events.send(event);
                     });
                 }
+                Some(Request::EnvironmentImage { path, id, light }) => spawn_environment_image(&server, scene, events, path, id, light),
                 Some(request) => {
                     let message = request.message(next_request).expect("settings and commands are stream messages");
                     next_request += 1;
@@ -300,6 +302,48 @@ impl CameraQueue {
             self.in_flight = None;
         }
     }
+}
+
+/// The largest image file the viewer uploads as an environment: larger than any the server's
+/// default limits take, and small enough that reading it is not the problem.
+const MAX_ENVIRONMENT_FILE: u64 = 1 << 30;
+
+/// Uploads an environment image and gives it to the light off the stream's loop (a large file
+/// takes a while), then sends the scene as it now is, or what went wrong.
+fn spawn_environment_image(server: &Server, scene: u32, events: &Events, path: std::path::PathBuf, id: Option<u32>, light: serde_json::Value) {
+    let (server, events) = (server.clone(), events.clone());
+    tokio::spawn(async move {
+        let event = match environment_image(&server, scene, &path, id, light).await {
+            Ok(snapshot) => Event::Scene(Box::new(snapshot)),
+            Err(e) => Event::Problem(format!("{}: {e}", path.display())),
+        };
+        events.send(event);
+    });
+}
+
+/// See [`Request::EnvironmentImage`].
+async fn environment_image(server: &Server, scene: u32, path: &std::path::Path, id: Option<u32>, mut light: serde_json::Value) -> Result<SceneSnapshot, Error> {
+    let file = tokio::fs::File::open(path).await.map_err(|e| Error::Http(e.to_string()))?;
+    let length = file.metadata().await.map_err(|e| Error::Http(e.to_string()))?.len();
+    if length > MAX_ENVIRONMENT_FILE {
+        return Err(Error::Http(format!("the file is {length} bytes, more than the viewer uploads ({MAX_ENVIRONMENT_FILE})")));
+    }
+    let mut bytes = Vec::new();
+    tokio::io::AsyncReadExt::read_to_end(&mut tokio::io::AsyncReadExt::take(file, MAX_ENVIRONMENT_FILE), &mut bytes).await.map_err(|e| Error::Http(e.to_string()))?;
+    // The server reads the format from the bytes (PNG, JPEG or Radiance HDR).
+    #[derive(serde::Deserialize)]
+    struct Created {
+        id: u32,
+    }
+    let texture: Created = server.post(&format!("/scenes/{scene}/textures"), "application/octet-stream", &bytes).await?;
+    light["map"] = serde_json::json!(texture.id);
+    let command = match id {
+        Some(id) => serde_json::json!({ "set_light": { "id": id, "light": light } }),
+        None => serde_json::json!({ "add_light": light }),
+    };
+    let batch = serde_json::json!({ "commands": [command] });
+    let _: serde_json::Value = server.post(&format!("/scenes/{scene}/commands"), "application/json", batch.to_string().as_bytes()).await?;
+    fetch_scene(server, scene).await
 }
 
 /// The scene's summary, objects and instances.

@@ -283,6 +283,17 @@ pub enum Request {
     /// Edit the scene: a batch of commands, as `POST /scenes/{scene}/commands` takes them
     /// (`commands` message).
     Commands(Value),
+    /// Light the scene with an image file on this machine: upload it as a texture
+    /// (`POST /scenes/{scene}/textures`), make it the map of `light` (a `set_light` of light
+    /// `id`, or an `add_light` where there is none), and fetch the scene again (HTTP).
+    EnvironmentImage {
+        /// A Radiance HDR, PNG or JPEG file, latitude-longitude.
+        path: std::path::PathBuf,
+        /// The environment light to give the map to, if the scene has one.
+        id: Option<u32>,
+        /// The light as the API describes it (its `map` replaced by the upload's).
+        light: Value,
+    },
 }
 
 impl Request {
@@ -298,7 +309,7 @@ impl Request {
                 Some(message)
             }
             Request::Commands(commands) => Some(json!({ "type": "commands", "request": request, "commands": commands })),
-            Request::RefreshScene => None,
+            Request::RefreshScene | Request::EnvironmentImage { .. } => None,
         }
     }
 }

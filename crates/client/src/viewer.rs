@@ -78,6 +78,8 @@ pub struct Viewer {
     screenshot: Screenshot,
     /// The scene's environment light as the lighting controls edit it.
     environment: Option<Environment>,
+    /// The image file the lighting controls would load.
+    environment_file: String,
 }
 
 /// The scene's (first) environment light, as the panel shows and edits it: every change is a
@@ -88,6 +90,8 @@ struct Environment {
     state: Presence,
     /// Its map (the studio, an HDR sky), if any.
     map: Option<u32>,
+    /// The last map it had, so that the image can be chosen again after `uniform`.
+    last_map: Option<u32>,
     /// Its radiance divided by `intensity`.
     colour: [f32; 3],
     /// The largest component of its radiance.
@@ -108,12 +112,51 @@ enum Presence {
 }
 
 impl Environment {
-    /// The panel's view of `light`, an `EnvironmentLight`.
-    fn of(light: &LightInfo) -> Environment {
+    /// The panel's view of `light`, an `EnvironmentLight`, after `before` (the panel's view
+    /// of it until now).
+    fn of(light: &LightInfo, before: Option<&Environment>) -> Environment {
         let radiance = light.radiance.unwrap_or([1.0; 3]);
         let intensity = radiance.into_iter().fold(0.0f32, f32::max);
         let colour = if intensity > 0.0 { radiance.map(|c| c / intensity) } else { [1.0; 3] };
-        Environment { state: Presence::On(light.id), map: light.map, colour, intensity, rotate: light.rotate.unwrap_or(0.0) }
+        let last_map = light.map.or(before.and_then(|e| e.last_map));
+        Environment { state: Presence::On(light.id), map: light.map, last_map, colour, intensity, rotate: light.rotate.unwrap_or(0.0) }
+    }
+
+    /// The controls of the light in `ui`, and the requests their changes make.
+    fn controls(&mut self, ui: &mut egui::Ui) -> Vec<Request> {
+        ui.label(if self.map.is_some() { "environment: image (a studio or a sky)" } else { "environment: uniform" });
+        let mut on = self.state != Presence::Off;
+        let switched = ui.checkbox(&mut on, "environment on").changed();
+        let mut moved = false;
+        if let Some(last_map) = self.last_map {
+            ui.horizontal(|ui| {
+                moved |= ui.selectable_value(&mut self.map, Some(last_map), "image").changed();
+                moved |= ui.selectable_value(&mut self.map, None, "uniform").changed();
+            });
+        }
+        let settle = |r: egui::Response| r.drag_stopped() || (r.changed() && !r.dragged());
+        moved |= settle(ui.add(egui::Slider::new(&mut self.intensity, 0.0..=4.0).step_by(0.05).text("intensity")));
+        if self.map.is_some() {
+            moved |= settle(ui.add(egui::Slider::new(&mut self.rotate, -180.0..=180.0).step_by(5.0).text("rotation (degrees)")));
+        }
+        match (switched, self.state) {
+            (true, Presence::On(id)) => {
+                self.state = Presence::Off;
+                vec![Request::Commands(serde_json::json!([{ "delete_light": { "id": id } }]))]
+            }
+            // Back on: a new light, whose id the next fetch of the scene tells.
+            (true, Presence::Off) => {
+                self.state = Presence::Adding;
+                vec![Request::Commands(serde_json::json!([{ "add_light": self.spec() }])), Request::RefreshScene]
+            }
+            (false, Presence::On(id)) if moved => vec![Request::Commands(serde_json::json!([{ "set_light": { "id": id, "light": self.spec() } }]))],
+            _ => Vec::new(),
+        }
+    }
+
+    /// A white uniform environment of radiance 1, not yet in the scene.
+    fn uniform() -> Environment {
+        Environment { state: Presence::Off, map: None, last_map: None, colour: [1.0; 3], intensity: 1.0, rotate: 0.0 }
     }
 
     /// The light as the API describes it.
@@ -169,6 +212,7 @@ impl Viewer {
             first_shown: None,
             screenshot: Screenshot::NotYet,
             environment: None,
+            environment_file: String::new(),
         }
     }
 
@@ -205,7 +249,8 @@ impl Viewer {
                     }
                     // The scene's environment light, unless the panel has it switched off.
                     if self.environment.as_ref().is_none_or(|e| e.state != Presence::Off) {
-                        self.environment = snapshot.lights.iter().find(|l| l.class == "EnvironmentLight").map(Environment::of);
+                        let before = self.environment.as_ref();
+                        self.environment = snapshot.lights.iter().find(|l| l.class == "EnvironmentLight").map(|l| Environment::of(l, before));
                     }
                     self.scene = Some(*snapshot);
                 }
@@ -447,40 +492,39 @@ impl Viewer {
         }
     }
 
-    /// The environment light's controls: on or off, its intensity and, for a map, its turn.
-    /// Sliders send their value when let go (or when moved by keys), not at every step of a drag.
+    /// The environment light's controls: on or off, an image or uniform, its intensity and, for
+    /// an image, its turn; and an image file on this machine to light the scene with. Sliders
+    /// send their value when let go (or when moved by keys), not at every step of a drag.
     fn lighting(&mut self, ui: &mut egui::Ui) {
         ui.strong("Lighting");
-        let Some(environment) = &mut self.environment else {
-            ui.label("no environment light");
-            return;
-        };
-        ui.label(if environment.map.is_some() { "environment: image (a studio or a sky)" } else { "environment: uniform" });
-        let mut on = environment.state != Presence::Off;
-        let switched = ui.checkbox(&mut on, "environment on").changed();
-        let settle = |r: egui::Response| r.drag_stopped() || (r.changed() && !r.dragged());
-        let mut moved = settle(ui.add(egui::Slider::new(&mut environment.intensity, 0.0..=4.0).step_by(0.05).text("intensity")));
-        if environment.map.is_some() {
-            moved |= settle(ui.add(egui::Slider::new(&mut environment.rotate, -180.0..=180.0).step_by(5.0).text("rotation (degrees)")));
-        }
-        let (commands, refresh) = match (switched, environment.state) {
-            (true, Presence::On(id)) => {
-                environment.state = Presence::Off;
-                (Some(serde_json::json!([{ "delete_light": { "id": id } }])), false)
+        let mut requests = Vec::new();
+        match &mut self.environment {
+            None => {
+                ui.label("no environment light");
+                if ui.button("add a uniform environment").clicked() {
+                    let uniform = Environment { state: Presence::Adding, ..Environment::uniform() };
+                    requests.extend([Request::Commands(serde_json::json!([{ "add_light": uniform.spec() }])), Request::RefreshScene]);
+                    self.environment = Some(uniform);
+                }
             }
-            // Back on: a new light, whose id the next fetch of the scene tells.
-            (true, Presence::Off) => {
-                environment.state = Presence::Adding;
-                (Some(serde_json::json!([{ "add_light": environment.spec() }])), true)
-            }
-            (false, Presence::On(id)) if moved => (Some(serde_json::json!([{ "set_light": { "id": id, "light": environment.spec() } }])), false),
-            _ => (None, false),
-        };
-        if let Some(commands) = commands {
-            self.send(Request::Commands(commands));
+            Some(environment) => requests.extend(environment.controls(ui)),
         }
-        if refresh {
-            self.send(Request::RefreshScene);
+        // An image on this machine: uploaded, then the environment's map (or a new light's).
+        ui.horizontal(|ui| {
+            ui.add(egui::TextEdit::singleline(&mut self.environment_file).hint_text("HDR, PNG or JPEG file").desired_width(160.0));
+            let path = self.environment_file.trim();
+            if ui.add_enabled(!path.is_empty(), egui::Button::new("load")).clicked() {
+                let environment = self.environment.get_or_insert_with(Environment::uniform);
+                let id = match environment.state {
+                    Presence::On(id) => Some(id),
+                    Presence::Off | Presence::Adding => None,
+                };
+                environment.state = id.map_or(Presence::Adding, Presence::On);
+                requests.push(Request::EnvironmentImage { path: path.into(), id, light: environment.spec() });
+            }
+        });
+        for request in requests {
+            self.send(request);
         }
     }
 

@@ -83,3 +83,43 @@ fn frames_arrive_refine_and_follow_the_camera() {
     while events.recv_timeout(end.saturating_duration_since(Instant::now())).is_ok() {}
     assert!(Instant::now() < end, "the network thread stops when the viewer goes");
 }
+
+/// An image file on the viewer's machine lights the scene: uploaded as a texture and made the
+/// map of a new environment light, the scene fetched again shows it; a file that cannot be read
+/// is a problem named by its path, and the stream goes on.
+#[test]
+fn an_image_file_becomes_the_environment() {
+    let (_runtime, url) = server();
+    let settings = Settings { width: Some(32), height: Some(24), integrator: Some("eyelight".into()), max_samples: Some(1), ..Settings::default() };
+    let link = connect(StreamConfig { server: Server::parse(&url, None).unwrap(), scene: None, settings }, || {});
+    let deadline = Instant::now() + Duration::from_secs(30);
+    let Event::Scene(scene) = next(&link, deadline) else { panic!("the scene comes first") };
+    assert!(scene.lights.iter().all(|l| l.class != "EnvironmentLight"), "{:?}", scene.lights);
+
+    let dir = std::env::temp_dir().join(format!("raystage-client-environment-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let sky = dir.join("sky.png");
+    image::RgbImage::from_fn(8, 4, |_, y| if y < 2 { image::Rgb([120, 160, 255]) } else { image::Rgb([90, 80, 60]) }).save(&sky).unwrap();
+    let light = serde_json::json!({ "class": "EnvironmentLight", "radiance": [2.0, 2.0, 2.0], "map": null, "rotate": 90.0 });
+    link.requests.send(Request::EnvironmentImage { path: sky, id: None, light: light.clone() }).unwrap();
+    let lit = loop {
+        match next(&link, deadline) {
+            Event::Scene(scene) => break scene,
+            Event::Problem(problem) => panic!("{problem}"),
+            _ => {}
+        }
+    };
+    let environment = lit.lights.iter().find(|l| l.class == "EnvironmentLight").expect("an environment light was added");
+    assert!(environment.map.is_some(), "{environment:?}");
+    assert_eq!((environment.radiance, environment.rotate), (Some([2.0; 3]), Some(90.0)));
+
+    let missing = dir.join("missing.hdr");
+    link.requests.send(Request::EnvironmentImage { path: missing.clone(), id: Some(environment.id), light }).unwrap();
+    let problem = loop {
+        if let Event::Problem(problem) = next(&link, deadline) {
+            break problem;
+        }
+    };
+    assert!(problem.contains("missing.hdr"), "{problem}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -208,3 +208,49 @@ fn the_lighting_controls_edit_the_environment_light() {
     assert!((radiance - 1.05).abs() < 1e-6, "{commands}");
     assert_eq!(Request::Commands(commands.clone()).message(5).unwrap()["type"], "commands");
 }
+
+/// A studio can be made uniform and back (`set_light` with and without its map); a scene with
+/// no environment light gets a uniform one from a button; a file named in the panel is handed
+/// to the connection to upload, with the light it becomes the map of.
+#[test]
+fn the_lighting_controls_choose_uniform_image_or_a_file() {
+    let (mut harness, mut remote) = viewer();
+    let requests = |remote: &mut Remote| requests(remote).into_iter().filter(|r| !matches!(r, Request::Settings(_))).collect::<Vec<_>>();
+    let studio = LightInfo { id: 3, class: "EnvironmentLight".into(), radiance: Some([1.0; 3]), map: Some(1), rotate: Some(30.0) };
+    remote.events.send(Event::Scene(Box::new(SceneSnapshot { lights: vec![studio.clone()], ..scene() }))).unwrap();
+    remote.events.send(hello()).unwrap();
+    harness.run();
+    requests(&mut remote);
+
+    harness.get_by_label("uniform").click();
+    harness.run();
+    let uniform = json!({ "class": "EnvironmentLight", "radiance": [1.0, 1.0, 1.0], "map": null, "rotate": 30.0 });
+    assert_eq!(requests(&mut remote), [Request::Commands(json!([{ "set_light": { "id": 3, "light": uniform } }]))]);
+    // The scene fetched again shows the light without its map: the image can still be chosen.
+    let without_map = LightInfo { map: None, ..studio.clone() };
+    remote.events.send(Event::Scene(Box::new(SceneSnapshot { lights: vec![without_map], ..scene() }))).unwrap();
+    harness.run();
+    assert!(harness.query_by_label("environment: uniform").is_some());
+    harness.get_by_label("image").click();
+    harness.run();
+    let image = json!({ "class": "EnvironmentLight", "radiance": [1.0, 1.0, 1.0], "map": 1, "rotate": 30.0 });
+    assert_eq!(requests(&mut remote), [Request::Commands(json!([{ "set_light": { "id": 3, "light": image } }]))]);
+
+    harness.get_by_role(egui::accesskit::Role::TextInput).click();
+    harness.run();
+    harness.get_by_role(egui::accesskit::Role::TextInput).type_text("/skies/dusk.hdr");
+    harness.run();
+    harness.get_by_label("load").click();
+    harness.run();
+    assert_eq!(requests(&mut remote), [Request::EnvironmentImage { path: "/skies/dusk.hdr".into(), id: Some(3), light: image }]);
+
+    // No environment light at all: a button adds a uniform one.
+    let (mut harness, mut remote) = viewer();
+    remote.events.send(Event::Scene(Box::new(scene()))).unwrap();
+    harness.run();
+    assert!(harness.query_by_label("no environment light").is_some());
+    harness.get_by_label("add a uniform environment").click();
+    harness.run();
+    let white = json!({ "class": "EnvironmentLight", "radiance": [1.0, 1.0, 1.0], "map": null, "rotate": 0.0 });
+    assert_eq!(requests(&mut remote), [Request::Commands(json!([{ "add_light": white }])), Request::RefreshScene]);
+}
