@@ -164,6 +164,7 @@ impl Pbr {
 
 /// What a [`Pbr`]'s layers take of the albedo tables for one direction `wo` (see
 /// [`Pbr::energy`]).
+#[derive(Clone, Copy)]
 struct Energy {
     ggx: Ggx,
     /// `wo` as the tables see it.
@@ -218,16 +219,23 @@ impl Bsdf {
         }
     }
 
-    /// [`Bsdf::eval`] and [`Bsdf::pdf`] at once: a physically based function reads its albedo
-    /// tables once for both (next-event estimation needs both for each light sample).
+    /// [`Bsdf::eval`] and [`Bsdf::pdf`] at once (see [`Scattering::eval_pdf`]).
     pub fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
-        match *self {
-            Bsdf::PhysicallyBased(p) | Bsdf::Layer(p) if p.coat == 0.0 && p.sheen == Vec3::ZERO && wo.z > 0.0 && wi.z != 0.0 => {
+        self.towards(wo).eval_pdf(wi)
+    }
+
+    /// The function seen from `wo`: what its evaluations and samples for that direction share,
+    /// worked out once.
+    pub fn towards(&self, wo: Vec3) -> Scattering {
+        let shared = match *self {
+            Bsdf::PhysicallyBased(p) | Bsdf::Layer(p) if p.coat == 0.0 && p.sheen == Vec3::ZERO && wo.z > 0.0 => {
                 let energy = p.energy(wo.z);
-                (self.physically_based_eval(&energy, wo, wi), self.physically_based_pdf(wo, wi, self.lobe_probabilities(wo, &energy)))
+                let probabilities = self.lobe_probabilities(wo, &energy);
+                Some((p, energy, probabilities))
             }
-            _ => (self.eval(wo, wi), self.pdf(wo, wi)),
-        }
+            _ => None,
+        };
+        Scattering { bsdf: *self, wo, shared }
     }
 
     /// Density with which [`Bsdf::sample`] picks `wi` given `wo` (0 for delta lobes).
@@ -334,36 +342,8 @@ impl Bsdf {
                 let weight = schlick(reflectance, wo.dot(h)) * smith_g1(wi, alpha);
                 Some(BsdfSample { wi, weight, pdf: self.pdf(wo, wi), transmitted: false })
             }
-            Bsdf::PhysicallyBased(p @ Pbr { alpha, eta, thin, .. }) | Bsdf::Layer(p @ Pbr { alpha, eta, thin, .. }) => {
-                if wo.z <= 0.0 {
-                    return None;
-                }
-                // One lobe by its share of the light, the weight over every lobe's density (the
-                // one-sample model: unbiased whichever lobe drew it). A lobe's direction on the
-                // wrong side of the surface is refused, so that each side's density is that of
-                // the lobes that give directions there.
-                let energy = p.energy(wo.z);
-                let probabilities = self.lobe_probabilities(wo, &energy);
-                let [specular, _, transmitted] = probabilities;
-                let wi = if choose < specular {
-                    Some(reflect(wo, sample_visible_normal(wo, alpha, u))).filter(|wi| wi.z > 0.0)
-                } else if choose < specular + transmitted {
-                    let h = sample_visible_normal(wo, alpha, u);
-                    let reflected = reflect(wo, h);
-                    if thin {
-                        Some(Vec3::new(reflected.x, reflected.y, -reflected.z)).filter(|wi| wi.z < 0.0)
-                    } else {
-                        match refract_about(wo, h, eta) {
-                            Some(wi) => Some(wi).filter(|wi| wi.z < 0.0),
-                            None => Some(reflected).filter(|wi| wi.z > 0.0),
-                        }
-                    }
-                } else {
-                    Some(cosine_hemisphere(u))
-                }?;
-                let pdf = self.physically_based_pdf(wo, wi, probabilities);
-                (pdf > 0.0).then(|| BsdfSample { wi, weight: self.physically_based_eval(&energy, wo, wi) / pdf, pdf, transmitted: wi.z < 0.0 })
-            }
+            // Without coat or sheen (taken off above), seen from above: see Scattering::sample.
+            Bsdf::PhysicallyBased(_) | Bsdf::Layer(_) => (wo.z > 0.0).then(|| self.towards(wo).sample(u, choose))?,
             Bsdf::Glass { eta } => {
                 if wo.z <= 0.0 {
                     return None;
@@ -586,6 +566,68 @@ impl Bsdf {
             Bsdf::PhysicallyBased(p) if p.coat > 0.0 => Some((Bsdf::PhysicallyBased(Pbr { coat: 0.0, ..p }), p.coat, p.coat_alpha)),
             _ => None,
         }
+    }
+}
+
+/// A function seen from one direction `wo` ([`Bsdf::towards`]): a physically based function's
+/// albedo-table reads and lobe probabilities for `wo`, which every evaluation and sample for
+/// that direction shares. A path's vertex evaluates its function for each light sample and
+/// samples it once, all from the same `wo`: working these out once per vertex instead of at
+/// every call saved a sixth of the shading's instructions on the sphere grid
+/// (docs/performance.md).
+#[derive(Clone, Copy)]
+pub(crate) struct Scattering {
+    bsdf: Bsdf,
+    wo: Vec3,
+    /// For a physically based function without coat or sheen, seen from above: its factors,
+    /// what it takes of the tables for `wo`, and its lobes' probabilities.
+    shared: Option<(Pbr, Energy, [f32; 3])>,
+}
+
+impl Scattering {
+    /// The function.
+    pub fn bsdf(&self) -> &Bsdf {
+        &self.bsdf
+    }
+
+    /// BSDF × |cos θi| and the density with which [`Scattering::sample`] picks `wi`.
+    pub fn eval_pdf(&self, wi: Vec3) -> (Vec3, f32) {
+        match &self.shared {
+            Some((_, energy, probabilities)) if wi.z != 0.0 => {
+                (self.bsdf.physically_based_eval(energy, self.wo, wi), self.bsdf.physically_based_pdf(self.wo, wi, *probabilities))
+            }
+            _ => (self.bsdf.eval(self.wo, wi), self.bsdf.pdf(self.wo, wi)),
+        }
+    }
+
+    /// Samples a direction from two uniform numbers and a third for choosing a lobe, as
+    /// [`Bsdf::sample`] does.
+    pub fn sample(&self, u: [f32; 2], choose: f32) -> Option<BsdfSample> {
+        let Some((Pbr { alpha, eta, thin, .. }, energy, probabilities)) = &self.shared else { return self.bsdf.sample(self.wo, u, choose) };
+        let (wo, alpha, eta) = (self.wo, *alpha, *eta);
+        // One lobe by its share of the light, the weight over every lobe's density (the
+        // one-sample model: unbiased whichever lobe drew it). A lobe's direction on the wrong
+        // side of the surface is refused, so that each side's density is that of the lobes
+        // that give directions there.
+        let [specular, _, transmitted] = *probabilities;
+        let wi = if choose < specular {
+            Some(reflect(wo, sample_visible_normal(wo, alpha, u))).filter(|wi| wi.z > 0.0)
+        } else if choose < specular + transmitted {
+            let h = sample_visible_normal(wo, alpha, u);
+            let reflected = reflect(wo, h);
+            if *thin {
+                Some(Vec3::new(reflected.x, reflected.y, -reflected.z)).filter(|wi| wi.z < 0.0)
+            } else {
+                match refract_about(wo, h, eta) {
+                    Some(wi) => Some(wi).filter(|wi| wi.z < 0.0),
+                    None => Some(reflected).filter(|wi| wi.z > 0.0),
+                }
+            }
+        } else {
+            Some(cosine_hemisphere(u))
+        }?;
+        let pdf = self.bsdf.physically_based_pdf(wo, wi, *probabilities);
+        (pdf > 0.0).then(|| BsdfSample { wi, weight: self.bsdf.physically_based_eval(energy, wo, wi) / pdf, pdf, transmitted: wi.z < 0.0 })
     }
 }
 

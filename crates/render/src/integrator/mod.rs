@@ -29,7 +29,7 @@ use glam::Vec3;
 use raystage_kernel::{PACKET_SIZE, Ray};
 use raystage_scene::{Background, Frame, SceneHit, ShadingModel, SurfacePoint};
 
-use crate::bsdf::{Bsdf, fresnel_dielectric};
+use crate::bsdf::{Bsdf, Scattering, fresnel_dielectric};
 use crate::effects::EffectSet;
 use crate::footprint::PixelFootprint;
 use first_shadows::KnownShadows;
@@ -280,11 +280,11 @@ impl<'f> Tracer<'_, 'f> {
     /// against the BSDF sampling that could also find them (multiple importance sampling).
     /// Shadows already `known` (traced in packets for a camera ray's first hit) are not traced
     /// again.
-    #[allow(clippy::too_many_arguments)]
-    pub fn direct(&self, hit: &Hit<'f>, bsdf: &Bsdf, wo: Vec3, time: f32, known: KnownShadows, sampler: &mut PixelSampler, rays: &mut RayCounts) -> Vec3 {
+    /// `scattering` is the surface's function seen from the viewer, in the shading frame
+    /// ([`Tracer::scattering`]).
+    pub fn direct(&self, hit: &Hit<'f>, scattering: &Scattering, time: f32, known: KnownShadows, sampler: &mut PixelSampler, rays: &mut RayCounts) -> Vec3 {
         let sp = &hit.surface;
         let frame3 = Frame3::around(sp.shading_normal);
-        let wo_local = frame3.to_local(wo);
         let mut sum = self.lights.ambient() * hit.material.albedo;
         let random = self.effects.area_lights;
         for index in 0..self.lights.len() {
@@ -297,11 +297,10 @@ impl<'f> Tracer<'_, 'f> {
                 let u = if stochastic { sampler.next_2d() } else { [0.5, 0.5] };
                 let Some(ls) = self.lights.sample(index, sp.position, sp.shading_normal, u, !random) else { continue };
                 // Light from behind the surface reaches only what lets it through.
-                if sp.geometric_normal.dot(ls.wi) <= 0.0 && !bsdf.transmits() {
+                if sp.geometric_normal.dot(ls.wi) <= 0.0 && !scattering.bsdf().transmits() {
                     continue;
                 }
-                let wi_local = frame3.to_local(ls.wi);
-                let (f, pdf) = bsdf.eval_pdf(wo_local, wi_local);
+                let (f, pdf) = scattering.eval_pdf(frame3.to_local(ls.wi));
                 if f == Vec3::ZERO {
                     continue;
                 }
@@ -316,6 +315,11 @@ impl<'f> Tracer<'_, 'f> {
             sum += light / samples as f32;
         }
         sum
+    }
+
+    /// `bsdf` at `hit` seen from `wo` (a world direction), in the hit's shading frame.
+    pub fn scattering(hit: &Hit<'f>, bsdf: &Bsdf, wo: Vec3) -> Scattering {
+        bsdf.towards(Frame3::around(hit.surface.shading_normal).to_local(wo))
     }
 
     /// Ambient occlusion at `hit`: the fraction of `samples` cosine-distributed probes that

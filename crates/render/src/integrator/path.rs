@@ -77,12 +77,14 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, ray: &Ray, first: Hit<'_>, time: f32, sa
             break;
         }
         let bsdf = media.bsdf(&hit).expect("scattering material");
-        if !bsdf.is_specular() {
-            radiance += throughput * t.direct(&hit, &bsdf, wo, time, KnownShadows::NONE, sampler, rays);
-        }
         let frame3 = Frame3::around(hit.surface.shading_normal);
+        // Seen from `wo` once, for the light samples and the bounce alike.
+        let scattering = bsdf.towards(frame3.to_local(wo));
+        if !bsdf.is_specular() {
+            radiance += throughput * t.direct(&hit, &scattering, time, KnownShadows::NONE, sampler, rays);
+        }
         let (u, choose) = (sampler.next_2d(), sampler.next_1d());
-        let Some(s) = bsdf.sample(frame3.to_local(wo), u, choose) else { break };
+        let Some(s) = scattering.sample(u, choose) else { break };
         throughput *= s.weight;
         // A black surface (an emitter's, say) ends the path: nothing more can reach the camera.
         if throughput == Vec3::ZERO {

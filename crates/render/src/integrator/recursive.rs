@@ -126,7 +126,7 @@ impl<const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED: bool> Recursio
             ShadingModel::Mirror => Vec3::ZERO,
             ShadingModel::Glossy => {
                 let bsdf = m.bsdf.expect("glossy materials scatter");
-                let direct = t.direct(hit, &bsdf, wo, self.time, self.known(depth), self.sampler, self.rays);
+                let direct = t.direct(hit, &Tracer::scattering(hit, &bsdf, wo), self.time, self.known(depth), self.sampler, self.rays);
                 let reflected = if REFLECT && deeper { self.glossy_reflection(hit, &bsdf, m.albedo, wo, media, depth, weight) } else { Vec3::ZERO };
                 direct + reflected
             }
@@ -136,7 +136,7 @@ impl<const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED: bool> Recursio
                 // surface shows what is behind it, as glass does.
                 let bsdf = media.bsdf(hit).expect("physically based materials scatter");
                 let emitted = t.surface_emission(ray, hit, seen);
-                let direct = t.direct(hit, &bsdf, wo, self.time, self.known(depth), self.sampler, self.rays);
+                let direct = t.direct(hit, &Tracer::scattering(hit, &bsdf, wo), self.time, self.known(depth), self.sampler, self.rays);
                 let cos_o = wo.dot(hit.surface.shading_normal);
                 let reflected = match bsdf.specular_layer(cos_o) {
                     Some((layer, mirror)) if REFLECT && deeper => self.glossy_reflection(hit, &layer, mirror, wo, media, depth, weight),
@@ -153,7 +153,7 @@ impl<const REFLECT: bool, const REFRACT: bool, const DISTRIBUTED: bool> Recursio
             }
             ShadingModel::Diffuse | ShadingModel::VertexColor | ShadingModel::Phong => {
                 let bsdf = m.bsdf.expect("matte materials scatter");
-                t.direct(hit, &bsdf, wo, self.time, self.known(depth), self.sampler, self.rays)
+                t.direct(hit, &Tracer::scattering(hit, &bsdf, wo), self.time, self.known(depth), self.sampler, self.rays)
             }
         };
         colour * attenuation
