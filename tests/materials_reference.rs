@@ -142,10 +142,22 @@ struct Comparison {
 }
 
 impl Comparison {
-    /// `image` against `reference`, both of `scene`'s size.
+    /// `image` against `reference`, both of `scene`'s size. Of the transmitting spheres only
+    /// the smooth ones (the left column, clear and absorbing) are judged: Mitsuba's rough
+    /// dielectric scatters once, where raystage's keeps the light its facets would scatter
+    /// between (Turquin's compensation, as Cycles' glass; `tests/cycles_reference.rs` judges
+    /// the rough ones against Cycles).
     fn of(scene: MaterialScene, image: &[Vec3], reference: &[Vec3]) -> Comparison {
         let (width, height) = scene.size();
         let (width, height) = (width as usize, height as usize);
+        let (image, reference, width) = match scene {
+            MaterialScene::Transmission => {
+                let smooth = 0..height / 2;
+                (image_compare::crop(image, width, smooth.clone(), 0..height), image_compare::crop(reference, width, smooth, 0..height), height / 2)
+            }
+            _ => (image.to_vec(), reference.to_vec(), width),
+        };
+        let (image, reference) = (image.as_slice(), reference.as_slice());
         let worst_cell = match scene {
             // Two rows of square cells.
             MaterialScene::Spheres | MaterialScene::Transmission => image_compare::cell_differences(image, reference, width, height / 2).into_iter().fold(0.0, f32::max),
@@ -237,7 +249,6 @@ fn the_comparison_fails_broken_materials() {
 fn the_comparison_fails_broken_transmission() {
     let set = |name: &'static str, value: ParamValue| move |scene: &mut Scene, id| scene.set_param(id, name, value).map(drop).unwrap();
     assert_fails("ior ignored", MaterialScene::Transmission, set("ior", ParamValue::Float(1.0)));
-    assert_fails("roughness ignored", MaterialScene::Transmission, set("roughness", ParamValue::Float(0.0)));
     assert_fails("absorption ignored", MaterialScene::Transmission, set("attenuation_color", ParamValue::Color(Vec3::ONE)));
     assert_fails("thin walls for volumes", MaterialScene::Transmission, set("thickness", ParamValue::Float(0.0)));
 }

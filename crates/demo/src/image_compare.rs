@@ -71,3 +71,9 @@ pub fn cell_differences(image: &[Vec3], reference: &[Vec3], width: usize, side: 
     let (a, b) = (cell_means(image, width, side), cell_means(reference, width, side));
     a.iter().zip(&b).map(|(a, b)| (*a / *b - Vec3::ONE).abs().max_element()).collect()
 }
+
+/// The pixels of `image` (rows of `width`) in columns `columns` of rows `rows`, row by row: the
+/// part of two images a comparison judges, where the rest differs by convention.
+pub fn crop(image: &[Vec3], width: usize, columns: std::ops::Range<usize>, rows: std::ops::Range<usize>) -> Vec<Vec3> {
+    rows.flat_map(|y| image[y * width + columns.start..y * width + columns.end].iter().copied()).collect()
+}

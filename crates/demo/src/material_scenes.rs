@@ -80,8 +80,14 @@ impl MaterialScene {
     /// theirs is one it translates.
     pub const MITSUBA: [MaterialScene; 4] = [MaterialScene::Spheres, MaterialScene::NormalMapped, MaterialScene::Cutout, MaterialScene::Transmission];
     /// The scenes Blender's Cycles renders (`scripts/references/cycles_gltf.py`).
-    pub const CYCLES: [MaterialScene; 5] =
-        [MaterialScene::Spheres, MaterialScene::Furnace, MaterialScene::NormalMapped, MaterialScene::Cutout, MaterialScene::VertexColours];
+    pub const CYCLES: [MaterialScene; 6] = [
+        MaterialScene::Spheres,
+        MaterialScene::Furnace,
+        MaterialScene::NormalMapped,
+        MaterialScene::Cutout,
+        MaterialScene::VertexColours,
+        MaterialScene::Transmission,
+    ];
     /// Every scene.
     pub const ALL: [MaterialScene; 6] = [
         MaterialScene::Spheres,
