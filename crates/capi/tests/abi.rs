@@ -639,3 +639,72 @@ fn the_header_documents_every_class_and_parameter() {
         }
     }
 }
+
+/// `rtSwapBuffersKept` renders what `rtSwapBuffers` renders into lent memory, into a frame buffer
+/// the library keeps, whose size `RT_VIEWPORT` and `rtPick` then take; `rtReadPixels` copies any
+/// rectangle of it out, as bytes or floats. A refused kept frame leaves the lent frame buffer.
+#[test]
+fn a_kept_frame_buffer_is_read_back_as_the_lent_one_is_written() {
+    let diffuse_shader = shader(c"Diffuse");
+    rtBindShader(diffuse_shader);
+    rtParameter3f(handle(c"diffuse"), 0.0, 1.0, 0.0);
+    let object = rtGenObjects(1);
+    rtNewObject(object, RT_COMPILE);
+    triangle(1.5);
+    rtEndObject();
+    rtInstantiateObject(object);
+    rtLookAt(0.0, 0.0, 6.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0);
+    let (w, h) = (64, 32);
+    let lent = frame_buffer(w, h);
+    rtSwapBuffers();
+    assert_no_error();
+
+    // Refused inside a definition: the lent frame buffer stays.
+    rtNewObject(object, RT_COMPILE);
+    assert_eq!(rtSwapBuffersKept(16, 16), 0);
+    assert_error(RT_INVALID_OPERATION, "rtSwapBuffersKept while object");
+    triangle(1.5);
+    rtEndObject();
+    assert_eq!(rtSwapBuffersKept(0, 16), 0);
+    assert_error(RT_INVALID_VALUE, "each side must be 1 to");
+    let mut viewport = [0 as RTint; 4];
+    unsafe { rtGetIntegerv(RT_VIEWPORT, viewport.as_mut_ptr()) };
+    assert_eq!(viewport, [0, 0, w as RTint, h as RTint], "the lent frame buffer, still");
+
+    assert_eq!(rtSwapBuffersKept(w, h), 1);
+    assert_no_error();
+    unsafe { rtGetIntegerv(RT_VIEWPORT, viewport.as_mut_ptr()) };
+    assert_eq!(viewport, [0, 0, w as RTint, h as RTint]);
+    let mut kept = vec![0u8; w * h * 4];
+    unsafe { rtReadPixels(0, 0, w, h, RT_RGBA8, kept.as_mut_ptr().cast()) };
+    assert_no_error();
+    assert!(kept == lent, "the kept frame is the frame rendered into lent memory");
+    let mut instance = 0;
+    assert_eq!(unsafe { rtPick(42, 17, &mut instance, std::ptr::null_mut(), std::ptr::null_mut()) }, 1, "rtPick in the kept frame");
+
+    // A rectangle, as floats: the triangle's green, linear, and the alpha 1.
+    let mut floats = [0.0f32; 2 * 4];
+    unsafe { rtReadPixels(42, 20, 2, 1, RT_RGBA32F, floats.as_mut_ptr().cast()) };
+    assert_no_error();
+    assert!(floats[1] > 0.3 && floats[0] < 0.05 && floats[3] == 1.0, "pixel (42, 20) reads {floats:?}");
+    unsafe { rtReadPixels(63, 0, 2, 1, RT_RGBA8, kept.as_mut_ptr().cast()) };
+    assert_error(RT_INVALID_VALUE, "not all inside the last frame, 64 × 32");
+    unsafe { rtReadPixels(0, 0, 1, 1, RT_RGBA8, std::ptr::null_mut()) };
+    assert_error(RT_INVALID_VALUE, "pixels is NULL");
+    rtResetContext();
+    unsafe { rtReadPixels(0, 0, 1, 1, RT_RGBA8, kept.as_mut_ptr().cast()) };
+    assert_error(RT_INVALID_OPERATION, "no frame has been rendered");
+}
+
+/// `rtRecordError` records as any call does: the first error sticks, with its call's name, and
+/// a code that is not an error's is refused.
+#[test]
+fn a_library_records_its_errors_as_calls_do() {
+    unsafe { rtRecordError(RT_INVALID_OPERATION, c"rtutMainLoop".as_ptr(), c"needs a window".as_ptr()) };
+    unsafe { rtRecordError(RT_INVALID_VALUE, c"rtutInit".as_ptr(), c"a later error".as_ptr()) };
+    assert_error(RT_INVALID_OPERATION, "rtutMainLoop: needs a window");
+    unsafe { rtRecordError(RT_NO_ERROR, c"rtutInit".as_ptr(), c"no error".as_ptr()) };
+    assert_error(RT_INVALID_ENUM, "rtRecordError: 0x0 is not an error code");
+    unsafe { rtRecordError(RT_IO_ERROR, std::ptr::null(), c"lost".as_ptr()) };
+    assert_error(RT_INVALID_VALUE, "rtRecordError: call is NULL");
+}

@@ -1,6 +1,9 @@
-//! RTUT, the seed's GLUT replacement: a window for a program's frames and the callbacks that
-//! drive it. A GLUT program ports by renaming `glut*` to `rtut*` and calling `rtutSwapBuffers`
-//! where it called `glutSwapBuffers`:
+//! # RTUT
+//!
+//! RTUT, OpenRT's GLUT replacement (docs/design/seeds.md §1.1): a window for a program's frames
+//! and the callbacks that drive it, as the C library `librtut.so` with its header `rtut.h`. A
+//! GLUT program ports by renaming `glut*` to `rtut*` and calling `rtutSwapBuffers` where it
+//! called `glutSwapBuffers`:
 //!
 //! ```c
 //! rtutInit(&argc, argv);
@@ -23,11 +26,33 @@
 //! Unlike GLUT, `rtutMainLoop` returns (when the window closes or `rtutLeaveMainLoop` is
 //! called), so the program can clean up; it runs on the thread that calls it, whose context
 //! the callbacks use. Errors are recorded as every `rt*` call's are (`rtGetError`).
+//!
+//! RTUT is written on rt.h alone, as GLUT is on GL (the `rt` module): it renders with
+//! `rtSwapBuffersKept`, copies frames out with `rtReadPixels` and reports errors with
+//! `rtRecordError`, all of libraystage.so, so that a program that opens no window links no
+//! window toolkit, and RTUT holds no C ABI state of its own. `rtut.h` is generated from this
+//! file by cbindgen (crates/capi/tests/header.rs).
 
-use std::ffi::{c_char, c_int};
+#![allow(non_snake_case)]
 
-use crate::boundary::{c_str, call};
-use crate::rtut::{self, RTUTkeyboardfunc, RTUTmousefunc, RTUTreshapefunc, RTUTvoidfunc};
+mod rt;
+mod state;
+mod window;
+
+use std::ffi::{CStr, c_char, c_int, c_uchar};
+
+use crate::rt::{Error, record};
+use crate::state::with;
+
+/// A display, idle or other callback without arguments.
+pub type RTUTvoidfunc = Option<unsafe extern "C" fn()>;
+/// A reshape callback: the window's new width and height in pixels.
+pub type RTUTreshapefunc = Option<unsafe extern "C" fn(c_int, c_int)>;
+/// A keyboard callback: the key's ASCII code and the pointer's position in pixels.
+pub type RTUTkeyboardfunc = Option<unsafe extern "C" fn(c_uchar, c_int, c_int)>;
+/// A mouse callback: the button (`RTUT_LEFT_BUTTON`, ...), its state (`RTUT_DOWN`, `RTUT_UP`)
+/// and the pointer's position in pixels.
+pub type RTUTmousefunc = Option<unsafe extern "C" fn(c_int, c_int, c_int, c_int)>;
 
 /// The left mouse button, as the mouse callback names it (GLUT's `GLUT_LEFT_BUTTON`).
 pub const RTUT_LEFT_BUTTON: c_int = 0;
@@ -45,10 +70,7 @@ pub const RTUT_UP: c_int = 1;
 #[unsafe(no_mangle)]
 pub extern "C" fn rtutInit(argc: *mut c_int, argv: *mut *mut c_char) {
     let _ = (argc, argv);
-    call("rtutInit", |_| {
-        rtut::with(|r| r.init());
-        Ok(())
-    })
+    with(|r| r.init());
 }
 
 /// The size of the window's inside in pixels (each side 1 to `RT_MAX_FRAMEBUFFER_SIZE`;
@@ -56,7 +78,9 @@ pub extern "C" fn rtutInit(argc: *mut c_int, argv: *mut *mut c_char) {
 /// `rtutCreateWindow`.
 #[unsafe(no_mangle)]
 pub extern "C" fn rtutInitWindowSize(width: c_int, height: c_int) {
-    call("rtutInitWindowSize", |_| rtut::with(|r| r.init_window_size(width, height)))
+    if let Err(error) = with(|r| r.init_window_size(width, height)) {
+        record("rtutInitWindowSize", error);
+    }
 }
 
 /// Makes the window (shown when `rtutMainLoop` runs) and returns its id, 1, or 0 on error: RTUT
@@ -66,10 +90,14 @@ pub extern "C" fn rtutInitWindowSize(width: c_int, height: c_int) {
 /// `title` must be NULL (an error) or a NUL-terminated string.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn rtutCreateWindow(title: *const c_char) -> c_int {
-    call("rtutCreateWindow", |_| {
+    let created = match title.is_null() {
+        true => Err(Error::invalid_value("title is NULL")),
         // SAFETY: the caller's promise above.
-        let title = unsafe { c_str(title, "title")? }.to_string_lossy().into_owned();
-        rtut::with(|r| r.create_window(title))
+        false => with(|r| r.create_window(unsafe { CStr::from_ptr(title) }.to_string_lossy().into_owned())),
+    };
+    created.unwrap_or_else(|error| {
+        record("rtutCreateWindow", error);
+        0
     })
 }
 
@@ -77,7 +105,7 @@ pub unsafe extern "C" fn rtutCreateWindow(title: *const c_char) -> c_int {
 /// frame with `rtutSwapBuffers`. NULL removes it.
 #[unsafe(no_mangle)]
 pub extern "C" fn rtutDisplayFunc(func: RTUTvoidfunc) {
-    rtut::with(|r| r.callbacks.display = func);
+    with(|r| r.callbacks.display = func);
 }
 
 /// The reshape callback: called with the window's size in pixels when the window is first
@@ -85,7 +113,7 @@ pub extern "C" fn rtutDisplayFunc(func: RTUTvoidfunc) {
 /// removes it.
 #[unsafe(no_mangle)]
 pub extern "C" fn rtutReshapeFunc(func: RTUTreshapefunc) {
-    rtut::with(|r| r.callbacks.reshape = func);
+    with(|r| r.callbacks.reshape = func);
 }
 
 /// The keyboard callback: called for each key that types an ASCII character (and for Escape 27,
@@ -93,7 +121,7 @@ pub extern "C" fn rtutReshapeFunc(func: RTUTreshapefunc) {
 /// window's top left. NULL removes it.
 #[unsafe(no_mangle)]
 pub extern "C" fn rtutKeyboardFunc(func: RTUTkeyboardfunc) {
-    rtut::with(|r| r.callbacks.keyboard = func);
+    with(|r| r.callbacks.keyboard = func);
 }
 
 /// The mouse callback: called when a button goes down or up, with the button
@@ -102,29 +130,33 @@ pub extern "C" fn rtutKeyboardFunc(func: RTUTkeyboardfunc) {
 /// buffer's: `rtPick(x, y, ...)` tells what is there. NULL removes it.
 #[unsafe(no_mangle)]
 pub extern "C" fn rtutMouseFunc(func: RTUTmousefunc) {
-    rtut::with(|r| r.callbacks.mouse = func);
+    with(|r| r.callbacks.mouse = func);
 }
 
 /// The idle callback: called whenever no redisplay is posted and no event is waiting, for
 /// animation (it edits the scene and calls `rtutPostRedisplay`). NULL removes it.
 #[unsafe(no_mangle)]
 pub extern "C" fn rtutIdleFunc(func: RTUTvoidfunc) {
-    rtut::with(|r| r.callbacks.idle = func);
+    with(|r| r.callbacks.idle = func);
 }
 
 /// Asks for the display callback to be called once more, as soon as the loop can.
 #[unsafe(no_mangle)]
 pub extern "C" fn rtutPostRedisplay() {
-    rtut::with(|r| r.redisplay = true);
+    with(|r| r.redisplay = true);
 }
 
 /// Renders a frame of the scene as it is now (as `rtSwapBuffers` does, frame semantics and
-/// all) into the window's frame buffer, which RTUT lends the context at the window's size, and
-/// shows it; headless, also writes it as the next PNG file. Call it from the callbacks of
-/// `rtutMainLoop` (`RT_INVALID_OPERATION` outside it, or without a window).
+/// all) at the window's size in pixels with `rtSwapBuffersKept`, whose frame buffer becomes the
+/// context's (so `rtPick` takes the window's pixels), and shows it; headless, writes it as the
+/// next PNG file instead (`rtWritePNG`). Call it from the callbacks of `rtutMainLoop`
+/// (`RT_INVALID_OPERATION` outside it, or without a window). A frame `rtSwapBuffersKept`
+/// refuses records its error under that name and changes nothing.
 #[unsafe(no_mangle)]
 pub extern "C" fn rtutSwapBuffers() {
-    call("rtutSwapBuffers", |ctx| rtut::with(|r| r.swap_buffers(ctx)))
+    if let Err(error) = with(|r| r.swap_buffers()) {
+        record("rtutSwapBuffers", error);
+    }
 }
 
 /// Shows the window and calls the callbacks until the window closes or `rtutLeaveMainLoop` is
@@ -134,14 +166,15 @@ pub extern "C" fn rtutSwapBuffers() {
 /// with its reason. Most window systems allow one window loop per process.
 #[unsafe(no_mangle)]
 pub extern "C" fn rtutMainLoop() {
-    // The loop runs outside any `rt*` call: its callbacks make their own.
-    let Some(backend) = call("rtutMainLoop", |_| rtut::plan().map(Some)) else { return };
-    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| rtut::run(backend))).unwrap_or_else(|panic| {
-        let what = panic.downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| panic.downcast_ref::<String>().cloned());
-        Err(crate::error::Error::internal(format!("the main loop panicked: {} (please report this bug)", what.unwrap_or_default())))
+    let result = state::plan().and_then(|backend| {
+        // A panic must not unwind into C.
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| state::run(backend))).unwrap_or_else(|panic| {
+            let what = panic.downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| panic.downcast_ref::<String>().cloned());
+            Err(Error::internal(format!("the main loop panicked: {} (please report this bug)", what.unwrap_or_default())))
+        })
     });
     if let Err(error) = result {
-        call::<()>("rtutMainLoop", |_| Err(error));
+        record("rtutMainLoop", error);
     }
 }
 
@@ -149,5 +182,5 @@ pub extern "C" fn rtutMainLoop() {
 /// `glutLeaveMainLoop`): the window closes and `rtutMainLoop` returns.
 #[unsafe(no_mangle)]
 pub extern "C" fn rtutLeaveMainLoop() {
-    rtut::with(|r| r.leave = true);
+    with(|r| r.leave = true);
 }
