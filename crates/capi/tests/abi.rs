@@ -640,6 +640,42 @@ fn the_header_documents_every_class_and_parameter() {
     }
 }
 
+/// Where rt.h gives a number's range ("shininess (1f, the Blinn-Phong exponent, 1 to 10000)"),
+/// it is the range the library takes (`rtGetShaderParameterRange`): the header does not promise
+/// values the calls refuse.
+#[test]
+fn the_header_gives_the_ranges_the_library_takes() {
+    use std::ffi::CStr;
+    let header = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../api/include/raystage/rt.h")).unwrap();
+    let header = header.replace("\n * ", " ");
+    let text = |p: *const std::ffi::c_char| unsafe { CStr::from_ptr(p) }.to_str().unwrap().to_string();
+    let mut checked = 0;
+    for c in 0..rtGetShaderClassCount() {
+        let class = text(rtGetShaderClassName(c));
+        let Some(start) = header.find(&format!("- \"{class}\":")) else { continue };
+        let entry = &header[start + 1..];
+        let entry = &entry[..entry.find("- \"").unwrap_or(entry.len())];
+        for p in 0..rtGetShaderParameterCount(c) {
+            let param = text(rtGetShaderParameterName(c, p));
+            let Some(at) = entry.match_indices(&format!("{param} (1f, ")).map(|(i, _)| i).find(|&i| !entry[..i].ends_with(|ch: char| ch.is_alphanumeric() || ch == '_')) else {
+                continue;
+            };
+            // The range closes the parenthesis: "... A to B)".
+            let inside = &entry[at..][..entry[at..].find(')').unwrap()];
+            let words: Vec<&str> = inside.split([' ', ',']).filter(|w| !w.is_empty()).collect();
+            let Some(to) = words.iter().rposition(|&w| w == "to") else { continue };
+            let number = |w: &str| w.trim_end_matches([';', ':', '.']).parse::<f32>();
+            let (Ok(least), Ok(most)) = (number(words[to - 1]), number(words[to + 1])) else { continue };
+            let mut range = [0.0f32; 2];
+            unsafe { rtGetShaderParameterRange(c, p, range.as_mut_ptr()) };
+            assert_eq!(range, [least, most], "rt.h gives {class}'s {param} {least} to {most}; the library takes {range:?}");
+            checked += 1;
+        }
+    }
+    assert_no_error();
+    assert!(checked >= 3, "only {checked} ranges found in rt.h");
+}
+
 /// `rtSwapBuffersKept` renders what `rtSwapBuffers` renders into lent memory, into a frame buffer
 /// the library keeps, whose size `RT_VIEWPORT` and `rtPick` then take; `rtReadPixels` copies any
 /// rectangle of it out, as bytes or floats. A refused kept frame leaves the lent frame buffer.
