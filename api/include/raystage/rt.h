@@ -593,10 +593,14 @@ typedef uint32_t RTuint;
 #define RT_MAX_LIGHT_SAMPLES 256
 
 /**
- * Largest magnitude of a vertex coordinate once transformed by the modelview matrix, of a
- * matrix's translation, and of the camera's points and planes: `rtVertex*`, `rtTriangleMesh`,
- * the matrix calls, `rtLookAt`, `rtOrtho` and `rtFrustum` refuse more with `RT_INVALID_VALUE`. Single-precision arithmetic renders scenes within it correctly; beyond it
- * shading and hit points lose their precision, and squared distances overflow.
+ * Largest magnitude of a vertex coordinate once transformed by the modelview matrix, of an
+ * instance's reach (its object's bounds placed by the matrix), of a matrix's translation, and
+ * of the camera's points and planes: `rtVertex*`, `rtTriangleMesh`, `rtInstantiateObject`,
+ * `rtMoveInstance`, `rtInstanceMotion`, the matrix calls, `rtLookAt`, `rtOrtho` and `rtFrustum`
+ * refuse more with `RT_INVALID_VALUE`. A matrix's other entries (its scale, its rotation) need
+ * only be finite: the bound is on what the matrix places, so a large scale may place a small
+ * object. Single-precision arithmetic renders scenes within it correctly; beyond it shading and
+ * hit points lose their precision, and squared distances overflow.
  */
 #define RT_MAX_COORDINATE 1e8
 
@@ -1128,7 +1132,8 @@ void rtTranslatef(RTfloat x, RTfloat y, RTfloat z);
 void rtRotatef(RTfloat angle, RTfloat x, RTfloat y, RTfloat z);
 
 /**
- * Multiplies the top matrix by a scaling.
+ * Multiplies the top matrix by a scaling: any finite factors (`RT_MAX_COORDINATE` bounds what
+ * the matrix places, not its scale).
  */
 void rtScalef(RTfloat x, RTfloat y, RTfloat z);
 

@@ -744,3 +744,38 @@ fn a_library_records_its_errors_as_calls_do() {
     unsafe { rtRecordError(RT_IO_ERROR, std::ptr::null(), c"lost".as_ptr()) };
     assert_error(RT_INVALID_VALUE, "rtRecordError: call is NULL");
 }
+
+/// `RT_MAX_COORDINATE` bounds what a matrix places, and its translation, not its other entries:
+/// rt.h says so, the matrix calls take any finite scale (a large one may place a small object
+/// well within the bound), and vertices or instances placed beyond the bound are refused.
+#[test]
+fn the_largest_coordinate_bounds_what_matrices_place_not_their_scale() {
+    let header = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../api/include/raystage/rt.h")).unwrap();
+    let doc = &header[..header.find("#define RT_MAX_COORDINATE").unwrap()];
+    let doc = doc[doc.rfind("/**").unwrap()..].replace("\n * ", " ");
+    assert!(doc.contains("need only be finite"), "rt.h's RT_MAX_COORDINATE does not say what the matrix calls take:\n{doc}");
+
+    let object = rtGenObjects(1);
+    rtNewObject(object, RT_COMPILE);
+    rtScalef(2e8, 1.0, 1.0);
+    rtScaled(1.0, -2e8, 1.0);
+    let mut m = [0.0f64; 16];
+    (m[0], m[5], m[10], m[15]) = (2e8, 1.0, 1.0, 1.0);
+    unsafe { rtMultMatrixd(m.as_ptr()) };
+    assert_no_error();
+    rtBegin(RT_TRIANGLES);
+    rtVertex3f(1e-9, 0.0, 0.0);
+    rtVertex3f(0.0, 1e-9, 0.0);
+    rtVertex3f(0.0, 0.0, 0.0);
+    assert_no_error();
+    rtVertex3f(1.0, 0.0, 0.0);
+    assert_error(RT_INVALID_VALUE, "beyond RT_MAX_COORDINATE");
+    rtEnd();
+    rtEndObject();
+    assert_no_error();
+    rtLoadIdentity();
+    rtScalef(1e10, 1.0, 1.0);
+    assert_no_error();
+    assert_eq!(rtInstantiateObject(object), 0, "an instance of the object, placed 1e10 times larger");
+    assert_error(RT_INVALID_VALUE, "beyond RT_MAX_COORDINATE");
+}
