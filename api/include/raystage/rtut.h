@@ -5,7 +5,8 @@
  * no window needs neither this header nor that library, and links no window toolkit.
  *
  * Without a display (or with RTUT_HEADLESS=1) the same program runs headless and writes its
- * frames as PNG files. Errors are recorded as rt.h's are, and read with rtGetError.
+ * frames as PNG files (rtutMainLoop says how). Errors are recorded as rt.h's are, and read with
+ * rtGetError.
  */
 
 #ifndef RAYSTAGE_RTUT_H
@@ -138,10 +139,18 @@ void rtutSwapBuffers(void);
 
 /**
  * Shows the window and calls the callbacks until the window closes or `rtutLeaveMainLoop` is
- * called, then returns (headless: until the frames are written; see the module's
- * documentation). `RT_INVALID_OPERATION` without a window or a display callback, or inside a
- * running loop; a window system that fails (no display it can open) is `RT_INTERNAL_ERROR`
- * with its reason. Most window systems allow one window loop per process.
+ * called, then returns. `RT_INVALID_OPERATION` without a window or a display callback, or
+ * inside a running loop; a window system that fails (no display it can open) is
+ * `RT_INTERNAL_ERROR` with its reason. Most window systems allow one window loop per process.
+ * `RTUT_SCREENSHOT=FILE.png` saves what the window showed once its first frame was on screen.
+ *
+ * Headless, where neither `DISPLAY` nor `WAYLAND_DISPLAY` is set or `RTUT_HEADLESS` is: the
+ * reshape callback once, then display whenever a redisplay is posted and idle otherwise; each
+ * frame `rtutSwapBuffers` renders is written as the file `RTUT_OUTPUT-NNNN.png`, `RTUT_OUTPUT`
+ * naming the files up to the dash before their number (`rtut-frame` by default, so
+ * `rtut-frame-0000.png`, `rtut-frame-0001.png`, ...; `RTUT_OUTPUT=out/shot` writes
+ * `out/shot-0000.png`); the loop returns after `RTUT_FRAMES` frames (default 1), or when
+ * nothing is left to do.
  */
 void rtutMainLoop(void);
 

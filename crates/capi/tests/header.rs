@@ -41,3 +41,20 @@ fn the_checked_in_header_matches_the_source() {
 fn the_checked_in_rtut_header_matches_the_source() {
     check(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../rtut"), "rtut.h");
 }
+
+/// rtut.h documents every environment variable RTUT reads (crates/rtut/src/state.rs), and
+/// `RTUT_OUTPUT` as the library uses it: the files' name before `-NNNN.png`, not a prefix that
+/// the number would follow directly.
+#[test]
+fn rtut_h_documents_the_environment_rtut_reads() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let source = std::fs::read_to_string(root.join("crates/rtut/src/state.rs")).expect("RTUT's source");
+    let header = std::fs::read_to_string(root.join("api/include/raystage/rtut.h")).expect("rtut.h").replace("\n * ", " ");
+    let read: Vec<&str> = source.split("env(\"").skip(1).filter_map(|s| s.split('"').next()).filter(|v| v.starts_with("RTUT_")).collect();
+    assert!(read.contains(&"RTUT_OUTPUT") && read.len() >= 4, "the variables RTUT reads: {read:?}");
+    for variable in read {
+        assert!(header.contains(variable), "rtut.h does not document {variable}");
+    }
+    assert!(header.contains("RTUT_OUTPUT-NNNN.png") && source.contains("\"-{:04}.png\""), "rtut.h names the files as RTUT writes them");
+    assert!(!header.contains("prefix"), "RTUT_OUTPUT is followed by -NNNN.png, not by the number alone");
+}

@@ -14,14 +14,9 @@
 //! rtutMainLoop();                // returns when the window closes
 //! ```
 //!
-//! The window is the viewer's toolkit (egui on OpenGL, X11 or Wayland). Without a display
-//! (neither `DISPLAY` nor `WAYLAND_DISPLAY` set, or `RTUT_HEADLESS` set) the same program runs
-//! headless: `rtutMainLoop` calls the reshape callback once, then display whenever a redisplay
-//! is posted and idle otherwise, writes each frame `rtutSwapBuffers` renders as
-//! `RTUT_OUTPUT-NNNN.png` (`rtut-frame-0000.png`, ... by default) and returns after
-//! `RTUT_FRAMES` frames (default 1), or when nothing is left to do. In a window,
-//! `RTUT_SCREENSHOT=FILE.png` saves what the window showed once its first frame was on screen,
-//! when the loop ends.
+//! The window is the viewer's toolkit (egui on OpenGL, X11 or Wayland). Without a display the
+//! same program runs headless and writes its frames as PNG files (`rtutMainLoop` says how, and
+//! which environment variables steer it).
 //!
 //! Unlike GLUT, `rtutMainLoop` returns (when the window closes or `rtutLeaveMainLoop` is
 //! called), so the program can clean up; it runs on the thread that calls it, whose context
@@ -160,10 +155,18 @@ pub extern "C" fn rtutSwapBuffers() {
 }
 
 /// Shows the window and calls the callbacks until the window closes or `rtutLeaveMainLoop` is
-/// called, then returns (headless: until the frames are written; see the module's
-/// documentation). `RT_INVALID_OPERATION` without a window or a display callback, or inside a
-/// running loop; a window system that fails (no display it can open) is `RT_INTERNAL_ERROR`
-/// with its reason. Most window systems allow one window loop per process.
+/// called, then returns. `RT_INVALID_OPERATION` without a window or a display callback, or
+/// inside a running loop; a window system that fails (no display it can open) is
+/// `RT_INTERNAL_ERROR` with its reason. Most window systems allow one window loop per process.
+/// `RTUT_SCREENSHOT=FILE.png` saves what the window showed once its first frame was on screen.
+///
+/// Headless, where neither `DISPLAY` nor `WAYLAND_DISPLAY` is set or `RTUT_HEADLESS` is: the
+/// reshape callback once, then display whenever a redisplay is posted and idle otherwise; each
+/// frame `rtutSwapBuffers` renders is written as the file `RTUT_OUTPUT-NNNN.png`, `RTUT_OUTPUT`
+/// naming the files up to the dash before their number (`rtut-frame` by default, so
+/// `rtut-frame-0000.png`, `rtut-frame-0001.png`, ...; `RTUT_OUTPUT=out/shot` writes
+/// `out/shot-0000.png`); the loop returns after `RTUT_FRAMES` frames (default 1), or when
+/// nothing is left to do.
 #[unsafe(no_mangle)]
 pub extern "C" fn rtutMainLoop() {
     let result = state::plan().and_then(|backend| {

@@ -129,10 +129,10 @@ impl Rtut {
             return Ok(());
         }
         match &self.headless {
-            Some(prefix) => {
-                let mut path = prefix.clone().into_os_string();
+            Some(name) => {
+                let mut path = name.clone().into_os_string();
                 path.push(format!("-{:04}.png", self.swapped));
-                let path = CString::new(path.as_bytes()).map_err(|_| Error::invalid_value("RTUT_OUTPUT has a NUL byte"))?;
+                let path = CString::new(path.as_bytes()).expect("an environment variable holds no NUL byte");
                 rt::write_png(&path);
             }
             None => self.shown = ((width, height), rt::read_frame(width, height)),
@@ -147,15 +147,16 @@ pub(crate) enum Backend {
     /// A window titled so, of the size asked for; with a screenshot of it saved at the path once
     /// it shows its first frame (`RTUT_SCREENSHOT`).
     Window { title: String, size: (u32, u32), screenshot: Option<PathBuf> },
-    /// No display: each frame swapped is written as `PREFIX-NNNN.png` (the prefix is kept in the
-    /// state, where `rtutSwapBuffers` finds it), and the loop ends after `frames` of them.
+    /// No display: each frame swapped is written as `RTUT_OUTPUT-NNNN.png` (the name is kept in
+    /// the state, where `rtutSwapBuffers` finds it), and the loop ends after `frames` of them.
     Headless { frames: u64 },
 }
 
 /// What `rtutMainLoop` will do, checked before it starts: a window and a display callback are
 /// needed, and the loop runs once at a time. Headless where `RTUT_HEADLESS` is set or neither
-/// `DISPLAY` nor `WAYLAND_DISPLAY` is; `RTUT_OUTPUT` is the headless files' prefix (default
-/// `rtut-frame`), `RTUT_FRAMES` how many frames a headless loop renders (default 1).
+/// `DISPLAY` nor `WAYLAND_DISPLAY` is; `RTUT_OUTPUT` names the headless files before their
+/// `-NNNN.png` (default `rtut-frame`), `RTUT_FRAMES` how many frames a headless loop renders
+/// (default 1).
 pub(crate) fn plan() -> Result<Backend, Error> {
     with(|r| {
         r.window("rtutMainLoop")?;
@@ -173,9 +174,9 @@ pub(crate) fn plan() -> Result<Backend, Error> {
                 Some(n) => n.to_str().and_then(|n| n.parse().ok()).filter(|&n| n > 0).ok_or_else(|| Error::invalid_value("RTUT_FRAMES must be a whole number above 0"))?,
                 None => 1,
             };
-            let prefix = env("RTUT_OUTPUT").map_or_else(|| PathBuf::from("rtut-frame"), PathBuf::from);
+            let name = env("RTUT_OUTPUT").map_or_else(|| PathBuf::from("rtut-frame"), PathBuf::from);
             r.resize(width, height);
-            r.headless = Some(prefix);
+            r.headless = Some(name);
             return Ok(Backend::Headless { frames });
         }
         let title = r.title.clone().unwrap_or_default();
