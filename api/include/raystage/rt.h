@@ -277,6 +277,12 @@ typedef uint32_t RTuint;
 #define RT_TEXTURE_BINDING_2D 32873
 
 /**
+ * The shader bound with `rtBindShader` (or `rtNewShader`), 1 value (0 for none): what a library
+ * that binds a shader for a moment binds back (OpenGL's `GL_CURRENT_PROGRAM`).
+ */
+#define RT_SHADER_BINDING 35725
+
+/**
  * Parameters are stored in the bound shader (the default, and what every built-in class uses).
  */
 #define RT_PER_SHADER 36896
@@ -1414,13 +1420,14 @@ void rtDeleteShaders(RTuint first, RTsizei n);
  * `RT_TEXTURE_MATRIX` (16 each), `RT_CURRENT_COLOR`, `RT_CURRENT_TEXTURE_COORDS`,
  * `RT_COLOR_CLEAR_VALUE`, `RT_VIEWPORT` (4 each), `RT_CURRENT_NORMAL` (3), or one of
  * `RT_MODELVIEW_STACK_DEPTH`, `RT_TEXTURE_STACK_DEPTH`, `RT_MATRIX_MODE`, `RT_SHADE_MODEL`,
- * `RT_TEXTURE_BINDING_2D`. Another `pname` records `RT_INVALID_ENUM` and writes nothing;
+ * `RT_TEXTURE_BINDING_2D`, `RT_SHADER_BINDING`. Another `pname` records `RT_INVALID_ENUM` and writes nothing;
  * allowed between `rtBegin` and `rtEnd`.
  *
  * # Safety
  * `params` must be NULL (an error) or point to room for as many floats as `pname` has.
  */
-void rtGetFloatv(RTenum pname, RTfloat *params);
+void rtGetFloatv(RTenum pname,
+                 RTfloat *params);
 
 /**
  * `rtGetFloatv` in double precision.

@@ -230,6 +230,7 @@ const QUERIES: &[RTenum] = &[
     RT_COLOR_CLEAR_VALUE,
     RT_VIEWPORT,
     RT_TEXTURE_BINDING_2D,
+    RT_SHADER_BINDING,
 ];
 
 /// Shutter times: mostly in [0, 1], sometimes not, or not numbers.

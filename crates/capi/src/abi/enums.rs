@@ -101,6 +101,9 @@ pub const RT_TEXTURE_MATRIX: RTenum = 0x0BA8;
 pub const RT_COLOR_CLEAR_VALUE: RTenum = 0x0C22;
 /// The texture bound with `rtBindTexture`, 1 value (0 for none).
 pub const RT_TEXTURE_BINDING_2D: RTenum = 0x8069;
+/// The shader bound with `rtBindShader` (or `rtNewShader`), 1 value (0 for none): what a library
+/// that binds a shader for a moment binds back (OpenGL's `GL_CURRENT_PROGRAM`).
+pub const RT_SHADER_BINDING: RTenum = 0x8B8D;
 
 // ----- shader parameters (rtParameterScope) -----
 
