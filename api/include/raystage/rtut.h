@@ -131,7 +131,8 @@ void rtutPostRedisplay(void);
  * Renders a frame of the scene as it is now (as `rtSwapBuffers` does, frame semantics and
  * all) at the window's size in pixels with `rtSwapBuffersKept`, whose frame buffer becomes the
  * context's (so `rtPick` takes the window's pixels), and shows it; headless, writes it as the
- * next PNG file instead (`rtWritePNG`). Call it from the callbacks of `rtutMainLoop`
+ * next PNG file instead (`rtWritePNG`, whose `RT_IO_ERROR` a file that cannot be written
+ * records, the frame rendered all the same). Call it from the callbacks of `rtutMainLoop`
  * (`RT_INVALID_OPERATION` outside it, or without a window). A frame `rtSwapBuffersKept`
  * refuses records its error under that name and changes nothing.
  */

@@ -85,10 +85,11 @@ pub extern "C" fn rtutInitWindowSize(width: c_int, height: c_int) {
 /// `title` must be NULL (an error) or a NUL-terminated string.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn rtutCreateWindow(title: *const c_char) -> c_int {
-    let created = match title.is_null() {
-        true => Err(Error::invalid_value("title is NULL")),
+    let created = if title.is_null() {
+        Err(Error::invalid_value("title is NULL"))
+    } else {
         // SAFETY: the caller's promise above.
-        false => with(|r| r.create_window(unsafe { CStr::from_ptr(title) }.to_string_lossy().into_owned())),
+        with(|r| r.create_window(unsafe { CStr::from_ptr(title) }.to_string_lossy().into_owned()))
     };
     created.unwrap_or_else(|error| {
         record("rtutCreateWindow", error);
@@ -144,7 +145,8 @@ pub extern "C" fn rtutPostRedisplay() {
 /// Renders a frame of the scene as it is now (as `rtSwapBuffers` does, frame semantics and
 /// all) at the window's size in pixels with `rtSwapBuffersKept`, whose frame buffer becomes the
 /// context's (so `rtPick` takes the window's pixels), and shows it; headless, writes it as the
-/// next PNG file instead (`rtWritePNG`). Call it from the callbacks of `rtutMainLoop`
+/// next PNG file instead (`rtWritePNG`, whose `RT_IO_ERROR` a file that cannot be written
+/// records, the frame rendered all the same). Call it from the callbacks of `rtutMainLoop`
 /// (`RT_INVALID_OPERATION` outside it, or without a window). A frame `rtSwapBuffersKept`
 /// refuses records its error under that name and changes nothing.
 #[unsafe(no_mangle)]
