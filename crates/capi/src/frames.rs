@@ -208,7 +208,7 @@ impl Context {
     }
 
     /// `rtSwapBuffersKept`: renders a `width × height` frame as `rtSwapBuffers` does and, once it
-    /// rendered, makes a frame buffer of that size that the library keeps the frame buffer.
+    /// rendered, makes the frame buffer one of that size that the library keeps.
     /// Everything that can fail comes before the frame buffer changes, so a refused call leaves
     /// the program's frame buffer, its last frame and its memory as they were.
     pub fn swap_buffers_kept(&mut self, width: usize, height: usize) -> Result<(), Error> {

@@ -518,7 +518,8 @@ fn a_moved_install_still_builds() {
     }
 }
 
-/// `find_package(raystage)` finds the installed library, for the shared and the static target.
+/// `find_package(raystage)` finds the installed library, for the shared and the static target,
+/// and RTUT's, `raystage::rtut`, which brings the shared library with it.
 #[test]
 fn cmake_finds_the_installed_package() {
     if missing("cmake") {
@@ -531,8 +532,12 @@ fn cmake_finds_the_installed_package() {
         format!(
             "cmake_minimum_required(VERSION 3.13)\nproject(uses_raystage C)\nfind_package(raystage 0.1 REQUIRED)\n\
              add_executable(shared_example \"{0}\")\ntarget_link_libraries(shared_example raystage::raystage)\n\
-             add_executable(static_example \"{0}\")\ntarget_link_libraries(static_example raystage::raystage_static m)\n",
-            source.display()
+             add_executable(static_example \"{0}\")\ntarget_link_libraries(static_example raystage::raystage_static m)\n\
+             add_executable(rtut_example \"{1}\")\ntarget_include_directories(rtut_example PRIVATE \"{2}\")\n\
+             target_link_libraries(rtut_example raystage::rtut)\n",
+            source.display(),
+            root().join("crates/capi/tests/c/rtut_window.c").display(),
+            root().join("crates/capi/tests/c").display()
         ),
     )
     .unwrap();
@@ -544,6 +549,8 @@ fn cmake_finds_the_installed_package() {
         let image = frame(&build, "late_binding.png");
         assert!(image.get_pixel(116, 45)[1] > 200, "{exe}: triangle B is green");
     }
+    run(Command::new(build.join("rtut_example")).current_dir(&build).env("RTUT_HEADLESS", "1").env("RTUT_OUTPUT", "rtut"));
+    red_square_on_blue(&frame(&build, "rtut-0000.png"), "rtut_example");
 }
 
 /// `find_package(raystage)` gives C++ programs `raystage::cpp` and `raystage::cpp_static`, which
