@@ -48,31 +48,6 @@ extern "C" {
 #endif
 
 /**
- * The left mouse button, as the mouse callback names it (GLUT's `GLUT_LEFT_BUTTON`).
- */
-#define RTUT_LEFT_BUTTON 0
-
-/**
- * The middle mouse button.
- */
-#define RTUT_MIDDLE_BUTTON 1
-
-/**
- * The right mouse button.
- */
-#define RTUT_RIGHT_BUTTON 2
-
-/**
- * A mouse button went down (GLUT's `GLUT_DOWN`).
- */
-#define RTUT_DOWN 0
-
-/**
- * A mouse button went up (GLUT's `GLUT_UP`).
- */
-#define RTUT_UP 1
-
-/**
  * A single-precision number.
  */
 typedef float RTfloat;
@@ -108,27 +83,6 @@ typedef uint8_t RTboolean;
  * An unsigned integer: object, instance, shader and shader class ids (0 names nothing).
  */
 typedef uint32_t RTuint;
-
-/**
- * A display, idle or other callback without arguments.
- */
-typedef void (*RTUTvoidfunc)(void);
-
-/**
- * A reshape callback: the window's new width and height in pixels.
- */
-typedef void (*RTUTreshapefunc)(int, int);
-
-/**
- * A keyboard callback: the key's ASCII code and the pointer's position in pixels.
- */
-typedef void (*RTUTkeyboardfunc)(unsigned char, int, int);
-
-/**
- * A mouse callback: the button (`RTUT_LEFT_BUTTON`, ...), its state (`RTUT_DOWN`, `RTUT_UP`)
- * and the pointer's position in pixels.
- */
-typedef void (*RTUTmousefunc)(int, int, int, int);
 
 /**
  * No error has been recorded since the last `rtGetError`.
@@ -321,6 +275,12 @@ typedef void (*RTUTmousefunc)(int, int, int, int);
  * The texture bound with `rtBindTexture`, 1 value (0 for none).
  */
 #define RT_TEXTURE_BINDING_2D 32873
+
+/**
+ * The shader bound with `rtBindShader` (or `rtNewShader`), 1 value (0 for none): what a library
+ * that binds a shader for a moment binds back (OpenGL's `GL_CURRENT_PROGRAM`).
+ */
+#define RT_SHADER_BINDING 35725
 
 /**
  * Parameters are stored in the bound shader (the default, and what every built-in class uses).
@@ -639,10 +599,14 @@ typedef void (*RTUTmousefunc)(int, int, int, int);
 #define RT_MAX_LIGHT_SAMPLES 256
 
 /**
- * Largest magnitude of a vertex coordinate once transformed by the modelview matrix, of a
- * matrix's translation, and of the camera's points and planes: `rtVertex*`, `rtTriangleMesh`,
- * the matrix calls, `rtLookAt`, `rtOrtho` and `rtFrustum` refuse more with `RT_INVALID_VALUE`. Single-precision arithmetic renders scenes within it correctly; beyond it
- * shading and hit points lose their precision, and squared distances overflow.
+ * Largest magnitude of a vertex coordinate once transformed by the modelview matrix, of an
+ * instance's reach (its object's bounds placed by the matrix), of a matrix's translation, and
+ * of the camera's points and planes: `rtVertex*`, `rtTriangleMesh`, `rtInstantiateObject`,
+ * `rtMoveInstance`, `rtInstanceMotion`, the matrix calls, `rtLookAt`, `rtOrtho` and `rtFrustum`
+ * refuse more with `RT_INVALID_VALUE`. A matrix's other entries (its scale, its rotation) need
+ * only be finite: the bound is on what the matrix places, so a large scale may place a small
+ * object. Single-precision arithmetic renders scenes within it correctly; beyond it shading and
+ * hit points lose their precision, and squared distances overflow.
  */
 #define RT_MAX_COORDINATE 1e8
 
@@ -830,6 +794,19 @@ RTenum rtGetError(void);
 const char *rtGetErrorString(void);
 
 /**
+ * Records error `code` as call `call` failing with `message`, as every `rt*` call records its
+ * own (`rtGetErrorString` then reads "call: message"; an earlier error still unread sticks):
+ * for libraries written on rt.h, such as RTUT, whose calls report through `rtGetError` too.
+ * `code` must be an error code (`RT_INVALID_ENUM` ... `RT_OUT_OF_MEMORY`, `RT_IO_ERROR`,
+ * `RT_INTERNAL_ERROR`), else `RT_INVALID_ENUM` is recorded instead; NULL strings record
+ * `RT_INVALID_VALUE`. Allowed between `rtBegin` and `rtEnd`.
+ *
+ * # Safety
+ * `call` and `message` must be NULL (an error) or NUL-terminated strings.
+ */
+void rtRecordError(RTenum code, const char *call, const char *message);
+
+/**
  * Discards this thread's context: the scene, every id, the matrices, bindings, frame buffer
  * and errors, as if no `rt` call had been made; its memory is freed. Frames in flight are
  * cancelled and waited for (promptly), and their handles released. Allowed anywhere.
@@ -875,6 +852,31 @@ void rtChannelBuffer(RTenum channel, void *data, RTsizei width, RTsizei height);
  * `rtRenderFrameAsync` is in flight.
  */
 void rtSwapBuffers(void);
+
+/**
+ * Renders a frame of `width` × `height` pixels (each side 1 to `RT_MAX_FRAMEBUFFER_SIZE`) as
+ * `rtSwapBuffers` does, into a frame buffer raystage keeps itself, which then becomes the frame
+ * buffer in place of any memory lent with `rtFrameBuffer`: `rtPick` and `RT_VIEWPORT` take its
+ * size, later frames go to it too, and `rtReadPixels` copies them out. For a window toolkit
+ * such as RTUT, whose window has a size of its own and may be resized at any time: no memory of
+ * the toolkit's is lent, so none it frees can be written. Returns 1 once the frame rendered; a
+ * refused call (as `rtSwapBuffers` refuses, or a size out of range) returns 0 and changes
+ * nothing, the frame buffer included.
+ */
+RTboolean rtSwapBuffersKept(RTsizei width, RTsizei height);
+
+/**
+ * Copies the `width` × `height` pixels from (`x`, `y`) on of the last frame rendered (by
+ * `rtSwapBuffers`, `rtSwapBuffersKept` or an asynchronous frame delivered) into `pixels`, as
+ * `glReadPixels` does, but with rows from the top as the frame buffer has them: `RT_RGBA8`
+ * (sRGB bytes) or `RT_RGBA32F` (linear floats), whatever the frame buffer's layout.
+ * `RT_INVALID_OPERATION` if no frame was rendered, `RT_INVALID_VALUE` if `pixels` is NULL or
+ * the rectangle is not inside the frame.
+ *
+ * # Safety
+ * `pixels` must be NULL (an error) or point to `width × height × (4 or 16)` writable bytes.
+ */
+void rtReadPixels(RTsizei x, RTsizei y, RTsizei width, RTsizei height, RTenum format, void *pixels);
 
 /**
  * What pixel (`x`, `y`) of the frame buffer sees in the scene as it is now. Returns 1 and writes
@@ -1136,7 +1138,8 @@ void rtTranslatef(RTfloat x, RTfloat y, RTfloat z);
 void rtRotatef(RTfloat angle, RTfloat x, RTfloat y, RTfloat z);
 
 /**
- * Multiplies the top matrix by a scaling.
+ * Multiplies the top matrix by a scaling: any finite factors (`RT_MAX_COORDINATE` bounds what
+ * the matrix places, not its scale).
  */
 void rtScalef(RTfloat x, RTfloat y, RTfloat z);
 
@@ -1314,90 +1317,6 @@ RTint rtGetRenderParameteri(RTenum pname);
 void rtClearColor(RTfloat red, RTfloat green, RTfloat blue, RTfloat alpha);
 
 /**
- * Initialises RTUT; call it first, as `glutInit`. The arguments are GLUT's and are left as they
- * are (either may be NULL): RTUT takes no command-line options.
- */
-void rtutInit(int *argc, char **argv);
-
-/**
- * The size of the window's inside in pixels (each side 1 to `RT_MAX_FRAMEBUFFER_SIZE`;
- * GLUT's 300 × 300 by default), and of the frames rendered headless. Call before
- * `rtutCreateWindow`.
- */
-void rtutInitWindowSize(int width, int height);
-
-/**
- * Makes the window (shown when `rtutMainLoop` runs) and returns its id, 1, or 0 on error: RTUT
- * has one window, and needs `rtutInit` first. A redisplay is posted for it.
- *
- * # Safety
- * `title` must be NULL (an error) or a NUL-terminated string.
- */
-int rtutCreateWindow(const char *title);
-
-/**
- * The display callback (required): called when a redisplay is posted, it renders and shows a
- * frame with `rtutSwapBuffers`. NULL removes it.
- */
-void rtutDisplayFunc(RTUTvoidfunc func);
-
-/**
- * The reshape callback: called with the window's size in pixels when the window is first
- * shown and whenever it changes (the frame buffer follows it; a redisplay is posted). NULL
- * removes it.
- */
-void rtutReshapeFunc(RTUTreshapefunc func);
-
-/**
- * The keyboard callback: called for each key that types an ASCII character (and for Escape 27,
- * Enter 13, Backspace 8, Tab 9 and Delete 127), with the pointer's position in pixels from the
- * window's top left. NULL removes it.
- */
-void rtutKeyboardFunc(RTUTkeyboardfunc func);
-
-/**
- * The mouse callback: called when a button goes down or up, with the button
- * (`RTUT_LEFT_BUTTON`, `RTUT_MIDDLE_BUTTON`, `RTUT_RIGHT_BUTTON`), the state (`RTUT_DOWN`,
- * `RTUT_UP`) and the position in pixels from the window's top left, which is the frame
- * buffer's: `rtPick(x, y, ...)` tells what is there. NULL removes it.
- */
-void rtutMouseFunc(RTUTmousefunc func);
-
-/**
- * The idle callback: called whenever no redisplay is posted and no event is waiting, for
- * animation (it edits the scene and calls `rtutPostRedisplay`). NULL removes it.
- */
-void rtutIdleFunc(RTUTvoidfunc func);
-
-/**
- * Asks for the display callback to be called once more, as soon as the loop can.
- */
-void rtutPostRedisplay(void);
-
-/**
- * Renders a frame of the scene as it is now (as `rtSwapBuffers` does, frame semantics and
- * all) into the window's frame buffer, which RTUT lends the context at the window's size, and
- * shows it; headless, also writes it as the next PNG file. Call it from the callbacks of
- * `rtutMainLoop` (`RT_INVALID_OPERATION` outside it, or without a window).
- */
-void rtutSwapBuffers(void);
-
-/**
- * Shows the window and calls the callbacks until the window closes or `rtutLeaveMainLoop` is
- * called, then returns (headless: until the frames are written; see the module's
- * documentation). `RT_INVALID_OPERATION` without a window or a display callback, or inside a
- * running loop; a window system that fails (no display it can open) is `RT_INTERNAL_ERROR`
- * with its reason. Most window systems allow one window loop per process.
- */
-void rtutMainLoop(void);
-
-/**
- * Ends `rtutMainLoop` once the callback that calls it returns (freeglut's
- * `glutLeaveMainLoop`): the window closes and `rtutMainLoop` returns.
- */
-void rtutLeaveMainLoop(void);
-
-/**
  * Reserves `n` consecutive shader class ids and returns the first (0 if `n` is 0 or on error).
  */
 RTuint rtGenShaderClasses(RTsizei n);
@@ -1418,7 +1337,7 @@ RTuint rtGenShaderClasses(RTsizei n);
  * - "Phong": diffuse (3f), specular (3f), shininess (1f, the Blinn-Phong exponent, 1 to 10000),
  *   diffuse_texture. There is no "exponent".
  * - "Mirror": reflectance (3f).
- * - "Glossy": reflectance (3f), roughness (1f, 0 to 1).
+ * - "Glossy": reflectance (3f), roughness (1f, GGX's α, 0.01 to 1; "Mirror" is its smooth limit).
  * - "Glass": ior (1f, 1 to 4), absorption (3f, per unit length inside).
  * - "Emissive": emission (3f, radiance from its front).
  * - "PhysicallyBased": glTF 2.0's metallic-roughness material; base_color (3f), metallic (1f),
@@ -1501,13 +1420,14 @@ void rtDeleteShaders(RTuint first, RTsizei n);
  * `RT_TEXTURE_MATRIX` (16 each), `RT_CURRENT_COLOR`, `RT_CURRENT_TEXTURE_COORDS`,
  * `RT_COLOR_CLEAR_VALUE`, `RT_VIEWPORT` (4 each), `RT_CURRENT_NORMAL` (3), or one of
  * `RT_MODELVIEW_STACK_DEPTH`, `RT_TEXTURE_STACK_DEPTH`, `RT_MATRIX_MODE`, `RT_SHADE_MODEL`,
- * `RT_TEXTURE_BINDING_2D`. Another `pname` records `RT_INVALID_ENUM` and writes nothing;
+ * `RT_TEXTURE_BINDING_2D`, `RT_SHADER_BINDING`. Another `pname` records `RT_INVALID_ENUM` and writes nothing;
  * allowed between `rtBegin` and `rtEnd`.
  *
  * # Safety
  * `params` must be NULL (an error) or point to room for as many floats as `pname` has.
  */
-void rtGetFloatv(RTenum pname, RTfloat *params);
+void rtGetFloatv(RTenum pname,
+                 RTfloat *params);
 
 /**
  * `rtGetFloatv` in double precision.

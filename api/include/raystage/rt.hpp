@@ -426,9 +426,10 @@ class Texture : public detail::Owned<detail::delete_texture> {
         check();
     }
     /// rtTexImage2D with bytes: `format` RT_LUMINANCE, RT_RGB or RT_RGBA, `pixels` rows from the
-    /// top; sRGB-encoded bytes by default (RT_SRGB8), linear with RT_RGB8.
+    /// top; linear bytes (byte / 255) by default, as rtTexImage2D reads them, sRGB-encoded ones
+    /// (a photograph's) with RT_SRGB8.
     Texture &image(RTsizei width, RTsizei height, RTenum format, const std::vector<std::uint8_t> &pixels,
-                   RTint internal_format = RT_SRGB8) {
+                   RTint internal_format = RT_RGB8) {
         return define_image(width, height, format, RT_UNSIGNED_BYTE, pixels.data(), pixels.size(), internal_format);
     }
     /// rtTexImage2D with linear floats (high dynamic range).
@@ -518,44 +519,48 @@ class Shader : public detail::Owned<detail::delete_shader> {
         rtBindShader(id());
         check();
     }
-    /// Writes a parameter of one number. Binds the shader, since rtParameter* writes the bound
-    /// shader's parameters; a name the class does not export is ignored.
+    /// Writes a parameter of one number; a name the class does not export is ignored. The shader
+    /// bound before stays bound, inside Object::define too: rtParameter* writes the bound
+    /// shader's parameters, so this binds the shader for the write only.
     Shader &set(const std::string &name, RTfloat x) {
-        rtParameter1f(handle(name), x);
-        check();
-        return *this;
+        return write(name, [&](RTint handle) { rtParameter1f(handle, x); });
     }
-    /// Writes a parameter of two numbers (binds the shader).
+    /// Writes a parameter of two numbers.
     Shader &set(const std::string &name, RTfloat x, RTfloat y) {
-        rtParameter2f(handle(name), x, y);
-        check();
-        return *this;
+        return write(name, [&](RTint handle) { rtParameter2f(handle, x, y); });
     }
-    /// Writes a parameter of three numbers: a colour, a position, a direction (binds the shader).
+    /// Writes a parameter of three numbers: a colour, a position, a direction.
     Shader &set(const std::string &name, RTfloat x, RTfloat y, RTfloat z) {
-        rtParameter3f(handle(name), x, y, z);
-        check();
-        return *this;
+        return write(name, [&](RTint handle) { rtParameter3f(handle, x, y, z); });
     }
-    /// Writes a parameter of four numbers (binds the shader).
+    /// Writes a parameter of four numbers.
     Shader &set(const std::string &name, RTfloat x, RTfloat y, RTfloat z, RTfloat w) {
-        rtParameter4f(handle(name), x, y, z, w);
-        check();
-        return *this;
+        return write(name, [&](RTint handle) { rtParameter4f(handle, x, y, z, w); });
     }
-    /// Makes a texture parameter ("diffuse_texture", "map") name `texture` (binds the shader).
+    /// Makes a texture parameter ("diffuse_texture", "map") name `texture`.
     Shader &set(const std::string &name, const Texture &texture) {
-        rtParameterTexture(handle(name), texture.id());
-        check();
-        return *this;
+        return write(name, [&](RTint handle) { rtParameterTexture(handle, texture.id()); });
     }
 
   private:
-    RTint handle(const std::string &name) const {
-        bind();
-        RTint handle = rtParameterHandle(name.c_str());
+    /// Binds this shader, writes parameter `name` with `parameter(handle)`, and binds back the
+    /// shader bound before (RT_SHADER_BINDING), even if the write fails.
+    template <class Write> Shader &write(const std::string &name, Write &&parameter) {
+        RTint bound = 0;
+        rtGetIntegerv(RT_SHADER_BINDING, &bound);
         check();
-        return handle;
+        bind();
+        // A failed call changes nothing, and the first error sticks: both calls are made, and
+        // the error read once, before the binding is restored.
+        parameter(rtParameterHandle(name.c_str()));
+        RTenum code = rtGetError();
+        std::string message = code == RT_NO_ERROR ? "" : rtGetErrorString();
+        rtBindShader(static_cast<RTuint>(bound));
+        check();
+        if (code != RT_NO_ERROR) {
+            throw Error(code, message);
+        }
+        return *this;
     }
 };
 

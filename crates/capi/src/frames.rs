@@ -6,14 +6,13 @@
 //! without owning it: the application's, valid by `rtFrameBuffer`'s and `rtChannelBuffer`'s
 //! promise until it is replaced, taken back or the context reset, and written only inside the
 //! calls that deliver a frame. Everything else a call is given (vertices, meshes, texture pixels,
-//! strings) is copied before it returns, and RTUT's window pixels are owned jointly
-//! ([`SharedPixels`]), so no call can free memory a frame still goes to.
+//! strings) is copied before it returns. A window toolkit (RTUT) lends no memory at all: its
+//! frames go to a frame buffer the library keeps (`rtSwapBuffersKept`), and it copies them out
+//! with `rtReadPixels`, so no window resize can free memory a frame still goes to.
 
-use std::cell::RefCell;
 use std::ffi::OsStr;
 use std::os::unix::ffi::OsStrExt;
 use std::ptr::NonNull;
-use std::rc::Rc;
 
 use raystage_render::{Channel, ChannelImage, Film, NO_ID, render, render_channels};
 use raystage_scene::SceneHit;
@@ -45,37 +44,49 @@ impl PixelFormat {
         }
     }
 
-    fn bytes_per_pixel(self) -> usize {
+    pub fn bytes_per_pixel(self) -> usize {
         match self {
             PixelFormat::Rgba8 => 4,
             PixelFormat::Rgba32F => 16,
         }
     }
-}
 
-/// Pixels shared between RTUT's window and the context: whoever holds them keeps them alive, so
-/// the window can replace its pixels (a resize) while the context still holds the old ones.
-pub(crate) type SharedPixels = Rc<RefCell<Vec<u8>>>;
-
-/// Where a frame buffer's pixels live.
-enum Memory {
-    /// The application's memory (`rtFrameBuffer`), valid by its promise.
-    Lent(NonNull<u8>),
-    /// RTUT's window pixels, owned together with the window: no sequence of calls can free them
-    /// while the context writes them.
-    Shared(SharedPixels),
-}
-
-impl std::fmt::Debug for Memory {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+    /// Writes the `width × height` pixels of `film` from `(x, y)` on, row by row, into `out` in
+    /// this layout: sRGB bytes or linear floats in native byte order, alpha opaque.
+    fn write(self, film: &Film, (x, y): (u32, u32), (width, height): (u32, u32), out: &mut [u8]) {
+        let rows = y..y + height;
         match self {
-            Memory::Lent(pixels) => write!(f, "Lent({pixels:?})"),
-            Memory::Shared(_) => f.write_str("Shared"),
+            PixelFormat::Rgba8 => {
+                let (row, film_row) = (width as usize * 4, film.width() as usize * 4);
+                let bytes = film.to_rgba8();
+                for (out, y) in out.chunks_exact_mut(row).zip(rows) {
+                    let start = y as usize * film_row + x as usize * 4;
+                    out.copy_from_slice(&bytes[start..start + row]);
+                }
+            }
+            PixelFormat::Rgba32F => {
+                let pixels = rows.flat_map(|y| (x..x + width).map(move |x| film.pixel(x, y)));
+                for (out, p) in out.chunks_exact_mut(16).zip(pixels) {
+                    for (o, v) in out.chunks_exact_mut(4).zip([p.x, p.y, p.z, 1.0]) {
+                        o.copy_from_slice(&v.to_ne_bytes());
+                    }
+                }
+            }
         }
     }
 }
 
-/// Memory for frames: `width × height` pixels, row 0 at the top.
+/// Where a frame buffer's pixels live.
+#[derive(Debug)]
+enum Memory {
+    /// The application's memory (`rtFrameBuffer`), valid by its promise.
+    Lent(NonNull<u8>),
+    /// None of the application's: the frame is kept as the last one (`rtSwapBuffersKept`), for
+    /// `rtReadPixels`.
+    Kept,
+}
+
+/// Where frames go: `width × height` pixels, row 0 at the top.
 #[derive(Debug)]
 pub(crate) struct FrameBuffer {
     memory: Memory,
@@ -96,39 +107,20 @@ impl FrameBuffer {
         Ok(FrameBuffer { memory: Memory::Lent(pixels), width, height, format })
     }
 
-    /// A frame buffer in `pixels` (RGBA8, `width × height`, as many bytes as that needs), shared
-    /// with their owner.
-    pub fn shared(pixels: SharedPixels, width: usize, height: usize) -> Result<FrameBuffer, Error> {
+    /// A frame buffer of `width × height` pixels in no memory of the application's: its frames
+    /// are only kept as the last one.
+    pub fn kept(width: usize, height: usize) -> Result<FrameBuffer, Error> {
         let (width, height) = lent_size("a frame buffer", width, height)?;
-        if pixels.borrow().len() != width as usize * height as usize * 4 {
-            return Err(Error::internal(format!("shared pixels of {} bytes for {width} × {height} RGBA8 pixels", pixels.borrow().len())));
-        }
-        Ok(FrameBuffer { memory: Memory::Shared(pixels), width, height, format: PixelFormat::Rgba8 })
+        Ok(FrameBuffer { memory: Memory::Kept, width, height, format: PixelFormat::Rgba8 })
     }
 
-    /// Writes `film` (of the same size) into the frame buffer's memory.
+    /// Writes `film` (of the same size) into the frame buffer's memory, if it has any.
     fn write(&self, film: &Film) {
+        let Memory::Lent(pixels) = self.memory else { return };
         let len = self.width as usize * self.height as usize * self.format.bytes_per_pixel();
-        let mut shared;
-        let bytes: &mut [u8] = match &self.memory {
-            // SAFETY: `new`'s contract: `len` writable bytes, not touched by anyone else meanwhile.
-            Memory::Lent(pixels) => unsafe { std::slice::from_raw_parts_mut(pixels.as_ptr(), len) },
-            Memory::Shared(pixels) => {
-                shared = pixels.borrow_mut();
-                &mut shared[..len]
-            }
-        };
-        match self.format {
-            PixelFormat::Rgba8 => bytes.copy_from_slice(&film.to_rgba8()),
-            PixelFormat::Rgba32F => {
-                let pixels = (0..self.height).flat_map(|y| (0..self.width).map(move |x| film.pixel(x, y)));
-                for (out, p) in bytes.chunks_exact_mut(16).zip(pixels) {
-                    for (o, v) in out.chunks_exact_mut(4).zip([p.x, p.y, p.z, 1.0]) {
-                        o.copy_from_slice(&v.to_ne_bytes());
-                    }
-                }
-            }
-        }
+        // SAFETY: `new`'s contract: `len` writable bytes, not touched by anyone else meanwhile.
+        let bytes = unsafe { std::slice::from_raw_parts_mut(pixels.as_ptr(), len) };
+        self.format.write(film, (0, 0), (self.width, self.height), bytes);
     }
 }
 
@@ -215,9 +207,22 @@ impl Context {
         Ok(())
     }
 
+    /// `rtSwapBuffersKept`: renders a `width × height` frame as `rtSwapBuffers` does and, once it
+    /// rendered, makes the frame buffer one of that size that the library keeps.
+    /// Everything that can fail comes before the frame buffer changes, so a refused call leaves
+    /// the program's frame buffer, its last frame and its memory as they were.
+    pub fn swap_buffers_kept(&mut self, width: usize, height: usize) -> Result<(), Error> {
+        let target = FrameBuffer::kept(width, height)?;
+        let (film, channels) = self.render_frame("rtSwapBuffersKept", target.width, target.height)?;
+        // Cannot fail: `render_frame` found no frame in flight.
+        self.set_frame_buffer(Some(target))?;
+        self.deliver(film, channels);
+        Ok(())
+    }
+
     /// Renders a `width × height` frame of the scene as it is now, with the channels lent, and
     /// changes nothing else: [`Context::deliver`] puts it where it goes. `what` names the call.
-    pub fn render_frame(&mut self, what: &str, width: u32, height: u32) -> Result<(Film, Vec<ChannelImage>), Error> {
+    fn render_frame(&mut self, what: &str, width: u32, height: u32) -> Result<(Film, Vec<ChannelImage>), Error> {
         self.outside_definition(what)?;
         self.no_frame_in_flight(what)?;
         let wanted = self.wanted_channels(width, height)?;
@@ -304,14 +309,32 @@ impl Context {
         Ok(self.scene.frame().pick(x, y, width, height))
     }
 
+    /// `rtReadPixels`: copies the `width × height` pixels of the last frame rendered from
+    /// `(x, y)` on into `pixels`, in `format`.
+    ///
+    /// # Safety
+    /// `pixels` must point to `width × height` pixels of `format` of writable memory.
+    pub unsafe fn read_pixels(&self, (x, y): (usize, usize), (width, height): (usize, usize), format: PixelFormat, pixels: NonNull<u8>) -> Result<(), Error> {
+        let film = self.last_frame()?;
+        let (film_width, film_height) = (film.width() as usize, film.height() as usize);
+        if x.checked_add(width).is_none_or(|right| right > film_width) || y.checked_add(height).is_none_or(|bottom| bottom > film_height) {
+            return Err(Error::invalid_value(format!(
+                "{width} × {height} pixels from ({x}, {y}) are not all inside the last frame, {film_width} × {film_height}"
+            )));
+        }
+        // SAFETY: the caller's promise, for a rectangle now known to be inside a frame.
+        let out = unsafe { std::slice::from_raw_parts_mut(pixels.as_ptr(), width * height * format.bytes_per_pixel()) };
+        format.write(film, (x as u32, y as u32), (width as u32, height as u32), out);
+        Ok(())
+    }
+
     /// `rtWritePNG`: writes the last frame rendered as a PNG file at `path` (any bytes but NUL).
     pub fn write_png(&self, path: &[u8]) -> Result<(), Error> {
-        let film = self
-            .frames
-            .last
-            .as_ref()
-            .ok_or_else(|| Error::invalid_operation("no frame has been rendered yet: call rtSwapBuffers first"))?;
-        film.write_png(OsStr::from_bytes(path)).map_err(|e| Error::io(e.to_string()))
+        self.last_frame()?.write_png(OsStr::from_bytes(path)).map_err(|e| Error::io(e.to_string()))
+    }
+
+    fn last_frame(&self) -> Result<&Film, Error> {
+        self.frames.last.as_ref().ok_or_else(|| Error::invalid_operation("no frame has been rendered yet: call rtSwapBuffers first"))
     }
 
     fn frame_buffer(&self) -> Result<&FrameBuffer, Error> {

@@ -45,7 +45,6 @@ mod matrix;
 mod objects;
 mod parameters;
 mod rendering;
-mod rtut;
 mod shaders;
 mod state;
 mod textures;

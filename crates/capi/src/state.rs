@@ -7,7 +7,7 @@ use glam::Mat4;
 
 use crate::abi::enums::{
     RT_COLOR_CLEAR_VALUE, RT_CURRENT_COLOR, RT_CURRENT_NORMAL, RT_CURRENT_TEXTURE_COORDS, RT_FLAT, RT_MATRIX_MODE, RT_MODELVIEW,
-    RT_MODELVIEW_MATRIX, RT_MODELVIEW_STACK_DEPTH, RT_SHADE_MODEL, RT_SMOOTH, RT_TEXTURE, RT_TEXTURE_BINDING_2D, RT_TEXTURE_MATRIX,
+    RT_MODELVIEW_MATRIX, RT_MODELVIEW_STACK_DEPTH, RT_SHADE_MODEL, RT_SMOOTH, RT_TEXTURE, RT_SHADER_BINDING, RT_TEXTURE_BINDING_2D, RT_TEXTURE_MATRIX,
     RT_TEXTURE_STACK_DEPTH, RT_VIEWPORT,
 };
 use crate::abi::types::RTenum;
@@ -65,11 +65,13 @@ impl Context {
                 Values::of(&[0.0, 0.0, f64::from(width), f64::from(height)])
             }
             RT_TEXTURE_BINDING_2D => Values::of(&[f64::from(self.textures.bound().map_or(0, |t| ids::to_c(t.0)))]),
+            RT_SHADER_BINDING => Values::of(&[f64::from(self.shaders.bound().map_or(0, |(s, _)| ids::to_c(s.0)))]),
             _ => {
                 return Err(Error::invalid_enum(format!(
                     "{pname:#x} is not a state to query (RT_MODELVIEW_MATRIX, RT_TEXTURE_MATRIX, RT_MODELVIEW_STACK_DEPTH, \
                      RT_TEXTURE_STACK_DEPTH, RT_MATRIX_MODE, RT_CURRENT_COLOR, RT_CURRENT_NORMAL, RT_CURRENT_TEXTURE_COORDS, \
-                     RT_SHADE_MODEL, RT_COLOR_CLEAR_VALUE, RT_VIEWPORT or RT_TEXTURE_BINDING_2D; the camera is not a matrix)"
+                     RT_SHADE_MODEL, RT_COLOR_CLEAR_VALUE, RT_VIEWPORT, RT_TEXTURE_BINDING_2D or RT_SHADER_BINDING; the camera is \
+                     not a matrix)"
                 )));
             }
         })

@@ -639,3 +639,143 @@ fn the_header_documents_every_class_and_parameter() {
         }
     }
 }
+
+/// Where rt.h gives a number's range ("shininess (1f, the Blinn-Phong exponent, 1 to 10000)"),
+/// it is the range the library takes (`rtGetShaderParameterRange`): the header does not promise
+/// values the calls refuse.
+#[test]
+fn the_header_gives_the_ranges_the_library_takes() {
+    use std::ffi::CStr;
+    let header = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../api/include/raystage/rt.h")).unwrap();
+    let header = header.replace("\n * ", " ");
+    let text = |p: *const std::ffi::c_char| unsafe { CStr::from_ptr(p) }.to_str().unwrap().to_string();
+    let mut checked = 0;
+    for c in 0..rtGetShaderClassCount() {
+        let class = text(rtGetShaderClassName(c));
+        let Some(start) = header.find(&format!("- \"{class}\":")) else { continue };
+        let entry = &header[start + 1..];
+        let entry = &entry[..entry.find("- \"").unwrap_or(entry.len())];
+        for p in 0..rtGetShaderParameterCount(c) {
+            let param = text(rtGetShaderParameterName(c, p));
+            let Some(at) = entry.match_indices(&format!("{param} (1f, ")).map(|(i, _)| i).find(|&i| !entry[..i].ends_with(|ch: char| ch.is_alphanumeric() || ch == '_')) else {
+                continue;
+            };
+            // The range closes the parenthesis: "... A to B)".
+            let inside = &entry[at..][..entry[at..].find(')').unwrap()];
+            let words: Vec<&str> = inside.split([' ', ',']).filter(|w| !w.is_empty()).collect();
+            let Some(to) = words.iter().rposition(|&w| w == "to") else { continue };
+            let number = |w: &str| w.trim_end_matches([';', ':', '.']).parse::<f32>();
+            let (Ok(least), Ok(most)) = (number(words[to - 1]), number(words[to + 1])) else { continue };
+            let mut range = [0.0f32; 2];
+            unsafe { rtGetShaderParameterRange(c, p, range.as_mut_ptr()) };
+            assert_eq!(range, [least, most], "rt.h gives {class}'s {param} {least} to {most}; the library takes {range:?}");
+            checked += 1;
+        }
+    }
+    assert_no_error();
+    assert!(checked >= 3, "only {checked} ranges found in rt.h");
+}
+
+/// `rtSwapBuffersKept` renders what `rtSwapBuffers` renders into lent memory, into a frame buffer
+/// the library keeps, whose size `RT_VIEWPORT` and `rtPick` then take; `rtReadPixels` copies any
+/// rectangle of it out, as bytes or floats. A refused kept frame leaves the lent frame buffer.
+#[test]
+fn a_kept_frame_buffer_is_read_back_as_the_lent_one_is_written() {
+    let diffuse_shader = shader(c"Diffuse");
+    rtBindShader(diffuse_shader);
+    rtParameter3f(handle(c"diffuse"), 0.0, 1.0, 0.0);
+    let object = rtGenObjects(1);
+    rtNewObject(object, RT_COMPILE);
+    triangle(1.5);
+    rtEndObject();
+    rtInstantiateObject(object);
+    rtLookAt(0.0, 0.0, 6.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0);
+    let (w, h) = (64, 32);
+    let lent = frame_buffer(w, h);
+    rtSwapBuffers();
+    assert_no_error();
+
+    // Refused inside a definition: the lent frame buffer stays.
+    rtNewObject(object, RT_COMPILE);
+    assert_eq!(rtSwapBuffersKept(16, 16), 0);
+    assert_error(RT_INVALID_OPERATION, "rtSwapBuffersKept while object");
+    triangle(1.5);
+    rtEndObject();
+    assert_eq!(rtSwapBuffersKept(0, 16), 0);
+    assert_error(RT_INVALID_VALUE, "each side must be 1 to");
+    let mut viewport = [0 as RTint; 4];
+    unsafe { rtGetIntegerv(RT_VIEWPORT, viewport.as_mut_ptr()) };
+    assert_eq!(viewport, [0, 0, w as RTint, h as RTint], "the lent frame buffer, still");
+
+    assert_eq!(rtSwapBuffersKept(w, h), 1);
+    assert_no_error();
+    unsafe { rtGetIntegerv(RT_VIEWPORT, viewport.as_mut_ptr()) };
+    assert_eq!(viewport, [0, 0, w as RTint, h as RTint]);
+    let mut kept = vec![0u8; w * h * 4];
+    unsafe { rtReadPixels(0, 0, w, h, RT_RGBA8, kept.as_mut_ptr().cast()) };
+    assert_no_error();
+    assert!(kept == lent, "the kept frame is the frame rendered into lent memory");
+    let mut instance = 0;
+    assert_eq!(unsafe { rtPick(42, 17, &mut instance, std::ptr::null_mut(), std::ptr::null_mut()) }, 1, "rtPick in the kept frame");
+
+    // A rectangle, as floats: the triangle's green, linear, and the alpha 1.
+    let mut floats = [0.0f32; 2 * 4];
+    unsafe { rtReadPixels(42, 20, 2, 1, RT_RGBA32F, floats.as_mut_ptr().cast()) };
+    assert_no_error();
+    assert!(floats[1] > 0.3 && floats[0] < 0.05 && floats[3] == 1.0, "pixel (42, 20) reads {floats:?}");
+    unsafe { rtReadPixels(63, 0, 2, 1, RT_RGBA8, kept.as_mut_ptr().cast()) };
+    assert_error(RT_INVALID_VALUE, "not all inside the last frame, 64 × 32");
+    unsafe { rtReadPixels(0, 0, 1, 1, RT_RGBA8, std::ptr::null_mut()) };
+    assert_error(RT_INVALID_VALUE, "pixels is NULL");
+    rtResetContext();
+    unsafe { rtReadPixels(0, 0, 1, 1, RT_RGBA8, kept.as_mut_ptr().cast()) };
+    assert_error(RT_INVALID_OPERATION, "no frame has been rendered");
+}
+
+/// `rtRecordError` records as any call does: the first error sticks, with its call's name, and
+/// a code that is not an error's is refused.
+#[test]
+fn a_library_records_its_errors_as_calls_do() {
+    unsafe { rtRecordError(RT_INVALID_OPERATION, c"rtutMainLoop".as_ptr(), c"needs a window".as_ptr()) };
+    unsafe { rtRecordError(RT_INVALID_VALUE, c"rtutInit".as_ptr(), c"a later error".as_ptr()) };
+    assert_error(RT_INVALID_OPERATION, "rtutMainLoop: needs a window");
+    unsafe { rtRecordError(RT_NO_ERROR, c"rtutInit".as_ptr(), c"no error".as_ptr()) };
+    assert_error(RT_INVALID_ENUM, "rtRecordError: 0x0 is not an error code");
+    unsafe { rtRecordError(RT_IO_ERROR, std::ptr::null(), c"lost".as_ptr()) };
+    assert_error(RT_INVALID_VALUE, "rtRecordError: call is NULL");
+}
+
+/// `RT_MAX_COORDINATE` bounds what a matrix places, and its translation, not its other entries:
+/// rt.h says so, the matrix calls take any finite scale (a large one may place a small object
+/// well within the bound), and vertices or instances placed beyond the bound are refused.
+#[test]
+fn the_largest_coordinate_bounds_what_matrices_place_not_their_scale() {
+    let header = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../api/include/raystage/rt.h")).unwrap();
+    let doc = &header[..header.find("#define RT_MAX_COORDINATE").unwrap()];
+    let doc = doc[doc.rfind("/**").unwrap()..].replace("\n * ", " ");
+    assert!(doc.contains("need only be finite"), "rt.h's RT_MAX_COORDINATE does not say what the matrix calls take:\n{doc}");
+
+    let object = rtGenObjects(1);
+    rtNewObject(object, RT_COMPILE);
+    rtScalef(2e8, 1.0, 1.0);
+    rtScaled(1.0, -2e8, 1.0);
+    let mut m = [0.0f64; 16];
+    (m[0], m[5], m[10], m[15]) = (2e8, 1.0, 1.0, 1.0);
+    unsafe { rtMultMatrixd(m.as_ptr()) };
+    assert_no_error();
+    rtBegin(RT_TRIANGLES);
+    rtVertex3f(1e-9, 0.0, 0.0);
+    rtVertex3f(0.0, 1e-9, 0.0);
+    rtVertex3f(0.0, 0.0, 0.0);
+    assert_no_error();
+    rtVertex3f(1.0, 0.0, 0.0);
+    assert_error(RT_INVALID_VALUE, "beyond RT_MAX_COORDINATE");
+    rtEnd();
+    rtEndObject();
+    assert_no_error();
+    rtLoadIdentity();
+    rtScalef(1e10, 1.0, 1.0);
+    assert_no_error();
+    assert_eq!(rtInstantiateObject(object), 0, "an instance of the object, placed 1e10 times larger");
+    assert_error(RT_INVALID_VALUE, "beyond RT_MAX_COORDINATE");
+}

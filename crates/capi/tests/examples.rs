@@ -1,8 +1,9 @@
-//! The C and C++ examples, built as a user would: the library is installed into a temporary
+//! The C and C++ examples, built as a user would: the libraries are installed into a temporary
 //! prefix with scripts/install-capi.sh, each example is compiled with gcc or g++ against the
 //! installed shared library and again against the static one (flags from pkg-config), run in a
 //! directory of its own, and the PNG frames it writes are decoded and checked. C and C++ test
-//! programs (tests/c, tests/cpp) are built the same way and check themselves. Without the
+//! programs (tests/c, tests/cpp) are built the same way and check themselves; those that open
+//! RTUT windows link librtut too, which is shared only. Without the
 //! compiler or CMake a test needs, it says so and passes (scripts/test.sh installs them).
 
 use std::path::{Path, PathBuf};
@@ -16,8 +17,9 @@ fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").canonicalize().expect("the workspace root")
 }
 
-/// The shared and static libraries, built for this test run: `cargo test` builds only the
-/// crate's Rust library, so this runs `cargo build -p libraystage` once, with the test's own
+/// The shared and static libraries, and RTUT's, built for this test run: `cargo test` builds only
+/// the crate's Rust library, so this runs `cargo build -p libraystage -p raystage-rtut` once, with
+/// the test's own
 /// profile and target directory (this executable is `<target>/<profile>/deps/examples-*`), which
 /// reuses everything the test build compiled.
 fn artifact_dir() -> &'static Path {
@@ -33,13 +35,13 @@ fn artifact_dir() -> &'static Path {
         };
         let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
         let mut build = Command::new(cargo);
-        build.args(["build", "--quiet", "-p", "libraystage", "--profile", profile, "--target-dir"]).arg(target).current_dir(root());
+        build.args(["build", "--quiet", "-p", "libraystage", "-p", "raystage-rtut", "--profile", profile, "--target-dir"]).arg(target).current_dir(root());
         // The library these tests were built for: with MPI (rtInitMPI) if they were.
         if cfg!(feature = "mpi") {
             build.args(["--features", "libraystage/mpi"]);
         }
         run(&mut build);
-        for lib in ["libraystage.so", "libraystage.a"] {
+        for lib in ["libraystage.so", "libraystage.a", "librtut.so"] {
             assert!(dir.join(lib).is_file(), "cargo build did not write {}", dir.join(lib).display());
         }
         dir
@@ -89,6 +91,8 @@ fn pkg_config(package: &str) -> Vec<String> {
 enum Linking {
     Shared,
     Static,
+    /// The shared library with RTUT's (`pkg-config rtut`): RTUT is shared only.
+    Rtut,
 }
 
 /// Whether `tool` cannot be run; if so, says that the calling test skips.
@@ -110,6 +114,7 @@ fn compile(source: &Path, linking: Linking, exe: &Path) -> Command {
     compile.args(pkg_config(match linking {
         Linking::Shared => "raystage",
         Linking::Static => "raystage-static",
+        Linking::Rtut => "rtut",
     }));
     compile.arg("-lm");
     compile
@@ -382,7 +387,7 @@ fn async_frame_checks_pass() {
 /// which fails on any access to freed memory (the resize wrote 16 KiB into freed heap).
 #[test]
 fn call_sequence_checks_pass() {
-    let dir = build_and_run("crates/capi/tests/c/call_sequences.c", Linking::Shared, &[]);
+    let dir = build_and_run("crates/capi/tests/c/call_sequences.c", Linking::Rtut, &[]);
     if missing("valgrind") {
         return;
     }
@@ -392,16 +397,17 @@ fn call_sequence_checks_pass() {
         .env("LD_LIBRARY_PATH", prefix().join("lib")));
 }
 
-/// rt.h as GL 1.x-era code builds it: a C program including it (twice, as headers get) builds
-/// and links against the installed library with `-std=c89 -pedantic -Werror`, and with C99, C11,
-/// C++98 and C++17 under `-Wall -Wextra -Werror -pedantic`.
+/// rt.h and rtut.h as GL 1.x-era code builds them: a C program including them (twice, as headers
+/// get) builds and links against the installed libraries with `-std=c89 -pedantic -Werror`, and
+/// with C99, C11, C++98 and C++17 under `-Wall -Wextra -Werror -pedantic`.
 #[test]
 fn the_header_builds_under_every_c_and_cpp_standard() {
     if missing("gcc") || missing("g++") {
         return;
     }
     let dir = scratch("standards");
-    let source = "#include <raystage/rt.h>\n#include <raystage/rt.h>\nint main(void) { rtResetContext(); return (int)rtGetError(); }\n";
+    let source = "#include <raystage/rtut.h>\n#include <raystage/rt.h>\n#include <raystage/rtut.h>\n\
+                  int main(void) { rtutInit(NULL, NULL); rtResetContext(); return (int)rtGetError(); }\n";
     for (compiler, standard, name) in [("gcc", "c89", "c89.c"), ("gcc", "c99", "c99.c"), ("gcc", "c11", "c11.c"), ("g++", "c++98", "cxx98.cpp"), ("g++", "c++17", "cxx17.cpp")] {
         let file = dir.join(name);
         std::fs::write(&file, source).unwrap();
@@ -411,9 +417,36 @@ fn the_header_builds_under_every_c_and_cpp_standard() {
             .arg(&file)
             .arg("-o")
             .arg(&exe)
-            .args(pkg_config("raystage")));
+            .args(pkg_config("rtut")));
         run(Command::new(&exe).env("LD_LIBRARY_PATH", prefix().join("lib")));
     }
+}
+
+/// A program that opens no window links no window toolkit (issue 37): built against the
+/// installed library without RTUT, shared or static, neither `ldd` nor any library it loads
+/// names X11, OpenGL, EGL, Wayland or librtut. The libraries are read as well as listed,
+/// because the toolkit opens X11 and OpenGL with dlopen, which `ldd` does not show: librtut.so,
+/// checked the same way, must name them, or the check would prove nothing.
+#[test]
+fn a_program_without_rtut_links_no_window_toolkit() {
+    let toolkit = ["libX11", "libGL.so", "libEGL", "libwayland-client", "libxkbcommon", "librtut"];
+    let names_toolkit = |file: &Path| {
+        let bytes = std::fs::read(file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+        toolkit.iter().filter(|name| bytes.windows(name.len()).any(|w| w == name.as_bytes())).copied().collect::<Vec<_>>()
+    };
+    for linking in [Linking::Shared, Linking::Static] {
+        let dir = build_and_run("examples/c/late_binding.c", linking, &[]);
+        let exe = dir.join("late_binding");
+        let ldd = run(Command::new("ldd").arg(&exe).env("LD_LIBRARY_PATH", prefix().join("lib")));
+        let loaded: Vec<PathBuf> = ldd.lines().filter_map(|l| l.split("=>").nth(1)?.split_whitespace().next()).map(PathBuf::from).collect();
+        assert!(loaded.iter().any(|l| l.starts_with("/")), "{linking:?}: ldd lists no library: {ldd}");
+        for file in std::iter::once(exe).chain(loaded) {
+            let named = names_toolkit(&file);
+            assert!(named.is_empty(), "{linking:?}: {} names {named:?}; ldd says:\n{ldd}", file.display());
+        }
+    }
+    let rtut = names_toolkit(&prefix().join("lib/librtut.so.0"));
+    assert!(rtut.contains(&"libX11") && rtut.contains(&"libGL.so"), "librtut.so names {rtut:?}: the check above finds nothing");
 }
 
 /// The build tree's library has the installed one's name: a program links with `-lraystage`
@@ -435,22 +468,29 @@ fn the_build_tree_links_with_the_installed_name() {
     assert!(frame(&dir, "late_binding.png").get_pixel(116, 45)[1] > 200, "triangle B is green");
 }
 
-/// The library is installed as distributions ship one: `libraystage.so.0.Y.Z` with the SONAME
-/// `libraystage.so.0` and the links a linker and the loader follow, stripped of its debug
-/// information, which lies beside it in `lib/.debug` (linked for gdb); the archive stripped too.
+/// The libraries are installed as distributions ship them: `libraystage.so.0.Y.Z` and
+/// `librtut.so.0.Y.Z` with the SONAMEs `libraystage.so.0` and `librtut.so.0` and the links a
+/// linker and the loader follow, stripped of their debug information, which lies beside them in
+/// `lib/.debug` (linked for gdb); the archive stripped too. librtut needs libraystage, as libglut
+/// needs libGL.
 #[test]
-fn the_installed_library_is_versioned_and_stripped() {
+fn the_installed_libraries_are_versioned_and_stripped() {
     let lib = prefix().join("lib");
     let version = env!("CARGO_PKG_VERSION");
-    let real = lib.join(format!("libraystage.so.{version}"));
-    assert_eq!(std::fs::read_link(lib.join("libraystage.so")).unwrap(), Path::new("libraystage.so.0"));
-    assert_eq!(std::fs::read_link(lib.join("libraystage.so.0")).unwrap(), Path::new(&format!("libraystage.so.{version}")));
-    let dynamic = run(Command::new("readelf").arg("-d").arg(&real));
-    assert!(dynamic.contains("Library soname: [libraystage.so.0]"), "{dynamic}");
-    let sections = run(Command::new("readelf").arg("-S").arg(&real));
-    assert!(!sections.contains(".debug_line") && sections.contains(".gnu_debuglink"), "stripped, with a debug link: {sections}");
-    let debug = run(Command::new("readelf").arg("-S").arg(lib.join(format!(".debug/libraystage.so.{version}.debug"))));
-    assert!(debug.contains(".debug_line"), "the line tables kept apart");
+    for name in ["libraystage", "librtut"] {
+        let real = lib.join(format!("{name}.so.{version}"));
+        assert_eq!(std::fs::read_link(lib.join(format!("{name}.so"))).unwrap(), Path::new(&format!("{name}.so.0")));
+        assert_eq!(std::fs::read_link(lib.join(format!("{name}.so.0"))).unwrap(), Path::new(&format!("{name}.so.{version}")));
+        let dynamic = run(Command::new("readelf").arg("-d").arg(&real));
+        assert!(dynamic.contains(&format!("Library soname: [{name}.so.0]")), "{dynamic}");
+        if name == "librtut" {
+            assert!(dynamic.contains("Shared library: [libraystage.so.0]"), "librtut needs libraystage: {dynamic}");
+        }
+        let sections = run(Command::new("readelf").arg("-S").arg(&real));
+        assert!(!sections.contains(".debug_line") && sections.contains(".gnu_debuglink"), "{name}: stripped, with a debug link: {sections}");
+        let debug = run(Command::new("readelf").arg("-S").arg(lib.join(format!(".debug/{name}.so.{version}.debug"))));
+        assert!(debug.contains(".debug_line"), "{name}: the line tables kept apart");
+    }
     let archive = run(Command::new("readelf").arg("-S").arg(lib.join("libraystage.a")));
     assert!(!archive.contains(".debug_line"), "the archive stripped");
 }
@@ -478,7 +518,8 @@ fn a_moved_install_still_builds() {
     }
 }
 
-/// `find_package(raystage)` finds the installed library, for the shared and the static target.
+/// `find_package(raystage)` finds the installed library, for the shared and the static target,
+/// and RTUT's, `raystage::rtut`, which brings the shared library with it.
 #[test]
 fn cmake_finds_the_installed_package() {
     if missing("cmake") {
@@ -491,8 +532,12 @@ fn cmake_finds_the_installed_package() {
         format!(
             "cmake_minimum_required(VERSION 3.13)\nproject(uses_raystage C)\nfind_package(raystage 0.1 REQUIRED)\n\
              add_executable(shared_example \"{0}\")\ntarget_link_libraries(shared_example raystage::raystage)\n\
-             add_executable(static_example \"{0}\")\ntarget_link_libraries(static_example raystage::raystage_static m)\n",
-            source.display()
+             add_executable(static_example \"{0}\")\ntarget_link_libraries(static_example raystage::raystage_static m)\n\
+             add_executable(rtut_example \"{1}\")\ntarget_include_directories(rtut_example PRIVATE \"{2}\")\n\
+             target_link_libraries(rtut_example raystage::rtut)\n",
+            source.display(),
+            root().join("crates/capi/tests/c/rtut_window.c").display(),
+            root().join("crates/capi/tests/c").display()
         ),
     )
     .unwrap();
@@ -504,6 +549,8 @@ fn cmake_finds_the_installed_package() {
         let image = frame(&build, "late_binding.png");
         assert!(image.get_pixel(116, 45)[1] > 200, "{exe}: triangle B is green");
     }
+    run(Command::new(build.join("rtut_example")).current_dir(&build).env("RTUT_HEADLESS", "1").env("RTUT_OUTPUT", "rtut"));
+    red_square_on_blue(&frame(&build, "rtut-0000.png"), "rtut_example");
 }
 
 /// `find_package(raystage)` gives C++ programs `raystage::cpp` and `raystage::cpp_static`, which
@@ -538,11 +585,11 @@ fn cmake_builds_against_the_cpp_targets() {
     assert!(!ldd.contains("libraystage"), "raystage::cpp_static links the shared library: {ldd}");
 }
 
-/// Builds `tests/c/rtut_window.c` against the installed shared library; returns its path.
+/// Builds `tests/c/rtut_window.c` against the installed shared libraries; returns its path.
 fn rtut_program(name: &str) -> PathBuf {
     let source = root().join("crates/capi/tests/c/rtut_window.c");
     let exe = scratch(name).join("rtut_window");
-    run(&mut compile(&source, Linking::Shared, &exe));
+    run(&mut compile(&source, Linking::Rtut, &exe));
     exe
 }
 

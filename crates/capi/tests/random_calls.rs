@@ -1,12 +1,13 @@
-//! Random sequences of every C call in rt.h, valid and invalid, through the `extern "C"`
-//! functions: no panic escapes, no call fails inside raystage (`RT_INTERNAL_ERROR`), every call
+//! Random sequences of every C call in rt.h and RTUT's rtut.h, valid and invalid, through the
+//! `extern "C"` functions: no panic escapes, no call fails inside raystage (`RT_INTERNAL_ERROR`), every call
 //! the model can judge records the error it predicts, a refused call changes none of the state
 //! the context reports (`rtGet*v`, the render parameters), the render settings read back are the
 //! last ones accepted, and whatever happened, the scene still renders. Asynchronous frames start,
 //! are waited for, cancelled and released among the edits; frame buffers and channel buffers are
 //! lent and taken back at other sizes; RTUT runs its main loop headless, whose display callback
 //! makes calls of its own (the window resized, frames swapped into it), and `rtResetContext`
-//! starts over in the middle.
+//! starts over in the middle. RTUT is the `rtut` crate's, written on rt.h alone: its calls of
+//! rt.h link to the C ABI this test calls, as librtut.so's link to libraystage.so.
 //!
 //! Each sequence runs on a thread of its own, so that it starts with a fresh context and a fresh
 //! RTUT. `random_calls_under_valgrind` runs 256 sequences again under valgrind
@@ -14,7 +15,8 @@
 //! `RAYSTAGE_PRINT_CALLS` prints each sequence before it runs, so that a report or a crash names
 //! it.
 //!
-//! `every_call_in_rt_h_is_generated` fails when rt.h gains a call the generator does not make.
+//! `every_call_in_rt_h_is_generated` fails when rt.h or rtut.h gains a call the generator does
+//! not make.
 
 use std::cell::RefCell;
 use std::ffi::CString;
@@ -24,6 +26,7 @@ use std::sync::OnceLock;
 use proptest::prelude::*;
 use raystage_capi::abi::*;
 use raystage_scene::SHADER_CLASSES;
+use rtut::*;
 
 /// One C call with its arguments.
 #[derive(Clone, Debug)]
@@ -96,6 +99,13 @@ enum Call {
     ChannelBuffer { channel: RTenum, side: usize, null: bool },
     /// `rtWritePNG` into the test's directory, or into one that does not exist.
     WritePng(bool),
+    /// `rtSwapBuffersKept` of a frame of this size.
+    SwapBuffersKept(usize, usize),
+    /// `rtReadPixels` of one pixel of the last frame: its corner, or (`inside` false) beyond any
+    /// frame; into NULL if `null`.
+    ReadPixels { format: RTenum, inside: bool, null: bool },
+    /// `rtRecordError` of `code` as the call "rtTestCall", or with NULL strings.
+    RecordError { code: RTenum, null: bool },
     ResetContext,
     FinishMpi,
     /// `rtInitMPI`, only where the library is built without MPI (it refuses then): with MPI it
@@ -181,6 +191,16 @@ const RENDER_MODES: &[RTenum] = &[RT_AUTO, RT_EYELIGHT, RT_WHITTED, RT_DISTRIBUT
 const RENDER_PARAMETERS: &[RTenum] = &[RT_SAMPLES_PER_PIXEL, RT_RAY_DEPTH, RT_LIGHT_SAMPLES, RT_RUSSIAN_ROULETTE, RT_SEED];
 const PARAMS: &[&str] = &["diffuse", "color", "position", "intensity", "cone", "specularColor", "diffuse_texture", "map"];
 const PIXEL_LAYOUTS: &[RTenum] = &[RT_RGBA8, RT_RGBA32F];
+const ERRORS: &[RTenum] = &[
+    RT_INVALID_ENUM,
+    RT_INVALID_VALUE,
+    RT_INVALID_OPERATION,
+    RT_STACK_OVERFLOW,
+    RT_STACK_UNDERFLOW,
+    RT_OUT_OF_MEMORY,
+    RT_IO_ERROR,
+    RT_INTERNAL_ERROR,
+];
 const CHANNELS: &[RTenum] = &[
     RT_DEPTH_CHANNEL,
     RT_Z_CHANNEL,
@@ -210,6 +230,7 @@ const QUERIES: &[RTenum] = &[
     RT_COLOR_CLEAR_VALUE,
     RT_VIEWPORT,
     RT_TEXTURE_BINDING_2D,
+    RT_SHADER_BINDING,
 ];
 
 /// Shutter times: mostly in [0, 1], sometimes not, or not numbers.
@@ -286,6 +307,10 @@ fn new_call() -> impl Strategy<Value = Call> {
         4 => (side(), one_of(PIXEL_LAYOUTS), proptest::bool::weighted(0.1)).prop_map(|(side, format, null)| Call::FrameBuffer { side, format, null }),
         2 => (one_of(CHANNELS), side(), proptest::bool::weighted(0.1)).prop_map(|(channel, side, null)| Call::ChannelBuffer { channel, side, null }),
         1 => proptest::bool::weighted(0.8).prop_map(Call::WritePng),
+        2 => (side(), side()).prop_map(|(w, h)| Call::SwapBuffersKept(w, h)),
+        1 => (one_of(PIXEL_LAYOUTS), proptest::bool::weighted(0.9), proptest::bool::weighted(0.1))
+            .prop_map(|(format, inside, null)| Call::ReadPixels { format, inside, null }),
+        1 => (one_of(ERRORS), proptest::bool::weighted(0.1)).prop_map(|(code, null)| Call::RecordError { code, null }),
         1 => Just(Call::ResetContext),
         1 => Just(Call::FinishMpi),
         // rtInitMPI only where it refuses (see `Call::InitMpi`).
@@ -442,6 +467,7 @@ const OK_OR_VALUE: &[RTenum] = &[RT_NO_ERROR, RT_INVALID_VALUE];
 const OK_OR_OPERATION: &[RTenum] = &[RT_NO_ERROR, RT_INVALID_OPERATION];
 const OK_VALUE_OR_OPERATION: &[RTenum] = &[RT_NO_ERROR, RT_INVALID_VALUE, RT_INVALID_OPERATION];
 const ENUM_OR_OPERATION: &[RTenum] = &[RT_INVALID_ENUM, RT_INVALID_OPERATION];
+const OPERATION_OR_VALUE: &[RTenum] = &[RT_INVALID_VALUE, RT_INVALID_OPERATION];
 const OK_OR_IO: &[RTenum] = &[RT_NO_ERROR, RT_INVALID_OPERATION, RT_IO_ERROR];
 const FILE_TEXTURE: &[RTenum] = &[RT_NO_ERROR, RT_INVALID_VALUE, RT_INVALID_OPERATION, RT_IO_ERROR];
 
@@ -600,7 +626,8 @@ impl Model {
         ) {
             return Code(RT_NO_ERROR);
         }
-        // The calls allowed between rtBegin and rtEnd (rtEndObject ends the primitive too).
+        // The calls allowed between rtBegin and rtEnd (rtEndObject ends the primitive too), and
+        // RTUT's that make no rt.h call but rtRecordError, which is allowed there too.
         let vertex_call = matches!(
             call,
             Vertex(_)
@@ -618,6 +645,11 @@ impl Model {
                 | Color4f(_)
                 | Color3fv(_)
                 | TexCoord2fv(_)
+                | RecordError { .. }
+                | RtutInit
+                | RtutInitWindowSize(..)
+                | RtutCreateWindow(_)
+                | RtutMainLoop(_)
         );
         if self.in_primitive && !vertex_call {
             return Code(RT_INVALID_OPERATION);
@@ -747,6 +779,18 @@ impl Model {
                 Some(true) => Code(if *good { RT_NO_ERROR } else { RT_IO_ERROR }),
                 None => OneOf(OK_OR_IO),
             },
+            SwapBuffersKept(w, h) if ![w, h].iter().all(|&&side| (1..=RT_MAX_FRAMEBUFFER_SIZE).contains(&side)) => Code(RT_INVALID_VALUE),
+            SwapBuffersKept(w, h) => operation(self.renders(Some((*w, *h)))),
+            ReadPixels { format, .. } if !Model::valid(*format, PIXEL_LAYOUTS) => Code(RT_INVALID_ENUM),
+            ReadPixels { null: true, .. } => Code(RT_INVALID_VALUE),
+            ReadPixels { inside, .. } => match self.rendered {
+                Some(false) => Code(RT_INVALID_OPERATION),
+                Some(true) => value(*inside),
+                None if *inside => OneOf(OK_OR_OPERATION),
+                None => OneOf(OPERATION_OR_VALUE),
+            },
+            RecordError { code, .. } if !Model::valid(*code, ERRORS) => Code(RT_INVALID_ENUM),
+            RecordError { null, code } => Code(if *null { RT_INVALID_VALUE } else { *code }),
             // Without rtInitMPI (which refuses without MPI) there is nothing to finish.
             InitMpi | FinishMpi => Code(RT_INVALID_OPERATION),
             ClassQuery(_, index) => value(*index < classes),
@@ -826,6 +870,10 @@ impl Model {
             RtutDisplayFunc(set) => self.rtut.display = *set,
             RtutSwapBuffers => {
                 self.frame = Some(self.rtut.frame);
+                self.rendered = Some(true);
+            }
+            SwapBuffersKept(w, h) => {
+                self.frame = Some((*w, *h));
                 self.rendered = Some(true);
             }
             _ => {}
@@ -961,6 +1009,9 @@ fn c_name(call: &Call) -> &'static str {
         FrameBuffer { .. } => "rtFrameBuffer",
         ChannelBuffer { .. } => "rtChannelBuffer",
         WritePng(_) => "rtWritePNG",
+        SwapBuffersKept(..) => "rtSwapBuffersKept",
+        ReadPixels { .. } => "rtReadPixels",
+        RecordError { .. } => "rtRecordError",
         ResetContext => "rtResetContext",
         FinishMpi => "rtFinishMPI",
         InitMpi => "rtInitMPI",
@@ -1119,6 +1170,15 @@ fn perform(call: &Call) -> Option<i64> {
         }
         WritePng(true) => unsafe { rtWritePNG(path("frame.png").as_ptr()) },
         WritePng(false) => unsafe { rtWritePNG(c"/nonexistent-raystage-directory/frame.png".as_ptr()) },
+        SwapBuffersKept(w, h) => return Some(i64::from(rtSwapBuffersKept(*w, *h))),
+        ReadPixels { format, inside, null } => {
+            let mut pixel = [0u8; 16];
+            let out = if *null { std::ptr::null_mut() } else { pixel.as_mut_ptr() };
+            let x = if *inside { 0 } else { RT_MAX_FRAMEBUFFER_SIZE };
+            unsafe { rtReadPixels(x, 0, 1, 1, *format, out.cast()) }
+        }
+        RecordError { code, null: false } => unsafe { rtRecordError(*code, c"rtTestCall".as_ptr(), c"a test's error".as_ptr()) },
+        RecordError { code, null: true } => unsafe { rtRecordError(*code, null.cast(), null.cast()) },
         ResetContext => rtResetContext(),
         FinishMpi => rtFinishMPI(),
         InitMpi if cfg!(feature = "mpi") => unreachable!("rtInitMPI is not generated where the library has MPI"),
@@ -1214,7 +1274,8 @@ fn step(call: &Call) -> Result<(), String> {
     let returned = perform(call);
     let code = rtGetError();
     let what = message();
-    if code == RT_INTERNAL_ERROR {
+    // `rtRecordError` records the internal error it is given, which is no failure of raystage's.
+    if code == RT_INTERNAL_ERROR && !matches!(call, Call::RecordError { code: RT_INTERNAL_ERROR, null: false }) {
         return Err(format!("{call:?} failed inside raystage: {what}"));
     }
     if let (Call::GetRenderParameter(pname), Some(value), RT_NO_ERROR) = (call, returned, code) {
@@ -1382,10 +1443,11 @@ proptest! {
     }
 }
 
-/// The C functions declared in rt.h: each line that declares one starts with its return type
-/// and names it before its first parenthesis.
-fn declared_calls() -> Vec<String> {
-    let header = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../api/include/raystage/rt.h")).expect("rt.h");
+/// The C functions declared in `header` (rt.h or rtut.h): each line that declares one starts
+/// with its return type and names it before its first parenthesis.
+fn declared_calls(header: &str) -> Vec<String> {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../api/include/raystage").join(header);
+    let header = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     header
         .lines()
         .filter(|line| line.starts_with(|c: char| c.is_ascii_alphabetic()) && !line.starts_with("typedef"))
@@ -1423,13 +1485,15 @@ fn every_call_in_rt_h_is_generated() {
             names(&call, &mut generated);
         }
     }
-    let declared = declared_calls();
-    assert!(declared.len() > 100 && declared.iter().any(|n| n == "rtutMainLoop"), "rt.h was not read: {declared:?}");
+    let (rt, rtut) = (declared_calls("rt.h"), declared_calls("rtut.h"));
+    assert!(rt.len() > 100 && rt.iter().any(|n| n == "rtSwapBuffers"), "rt.h was not read: {rt:?}");
+    assert!(rtut.len() > 10 && rtut.iter().all(|n| n.starts_with("rtut")), "rtut.h was not read: {rtut:?}");
+    let declared: Vec<String> = rt.into_iter().chain(rtut).collect();
     let missing: Vec<&String> = declared
         .iter()
         .filter(|n| !generated.contains(n.as_str()) && !harness.contains(&n.as_str()) && !excluded.iter().any(|(e, _)| e == n))
         .collect();
-    assert!(missing.is_empty(), "rt.h declares calls the random-call model never makes: {missing:?}; add them to `Call`");
+    assert!(missing.is_empty(), "rt.h or rtut.h declares calls the random-call model never makes: {missing:?}; add them to `Call`");
 }
 
 /// The random sequences again under valgrind (where it is installed, and this process is not

@@ -101,6 +101,9 @@ pub const RT_TEXTURE_MATRIX: RTenum = 0x0BA8;
 pub const RT_COLOR_CLEAR_VALUE: RTenum = 0x0C22;
 /// The texture bound with `rtBindTexture`, 1 value (0 for none).
 pub const RT_TEXTURE_BINDING_2D: RTenum = 0x8069;
+/// The shader bound with `rtBindShader` (or `rtNewShader`), 1 value (0 for none): what a library
+/// that binds a shader for a moment binds back (OpenGL's `GL_CURRENT_PROGRAM`).
+pub const RT_SHADER_BINDING: RTenum = 0x8B8D;
 
 // ----- shader parameters (rtParameterScope) -----
 
@@ -268,10 +271,14 @@ pub const RT_MAX_LIGHT_SAMPLES: RTint = 256;
 
 // ----- limits -----
 
-/// Largest magnitude of a vertex coordinate once transformed by the modelview matrix, of a
-/// matrix's translation, and of the camera's points and planes: `rtVertex*`, `rtTriangleMesh`,
-/// the matrix calls, `rtLookAt`, `rtOrtho` and `rtFrustum` refuse more with `RT_INVALID_VALUE`. Single-precision arithmetic renders scenes within it correctly; beyond it
-/// shading and hit points lose their precision, and squared distances overflow.
+/// Largest magnitude of a vertex coordinate once transformed by the modelview matrix, of an
+/// instance's reach (its object's bounds placed by the matrix), of a matrix's translation, and
+/// of the camera's points and planes: `rtVertex*`, `rtTriangleMesh`, `rtInstantiateObject`,
+/// `rtMoveInstance`, `rtInstanceMotion`, the matrix calls, `rtLookAt`, `rtOrtho` and `rtFrustum`
+/// refuse more with `RT_INVALID_VALUE`. A matrix's other entries (its scale, its rotation) need
+/// only be finite: the bound is on what the matrix places, so a large scale may place a small
+/// object. Single-precision arithmetic renders scenes within it correctly; beyond it shading and
+/// hit points lose their precision, and squared distances overflow.
 pub const RT_MAX_COORDINATE: RTfloat = 1e8;
 
 /// Most ids of each kind (objects, shaders, shader classes, textures) that one context can

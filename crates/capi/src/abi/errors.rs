@@ -2,9 +2,14 @@
 
 use std::ffi::c_char;
 
+use crate::abi::enums::{
+    RT_INTERNAL_ERROR, RT_INVALID_ENUM, RT_INVALID_OPERATION, RT_INVALID_VALUE, RT_IO_ERROR, RT_OUT_OF_MEMORY, RT_STACK_OVERFLOW,
+    RT_STACK_UNDERFLOW,
+};
 use crate::abi::types::RTenum;
-use crate::boundary::query;
+use crate::boundary::{c_str, call_in_primitive, query};
 use crate::context::Context;
+use crate::error::Error;
 
 /// Returns the first error recorded since the last call of `rtGetError` (`RT_NO_ERROR` if none)
 /// and clears it. As with `glGetError`, later errors are not recorded while one is pending, so a
@@ -21,6 +26,38 @@ pub extern "C" fn rtGetError() -> RTenum {
 #[unsafe(no_mangle)]
 pub extern "C" fn rtGetErrorString() -> *const c_char {
     query(c"rtGetErrorString: the context is not available".as_ptr(), |ctx| ctx.errors.message().as_ptr())
+}
+
+/// Records error `code` as call `call` failing with `message`, as every `rt*` call records its
+/// own (`rtGetErrorString` then reads "call: message"; an earlier error still unread sticks):
+/// for libraries written on rt.h, such as RTUT, whose calls report through `rtGetError` too.
+/// `code` must be an error code (`RT_INVALID_ENUM` ... `RT_OUT_OF_MEMORY`, `RT_IO_ERROR`,
+/// `RT_INTERNAL_ERROR`), else `RT_INVALID_ENUM` is recorded instead; NULL strings record
+/// `RT_INVALID_VALUE`. Allowed between `rtBegin` and `rtEnd`.
+///
+/// # Safety
+/// `call` and `message` must be NULL (an error) or NUL-terminated strings.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn rtRecordError(code: RTenum, call: *const c_char, message: *const c_char) {
+    call_in_primitive("rtRecordError", |ctx| {
+        const CODES: [RTenum; 8] = [
+            RT_INVALID_ENUM,
+            RT_INVALID_VALUE,
+            RT_INVALID_OPERATION,
+            RT_STACK_OVERFLOW,
+            RT_STACK_UNDERFLOW,
+            RT_OUT_OF_MEMORY,
+            RT_IO_ERROR,
+            RT_INTERNAL_ERROR,
+        ];
+        if !CODES.contains(&code) {
+            return Err(Error::invalid_enum(format!("{code:#x} is not an error code")));
+        }
+        // SAFETY: the caller's promise above.
+        let (call, message) = unsafe { (c_str(call, "call")?.to_string_lossy(), c_str(message, "message")?.to_string_lossy()) };
+        ctx.errors.record(&call, Error { code, message: message.into_owned() });
+        Ok(())
+    })
 }
 
 /// Discards this thread's context: the scene, every id, the matrices, bindings, frame buffer

@@ -75,6 +75,38 @@ pub extern "C" fn rtSwapBuffers() {
     call("rtSwapBuffers", |ctx| ctx.swap_buffers())
 }
 
+/// Renders a frame of `width` × `height` pixels (each side 1 to `RT_MAX_FRAMEBUFFER_SIZE`) as
+/// `rtSwapBuffers` does, into a frame buffer raystage keeps itself, which then becomes the frame
+/// buffer in place of any memory lent with `rtFrameBuffer`: `rtPick` and `RT_VIEWPORT` take its
+/// size, later frames go to it too, and `rtReadPixels` copies them out. For a window toolkit
+/// such as RTUT, whose window has a size of its own and may be resized at any time: no memory of
+/// the toolkit's is lent, so none it frees can be written. Returns 1 once the frame rendered; a
+/// refused call (as `rtSwapBuffers` refuses, or a size out of range) returns 0 and changes
+/// nothing, the frame buffer included.
+#[unsafe(no_mangle)]
+pub extern "C" fn rtSwapBuffersKept(width: RTsizei, height: RTsizei) -> RTboolean {
+    call("rtSwapBuffersKept", |ctx| ctx.swap_buffers_kept(width, height).map(|()| 1))
+}
+
+/// Copies the `width` × `height` pixels from (`x`, `y`) on of the last frame rendered (by
+/// `rtSwapBuffers`, `rtSwapBuffersKept` or an asynchronous frame delivered) into `pixels`, as
+/// `glReadPixels` does, but with rows from the top as the frame buffer has them: `RT_RGBA8`
+/// (sRGB bytes) or `RT_RGBA32F` (linear floats), whatever the frame buffer's layout.
+/// `RT_INVALID_OPERATION` if no frame was rendered, `RT_INVALID_VALUE` if `pixels` is NULL or
+/// the rectangle is not inside the frame.
+///
+/// # Safety
+/// `pixels` must be NULL (an error) or point to `width × height × (4 or 16)` writable bytes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn rtReadPixels(x: RTsizei, y: RTsizei, width: RTsizei, height: RTsizei, format: RTenum, pixels: *mut c_void) {
+    call("rtReadPixels", |ctx| {
+        let format = PixelFormat::from_enum(format)?;
+        let pixels = NonNull::new(pixels.cast::<u8>()).ok_or_else(|| crate::error::Error::invalid_value("pixels is NULL"))?;
+        // SAFETY: the caller's promise above.
+        unsafe { ctx.read_pixels((x, y), (width, height), format, pixels) }
+    })
+}
+
 /// What pixel (`x`, `y`) of the frame buffer sees in the scene as it is now. Returns 1 and writes
 /// the instance, object and triangle through the pointers that are not NULL; returns 0 if the
 /// pixel sees nothing or on error, and writes nothing. The triangle is counted from 0 in the

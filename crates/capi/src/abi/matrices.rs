@@ -47,7 +47,8 @@ pub extern "C" fn rtRotatef(angle: RTfloat, x: RTfloat, y: RTfloat, z: RTfloat) 
     call("rtRotatef", |ctx| ctx.matrices.current().multiply(rotation(angle, x, y, z)?))
 }
 
-/// Multiplies the top matrix by a scaling.
+/// Multiplies the top matrix by a scaling: any finite factors (`RT_MAX_COORDINATE` bounds what
+/// the matrix places, not its scale).
 #[unsafe(no_mangle)]
 pub extern "C" fn rtScalef(x: RTfloat, y: RTfloat, z: RTfloat) {
     call("rtScalef", |ctx| ctx.matrices.current().multiply(scaling(x, y, z)?))

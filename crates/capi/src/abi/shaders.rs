@@ -26,7 +26,7 @@ pub extern "C" fn rtGenShaderClasses(n: RTsizei) -> RTuint {
 /// - "Phong": diffuse (3f), specular (3f), shininess (1f, the Blinn-Phong exponent, 1 to 10000),
 ///   diffuse_texture. There is no "exponent".
 /// - "Mirror": reflectance (3f).
-/// - "Glossy": reflectance (3f), roughness (1f, 0 to 1).
+/// - "Glossy": reflectance (3f), roughness (1f, GGX's α, 0.01 to 1; "Mirror" is its smooth limit).
 /// - "Glass": ior (1f, 1 to 4), absorption (3f, per unit length inside).
 /// - "Emissive": emission (3f, radiance from its front).
 /// - "PhysicallyBased": glTF 2.0's metallic-roughness material; base_color (3f), metallic (1f),

@@ -27,7 +27,7 @@ unsafe fn get<T>(name: &'static str, pname: RTenum, params: *mut T, convert: fn(
 /// `RT_TEXTURE_MATRIX` (16 each), `RT_CURRENT_COLOR`, `RT_CURRENT_TEXTURE_COORDS`,
 /// `RT_COLOR_CLEAR_VALUE`, `RT_VIEWPORT` (4 each), `RT_CURRENT_NORMAL` (3), or one of
 /// `RT_MODELVIEW_STACK_DEPTH`, `RT_TEXTURE_STACK_DEPTH`, `RT_MATRIX_MODE`, `RT_SHADE_MODEL`,
-/// `RT_TEXTURE_BINDING_2D`. Another `pname` records `RT_INVALID_ENUM` and writes nothing;
+/// `RT_TEXTURE_BINDING_2D`, `RT_SHADER_BINDING`. Another `pname` records `RT_INVALID_ENUM` and writes nothing;
 /// allowed between `rtBegin` and `rtEnd`.
 ///
 /// # Safety

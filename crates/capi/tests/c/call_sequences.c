@@ -6,7 +6,8 @@
  *   window_resize      RTUT's window memory reallocated by a resize (rtutInitWindowSize after
  *                      rtutCreateWindow, then rtutMainLoop) while the context still rendered
  *                      into it: the next rtSwapBuffers, or an asynchronous frame, wrote freed
- *                      memory. The window's pixels are owned with the context now.
+ *                      memory. RTUT lends no memory now: its frames go to a frame buffer the
+ *                      library keeps (rtSwapBuffersKept).
  *   stale_handles      Frame handles started again at 1 after rtResetContext, so releasing a
  *                      stale handle cancelled a newer frame. Handles are unique in the process.
  *   failed_rtut_swap   A refused rtutSwapBuffers (inside rtNewObject, or with channels lent at
@@ -21,6 +22,8 @@
  * working directory. Prints each failed check and exits 1 if any failed.
  */
 #define _POSIX_C_SOURCE 200809L
+#include <raystage/rtut.h>
+
 #include "check.h"
 
 #include <math.h>
@@ -85,7 +88,7 @@ static void window_resize(void) {
     rtutMainLoop();
     no_error("the second loop");
 
-    /* Both frames go to the pixels the context was given: they stay alive (valgrind checks). */
+    /* Both frames go to the frame buffer the context was given: the library's (valgrind checks). */
     rtSwapBuffers();
     no_error("rtSwapBuffers after the resize");
     RTuint frame = rtRenderFrameAsync();
@@ -94,7 +97,7 @@ static void window_resize(void) {
     rtFrameRelease(frame);
     no_error("the asynchronous frame");
 
-    /* Shown again, the window lends its new pixels at its new size. */
+    /* Shown again, the window renders at its new size. */
     rtutDisplayFunc(swap_and_leave);
     rtutPostRedisplay();
     rtutMainLoop();

@@ -12,7 +12,7 @@
  * Headless (no display), RTUT renders RTUT_FRAMES frames: the idle callback posts a redisplay
  * each time. Checks of the calls' errors use check.h; the program returns 1 if any failed.
  */
-#include <raystage/rt.h>
+#include <raystage/rtut.h>
 
 #include "check.h"
 

@@ -407,6 +407,62 @@ void textures() {
     no_error("textures");
 }
 
+/// Texture::image reads bytes as rtTexImage2D does: linear (byte / 255) by default, sRGB-encoded
+/// only when asked with RT_SRGB8. A grey wall textured by the wrapper and again by the C call
+/// renders the same.
+void texture_bytes_read_as_c_reads_them() {
+    raystage::Context context;
+    raystage::FrameBuffer frame(W, H, RT_RGBA32F);
+    camera();
+    raystage::render_mode(RT_EYELIGHT);
+    const std::vector<std::uint8_t> grey{128, 128, 128};
+    raystage::Texture texture;
+    texture.image(1, 1, RT_RGB, grey);
+    raystage::Shader paint("Diffuse");
+    paint.set("diffuse", 1, 1, 1).set("diffuse_texture", texture);
+    raystage::Object wall = square_object(paint, 20);
+    raystage::Instance instance = wall.instantiate();
+    frame.swap();
+    const float wrapped = frame.linear(W / 2, H / 2)[0];
+    texture.bind();
+    rtTexImage2D(RT_TEXTURE_2D, 0, RT_RGB, 1, 1, 0, RT_RGB, RT_UNSIGNED_BYTE, grey.data());
+    frame.swap();
+    const float c = frame.linear(W / 2, H / 2)[0];
+    CHECK(wrapped == c && c > 0.3f, "the wrapper's grey renders %g, the C call's %g", wrapped, c);
+    texture.image(1, 1, RT_RGB, grey, RT_SRGB8);
+    frame.swap();
+    const float srgb = frame.linear(W / 2, H / 2)[0];
+    CHECK(srgb < c * 0.6f, "sRGB-encoded 128 is darker (%g) than linear 128 (%g)", srgb, c);
+    no_error("texture bytes");
+}
+
+/// Shader::set writes a shader's parameter without changing which shader is bound: inside
+/// Object::define, triangles issued after it still get the shader bound before.
+void set_keeps_the_bound_shader() {
+    raystage::Context context;
+    raystage::FrameBuffer frame(W, H);
+    camera();
+    raystage::Shader red("Constant"), green("Constant");
+    red.set("color", 1, 0, 0);
+    raystage::Object wall;
+    wall.define([&] {
+        red.bind();
+        green.set("color", 0, 1, 0);
+        square(20);
+    });
+    raystage::Instance instance = wall.instantiate();
+    frame.swap();
+    const std::uint8_t *p = frame.pixel(W / 2, H / 2);
+    CHECK(p[0] > 200 && p[1] < 30, "the wall is (%d, %d, %d), not the red bound before green's set", p[0], p[1], p[2]);
+    // Outside define too, and with nothing bound: set leaves nothing bound.
+    rtBindShader(0);
+    green.set("color", 0, 0.5f, 0);
+    RTint bound = -1;
+    rtGetIntegerv(RT_SHADER_BINDING, &bound);
+    CHECK(bound == 0, "set left shader %d bound", bound);
+    no_error("set keeps the bound shader");
+}
+
 /// Channels: each buffer's own, filled by its frames, taken back when another buffer attaches.
 void channels() {
     raystage::Context context;
@@ -469,6 +525,8 @@ int main() {
     run("gl_calls", gl_calls);
     run("float_buffers_and_double_calls", float_buffers_and_double_calls);
     run("textures", textures);
+    run("texture_bytes_read_as_c_reads_them", texture_bytes_read_as_c_reads_them);
+    run("set_keeps_the_bound_shader", set_keeps_the_bound_shader);
     run("channels", channels);
     run("classes", classes);
     return verdict("wrapper.cpp");

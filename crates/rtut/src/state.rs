@@ -1,36 +1,22 @@
-//! RTUT, OpenRT's GLUT replacement (docs/design/seeds.md §1.1): a window that shows the frames a
-//! program renders, and the callbacks that drive it, so that a GLUT program ports by renaming
-//! `glut*` to `rtut*`. The window is an egui/eframe window (the viewer's toolkit); where there is
-//! no display, the same program runs headless and writes each frame as a PNG file.
+//! What RTUT keeps per thread: the window asked for, the callbacks, and the frame shown; and
+//! what `rtutSwapBuffers` and `rtutMainLoop` do with it.
 //!
-//! The window shares its pixels with the context: `rtutSwapBuffers` makes them the context's
-//! frame buffer (RGBA8, the window's size in pixels) and renders into them, so that `rtPick` in a
-//! mouse callback takes the callback's coordinates. The two own the pixels together, so a resize
-//! (which gives the window new pixels) never frees memory the context still writes. Callbacks run on the thread that called `rtutMainLoop`, whose context
-//! they use, with no `rt*` call in progress (the loop holds no borrow of the context or of this
-//! module's state while it calls them).
-
-mod window;
+//! `rtutSwapBuffers` renders with `rtSwapBuffersKept` at the window's size in pixels: into a
+//! frame buffer the library keeps, which becomes the context's, so that `rtPick` in a mouse
+//! callback takes the callback's coordinates; the window then copies the frame out with
+//! `rtReadPixels`. RTUT lends the context no memory, so a resize (which changes the size of the
+//! next frame) can never leave the context writing memory RTUT freed, and a refused swap
+//! changes nothing. Callbacks run on the thread that called `rtutMainLoop`, whose context they
+//! use, with no borrow of this module's state held while they run.
 
 use std::cell::RefCell;
-use std::ffi::{c_int, c_uchar};
+use std::ffi::{CString, c_int};
+use std::os::unix::ffi::OsStrExt;
 use std::path::PathBuf;
-use std::rc::Rc;
 
-use crate::abi::enums::RT_MAX_FRAMEBUFFER_SIZE;
-use crate::context::Context;
-use crate::error::Error;
-use crate::frames::{FrameBuffer, SharedPixels};
-
-/// A display, idle or other callback without arguments.
-pub type RTUTvoidfunc = Option<unsafe extern "C" fn()>;
-/// A reshape callback: the window's new width and height in pixels.
-pub type RTUTreshapefunc = Option<unsafe extern "C" fn(c_int, c_int)>;
-/// A keyboard callback: the key's ASCII code and the pointer's position in pixels.
-pub type RTUTkeyboardfunc = Option<unsafe extern "C" fn(c_uchar, c_int, c_int)>;
-/// A mouse callback: the button (`RTUT_LEFT_BUTTON`, ...), its state (`RTUT_DOWN`, `RTUT_UP`)
-/// and the pointer's position in pixels.
-pub type RTUTmousefunc = Option<unsafe extern "C" fn(c_int, c_int, c_int, c_int)>;
+use crate::rt::{self, Error, RT_MAX_FRAMEBUFFER_SIZE};
+use crate::window;
+use crate::{RTUTkeyboardfunc, RTUTmousefunc, RTUTreshapefunc, RTUTvoidfunc};
 
 /// The callbacks a program registered.
 #[derive(Clone, Copy, Default)]
@@ -56,9 +42,11 @@ pub(crate) struct Rtut {
     /// `rtutLeaveMainLoop` was called.
     pub leave: bool,
     running: bool,
-    /// The window's pixels, shared with the context by `rtutSwapBuffers`: RGBA8, `frame_size`.
-    pixels: SharedPixels,
+    /// The size of the frames `rtutSwapBuffers` renders: the window's inside in pixels.
     frame_size: (u32, u32),
+    /// The last frame swapped, as the window shows it: RGBA8 sRGB, rows from the top, of its
+    /// own size (the window may have been resized since).
+    shown: ((u32, u32), Vec<u8>),
     /// Frames `rtutSwapBuffers` rendered, and where a headless loop writes them.
     pub swapped: u64,
     headless: Option<PathBuf>,
@@ -113,40 +101,42 @@ impl Rtut {
         }
     }
 
-    /// Sizes the frame buffer to `width × height` pixels (it keeps its memory otherwise). New
-    /// pixels, not the old ones resized: the context may still hold those as its frame buffer.
+    /// Sizes the frames to come to `width × height` pixels.
     pub fn resize(&mut self, width: u32, height: u32) {
-        if self.frame_size != (width, height) {
-            self.frame_size = (width, height);
-            self.pixels = Rc::new(RefCell::new(vec![0; width as usize * height as usize * 4]));
-        }
+        self.frame_size = (width, height);
     }
 
-    /// The frame buffer's size, and its pixels (RGBA8, rows from the top).
-    pub fn frame(&self) -> ((u32, u32), std::cell::Ref<'_, Vec<u8>>) {
-        (self.frame_size, self.pixels.borrow())
+    /// The size of the frames to come.
+    pub fn frame_size(&self) -> (u32, u32) {
+        self.frame_size
     }
 
-    /// `rtutSwapBuffers`: renders a frame into the window's pixels, which become the context's
-    /// frame buffer; headless, writes it as the next PNG file too. Everything that can fail
-    /// (the render, the file) comes before the frame buffer changes, so a refused call leaves
-    /// the context's frame buffer, its last frame and the count of frames as they were.
-    pub fn swap_buffers(&mut self, ctx: &mut Context) -> Result<(), Error> {
+    /// The last frame swapped: its size and its pixels (RGBA8, rows from the top).
+    pub fn shown(&self) -> ((u32, u32), &[u8]) {
+        (self.shown.0, &self.shown.1)
+    }
+
+    /// `rtutSwapBuffers`: renders a frame at the window's size into the frame buffer the library
+    /// keeps, and shows it: in the window, or headless as the next PNG file. `Ok(())` when the
+    /// frame was refused too: `rtSwapBuffersKept` recorded why, and nothing changed.
+    pub fn swap_buffers(&mut self) -> Result<(), Error> {
         self.window("rtutSwapBuffers")?;
         if !self.running {
             return Err(Error::invalid_operation("rtutSwapBuffers shows a frame in the window: call it from a callback of rtutMainLoop"));
         }
         let (width, height) = self.frame_size;
-        let target = FrameBuffer::shared(Rc::clone(&self.pixels), width as usize, height as usize)?;
-        let (film, channels) = ctx.render_frame("rtutSwapBuffers", width, height)?;
-        if let Some(prefix) = &self.headless {
-            let mut path = prefix.clone().into_os_string();
-            path.push(format!("-{:04}.png", self.swapped));
-            film.write_png(path).map_err(|e| Error::io(e.to_string()))?;
+        if !rt::swap_buffers_kept(width, height) {
+            return Ok(());
         }
-        // Cannot fail: `render_frame` found no frame in flight.
-        ctx.set_frame_buffer(Some(target))?;
-        ctx.deliver(film, channels);
+        match &self.headless {
+            Some(name) => {
+                let mut path = name.clone().into_os_string();
+                path.push(format!("-{:04}.png", self.swapped));
+                let path = CString::new(path.as_bytes()).expect("an environment variable holds no NUL byte");
+                rt::write_png(&path);
+            }
+            None => self.shown = ((width, height), rt::read_frame(width, height)),
+        }
         self.swapped += 1;
         Ok(())
     }
@@ -157,15 +147,16 @@ pub(crate) enum Backend {
     /// A window titled so, of the size asked for; with a screenshot of it saved at the path once
     /// it shows its first frame (`RTUT_SCREENSHOT`).
     Window { title: String, size: (u32, u32), screenshot: Option<PathBuf> },
-    /// No display: each frame swapped is written as `PREFIX-NNNN.png` (the prefix is kept in the
-    /// state, where `rtutSwapBuffers` finds it), and the loop ends after `frames` of them.
+    /// No display: each frame swapped is written as `RTUT_OUTPUT-NNNN.png` (the name is kept in
+    /// the state, where `rtutSwapBuffers` finds it), and the loop ends after `frames` of them.
     Headless { frames: u64 },
 }
 
 /// What `rtutMainLoop` will do, checked before it starts: a window and a display callback are
 /// needed, and the loop runs once at a time. Headless where `RTUT_HEADLESS` is set or neither
-/// `DISPLAY` nor `WAYLAND_DISPLAY` is; `RTUT_OUTPUT` is the headless files' prefix (default
-/// `rtut-frame`), `RTUT_FRAMES` how many frames a headless loop renders (default 1).
+/// `DISPLAY` nor `WAYLAND_DISPLAY` is; `RTUT_OUTPUT` names the headless files before their
+/// `-NNNN.png` (default `rtut-frame`), `RTUT_FRAMES` how many frames a headless loop renders
+/// (default 1).
 pub(crate) fn plan() -> Result<Backend, Error> {
     with(|r| {
         r.window("rtutMainLoop")?;
@@ -183,9 +174,9 @@ pub(crate) fn plan() -> Result<Backend, Error> {
                 Some(n) => n.to_str().and_then(|n| n.parse().ok()).filter(|&n| n > 0).ok_or_else(|| Error::invalid_value("RTUT_FRAMES must be a whole number above 0"))?,
                 None => 1,
             };
-            let prefix = env("RTUT_OUTPUT").map_or_else(|| PathBuf::from("rtut-frame"), PathBuf::from);
+            let name = env("RTUT_OUTPUT").map_or_else(|| PathBuf::from("rtut-frame"), PathBuf::from);
             r.resize(width, height);
-            r.headless = Some(prefix);
+            r.headless = Some(name);
             return Ok(Backend::Headless { frames });
         }
         let title = r.title.clone().unwrap_or_default();

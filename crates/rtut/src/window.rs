@@ -9,9 +9,9 @@ use std::sync::{Arc, Mutex};
 
 use eframe::egui::{self, Color32, ColorImage, Event, Key, PointerButton, Pos2, Rect, TextureHandle, TextureOptions};
 
-use super::{Callbacks, with};
-use crate::abi::rtut::{RTUT_DOWN, RTUT_LEFT_BUTTON, RTUT_MIDDLE_BUTTON, RTUT_RIGHT_BUTTON, RTUT_UP};
-use crate::error::Error;
+use crate::rt::Error;
+use crate::state::{Callbacks, with};
+use crate::{RTUT_DOWN, RTUT_LEFT_BUTTON, RTUT_MIDDLE_BUTTON, RTUT_RIGHT_BUTTON, RTUT_UP};
 
 /// Runs the window titled `title`, `size` pixels inside, until it closes.
 pub(super) fn run(title: String, size: (u32, u32), screenshot: Option<PathBuf>) -> Result<(), Error> {
@@ -48,7 +48,7 @@ impl Window {
     /// display or idle.
     fn callbacks(&mut self, ctx: &egui::Context, pixels: (u32, u32)) {
         let (callbacks, resized) = with(|r| {
-            let resized = r.frame().0 != pixels;
+            let resized = r.frame_size() != pixels;
             if resized {
                 r.resize(pixels.0, pixels.1);
                 r.redisplay = true;
@@ -122,8 +122,8 @@ impl eframe::App for Window {
         let (swapped, leave, busy) = with(|r| (r.swapped, r.leave, r.redisplay || r.callbacks.idle.is_some()));
         if swapped != self.shown && swapped > 0 {
             let image = with(|r| {
-                let ((width, height), rgba) = r.frame();
-                ColorImage::from_rgba_unmultiplied([width as usize, height as usize], &rgba)
+                let ((width, height), rgba) = r.shown();
+                ColorImage::from_rgba_unmultiplied([width as usize, height as usize], rgba)
             });
             match &mut self.texture {
                 Some(texture) => texture.set(image, TextureOptions::NEAREST),
