@@ -1,8 +1,8 @@
 //! The messages between rank 0 and the workers, and their encoding (CBOR).
 
 use raystage_demo::animated::Demo;
-use raystage_render::{Filter, Integrator, RenderSettings};
-use raystage_scene::{Background, Scene};
+use raystage_render::RenderSettings;
+use raystage_scene::Scene;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
@@ -36,7 +36,8 @@ pub(super) struct PassMessage {
     pub key: u64,
     pub scene: u32,
     pub version: u64,
-    pub settings: WireSettings,
+    /// The renderer's settings, as serde writes them.
+    pub settings: RenderSettings,
     pub samples: u32,
     /// The accumulation starts over (its first pass, or rank 0's was cancelled).
     pub reset: bool,
@@ -110,73 +111,6 @@ impl SceneBuild {
         };
         add_environment(&mut scene, environment, unlit)?;
         Ok((scene, origin))
-    }
-}
-
-/// [`RenderSettings`] as a message carries them.
-#[derive(Serialize, Deserialize)]
-pub(super) struct WireSettings {
-    width: u32,
-    height: u32,
-    integrator: String,
-    samples_per_pixel: u32,
-    max_depth: u32,
-    light_samples: u32,
-    russian_roulette: bool,
-    /// `None` for the box filter, else the Gaussian's radius.
-    gaussian: Option<f32>,
-    seed: u32,
-    noise_threshold: Option<f32>,
-    default_lights: bool,
-    /// `None`: the scene's choice; `Some(None)`: the sky; `Some(Some(c))`: colour `c`.
-    background: Option<Option<[f32; 3]>>,
-    specialize: bool,
-}
-
-impl From<&RenderSettings> for WireSettings {
-    fn from(s: &RenderSettings) -> WireSettings {
-        WireSettings {
-            width: s.width,
-            height: s.height,
-            integrator: s.integrator.name().to_string(),
-            samples_per_pixel: s.samples_per_pixel,
-            max_depth: s.max_depth,
-            light_samples: s.light_samples,
-            russian_roulette: s.russian_roulette,
-            gaussian: match s.filter {
-                Filter::Box => None,
-                Filter::Gaussian { radius } => Some(radius),
-            },
-            seed: s.seed,
-            noise_threshold: s.noise_threshold,
-            default_lights: s.default_lights,
-            background: s.background.map(|b| match b {
-                Background::Sky => None,
-                Background::Color(c) => Some(c.to_array()),
-            }),
-            specialize: s.specialize,
-        }
-    }
-}
-
-impl WireSettings {
-    /// The settings sent, or why they cannot be read.
-    pub(super) fn settings(&self) -> Result<RenderSettings, String> {
-        Ok(RenderSettings {
-            width: self.width,
-            height: self.height,
-            integrator: Integrator::from_name(&self.integrator).ok_or_else(|| format!("unknown integrator `{}`", self.integrator))?,
-            samples_per_pixel: self.samples_per_pixel,
-            max_depth: self.max_depth,
-            light_samples: self.light_samples,
-            russian_roulette: self.russian_roulette,
-            filter: self.gaussian.map_or(Filter::Box, |radius| Filter::Gaussian { radius }),
-            seed: self.seed,
-            noise_threshold: self.noise_threshold,
-            default_lights: self.default_lights,
-            background: self.background.map(|b| b.map_or(Background::Sky, |c| Background::Color(c.into()))),
-            specialize: self.specialize,
-        })
     }
 }
 
