@@ -87,7 +87,7 @@ enum Command {
         /// The demo scene (see `render --demo`).
         #[arg(long, value_parser = raystage::parse_demo)]
         demo: Option<Demo>,
-        /// How pixels are shaded [default: whitted if the scene has lights, else eyelight].
+        /// How pixels are shaded [default: chosen for the scene as `render` chooses].
         #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(raystage_client::INTEGRATORS))]
         integrator: Option<String>,
         /// Samples per pixel the image refines to.

@@ -125,3 +125,59 @@ pub(super) fn encode<T: Serialize>(value: &T) -> Vec<u8> {
 pub(super) fn decode<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, String> {
     ciborium::from_reader(bytes).map_err(|e| e.to_string())
 }
+
+#[cfg(test)]
+mod tests {
+    use raystage_render::{FrameSettings, SettingsPatch};
+
+    use super::*;
+
+    /// Every setting a front end sets reaches the workers: a patch that sets each one (written
+    /// out whole, so that a setting added to the list fails to compile here until it is given a
+    /// value) changes the renderer's settings, which travel as serde writes them, and come back
+    /// from the wire as they went.
+    #[test]
+    fn every_setting_reaches_the_workers() {
+        let patch = SettingsPatch {
+            samples_per_pixel: Some(3),
+            width: Some(7),
+            height: Some(5),
+            integrator: Some("distribution".into()),
+            background: Some("0.25,0.5,1".into()),
+            default_lights: Some(false),
+            max_depth: Some(9),
+            russian_roulette: Some(false),
+            filter: Some("gaussian:2".into()),
+            seed: Some(11),
+            noise_threshold: Some(0.5),
+            exposure: Some(1.5),
+            tonemap: Some("neutral".into()),
+        };
+        let mut frame = FrameSettings::default();
+        frame.apply(&patch).unwrap();
+        let settings = frame.for_scene(&Scene::new());
+        let sent: RenderSettings = decode(&encode(&settings)).unwrap();
+        assert_eq!(sent, settings);
+        let d = RenderSettings::default();
+        let fields = [
+            ("samples_per_pixel", sent.samples_per_pixel != d.samples_per_pixel),
+            ("width", sent.width != d.width),
+            ("height", sent.height != d.height),
+            ("integrator", sent.integrator != d.integrator),
+            ("background", sent.background != d.background),
+            ("default_lights", sent.default_lights != d.default_lights),
+            ("max_depth", sent.max_depth != d.max_depth),
+            ("russian_roulette", sent.russian_roulette != d.russian_roulette),
+            ("filter", sent.filter != d.filter),
+            ("seed", sent.seed != d.seed),
+            ("noise_threshold", sent.noise_threshold != d.noise_threshold),
+        ];
+        for (name, changed) in fields {
+            assert!(changed, "`{name}` did not reach the settings the workers get");
+        }
+        // Exposure and tone curve grade the image on rank 0, where it is encoded.
+        let checked: Vec<&str> = fields.iter().map(|&(name, _)| name).chain(["exposure", "tonemap"]).collect();
+        assert_eq!(checked, SettingsPatch::NAMES, "every setting is checked here");
+        assert_eq!((frame.look.exposure, frame.look.tone_map), (1.5, raystage_render::ToneMap::Neutral));
+    }
+}
