@@ -70,10 +70,12 @@ fn glb() -> Vec<u8> {
     text.resize(text.len().next_multiple_of(4), b' ');
     let mut file = Vec::new();
     let total = 12 + 8 + text.len() + 8 + bin.len();
-    for word in [0x4654_6C67, 2, total as u32, text.len() as u32, 0x4E4F_534A] {
-        file.extend((word as u32).to_le_bytes());
+    // The header (`glTF`, version 2, length), then the JSON chunk's length and type.
+    for word in [0x4654_6C67u32, 2, total as u32, text.len() as u32, 0x4E4F_534A] {
+        file.extend(word.to_le_bytes());
     }
     file.extend(&text);
+    // The binary chunk's length and type (`BIN`).
     file.extend([(bin.len() as u32).to_le_bytes(), 0x004E_4942u32.to_le_bytes()].concat());
     file.extend(&bin);
     file
