@@ -16,7 +16,7 @@ use crate::lights::Seen;
 use crate::sampler::PixelSampler;
 use crate::stats::{FrameStats, PhaseTimes, RayCounts, TaskTimes};
 use crate::tiles::{Share, Sums, Tile, render_tiles_with};
-use crate::{Cancel, Error, Film, Integrator, MIN_ADAPTIVE_SAMPLES, RenderSettings};
+use crate::{Cancel, Error, Film, FrameSettings, Integrator, MIN_ADAPTIVE_SAMPLES, RenderSettings};
 
 /// Renders `settings.samples_per_pixel` samples of every pixel of `frame`, on the current rayon
 /// pool.
@@ -107,12 +107,11 @@ impl Rows<'_> {
     }
 }
 
-/// A quick look at `frame`: one sample per pixel of a `width × height` image, Whitted's
-/// integrator if the scene has lights and the eye-light preview if it has none (so that an
-/// unlit scene is not simply black). Panics if the size is out of range.
+/// A quick look at `frame`: one sample per pixel of a `width × height` image, with the default
+/// settings and the integrator every front end chooses for the scene
+/// ([`Integrator::default_for`]). Panics if the size is out of range.
 pub fn render_frame(frame: &Frame<'_>, width: u32, height: u32) -> (Film, FrameStats) {
-    let integrator = if frame.lights().is_empty() { Integrator::EyeLight } else { Integrator::Whitted };
-    let settings = RenderSettings { width, height, integrator, ..RenderSettings::default() };
+    let settings = RenderSettings { width, height, ..FrameSettings::default().for_scene(frame.scene()) };
     render(frame, &settings).expect("image size within range")
 }
 
