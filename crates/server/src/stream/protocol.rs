@@ -4,6 +4,7 @@ use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
 
 use crate::error::ErrorDetail;
+// The settings list names the schemas of the integrators and tone curves.
 use crate::render::{IntegratorName, ToneMapName, settings_type};
 use crate::model::{CameraPatch, Command, CommandResult};
 use crate::stats::RaysJson;
