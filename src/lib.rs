@@ -22,8 +22,8 @@ mod report;
 mod view;
 
 pub use render::{
-    AUTO_NOISE_THRESHOLD, AUTO_SAMPLES, Environment, EnvironmentSource, MAX_DIMENSION, MAX_THREADS, RenderJob, RenderReport, SceneSource, parse_background, parse_demo, parse_environment, parse_filter,
-    parse_integrator, parse_switch, parse_tone_map, render_scene,
+    AUTO_NOISE_THRESHOLD, AUTO_SAMPLES, DEFAULT_HEIGHT, DEFAULT_WIDTH, Environment, EnvironmentSource, FrameFlags, MAX_DIMENSION, MAX_THREADS, RenderJob, RenderReport, SceneSource,
+    parse_demo, parse_environment, parse_switch, render_scene,
 };
 #[cfg(feature = "mpi")]
 pub use cluster::{Cluster, Reported};

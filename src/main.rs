@@ -6,7 +6,6 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use raystage::{RenderJob, SceneSource};
 use raystage_demo::animated::Demo;
-use raystage_render::Integrator;
 
 /// raystage: a ray-tracing rendering server.
 #[derive(Parser)]
@@ -34,56 +33,13 @@ enum Command {
         /// The image file to write: .png (sRGB, tone-mapped), .exr or .pfm (linear light).
         #[arg(long)]
         out: PathBuf,
-        /// Image width in pixels.
-        #[arg(long, default_value_t = 1920)]
-        width: u32,
-        /// Image height in pixels.
-        #[arg(long, default_value_t = 1080)]
-        height: u32,
         /// Threads for the BVH build and the render [default: one per core].
         #[arg(long)]
         threads: Option<usize>,
-        /// How pixels are shaded: eyelight, whitted, distribution or path [default: path where
-        /// an image environment lights the scene (the studio a glTF file gets), else whitted if
-        /// anything lights it, else eyelight].
-        #[arg(long, value_parser = raystage::parse_integrator)]
-        integrator: Option<Integrator>,
-        /// Samples per pixel [default: 1; where the path tracer is chosen for the scene, up to
-        /// 256 with adaptive sampling to a noise threshold of 0.02].
-        #[arg(long)]
-        spp: Option<u32>,
+        #[command(flatten)]
+        settings: raystage::FrameFlags,
         #[command(flatten)]
         lighting: Lighting,
-        /// What camera rays that hit nothing show: sky, black or R,G,B [default: the
-        /// environment if there is one, else the scene's backdrop, else the sky where the
-        /// default lights the scene, else black].
-        #[arg(long, value_parser = raystage::parse_background, allow_hyphen_values = true)]
-        background: Option<raystage_scene::Background>,
-        /// Longest path in segments, the camera ray included (as Mitsuba counts), or deepest
-        /// recursion: 1 to 64.
-        #[arg(long, default_value_t = raystage_render::RenderSettings::default().max_depth)]
-        max_depth: u32,
-        /// Whether the path tracer ends paths early by Russian roulette (unbiased): on or off.
-        #[arg(long, default_value = "on", value_parser = raystage::parse_switch, action = clap::ArgAction::Set)]
-        russian_roulette: bool,
-        /// The pixel filter: box (the plain average over the pixel's square), gaussian or
-        /// gaussian:RADIUS (in pixels, up to 4).
-        #[arg(long, default_value = "box", value_parser = raystage::parse_filter)]
-        filter: raystage_render::Filter,
-        /// Seed of the sample sequences.
-        #[arg(long, default_value_t = 0)]
-        seed: u32,
-        /// Adaptive sampling: stop sampling a tile once each of its pixels' standard error is
-        /// below this fraction of its brightness (e.g. 0.01; after 16 samples).
-        #[arg(long)]
-        noise_threshold: Option<f32>,
-        /// Exposure in stops: the image is scaled by 2 to this power.
-        #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-        exposure: f32,
-        /// The tone curve of a PNG: clamp (light as it is, clipped at white) or neutral (the
-        /// Khronos PBR Neutral tone mapper).
-        #[arg(long, default_value = "clamp", value_parser = raystage::parse_tone_map)]
-        tonemap: raystage_render::ToneMap,
         /// Also writes these channels of the first surface each pixel sees, comma-separated:
         /// depth, z, normal, albedo, instance, object, primitive. An EXR image holds them as
         /// named channels (depth.Z, normal.X, ..., instance.id); beside a PNG or PFM each goes
@@ -131,7 +87,7 @@ enum Command {
         /// The demo scene (see `render --demo`).
         #[arg(long, value_parser = raystage::parse_demo)]
         demo: Option<Demo>,
-        /// How pixels are shaded [default: whitted if the scene has lights, else eyelight].
+        /// How pixels are shaded [default: chosen for the scene as `render` chooses].
         #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(raystage_client::INTEGRATORS))]
         integrator: Option<String>,
         /// Samples per pixel the image refines to.
@@ -186,40 +142,19 @@ fn main() -> ExitCode {
             demo,
             frame,
             out,
-            width,
-            height,
             threads,
-            integrator,
-            spp,
+            settings,
             lighting,
-            background,
-            max_depth,
-            russian_roulette,
-            filter,
-            seed,
-            noise_threshold,
-            exposure,
-            tonemap,
             channels,
             #[cfg(feature = "mpi")]
             mpi,
         } => {
             let scene = SceneSource::from_args(scene, demo, frame).expect("clap requires a file or a demo");
-            let settings = raystage_render::RenderSettings {
-                width,
-                height,
-                max_depth,
-                russian_roulette,
-                filter,
-                seed,
-                noise_threshold,
-                default_lights: !lighting.no_default_lights,
-                background,
-                ..Default::default()
-            };
-            let environment = lighting.environment();
-            let look = raystage_render::Look { exposure, tone_map: tonemap };
-            let job = RenderJob { scene, threads, integrator, samples_per_pixel: spp, settings, environment, look, out, channels };
+            let mut settings = settings.patch();
+            if lighting.no_default_lights {
+                settings.default_lights = Some(false);
+            }
+            let job = RenderJob { scene, threads, settings, environment: lighting.environment(), out, channels };
             #[cfg(feature = "mpi")]
             if mpi {
                 return finish(raystage::Cluster::join().and_then(|cluster| raystage::render_scene_mpi(&job, &mut std::io::stdout().lock(), &cluster).map(|_| ())));

@@ -10,14 +10,21 @@ use anyhow::{Context, Result, bail, ensure};
 use glam::Vec3;
 use indicatif::{ProgressBar, ProgressStyle};
 use raystage_demo::animated::Demo;
-use raystage_render::{Channel, Film, Filter, FrameStats, Integrator, Look, OutputFormat, Progressive, RenderSettings, Share, ToneMap};
-use raystage_scene::{Background, Image, Light, Scene};
+use raystage_render::{Channel, Film, FrameSettings, FrameStats, Integrator, OutputFormat, Progressive, RenderSettings, SettingsPatch, Share};
+use raystage_scene::{Image, Light, Scene};
 
 /// Largest accepted image width or height in pixels.
 pub const MAX_DIMENSION: u32 = 16_384;
 
 /// Largest accepted number of render threads.
 pub const MAX_THREADS: usize = 1024;
+
+/// Image width where none is given: a full-HD image, as a command renders a picture to keep (a
+/// server's frames are previews, smaller).
+pub const DEFAULT_WIDTH: u32 = 1920;
+
+/// Image height where none is given (see [`DEFAULT_WIDTH`]).
+pub const DEFAULT_HEIGHT: u32 = 1080;
 
 /// Samples per pixel at most where the path tracer is chosen for a scene and no sample count is
 /// given (adaptive sampling stops most tiles well before).
@@ -92,6 +99,32 @@ impl SceneSource {
     }
 }
 
+/// Makes [`FrameFlags`] from the list of a frame's settings
+/// ([`raystage_render::frame_settings!`]): every setting a flag as the list's braces say (`skip`
+/// for none), and `--spp`.
+macro_rules! frame_flags {
+    ($( $(#[doc = $doc:literal])* $name:ident: $setting:ty [$($limit:tt)*] {$($flag:tt)*}, )*) => {
+        /// `raystage render`'s flags for a frame's settings.
+        #[derive(clap::Args, Clone, Debug, Default, PartialEq)]
+        pub struct FrameFlags {
+            /// Samples per pixel [default: 1; where the path tracer is chosen for the scene, up
+            /// to 256 with adaptive sampling to a noise threshold of 0.02].
+            #[arg(long)]
+            pub spp: Option<u32>,
+            $( $(#[doc = $doc])* #[arg($($flag)*)] pub $name: Option<$setting>, )*
+        }
+
+        impl FrameFlags {
+            /// The settings the flags set.
+            pub fn patch(&self) -> SettingsPatch {
+                SettingsPatch { samples_per_pixel: self.spp, $($name: self.$name.clone(),)* }
+            }
+        }
+    };
+}
+
+raystage_render::frame_settings!(frame_flags! {});
+
 /// What to render and where to write it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderJob {
@@ -99,20 +132,15 @@ pub struct RenderJob {
     pub scene: SceneSource,
     /// Threads for the BVH build and the render, `1..=MAX_THREADS`; `None` for one per core.
     pub threads: Option<usize>,
-    /// How pixels are shaded; `None` for [`Integrator::default_for`] the scene.
-    pub integrator: Option<Integrator>,
-    /// Samples per pixel; `None` for one, or, where the path tracer is chosen for the scene
-    /// (neither named), [`AUTO_SAMPLES`] with adaptive sampling to [`AUTO_NOISE_THRESHOLD`]
-    /// unless `settings` has a threshold: a clean picture from a command with no options.
-    pub samples_per_pixel: Option<u32>,
-    /// Everything else about the frame: size (each side `1..=MAX_DIMENSION`), path length,
-    /// filter, backdrop, default lights, seed, noise threshold. Its integrator and samples per
-    /// pixel are replaced by `integrator`'s and `samples_per_pixel`'s choice.
-    pub settings: RenderSettings,
+    /// The frame's settings as given; the rest are the renderer's defaults but the size,
+    /// [`DEFAULT_WIDTH`] × [`DEFAULT_HEIGHT`] (each side `1..=MAX_DIMENSION`). With no
+    /// integrator, [`Integrator::default_for`] the scene; with no samples per pixel, one, or,
+    /// where the path tracer is chosen for the scene (neither named), [`AUTO_SAMPLES`] with
+    /// adaptive sampling to [`AUTO_NOISE_THRESHOLD`] unless a threshold is given: a clean
+    /// picture from a command with no options.
+    pub settings: SettingsPatch,
     /// An environment light to add to the scene, or the default's turn and scale.
     pub environment: Environment,
-    /// How the image is graded for the file: exposure, and the tone curve of a PNG.
-    pub look: Look,
     /// The image file to write (created or replaced): `.png` (sRGB, tone-mapped), `.exr` or
     /// `.pfm` (linear, as rendered), told by the extension.
     pub out: PathBuf,
@@ -183,22 +211,6 @@ pub fn parse_environment(text: &str) -> Result<EnvironmentSource> {
     }
 }
 
-/// Parses `--background`: `sky`, `black` or a colour (`R,G,B` or one number).
-pub fn parse_background(text: &str) -> Result<Background> {
-    Ok(text.parse()?)
-}
-
-/// Parses `--filter`: `box` (the plain average of samples over the pixel's square) or
-/// `gaussian` with an optional radius in pixels (`gaussian:1.5`, 1.5 by default).
-pub fn parse_filter(text: &str) -> Result<Filter> {
-    Ok(text.parse()?)
-}
-
-/// Parses `--tonemap`: `clamp` (or `none`) or `neutral`.
-pub fn parse_tone_map(text: &str) -> Result<ToneMap> {
-    Ok(text.parse()?)
-}
-
 /// Parses `on` or `off`.
 pub fn parse_switch(text: &str) -> Result<bool> {
     match text {
@@ -238,14 +250,6 @@ pub struct RenderReport {
     pub frame: FrameStats,
     /// Seconds to load the scene and, on several ranks, agree that every rank has it.
     pub setup_seconds: f64,
-}
-
-/// Parses an integrator name: eyelight, whitted, distribution or path.
-pub fn parse_integrator(name: &str) -> Result<Integrator> {
-    match Integrator::from_name(name) {
-        Some(integrator) => Ok(integrator),
-        None => bail!("unknown integrator `{name}`: expected eyelight, whitted, distribution or path"),
-    }
 }
 
 /// Parses a demo scene name (see [`Demo::NAMES`]).
@@ -326,9 +330,12 @@ pub fn render_scene_mpi(job: &RenderJob, log: &mut impl Write, cluster: &crate::
 
 /// [`render_scene`] by `ranks`; the report of a rank that is not the root is its own share's.
 fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Result<RenderReport> {
-    for (name, value) in [("width", job.settings.width), ("height", job.settings.height)] {
+    let asked = &job.settings;
+    for (name, value) in [("width", asked.width.unwrap_or(DEFAULT_WIDTH)), ("height", asked.height.unwrap_or(DEFAULT_HEIGHT))] {
         ensure!((1..=MAX_DIMENSION).contains(&value), "--{name} must be between 1 and {MAX_DIMENSION}, got {value}");
     }
+    let mut given = FrameSettings { render: RenderSettings { width: DEFAULT_WIDTH, height: DEFAULT_HEIGHT, ..RenderSettings::default() }, ..FrameSettings::default() };
+    given.apply(asked).context("bad render settings")?;
     let mut pool = rayon::ThreadPoolBuilder::new();
     if let Some(threads) = job.threads {
         ensure!((1..=MAX_THREADS).contains(&threads), "--threads must be between 1 and {MAX_THREADS}, got {threads}");
@@ -336,12 +343,11 @@ fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Resul
     }
     let pool = pool.build().context("cannot start the render threads")?;
     let format = OutputFormat::from_path(&job.out)?;
-    ensure!(job.look.exposure.is_finite(), "--exposure must be a number of stops, got {}", job.look.exposure);
     // What one rank can fail at alone is voted on, so that no rank waits for another that quit.
     let setup = Instant::now();
     let prepared = (|| {
         let out = if ranks.is_root() { Some(File::create(&job.out).with_context(|| format!("cannot create {}", job.out.display()))?) } else { None };
-        let scene = job.scene.load(log, &job.environment, job.settings.default_lights)?;
+        let scene = job.scene.load(log, &job.environment, given.render.default_lights)?;
         Ok((out, scene))
     })();
     let (mut out, scene) = match prepared {
@@ -352,15 +358,13 @@ fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Resul
         Err(e) => return Err(ranks.agree(Err(e)).expect_err("a failure is agreed as one")),
     };
     let setup_seconds = setup.elapsed().as_secs_f64();
-    let integrator = job.integrator.unwrap_or_else(|| Integrator::default_for(&scene, job.settings.default_lights));
-    let (samples_per_pixel, noise_threshold) = match job.samples_per_pixel {
-        Some(spp) => (spp, job.settings.noise_threshold),
-        None if job.integrator.is_none() && integrator == Integrator::Path => {
-            (AUTO_SAMPLES, job.settings.noise_threshold.or(Some(AUTO_NOISE_THRESHOLD)))
-        }
-        None => (1, job.settings.noise_threshold),
+    let chosen = given.for_scene(&scene);
+    let auto = asked.samples_per_pixel.is_none() && given.integrator.is_none() && chosen.integrator == Integrator::Path;
+    let settings = match auto {
+        true => RenderSettings { samples_per_pixel: AUTO_SAMPLES, noise_threshold: chosen.noise_threshold.or(Some(AUTO_NOISE_THRESHOLD)), ..chosen },
+        false => chosen,
     };
-    let settings = RenderSettings { integrator, samples_per_pixel, noise_threshold, ..job.settings };
+    let look = given.look;
     let share = ranks.share();
     let (film, frame, mean_samples) = pool.install(|| render_with_progress(&scene, &settings, share)).context("bad render settings")?;
     let triangles = scene.object_ids().map(|id| scene.mesh(id).map_or(0, |m| m.indices.len())).sum();
@@ -370,8 +374,8 @@ fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Resul
     let channels = pool.install(|| raystage_render::render_channels(&scene.frame(), settings.width, settings.height, &job.channels))?;
     // An OpenEXR image holds its channels; other formats have them beside.
     let (encoded, beside) = match format {
-        OutputFormat::Exr if !channels.is_empty() => (raystage_render::exr_with_channels(&film, job.look, &channels), Vec::new()),
-        _ => (film.encode(format, job.look), channels),
+        OutputFormat::Exr if !channels.is_empty() => (raystage_render::exr_with_channels(&film, look, &channels), Vec::new()),
+        _ => (film.encode(format, look), channels),
     };
     let out = out.as_mut().expect("the root created the file");
     out.write_all(&encoded.context("cannot encode the image")?).with_context(|| format!("cannot write {}", job.out.display()))?;
@@ -399,7 +403,7 @@ fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Resul
         settings.height,
         job.scene.name(),
         triangles,
-        integrator.name(),
+        settings.integrator.name(),
         settings.samples_per_pixel,
         frame.effects.names().join(", "),
         if frame.default_lights { ", default sky" } else { "" },

@@ -1,6 +1,8 @@
 //! Helpers shared by the command-line tests: temporary paths and a glTF file written in code
 //! (no binary assets in the repository).
 
+#![allow(dead_code, reason = "each test file uses some of the helpers")]
+
 use std::path::PathBuf;
 
 /// A fresh path in Cargo's temporary directory for integration tests, unique to this process.

@@ -516,8 +516,11 @@ typedef uint32_t RTuint;
 #define RT_MIRRORED_REPEAT 33648
 
 /**
- * `rtRenderMode` (the default): `RT_WHITTED` if the scene has lights, else `RT_EYELIGHT`, so
- * that an unlit scene is not black.
+ * `rtRenderMode` (the default): the integrator `raystage render` and the HTTP API choose for
+ * the scene: `RT_PATH` where an image environment lights it, `RT_WHITTED` where anything else
+ * does (a light, an emitting surface, or the default sky while `RT_DEFAULT_LIGHTS` is on), else
+ * `RT_EYELIGHT`, so that an unlit scene is not black. (Before 2026-12-06 it ignored
+ * `RT_DEFAULT_LIGHTS` and image environments: an unlit scene was previewed by `RT_EYELIGHT`.)
  */
 #define RT_AUTO 36912
 
@@ -1281,8 +1284,8 @@ void rtParameter3fv(RTint handle, const RTfloat *v);
 void rtParameterTexture(RTint handle, RTuint texture);
 
 /**
- * Chooses how frames are rendered: `RT_AUTO` (the default: `RT_WHITTED` if the scene has lights
- * or emitting surfaces, else `RT_EYELIGHT`), `RT_EYELIGHT` (a preview lit from the eye), `RT_WHITTED` (shadows,
+ * Chooses how frames are rendered: `RT_AUTO` (the default: the choice of `raystage render` and
+ * the HTTP API, see `RT_AUTO`), `RT_EYELIGHT` (a preview lit from the eye), `RT_WHITTED` (shadows,
  * mirrors and glass), `RT_DISTRIBUTION` (soft shadows, glossy reflection, depth of field and
  * motion blur) or `RT_PATH` (global illumination). The last two need several samples per pixel
  * (`RT_SAMPLES_PER_PIXEL`) for a smooth image.

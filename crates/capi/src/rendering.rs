@@ -1,10 +1,12 @@
 //! Render settings (`rtRenderMode`, `rtRenderParameteri`): how `rtSwapBuffers` renders. They
-//! are the renderer's own [`RenderSettings`], checked when set so that a frame never fails on
-//! them; the image size is the frame buffer's, and `RT_AUTO` picks the integrator per frame.
+//! are the renderer's own [`FrameSettings`], the parameters applied as every front end applies
+//! its settings and checked when set, so that a frame never fails on them; the image size is the
+//! frame buffer's, and `RT_AUTO` picks the integrator per frame by the rule every front end
+//! follows.
 
 use std::ops::RangeInclusive;
 
-use raystage_render::{Integrator, RenderSettings};
+use raystage_render::{FrameSettings, Integrator, RenderSettings, SettingsPatch};
 use glam::Vec3;
 use raystage_scene::{Background, Frame};
 
@@ -28,21 +30,18 @@ const MODES: [(RTenum, Option<Integrator>); 5] = [
 /// How the context renders; cloned into each asynchronous frame as it starts.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Rendering {
-    /// The integrator `rtRenderMode` chose; `None` for `RT_AUTO`.
-    integrator: Option<Integrator>,
-    /// The render parameters; the size and the integrator are filled in at each frame.
-    settings: RenderSettings,
+    /// The render parameters and the integrator `rtRenderMode` chose (`None` for `RT_AUTO`);
+    /// the size is filled in at each frame.
+    frame: FrameSettings,
     /// What `rtClearColor` set (its colour is the settings' background), for the queries.
     pub clear_color: Option<[f32; 4]>,
 }
 
 impl Rendering {
-    /// The settings of a `width × height` frame of `frame`. `RT_AUTO` chooses Whitted's ray
-    /// tracing for a scene with lights or emitting surfaces, else the eye-light preview (which
-    /// shows an unlit scene as the default image always has).
+    /// The settings of a `width × height` frame of `frame`. `RT_AUTO` chooses as the command
+    /// line and the HTTP API do ([`Integrator::default_for`], with `RT_DEFAULT_LIGHTS`).
     pub fn settings(&self, frame: &Frame<'_>, width: u32, height: u32) -> RenderSettings {
-        let auto = || if frame.lights().is_empty() && !frame.has_emitters() { Integrator::EyeLight } else { Integrator::Whitted };
-        RenderSettings { width, height, integrator: self.integrator.unwrap_or_else(auto), ..self.settings }
+        RenderSettings { width, height, ..self.frame.for_scene(frame.scene()) }
     }
 }
 
@@ -89,17 +88,23 @@ impl Setting {
         }
     }
 
-    /// Writes `value`, which [`Setting::from_enum`]'s range admits (so it is not negative).
-    fn set(self, s: &mut RenderSettings, value: RTint) {
-        let unsigned = value as u32;
-        match self {
-            Setting::SamplesPerPixel => s.samples_per_pixel = unsigned,
-            Setting::RayDepth => s.max_depth = unsigned,
-            Setting::LightSamples => s.light_samples = unsigned,
-            Setting::RussianRoulette => s.russian_roulette = value == 1,
-            Setting::Seed => s.seed = unsigned,
-            Setting::DefaultLights => s.default_lights = value == 1,
-        }
+    /// Writes `value`, which [`Setting::from_enum`]'s range admits (so it is not negative), as
+    /// the other front ends write their settings: through a [`SettingsPatch`].
+    fn set(self, frame: &mut FrameSettings, value: RTint) -> Result<(), Error> {
+        let (unsigned, switch) = (Some(value as u32), Some(value == 1));
+        let patch = match self {
+            Setting::SamplesPerPixel => SettingsPatch { samples_per_pixel: unsigned, ..SettingsPatch::default() },
+            Setting::RayDepth => SettingsPatch { max_depth: unsigned, ..SettingsPatch::default() },
+            Setting::RussianRoulette => SettingsPatch { russian_roulette: switch, ..SettingsPatch::default() },
+            Setting::Seed => SettingsPatch { seed: unsigned, ..SettingsPatch::default() },
+            Setting::DefaultLights => SettingsPatch { default_lights: switch, ..SettingsPatch::default() },
+            // The renderer's own knob, which no other front end takes.
+            Setting::LightSamples => {
+                frame.render.light_samples = value as u32;
+                return Ok(());
+            }
+        };
+        frame.apply(&patch).map_err(|e| Error::invalid_value(e.to_string()))
     }
 }
 
@@ -111,7 +116,7 @@ impl Context {
                 "{mode:#x} is not a render mode (RT_AUTO, RT_EYELIGHT, RT_WHITTED, RT_DISTRIBUTION or RT_PATH)"
             ))
         })?;
-        self.rendering.integrator = integrator;
+        self.rendering.frame.integrator = integrator;
         Ok(())
     }
 
@@ -121,8 +126,7 @@ impl Context {
         if !range.contains(&value) {
             return Err(Error::invalid_value(format!("{name} is {value}, not in {}..={}", range.start(), range.end())));
         }
-        setting.set(&mut self.rendering.settings, value);
-        Ok(())
+        setting.set(&mut self.rendering.frame, value)
     }
 
     /// `rtClearColor`: the background colour of the frames from now on.
@@ -131,18 +135,18 @@ impl Context {
         let [red, green, blue, _] = rgba;
         let background = Background::Color(Vec3::new(red, green, blue));
         background.validate()?;
-        (self.rendering.settings.background, self.rendering.clear_color) = (Some(background), Some(rgba));
+        (self.rendering.frame.render.background, self.rendering.clear_color) = (Some(background), Some(rgba));
         Ok(())
     }
 
     /// `rtGetRenderParameteri`: the render mode or a render parameter.
     pub fn get_render_parameter(&self, pname: RTenum) -> Result<RTint, Error> {
         if pname == RT_RENDER_MODE {
-            let (mode, _) = MODES.into_iter().find(|&(_, i)| i == self.rendering.integrator).expect("every integrator has a mode");
+            let (mode, _) = MODES.into_iter().find(|&(_, i)| i == self.rendering.frame.integrator).expect("every integrator has a mode");
             return Ok(mode as RTint);
         }
         let (setting, ..) = Setting::from_enum(pname)?;
-        Ok(setting.get(&self.rendering.settings))
+        Ok(setting.get(&self.rendering.frame.render))
     }
 }
 
@@ -165,7 +169,7 @@ mod tests {
             for value in [*range.start(), *range.end()] {
                 ctx.render_parameter(pname, value).unwrap();
                 assert_eq!(ctx.get_render_parameter(pname), Ok(value));
-                ctx.rendering.settings.validate().unwrap();
+                ctx.rendering.frame.render.validate().unwrap();
             }
         }
     }

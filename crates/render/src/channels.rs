@@ -12,7 +12,7 @@ use raystage_scene::Frame;
 
 use crate::error::Error;
 use crate::integrator::Tracer;
-use crate::renderer::{MAX_DIMENSION, RenderSettings};
+use crate::{MAX_DIMENSION, RenderSettings};
 
 /// What a channel holds at a pixel whose ray meets nothing: ids `u32::MAX` (ANARI's "no id"),
 /// depths infinite, normals and albedo zero.

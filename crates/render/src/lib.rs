@@ -25,6 +25,7 @@ mod material;
 mod microfacet;
 mod renderer;
 mod sampler;
+mod settings;
 mod sheen;
 mod sky;
 mod srgb;
@@ -38,7 +39,8 @@ pub use channels::{Channel, ChannelImage, NO_ID, exr_with_channels, render_chann
 pub use effects::EffectSet;
 pub use error::Error;
 pub use film::{Film, Look, OutputFormat, ToneMap};
-pub use renderer::{Filter, Integrator, MAX_DEPTH, MAX_DIMENSION, MAX_LIGHT_SAMPLES, MAX_SAMPLES, MIN_ADAPTIVE_SAMPLES, Progressive, RenderSettings, Rows, render, render_frame, render_rows, render_share};
+pub use renderer::{Progressive, Rows, render, render_frame, render_rows, render_share};
+pub use settings::{FrameSettings, Filter, Integrator, MAX_DEPTH, MAX_DIMENSION, MAX_LIGHT_SAMPLES, MAX_SAMPLES, MIN_ADAPTIVE_SAMPLES, RenderSettings, SettingsPatch};
 pub use sky::sky;
 pub use stats::{FrameStats, PhaseTimes, RayCounts, TaskTimes};
 pub use tiles::{Share, TILE_SIZE, tasks};

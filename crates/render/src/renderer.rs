@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use glam::Vec3;
 use raystage_kernel::{PACKET_SIZE, Ray};
-use raystage_scene::{Background, CameraRays, Frame, Light, Scene, SceneHit};
+use raystage_scene::{CameraRays, Frame, SceneHit};
 
 use crate::integrator::first_shadows::{self, KnownShadows};
 use crate::integrator::first_hits::FirstHits;
@@ -16,210 +16,7 @@ use crate::lights::Seen;
 use crate::sampler::PixelSampler;
 use crate::stats::{FrameStats, PhaseTimes, RayCounts, TaskTimes};
 use crate::tiles::{Share, Sums, Tile, render_tiles_with};
-use crate::{Cancel, Error, Film};
-
-/// Largest image width or height.
-pub const MAX_DIMENSION: u32 = 16_384;
-/// Most samples per pixel in one call.
-pub const MAX_SAMPLES: u32 = 65_536;
-/// Deepest recursion or path.
-pub const MAX_DEPTH: u32 = 64;
-/// Most shadow rays per extended light at a shading point.
-pub const MAX_LIGHT_SAMPLES: u32 = 256;
-/// Samples every pixel takes before adaptive sampling may stop its tile: fewer give too
-/// uncertain an estimate of the noise.
-pub const MIN_ADAPTIVE_SAMPLES: u32 = 16;
-
-/// How a camera ray's colour is computed.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum Integrator {
-    /// Fast preview: a light at the eye, no secondary rays.
-    #[default]
-    EyeLight,
-    /// Whitted 1980: shadows, reflection and refraction, recursively.
-    Whitted,
-    /// Cook 1984: Whitted's rays distributed over pixel, lens, time, lights and glossy lobes.
-    Distribution,
-    /// Unbiased path tracing with next-event estimation and multiple importance sampling.
-    Path,
-}
-
-impl Integrator {
-    /// Every integrator.
-    pub const ALL: [Integrator; 4] = [Integrator::EyeLight, Integrator::Whitted, Integrator::Distribution, Integrator::Path];
-
-    /// Its name: `eyelight`, `whitted`, `distribution`, `path`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Integrator::EyeLight => "eyelight",
-            Integrator::Whitted => "whitted",
-            Integrator::Distribution => "distribution",
-            Integrator::Path => "path",
-        }
-    }
-
-    /// Parses a name as printed by [`Integrator::name`].
-    pub fn from_name(name: &str) -> Option<Integrator> {
-        Integrator::ALL.into_iter().find(|i| i.name() == name)
-    }
-
-    /// The integrator `scene` is rendered with when none is named (the command line and the
-    /// HTTP API choose alike): the path tracer where an image environment lights it (a studio or
-    /// an HDR sky, as a glTF file is lit by default), since the recursive integrators see such
-    /// light only through shadow rays and mirror reflections, which turns glossy materials into
-    /// mirrors; Whitted's ray tracing where anything else lights it (its lights, an emitting
-    /// surface, or the default sky with `default_lights`); the eye-light preview where nothing
-    /// does, so that an unlit scene is not black.
-    pub fn default_for(scene: &Scene, default_lights: bool) -> Integrator {
-        if scene.lights().any(|(_, light)| matches!(light, Light::Environment { map: Some(_), .. })) {
-            Integrator::Path
-        } else if default_lights || scene.lights().next().is_some() || scene.shaders().any(|(_, s)| s.emits()) {
-            Integrator::Whitted
-        } else {
-            Integrator::EyeLight
-        }
-    }
-}
-
-/// The pixel reconstruction filter. Samples are placed with the filter's distribution around the
-/// pixel centre and averaged with equal weight (filter importance sampling), which is unbiased
-/// and keeps every sample within its own pixel's accumulator.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub enum Filter {
-    /// Uniform over the pixel.
-    #[default]
-    Box,
-    /// A Gaussian of standard deviation `radius / 3`, cut off at `radius` pixels.
-    Gaussian {
-        /// Cut-off radius in pixels, in `(0, 4]`.
-        radius: f32,
-    },
-}
-
-impl std::str::FromStr for Filter {
-    type Err = Error;
-
-    /// `box`, `gaussian` (radius 1.5 pixels) or `gaussian:RADIUS`.
-    fn from_str(text: &str) -> Result<Filter, Error> {
-        let bad = |message: String| Error::Setting { field: "filter", message };
-        match text.split_once(':') {
-            None if text == "box" => Ok(Filter::Box),
-            None if text == "gaussian" => Ok(Filter::Gaussian { radius: 1.5 }),
-            Some(("gaussian", radius)) => match radius.parse::<f32>() {
-                Ok(radius) if radius > 0.0 && radius <= 4.0 => Ok(Filter::Gaussian { radius }),
-                _ => Err(bad(format!("the Gaussian's radius `{radius}` is not a number in (0, 4]"))),
-            },
-            _ => Err(bad(format!("`{text}` is not box, gaussian or gaussian:RADIUS"))),
-        }
-    }
-}
-
-impl Filter {
-    /// The offset of a sample from the pixel's top-left corner, from two uniform numbers.
-    fn offset(self, u: [f32; 2]) -> [f32; 2] {
-        match self {
-            Filter::Box => u,
-            Filter::Gaussian { radius } => {
-                let sigma = radius / 3.0;
-                let r = (sigma * (-2.0 * (1.0 - u[0]).ln()).sqrt()).min(radius);
-                let phi = std::f32::consts::TAU * u[1];
-                [0.5 + r * phi.cos(), 0.5 + r * phi.sin()]
-            }
-        }
-    }
-}
-
-/// Everything that decides how a frame is rendered.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RenderSettings {
-    /// Image width in pixels.
-    pub width: u32,
-    /// Image height in pixels.
-    pub height: u32,
-    /// How camera rays are coloured.
-    pub integrator: Integrator,
-    /// Samples per pixel.
-    pub samples_per_pixel: u32,
-    /// Deepest recursion (Whitted, distribution) or longest path (path tracer), the path in
-    /// segments with the camera ray, as Mitsuba counts them (1: emitters seen directly only).
-    pub max_depth: u32,
-    /// Shadow rays per area or environment light at each shading point, when soft shadows
-    /// are simulated (more rays per point, less noise per sample).
-    pub light_samples: u32,
-    /// Whether the path tracer may end paths early by Russian roulette (unbiased, cheaper
-    /// per sample, noisier); off, paths run to `max_depth` unless they escape.
-    pub russian_roulette: bool,
-    /// Pixel reconstruction filter.
-    pub filter: Filter,
-    /// Seed of the sample sequences.
-    pub seed: u32,
-    /// Adaptive sampling: a tile stops taking samples once each of its pixels' standard error
-    /// is below this fraction of its mean luminance (after [`MIN_ADAPTIVE_SAMPLES`]), so that
-    /// samples go where the noise is; `None` gives every pixel `samples_per_pixel`.
-    pub noise_threshold: Option<f32>,
-    /// Whether a scene that nothing lights (no light, no emitting surface, no environment) is
-    /// lit by the sky as an environment light, as the frame's statistics then say (the
-    /// default); off, it stays dark.
-    pub default_lights: bool,
-    /// What camera rays that hit nothing show; `None` for the scene's environment light if it
-    /// has one, else the scene's background if it sets one, else the sky where the default
-    /// lights the scene, else black.
-    pub background: Option<Background>,
-    /// Whether to run the shading kernel compiled for the frame's effect set (the default).
-    /// Off, every frame runs the general kernel with reflection and refraction compiled in, which
-    /// computes the same image: the switch exists to measure what specialisation saves.
-    pub specialize: bool,
-}
-
-impl Default for RenderSettings {
-    fn default() -> Self {
-        RenderSettings {
-            width: 640,
-            height: 360,
-            integrator: Integrator::EyeLight,
-            samples_per_pixel: 1,
-            max_depth: 6,
-            light_samples: 1,
-            russian_roulette: true,
-            filter: Filter::Box,
-            seed: 0,
-            noise_threshold: None,
-            default_lights: true,
-            background: None,
-            specialize: true,
-        }
-    }
-}
-
-impl RenderSettings {
-    /// Checks every value is in its range.
-    pub fn validate(&self) -> Result<(), Error> {
-        let check = |ok: bool, field: &'static str, message: String| if ok { Ok(()) } else { Err(Error::Setting { field, message }) };
-        check((1..=MAX_DIMENSION).contains(&self.width), "width", format!("{} is not in 1..={MAX_DIMENSION}", self.width))?;
-        check((1..=MAX_DIMENSION).contains(&self.height), "height", format!("{} is not in 1..={MAX_DIMENSION}", self.height))?;
-        check(
-            (1..=MAX_SAMPLES).contains(&self.samples_per_pixel),
-            "samples_per_pixel",
-            format!("{} is not in 1..={MAX_SAMPLES}", self.samples_per_pixel),
-        )?;
-        check((1..=MAX_DEPTH).contains(&self.max_depth), "max_depth", format!("{} is not in 1..={MAX_DEPTH}", self.max_depth))?;
-        check(
-            (1..=MAX_LIGHT_SAMPLES).contains(&self.light_samples),
-            "light_samples",
-            format!("{} is not in 1..={MAX_LIGHT_SAMPLES}", self.light_samples),
-        )?;
-        if let Filter::Gaussian { radius } = self.filter {
-            check(radius > 0.0 && radius <= 4.0, "filter.radius", format!("{radius} is not in (0, 4]"))?;
-        }
-        if let Some(threshold) = self.noise_threshold {
-            check(threshold > 0.0 && threshold <= 1.0, "noise_threshold", format!("{threshold} is not in (0, 1]"))?;
-        }
-        if let Some(Background::Color(c)) = self.background {
-            check(c.is_finite() && c.min_element() >= 0.0, "background", format!("{c} is not a finite, non-negative colour"))?;
-        }
-        Ok(())
-    }
-}
+use crate::{Cancel, Error, Film, FrameSettings, Integrator, MIN_ADAPTIVE_SAMPLES, RenderSettings};
 
 /// Renders `settings.samples_per_pixel` samples of every pixel of `frame`, on the current rayon
 /// pool.
@@ -310,12 +107,11 @@ impl Rows<'_> {
     }
 }
 
-/// A quick look at `frame`: one sample per pixel of a `width × height` image, Whitted's
-/// integrator if the scene has lights and the eye-light preview if it has none (so that an
-/// unlit scene is not simply black). Panics if the size is out of range.
+/// A quick look at `frame`: one sample per pixel of a `width × height` image, with the default
+/// settings and the integrator every front end chooses for the scene
+/// ([`Integrator::default_for`]). Panics if the size is out of range.
 pub fn render_frame(frame: &Frame<'_>, width: u32, height: u32) -> (Film, FrameStats) {
-    let integrator = if frame.lights().is_empty() { Integrator::EyeLight } else { Integrator::Whitted };
-    let settings = RenderSettings { width, height, integrator, ..RenderSettings::default() };
+    let settings = RenderSettings { width, height, ..FrameSettings::default().for_scene(frame.scene()) };
     render(frame, &settings).expect("image size within range")
 }
 
@@ -786,6 +582,7 @@ fn packet_order(tile: &Tile, order: &mut Vec<(u32, u32)>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Filter;
 
     #[test]
     fn packet_order_visits_every_pixel_once_in_4x2_blocks() {
@@ -808,13 +605,5 @@ mod tests {
             let [x, y] = f.offset([i as f32 / 100.0, (i * 37 % 100) as f32 / 100.0]);
             assert!(((x - 0.5).powi(2) + (y - 0.5).powi(2)).sqrt() <= 1.5 + 1e-5);
         }
-    }
-
-    #[test]
-    fn settings_are_checked() {
-        let bad = RenderSettings { samples_per_pixel: 0, ..RenderSettings::default() };
-        assert_eq!(bad.validate().unwrap_err().to_string(), "samples_per_pixel is out of range: 0 is not in 1..=65536");
-        assert!(RenderSettings { filter: Filter::Gaussian { radius: 9.0 }, ..RenderSettings::default() }.validate().is_err());
-        assert!(RenderSettings::default().validate().is_ok());
     }
 }

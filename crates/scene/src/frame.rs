@@ -781,6 +781,11 @@ impl<'a> Frame<'a> {
         self.scene.texture(id).ok()
     }
 
+    /// The scene this is a frame of (what decides the integrator of a frame that names none).
+    pub fn scene(&self) -> &'a Scene {
+        self.scene
+    }
+
     /// The lights, as they were when the frame started.
     pub fn lights(&self) -> &[Light] {
         &self.lights

@@ -5,8 +5,8 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicU32;
 use std::time::Duration;
 
-use raystage_render::{Cancel, Filter, Integrator, Look, MAX_DEPTH, RenderSettings};
-use raystage_scene::{Background, Scene};
+use raystage_render::{Cancel, FrameSettings, RenderSettings, SettingsPatch};
+use raystage_scene::Scene;
 use serde::Deserialize;
 use utoipa::{IntoParams, ToSchema};
 
@@ -26,7 +26,7 @@ pub(crate) const FRAME_BYTES_PER_PIXEL: u64 = 12 + 4;
 pub(crate) const STREAM_BYTES_PER_PIXEL: u64 = 12 + 4 + 12 + 3 + 3;
 
 /// The integrators by name, for the API description (the query keeps the string, parsed by
-/// [`parse_integrator`] with an error naming the field).
+/// [`FrameSettings::apply`] with an error naming the field).
 #[derive(ToSchema)]
 #[serde(rename_all = "lowercase")]
 #[allow(dead_code, reason = "a schema only: the names the API accepts")]
@@ -54,191 +54,87 @@ pub(crate) enum ToneMapName {
     Neutral,
 }
 
-/// What frame to render.
-#[derive(Clone, Debug, Default, Deserialize, IntoParams)]
-#[serde(deny_unknown_fields)]
-#[into_params(parameter_in = Query)]
-pub struct FrameQuery {
-    /// Width in pixels; default 640.
-    #[param(minimum = 1)]
-    pub width: Option<u32>,
-    /// Height in pixels; default 360.
-    #[param(minimum = 1)]
-    pub height: Option<u32>,
-    /// Samples per pixel; default 1.
-    #[param(minimum = 1)]
-    pub spp: Option<u32>,
-    /// `eyelight`, `whitted`, `distribution` or `path`; default `whitted` if anything lights
-    /// the scene (the default sky does unless `default_lights` is false), else `eyelight`.
-    #[param(value_type = Option<IntegratorName>)]
-    pub integrator: Option<String>,
-    /// What camera rays that hit nothing show: `sky`, `black` or `R,G,B`; default the
-    /// environment light if the scene has one, else the scene's choice, else the sky where the
-    /// default lights the scene, else black.
-    pub background: Option<String>,
-    /// Whether a scene that nothing lights (no light, no emitting surface) is lit by the
-    /// default sky; default true.
-    pub default_lights: Option<bool>,
-    /// Longest path in segments, the camera ray included, or deepest recursion: 1 to 64;
-    /// default 6.
-    #[param(minimum = 1, maximum = 64)]
-    pub max_depth: Option<u32>,
-    /// Whether the path tracer may end paths early by Russian roulette; default true.
-    pub russian_roulette: Option<bool>,
-    /// The pixel filter: `box`, `gaussian` or `gaussian:RADIUS`; default `box`.
-    pub filter: Option<String>,
-    /// Seed of the sample sequences; default 0.
-    pub seed: Option<u32>,
-    /// Adaptive sampling: tiles stop taking samples once each pixel's standard error is below
-    /// this fraction of its brightness, in (0, 1]; default none (every pixel gets `spp`).
-    #[param(exclusive_minimum = 0, maximum = 1)]
-    pub noise_threshold: Option<f32>,
-    /// Exposure in stops: the image is scaled by 2 to this power; default 0.
-    pub exposure: Option<f32>,
-    /// The PNG's tone curve: `clamp` (the default) or `neutral` (Khronos PBR Neutral).
-    #[param(value_type = Option<ToneMapName>)]
-    pub tonemap: Option<String>,
-}
-
-/// How a frame is set up beyond its size and integrator: what a render needs to match another
-/// renderer's.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Setup {
-    pub background: Option<Background>,
-    pub default_lights: bool,
-    pub max_depth: u32,
-    pub russian_roulette: bool,
-    pub filter: Filter,
-    pub seed: u32,
-    pub noise_threshold: Option<f32>,
-    /// How the PNG is graded.
-    pub look: Look,
-}
-
-impl Default for Setup {
-    fn default() -> Setup {
-        let s = RenderSettings::default();
-        Setup {
-            background: s.background,
-            default_lights: s.default_lights,
-            max_depth: s.max_depth,
-            russian_roulette: s.russian_roulette,
-            filter: s.filter,
-            seed: s.seed,
-            noise_threshold: s.noise_threshold,
-            look: Look::default(),
+/// Makes a type the API takes a frame's settings in from the list of them
+/// ([`raystage_render::frame_settings!`]): the type's own fields first, then every setting as an
+/// optional field, described as the list describes it, its limits in `#[param(...)]` (a query)
+/// or `#[schema(...)]` (a body) as the brackets after the type's name say. Its `patch` is the
+/// settings it sets but the sample count, which each type names its own way.
+macro_rules! settings_type {
+    (
+        $(#[$meta:meta])* pub struct $type:ident [$limits:ident] { $($own:tt)* }
+        $( $(#[doc = $doc:literal])* $name:ident: $setting:ty [$($limit:tt)*] {$($flag:tt)*}, )*
+    ) => {
+        $(#[$meta])*
+        pub struct $type {
+            $($own)*
+            $( $(#[doc = $doc])* #[$limits($($limit)*)] pub $name: Option<$setting>, )*
         }
-    }
-}
 
-/// A frame request checked against the limits; the integrator is chosen once the scene is seen.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct FrameRequest {
-    pub width: u32,
-    pub height: u32,
-    pub spp: u32,
-    pub integrator: Option<Integrator>,
-    pub setup: Setup,
-}
-
-impl FrameQuery {
-    /// Checks the query (422 naming the parameter out of range).
-    pub(crate) fn check(&self, limits: &Limits) -> ApiResult<FrameRequest> {
-        let request = FrameRequest {
-            width: self.width.unwrap_or(640),
-            height: self.height.unwrap_or(360),
-            spp: self.spp.unwrap_or(1),
-            integrator: self.integrator.as_deref().map(parse_integrator).transpose()?,
-            setup: self.setup_over(Setup::default())?,
-        };
-        request.check(limits)?;
-        Ok(request)
-    }
-}
-
-impl FrameQuery {
-    /// `base` with what the query sets replaced (422 naming the parameter that is wrong). The
-    /// stream applies its changes this way too, over its current setup.
-    pub(crate) fn setup_over(&self, base: Setup) -> ApiResult<Setup> {
-        let wrong = |field: &str, message: String| ApiError::unprocessable(Some(field.into()), message);
-        let d = base;
-        let max_depth = self.max_depth.unwrap_or(d.max_depth);
-        if !(1..=MAX_DEPTH).contains(&max_depth) {
-            return Err(wrong("max_depth", format!("max_depth {max_depth} is not in 1..={MAX_DEPTH}")));
-        }
-        if let Some(threshold) = self.noise_threshold.filter(|t| !(*t > 0.0 && *t <= 1.0)) {
-            return Err(wrong("noise_threshold", format!("noise_threshold {threshold} is not in (0, 1]")));
-        }
-        let exposure = self.exposure.unwrap_or(d.look.exposure);
-        if !exposure.is_finite() {
-            return Err(wrong("exposure", format!("exposure {exposure} is not a number of stops")));
-        }
-        let tone_map = self.tonemap.as_deref().map(str::parse).transpose().map_err(|e: raystage_render::Error| wrong("tonemap", e.to_string()))?;
-        Ok(Setup {
-            look: Look { exposure, tone_map: tone_map.unwrap_or(d.look.tone_map) },
-            noise_threshold: self.noise_threshold.or(d.noise_threshold),
-            background: self
-                .background
-                .as_deref()
-                .map(str::parse)
-                .transpose()
-                .map_err(|e: raystage_scene::SceneError| wrong("background", e.to_string()))?
-                .or(d.background),
-            default_lights: self.default_lights.unwrap_or(d.default_lights),
-            max_depth,
-            russian_roulette: self.russian_roulette.unwrap_or(d.russian_roulette),
-            filter: self.filter.as_deref().map(str::parse).transpose().map_err(|e: raystage_render::Error| wrong("filter", e.to_string()))?.unwrap_or(d.filter),
-            seed: self.seed.unwrap_or(d.seed),
-        })
-    }
-}
-
-/// An integrator by name (422 naming `integrator` if there is none).
-pub(crate) fn parse_integrator(name: &str) -> ApiResult<Integrator> {
-    Integrator::from_name(name).ok_or_else(|| {
-        ApiError::unprocessable(Some("integrator".into()), format!("unknown integrator `{name}`: expected eyelight, whitted, distribution or path"))
-    })
-}
-
-impl FrameRequest {
-    /// Checks size and samples against the limits (422 naming the parameter).
-    pub(crate) fn check(&self, limits: &Limits) -> ApiResult<()> {
-        let max = limits.max_dimension;
-        for (name, value) in [("width", self.width), ("height", self.height)] {
-            if !(1..=max).contains(&value) {
-                return Err(ApiError::unprocessable(Some(name.into()), format!("{name} {value} is not in 1..={max}")));
+        impl $type {
+            /// The settings it sets, but the sample count.
+            pub(crate) fn patch(&self) -> raystage_render::SettingsPatch {
+                raystage_render::SettingsPatch { $($name: self.$name.clone(),)* ..raystage_render::SettingsPatch::default() }
             }
         }
-        if !(1..=limits.max_spp).contains(&self.spp) {
-            return Err(ApiError::unprocessable(Some("spp".into()), format!("spp {} is not in 1..={}", self.spp, limits.max_spp)));
-        }
-        let samples = self.width as u64 * self.height as u64 * self.spp as u64;
-        if samples > limits.max_frame_samples {
-            return Err(ApiError::unprocessable(
-                Some("spp".into()),
-                format!("{}×{} at {} spp is {samples} samples, more than the limit of {}", self.width, self.height, self.spp, limits.max_frame_samples),
-            ));
-        }
-        Ok(())
-    }
+    };
+}
+pub(crate) use settings_type;
 
-    /// The render settings for `scene`.
-    pub(crate) fn settings(&self, scene: &Scene) -> RenderSettings {
-        RenderSettings {
-            width: self.width,
-            height: self.height,
-            samples_per_pixel: self.spp,
-            integrator: self.integrator.unwrap_or_else(|| Integrator::default_for(scene, self.setup.default_lights)),
-            background: self.setup.background,
-            default_lights: self.setup.default_lights,
-            max_depth: self.setup.max_depth,
-            russian_roulette: self.setup.russian_roulette,
-            filter: self.setup.filter,
-            seed: self.setup.seed,
-            noise_threshold: self.setup.noise_threshold,
-            ..RenderSettings::default()
+raystage_render::frame_settings!(settings_type! {
+    /// What frame to render.
+    #[derive(Clone, Debug, Default, Deserialize, IntoParams)]
+    #[serde(deny_unknown_fields)]
+    #[into_params(parameter_in = Query)]
+    pub struct FrameQuery [param] {
+        /// Samples per pixel; default 1.
+        #[param(minimum = 1)]
+        pub spp: Option<u32>,
+    }
+});
+
+impl FrameQuery {
+    /// The frame the query asks for, checked (422 naming the parameter out of range); the
+    /// integrator is chosen once the scene is seen.
+    pub(crate) fn check(&self, limits: &Limits) -> ApiResult<FrameSettings> {
+        let mut frame = FrameSettings::default();
+        frame.apply(&SettingsPatch { samples_per_pixel: self.spp, ..self.patch() }).map_err(|e| setting_error(e, "spp"))?;
+        check_limits(&frame.render, "spp", limits)?;
+        Ok(frame)
+    }
+}
+
+/// A setting the renderer refused, as the API reports it: 422 naming the parameter, the sample
+/// count by the name `samples` that the request gave it.
+pub(crate) fn setting_error(e: raystage_render::Error, samples: &str) -> ApiError {
+    let field = match e {
+        raystage_render::Error::Setting { field: "samples_per_pixel", .. } => Some(samples),
+        raystage_render::Error::Setting { field, .. } => Some(field),
+        _ => None,
+    };
+    ApiError::unprocessable(field.map(Into::into), e.to_string())
+}
+
+/// Checks a frame's size and samples (called `samples` in the request) against the server's
+/// limits (422 naming the parameter).
+pub(crate) fn check_limits(settings: &RenderSettings, samples: &str, limits: &Limits) -> ApiResult<()> {
+    let max = limits.max_dimension;
+    for (name, value) in [("width", settings.width), ("height", settings.height)] {
+        if !(1..=max).contains(&value) {
+            return Err(ApiError::unprocessable(Some(name.into()), format!("{name} {value} is not in 1..={max}")));
         }
     }
+    let (width, height, spp) = (settings.width, settings.height, settings.samples_per_pixel);
+    if !(1..=limits.max_spp).contains(&spp) {
+        return Err(ApiError::unprocessable(Some(samples.into()), format!("{samples} {spp} is not in 1..={}", limits.max_spp)));
+    }
+    let total = width as u64 * height as u64 * spp as u64;
+    if total > limits.max_frame_samples {
+        return Err(ApiError::unprocessable(
+            Some(samples.into()),
+            format!("{width}×{height} at {spp} spp is {total} samples, more than the limit of {}", limits.max_frame_samples),
+        ));
+    }
+    Ok(())
 }
 
 /// A rendered frame.
@@ -257,16 +153,16 @@ pub(crate) async fn render_png(
     state: &AppState,
     slot: &Arc<SceneSlot>,
     snapshot: Option<(Arc<Scene>, u64)>,
-    request: FrameRequest,
+    frame: FrameSettings,
     rows_done: Arc<AtomicU32>,
 ) -> ApiResult<Rendered> {
-    let bytes = request.width as u64 * request.height as u64 * FRAME_BYTES_PER_PIXEL;
+    let bytes = frame.render.width as u64 * frame.render.height as u64 * FRAME_BYTES_PER_PIXEL;
     let cluster = state.cluster().filter(|c| c.ranks() > 1).cloned();
     let scene_id = slot.id;
     let rendered = on_a_turn(state, slot, snapshot, bytes, move |scene, version, cancel| {
-        let settings = request.settings(&scene);
+        let settings = frame.for_scene(&scene);
         let Some(cluster) = cluster else {
-            let (png, stats, rendered, encoded) = crate::png::render_png(&scene.frame(), &settings, request.setup.look, cancel, &rows_done)?;
+            let (png, stats, rendered, encoded) = crate::png::render_png(&scene.frame(), &settings, frame.look, cancel, &rows_done)?;
             let mut report = FrameReport::new(&settings, &stats, encoded, version);
             // The whole render, with the film's allocation and resolve, which the frame
             // statistics leave out.
@@ -280,7 +176,7 @@ pub(crate) async fn render_png(
         let stats = accumulator.add(scene_id, &scene.frame(), version, settings.samples_per_pixel, true, cancel).map_err(crate::png::render_error)?;
         let rendered = start.elapsed().as_secs_f64();
         rows_done.store(settings.height, std::sync::atomic::Ordering::Relaxed);
-        let png = crate::png::encode(&accumulator.film(), request.setup.look)?;
+        let png = crate::png::encode(&accumulator.film(), frame.look)?;
         let mut report = FrameReport::new(&settings, &stats, start.elapsed().as_secs_f64() - rendered, version);
         report.render_seconds = rendered;
         report.cluster = accumulator.times();

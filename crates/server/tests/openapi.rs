@@ -102,3 +102,30 @@ async fn every_class_the_description_names_is_accepted() {
     assert_eq!(classes("LightSpec").len(), 6);
     assert!(schemas["NewScene"]["allOf"][0]["properties"]["demo"]["pattern"].as_str().unwrap().contains("|museum-[0-9]+|"));
 }
+
+/// Every setting of a frame is described wherever the API takes one, under the name it takes
+/// it by: the frame's query (for `GET frame.png` and `POST renders`), the stream's query and its
+/// `settings` message. The types are made from one list; this fails if a setting reaches the
+/// renderer's patch but not the API's description.
+#[test]
+fn every_frame_setting_is_described_wherever_the_api_takes_one() {
+    let description: serde_json::Value = serde_json::from_str(&raystage_server::openapi().to_json().unwrap()).unwrap();
+    let parameters = |path: &str, method: &str| -> Vec<String> {
+        let listed = description["paths"][path][method]["parameters"].as_array().unwrap_or_else(|| panic!("{method} {path} has no parameters"));
+        listed.iter().filter(|p| p["in"] == "query").map(|p| p["name"].as_str().unwrap().to_string()).collect()
+    };
+    let message = description["components"]["schemas"]["SettingsChange"]["properties"].as_object().unwrap();
+    for &setting in raystage_render::SettingsPatch::NAMES {
+        // The sample count is named for what it counts: a frame's samples, or those a stream
+        // refines to.
+        let (frame, stream) = match setting {
+            "samples_per_pixel" => ("spp", "max_samples"),
+            name => (name, name),
+        };
+        for (path, method) in [("/scenes/{scene}/frame.png", "get"), ("/scenes/{scene}/renders", "post")] {
+            assert!(parameters(path, method).iter().any(|p| p == frame), "{method} {path} does not describe `{frame}`");
+        }
+        assert!(parameters("/scenes/{scene}/stream", "get").iter().any(|p| p == stream), "the stream's query does not describe `{stream}`");
+        assert!(message.contains_key(stream), "the settings message does not describe `{stream}`");
+    }
+}

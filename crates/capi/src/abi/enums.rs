@@ -229,8 +229,11 @@ pub const RT_MIRRORED_REPEAT: RTenum = 0x8370;
 
 // ----- rendering (rtRenderMode, rtRenderParameteri) -----
 
-/// `rtRenderMode` (the default): `RT_WHITTED` if the scene has lights, else `RT_EYELIGHT`, so
-/// that an unlit scene is not black.
+/// `rtRenderMode` (the default): the integrator `raystage render` and the HTTP API choose for
+/// the scene: `RT_PATH` where an image environment lights it, `RT_WHITTED` where anything else
+/// does (a light, an emitting surface, or the default sky while `RT_DEFAULT_LIGHTS` is on), else
+/// `RT_EYELIGHT`, so that an unlit scene is not black. (Before 2026-12-06 it ignored
+/// `RT_DEFAULT_LIGHTS` and image environments: an unlit scene was previewed by `RT_EYELIGHT`.)
 pub const RT_AUTO: RTenum = 0x9030;
 /// `rtRenderMode`: a fast preview lit by a light at the eye; no shadows, no secondary rays.
 pub const RT_EYELIGHT: RTenum = 0x9031;

@@ -5,8 +5,8 @@
 use crate::abi::types::{RTenum, RTfloat, RTint};
 use crate::boundary::call;
 
-/// Chooses how frames are rendered: `RT_AUTO` (the default: `RT_WHITTED` if the scene has lights
-/// or emitting surfaces, else `RT_EYELIGHT`), `RT_EYELIGHT` (a preview lit from the eye), `RT_WHITTED` (shadows,
+/// Chooses how frames are rendered: `RT_AUTO` (the default: the choice of `raystage render` and
+/// the HTTP API, see `RT_AUTO`), `RT_EYELIGHT` (a preview lit from the eye), `RT_WHITTED` (shadows,
 /// mirrors and glass), `RT_DISTRIBUTION` (soft shadows, glossy reflection, depth of field and
 /// motion blur) or `RT_PATH` (global illumination). The last two need several samples per pixel
 /// (`RT_SAMPLES_PER_PIXEL`) for a smooth image.

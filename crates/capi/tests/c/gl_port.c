@@ -411,6 +411,9 @@ static void huge_coordinates(void) {
 
 int main(void) {
     rtFrameBuffer(pixels, W, H, RT_RGBA8);
+    /* Colours are checked as given: the preview shows them as they are, where RT_AUTO would
+       light these unlit scenes by the sky. */
+    rtRenderMode(RT_EYELIGHT);
     orthographic();
     frustum();
     colours_and_textures();

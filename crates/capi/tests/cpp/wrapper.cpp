@@ -185,6 +185,9 @@ void moves_transfer_ownership() {
     raystage::Context context;
     camera();
     raystage::FrameBuffer frame(W, H);
+    // The preview shows the default shader's grey as it is (RT_AUTO would light the unlit
+    // scene by the sky, which tints it).
+    raystage::render_mode(RT_EYELIGHT);
     raystage::Shader red("Constant"), blue("Constant");
     red.set("color", 1, 0, 0);
     blue.set("color", 0, 0, 1);

@@ -40,7 +40,7 @@ use crate::edit::Edit;
 use crate::error::{ApiError, ApiResult};
 use crate::stats::ClusterTimes;
 pub use wire::{SceneBuild, SceneStart};
-use wire::{Message, PassMessage, Reply, WireSettings, decode, encode};
+use wire::{Message, PassMessage, Reply, decode, encode};
 pub use worker::work;
 #[cfg(feature = "mpi")]
 pub use mpi::{MpiJob, MpiTransport};
@@ -325,7 +325,7 @@ impl Accumulator {
             key,
             scene: scene_id,
             version,
-            settings: WireSettings::from(self.progressive.settings()),
+            settings: *self.progressive.settings(),
             samples,
             reset: self.progressive.samples() == 0,
             last,

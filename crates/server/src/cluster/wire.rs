@@ -1,8 +1,8 @@
 //! The messages between rank 0 and the workers, and their encoding (CBOR).
 
 use raystage_demo::animated::Demo;
-use raystage_render::{Filter, Integrator, RenderSettings};
-use raystage_scene::{Background, Scene};
+use raystage_render::RenderSettings;
+use raystage_scene::Scene;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
@@ -36,7 +36,8 @@ pub(super) struct PassMessage {
     pub key: u64,
     pub scene: u32,
     pub version: u64,
-    pub settings: WireSettings,
+    /// The renderer's settings, as serde writes them.
+    pub settings: RenderSettings,
     pub samples: u32,
     /// The accumulation starts over (its first pass, or rank 0's was cancelled).
     pub reset: bool,
@@ -113,73 +114,6 @@ impl SceneBuild {
     }
 }
 
-/// [`RenderSettings`] as a message carries them.
-#[derive(Serialize, Deserialize)]
-pub(super) struct WireSettings {
-    width: u32,
-    height: u32,
-    integrator: String,
-    samples_per_pixel: u32,
-    max_depth: u32,
-    light_samples: u32,
-    russian_roulette: bool,
-    /// `None` for the box filter, else the Gaussian's radius.
-    gaussian: Option<f32>,
-    seed: u32,
-    noise_threshold: Option<f32>,
-    default_lights: bool,
-    /// `None`: the scene's choice; `Some(None)`: the sky; `Some(Some(c))`: colour `c`.
-    background: Option<Option<[f32; 3]>>,
-    specialize: bool,
-}
-
-impl From<&RenderSettings> for WireSettings {
-    fn from(s: &RenderSettings) -> WireSettings {
-        WireSettings {
-            width: s.width,
-            height: s.height,
-            integrator: s.integrator.name().to_string(),
-            samples_per_pixel: s.samples_per_pixel,
-            max_depth: s.max_depth,
-            light_samples: s.light_samples,
-            russian_roulette: s.russian_roulette,
-            gaussian: match s.filter {
-                Filter::Box => None,
-                Filter::Gaussian { radius } => Some(radius),
-            },
-            seed: s.seed,
-            noise_threshold: s.noise_threshold,
-            default_lights: s.default_lights,
-            background: s.background.map(|b| match b {
-                Background::Sky => None,
-                Background::Color(c) => Some(c.to_array()),
-            }),
-            specialize: s.specialize,
-        }
-    }
-}
-
-impl WireSettings {
-    /// The settings sent, or why they cannot be read.
-    pub(super) fn settings(&self) -> Result<RenderSettings, String> {
-        Ok(RenderSettings {
-            width: self.width,
-            height: self.height,
-            integrator: Integrator::from_name(&self.integrator).ok_or_else(|| format!("unknown integrator `{}`", self.integrator))?,
-            samples_per_pixel: self.samples_per_pixel,
-            max_depth: self.max_depth,
-            light_samples: self.light_samples,
-            russian_roulette: self.russian_roulette,
-            filter: self.gaussian.map_or(Filter::Box, |radius| Filter::Gaussian { radius }),
-            seed: self.seed,
-            noise_threshold: self.noise_threshold,
-            default_lights: self.default_lights,
-            background: self.background.map(|b| b.map_or(Background::Sky, |c| Background::Color(c.into()))),
-            specialize: self.specialize,
-        })
-    }
-}
-
 /// `value` as CBOR.
 pub(super) fn encode<T: Serialize>(value: &T) -> Vec<u8> {
     let mut bytes = Vec::new();
@@ -190,4 +124,60 @@ pub(super) fn encode<T: Serialize>(value: &T) -> Vec<u8> {
 /// A value from CBOR, or why it cannot be read.
 pub(super) fn decode<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, String> {
     ciborium::from_reader(bytes).map_err(|e| e.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use raystage_render::{FrameSettings, SettingsPatch};
+
+    use super::*;
+
+    /// Every setting a front end sets reaches the workers: a patch that sets each one (written
+    /// out whole, so that a setting added to the list fails to compile here until it is given a
+    /// value) changes the renderer's settings, which travel as serde writes them, and come back
+    /// from the wire as they went.
+    #[test]
+    fn every_setting_reaches_the_workers() {
+        let patch = SettingsPatch {
+            samples_per_pixel: Some(3),
+            width: Some(7),
+            height: Some(5),
+            integrator: Some("distribution".into()),
+            background: Some("0.25,0.5,1".into()),
+            default_lights: Some(false),
+            max_depth: Some(9),
+            russian_roulette: Some(false),
+            filter: Some("gaussian:2".into()),
+            seed: Some(11),
+            noise_threshold: Some(0.5),
+            exposure: Some(1.5),
+            tonemap: Some("neutral".into()),
+        };
+        let mut frame = FrameSettings::default();
+        frame.apply(&patch).unwrap();
+        let settings = frame.for_scene(&Scene::new());
+        let sent: RenderSettings = decode(&encode(&settings)).unwrap();
+        assert_eq!(sent, settings);
+        let d = RenderSettings::default();
+        let fields = [
+            ("samples_per_pixel", sent.samples_per_pixel != d.samples_per_pixel),
+            ("width", sent.width != d.width),
+            ("height", sent.height != d.height),
+            ("integrator", sent.integrator != d.integrator),
+            ("background", sent.background != d.background),
+            ("default_lights", sent.default_lights != d.default_lights),
+            ("max_depth", sent.max_depth != d.max_depth),
+            ("russian_roulette", sent.russian_roulette != d.russian_roulette),
+            ("filter", sent.filter != d.filter),
+            ("seed", sent.seed != d.seed),
+            ("noise_threshold", sent.noise_threshold != d.noise_threshold),
+        ];
+        for (name, changed) in fields {
+            assert!(changed, "`{name}` did not reach the settings the workers get");
+        }
+        // Exposure and tone curve grade the image on rank 0, where it is encoded.
+        let checked: Vec<&str> = fields.iter().map(|&(name, _)| name).chain(["exposure", "tonemap"]).collect();
+        assert_eq!(checked, SettingsPatch::NAMES, "every setting is checked here");
+        assert_eq!((frame.look.exposure, frame.look.tone_map), (1.5, raystage_render::ToneMap::Neutral));
+    }
 }

@@ -128,10 +128,7 @@ impl Worker<'_> {
         let Some(scene) = self.versions.get(&pass.scene).and_then(|v| v.iter().find(|(version, _)| *version == pass.version)).map(|(_, s)| Arc::clone(s)) else {
             return Reply::Failed(format!("scene {} at version {} is not held here", pass.scene, pass.version));
         };
-        let settings = match pass.settings.settings() {
-            Ok(settings) => settings,
-            Err(why) => return Reply::Failed(why),
-        };
+        let settings = pass.settings;
         let share = Share { index: self.transport.rank(), count: self.transport.ranks() };
         if pass.reset {
             self.accumulations.remove(&pass.key);

@@ -2,7 +2,7 @@
 
 use axum::Json;
 use axum::extract::{Path, State};
-use raystage_render::Channel;
+use raystage_render::{Channel, RenderSettings};
 use axum::http::header;
 use axum::response::{IntoResponse, Response};
 use serde::{Deserialize, Serialize};
@@ -10,7 +10,7 @@ use utoipa::{IntoParams, ToSchema};
 
 use crate::error::{ApiError, ApiResult, ErrorBody};
 use crate::extract::{Params, Target};
-use crate::render::{FrameQuery, FrameRequest, on_a_turn, render_png};
+use crate::render::{FrameQuery, check_limits, on_a_turn, render_png};
 use crate::state::AppState;
 
 /// Renders a frame as PNG. The statistics come as headers: `x-render-seconds`,
@@ -25,8 +25,8 @@ use crate::state::AppState;
         (status = 422, description = "A value is not acceptable: the error names the field", body = ErrorBody),
     ))]
 pub(crate) async fn frame_png(State(state): State<AppState>, target: Target, Params(query): Params<FrameQuery>) -> ApiResult<Response> {
-    let request = query.check(&state.config().limits)?;
-    let rendered = render_png(&state, &target.scene, None, request, Default::default()).await?;
+    let frame = query.check(&state.config().limits)?;
+    let rendered = render_png(&state, &target.scene, None, frame, Default::default()).await?;
     let r = &rendered.report;
     let headers = [
         (header::CONTENT_TYPE, "image/png".to_string()),
@@ -82,8 +82,9 @@ pub(crate) async fn channel(
     Params(q): Params<ChannelQuery>,
 ) -> ApiResult<Response> {
     let channel: Channel = name.parse().map_err(|e: raystage_render::Error| ApiError::not_found(Some("channel".into()), e.to_string()))?;
-    let request = FrameRequest { width: q.width.unwrap_or(640), height: q.height.unwrap_or(360), spp: 1, integrator: None, setup: Default::default() };
-    request.check(&state.config().limits)?;
+    let defaults = RenderSettings::default();
+    let request = RenderSettings { width: q.width.unwrap_or(defaults.width), height: q.height.unwrap_or(defaults.height), ..defaults };
+    check_limits(&request, "spp", &state.config().limits)?;
     let pfm = match q.format.as_deref() {
         None => channel.is_distance(),
         Some("pfm") => true,

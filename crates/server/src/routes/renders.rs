@@ -131,7 +131,7 @@ impl Job {
     ))]
 pub(crate) async fn start(State(state): State<AppState>, target: Target, Params(query): Params<FrameQuery>) -> ApiResult<Response> {
     let limits = state.config().limits;
-    let request = query.check(&limits)?;
+    let frame = query.check(&limits)?;
     let jobs = state.jobs();
     let job = {
         let mut held = jobs.jobs.lock().unwrap_or_else(|e| e.into_inner());
@@ -143,8 +143,8 @@ pub(crate) async fn start(State(state): State<AppState>, target: Target, Params(
         let job = Arc::new(Job {
             id,
             scene: target.scene.id,
-            width: request.width,
-            height: request.height,
+            width: frame.render.width,
+            height: frame.render.height,
             rows: Arc::default(),
             outcome: Mutex::new(None),
             task: Mutex::new(None),
@@ -156,7 +156,7 @@ pub(crate) async fn start(State(state): State<AppState>, target: Target, Params(
     // Frame semantics: the job renders the scene as it is now, whatever is edited meanwhile.
     let snapshot = slot.snapshot().await;
     let task = tokio::spawn(async move {
-        let outcome = render_png(&state, &slot, Some(snapshot), request, Arc::clone(&runner.rows)).await;
+        let outcome = render_png(&state, &slot, Some(snapshot), frame, Arc::clone(&runner.rows)).await;
         *runner.outcome.lock().unwrap_or_else(|e| e.into_inner()) = Some(outcome);
     });
     *job.task.lock().unwrap_or_else(|e| e.into_inner()) = Some(task.abort_handle());

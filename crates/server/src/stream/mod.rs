@@ -17,6 +17,7 @@ use axum::extract::ws::rejection::WebSocketUpgradeRejection;
 use axum::extract::ws::{Message, WebSocket, WebSocketUpgrade};
 use axum::response::Response;
 use futures_util::{SinkExt, StreamExt};
+use raystage_render::{FrameSettings, RenderSettings};
 use tokio::sync::{mpsc, watch};
 
 pub use protocol::{ClientMessage, FrameMessage, PROTOCOL, ServerMessage, SettingsChange, StreamQuery};
@@ -26,7 +27,7 @@ use crate::config::Limits;
 use crate::error::{ApiError, ApiResult, ErrorBody};
 use crate::extract::{Params, Target, parse_json};
 use crate::model::Command;
-use crate::render::{FrameRequest, parse_integrator};
+use crate::render::{check_limits, setting_error};
 use crate::state::{AppState, SceneSlot};
 
 /// Default samples per pixel a stream refines to.
@@ -52,13 +53,9 @@ pub(crate) async fn stream(
     // text.
     let upgrade = upgrade.map_err(|e| ApiError::bad_request(Some("upgrade".into()), format!("{}: open the stream as a WebSocket", e.body_text())))?;
     let limits = state.config().limits;
-    let settings = StreamSettings {
-        width: query.width.unwrap_or(640),
-        height: query.height.unwrap_or(360),
-        integrator: query.integrator.as_deref().map(parse_integrator).transpose()?,
-        max_samples: query.max_samples.unwrap_or(DEFAULT_MAX_SAMPLES.min(limits.max_spp)),
-        setup: query.setup()?,
-    };
+    let mut frame = FrameSettings::default();
+    frame.apply(&query.patch()).map_err(|e| setting_error(e, "max_samples"))?;
+    let settings = StreamSettings { frame, max_samples: query.max_samples.unwrap_or(DEFAULT_MAX_SAMPLES.min(limits.max_spp)) };
     check(&settings, &limits)?;
     let guard = state.open_stream()?;
     let scene = target.scene;
@@ -74,16 +71,11 @@ pub(crate) async fn stream(
 /// Checks a stream's settings as a frame request of `max_samples` samples per pixel, and its
 /// image against the memory for images being rendered (413 if it could never fit).
 fn check(settings: &StreamSettings, limits: &Limits) -> ApiResult<()> {
-    let request = FrameRequest { width: settings.width, height: settings.height, spp: settings.max_samples, integrator: settings.integrator, setup: settings.setup };
-    request.check(limits).map_err(|mut e| {
-        if e.detail.field.as_deref() == Some("spp") {
-            e.detail.field = Some("max_samples".into());
-        }
-        e
-    })?;
+    let render = settings.frame.render;
+    check_limits(&RenderSettings { samples_per_pixel: settings.max_samples, ..render }, "max_samples", limits)?;
     let bytes = settings.bytes();
     if bytes > limits.max_render_bytes as u64 {
-        let message = format!("a {}×{} stream takes {bytes} bytes: the limit is {}", settings.width, settings.height, limits.max_render_bytes);
+        let message = format!("a {}×{} stream takes {bytes} bytes: the limit is {}", render.width, render.height, limits.max_render_bytes);
         return Err(ApiError::too_large(None, message).limit("max_render_bytes"));
     }
     Ok(())
@@ -99,9 +91,9 @@ async fn session(socket: WebSocket, state: AppState, slot: Arc<SceneSlot>, setti
     let hello = ServerMessage::Hello {
         protocol: PROTOCOL,
         scene: slot.id,
-        width: settings.width,
-        height: settings.height,
-        integrator: settings.integrator.map(|i| i.name().to_string()),
+        width: settings.frame.render.width,
+        height: settings.frame.render.height,
+        integrator: settings.frame.integrator.map(|i| i.name().to_string()),
         max_samples: settings.max_samples,
     };
     let renderer = tokio::spawn(refine(state.clone(), slot.clone(), settings_rx, frames_tx, taken.clone(), replies_tx.clone()));
@@ -173,18 +165,12 @@ async fn handle(state: &AppState, slot: &Arc<SceneSlot>, settings: &watch::Sende
         ClientMessage::Camera { request, camera } => (request, crate::routes::edit(state, slot, vec![Command::SetCamera(camera)], false).await),
         ClientMessage::Commands { request, commands } => (request, crate::routes::edit(state, slot, commands, true).await),
         ClientMessage::Settings(change) => {
-            let old = *settings.borrow();
-            let new = change.integrator.as_deref().map(parse_integrator).transpose().and_then(|integrator| {
-                let new = StreamSettings {
-                    width: change.width.unwrap_or(old.width),
-                    height: change.height.unwrap_or(old.height),
-                    integrator: integrator.or(old.integrator),
-                    max_samples: change.max_samples.unwrap_or(old.max_samples),
-                    setup: change.setup_over(old.setup)?,
-                };
-                check(&new, &state.config().limits).map(|()| new)
+            let mut new = *settings.borrow();
+            let applied = new.frame.apply(&change.patch()).map_err(|e| setting_error(e, "max_samples")).and_then(|()| {
+                new.max_samples = change.max_samples.unwrap_or(new.max_samples);
+                check(&new, &state.config().limits)
             });
-            (change.request, new.map(|new| {
+            (change.request, applied.map(|()| {
                 settings.send_replace(new);
                 (Vec::new(), slot.version())
             }))

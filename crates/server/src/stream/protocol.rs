@@ -4,58 +4,29 @@ use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
 
 use crate::error::ErrorDetail;
+// The settings list names the schemas of the integrators and tone curves.
+use crate::render::{IntegratorName, ToneMapName, settings_type};
 use crate::model::{CameraPatch, Command, CommandResult};
 use crate::stats::RaysJson;
 
 /// The protocol's version, sent in `hello`.
 pub const PROTOCOL: u32 = 1;
 
-/// How a stream starts (query parameters of the upgrade request).
-#[derive(Clone, Debug, Default, Deserialize, IntoParams)]
-#[serde(deny_unknown_fields)]
-#[into_params(parameter_in = Query)]
-pub struct StreamQuery {
-    /// Width in pixels; default 640.
-    #[param(minimum = 1)]
-    pub width: Option<u32>,
-    /// Height in pixels; default 360.
-    #[param(minimum = 1)]
-    pub height: Option<u32>,
-    /// `eyelight`, `whitted`, `distribution` or `path`; default `whitted` if the scene has
-    /// lights, else `eyelight`.
-    #[param(value_type = Option<crate::render::IntegratorName>)]
-    pub integrator: Option<String>,
-    /// Samples per pixel after which the image stops refining until something changes;
-    /// default 256.
-    #[param(minimum = 1)]
-    pub max_samples: Option<u32>,
-    /// What camera rays that hit nothing show: `sky`, `black` or `R,G,B` (as for frames).
-    pub background: Option<String>,
-    /// Whether a scene that nothing lights is lit by the default sky (as for frames).
-    pub default_lights: Option<bool>,
-    /// Longest path in segments, the camera ray included, or deepest recursion: 1 to 64.
-    #[param(minimum = 1, maximum = 64)]
-    pub max_depth: Option<u32>,
-    /// Whether the path tracer may end paths early by Russian roulette.
-    pub russian_roulette: Option<bool>,
-    /// The pixel filter: `box`, `gaussian` or `gaussian:RADIUS`.
-    pub filter: Option<String>,
-    /// Seed of the sample sequences.
-    pub seed: Option<u32>,
-    /// Adaptive sampling: tiles stop taking samples once each pixel's standard error is below
-    /// this fraction of its brightness, in (0, 1].
-    #[param(exclusive_minimum = 0, maximum = 1)]
-    pub noise_threshold: Option<f32>,
-    /// Exposure in stops. Changing it (or `tonemap`) re-grades the image without rendering
-    /// it again.
-    pub exposure: Option<f32>,
-    /// The PNG's tone curve: `clamp` or `neutral`.
-    #[param(value_type = Option<crate::render::ToneMapName>)]
-    pub tonemap: Option<String>,
-    /// The access token, for clients that cannot send an `Authorization` header.
-    #[allow(dead_code, reason = "checked by the authentication middleware, from the raw query")]
-    pub token: Option<String>,
-}
+raystage_render::frame_settings!(settings_type! {
+    /// How a stream starts (query parameters of the upgrade request).
+    #[derive(Clone, Debug, Default, Deserialize, IntoParams)]
+    #[serde(deny_unknown_fields)]
+    #[into_params(parameter_in = Query)]
+    pub struct StreamQuery [param] {
+        /// Samples per pixel after which the image stops refining until something changes;
+        /// default 256.
+        #[param(minimum = 1)]
+        pub max_samples: Option<u32>,
+        /// The access token, for clients that cannot send an `Authorization` header.
+        #[allow(dead_code, reason = "checked by the authentication middleware, from the raw query")]
+        pub token: Option<String>,
+    }
+});
 
 /// A message from the client (a JSON text message).
 #[derive(Clone, Debug, Deserialize, ToSchema)]
@@ -80,77 +51,17 @@ pub enum ClientMessage {
     Settings(SettingsChange),
 }
 
-/// The `settings` message's fields: those of the stream's query, and `request`.
-#[derive(Clone, Debug, Default, Deserialize, ToSchema)]
-#[serde(deny_unknown_fields)]
-pub struct SettingsChange {
-    /// Echoed in the reply.
-    pub request: Option<u64>,
-    /// Width in pixels.
-    pub width: Option<u32>,
-    /// Height in pixels.
-    pub height: Option<u32>,
-    /// The integrator.
-    pub integrator: Option<String>,
-    /// Samples per pixel to refine to.
-    pub max_samples: Option<u32>,
-    /// What camera rays that hit nothing show: `sky`, `black` or `R,G,B` (as for frames).
-    pub background: Option<String>,
-    /// Whether a scene that nothing lights is lit by the default sky (as for frames).
-    pub default_lights: Option<bool>,
-    /// Longest path in segments, the camera ray included, or deepest recursion: 1 to 64.
-    #[schema(minimum = 1, maximum = 64)]
-    pub max_depth: Option<u32>,
-    /// Whether the path tracer may end paths early by Russian roulette.
-    pub russian_roulette: Option<bool>,
-    /// The pixel filter: `box`, `gaussian` or `gaussian:RADIUS`.
-    pub filter: Option<String>,
-    /// Seed of the sample sequences.
-    pub seed: Option<u32>,
-    /// Adaptive sampling: tiles stop taking samples once each pixel's standard error is below
-    /// this fraction of its brightness, in (0, 1].
-    #[schema(exclusive_minimum = 0, maximum = 1)]
-    pub noise_threshold: Option<f32>,
-    /// Exposure in stops. Changing it (or `tonemap`) re-grades the image without rendering
-    /// it again.
-    pub exposure: Option<f32>,
-    /// The PNG's tone curve: `clamp` or `neutral`.
-    #[schema(value_type = Option<crate::render::ToneMapName>)]
-    pub tonemap: Option<String>,
-}
-
-/// The frame setup that a stream's query or `settings` message sets, as a frame's query would
-/// (so that both are checked the same way).
-macro_rules! setup_query {
-    ($fields:expr) => {
-        crate::render::FrameQuery {
-            background: $fields.background.clone(),
-            default_lights: $fields.default_lights,
-            max_depth: $fields.max_depth,
-            russian_roulette: $fields.russian_roulette,
-            filter: $fields.filter.clone(),
-            seed: $fields.seed,
-            noise_threshold: $fields.noise_threshold,
-            exposure: $fields.exposure,
-            tonemap: $fields.tonemap.clone(),
-            ..Default::default()
-        }
-    };
-}
-
-impl StreamQuery {
-    /// The setup the query asks for (422 naming the parameter that is wrong).
-    pub(crate) fn setup(&self) -> crate::error::ApiResult<crate::render::Setup> {
-        setup_query!(self).setup_over(crate::render::Setup::default())
+raystage_render::frame_settings!(settings_type! {
+    /// The `settings` message's fields: those of the stream's query, and `request`.
+    #[derive(Clone, Debug, Default, Deserialize, ToSchema)]
+    #[serde(deny_unknown_fields)]
+    pub struct SettingsChange [schema] {
+        /// Echoed in the reply.
+        pub request: Option<u64>,
+        /// Samples per pixel to refine to.
+        pub max_samples: Option<u32>,
     }
-}
-
-impl SettingsChange {
-    /// `base` with what the message sets replaced (422 naming the parameter that is wrong).
-    pub(crate) fn setup_over(&self, base: crate::render::Setup) -> crate::error::ApiResult<crate::render::Setup> {
-        setup_query!(self).setup_over(base)
-    }
-}
+});
 
 /// A message from the server (a JSON text message; every `frame` is followed by one binary
 /// message, the PNG).

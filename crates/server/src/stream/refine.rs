@@ -7,11 +7,11 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
-use raystage_render::{Cancel, Film, Integrator, Look, RenderSettings};
+use raystage_render::{Cancel, Film, FrameSettings, Look, RenderSettings};
 use raystage_scene::Scene;
 use tokio::sync::{OwnedSemaphorePermit, mpsc, watch};
 
-use crate::render::{CancelOnDrop, FrameRequest, STREAM_BYTES_PER_PIXEL, Setup};
+use crate::render::{CancelOnDrop, STREAM_BYTES_PER_PIXEL};
 use crate::state::{AppState, SceneSlot};
 use crate::stats::FrameReport;
 use crate::cluster::Accumulator;
@@ -36,32 +36,28 @@ const MEMORY_RETRY: std::time::Duration = std::time::Duration::from_secs(1);
 /// A stream's image settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct StreamSettings {
-    pub width: u32,
-    pub height: u32,
-    /// `None`: Whitted if the scene has lights, else the eye-light preview.
-    pub integrator: Option<Integrator>,
+    /// What the frames render (their samples per pixel are each pass's), and how they are graded.
+    pub frame: FrameSettings,
+    /// Samples per pixel the image refines to.
     pub max_samples: u32,
-    /// How the frames are set up, and graded.
-    pub setup: Setup,
 }
 
 impl StreamSettings {
     /// The memory the stream's image takes while the stream is open.
     pub fn bytes(&self) -> u64 {
-        self.width as u64 * self.height as u64 * STREAM_BYTES_PER_PIXEL
+        self.frame.render.width as u64 * self.frame.render.height as u64 * STREAM_BYTES_PER_PIXEL
     }
 
     /// Whether `other` renders the same image: it may only grade it differently (its exposure
     /// and tone curve apply when a PNG is encoded), which needs no new samples.
     fn same_image(&self, other: &StreamSettings) -> bool {
-        let ungraded = |s: &StreamSettings| StreamSettings { setup: Setup { look: Look::default(), ..s.setup }, ..*s };
+        let ungraded = |s: &StreamSettings| StreamSettings { frame: FrameSettings { look: Look::default(), ..s.frame }, ..*s };
         ungraded(self) == ungraded(other)
     }
 
-    /// The render settings for `scene`.
+    /// The render settings for `scene`, a sample per pixel.
     fn render_settings(&self, scene: &Scene) -> RenderSettings {
-        let request = FrameRequest { width: self.width, height: self.height, spp: 1, integrator: self.integrator, setup: self.setup };
-        request.settings(scene)
+        RenderSettings { samples_per_pixel: 1, ..self.frame.for_scene(scene) }
     }
 }
 
@@ -111,11 +107,11 @@ pub(crate) async fn refine(
             .is_some_and(|a| a.settings.same_image(&wanted) && a.version == slot.version() && a.progressive.samples() >= wanted.max_samples);
         if converged {
             let acc = accumulation.as_mut().expect("converged");
-            if acc.settings.setup.look != wanted.setup.look {
+            if acc.settings.frame.look != wanted.frame.look {
                 // Only the grading changed: the finished image is encoded again.
                 acc.settings = wanted;
                 let film = acc.progressive.film();
-                let look = wanted.setup.look;
+                let look = wanted.frame.look;
                 let encoded = tokio::task::spawn_blocking(move || timed_png(&film, look)).await;
                 if let (Ok(Some((png, encode_seconds))), Some(sent)) = (encoded, acc.sent.clone()) {
                     seq += 1;
@@ -183,7 +179,7 @@ pub(crate) async fn refine(
             let stats = acc.progressive.add(scene_id, &scene.frame(), acc.version, samples, false, &token);
             drop(scene);
             // Decided after the pass, which gave the sender its duration to deliver the last frame.
-            let png = (stats.is_ok() && (last || sent.load(Ordering::Acquire))).then(|| timed_png(&acc.progressive.film(), acc.settings.setup.look));
+            let png = (stats.is_ok() && (last || sent.load(Ordering::Acquire))).then(|| timed_png(&acc.progressive.film(), acc.settings.frame.look));
             (acc, stats, png.flatten())
             // The turn goes to the next render here, once the work has stopped.
         });
