@@ -292,7 +292,7 @@ pub(crate) fn dielectric_albedo(cos: f32, alpha: f32, eta: f32) -> f32 {
 /// The table: [`integrate_dielectric_entry`]'s values, made once and checked in
 /// (`dielectric_albedo.bin`, little-endian `f32`, η slowest, then √α, then √cos θ), since the
 /// rule that gets them within 0.5 % takes seconds (a test recomputes entries and compares;
-/// `RAYSTAGE_BLESS=1` writes the file anew).
+/// `RAYSTAGE_BLESS=1` writes the file anew; the rule is compiled for the tests only).
 fn dielectric_table() -> &'static [f32] {
     static TABLE: OnceLock<Vec<f32>> = OnceLock::new();
     TABLE.get_or_init(|| DIELECTRIC_TABLE.chunks_exact(4).map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])).collect())
@@ -305,9 +305,11 @@ static DIELECTRIC_TABLE: &[u8; DIELECTRIC_ETAS * DIELECTRIC_ROUGHNESSES * DIELEC
 /// off; at 64 × 64 a rough boundary's entry is within 0.5 % of 512 × 512. A smoother one seen
 /// from inside loses its light on a sliver of steep facets that the rule resolves slowly: up to
 /// 1.6 % too much kept there (roughness 0.33, η 1.5, head-on: 0.999 for 0.984).
+#[cfg(test)]
 const DIELECTRIC_RULE: usize = 64;
 
 /// Entry `index` of the table as [`DIELECTRIC_RULE`] integrates it.
+#[cfg(test)]
 fn integrate_dielectric_entry(index: usize) -> f32 {
     let (e, rest) = (index / (DIELECTRIC_ROUGHNESSES * DIELECTRIC_COSINES), index % (DIELECTRIC_ROUGHNESSES * DIELECTRIC_COSINES));
     let (r, c) = (rest / DIELECTRIC_COSINES, rest % DIELECTRIC_COSINES);
@@ -320,6 +322,7 @@ fn integrate_dielectric_entry(index: usize) -> f32 {
 /// [`dielectric_albedo`] by `n` × `n` stratified visible-normal samples, each weighing F G2 / G1
 /// for the reflected direction and (1 − F) G2 / G1 for the refracted one (the BSDF over its
 /// density, per microfacet normal), where each leaves on its own side of the surface.
+#[cfg(test)]
 fn dielectric_albedo_integrated(cos: f32, alpha: f32, eta: f32, n: usize) -> f64 {
     let wo = Vec3::new((1.0 - cos * cos).max(0.0).sqrt(), 0.0, cos);
     let g1 = smith_g1(wo, alpha);
