@@ -194,6 +194,9 @@ pub struct Target {
     pub scene: Arc<SceneSlot>,
     /// The resource id of the path, if any.
     pub id: Option<u32>,
+    /// Who asked: the request's connection, whose renders take their turns fairly with other
+    /// clients' (see [`crate::turns`]).
+    pub(crate) client: crate::turns::Client,
 }
 
 impl Target {
@@ -218,7 +221,8 @@ impl FromRequestParts<AppState> for Target {
         };
         let scene_id = number("scene")?.ok_or_else(|| ApiError::internal("route without a scene"))?;
         let scene = state.scene(scene_id)?;
-        Ok(Target { scene, id: number("id")? })
+        let client = parts.extensions.get::<crate::turns::Client>().copied().unwrap_or(crate::turns::Client::ANY);
+        Ok(Target { scene, id: number("id")?, client })
     }
 }
 

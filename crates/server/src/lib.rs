@@ -34,6 +34,7 @@ mod routes;
 mod state;
 mod stats;
 mod stream;
+mod turns;
 
 use std::future::Future;
 use std::time::Duration;
@@ -68,6 +69,8 @@ pub async fn serve(listener: tokio::net::TcpListener, state: AppState, shutdown:
     let (stop_tx, stop) = tokio::sync::watch::channel(());
     let (open_tx, open) = tokio::sync::watch::channel(());
     let mut shutdown = std::pin::pin!(shutdown);
+    // Connections are the clients whose renders take turns (crate::turns); 0 is no connection.
+    let mut clients = 0u64;
     loop {
         let stream = tokio::select! {
             accepted = listener.accept() => match accepted {
@@ -79,7 +82,13 @@ pub async fn serve(listener: tokio::net::TcpListener, state: AppState, shutdown:
             },
             () = &mut shutdown => break,
         };
-        let service = hyper_util::service::TowerToHyperService::new(app.clone());
+        clients += 1;
+        let client = turns::Client(clients);
+        let app = tower::ServiceExt::map_request(app.clone(), move |mut request: axum::http::Request<hyper::body::Incoming>| {
+            request.extensions_mut().insert(client);
+            request
+        });
+        let service = hyper_util::service::TowerToHyperService::new(app);
         let (mut stop, open) = (stop.clone(), open.clone());
         tokio::spawn(async move {
             let mut builder = hyper::server::conn::http1::Builder::new();

@@ -14,6 +14,7 @@ use crate::cluster::Accumulator;
 use crate::config::Limits;
 use crate::error::{ApiError, ApiResult};
 use crate::state::{AppState, SceneSlot};
+use crate::turns::Client;
 use crate::stats::FrameReport;
 
 /// Bytes a frame takes per pixel while it renders: the sums of its samples (three `f32`) and
@@ -148,10 +149,11 @@ pub(crate) struct Rendered {
 /// Renders a frame of `slot` and encodes it, waiting for a turn to render first, counting the
 /// rows finished in `rows_done`: the scene as `snapshot` holds it if given (a job renders the
 /// scene as it was when it started), else as it is when the turn comes. See [`on_a_turn`] for
-/// when the render stops.
+/// when the render stops; `client`'s turn comes as [`crate::turns`] shares them.
 pub(crate) async fn render_png(
     state: &AppState,
     slot: &Arc<SceneSlot>,
+    client: Client,
     snapshot: Option<(Arc<Scene>, u64)>,
     frame: FrameSettings,
     rows_done: Arc<AtomicU32>,
@@ -159,7 +161,7 @@ pub(crate) async fn render_png(
     let bytes = frame.render.width as u64 * frame.render.height as u64 * FRAME_BYTES_PER_PIXEL;
     let cluster = state.cluster().filter(|c| c.ranks() > 1).cloned();
     let scene_id = slot.id;
-    let rendered = on_a_turn(state, slot, snapshot, bytes, move |scene, version, cancel| {
+    let rendered = on_a_turn(state, slot, client, snapshot, bytes, move |scene, version, cancel| {
         let settings = frame.for_scene(&scene);
         let Some(cluster) = cluster else {
             let (png, stats, rendered, encoded) = crate::png::render_png(&scene.frame(), &settings, frame.look, cancel, &rows_done)?;
@@ -189,20 +191,21 @@ pub(crate) async fn render_png(
 
 /// Runs `work` on a snapshot of `slot` (`snapshot` if given, else the scene as it is when the
 /// turn comes) and its version, on a blocking thread, once `bytes` of memory for images are
-/// reserved (refused at once if they cannot be) and a turn to render has come. `work` should
+/// reserved (refused at once if they cannot be) and `client`'s turn to render has come. `work` should
 /// stop when its cancel token says so: when the returned future is dropped (the client hung up,
 /// a render job was deleted) or past [`Limits::max_render_seconds`] (503). Either way the turn
 /// and the memory go to the next render only once the work has stopped.
 pub(crate) async fn on_a_turn<T: Send + 'static>(
     state: &AppState,
     slot: &Arc<SceneSlot>,
+    client: Client,
     snapshot: Option<(Arc<Scene>, u64)>,
     bytes: u64,
     work: impl FnOnce(Arc<Scene>, u64, &Cancel) -> ApiResult<T> + Send + 'static,
 ) -> ApiResult<T> {
     // Before waiting for a turn: work that cannot have its memory fails at once.
     let memory = state.reserve_render_memory(bytes)?;
-    let turn = state.render_permit().await;
+    let turn = state.render_permit(client).await;
     let (scene, version) = match snapshot {
         Some(snapshot) => snapshot,
         None => slot.snapshot().await,

@@ -8,6 +8,8 @@ use std::sync::{Arc, Mutex, RwLock};
 use raystage_scene::Scene;
 use tokio::sync::{OwnedSemaphorePermit, Semaphore, watch};
 
+use crate::turns::{Client, Turn, Turns};
+
 use crate::cluster::{Cluster, SceneBuild};
 use crate::config::{Config, Limits};
 use crate::edit::{Applied, Edit, apply};
@@ -25,9 +27,10 @@ struct Shared {
     config: Config,
     scenes: RwLock<BTreeMap<u32, Arc<SceneSlot>>>,
     next_scene: AtomicU32,
-    /// Turns to render; a turn moves into the blocking task that renders, so it is given back
-    /// when the work stops, not when the client stops waiting.
-    renders: Arc<Semaphore>,
+    /// Turns to render, shared round robin between clients; a turn moves into the blocking
+    /// task that renders, so it is given back when the work stops, not when the client stops
+    /// waiting.
+    renders: Turns,
     /// Renders running now (see [`AppState::active_renders`]).
     active_renders: AtomicUsize,
     /// The memory of images being rendered, in MiB (see [`Limits::max_render_bytes`]).
@@ -108,7 +111,7 @@ impl AppState {
     }
 
     fn build(config: Config, cluster: Option<Arc<Cluster>>) -> AppState {
-        let renders = Arc::new(Semaphore::new(config.limits.concurrent_renders.max(1)));
+        let renders = Turns::new(config.limits.concurrent_renders);
         let render_memory = Arc::new(Semaphore::new(config.limits.max_render_bytes / MIB));
         AppState(Arc::new(Shared {
             config,
@@ -243,11 +246,11 @@ impl AppState {
         Ok(())
     }
 
-    /// Waits for a turn to render (at most `concurrent_renders` at once). Move the turn into
-    /// the task that renders and call [`RenderTurn::running`] there.
-    pub(crate) async fn render_permit(&self) -> RenderTurn {
-        let permit = self.0.renders.clone().acquire_owned().await.expect("the semaphore is never closed");
-        RenderTurn { _permit: permit, state: self.clone() }
+    /// Waits for a turn to render for `client` (at most `concurrent_renders` at once, the
+    /// turns going round the waiting clients). Move the turn into the task that renders and
+    /// call [`RenderTurn::running`] there.
+    pub(crate) async fn render_permit(&self, client: Client) -> RenderTurn {
+        RenderTurn { _turn: self.0.renders.take(client).await, state: self.clone() }
     }
 
     /// Renders running now, frames and stream passes: at most
@@ -287,7 +290,7 @@ impl AppState {
 
 /// A turn to render, held by the work itself: dropping it gives the turn to the next render.
 pub(crate) struct RenderTurn {
-    _permit: OwnedSemaphorePermit,
+    _turn: Turn,
     state: AppState,
 }
 

@@ -26,7 +26,7 @@ use crate::state::AppState;
     ))]
 pub(crate) async fn frame_png(State(state): State<AppState>, target: Target, Params(query): Params<FrameQuery>) -> ApiResult<Response> {
     let frame = query.check(&state.config().limits)?;
-    let rendered = render_png(&state, &target.scene, None, frame, Default::default()).await?;
+    let rendered = render_png(&state, &target.scene, target.client, None, frame, Default::default()).await?;
     let r = &rendered.report;
     let headers = [
         (header::CONTENT_TYPE, "image/png".to_string()),
@@ -96,7 +96,7 @@ pub(crate) async fn channel(
     };
     let memory = request.width as u64 * request.height as u64 * CHANNEL_BYTES_PER_PIXEL;
     // One ray a pixel: short enough that it runs to the end once started.
-    let bytes = on_a_turn(&state, &target.scene, None, memory, move |scene, _, _| {
+    let bytes = on_a_turn(&state, &target.scene, target.client, None, memory, move |scene, _, _| {
         let [image] = &raystage_render::render_channels(&scene.frame(), request.width, request.height, &[channel]).map_err(|e| ApiError::unprocessable(None, e.to_string()))?[..] else {
             return Err(ApiError::internal("one channel asked for, one rendered"));
         };

@@ -152,11 +152,12 @@ pub(crate) async fn start(State(state): State<AppState>, target: Target, Params(
         held.insert(id, Arc::clone(&job));
         job
     };
-    let (runner, slot) = (Arc::clone(&job), target.scene);
+    // The job takes its turns as the connection that made it: a backlog of jobs is one client's.
+    let (runner, slot, client) = (Arc::clone(&job), target.scene, target.client);
     // Frame semantics: the job renders the scene as it is now, whatever is edited meanwhile.
     let snapshot = slot.snapshot().await;
     let task = tokio::spawn(async move {
-        let outcome = render_png(&state, &slot, Some(snapshot), frame, Arc::clone(&runner.rows)).await;
+        let outcome = render_png(&state, &slot, client, Some(snapshot), frame, Arc::clone(&runner.rows)).await;
         *runner.outcome.lock().unwrap_or_else(|e| e.into_inner()) = Some(outcome);
     });
     *job.task.lock().unwrap_or_else(|e| e.into_inner()) = Some(task.abort_handle());

@@ -58,12 +58,12 @@ pub(crate) async fn stream(
     let settings = StreamSettings { frame, max_samples: query.max_samples.unwrap_or(DEFAULT_MAX_SAMPLES.min(limits.max_spp)) };
     check(&settings, &limits)?;
     let guard = state.open_stream()?;
-    let scene = target.scene;
+    let (scene, client) = (target.scene, target.client);
     // A message may come in one frame as large as the message limit (tungstenite's own frame
     // limit, 16 MiB, would drop the connection with no close code well under it).
     let upgrade = upgrade.max_message_size(limits.max_body_bytes).max_frame_size(limits.max_body_bytes);
     Ok(upgrade.on_upgrade(move |socket| async move {
-        session(socket, state, scene, settings).await;
+        session(socket, state, scene, client, settings).await;
         drop(guard);
     }))
 }
@@ -81,7 +81,7 @@ fn check(settings: &StreamSettings, limits: &Limits) -> ApiResult<()> {
     Ok(())
 }
 
-async fn session(socket: WebSocket, state: AppState, slot: Arc<SceneSlot>, settings: StreamSettings) {
+async fn session(socket: WebSocket, state: AppState, slot: Arc<SceneSlot>, client: crate::turns::Client, settings: StreamSettings) {
     let (mut sink, mut incoming) = socket.split();
     let (settings_tx, settings_rx) = watch::channel(settings);
     let (frames_tx, mut frames_rx) = watch::channel::<Option<Arc<Packet>>>(None);
@@ -96,7 +96,7 @@ async fn session(socket: WebSocket, state: AppState, slot: Arc<SceneSlot>, setti
         integrator: settings.frame.integrator.map(|i| i.name().to_string()),
         max_samples: settings.max_samples,
     };
-    let renderer = tokio::spawn(refine(state.clone(), slot.clone(), settings_rx, frames_tx, taken.clone(), replies_tx.clone()));
+    let renderer = tokio::spawn(refine(state.clone(), slot.clone(), client, settings_rx, frames_tx, taken.clone(), replies_tx.clone()));
     let mut sender = tokio::spawn(async move {
         let text = |m: &ServerMessage| Message::text(serde_json::to_string(m).expect("messages serialise"));
         if sink.send(text(&hello)).await.is_err() {

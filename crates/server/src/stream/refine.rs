@@ -81,10 +81,12 @@ struct Accumulation {
 
 /// Renders until the session ends (`settings` closes) or the scene is deleted (then it says so
 /// on `replies` and returns). `out` holds the newest packet; `taken` says whether the sender has
-/// delivered the last one.
+/// delivered the last one. Each pass waits for `client`'s turn to render (see
+/// [`crate::turns`]), so a stream's passes and other clients' frames alternate.
 pub(crate) async fn refine(
     state: AppState,
     slot: Arc<SceneSlot>,
+    client: crate::turns::Client,
     mut settings: watch::Receiver<StreamSettings>,
     out: watch::Sender<Option<Arc<Packet>>>,
     taken: Arc<AtomicBool>,
@@ -151,7 +153,7 @@ pub(crate) async fn refine(
             },
         };
         out_of_memory = false;
-        let turn = state.render_permit().await;
+        let turn = state.render_permit(client).await;
         let (scene, version) = slot.snapshot().await;
         let mut acc = match (accumulation.take(), memory) {
             (Some(a), _) if a.version == version => Accumulation { settings: wanted, ..a },
