@@ -51,9 +51,17 @@ pub struct Limits {
     pub max_demo_triangles: usize,
     /// Most open streams.
     pub max_streams: usize,
-    /// Most render jobs held at once, finished ones included until they are deleted (each
-    /// keeps its PNG).
+    /// Most render jobs held at once, finished ones included until they are deleted or expire
+    /// (each keeps its PNG). A new job past it makes room by dropping the oldest finished one;
+    /// only when every job is still rendering is it refused (413).
     pub max_render_jobs: usize,
+    /// Most bytes the finished render jobs' PNGs may hold together: a job whose image would pass
+    /// it drops the oldest finished jobs first, and fails (413 naming the limit) if its image
+    /// alone is larger.
+    pub max_job_image_bytes: usize,
+    /// How long a finished render job is kept for its client to fetch, in seconds from when it
+    /// finished; then it is dropped with its image, as if deleted.
+    pub job_expiry_seconds: u64,
     /// Renders running at once (more wait their turn); each uses every core.
     pub concurrent_renders: usize,
     /// Most memory the images being rendered may take together, frames and streams, counted
@@ -93,6 +101,9 @@ impl Default for Limits {
             max_demo_triangles: 1_000_002,
             max_streams: 32,
             max_render_jobs: 16,
+            // Eight noisy 4K PNGs, or hundreds of clean full-HD ones.
+            max_job_image_bytes: 512 << 20,
+            job_expiry_seconds: 600,
             concurrent_renders: 4,
             // Two 8192 × 8192 frames, or one stream that size; 64 streams of 1080p.
             max_render_bytes: 2 << 30,

@@ -90,13 +90,74 @@ async fn jobs_are_bounded_and_checked_like_frames() {
     let (s, _, _) = red_square_scene(&app).await;
     assert_eq!(fails(&app, "POST", &format!("/scenes/{s}/renders?width=0"), Value::Null, StatusCode::UNPROCESSABLE_ENTITY).await, "width");
     fails(&app, "POST", "/scenes/99/renders", Value::Null, StatusCode::NOT_FOUND).await;
-    ok(&app, "POST", &format!("/scenes/{s}/renders?width=8&height=8"), Value::Null, StatusCode::ACCEPTED).await;
+    // A job that is still rendering when the next one is asked for: finished ones make room.
+    let running = ok(&app, "POST", &format!("/scenes/{s}/renders?width=1920&height=1080&integrator=path&spp=256"), Value::Null, StatusCode::ACCEPTED).await;
     let (status, error) = call(&app, "POST", &format!("/scenes/{s}/renders?width=8&height=8"), Value::Null).await;
     assert_eq!((status, error["error"]["limit"].as_str()), (StatusCode::PAYLOAD_TOO_LARGE, Some("max_render_jobs")), "{error}");
+    send(&app, "DELETE", &format!("/renders/{}", running["id"]), axum::body::Body::empty(), &[]).await;
     for id in ["7", "x"] {
         let (status, error) = call(&app, "GET", &format!("/renders/{id}"), Value::Null).await;
         assert_eq!((status, error["error"]["field"].as_str()), (StatusCode::NOT_FOUND, Some("id")), "{error}");
     }
+}
+
+/// Starts a small job of scene `s` and waits until it is done; its id.
+async fn finished_job(app: &axum::Router, s: u64) -> u64 {
+    let job = ok(app, "POST", &format!("/scenes/{s}/renders?width=32&height=32&integrator=eyelight"), Value::Null, StatusCode::ACCEPTED).await;
+    let id = job["id"].as_u64().unwrap();
+    for _ in 0..500 {
+        let info = ok(app, "GET", &format!("/renders/{id}"), Value::Null, StatusCode::OK).await;
+        if info["status"] != "running" {
+            return id;
+        }
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
+    panic!("job {id} did not finish");
+}
+
+/// Finished jobs make room (issue 38): past `max_render_jobs` a new job drops the oldest
+/// finished one instead of being refused, and a finished job is dropped `job_expiry_seconds`
+/// after it finished, with its image.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn finished_jobs_make_room_and_expire() {
+    let state = AppState::new(Config { limits: Limits { max_render_jobs: 2, job_expiry_seconds: 2, ..Limits::default() }, ..Config::default() });
+    let app = raystage_server::router(state);
+    let (s, _, _) = red_square_scene(&app).await;
+    let (a, b) = (finished_job(&app, s).await, finished_job(&app, s).await);
+    let c = finished_job(&app, s).await;
+    let (status, error) = call(&app, "GET", &format!("/renders/{a}"), Value::Null).await;
+    assert_eq!(status, StatusCode::NOT_FOUND, "the oldest finished job made room: {error}");
+    for id in [b, c] {
+        ok(&app, "GET", &format!("/renders/{id}"), Value::Null, StatusCode::OK).await;
+    }
+    tokio::time::sleep(Duration::from_millis(2200)).await;
+    let listed = ok(&app, "GET", "/renders", Value::Null, StatusCode::OK).await;
+    assert_eq!(listed, json!([]), "finished jobs expire");
+}
+
+/// The finished jobs' PNGs are bounded together (issue 38): a job whose image would pass
+/// `max_job_image_bytes` drops the oldest finished jobs first, and fails naming the limit when
+/// its image alone is larger.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn finished_job_images_are_bounded() {
+    let measure = raystage_server::router(AppState::new(Config::default()));
+    let (s, _, _) = red_square_scene(&measure).await;
+    let id = finished_job(&measure, s).await;
+    let (_, _, png) = send(&measure, "GET", &format!("/renders/{id}/image.png"), axum::body::Body::empty(), &[]).await;
+    let one = png.len();
+
+    let app = raystage_server::router(AppState::new(Config { limits: Limits { max_job_image_bytes: one * 3 / 2, ..Limits::default() }, ..Config::default() }));
+    let (s, _, _) = red_square_scene(&app).await;
+    let (a, b) = (finished_job(&app, s).await, finished_job(&app, s).await);
+    assert_eq!(call(&app, "GET", &format!("/renders/{a}"), Value::Null).await.0, StatusCode::NOT_FOUND, "room made for the newer image");
+    let (status, _, image) = send(&app, "GET", &format!("/renders/{b}/image.png"), axum::body::Body::empty(), &[]).await;
+    assert_eq!((status, image.len()), (StatusCode::OK, one));
+
+    let app = raystage_server::router(AppState::new(Config { limits: Limits { max_job_image_bytes: one / 2, ..Limits::default() }, ..Config::default() }));
+    let (s, _, _) = red_square_scene(&app).await;
+    let id = finished_job(&app, s).await;
+    let info = ok(&app, "GET", &format!("/renders/{id}"), Value::Null, StatusCode::OK).await;
+    assert_eq!((info["status"].as_str(), info["error"]["limit"].as_str()), (Some("failed"), Some("max_job_image_bytes")), "{info}");
 }
 
 /// One HTTP/1.1 request on a kept-alive connection: its status and body (the answers here have

@@ -6,7 +6,8 @@
 
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU32, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
+use std::time::{Duration, Instant};
 
 use axum::Json;
 use axum::extract::{Path, State};
@@ -15,6 +16,7 @@ use axum::response::{IntoResponse, Response};
 use serde::Serialize;
 use utoipa::ToSchema;
 
+use crate::config::Limits;
 use crate::error::{ApiError, ApiResult, ErrorBody, ErrorDetail};
 use crate::extract::{Params, Target};
 use crate::render::{FrameQuery, Rendered, render_png};
@@ -31,6 +33,8 @@ pub(crate) struct Job {
     rows: Arc<AtomicU32>,
     /// `None` while it renders.
     outcome: Mutex<Option<ApiResult<Rendered>>>,
+    /// When it finished (rendered, failed or stopped).
+    finished: OnceLock<Instant>,
     /// Stops the render (dropping its future cancels it) when the job is deleted.
     task: Mutex<Option<tokio::task::AbortHandle>>,
 }
@@ -53,6 +57,7 @@ impl Jobs {
             let mut outcome = job.outcome.lock().unwrap_or_else(|e| e.into_inner());
             if outcome.is_none() {
                 *outcome = Some(Err(ApiError::not_found(Some("scene".into()), format!("scene {scene} was deleted while the job rendered"))));
+                let _ = job.finished.set(Instant::now());
                 if let Some(task) = job.task.lock().unwrap_or_else(|e| e.into_inner()).take() {
                     task.abort();
                 }
@@ -60,10 +65,50 @@ impl Jobs {
         }
     }
 
-    fn get(&self, id: &str) -> ApiResult<Arc<Job>> {
-        let unknown = || ApiError::not_found(Some("id".into()), format!("unknown render job {id}"));
+    fn get(&self, id: &str, limits: &Limits) -> ApiResult<Arc<Job>> {
+        let unknown = || {
+            let expiry = limits.job_expiry_seconds;
+            ApiError::not_found(Some("id".into()), format!("unknown render job {id} (a finished job is kept {expiry} s, or until newer ones need its room)"))
+        };
         let id: u32 = id.parse().map_err(|_| unknown())?;
-        self.jobs.lock().unwrap_or_else(|e| e.into_inner()).get(&id).cloned().ok_or_else(unknown)
+        self.held(limits).get(&id).cloned().ok_or_else(unknown)
+    }
+
+    /// The jobs, those that expired dropped first (see [`Limits::job_expiry_seconds`]).
+    fn held(&self, limits: &Limits) -> std::sync::MutexGuard<'_, BTreeMap<u32, Arc<Job>>> {
+        let mut jobs = self.jobs.lock().unwrap_or_else(|e| e.into_inner());
+        let expiry = Duration::from_secs(limits.job_expiry_seconds);
+        jobs.retain(|_, job| job.finished.get().is_none_or(|at| at.elapsed() < expiry));
+        jobs
+    }
+
+    /// Drops the finished job that finished first, other than `keep`; false if there is none.
+    fn drop_oldest_finished(jobs: &mut BTreeMap<u32, Arc<Job>>, keep: Option<u32>) -> bool {
+        let oldest = jobs.values().filter(|j| Some(j.id) != keep).filter_map(|j| Some((*j.finished.get()?, j.id))).min();
+        oldest.is_some_and(|(_, id)| jobs.remove(&id).is_some())
+    }
+
+    /// Records `job`'s outcome. A rendered image that would take the finished jobs' images past
+    /// [`Limits::max_job_image_bytes`] drops the oldest finished jobs first, and fails the job
+    /// (413 naming the limit) if it alone is larger.
+    fn finish(&self, job: &Job, outcome: ApiResult<Rendered>, limits: &Limits) {
+        let budget = limits.max_job_image_bytes;
+        let outcome = outcome.and_then(|rendered| {
+            if rendered.png.len() > budget {
+                let message = format!("the frame's PNG is {} bytes, more than the {budget} finished render jobs may hold", rendered.png.len());
+                return Err(ApiError::too_large(None, message).limit("max_job_image_bytes"));
+            }
+            let mut jobs = self.held(limits);
+            let image_bytes = |jobs: &BTreeMap<u32, Arc<Job>>| -> usize { jobs.values().filter(|j| j.id != job.id).map(|j| j.image_bytes()).sum() };
+            while image_bytes(&jobs) + rendered.png.len() > budget && Self::drop_oldest_finished(&mut jobs, Some(job.id)) {}
+            Ok(rendered)
+        });
+        let mut slot = job.outcome.lock().unwrap_or_else(|e| e.into_inner());
+        // A job stopped meanwhile (its scene deleted) keeps that reason.
+        if slot.is_none() {
+            *slot = Some(outcome);
+        }
+        let _ = job.finished.set(Instant::now());
     }
 }
 
@@ -103,6 +148,14 @@ pub struct RenderJobInfo {
 }
 
 impl Job {
+    /// The bytes of its PNG, once rendered.
+    fn image_bytes(&self) -> usize {
+        match &*self.outcome.lock().unwrap_or_else(|e| e.into_inner()) {
+            Some(Ok(rendered)) => rendered.png.len(),
+            _ => 0,
+        }
+    }
+
     fn info(&self) -> RenderJobInfo {
         let outcome = self.outcome.lock().unwrap_or_else(|e| e.into_inner());
         let (status, error, report) = match &*outcome {
@@ -118,8 +171,10 @@ impl Job {
 
 /// Starts rendering a frame of the scene (the query as `frame.png` takes it) and answers at
 /// once, 202 with the job; `Location` names it. At most `max_render_jobs` jobs are held at once,
-/// finished ones included until deleted (413 naming the limit, as for `max_scenes`: the client
-/// holds them and must delete some, so it is not the server failing, which a 5xx would say).
+/// finished ones included until deleted or expired; past it the oldest finished job is dropped,
+/// and only if every job still renders is the new one refused (413 naming the limit, as for
+/// `max_scenes`: the client holds them and must delete some, so it is not the server failing,
+/// which a 5xx would say).
 #[utoipa::path(post, path = "/scenes/{scene}/renders", tag = "frames",
     params(("scene" = u32, Path, description = "The scene's id"), FrameQuery),
     responses(
@@ -134,9 +189,9 @@ pub(crate) async fn start(State(state): State<AppState>, target: Target, Params(
     let frame = query.check(&limits)?;
     let jobs = state.jobs();
     let job = {
-        let mut held = jobs.jobs.lock().unwrap_or_else(|e| e.into_inner());
-        if held.len() >= limits.max_render_jobs {
-            let message = format!("the server holds {} render jobs, its limit: delete finished ones first", limits.max_render_jobs);
+        let mut held = jobs.held(&limits);
+        if held.len() >= limits.max_render_jobs && !Jobs::drop_oldest_finished(&mut held, None) {
+            let message = format!("the server holds {} render jobs, all still rendering, its limit: delete some first", limits.max_render_jobs);
             return Err(ApiError::too_large(None, message).limit("max_render_jobs"));
         }
         let id = jobs.issued.fetch_add(1, Ordering::Relaxed) + 1;
@@ -147,6 +202,7 @@ pub(crate) async fn start(State(state): State<AppState>, target: Target, Params(
             height: frame.render.height,
             rows: Arc::default(),
             outcome: Mutex::new(None),
+            finished: OnceLock::new(),
             task: Mutex::new(None),
         });
         held.insert(id, Arc::clone(&job));
@@ -158,7 +214,7 @@ pub(crate) async fn start(State(state): State<AppState>, target: Target, Params(
     let snapshot = slot.snapshot().await;
     let task = tokio::spawn(async move {
         let outcome = render_png(&state, &slot, client, Some(snapshot), frame, Arc::clone(&runner.rows)).await;
-        *runner.outcome.lock().unwrap_or_else(|e| e.into_inner()) = Some(outcome);
+        state.jobs().finish(&runner, outcome, &state.config().limits);
     });
     *job.task.lock().unwrap_or_else(|e| e.into_inner()) = Some(task.abort_handle());
     let location = format!("/renders/{}", job.id);
@@ -168,7 +224,7 @@ pub(crate) async fn start(State(state): State<AppState>, target: Target, Params(
 /// Every render job, by id.
 #[utoipa::path(get, path = "/renders", tag = "frames", responses((status = 200, description = "Success", body = [RenderJobInfo])))]
 pub(crate) async fn list(State(state): State<AppState>) -> Json<Vec<RenderJobInfo>> {
-    let jobs: Vec<Arc<Job>> = state.jobs().jobs.lock().unwrap_or_else(|e| e.into_inner()).values().cloned().collect();
+    let jobs: Vec<Arc<Job>> = state.jobs().held(&state.config().limits).values().cloned().collect();
     Json(jobs.iter().map(|j| j.info()).collect())
 }
 
@@ -180,7 +236,7 @@ pub(crate) async fn list(State(state): State<AppState>) -> Json<Vec<RenderJobInf
         (status = 404, description = "No such job", body = ErrorBody),
     ))]
 pub(crate) async fn get(State(state): State<AppState>, Path(id): Path<String>) -> ApiResult<Json<RenderJobInfo>> {
-    Ok(Json(state.jobs().get(&id)?.info()))
+    Ok(Json(state.jobs().get(&id, &state.config().limits)?.info()))
 }
 
 /// A finished job's image, as PNG (409 while it renders, or if it failed).
@@ -192,7 +248,7 @@ pub(crate) async fn get(State(state): State<AppState>, Path(id): Path<String>) -
         (status = 409, description = "Not done: still rendering, or failed", body = ErrorBody),
     ))]
 pub(crate) async fn image(State(state): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
-    let job = state.jobs().get(&id)?;
+    let job = state.jobs().get(&id, &state.config().limits)?;
     let outcome = job.outcome.lock().unwrap_or_else(|e| e.into_inner());
     match &*outcome {
         Some(Ok(rendered)) => Ok(([(header::CONTENT_TYPE, "image/png"), (header::CACHE_CONTROL, "no-store")], rendered.png.clone()).into_response()),
@@ -211,7 +267,7 @@ pub(crate) async fn image(State(state): State<AppState>, Path(id): Path<String>)
     ))]
 pub(crate) async fn delete(State(state): State<AppState>, Path(id): Path<String>) -> ApiResult<StatusCode> {
     let jobs = state.jobs();
-    let job = jobs.get(&id)?;
+    let job = jobs.get(&id, &state.config().limits)?;
     jobs.jobs.lock().unwrap_or_else(|e| e.into_inner()).remove(&job.id);
     if let Some(task) = job.task.lock().unwrap_or_else(|e| e.into_inner()).take() {
         task.abort();
