@@ -29,6 +29,14 @@ pub enum ImportError {
         /// The limit.
         limit: usize,
     },
+    /// Reading the file took longer than the limits allow.
+    #[error("{what} took longer than the limit of {} s", limit.as_secs_f64())]
+    TooSlow {
+        /// What took long.
+        what: &'static str,
+        /// The limit.
+        limit: std::time::Duration,
+    },
     /// An external buffer could not be read.
     #[error("cannot read {}: {source}", path.display())]
     Io {

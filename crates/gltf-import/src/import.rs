@@ -62,10 +62,7 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
     let mut used: Vec<(usize, bool)> = shaders.specs.iter().flat_map(|s| s.textures.iter().map(|t| (t.image, t.colour))).collect();
     used.sort_unstable();
     used.dedup();
-    let images = used
-        .into_iter()
-        .map(|(i, colour)| Ok(((i, colour), images::load(&gltf.document, i, colour, &buffers, base, limits)?)))
-        .collect::<Result<Vec<_>, ImportError>>()?;
+    let images = images::load_all(&gltf.document, used, &buffers, base, limits)?;
     for (k, mesh) in objects.iter().enumerate() {
         if let Some(mesh) = mesh {
             mesh.validate().map_err(|e| ImportError::invalid(format!("meshes[{k}]"), e.to_string()))?;

@@ -47,13 +47,28 @@ pub struct Limits {
     /// decoded as width × height × 16 (three colour channels and coverage, as `f32`): a small
     /// PNG of a large, flat image would otherwise cost gigabytes.
     pub max_image_bytes: usize,
+    /// Most bytes all the file's images may take decoded together, counted as
+    /// `max_image_bytes` is, before any is decoded.
+    pub max_images_bytes: usize,
+    /// Longest the file's images may take to decode: none is started past it (they are decoded
+    /// in parallel), and the import fails.
+    pub max_decode_seconds: std::time::Duration,
 }
 
 impl Default for Limits {
     /// Four million triangles and vertices, a million instances, images of 8192 texels a side
-    /// (a GiB decoded: the side's limit is the one that holds by default).
+    /// (a GiB decoded: the side's limit is the one that holds by default), 16 GiB of images
+    /// together, ten minutes of decoding.
     fn default() -> Limits {
-        Limits { max_triangles: 4_000_000, max_vertices: 4_000_000, max_instances: 1_000_000, max_image_side: 8192, max_image_bytes: 8192 * 8192 * 16 }
+        Limits {
+            max_triangles: 4_000_000,
+            max_vertices: 4_000_000,
+            max_instances: 1_000_000,
+            max_image_side: 8192,
+            max_image_bytes: 8192 * 8192 * 16,
+            max_images_bytes: 16 << 30,
+            max_decode_seconds: std::time::Duration::from_secs(600),
+        }
     }
 }
 

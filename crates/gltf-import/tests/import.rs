@@ -328,6 +328,23 @@ fn textures_the_importer_cannot_use_are_left_out_or_refused() {
     assert_eq!(refused(&external).field(), Some("images[0].uri"));
 }
 
+/// A file's images together are bounded before any is decoded (the same image as colours and
+/// as data is decoded twice, 32 bytes each here), and their decoding in time: a small file
+/// naming many large images must not hold the reader for minutes.
+#[test]
+fn a_files_images_are_bounded_together_in_bytes_and_time() {
+    let png = red_blue_png();
+    let mut document = textured_quad(json!({ "bufferView": 3 }), 0, &png);
+    document["materials"][0]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = json!({ "index": 0 });
+    let file = serde_json::to_vec(&document).unwrap();
+    let err = read(&file, None, &Limits { max_images_bytes: 63, ..Limits::default() }).unwrap_err();
+    assert!(matches!(err, ImportError::TooLarge { count: 64, limit: 63, .. }), "{err}");
+    assert!(read(&file, None, &Limits { max_images_bytes: 64, ..Limits::default() }).is_ok());
+    let err = read(&file, None, &Limits { max_decode_seconds: std::time::Duration::ZERO, ..Limits::default() }).unwrap_err();
+    assert!(matches!(err, ImportError::TooSlow { .. }), "{err}");
+    assert!(err.to_string().contains("decoding its images took longer than the limit of 0 s"), "{err}");
+}
+
 /// KHR_materials_transmission and KHR_materials_volume come through as the physically based
 /// shader's transmission, thickness and attenuation, keeping the rest of the material (its
 /// roughness and colour, which glass dropped); a volume's boundary is seen from both sides.

@@ -176,12 +176,14 @@ impl From<SceneError> for ApiError {
 }
 
 impl From<ImportError> for ApiError {
-    /// A file that is not glTF is 400, one over the limits 413, one with bad content 422.
+    /// A file that is not glTF is 400, one over the limits 413 (images that take longer to
+    /// decode than a render may take naming `max_render_seconds`), one with bad content 422.
     fn from(e: ImportError) -> ApiError {
         let message = e.to_string();
         match e {
             ImportError::Syntax(_) => ApiError::bad_request(None, message),
             ImportError::TooLarge { .. } => ApiError::too_large(None, message),
+            ImportError::TooSlow { .. } => ApiError::too_large(None, message).limit("max_render_seconds"),
             ImportError::Invalid { field, .. } => ApiError::unprocessable(Some(field), message),
             ImportError::Io { .. } | ImportError::Scene(_) | ImportError::Internal => ApiError::internal(message),
         }

@@ -139,3 +139,47 @@ async fn a_file_without_lights_is_lit_by_the_studio_by_default() {
     let lights = ok(&app, "GET", &format!("/scenes/{}/lights", info["id"]), Value::Null, StatusCode::OK).await;
     assert_eq!(studio(&lights), 0, "{lights}");
 }
+
+/// A file whose images take longer to decode than a render may run is refused (413 naming
+/// `max_render_seconds`) and changes nothing; the images are decoded only once the file is
+/// within the limits (issue 38: a small file naming many large images held a core for minutes).
+#[tokio::test]
+async fn an_upload_whose_images_take_too_long_is_refused() {
+    let mut png = std::io::Cursor::new(Vec::new());
+    image::RgbImage::from_pixel(4, 4, image::Rgb([200, 100, 50])).write_to(&mut png, image::ImageFormat::Png).unwrap();
+    let png = png.into_inner();
+    let mut document = document(None);
+    let uvs: Vec<u8> = [[0.0f32, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]].iter().flatten().flat_map(|c| c.to_le_bytes()).collect();
+    let bin = [square_buffer(), uvs, png.clone()].concat();
+    document["buffers"][0]["byteLength"] = json!(bin.len());
+    document["bufferViews"].as_array_mut().unwrap().extend([
+        json!({ "buffer": 0, "byteOffset": 60, "byteLength": 32 }),
+        json!({ "buffer": 0, "byteOffset": 92, "byteLength": png.len() }),
+    ]);
+    document["accessors"].as_array_mut().unwrap().push(json!({ "bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2" }));
+    document["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = json!(2);
+    document["images"] = json!([{ "bufferView": 3, "mimeType": "image/png" }]);
+    document["textures"] = json!([{ "source": 0 }]);
+    // A lit material, whose base colour texture the importer decodes.
+    document["materials"][0] = json!({ "pbrMetallicRoughness": { "baseColorTexture": { "index": 0 } } });
+    let file = raystage_gltf_import::glb(&serde_json::to_vec(&document).unwrap(), &bin);
+
+    let state = raystage_server::AppState::new(raystage_server::Config {
+        limits: raystage_server::Limits { max_render_seconds: 0, ..raystage_server::Limits::default() },
+        ..raystage_server::Config::default()
+    });
+    let app = raystage_server::router(state);
+    let s = new_scene(&app).await;
+    let (status, error) = upload(&app, &format!("/scenes/{s}/gltf"), file.clone(), "model/gltf-binary").await;
+    assert_eq!((status, error["error"]["limit"].as_str()), (StatusCode::PAYLOAD_TOO_LARGE, Some("max_render_seconds")), "{error}");
+    assert_eq!(ok(&app, "GET", &format!("/scenes/{s}"), Value::Null, StatusCode::OK).await["instances"], 0);
+    let (status, added) = upload(&app_with_defaults().await, "/scenes/1/gltf", file, "model/gltf-binary").await;
+    assert_eq!(status, StatusCode::OK, "{added}");
+}
+
+/// A fresh server with one empty scene (id 1).
+async fn app_with_defaults() -> axum::Router {
+    let app = app();
+    new_scene(&app).await;
+    app
+}
