@@ -401,11 +401,11 @@ impl TileWork {
         let s = t.settings;
         let shutter = t.frame.camera().shutter;
         let e = t.effects;
-        let preview = previews_packets(t);
+        let preview = s.fast_paths && previews_packets(t);
         let (samplers, rays, times) = (&mut self.samplers, &mut self.rays, &mut self.times);
         samplers.clear();
         times.clear();
-        if through_centres(t) {
+        if s.fast_paths && through_centres(t) {
             // One sample per pixel, through its centre, at the shutter's opening: each
             // packet's camera rays are made together, over the last tile's (so that a tile of
             // the same size writes each ray once).
@@ -438,7 +438,7 @@ impl TileWork {
         }
         // Camera rays of neighbouring pixels go to the scene together; with motion blur each
         // has its own time, so they go one by one.
-        if e.motion_blur {
+        if e.motion_blur || !s.fast_paths {
             for ((ray, time), hit) in rays.iter().zip(times.iter()).zip(self.hits.iter_mut()) {
                 *hit = t.frame.intersect(ray, *time);
             }
@@ -446,7 +446,7 @@ impl TileWork {
             t.frame.intersect_many(rays, &mut self.hits, shutter[0]);
         }
         self.counts.rays.primary += rays.len() as u64;
-        let packed_shadows = first_shadows::applies(t);
+        let packed_shadows = s.fast_paths && first_shadows::applies(t);
         let packed_matte = packed_shadows && first_matte::applies(t);
         let mut first = FirstHits::new();
         for start in (0..self.order.len()).step_by(PACKET_SIZE) {

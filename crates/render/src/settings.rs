@@ -163,6 +163,13 @@ pub struct RenderSettings {
     /// Off, every frame runs the general kernel with reflection and refraction compiled in, which
     /// computes the same image: the switch exists to measure what specialisation saves.
     pub specialize: bool,
+    /// Whether to take the fast paths of docs/design/fast-paths.md (the default): camera rays
+    /// traced in packets (and a lone instance walked in place), the first hits' shadows towards
+    /// point, spot and directional lights in packets and their matte shading a packet at a
+    /// time, the preview's packets. Off, every ray goes the general way, one by one, which
+    /// computes the same image bit for bit (`crates/render/tests/fast_paths.rs` holds them to
+    /// it): the switch exists to test the fast paths and to measure what they save.
+    pub fast_paths: bool,
 }
 
 impl Default for RenderSettings {
@@ -181,6 +188,7 @@ impl Default for RenderSettings {
             default_lights: true,
             background: None,
             specialize: true,
+            fast_paths: true,
         }
     }
 }

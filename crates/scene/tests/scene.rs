@@ -256,6 +256,12 @@ fn transform() -> impl Strategy<Value = Affine3A> {
         })
 }
 
+/// [`transform`], or now and then the identity, which a lone instance's tree is walked in place
+/// with (no transform at all: the packet goes straight into the object's tree).
+fn transform_or_identity() -> impl Strategy<Value = Affine3A> {
+    prop_oneof![1 => Just(Affine3A::IDENTITY), 3 => transform()]
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
 
@@ -316,14 +322,14 @@ proptest! {
 }
 
 /// Packets through the top level return exactly the single-ray hits and occlusion: random
-/// instances of two objects (some overlapping, some mirrored, sometimes two coincident so that
-/// ties between instances occur), packets of rays sharing an origin as camera rays (and shadow
+/// instances of two objects (some overlapping, some mirrored, some the identity, sometimes two
+/// coincident so that ties between instances occur, sometimes one alone, walked in place), packets of rays sharing an origin as camera rays (and shadow
 /// rays from a light) do, fanning out by different amounts around the first instance, and
 /// parallel rays from their hits towards a distant light.
 #[test]
 fn packets_through_the_top_level_hit_and_are_blocked_as_single_rays() {
     let strategy = (
-        prop::collection::vec(transform(), 1..12),
+        prop::collection::vec(transform_or_identity(), 1..12),
         any::<bool>(),
         prop::collection::vec((-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0), 30..60),
         (-60.0f32..60.0, -60.0f32..60.0, -60.0f32..60.0),
