@@ -123,3 +123,26 @@ fn an_image_file_becomes_the_environment() {
     assert!(problem.contains("missing.hdr"), "{problem}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The viewer writes its own `settings` message (it speaks the published protocol, not the
+/// server's types): every field it can send is one of the stream's settings, as the server's one
+/// list of a frame's settings names them, or the stream's own `max_samples`. A field renamed or
+/// dropped there fails here, before a viewer sends what the server refuses.
+#[test]
+fn every_setting_the_viewer_sends_is_one_the_stream_takes() {
+    let all = Settings {
+        width: Some(1),
+        height: Some(1),
+        integrator: Some("path".into()),
+        max_samples: Some(1),
+        exposure: Some(0.0),
+        tonemap: Some("clamp".into()),
+        default_lights: Some(true),
+    };
+    let sent = serde_json::to_value(&all).unwrap();
+    let fields: Vec<&String> = sent.as_object().unwrap().keys().collect();
+    assert_eq!(fields.len(), 7, "a field left out of the test: {fields:?}");
+    for field in fields {
+        assert!(field == "max_samples" || raystage_render::SettingsPatch::NAMES.contains(&field.as_str()), "the viewer sends `{field}`, which is no stream setting");
+    }
+}
