@@ -3,15 +3,19 @@
 use std::path::Path;
 
 use glam::{Affine3A, Vec3};
-use raystage_scene::{Camera, Image, InstanceId, Light, LightId, Mesh, ObjectId, ObjectKind, ParamValue, Scene, Shader, ShaderId, Texture, TextureId};
+use raystage_scene::{
+    AnimationInfo, Binding, Camera, Deformer, Image, InstanceId, Light, LightId, Mesh, Node, ObjectId, ObjectKind, ParamValue, Play, Rig, Scene, Shader, ShaderId,
+    Target, Texture, TextureId,
+};
 
 use crate::error::ImportError;
 use crate::material::{MaterialShaders, ShaderSpec};
-use crate::mesh::{Budget, read_mesh};
-use crate::{Limits, buffers, images, nodes};
+use crate::mesh::{Budget, Deformation, read_mesh};
+use crate::nodes::Placements;
+use crate::{Limits, animation, buffers, images, nodes};
 
-/// A glTF file read and checked: shaders, objects, instances, lights and camera, not yet in any
-/// scene. See the crate documentation.
+/// A glTF file read and checked: shaders, objects, instances, lights, camera and animations,
+/// not yet in any scene. See the crate documentation.
 #[derive(Debug)]
 pub struct Import {
     shaders: Vec<ShaderSpec>,
@@ -21,7 +25,17 @@ pub struct Import {
     /// One per glTF mesh (`None` for a mesh without triangles); `Mesh::shaders` hold indices
     /// into `shaders`.
     objects: Vec<Option<Mesh>>,
-    instances: Vec<(usize, Affine3A)>,
+    /// Mesh, transform and node (an index into the rig's nodes) of each instance.
+    instances: Vec<(usize, Affine3A, usize)>,
+    /// What animates the file, if anything does. Checked by [`Rig::new`] when the file is
+    /// read; its instance and object ids are given by [`Import::add_to`]: its nodes have no
+    /// instances yet, and its deformers' objects are placeholders.
+    rig: Option<Rig>,
+    /// For each instance, the deformer (an index into the rig's) that gives it an unstructured
+    /// object of its own, if it is skinned or morphed.
+    deformed: Vec<Option<usize>>,
+    /// For each node of the rig, whether an animation moves it (or a node above it).
+    moving: Vec<bool>,
     lights: Vec<Light>,
     camera: Option<Camera>,
     aspect_ratio: Option<f32>,
@@ -36,7 +50,8 @@ pub struct Added {
     /// One texture per image that a material's textures use (two if one image is used both as
     /// colours and as data, as the base colour and the metallic-roughness texture may share it).
     pub textures: Vec<TextureId>,
-    /// One object per glTF mesh that has triangles.
+    /// One object per glTF mesh that has triangles and an instance that is not deformed, then
+    /// one per skinned or morphed instance.
     pub objects: Vec<ObjectId>,
     /// One instance per node that holds such a mesh.
     pub instances: Vec<InstanceId>,
@@ -54,8 +69,10 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
     let buffers = buffers::load(&gltf.document, gltf.blob.as_deref(), base)?;
     let mut shaders = MaterialShaders::new(&gltf.document);
     let mut budget = Budget::default();
-    let objects =
+    let read_meshes =
         gltf.document.meshes().map(|mesh| read_mesh(&mesh, &buffers, &mut shaders, &mut budget, limits)).collect::<Result<Vec<_>, _>>()?;
+    let (objects, deformations): (Vec<Option<Mesh>>, Vec<Deformation>) =
+        read_meshes.into_iter().map(|m| m.map_or((None, Deformation::default()), |(mesh, d)| (Some(mesh), d))).unzip();
     for (k, spec) in shaders.specs.iter().enumerate() {
         check_shader(spec).map_err(|e| ImportError::invalid(format!("materials (shader {k})"), e.to_string()))?;
     }
@@ -71,15 +88,117 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
             mesh.validate().map_err(|e| ImportError::invalid(format!("meshes[{k}]"), e.to_string()))?;
         }
     }
-    let placed = nodes::place(&gltf.document, limits)?;
+    let mut placed = nodes::place(&gltf.document, limits)?;
     let mut notes = shaders.notes.clone();
-    notes.extend(placed.notes);
-    let instances: Vec<(usize, Affine3A)> = placed.instances.into_iter().filter(|&(mesh, _)| objects[mesh].is_some()).collect();
+    notes.append(&mut placed.notes);
+    let instances: Vec<(usize, Affine3A, usize)> = std::mem::take(&mut placed.instances).into_iter().filter(|&(mesh, ..)| objects[mesh].is_some()).collect();
     let skipped = objects.iter().filter(|o| o.is_none()).count();
     if skipped > 0 {
         notes.push(format!("{skipped} meshes without triangles (points or lines) left out"));
     }
-    Ok(Import { shaders: shaders.specs, images, objects, instances, lights: placed.lights, camera: placed.camera, aspect_ratio: placed.aspect_ratio, notes })
+    let animated = read_rig(&gltf.document, &buffers, &placed, &objects, &deformations, &instances, &mut notes)?;
+    let (rig, deformed, moving) = animated.map_or((None, vec![None; instances.len()], Vec::new()), |(rig, deformed, moving)| (Some(rig), deformed, moving));
+    Ok(Import {
+        shaders: shaders.specs,
+        images,
+        objects,
+        instances,
+        rig,
+        deformed,
+        moving,
+        lights: placed.lights,
+        camera: placed.camera,
+        aspect_ratio: placed.aspect_ratio,
+        notes,
+    })
+}
+
+/// The file's animations, skins and morph targets as a rig, with each instance's deformer and
+/// each node's motion (see [`Import`]); `None` for a file where nothing moves.
+fn read_rig(
+    document: &gltf::Document,
+    buffers: &[Vec<u8>],
+    placed: &Placements,
+    objects: &[Option<Mesh>],
+    deformations: &[Deformation],
+    instances: &[(usize, Affine3A, usize)],
+    notes: &mut Vec<String>,
+) -> Result<Option<(Rig, Vec<Option<usize>>, Vec<bool>)>, ImportError> {
+    if document.extensions_used().any(|e| e == "KHR_animation_pointer") {
+        notes.push("KHR_animation_pointer is not supported: only channels that move nodes and morph target weights play".into());
+    }
+    let file_nodes: Vec<gltf::Node<'_>> = document.nodes().collect();
+    let mesh_of = |k: usize| file_nodes[placed.nodes[k].index].mesh().map(|m| m.index()).filter(|&m| objects[m].is_some());
+    let morph_targets: Vec<usize> = (0..placed.nodes.len()).map(|k| mesh_of(k).map_or(0, |m| deformations[m].targets.len())).collect();
+    let clips = animation::read_clips(document, buffers, placed, &morph_targets, notes)?;
+    let mut nodes = Vec::with_capacity(placed.nodes.len());
+    for (k, p) in placed.nodes.iter().enumerate() {
+        let file_node = &file_nodes[p.index];
+        let targets = morph_targets[k];
+        let weights = match file_node.weights().or_else(|| file_node.mesh().and_then(|m| m.weights())) {
+            _ if targets == 0 => Vec::new(),
+            Some(w) if w.len() == targets && w.iter().all(|w| w.is_finite()) => w.to_vec(),
+            Some(w) => return Err(ImportError::invalid(format!("nodes[{}].weights", p.index), format!("has {} finite weights for {targets} morph targets", w.len()))),
+            None => vec![0.0; targets],
+        };
+        nodes.push(Node { parent: p.parent, local: p.local, weights, instances: Vec::new() });
+    }
+    let mut skins = Vec::new();
+    let mut skin_of_file = std::collections::HashMap::new();
+    let mut deformers = Vec::new();
+    let mut deformed = Vec::with_capacity(instances.len());
+    for &(mesh, _, node) in instances {
+        let d = &deformations[mesh];
+        let file_node = &file_nodes[placed.nodes[node].index];
+        let skin = match (file_node.skin(), d.per_vertex) {
+            (Some(_), 0) => {
+                notes.push(format!("nodes[{}]: has a skin, but meshes[{mesh}] has no JOINTS_0 and WEIGHTS_0; not skinned", placed.nodes[node].index));
+                None
+            }
+            (Some(skin), _) => Some(match skin_of_file.get(&skin.index()) {
+                Some(&s) => s,
+                None => {
+                    skins.push(animation::read_skin(document, skin.index(), buffers, placed)?);
+                    skin_of_file.insert(skin.index(), skins.len() - 1);
+                    skins.len() - 1
+                }
+            }),
+            (None, _) => None,
+        };
+        if skin.is_none() && d.targets.is_empty() {
+            deformed.push(None);
+            continue;
+        }
+        if let Some(s) = skin {
+            let count = skins[s].joints.len();
+            if let Some(&j) = d.joints.iter().find(|&&j| j as usize >= count) {
+                return Err(ImportError::invalid(format!("meshes[{mesh}]"), format!("a vertex names joint {j}, and the skin of nodes[{}] has {count} joints", placed.nodes[node].index)));
+            }
+        }
+        let base = objects[mesh].as_ref().expect("instances of meshes without triangles were left out");
+        deformed.push(Some(deformers.len()));
+        deformers.push(Deformer {
+            object: ObjectId(u32::MAX),
+            node,
+            positions: base.positions.clone(),
+            normals: base.normals.clone(),
+            tangents: base.tangents.clone(),
+            targets: d.targets.clone(),
+            binding: skin.map(|skin| Binding { skin, per_vertex: d.per_vertex, joints: d.joints.clone(), weights: d.weights.clone() }),
+        });
+    }
+    if clips.is_empty() && deformers.is_empty() {
+        return Ok(None);
+    }
+    let mut moving = vec![false; nodes.len()];
+    for channel in clips.iter().flat_map(|c| &c.channels).filter(|c| c.target != Target::Weights) {
+        moving[channel.node] = true;
+    }
+    for k in 0..nodes.len() {
+        moving[k] |= nodes[k].parent.is_some_and(|p| moving[p]);
+    }
+    let rig = Rig::new(nodes, clips, skins, deformers).map_err(|e| ImportError::invalid("animations", e.to_string()))?;
+    Ok(Some((rig, deformed, moving)))
 }
 
 /// Checks a shader's class and parameters the way the scene will.
@@ -99,7 +218,22 @@ impl Import {
 
     /// Number of objects that will be added.
     pub fn object_count(&self) -> usize {
-        self.objects.iter().flatten().count()
+        self.shared_objects().iter().filter(|&&shared| shared).count() + self.deformed.iter().flatten().count()
+    }
+
+    /// For each mesh, whether it becomes an object that its instances share: it has triangles
+    /// and an instance that is not deformed (a deformed one gets an object of its own).
+    fn shared_objects(&self) -> Vec<bool> {
+        let mut shared = vec![false; self.objects.len()];
+        for (&(mesh, ..), deformed) in self.instances.iter().zip(&self.deformed) {
+            shared[mesh] |= deformed.is_none();
+        }
+        shared
+    }
+
+    /// The file's animations: name, duration in seconds, channels.
+    pub fn animations(&self) -> Vec<AnimationInfo> {
+        self.rig.as_ref().map(Rig::animations).unwrap_or_default()
     }
 
     /// Number of instances that will be added.
@@ -152,7 +286,7 @@ impl Import {
             .map(|m| m.as_ref().map_or(empty, |m| m.positions.iter().fold(empty, |(lo, hi), &p| (lo.min(p), hi.max(p)))))
             .collect();
         let mut out = empty;
-        for &(mesh, t) in &self.instances {
+        for &(mesh, t, _) in &self.instances {
             let (lo, hi) = boxes[mesh];
             for corner in 0..8 {
                 let pick = |bit: u32, l: f32, h: f32| if corner >> bit & 1 == 0 { l } else { h };
@@ -179,6 +313,7 @@ impl Import {
     /// [`crate::read`], so this cannot fail half-way except through a bug.
     pub fn add_to(self, scene: &mut Scene) -> Result<Added, ImportError> {
         let mut added = Added::default();
+        let shared = self.shared_objects();
         let mut textures = std::collections::HashMap::new();
         for (index, image) in self.images {
             let id = scene.add_texture(Texture::Image(image.into()))?;
@@ -196,24 +331,58 @@ impl Import {
             }
             added.shaders.push(id);
         }
+        // A mesh moved by an animation is an animated object: built once, only its instances'
+        // transforms change.
+        let mut kinds = vec![ObjectKind::Static; self.objects.len()];
+        for (&(mesh, _, node), deformed) in self.instances.iter().zip(&self.deformed) {
+            if deformed.is_none() && self.moving.get(node).copied().unwrap_or(false) {
+                kinds[mesh] = ObjectKind::Animated;
+            }
+        }
+        let remap = |mesh: &Mesh| {
+            let mut mesh = mesh.clone();
+            mesh.shaders.iter_mut().for_each(|s| *s = added.shaders[s.0 as usize]);
+            mesh
+        };
         let mut objects = Vec::with_capacity(self.objects.len());
-        for mesh in self.objects {
+        for (k, mesh) in self.objects.iter().enumerate() {
             objects.push(match mesh {
-                Some(mut mesh) => {
-                    mesh.shaders.iter_mut().for_each(|s| *s = added.shaders[s.0 as usize]);
-                    let id = scene.add_object(ObjectKind::Static, mesh)?;
-                    added.objects.push(id);
+                Some(mesh) if shared[k] => {
+                    let id = scene.add_object(kinds[k], remap(mesh))?;
                     Some(id)
                 }
-                None => None,
+                _ => None,
             });
         }
-        for (mesh, transform) in self.instances {
-            let object = objects[mesh].expect("instances of meshes without triangles were left out");
-            added.instances.push(scene.add_instance(object, transform)?);
+        added.objects.extend(objects.iter().flatten());
+        let mut rig = self.rig;
+        for (&(mesh, transform, node), deformed) in self.instances.iter().zip(&self.deformed) {
+            let object = match (deformed, &mut rig) {
+                (Some(d), Some(rig)) => {
+                    let id = scene.add_object(ObjectKind::Unstructured, remap(self.objects[mesh].as_ref().expect("instances of meshes without triangles were left out")))?;
+                    rig.deformers[*d].object = id;
+                    added.objects.push(id);
+                    id
+                }
+                _ => objects[mesh].expect("an instance that is not deformed shares its mesh's object"),
+            };
+            let instance = scene.add_instance(object, transform)?;
+            added.instances.push(instance);
+            if let Some(rig) = &mut rig
+                && (deformed.is_some() || self.moving[node])
+            {
+                rig.nodes[node].instances.push(instance);
+            }
         }
         for light in self.lights {
             added.lights.push(scene.add_light(light)?);
+        }
+        if let Some(rig) = rig {
+            // Time 0 of the first animation, as a viewer opens the file (skins and morph
+            // weights apply even in a file without animations).
+            let play = if rig.clips.is_empty() { Play::All } else { Play::Clip(0) };
+            scene.set_rig(rig)?;
+            scene.pose(play, 0.0)?;
         }
         Ok(added)
     }
