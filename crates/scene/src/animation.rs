@@ -14,6 +14,7 @@ use rayon::prelude::*;
 
 use crate::error::SceneError;
 use crate::ids::{InstanceId, ObjectId};
+use crate::instance::validate_transform;
 use crate::scene::Scene;
 
 /// Vertices at which a deformed mesh is recomputed on all cores rather than on one: below it,
@@ -414,11 +415,9 @@ impl Rig {
             world.push(node.parent.map_or(Mat4::IDENTITY, |p| world[p]) * local.matrix());
         }
         let mut pose = Pose::default();
-        for (k, node) in self.nodes.iter().enumerate() {
-            let affine = Affine3A::from_mat4(world[k]);
-            if !node.instances.is_empty() && !invertible(&affine) {
-                return Err(invalid("animation", format!("node {k} is singular (scaled to zero?) at time {time}: its meshes cannot be placed")));
-            }
+        for (k, node) in self.nodes.iter().enumerate().filter(|(_, n)| !n.instances.is_empty()) {
+            let affine = validate_transform("node transform", Affine3A::from_mat4(world[k]))
+                .map_err(|e| invalid("animation", format!("node {k} cannot place its meshes at time {time}: {e}")))?;
             pose.transforms.extend(node.instances.iter().map(|&i| (i, affine)));
         }
         for deformer in &self.deformers {
@@ -432,11 +431,6 @@ impl Rig {
         }
         Ok(pose)
     }
-}
-
-/// Whether a transform can place an instance (as the scene checks it).
-fn invertible(t: &Affine3A) -> bool {
-    t.is_finite() && t.matrix3.determinant().is_normal() && t.inverse().is_finite()
 }
 
 fn check_deformer(d: &Deformer, nodes: &[Node], skins: &[Skin]) -> Result<(), String> {
@@ -499,7 +493,8 @@ fn deform(d: &Deformer, weights: &[f32], joints: Option<&[Mat4]>) -> (Vec<Vec3>,
 
 impl Scene {
     /// Gives the scene its animations (replacing any it had). Every instance and object the rig
-    /// names must be in the scene.
+    /// names must be in the scene. The rig itself is not journalled: a replica (a cluster's
+    /// worker) follows the edits that posing makes, not the rig.
     pub fn set_rig(&mut self, rig: Rig) -> Result<(), SceneError> {
         for node in &rig.nodes {
             for &i in &node.instances {
@@ -690,6 +685,25 @@ mod tests {
         let rig = Rig::new(vec![morphed], vec![Clip { name: String::new(), channels: vec![channel] }], Vec::new(), vec![deformer]).unwrap();
         let pose = rig.pose(Play::All, 0.5).unwrap();
         assert_eq!(pose.vertices[0].1, [Vec3::Z, Vec3::X, Vec3::new(0.0, 1.0, -0.5)]);
+    }
+
+    #[test]
+    fn posing_copies_what_a_snapshot_holds() {
+        let mut scene = Scene::new();
+        let mesh = crate::Mesh::new(vec![Vec3::ZERO, Vec3::X, Vec3::Y], vec![[0, 1, 2]]);
+        let object = scene.add_object(crate::ObjectKind::Unstructured, mesh.clone()).unwrap();
+        let instance = scene.add_instance(object, Affine3A::IDENTITY).unwrap();
+        let mut root = node(None, trs(Vec3::ZERO));
+        (root.weights, root.instances) = (vec![0.0], vec![instance]);
+        let target = MorphTarget { positions: vec![Vec3::Z; 3], ..MorphTarget::default() };
+        let deformer = Deformer { object, node: 0, positions: mesh.positions.clone(), normals: Vec::new(), tangents: Vec::new(), targets: vec![target], binding: None };
+        let channel = Channel { node: 0, target: Target::Weights, keyframes: Keyframes::new(vec![0.0, 1.0], vec![0.0, 1.0], 1, Interpolation::Linear).unwrap() };
+        scene.set_rig(Rig::new(vec![root], vec![Clip { name: "lift".into(), channels: vec![channel] }], Vec::new(), vec![deformer]).unwrap()).unwrap();
+        let snapshot = scene.clone();
+        scene.pose(Play::Clip(0), 1.0).unwrap();
+        assert_eq!(scene.mesh(object).unwrap().positions[0], Vec3::Z);
+        assert_eq!(snapshot.mesh(object).unwrap().positions[0], Vec3::ZERO, "the snapshot keeps the pose it was taken in");
+        assert_eq!(snapshot.animations(), scene.animations());
     }
 
     #[test]
