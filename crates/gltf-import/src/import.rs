@@ -96,8 +96,8 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
     if skipped > 0 {
         notes.push(format!("{skipped} meshes without triangles (points or lines) left out"));
     }
-    let animated = read_rig(&gltf.document, &buffers, &placed, &objects, &deformations, &instances, &mut notes)?;
-    let (rig, deformed, moving) = animated.map_or((None, vec![None; instances.len()], Vec::new()), |(rig, deformed, moving)| (Some(rig), deformed, moving));
+    let animated = read_rig(&gltf.document, &buffers, &placed, &objects, &deformations, &instances, &mut budget, limits, &mut notes)?;
+    let (rig, deformed, moving) = animated.map_or((None, vec![None; instances.len()], Vec::new()), |a| (Some(a.rig), a.deformed, a.moving));
     Ok(Import {
         shaders: shaders.specs,
         images,
@@ -113,8 +113,17 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
     })
 }
 
+/// What animates a file (see [`Import`] for each part).
+struct Animated {
+    rig: Rig,
+    deformed: Vec<Option<usize>>,
+    moving: Vec<bool>,
+}
+
 /// The file's animations, skins and morph targets as a rig, with each instance's deformer and
-/// each node's motion (see [`Import`]); `None` for a file where nothing moves.
+/// each node's motion; `None` for a file where nothing moves. Each deformed
+/// instance's copy of its mesh counts against the limits, as the meshes did.
+#[allow(clippy::too_many_arguments, reason = "the parts of the file read so far, each read once in `read`")]
 fn read_rig(
     document: &gltf::Document,
     buffers: &[Vec<u8>],
@@ -122,8 +131,10 @@ fn read_rig(
     objects: &[Option<Mesh>],
     deformations: &[Deformation],
     instances: &[(usize, Affine3A, usize)],
+    budget: &mut Budget,
+    limits: &Limits,
     notes: &mut Vec<String>,
-) -> Result<Option<(Rig, Vec<Option<usize>>, Vec<bool>)>, ImportError> {
+) -> Result<Option<Animated>, ImportError> {
     if document.extensions_used().any(|e| e == "KHR_animation_pointer") {
         notes.push("KHR_animation_pointer is not supported: only channels that move nodes and morph target weights play".into());
     }
@@ -176,6 +187,7 @@ fn read_rig(
             }
         }
         let base = objects[mesh].as_ref().expect("instances of meshes without triangles were left out");
+        budget.take(base.indices.len(), base.positions.len(), limits)?;
         deformed.push(Some(deformers.len()));
         deformers.push(Deformer {
             object: ObjectId(u32::MAX),
@@ -198,7 +210,7 @@ fn read_rig(
         moving[k] |= nodes[k].parent.is_some_and(|p| moving[p]);
     }
     let rig = Rig::new(nodes, clips, skins, deformers).map_err(|e| ImportError::invalid("animations", e.to_string()))?;
-    Ok(Some((rig, deformed, moving)))
+    Ok(Some(Animated { rig, deformed, moving }))
 }
 
 /// Checks a shader's class and parameters the way the scene will.
@@ -211,9 +223,12 @@ fn check_shader(spec: &ShaderSpec) -> Result<(), raystage_scene::SceneError> {
 }
 
 impl Import {
-    /// Triangles over all objects (each counted once however often it is instanced).
+    /// Triangles over all objects (each counted once however often it is instanced; a skinned
+    /// or morphed instance's object of its own counts too).
     pub fn triangles(&self) -> usize {
-        self.objects.iter().flatten().map(|m| m.indices.len()).sum()
+        let triangles = |mesh: usize| self.objects[mesh].as_ref().map_or(0, |m| m.indices.len());
+        let shared: usize = self.shared_objects().iter().enumerate().filter(|(_, s)| **s).map(|(k, _)| triangles(k)).sum();
+        shared + self.instances.iter().zip(&self.deformed).filter(|(_, d)| d.is_some()).map(|(&(mesh, ..), _)| triangles(mesh)).sum::<usize>()
     }
 
     /// Number of objects that will be added.

@@ -20,7 +20,7 @@ pub(crate) struct Budget {
 }
 
 impl Budget {
-    fn take(&mut self, triangles: usize, vertices: usize, limits: &Limits) -> Result<(), ImportError> {
+    pub(crate) fn take(&mut self, triangles: usize, vertices: usize, limits: &Limits) -> Result<(), ImportError> {
         self.triangles += triangles;
         self.vertices += vertices;
         if self.triangles > limits.max_triangles {
@@ -46,11 +46,14 @@ struct Primitive {
     colors: Option<Vec<Vec3>>,
     triangles: Vec<[u32; 3]>,
     shader: u32,
-    /// Each `JOINTS_n`/`WEIGHTS_n` set's joints and weights, four per vertex.
-    influences: Vec<(Vec<[u32; 4]>, Vec<[f32; 4]>)>,
+    /// Each `JOINTS_n`/`WEIGHTS_n` set's joints and weights.
+    influences: Vec<SkinSet>,
     /// Its morph targets' displacements (`None` for an attribute a target leaves alone).
     targets: Vec<[Option<Vec<Vec3>>; 3]>,
 }
+
+/// One `JOINTS_n`/`WEIGHTS_n` set of a primitive: four joints and four weights per vertex.
+type SkinSet = (Vec<[u32; 4]>, Vec<[f32; 4]>);
 
 /// What deforms a mesh, per merged vertex: the joints and weights of every skin set (four per
 /// set), and the morph targets. Empty for a mesh with neither.

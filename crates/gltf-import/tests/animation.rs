@@ -3,6 +3,7 @@
 //! with the offending part named. Small files are written here; the Khronos sample assets in
 //! `../shared/assets/animated/` are read where that directory exists.
 
+use std::f32::consts::FRAC_1_SQRT_2;
 use std::path::Path;
 
 use glam::{Affine3A, Vec3};
@@ -140,7 +141,7 @@ fn skinned_quad(joints: [u32; 4], top_weights: [f32; 2]) -> Vec<u8> {
     let joint_bytes: Vec<u8> = [[0u8, 0, 0, 0], [0, 0, 0, 0], [joints[2] as u8, 0, 0, 0], [joints[3] as u8, 0, 0, 0]].concat();
     extra.extend(joint_bytes.chunks(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])));
     let mesh = json!({ "primitives": [{ "attributes": { "POSITION": 0, "WEIGHTS_0": 3, "JOINTS_0": 4 }, "indices": 1 }] });
-    let nodes = json!([{ "children": [1, 2] }, { "mesh": 0, "skin": 0 }, { "children": [3] }, { "translation": [0, 1, 0], "rotation": [0, 0, 0.70710678, 0.70710678] }]);
+    let nodes = json!([{ "children": [1, 2] }, { "mesh": 0, "skin": 0 }, { "children": [3] }, { "translation": [0, 1, 0], "rotation": [0, 0, FRAC_1_SQRT_2, FRAC_1_SQRT_2] }]);
     let mut bytes = document(&extra, &[(0, 2, "MAT4"), (32, 4, "VEC4"), (48, 4, "SCALAR")], mesh, nodes, json!([]));
     // Retype accessor 4 (the joints) as unsigned bytes: patch the JSON in place.
     let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;

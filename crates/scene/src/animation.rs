@@ -322,9 +322,21 @@ pub enum Play {
 pub struct Pose {
     /// Each node's instances with the node's world matrix.
     pub transforms: Vec<(InstanceId, Affine3A)>,
-    /// Each deformer's object with its new positions, normals and tangents (empty where the
-    /// mesh has none).
-    pub vertices: Vec<(ObjectId, Vec<Vec3>, Vec<Vec3>, Vec<Vec4>)>,
+    /// Each deformer's object with its new vertices.
+    pub vertices: Vec<Vertices>,
+}
+
+/// A deformed object's vertices at a time.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Vertices {
+    /// The object.
+    pub object: ObjectId,
+    /// Its positions.
+    pub positions: Vec<Vec3>,
+    /// Its normals (empty where the mesh has none).
+    pub normals: Vec<Vec3>,
+    /// Its tangents (empty where the mesh has none).
+    pub tangents: Vec<Vec4>,
 }
 
 impl Rig {
@@ -426,8 +438,7 @@ impl Rig {
                 let skin = &self.skins[b.skin];
                 skin.joints.iter().zip(&skin.inverse_bind).map(|(&j, ibm)| to_mesh * world[j] * *ibm).collect::<Vec<Mat4>>()
             });
-            let (p, n, t) = deform(deformer, &weights[deformer.node], joints.as_deref());
-            pose.vertices.push((deformer.object, p, n, t));
+            pose.vertices.push(deform(deformer, &weights[deformer.node], joints.as_deref()));
         }
         Ok(pose)
     }
@@ -466,7 +477,7 @@ fn check_deformer(d: &Deformer, nodes: &[Node], skins: &[Skin]) -> Result<(), St
 /// A deformed mesh's vertices: morphed by `weights`, then skinned by the `joints` matrices
 /// (mesh space), normals by each matrix's inverse transpose. Large meshes are done on all
 /// cores.
-fn deform(d: &Deformer, weights: &[f32], joints: Option<&[Mat4]>) -> (Vec<Vec3>, Vec<Vec3>, Vec<Vec4>) {
+fn deform(d: &Deformer, weights: &[f32], joints: Option<&[Mat4]>) -> Vertices {
     let vertex = |i: usize| -> (Vec3, Vec3, Vec4) {
         let (mut pos, mut normal, mut tangent) = (d.positions[i], d.normals.get(i).copied().unwrap_or(Vec3::ZERO), d.tangents.get(i).copied().unwrap_or(Vec4::ZERO));
         for (target, &w) in d.targets.iter().zip(weights).filter(|(_, w)| **w != 0.0) {
@@ -488,7 +499,7 @@ fn deform(d: &Deformer, weights: &[f32], joints: Option<&[Mat4]>) -> (Vec<Vec3>,
     let all: Vec<(Vec3, Vec3, Vec4)> = if n >= PARALLEL_VERTICES { (0..n).into_par_iter().map(vertex).collect() } else { (0..n).map(vertex).collect() };
     let normals = if d.normals.is_empty() { Vec::new() } else { all.iter().map(|v| v.1).collect() };
     let tangents = if d.tangents.is_empty() { Vec::new() } else { all.iter().map(|v| v.2).collect() };
-    (all.into_iter().map(|v| v.0).collect(), normals, tangents)
+    Vertices { object: d.object, positions: all.into_iter().map(|v| v.0).collect(), normals, tangents }
 }
 
 impl Scene {
@@ -525,8 +536,8 @@ impl Scene {
         for (instance, transform) in pose.transforms {
             self.set_transform(instance, transform)?;
         }
-        for (object, positions, normals, tangents) in pose.vertices {
-            self.set_vertices(object, positions, Some(normals).filter(|n| !n.is_empty()), Some(tangents).filter(|t| !t.is_empty()))?;
+        for v in pose.vertices {
+            self.set_vertices(v.object, v.positions, Some(v.normals).filter(|n| !n.is_empty()), Some(v.tangents).filter(|t| !t.is_empty()))?;
         }
         Ok(())
     }
@@ -640,7 +651,7 @@ mod tests {
         let rig = bent_arm([[1.0, 0.0]; 5].concat());
         assert_eq!(rig.animations(), [AnimationInfo { name: "bend".into(), duration: 1.0, channels: 1 }]);
         let pose = rig.pose(Play::Clip(0), 1.0).unwrap();
-        let (_, positions, normals, _) = &pose.vertices[0];
+        let Vertices { positions, normals, .. } = &pose.vertices[0];
         // By hand: the lower vertices stay; an upper vertex (0.1, y) is (0.1, y − 1) from the
         // joint at (0, 1), which turns it by 90° to (−(y − 1), 0.1): (−(y − 1), 1.1).
         let expected = [Vec3::new(0.1, 0.0, 0.0), Vec3::new(0.1, 0.5, 0.0), Vec3::new(0.1, 1.0, 0.0), Vec3::new(-0.5, 1.1, 0.0), Vec3::new(-1.0, 1.1, 0.0)];
@@ -651,7 +662,7 @@ mod tests {
         assert!(normals[0].abs_diff_eq(Vec3::X, 1e-5));
         // At rest (time 0) nothing moves.
         let rest = rig.pose(Play::Clip(0), 0.0).unwrap();
-        assert!(rest.vertices[0].1.iter().zip(&rig.deformers[0].positions).all(|(a, b)| a.abs_diff_eq(*b, 1e-6)));
+        assert!(rest.vertices[0].positions.iter().zip(&rig.deformers[0].positions).all(|(a, b)| a.abs_diff_eq(*b, 1e-6)));
     }
 
     #[test]
@@ -664,7 +675,7 @@ mod tests {
         assert_eq!(rig.deformers[0].binding.as_ref().unwrap().weights[8..10], [0.5, 0.5]);
         let pose = rig.pose(Play::Clip(0), 1.0).unwrap();
         let halfway = (Vec3::new(-1.0, 1.1, 0.0) + Vec3::new(0.1, 2.0, 0.0)) * 0.5;
-        assert!(pose.vertices[0].1[4].abs_diff_eq(halfway, 1e-5), "{}", pose.vertices[0].1[4]);
+        assert!(pose.vertices[0].positions[4].abs_diff_eq(halfway, 1e-5), "{}", pose.vertices[0].positions[4]);
     }
 
     #[test]
@@ -684,7 +695,7 @@ mod tests {
         let deformer = Deformer { object: ObjectId(0), node: 0, positions, normals: Vec::new(), tangents: Vec::new(), targets: vec![target], binding: None };
         let rig = Rig::new(vec![morphed], vec![Clip { name: String::new(), channels: vec![channel] }], Vec::new(), vec![deformer]).unwrap();
         let pose = rig.pose(Play::All, 0.5).unwrap();
-        assert_eq!(pose.vertices[0].1, [Vec3::Z, Vec3::X, Vec3::new(0.0, 1.0, -0.5)]);
+        assert_eq!(pose.vertices[0].positions, [Vec3::Z, Vec3::X, Vec3::new(0.0, 1.0, -0.5)]);
     }
 
     #[test]
