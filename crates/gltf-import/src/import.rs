@@ -28,9 +28,13 @@ pub struct Import {
     /// Mesh, transform and node (an index into the rig's nodes) of each instance.
     instances: Vec<(usize, Affine3A, usize)>,
     /// What animates the file, if anything does. Checked by [`Rig::new`] when the file is
-    /// read; its instance and object ids are given by [`Import::add_to`]: its nodes have no
-    /// instances yet, and its deformers' objects are placeholders.
+    /// read, with the ids it names standing for what is not in a scene yet: its nodes'
+    /// instances are indices into `instances`, its deformers' objects placeholders;
+    /// [`Import::add_to`] gives them their ids.
     rig: Option<Rig>,
+    /// Whether the scene opens at time 0 of its first animation (else at rest: see
+    /// [`read_rig`]).
+    opens_posed: bool,
     /// For each instance, the deformer (an index into the rig's) that gives it an unstructured
     /// object of its own, if it is skinned or morphed.
     deformed: Vec<Option<usize>>,
@@ -50,8 +54,8 @@ pub struct Added {
     /// One texture per image that a material's textures use (two if one image is used both as
     /// colours and as data, as the base colour and the metallic-roughness texture may share it).
     pub textures: Vec<TextureId>,
-    /// One object per glTF mesh that has triangles and an instance that is not deformed, then
-    /// one per skinned or morphed instance.
+    /// One object per glTF mesh that has triangles, but for a mesh that every node holding it
+    /// skins or morphs; then one per skinned or morphed instance.
     pub objects: Vec<ObjectId>,
     /// One instance per node that holds such a mesh.
     pub instances: Vec<InstanceId>,
@@ -97,13 +101,15 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
         notes.push(format!("{skipped} meshes without triangles (points or lines) left out"));
     }
     let animated = read_rig(&gltf.document, &buffers, &placed, &objects, &deformations, &instances, &mut budget, limits, &mut notes)?;
-    let (rig, deformed, moving) = animated.map_or((None, vec![None; instances.len()], Vec::new()), |a| (Some(a.rig), a.deformed, a.moving));
+    let (rig, deformed, moving, opens_posed) =
+        animated.map_or((None, vec![None; instances.len()], Vec::new(), false), |a| (Some(a.rig), a.deformed, a.moving, a.opens_posed));
     Ok(Import {
         shaders: shaders.specs,
         images,
         objects,
         instances,
         rig,
+        opens_posed,
         deformed,
         moving,
         lights: placed.lights,
@@ -116,13 +122,17 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
 /// What animates a file (see [`Import`] for each part).
 struct Animated {
     rig: Rig,
+    opens_posed: bool,
     deformed: Vec<Option<usize>>,
     moving: Vec<bool>,
 }
 
 /// The file's animations, skins and morph targets as a rig, with each instance's deformer and
-/// each node's motion; `None` for a file where nothing moves. Each deformed
-/// instance's copy of its mesh counts against the limits, as the meshes did.
+/// each node's motion; `None` for a file where nothing moves. Each deformed instance's copy of
+/// its mesh counts against the limits, as the meshes did. The scene opens at time 0 of the
+/// first animation, as a viewer opens the file (skins and morph weights apply in a file
+/// without animations too); where that pose cannot place a mesh (a node scaled to zero), it
+/// opens at rest, with a note, so that [`Import::add_to`] cannot fail.
 #[allow(clippy::too_many_arguments, reason = "the parts of the file read so far, each read once in `read`")]
 fn read_rig(
     document: &gltf::Document,
@@ -209,8 +219,25 @@ fn read_rig(
     for k in 0..nodes.len() {
         moving[k] |= nodes[k].parent.is_some_and(|p| moving[p]);
     }
+    for (i, (&(_, _, node), d)) in instances.iter().zip(&deformed).enumerate() {
+        if d.is_some() || moving[node] {
+            nodes[node].instances.push(InstanceId(i as u32));
+        }
+    }
     let rig = Rig::new(nodes, clips, skins, deformers).map_err(|e| ImportError::invalid("animations", e.to_string()))?;
-    Ok(Some(Animated { rig, deformed, moving }))
+    let opens_posed = match rig.pose(opening(&rig), 0.0) {
+        Ok(_) => true,
+        Err(e) => {
+            notes.push(format!("the scene opens in its rest pose: {e}"));
+            false
+        }
+    };
+    Ok(Some(Animated { rig, opens_posed, deformed, moving }))
+}
+
+/// What the scene opens with: the first animation, or the rest pose's skins and weights.
+fn opening(rig: &Rig) -> Play {
+    if rig.clips.is_empty() { Play::All } else { Play::Clip(0) }
 }
 
 /// Checks a shader's class and parameters the way the scene will.
@@ -237,13 +264,16 @@ impl Import {
     }
 
     /// For each mesh, whether it becomes an object that its instances share: it has triangles
-    /// and an instance that is not deformed (a deformed one gets an object of its own).
+    /// and is not deformed in every instance it has (a deformed instance gets an object of its
+    /// own; a mesh no node holds is still an object, as in a file without animations).
     fn shared_objects(&self) -> Vec<bool> {
-        let mut shared = vec![false; self.objects.len()];
+        let mut deformed_somewhere = vec![false; self.objects.len()];
+        let mut undeformed = vec![false; self.objects.len()];
         for (&(mesh, ..), deformed) in self.instances.iter().zip(&self.deformed) {
-            shared[mesh] |= deformed.is_none();
+            deformed_somewhere[mesh] |= deformed.is_some();
+            undeformed[mesh] |= deformed.is_none();
         }
-        shared
+        self.objects.iter().enumerate().map(|(k, m)| m.is_some() && (undeformed[k] || !deformed_somewhere[k])).collect()
     }
 
     /// The file's animations: name, duration in seconds, channels.
@@ -362,16 +392,13 @@ impl Import {
         let mut objects = Vec::with_capacity(self.objects.len());
         for (k, mesh) in self.objects.iter().enumerate() {
             objects.push(match mesh {
-                Some(mesh) if shared[k] => {
-                    let id = scene.add_object(kinds[k], remap(mesh))?;
-                    Some(id)
-                }
+                Some(mesh) if shared[k] => Some(scene.add_object(kinds[k], remap(mesh))?),
                 _ => None,
             });
         }
         added.objects.extend(objects.iter().flatten());
         let mut rig = self.rig;
-        for (&(mesh, transform, node), deformed) in self.instances.iter().zip(&self.deformed) {
+        for (&(mesh, transform, _), deformed) in self.instances.iter().zip(&self.deformed) {
             let object = match (deformed, &mut rig) {
                 (Some(d), Some(rig)) => {
                     let id = scene.add_object(ObjectKind::Unstructured, remap(self.objects[mesh].as_ref().expect("instances of meshes without triangles were left out")))?;
@@ -381,23 +408,20 @@ impl Import {
                 }
                 _ => objects[mesh].expect("an instance that is not deformed shares its mesh's object"),
             };
-            let instance = scene.add_instance(object, transform)?;
-            added.instances.push(instance);
-            if let Some(rig) = &mut rig
-                && (deformed.is_some() || self.moving[node])
-            {
-                rig.nodes[node].instances.push(instance);
-            }
+            added.instances.push(scene.add_instance(object, transform)?);
         }
         for light in self.lights {
             added.lights.push(scene.add_light(light)?);
         }
-        if let Some(rig) = rig {
-            // Time 0 of the first animation, as a viewer opens the file (skins and morph
-            // weights apply even in a file without animations).
-            let play = if rig.clips.is_empty() { Play::All } else { Play::Clip(0) };
+        if let Some(mut rig) = rig {
+            for id in rig.nodes.iter_mut().flat_map(|n| &mut n.instances) {
+                *id = added.instances[id.0 as usize];
+            }
+            let play = opening(&rig);
             scene.set_rig(rig)?;
-            scene.pose(play, 0.0)?;
+            if self.opens_posed {
+                scene.pose(play, 0.0)?;
+            }
         }
         Ok(added)
     }

@@ -71,20 +71,20 @@ fn scene_of(bytes: &[u8]) -> (Scene, raystage_gltf_import::Added) {
     (scene, added)
 }
 
-/// A root that an animation moves along +x from 0 to 2 over 1 s, with a child 1 above it;
-/// both hold the quad; and a second root that stays.
-fn moving_box(interpolation: &str, times: &[f32], values: &[f32]) -> Vec<u8> {
+/// A root that an animation moves (its `path`: translation or scale), with a child 1 above it;
+/// both hold the quad.
+fn moving_box(interpolation: &str, path: &str, times: &[f32], values: &[f32]) -> Vec<u8> {
     let mut extra = times.to_vec();
     extra.extend(values);
     let nodes = json!([{ "mesh": 0, "children": [1] }, { "mesh": 0, "translation": [0, 1, 0] }]);
-    let animations = json!([{ "name": "slide", "channels": [{ "sampler": 0, "target": { "node": 0, "path": "translation" } }],
+    let animations = json!([{ "name": "slide", "channels": [{ "sampler": 0, "target": { "node": 0, "path": path } }],
         "samplers": [{ "input": 2, "output": 3, "interpolation": interpolation }] }]);
     document(&extra, &[(0, times.len(), "SCALAR"), (times.len(), values.len() / 3, "VEC3")], quad_mesh(), nodes, animations)
 }
 
 #[test]
 fn node_animation_moves_the_instances_of_the_node_and_its_children() {
-    let (mut scene, added) = scene_of(&moving_box("LINEAR", &[0.0, 1.0], &[0.0, 0.0, 0.0, 2.0, 0.0, 0.0]));
+    let (mut scene, added) = scene_of(&moving_box("LINEAR", "translation", &[0.0, 1.0], &[0.0, 0.0, 0.0, 2.0, 0.0, 0.0]));
     assert_eq!(scene.animations(), [AnimationInfo { name: "slide".into(), duration: 1.0, channels: 1 }]);
     assert_eq!(added.objects.len(), 1, "the moving mesh is still one object");
     assert_eq!(scene.object_kind(added.objects[0]).unwrap(), ObjectKind::Animated);
@@ -98,14 +98,29 @@ fn node_animation_moves_the_instances_of_the_node_and_its_children() {
 }
 
 #[test]
+fn a_file_whose_first_pose_hides_a_mesh_opens_at_rest() {
+    // Scaled from 0 to 1 over 1 s: at time 0 the instances cannot be placed.
+    let bytes = moving_box("LINEAR", "scale", &[0.0, 1.0], &[0.0, 0.0, 0.0, 1.0, 1.0, 1.0]);
+    let import = read(&bytes, None, &Limits::default()).unwrap();
+    assert!(import.notes().iter().any(|n| n.starts_with("the scene opens in its rest pose: ")), "{:?}", import.notes());
+    let mut scene = Scene::new();
+    let added = import.add_to(&mut scene).unwrap();
+    assert_eq!(scene.transform(added.instances[0]).unwrap(), Affine3A::IDENTITY, "at rest");
+    scene.pose(Play::Clip(0), 0.5).unwrap();
+    assert_eq!(scene.transform(added.instances[0]).unwrap(), Affine3A::from_scale(Vec3::splat(0.5)));
+    let error = scene.pose(Play::Clip(0), 0.0).unwrap_err().to_string();
+    assert!(error.contains("cannot place its meshes at time 0"), "{error}");
+}
+
+#[test]
 fn step_and_cubic_spline_samplers_are_read() {
-    let (mut scene, added) = scene_of(&moving_box("STEP", &[0.0, 1.0], &[0.0, 0.0, 0.0, 2.0, 0.0, 0.0]));
+    let (mut scene, added) = scene_of(&moving_box("STEP", "translation", &[0.0, 1.0], &[0.0, 0.0, 0.0, 2.0, 0.0, 0.0]));
     scene.pose(Play::Clip(0), 0.9).unwrap();
     assert_eq!(scene.transform(added.instances[0]).unwrap().translation.x, 0.0);
     // In-tangent, value, out-tangent per key; out-tangent 3 at key 0, in-tangent 0 at key 1, over
     // 1 s: at s = 0.5, 0.5·0 + 0.125·3 + 0.5·2 − 0.125·0 = 1.375.
     let values = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 0.0];
-    let (mut scene, added) = scene_of(&moving_box("CUBICSPLINE", &[0.0, 1.0], &values));
+    let (mut scene, added) = scene_of(&moving_box("CUBICSPLINE", "translation", &[0.0, 1.0], &values));
     scene.pose(Play::Clip(0), 0.5).unwrap();
     assert!((scene.transform(added.instances[0]).unwrap().translation.x - 1.375).abs() < 1e-6);
 }
@@ -178,17 +193,17 @@ fn refused(bytes: &[u8]) -> ImportError {
 fn broken_animations_are_refused_with_the_part_named() {
     let joints = refused(&skinned_quad([0, 0, 1, 7], [1.0, 1.0]));
     assert!(joints.to_string().contains("joint 7"), "{joints}");
-    let mismatched = refused(&moving_box("LINEAR", &[0.0, 1.0, 2.0], &[0.0, 0.0, 0.0, 2.0, 0.0, 0.0]));
+    let mismatched = refused(&moving_box("LINEAR", "translation", &[0.0, 1.0, 2.0], &[0.0, 0.0, 0.0, 2.0, 0.0, 0.0]));
     assert_eq!(mismatched.field(), Some("animations[0].samplers[0]"), "{mismatched}");
-    let nan = refused(&moving_box("LINEAR", &[0.0, f32::NAN], &[0.0, 0.0, 0.0, 2.0, 0.0, 0.0]));
+    let nan = refused(&moving_box("LINEAR", "translation", &[0.0, f32::NAN], &[0.0, 0.0, 0.0, 2.0, 0.0, 0.0]));
     assert!(nan.to_string().contains("not finite"), "{nan}");
-    let backwards = refused(&moving_box("LINEAR", &[1.0, 0.0], &[0.0, 0.0, 0.0, 2.0, 0.0, 0.0]));
+    let backwards = refused(&moving_box("LINEAR", "translation", &[1.0, 0.0], &[0.0, 0.0, 0.0, 2.0, 0.0, 0.0]));
     assert!(backwards.to_string().contains("increase"), "{backwards}");
 }
 
 #[test]
 fn what_animations_leave_out_is_a_note() {
-    let bytes = moving_box("LINEAR", &[0.0, 1.0], &[0.0, 0.0, 0.0, 2.0, 0.0, 0.0]);
+    let bytes = moving_box("LINEAR", "translation", &[0.0, 1.0], &[0.0, 0.0, 0.0, 2.0, 0.0, 0.0]);
     let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
     let mut doc: Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
     doc["extensionsUsed"] = json!(["KHR_animation_pointer"]);
