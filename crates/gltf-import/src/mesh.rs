@@ -296,4 +296,40 @@ mod tests {
         assert_eq!(assemble(Mode::Triangles, &[0, 1, 2, 3, 4]), vec![[0, 1, 2]]);
         assert!(assemble(Mode::TriangleFan, &[0, 1]).is_empty());
     }
+
+    fn part(vertices: usize, influences: Vec<SkinSet>, targets: Vec<[Option<Vec<Vec3>>; 3]>) -> Primitive {
+        Primitive {
+            positions: vec![Vec3::ZERO; vertices],
+            normals: Some(vec![Vec3::Z; vertices]),
+            uvs: None,
+            uvs1: None,
+            tangents: None,
+            wants_tangents: None,
+            colors: None,
+            triangles: vec![[0, 1, 2]],
+            shader: 0,
+            influences,
+            targets,
+        }
+    }
+
+    #[test]
+    fn every_skin_set_and_morph_target_lines_up_with_the_merged_vertices() {
+        // The first primitive has two JOINTS/WEIGHTS sets, the second one: eight influences a
+        // vertex, the second primitive's last four weighing nothing.
+        let two_sets = vec![(vec![[1, 2, 3, 4]; 3], vec![[0.5, 0.5, 0.0, 0.0]; 3]), (vec![[5, 6, 7, 8]; 3], vec![[0.25, 0.0, 0.0, 0.0]; 3])];
+        let one_set = vec![(vec![[9, 0, 0, 0]; 3], vec![[1.0, 0.0, 0.0, 0.0]; 3])];
+        // A target that moves the first primitive's positions and the second's normals.
+        let first = part(3, two_sets, vec![[Some(vec![Vec3::X; 3]), None, Some(vec![Vec3::Y; 3])]]);
+        let second = part(3, one_set, vec![[None, Some(vec![Vec3::Y; 3]), None]]);
+        let (mesh, d) = merge(vec![first, second]).unwrap();
+        assert_eq!((mesh.positions.len(), d.per_vertex), (6, 8));
+        assert_eq!(d.joints[..8], [1, 2, 3, 4, 5, 6, 7, 8]);
+        assert_eq!(d.joints[24..32], [9, 0, 0, 0, 0, 0, 0, 0]);
+        assert_eq!(d.weights[24..32], [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+        let target = &d.targets[0];
+        assert_eq!(target.positions, [[Vec3::X; 3], [Vec3::ZERO; 3]].concat());
+        assert_eq!(target.normals, [[Vec3::ZERO; 3], [Vec3::Y; 3]].concat());
+        assert!(target.tangents.is_empty(), "the merged mesh has no tangents to displace");
+    }
 }
