@@ -718,6 +718,40 @@ mod tests {
     }
 
     #[test]
+    fn posing_refits_a_deformed_object_and_never_rebuilds_an_animated_one() {
+        // A triangle at x ≥ 0 that a morph target lifts to z = 1, and one at x ≤ 0 (its own,
+        // animated object) that a node moves to z = 1; both start at z = 0.
+        let mut scene = Scene::new();
+        let right = crate::Mesh::new(vec![Vec3::ZERO, Vec3::new(1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0)], vec![[0, 1, 2]]);
+        let left = crate::Mesh::new(vec![Vec3::ZERO, Vec3::new(-1.0, 1.0, 0.0), Vec3::new(-1.0, -1.0, 0.0)], vec![[0, 1, 2]]);
+        let morphed = scene.add_object(crate::ObjectKind::Unstructured, right.clone()).unwrap();
+        let moved = scene.add_object(crate::ObjectKind::Animated, left).unwrap();
+        let (a, b) = (scene.add_instance(morphed, Affine3A::IDENTITY).unwrap(), scene.add_instance(moved, Affine3A::IDENTITY).unwrap());
+        let mut nodes = vec![node(None, trs(Vec3::ZERO)), node(None, trs(Vec3::ZERO))];
+        (nodes[0].weights, nodes[0].instances, nodes[1].instances) = (vec![0.0], vec![a], vec![b]);
+        let target = MorphTarget { positions: vec![Vec3::Z; 3], ..MorphTarget::default() };
+        let deformer = Deformer { object: morphed, node: 0, positions: right.positions, normals: Vec::new(), tangents: Vec::new(), targets: vec![target], binding: None };
+        let linear = |values: Vec<f32>, width| Keyframes::new(vec![0.0, 1.0], values, width, Interpolation::Linear).unwrap();
+        let channels = vec![
+            Channel { node: 0, target: Target::Weights, keyframes: linear(vec![0.0, 1.0], 1) },
+            Channel { node: 1, target: Target::Translation, keyframes: linear(vec![0.0, 0.0, 0.0, 0.0, 0.0, 1.0], 3) },
+        ];
+        scene.set_rig(Rig::new(nodes, vec![Clip { name: "up".into(), channels }], Vec::new(), vec![deformer]).unwrap()).unwrap();
+        let rays = [raystage_kernel::Ray::new(Vec3::new(0.5, 0.0, 5.0), Vec3::NEG_Z), raystage_kernel::Ray::new(Vec3::new(-0.5, 0.0, 5.0), Vec3::NEG_Z)];
+        let distances = |scene: &Scene| {
+            let frame = scene.frame();
+            let hits: Vec<f32> = rays.iter().map(|r| frame.intersect(r, 0.0).expect("a hit").t).collect();
+            (hits, frame.work())
+        };
+        let (before, work) = distances(&scene);
+        assert_eq!((before, work.built), (vec![5.0, 5.0], 2));
+        scene.pose(Play::Clip(0), 1.0).unwrap();
+        let (after, work) = distances(&scene);
+        assert_eq!(after, [4.0, 4.0], "both moved up by 1");
+        assert_eq!((work.built, work.refitted, work.rebuilt), (0, 1, 0), "only the morphed tree is touched, by a refit");
+    }
+
+    #[test]
     fn node_animation_moves_children_with_their_parents() {
         let mut nodes = vec![node(None, trs(Vec3::ZERO)), node(Some(0), trs(Vec3::X))];
         nodes[1].instances = vec![InstanceId(3)];
