@@ -404,22 +404,19 @@ impl Rig {
         let mut weights: Vec<Vec<f32>> = self.nodes.iter().map(|n| n.weights.clone()).collect();
         let mut value = [0.0f32; 4];
         for channel in clips.iter().flat_map(|c| &c.channels) {
-            let Local::Trs { translation, rotation, scale } = &mut locals[channel.node] else {
-                if channel.target == Target::Weights {
-                    channel.keyframes.sample(time, false, &mut weights[channel.node]);
-                }
-                continue;
-            };
-            match channel.target {
-                Target::Weights => channel.keyframes.sample(time, false, &mut weights[channel.node]),
-                Target::Rotation => {
-                    channel.keyframes.sample(time, true, &mut value);
+            let sample = |out: &mut [f32]| channel.keyframes.sample(time, channel.target == Target::Rotation, out);
+            match (channel.target, &mut locals[channel.node]) {
+                (Target::Weights, _) => sample(&mut weights[channel.node]),
+                (Target::Rotation, Local::Trs { rotation, .. }) => {
+                    sample(&mut value);
                     *rotation = Quat::from_array(value);
                 }
-                Target::Translation | Target::Scale => {
-                    channel.keyframes.sample(time, false, &mut value[..3]);
-                    *(if channel.target == Target::Scale { scale } else { translation }) = Vec3::from_slice(&value);
+                (Target::Translation, Local::Trs { translation: v, .. }) | (Target::Scale, Local::Trs { scale: v, .. }) => {
+                    sample(&mut value[..3]);
+                    *v = Vec3::from_slice(&value);
                 }
+                // Rig::new refuses channels that move a node given by a matrix.
+                (_, Local::Matrix(_)) => {}
             }
         }
         let mut world: Vec<Mat4> = Vec::with_capacity(self.nodes.len());
