@@ -75,7 +75,18 @@ pub(crate) fn pose(scene: &mut Scene, pose: &ScenePose, log: &mut impl Write, na
     }
     let play = play_for(scene, pose.animation.as_deref())?;
     scene.pose(play, pose.time).with_context(|| format!("cannot pose {name} at {} s", pose.time))?;
+    writeln!(log, "{name}: posed at {:.3} s of {}", pose.time, describe(scene, play))?;
     Ok(())
+}
+
+/// What `play` plays, for the log: an animation with its index, name and length, or all.
+fn describe(scene: &Scene, play: Play) -> String {
+    let animations = scene.animations();
+    match play {
+        Play::Clip(k) if animations[k].name.is_empty() => format!("animation {k} ({:.3} s long)", animations[k].duration),
+        Play::Clip(k) => format!("animation {k} `{}` ({:.3} s long)", animations[k].name, animations[k].duration),
+        Play::All => format!("all {} animations", animations.len()),
+    }
 }
 
 /// The path of frame `n`: the pattern's `%d` or `%0Nd` replaced by the number.
@@ -106,6 +117,7 @@ pub(crate) fn render_sequence(job: &RenderJob, sequence: &Sequence, log: &mut im
     ensure!(!scene.animations().is_empty(), "{} has no animations to render frames of", job.scene.name());
     let play = play_for(&scene, chosen.as_ref().and_then(|p| p.animation.as_deref()))?;
     let settings = settings_for(&given, &job.settings, &scene);
+    writeln!(log, "{}: {} frames of {} at {} frames per second", job.scene.name(), sequence.last - sequence.first + 1, describe(&scene, play), sequence.fps)?;
     let (mut posing, mut updates, mut rendering) = (0.0, 0.0, 0.0);
     let mut last = None;
     for n in sequence.first..=sequence.last {

@@ -174,7 +174,8 @@ fn time_poses_the_animation_where_it_moves_and_nowhere_else() {
         .map(|time| {
             let out = temp(&format!("squares-{time}.png"));
             let args = ["render", file.to_str().unwrap(), "--time", time, "--out", out.to_str().unwrap(), "--width", "64", "--height", "64", "--integrator", "eyelight"];
-            render_args(&args);
+            let stdout = String::from_utf8_lossy(&render_args(&args).stdout).into_owned();
+            assert!(stdout.contains(&format!("squares.gltf: posed at {:.3} s of animation 0 `drop` (1.000 s long)", time.parse::<f32>().unwrap())), "{stdout}");
             image::open(&out).unwrap().to_rgba8()
         })
         .collect();
