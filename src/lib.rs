@@ -14,6 +14,7 @@
 //! ([`raystage_server`]) and the viewer ([`raystage_client`]); this crate only wires them
 //! together for a command line.
 
+mod animate;
 #[cfg(feature = "mpi")]
 mod cluster;
 mod render;
@@ -21,6 +22,7 @@ mod serve;
 mod report;
 mod view;
 
+pub use animate::{ScenePose, Sequence, parse_frames};
 pub use render::{
     AUTO_NOISE_THRESHOLD, AUTO_SAMPLES, DEFAULT_HEIGHT, DEFAULT_WIDTH, Environment, EnvironmentSource, FrameFlags, MAX_DIMENSION, MAX_THREADS, RenderJob, RenderReport, SceneSource,
     parse_demo, parse_environment, parse_switch, render_scene,

@@ -30,6 +30,25 @@ enum Command {
         /// The frame of an animated demo.
         #[arg(long, default_value_t = 0)]
         frame: u32,
+        // The scene time is a flag of the scene, as --frame is a demo's, not one of a frame's
+        // settings (crates/render/src/settings.rs): posing edits the scene itself (instances
+        // and vertices, and so the trees), which every frame rendered from it then shows,
+        // while a frame's settings say how to render whatever scene it is given.
+        /// Seconds into the glTF file's animation to render it at [default: 0].
+        #[arg(long, conflicts_with_all = ["demo", "frames"])]
+        time: Option<f32>,
+        /// The animation of the glTF file to play: its name, its index, or `all` for every one
+        /// together [default: the first].
+        #[arg(long, conflicts_with = "demo")]
+        animation: Option<String>,
+        /// Render frames FIRST..LAST (both included) of the glTF file's animation at --fps,
+        /// frame n at n / fps seconds, from one import; --out is then a pattern with %d or %0Nd
+        /// for the frame number (frame_%04d.png).
+        #[arg(long, value_parser = raystage::parse_frames, conflicts_with = "demo")]
+        frames: Option<(u32, u32)>,
+        /// Frames per second of --frames.
+        #[arg(long, default_value_t = 24.0, requires = "frames")]
+        fps: f32,
         /// The image file to write: .png (sRGB, tone-mapped), .exr or .pfm (linear light).
         #[arg(long)]
         out: PathBuf,
@@ -141,6 +160,10 @@ fn main() -> ExitCode {
             scene,
             demo,
             frame,
+            time,
+            animation,
+            frames,
+            fps,
             out,
             threads,
             settings,
@@ -149,12 +172,14 @@ fn main() -> ExitCode {
             #[cfg(feature = "mpi")]
             mpi,
         } => {
-            let scene = SceneSource::from_args(scene, demo, frame).expect("clap requires a file or a demo");
+            let pose = (time.is_some() || animation.is_some()).then(|| raystage::ScenePose { time: time.unwrap_or(0.0), animation });
+            let scene = SceneSource::from_args(scene, demo, frame, pose).expect("clap requires a file or a demo");
+            let frames = frames.map(|(first, last)| raystage::Sequence { first, last, fps });
             let mut settings = settings.patch();
             if lighting.no_default_lights {
                 settings.default_lights = Some(false);
             }
-            let job = RenderJob { scene, threads, settings, environment: lighting.environment(), out, channels };
+            let job = RenderJob { scene, threads, settings, environment: lighting.environment(), out, channels, frames };
             #[cfg(feature = "mpi")]
             if mpi {
                 return finish(raystage::Cluster::join().and_then(|cluster| raystage::render_scene_mpi(&job, &mut std::io::stdout().lock(), &cluster).map(|_| ())));
@@ -171,7 +196,7 @@ fn main() -> ExitCode {
             #[cfg(feature = "mpi")]
             mpi_timeout,
         } => {
-            let job = raystage::ServeJob { addr, token, scene: SceneSource::from_args(scene, demo, 0) };
+            let job = raystage::ServeJob { addr, token, scene: SceneSource::from_args(scene, demo, 0, None) };
             #[cfg(feature = "mpi")]
             if mpi {
                 let timeout = std::time::Duration::from_secs(mpi_timeout);
@@ -180,7 +205,7 @@ fn main() -> ExitCode {
             raystage::serve(&job, &mut std::io::stdout().lock())
         }
         Command::View { scene, demo, integrator, max_samples, screenshot, lighting } => {
-            let scene = SceneSource::from_args(scene, demo, 0).expect("clap requires a file or a demo");
+            let scene = SceneSource::from_args(scene, demo, 0, None).expect("clap requires a file or a demo");
             let (environment, default_lights) = (lighting.environment(), !lighting.no_default_lights);
             let job = raystage::ViewJob { scene, environment, default_lights, integrator, max_samples, screenshot };
             raystage::view(&job, &mut std::io::stdout().lock())

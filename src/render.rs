@@ -13,6 +13,8 @@ use raystage_demo::animated::Demo;
 use raystage_render::{Channel, Film, FrameSettings, FrameStats, Integrator, OutputFormat, Progressive, RenderSettings, SettingsPatch, Share};
 use raystage_scene::{Image, Light, Scene};
 
+use crate::animate::{ScenePose, Sequence};
+
 /// Largest accepted image width or height in pixels.
 pub const MAX_DIMENSION: u32 = 16_384;
 
@@ -46,14 +48,21 @@ pub enum SceneSource {
         frame: u32,
     },
     /// A glTF 2.0 file (`.gltf` or `.glb`), seen through its camera or, if it has none, one
-    /// that frames everything.
-    File(PathBuf),
+    /// that frames everything, posed at a moment of its animations if `pose` says (else at time
+    /// 0 of its first).
+    File {
+        /// The file.
+        path: PathBuf,
+        /// When and which animation.
+        pose: Option<ScenePose>,
+    },
 }
 
 impl SceneSource {
-    /// The scene a command line names: a file, or a demo at a frame; `None` for neither.
-    pub fn from_args(file: Option<PathBuf>, demo: Option<Demo>, frame: u32) -> Option<SceneSource> {
-        file.map(SceneSource::File).or(demo.map(|demo| SceneSource::Demo { demo, frame }))
+    /// The scene a command line names: a file (posed as `pose` says), or a demo at a frame;
+    /// `None` for neither.
+    pub fn from_args(file: Option<PathBuf>, demo: Option<Demo>, frame: u32, pose: Option<ScenePose>) -> Option<SceneSource> {
+        file.map(|path| SceneSource::File { path, pose }).or(demo.map(|demo| SceneSource::Demo { demo, frame }))
     }
 
     /// Builds or reads the scene, lit by `environment` if it names a source. Else, with
@@ -65,14 +74,18 @@ impl SceneSource {
     pub fn load(&self, log: &mut impl Write, environment: &Environment, default_lights: bool) -> Result<Scene> {
         let (mut scene, unlit_file) = match self {
             SceneSource::Demo { demo, frame } => (demo.scene(*frame).context("cannot build the demo scene")?, false),
-            SceneSource::File(path) => {
+            SceneSource::File { path, pose } => {
                 let import = raystage_gltf_import::read_file(path, &raystage_gltf_import::Limits::default())
                     .with_context(|| format!("cannot import {}", path.display()))?;
                 for note in import.notes() {
                     writeln!(log, "note: {}: {note}", path.display())?;
                 }
                 let unlit = import.lights().is_empty();
-                (import.into_scene().with_context(|| format!("cannot import {}", path.display()))?, unlit)
+                let mut scene = import.into_scene().with_context(|| format!("cannot import {}", path.display()))?;
+                if let Some(pose) = pose {
+                    crate::animate::pose(&mut scene, pose, log, &self.name())?;
+                }
+                (scene, unlit)
             }
         };
         match &environment.source {
@@ -94,7 +107,7 @@ impl SceneSource {
     pub fn name(&self) -> String {
         match self {
             SceneSource::Demo { demo, .. } => demo.name(),
-            SceneSource::File(path) => path.file_name().map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned()),
+            SceneSource::File { path, .. } => path.file_name().map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned()),
         }
     }
 }
@@ -146,6 +159,9 @@ pub struct RenderJob {
     pub out: PathBuf,
     /// Channels to write beside it ([`channel_path`] names their files).
     pub channels: Vec<Channel>,
+    /// A sequence of frames of the file's animation to render instead of one frame: `out` is
+    /// then a pattern (see [`crate::animate::Sequence`]).
+    pub frames: Option<Sequence>,
 }
 
 /// Where channel `channel` of an image written to `out` (a PNG or PFM: an EXR holds its
@@ -267,7 +283,10 @@ pub fn parse_demo(name: &str) -> Result<Demo> {
 /// The job is checked first and the output file created before any work, so that bad arguments
 /// and unwritable paths fail at once rather than after the render.
 pub fn render_scene(job: &RenderJob, log: &mut impl Write) -> Result<RenderReport> {
-    render_on(job, log, &Alone)
+    match &job.frames {
+        Some(sequence) => crate::animate::render_sequence(job, sequence, log),
+        None => render_on(job, log, &Alone),
+    }
 }
 
 /// The processes a frame is rendered by: this one alone, or every rank of an MPI job
@@ -311,6 +330,7 @@ impl Ranks for Alone {
 /// ranks write and log nothing, and return `None`.
 #[cfg(feature = "mpi")]
 pub fn render_scene_mpi(job: &RenderJob, log: &mut impl Write, cluster: &crate::Cluster) -> Result<Option<RenderReport>> {
+    ensure!(job.frames.is_none(), "--frames renders on one process: leave out --mpi");
     if cluster.rank() == 0 {
         let report = render_on(job, log, cluster)?;
         writeln!(log, "MPI: {} ranks, each rendering its share of the frame's tiles on {} threads", cluster.size(), report.threads)?;
@@ -328,8 +348,8 @@ pub fn render_scene_mpi(job: &RenderJob, log: &mut impl Write, cluster: &crate::
     }
 }
 
-/// [`render_scene`] by `ranks`; the report of a rank that is not the root is its own share's.
-fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Result<RenderReport> {
+/// The job's settings checked and the render threads started, before any work.
+pub(crate) fn prepare(job: &RenderJob) -> Result<(FrameSettings, rayon::ThreadPool)> {
     let asked = &job.settings;
     for (name, value) in [("width", asked.width.unwrap_or(DEFAULT_WIDTH)), ("height", asked.height.unwrap_or(DEFAULT_HEIGHT))] {
         ensure!((1..=MAX_DIMENSION).contains(&value), "--{name} must be between 1 and {MAX_DIMENSION}, got {value}");
@@ -341,7 +361,23 @@ fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Resul
         ensure!((1..=MAX_THREADS).contains(&threads), "--threads must be between 1 and {MAX_THREADS}, got {threads}");
         pool = pool.num_threads(threads);
     }
-    let pool = pool.build().context("cannot start the render threads")?;
+    Ok((given, pool.build().context("cannot start the render threads")?))
+}
+
+/// The settings `scene` is rendered with: what was `given` and `asked`, the rest chosen for the
+/// scene (see [`RenderJob::settings`]).
+pub(crate) fn settings_for(given: &FrameSettings, asked: &SettingsPatch, scene: &Scene) -> RenderSettings {
+    let chosen = given.for_scene(scene);
+    let auto = asked.samples_per_pixel.is_none() && given.integrator.is_none() && chosen.integrator == Integrator::Path;
+    match auto {
+        true => RenderSettings { samples_per_pixel: AUTO_SAMPLES, noise_threshold: chosen.noise_threshold.or(Some(AUTO_NOISE_THRESHOLD)), ..chosen },
+        false => chosen,
+    }
+}
+
+/// [`render_scene`] by `ranks`; the report of a rank that is not the root is its own share's.
+fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Result<RenderReport> {
+    let (given, pool) = prepare(job)?;
     let format = OutputFormat::from_path(&job.out)?;
     // What one rank can fail at alone is voted on, so that no rank waits for another that quit.
     let setup = Instant::now();
@@ -358,12 +394,7 @@ fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Resul
         Err(e) => return Err(ranks.agree(Err(e)).expect_err("a failure is agreed as one")),
     };
     let setup_seconds = setup.elapsed().as_secs_f64();
-    let chosen = given.for_scene(&scene);
-    let auto = asked.samples_per_pixel.is_none() && given.integrator.is_none() && chosen.integrator == Integrator::Path;
-    let settings = match auto {
-        true => RenderSettings { samples_per_pixel: AUTO_SAMPLES, noise_threshold: chosen.noise_threshold.or(Some(AUTO_NOISE_THRESHOLD)), ..chosen },
-        false => chosen,
-    };
+    let settings = settings_for(&given, &job.settings, &scene);
     let look = given.look;
     let share = ranks.share();
     let (film, frame, mean_samples) = pool.install(|| render_with_progress(&scene, &settings, share)).context("bad render settings")?;
@@ -425,7 +456,7 @@ fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Resul
 /// statistics of the whole frame and the samples per pixel taken on average (fewer than asked
 /// for where adaptive sampling stopped tiles early). The passes continue each pixel's sample sequence, so the
 /// image is the one a single pass would give.
-fn render_with_progress(scene: &Scene, settings: &RenderSettings, share: Share) -> Result<(Film, FrameStats, f64)> {
+pub(crate) fn render_with_progress(scene: &Scene, settings: &RenderSettings, share: Share) -> Result<(Film, FrameStats, f64)> {
     let start = Instant::now();
     let mut progressive = Progressive::new(*settings)?.with_share(share)?;
     let total = settings.samples_per_pixel;

@@ -119,3 +119,99 @@ fn a_gltf_file_without_lights_is_lit_by_the_studio() {
     let (stdout, _) = render_square(&write_decorated_square("lamp", true), "lamp", &[]);
     assert!(!stdout.contains("studio") && stdout.contains("whitted at 1 spp"), "{stdout}");
 }
+
+/// Two unlit green unit squares seen from +z by the file's camera: the left one still, the
+/// right one moved down by 1 over the first second by the file's animation `drop`. Written as
+/// `name.gltf` with its buffer beside it.
+fn write_animated_squares(name: &str) -> std::path::PathBuf {
+    let mut buffer = Vec::new();
+    for f in [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0] {
+        buffer.extend(f.to_le_bytes());
+    }
+    // Keyframe times, then translations of the right square.
+    for f in [0.0f32, 1.0, 0.5, -0.5, 0.0, 0.5, -1.5, 0.0] {
+        buffer.extend(f.to_le_bytes());
+    }
+    let bin = temp(&format!("{name}.bin"));
+    std::fs::write(&bin, &buffer).unwrap();
+    let document = serde_json::json!({
+        "asset": { "version": "2.0" },
+        "extensionsUsed": ["KHR_materials_unlit"],
+        "buffers": [{ "byteLength": buffer.len(), "uri": bin.file_name().unwrap().to_str().unwrap() }],
+        "bufferViews": [{ "buffer": 0, "byteLength": 72 }, { "buffer": 0, "byteOffset": 72, "byteLength": 8 }, { "buffer": 0, "byteOffset": 80, "byteLength": 24 }],
+        "accessors": [
+            { "bufferView": 0, "componentType": 5126, "count": 6, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0] },
+            { "bufferView": 1, "componentType": 5126, "count": 2, "type": "SCALAR", "min": [0], "max": [1] },
+            { "bufferView": 2, "componentType": 5126, "count": 2, "type": "VEC3" }
+        ],
+        "materials": [{ "pbrMetallicRoughness": { "baseColorFactor": [0, 1, 0, 1] }, "extensions": { "KHR_materials_unlit": {} } }],
+        "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0 }, "material": 0 }] }],
+        "cameras": [{ "type": "perspective", "perspective": { "yfov": 0.8, "znear": 0.1 } }],
+        "nodes": [
+            { "mesh": 0, "translation": [-1.5, -0.5, 0] },
+            { "mesh": 0, "translation": [0.5, -0.5, 0] },
+            { "camera": 0, "translation": [0, 0, 5] }
+        ],
+        "animations": [{ "name": "drop", "channels": [{ "sampler": 0, "target": { "node": 1, "path": "translation" } }], "samplers": [{ "input": 1, "output": 2 }] }],
+        "scenes": [{ "nodes": [0, 1, 2] }]
+    });
+    let path = temp(&format!("{name}.gltf"));
+    std::fs::write(&path, document.to_string()).unwrap();
+    path
+}
+
+fn render_args(args: &[&str]) -> std::process::Output {
+    let output = Command::new(env!("CARGO_BIN_EXE_raystage")).args(args).output().unwrap();
+    assert!(output.status.success(), "stdout: {}\nstderr: {}", String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
+    output
+}
+
+#[test]
+fn time_poses_the_animation_where_it_moves_and_nowhere_else() {
+    let file = write_animated_squares("squares");
+    let images: Vec<image::RgbaImage> = ["0", "1.0"]
+        .iter()
+        .map(|time| {
+            let out = temp(&format!("squares-{time}.png"));
+            let args = ["render", file.to_str().unwrap(), "--time", time, "--out", out.to_str().unwrap(), "--width", "64", "--height", "64", "--integrator", "eyelight"];
+            let stdout = String::from_utf8_lossy(&render_args(&args).stdout).into_owned();
+            assert!(stdout.contains(&format!("squares.gltf: posed at {:.3} s of animation 0 `drop` (1.000 s long)", time.parse::<f32>().unwrap())), "{stdout}");
+            image::open(&out).unwrap().to_rgba8()
+        })
+        .collect();
+    let green = [0, 255, 0, 255];
+    // The camera sees 2.1 units either side of the centre over 32 pixels: the right square's
+    // centre is at (1, 0) at time 0, at (1, −1) at time 1.
+    assert_eq!((images[0].get_pixel(47, 32).0, images[1].get_pixel(47, 47).0), (green, green));
+    assert_ne!(images[1].get_pixel(47, 32).0, green, "the right square left its place at time 1");
+    assert_ne!(images[0].get_pixel(47, 47).0, green, "and was not there yet at time 0");
+    assert_eq!(images[0].get_pixel(17, 32).0, green, "the left square is seen");
+    for (x, y, p) in images[0].enumerate_pixels().filter(|(x, ..)| *x < 32) {
+        assert_eq!(p, images[1].get_pixel(x, y), "the still half is the same at ({x}, {y})");
+    }
+}
+
+#[test]
+fn frames_render_a_sequence_from_one_import() {
+    let file = write_animated_squares("sequence");
+    let pattern = temp("sequence_%03d.png");
+    let args = ["render", file.to_str().unwrap(), "--frames", "1..3", "--fps", "2", "--animation", "drop", "--out", pattern.to_str().unwrap(), "--width", "32", "--height", "32", "--integrator", "eyelight"];
+    let stdout = String::from_utf8_lossy(&render_args(&args).stdout).into_owned();
+    for n in 1..=3 {
+        let frame = pattern.with_file_name(pattern.file_name().unwrap().to_str().unwrap().replace("%03d", &format!("{n:03}")));
+        assert!(frame.exists(), "{} missing; {stdout}", frame.display());
+    }
+    assert!(stdout.contains("frame 2 at 1.000 s: pose ") && stdout.contains("3 frames of ") && stdout.contains("sequence.gltf at 32x32") && stdout.contains("per frame: pose "), "{stdout}");
+}
+
+#[test]
+fn an_unknown_animation_or_a_time_for_a_demo_is_an_error() {
+    let file = write_animated_squares("unknown");
+    let out = temp("unknown.png");
+    let run = |args: &[&str]| Command::new(env!("CARGO_BIN_EXE_raystage")).args(args).output().unwrap();
+    let unknown = run(&["render", file.to_str().unwrap(), "--animation", "jump", "--out", out.to_str().unwrap(), "--width", "8", "--height", "8"]);
+    let stderr = String::from_utf8_lossy(&unknown.stderr);
+    assert!(!unknown.status.success() && stderr.contains("no animation `jump`: the file has 0 `drop` (1.000 s)"), "{stderr}");
+    let demo = run(&["render", "--demo", "cornell", "--time", "1", "--out", out.to_str().unwrap()]);
+    assert!(!demo.status.success() && String::from_utf8_lossy(&demo.stderr).contains("cannot be used with"));
+}

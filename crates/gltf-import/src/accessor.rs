@@ -29,8 +29,14 @@ pub(crate) fn read_floats<const N: usize>(
 
 /// The elements of a scalar unsigned-integer accessor (indices).
 pub(crate) fn read_indices(accessor: &Accessor<'_>, buffers: &[Vec<u8>], field: &str) -> Result<Vec<u32>, ImportError> {
-    let view = checked(accessor, buffers, 1, &[DataType::U8, DataType::U16, DataType::U32], field)?;
-    Ok((0..accessor.count()).map(|i| u32::from_le_bytes(pad(view.component(i, 0)))).collect())
+    Ok(read_uints::<1>(accessor, buffers, &[DataType::U8, DataType::U16, DataType::U32], field)?.into_iter().map(|[i]| i).collect())
+}
+
+/// The elements of an unsigned-integer accessor, `N` components per element, of the `allowed`
+/// types (indices, and a skin's `JOINTS_n`).
+pub(crate) fn read_uints<const N: usize>(accessor: &Accessor<'_>, buffers: &[Vec<u8>], allowed: &[DataType], field: &str) -> Result<Vec<[u32; N]>, ImportError> {
+    let view = checked(accessor, buffers, N, allowed, field)?;
+    Ok((0..accessor.count()).map(|i| std::array::from_fn(|c| u32::from_le_bytes(pad(view.component(i, c))))).collect())
 }
 
 /// Where an accessor's elements are, checked to lie within their buffer.
@@ -54,7 +60,8 @@ fn checked<'a>(accessor: &Accessor<'_>, buffers: &'a [Vec<u8>], components: usiz
         1 => Dimensions::Scalar,
         2 => Dimensions::Vec2,
         3 => Dimensions::Vec3,
-        _ => Dimensions::Vec4,
+        4 => Dimensions::Vec4,
+        _ => Dimensions::Mat4,
     };
     if accessor.dimensions() != dims || !allowed.contains(&accessor.data_type()) {
         return Err(ImportError::invalid(

@@ -3,15 +3,19 @@
 use std::path::Path;
 
 use glam::{Affine3A, Vec3};
-use raystage_scene::{Camera, Image, InstanceId, Light, LightId, Mesh, ObjectId, ObjectKind, ParamValue, Scene, Shader, ShaderId, Texture, TextureId};
+use raystage_scene::{
+    AnimationInfo, Binding, Camera, Deformer, Image, InstanceId, Light, LightId, Mesh, Node, ObjectId, ObjectKind, ParamValue, Play, Rig, Scene, Shader, ShaderId,
+    Target, Texture, TextureId,
+};
 
 use crate::error::ImportError;
 use crate::material::{MaterialShaders, ShaderSpec};
-use crate::mesh::{Budget, read_mesh};
-use crate::{Limits, buffers, images, nodes};
+use crate::mesh::{Budget, Deformation, read_mesh};
+use crate::nodes::Placements;
+use crate::{Limits, animation, buffers, images, nodes};
 
-/// A glTF file read and checked: shaders, objects, instances, lights and camera, not yet in any
-/// scene. See the crate documentation.
+/// A glTF file read and checked: shaders, objects, instances, lights, camera and animations,
+/// not yet in any scene. See the crate documentation.
 #[derive(Debug)]
 pub struct Import {
     shaders: Vec<ShaderSpec>,
@@ -21,7 +25,21 @@ pub struct Import {
     /// One per glTF mesh (`None` for a mesh without triangles); `Mesh::shaders` hold indices
     /// into `shaders`.
     objects: Vec<Option<Mesh>>,
-    instances: Vec<(usize, Affine3A)>,
+    /// Mesh, transform and node (an index into the rig's nodes) of each instance.
+    instances: Vec<(usize, Affine3A, usize)>,
+    /// What animates the file, if anything does. Checked by [`Rig::new`] when the file is
+    /// read, with the ids it names standing for what is not in a scene yet: its nodes'
+    /// instances are indices into `instances`, its deformers' objects placeholders;
+    /// [`Import::add_to`] gives them their ids.
+    rig: Option<Rig>,
+    /// Whether the scene opens at time 0 of its first animation (else at rest: see
+    /// [`read_rig`]).
+    opens_posed: bool,
+    /// For each instance, the deformer (an index into the rig's) that gives it an unstructured
+    /// object of its own, if it is skinned or morphed.
+    deformed: Vec<Option<usize>>,
+    /// For each node of the rig, whether an animation moves it (or a node above it).
+    moving: Vec<bool>,
     lights: Vec<Light>,
     camera: Option<Camera>,
     aspect_ratio: Option<f32>,
@@ -36,7 +54,8 @@ pub struct Added {
     /// One texture per image that a material's textures use (two if one image is used both as
     /// colours and as data, as the base colour and the metallic-roughness texture may share it).
     pub textures: Vec<TextureId>,
-    /// One object per glTF mesh that has triangles.
+    /// One object per glTF mesh that has triangles, but for a mesh that every node holding it
+    /// skins or morphs; then one per skinned or morphed instance.
     pub objects: Vec<ObjectId>,
     /// One instance per node that holds such a mesh.
     pub instances: Vec<InstanceId>,
@@ -54,8 +73,10 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
     let buffers = buffers::load(&gltf.document, gltf.blob.as_deref(), base)?;
     let mut shaders = MaterialShaders::new(&gltf.document);
     let mut budget = Budget::default();
-    let objects =
+    let read_meshes =
         gltf.document.meshes().map(|mesh| read_mesh(&mesh, &buffers, &mut shaders, &mut budget, limits)).collect::<Result<Vec<_>, _>>()?;
+    let (objects, deformations): (Vec<Option<Mesh>>, Vec<Deformation>) =
+        read_meshes.into_iter().map(|m| m.map_or((None, Deformation::default()), |(mesh, d)| (Some(mesh), d))).unzip();
     for (k, spec) in shaders.specs.iter().enumerate() {
         check_shader(spec).map_err(|e| ImportError::invalid(format!("materials (shader {k})"), e.to_string()))?;
     }
@@ -68,15 +89,152 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
             mesh.validate().map_err(|e| ImportError::invalid(format!("meshes[{k}]"), e.to_string()))?;
         }
     }
-    let placed = nodes::place(&gltf.document, limits)?;
+    let mut placed = nodes::place(&gltf.document, limits)?;
     let mut notes = shaders.notes.clone();
-    notes.extend(placed.notes);
-    let instances: Vec<(usize, Affine3A)> = placed.instances.into_iter().filter(|&(mesh, _)| objects[mesh].is_some()).collect();
+    notes.append(&mut placed.notes);
+    let instances: Vec<(usize, Affine3A, usize)> = std::mem::take(&mut placed.instances).into_iter().filter(|&(mesh, ..)| objects[mesh].is_some()).collect();
     let skipped = objects.iter().filter(|o| o.is_none()).count();
     if skipped > 0 {
         notes.push(format!("{skipped} meshes without triangles (points or lines) left out"));
     }
-    Ok(Import { shaders: shaders.specs, images, objects, instances, lights: placed.lights, camera: placed.camera, aspect_ratio: placed.aspect_ratio, notes })
+    let animated = read_rig(&gltf.document, &buffers, &placed, &objects, &deformations, &instances, &mut budget, limits, &mut notes)?;
+    let (rig, deformed, moving, opens_posed) =
+        animated.map_or((None, vec![None; instances.len()], Vec::new(), false), |a| (Some(a.rig), a.deformed, a.moving, a.opens_posed));
+    Ok(Import {
+        shaders: shaders.specs,
+        images,
+        objects,
+        instances,
+        rig,
+        opens_posed,
+        deformed,
+        moving,
+        lights: placed.lights,
+        camera: placed.camera,
+        aspect_ratio: placed.aspect_ratio,
+        notes,
+    })
+}
+
+/// What animates a file (see [`Import`] for each part).
+struct Animated {
+    rig: Rig,
+    opens_posed: bool,
+    deformed: Vec<Option<usize>>,
+    moving: Vec<bool>,
+}
+
+/// The file's animations, skins and morph targets as a rig, with each instance's deformer and
+/// each node's motion; `None` for a file where nothing moves. Each deformed instance's copy of
+/// its mesh counts against the limits, as the meshes did. The scene opens at time 0 of the
+/// first animation, as a viewer opens the file (skins and morph weights apply in a file
+/// without animations too); where that pose cannot place a mesh (a node scaled to zero), it
+/// opens at rest, with a note, so that [`Import::add_to`] cannot fail.
+#[allow(clippy::too_many_arguments, reason = "the parts of the file read so far, each read once in `read`")]
+fn read_rig(
+    document: &gltf::Document,
+    buffers: &[Vec<u8>],
+    placed: &Placements,
+    objects: &[Option<Mesh>],
+    deformations: &[Deformation],
+    instances: &[(usize, Affine3A, usize)],
+    budget: &mut Budget,
+    limits: &Limits,
+    notes: &mut Vec<String>,
+) -> Result<Option<Animated>, ImportError> {
+    if document.extensions_used().any(|e| e == "KHR_animation_pointer") {
+        notes.push("KHR_animation_pointer is not supported: only channels that move nodes and morph target weights play".into());
+    }
+    let file_nodes: Vec<gltf::Node<'_>> = document.nodes().collect();
+    let mesh_of = |k: usize| file_nodes[placed.nodes[k].index].mesh().map(|m| m.index()).filter(|&m| objects[m].is_some());
+    let morph_targets: Vec<usize> = (0..placed.nodes.len()).map(|k| mesh_of(k).map_or(0, |m| deformations[m].targets.len())).collect();
+    let clips = animation::read_clips(document, buffers, placed, &morph_targets, notes)?;
+    let mut nodes = Vec::with_capacity(placed.nodes.len());
+    for (k, p) in placed.nodes.iter().enumerate() {
+        let file_node = &file_nodes[p.index];
+        let targets = morph_targets[k];
+        let weights = match file_node.weights().or_else(|| file_node.mesh().and_then(|m| m.weights())) {
+            _ if targets == 0 => Vec::new(),
+            Some(w) if w.len() == targets && w.iter().all(|w| w.is_finite()) => w.to_vec(),
+            Some(w) => return Err(ImportError::invalid(format!("nodes[{}].weights", p.index), format!("has {} finite weights for {targets} morph targets", w.len()))),
+            None => vec![0.0; targets],
+        };
+        nodes.push(Node { parent: p.parent, local: p.local, weights, instances: Vec::new() });
+    }
+    let mut skins = Vec::new();
+    let mut skin_of_file = std::collections::HashMap::new();
+    let mut deformers = Vec::new();
+    let mut deformed = Vec::with_capacity(instances.len());
+    for &(mesh, _, node) in instances {
+        let d = &deformations[mesh];
+        let file_node = &file_nodes[placed.nodes[node].index];
+        let skin = match (file_node.skin(), d.per_vertex) {
+            (Some(_), 0) => {
+                notes.push(format!("nodes[{}]: has a skin, but meshes[{mesh}] has no JOINTS_0 and WEIGHTS_0; not skinned", placed.nodes[node].index));
+                None
+            }
+            (Some(skin), _) => Some(match skin_of_file.get(&skin.index()) {
+                Some(&s) => s,
+                None => {
+                    skins.push(animation::read_skin(document, skin.index(), buffers, placed)?);
+                    skin_of_file.insert(skin.index(), skins.len() - 1);
+                    skins.len() - 1
+                }
+            }),
+            (None, _) => None,
+        };
+        if skin.is_none() && d.targets.is_empty() {
+            deformed.push(None);
+            continue;
+        }
+        if let Some(s) = skin {
+            let count = skins[s].joints.len();
+            if let Some(&j) = d.joints.iter().find(|&&j| j as usize >= count) {
+                return Err(ImportError::invalid(format!("meshes[{mesh}]"), format!("a vertex names joint {j}, and the skin of nodes[{}] has {count} joints", placed.nodes[node].index)));
+            }
+        }
+        let base = objects[mesh].as_ref().expect("instances of meshes without triangles were left out");
+        budget.take(base.indices.len(), base.positions.len(), limits)?;
+        deformed.push(Some(deformers.len()));
+        deformers.push(Deformer {
+            object: ObjectId(u32::MAX),
+            node,
+            positions: base.positions.clone(),
+            normals: base.normals.clone(),
+            tangents: base.tangents.clone(),
+            targets: d.targets.clone(),
+            binding: skin.map(|skin| Binding { skin, per_vertex: d.per_vertex, joints: d.joints.clone(), weights: d.weights.clone() }),
+        });
+    }
+    if clips.is_empty() && deformers.is_empty() {
+        return Ok(None);
+    }
+    let mut moving = vec![false; nodes.len()];
+    for channel in clips.iter().flat_map(|c| &c.channels).filter(|c| c.target != Target::Weights) {
+        moving[channel.node] = true;
+    }
+    for k in 0..nodes.len() {
+        moving[k] |= nodes[k].parent.is_some_and(|p| moving[p]);
+    }
+    for (i, (&(_, _, node), d)) in instances.iter().zip(&deformed).enumerate() {
+        if d.is_some() || moving[node] {
+            nodes[node].instances.push(InstanceId(i as u32));
+        }
+    }
+    let rig = Rig::new(nodes, clips, skins, deformers).map_err(|e| ImportError::invalid("animations", e.to_string()))?;
+    let opens_posed = match rig.pose(opening(&rig), 0.0) {
+        Ok(_) => true,
+        Err(e) => {
+            notes.push(format!("the scene opens in its rest pose: {e}"));
+            false
+        }
+    };
+    Ok(Some(Animated { rig, opens_posed, deformed, moving }))
+}
+
+/// What the scene opens with: the first animation, or the rest pose's skins and weights.
+fn opening(rig: &Rig) -> Play {
+    if rig.clips.is_empty() { Play::All } else { Play::Clip(0) }
 }
 
 /// Checks a shader's class and parameters the way the scene will.
@@ -89,14 +247,35 @@ fn check_shader(spec: &ShaderSpec) -> Result<(), raystage_scene::SceneError> {
 }
 
 impl Import {
-    /// Triangles over all objects (each counted once however often it is instanced).
+    /// Triangles over all objects (each counted once however often it is instanced; a skinned
+    /// or morphed instance's object of its own counts too).
     pub fn triangles(&self) -> usize {
-        self.objects.iter().flatten().map(|m| m.indices.len()).sum()
+        let triangles = |mesh: usize| self.objects[mesh].as_ref().map_or(0, |m| m.indices.len());
+        let shared: usize = self.shared_objects().iter().enumerate().filter(|(_, s)| **s).map(|(k, _)| triangles(k)).sum();
+        shared + self.instances.iter().zip(&self.deformed).filter(|(_, d)| d.is_some()).map(|(&(mesh, ..), _)| triangles(mesh)).sum::<usize>()
     }
 
     /// Number of objects that will be added.
     pub fn object_count(&self) -> usize {
-        self.objects.iter().flatten().count()
+        self.shared_objects().iter().filter(|&&shared| shared).count() + self.deformed.iter().flatten().count()
+    }
+
+    /// For each mesh, whether it becomes an object that its instances share: it has triangles
+    /// and is not deformed in every instance it has (a deformed instance gets an object of its
+    /// own; a mesh no node holds is still an object, as in a file without animations).
+    fn shared_objects(&self) -> Vec<bool> {
+        let mut deformed_somewhere = vec![false; self.objects.len()];
+        let mut undeformed = vec![false; self.objects.len()];
+        for (&(mesh, ..), deformed) in self.instances.iter().zip(&self.deformed) {
+            deformed_somewhere[mesh] |= deformed.is_some();
+            undeformed[mesh] |= deformed.is_none();
+        }
+        self.objects.iter().enumerate().map(|(k, m)| m.is_some() && (undeformed[k] || !deformed_somewhere[k])).collect()
+    }
+
+    /// The file's animations: name, duration in seconds, channels.
+    pub fn animations(&self) -> Vec<AnimationInfo> {
+        self.rig.as_ref().map(Rig::animations).unwrap_or_default()
     }
 
     /// Number of instances that will be added.
@@ -149,7 +328,7 @@ impl Import {
             .map(|m| m.as_ref().map_or(empty, |m| m.positions.iter().fold(empty, |(lo, hi), &p| (lo.min(p), hi.max(p)))))
             .collect();
         let mut out = empty;
-        for &(mesh, t) in &self.instances {
+        for &(mesh, t, _) in &self.instances {
             let (lo, hi) = boxes[mesh];
             for corner in 0..8 {
                 let pick = |bit: u32, l: f32, h: f32| if corner >> bit & 1 == 0 { l } else { h };
@@ -176,6 +355,7 @@ impl Import {
     /// [`crate::read`], so this cannot fail half-way except through a bug.
     pub fn add_to(self, scene: &mut Scene) -> Result<Added, ImportError> {
         let mut added = Added::default();
+        let shared = self.shared_objects();
         let mut textures = std::collections::HashMap::new();
         for (index, image) in self.images {
             let id = scene.add_texture(Texture::Image(image.into()))?;
@@ -193,24 +373,52 @@ impl Import {
             }
             added.shaders.push(id);
         }
+        // A mesh moved by an animation is an animated object: built once, only its instances'
+        // transforms change.
+        let mut kinds = vec![ObjectKind::Static; self.objects.len()];
+        for (&(mesh, _, node), deformed) in self.instances.iter().zip(&self.deformed) {
+            if deformed.is_none() && self.moving.get(node).copied().unwrap_or(false) {
+                kinds[mesh] = ObjectKind::Animated;
+            }
+        }
+        let remap = |mesh: &Mesh| {
+            let mut mesh = mesh.clone();
+            mesh.shaders.iter_mut().for_each(|s| *s = added.shaders[s.0 as usize]);
+            mesh
+        };
         let mut objects = Vec::with_capacity(self.objects.len());
-        for mesh in self.objects {
+        for (k, mesh) in self.objects.iter().enumerate() {
             objects.push(match mesh {
-                Some(mut mesh) => {
-                    mesh.shaders.iter_mut().for_each(|s| *s = added.shaders[s.0 as usize]);
-                    let id = scene.add_object(ObjectKind::Static, mesh)?;
-                    added.objects.push(id);
-                    Some(id)
-                }
-                None => None,
+                Some(mesh) if shared[k] => Some(scene.add_object(kinds[k], remap(mesh))?),
+                _ => None,
             });
         }
-        for (mesh, transform) in self.instances {
-            let object = objects[mesh].expect("instances of meshes without triangles were left out");
+        added.objects.extend(objects.iter().flatten());
+        let mut rig = self.rig;
+        for (&(mesh, transform, _), deformed) in self.instances.iter().zip(&self.deformed) {
+            let object = match (deformed, &mut rig) {
+                (Some(d), Some(rig)) => {
+                    let id = scene.add_object(ObjectKind::Unstructured, remap(self.objects[mesh].as_ref().expect("instances of meshes without triangles were left out")))?;
+                    rig.deformers[*d].object = id;
+                    added.objects.push(id);
+                    id
+                }
+                _ => objects[mesh].expect("an instance that is not deformed shares its mesh's object"),
+            };
             added.instances.push(scene.add_instance(object, transform)?);
         }
         for light in self.lights {
             added.lights.push(scene.add_light(light)?);
+        }
+        if let Some(mut rig) = rig {
+            for id in rig.nodes.iter_mut().flat_map(|n| &mut n.instances) {
+                *id = added.instances[id.0 as usize];
+            }
+            let play = opening(&rig);
+            scene.set_rig(rig)?;
+            if self.opens_posed {
+                scene.pose(play, 0.0)?;
+            }
         }
         Ok(added)
     }

@@ -6,7 +6,10 @@
 //! transform, each material becomes a `PhysicallyBased` shader (see [`shader_for`]) with its
 //! images as textures, and `KHR_lights_punctual` lights and
 //! the first perspective camera come along. What a material has that is not rendered yet is a
-//! note ([`notes`]).
+//! note ([`notes`]). Animations, skins and morph targets become the scene's rig
+//! ([`raystage_scene::Rig`], posed by [`raystage_scene::Scene::pose`]): a mesh that only node
+//! animation moves is an animated object, a skinned or morphed one an unstructured object per
+//! node that holds it.
 //!
 //! Reading and adding are two steps: [`read`] checks everything (buffer bounds, accessor types,
 //! indices, numbers, sizes) and returns an [`Import`] that no longer refers to the file, and
@@ -14,10 +17,11 @@
 //! into a scene, and nothing a file contains can panic the reader.
 //!
 //! Not in here: `KHR_materials_volume`'s thickness texture and the clearcoat's normal texture,
-//! texture coordinate sets beyond the second, skins, morph targets, animations, points and
-//! lines.
+//! texture coordinate sets beyond the second, `KHR_animation_pointer`, animated cameras and
+//! lights, points and lines.
 
 mod accessor;
+mod animation;
 mod buffers;
 mod error;
 mod images;

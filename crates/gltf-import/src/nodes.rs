@@ -1,10 +1,12 @@
 //! The node hierarchy: world transforms, and what the nodes hold (meshes become instances,
 //! `KHR_lights_punctual` lights become lights, the first perspective camera becomes the camera).
+//! The hierarchy itself is kept too, each node after its parent, for animations to move.
 
 use gltf::camera::Projection;
 use gltf::khr_lights_punctual::Kind;
-use glam::{Affine3A, Mat4, Vec3};
-use raystage_scene::{Camera, Light};
+use gltf::scene::Transform;
+use glam::{Affine3A, Mat4, Quat, Vec3, Vec4};
+use raystage_scene::{Camera, Light, Local};
 
 use crate::error::ImportError;
 use crate::Limits;
@@ -13,11 +15,29 @@ use crate::Limits;
 /// with its deepest meshes left out.
 pub(crate) const MAX_LEVELS: usize = 256;
 
+/// A node of the default scene, as animations see it.
+#[derive(Debug)]
+pub(crate) struct Placed {
+    /// Its index in the file.
+    pub index: usize,
+    /// Its parent (an index into [`Placements::nodes`], before its own).
+    pub parent: Option<usize>,
+    /// Its transform relative to its parent.
+    pub local: Local,
+    /// Whether it holds the camera or a light (which animations do not move).
+    pub holds_view_or_light: bool,
+}
+
 /// What the nodes place in the world.
 #[derive(Debug, Default)]
 pub(crate) struct Placements {
-    /// Mesh index and object-to-world transform of each instance.
-    pub instances: Vec<(usize, Affine3A)>,
+    /// Mesh index, object-to-world transform and node (an index into `nodes`) of each
+    /// instance.
+    pub instances: Vec<(usize, Affine3A, usize)>,
+    /// The nodes reached from the roots, each after its parent.
+    pub nodes: Vec<Placed>,
+    /// For each node of the file, its index in `nodes` if it was reached.
+    pub placed: Vec<Option<usize>>,
     /// Lights in world space.
     pub lights: Vec<Light>,
     /// The first perspective camera.
@@ -38,30 +58,40 @@ pub(crate) fn place(document: &gltf::Document, limits: &Limits) -> Result<Placem
             document.nodes().filter(|n| !is_child[n.index()]).collect()
         }
     };
-    let mut walk = Walk { out: Placements::default(), visited: vec![false; document.nodes().len()], limits };
+    let out = Placements { placed: vec![None; document.nodes().len()], ..Placements::default() };
+    let mut walk = Walk { out, limits };
     for root in roots {
-        walk.node(&root, Mat4::IDENTITY, 0)?;
+        walk.node(&root, None, Mat4::IDENTITY, 0)?;
     }
     Ok(walk.out)
 }
 
 struct Walk<'l> {
+    /// Its `placed` are the nodes already placed: glTF gives a node one parent, so a node
+    /// reached twice (a cycle, or a second parent) makes the file invalid.
     out: Placements,
-    /// Nodes already placed: glTF gives a node one parent, so a node reached twice (a cycle,
-    /// or a second parent) makes the file invalid.
-    visited: Vec<bool>,
     limits: &'l Limits,
 }
 
 impl Walk<'_> {
-    fn node(&mut self, node: &gltf::Node<'_>, parent: Mat4, depth: usize) -> Result<(), ImportError> {
+    fn node(&mut self, node: &gltf::Node<'_>, parent_node: Option<usize>, parent: Mat4, depth: usize) -> Result<(), ImportError> {
         let field = format!("nodes[{}]", node.index());
-        if std::mem::replace(&mut self.visited[node.index()], true) {
+        if self.out.placed[node.index()].is_some() {
             return Err(ImportError::invalid(field, "is reached twice (a cycle, or a second parent): glTF gives a node one parent"));
         }
         if depth >= MAX_LEVELS {
             return Err(ImportError::TooLarge { what: "levels of nodes", count: depth + 1, limit: MAX_LEVELS });
         }
+        let this = self.out.nodes.len();
+        self.out.placed[node.index()] = Some(this);
+        let local = match node.transform() {
+            Transform::Matrix { matrix } => Local::Matrix(Mat4::from_cols_array_2d(&matrix)),
+            Transform::Decomposed { translation, rotation, scale } => {
+                Local::Trs { translation: Vec3::from(translation), rotation: Quat::from_vec4(Vec4::from(rotation).normalize_or(Vec4::W)), scale: Vec3::from(scale) }
+            }
+        };
+        let holds_view_or_light = node.light().is_some() || (self.out.camera.is_none() && node.camera().is_some());
+        self.out.nodes.push(Placed { index: node.index(), parent: parent_node, local, holds_view_or_light });
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
         let affine = Affine3A::from_mat4(world);
         if let Some(mesh) = node.mesh() {
@@ -69,7 +99,7 @@ impl Walk<'_> {
                 if self.out.instances.len() >= self.limits.max_instances {
                     return Err(ImportError::TooLarge { what: "instances", count: self.out.instances.len() + 1, limit: self.limits.max_instances });
                 }
-                self.out.instances.push((mesh.index(), affine));
+                self.out.instances.push((mesh.index(), affine, this));
             } else {
                 self.out.notes.push(format!("{field}: a singular transform hides its mesh; left out"));
             }
@@ -83,7 +113,7 @@ impl Walk<'_> {
             self.camera(&camera, &affine, &field);
         }
         for child in node.children() {
-            self.node(&child, world, depth + 1)?;
+            self.node(&child, Some(this), world, depth + 1)?;
         }
         Ok(())
     }

@@ -26,6 +26,7 @@ pub enum SceneEdit {
     AddObject { kind: ObjectKind, mesh: Mesh },
     DefineObject { id: ObjectId, kind: ObjectKind, mesh: Mesh },
     SetPositions { id: ObjectId, positions: Vec<Vec3> },
+    SetVertices { id: ObjectId, positions: Vec<Vec3>, normals: Option<Vec<Vec3>>, tangents: Option<Vec<glam::Vec4>> },
     DeleteObject { id: ObjectId },
     AddInstance { object: ObjectId, transform: Affine3A },
     SetMotion { id: InstanceId, start: Affine3A, end: Option<Affine3A> },
@@ -106,6 +107,7 @@ impl Scene {
                 }
                 SceneEdit::DefineObject { id, kind, mesh } => self.define_object(id, kind, mesh)?,
                 SceneEdit::SetPositions { id, positions } => self.set_positions(id, positions)?,
+                SceneEdit::SetVertices { id, positions, normals, tangents } => self.set_vertices(id, positions, normals, tangents)?,
                 SceneEdit::DeleteObject { id } => self.delete_object(id)?,
                 SceneEdit::AddInstance { object, transform } => {
                     self.add_instance(object, transform)?;

@@ -15,6 +15,7 @@
 //! Not in here: shading arithmetic and frame loops (`raystage-render`), the C ABI and HTTP
 //! server that edit scenes, and SIMD (the kernel's).
 
+mod animation;
 mod builds;
 mod camera;
 mod error;
@@ -33,6 +34,7 @@ mod studio;
 mod tangents;
 mod texture;
 
+pub use animation::{AnimationInfo, Binding, Channel, Clip, Deformer, Interpolation, Keyframes, Local, MorphTarget, Node, Play, Pose, Rig, Skin, Target, Vertices};
 pub use camera::{Camera, CameraRays, Projection};
 pub use error::SceneError;
 pub use frame::{Frame, FrameWork, PreviewAttributes, PreviewPoint, SceneHit, SurfacePoint, WorldTriangle};

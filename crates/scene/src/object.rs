@@ -121,11 +121,14 @@ impl Object {
         self.replace(mesh, same_triangles);
     }
 
-    /// Moves the vertices (same count), keeping the triangles: a redefinition that keeps the
+    /// Moves the vertices (same count), keeping the triangles, and replaces the normals and
+    /// tangents where given (same count as the mesh has): a redefinition that keeps the
     /// topology, so an unstructured object's tree can be refitted.
-    pub fn move_vertices(&mut self, positions: Vec<glam::Vec3>) {
+    pub fn move_vertices(&mut self, positions: Vec<glam::Vec3>, normals: Option<Vec<glam::Vec3>>, tangents: Option<Vec<glam::Vec4>>) {
         let mut mesh = std::mem::take(&mut self.mesh);
         mesh.positions = positions;
+        mesh.normals = normals.unwrap_or(mesh.normals);
+        mesh.tangents = tangents.unwrap_or(mesh.tangents);
         self.retire_tree(true);
         // Same triangles, same shaders: only the bounds move.
         self.bounds = mesh.bounds();

@@ -7,6 +7,7 @@ use glam::{Affine3A, Vec3};
 
 use crate::camera::Camera;
 use crate::error::SceneError;
+use crate::animation::Rig;
 use crate::frame::Frame;
 use crate::ids::{InstanceId, LightId, ObjectId, ShaderId, Table, TextureId};
 use crate::instance::{Instance, validate_transform};
@@ -38,6 +39,9 @@ pub struct Scene {
     background: Option<Background>,
     /// The edits made since the journal was last taken, if it is on (see [`crate::journal`]).
     pub(crate) journal: Journal,
+    /// Its animations, if it has any (shared with its snapshots: posing edits the scene, never
+    /// the rig).
+    pub(crate) rig: Option<Arc<Rig>>,
 }
 
 /// What camera rays that hit nothing show: a backdrop, which lights nothing (OpenGL's clear
@@ -114,6 +118,7 @@ impl Scene {
             default_shader: Shader::new("Diffuse").expect("Diffuse is built in"),
             background: None,
             journal: Journal::default(),
+            rig: None,
         }
     }
 
@@ -155,17 +160,40 @@ impl Scene {
     /// everything else stays. This is the cheap way to animate an unstructured object: its tree
     /// is refitted by the next frame that needs it.
     pub fn set_positions(&mut self, id: ObjectId, positions: Vec<glam::Vec3>) -> Result<(), SceneError> {
-        let object = self.objects.get(id.0).ok_or(SceneError::UnknownObject(id))?;
-        let expected = object.mesh.positions.len();
+        self.check_vertices(id, &positions, None, None)?;
+        self.journal.record(self.recording(|| SceneEdit::SetPositions { id, positions: positions.clone() }));
+        let object = self.objects.get_mut(id.0).expect("checked above");
+        Arc::make_mut(object).move_vertices(positions, None, None);
+        Ok(())
+    }
+
+    /// Moves an object's vertices and turns its normals and tangents with them (as a skinned
+    /// mesh's are): [`Scene::set_positions`] that also replaces the normals and the tangents
+    /// where given (each one per vertex, as the mesh has them).
+    pub fn set_vertices(&mut self, id: ObjectId, positions: Vec<Vec3>, normals: Option<Vec<Vec3>>, tangents: Option<Vec<glam::Vec4>>) -> Result<(), SceneError> {
+        self.check_vertices(id, &positions, normals.as_deref(), tangents.as_deref())?;
+        self.journal.record(self.recording(|| SceneEdit::SetVertices { id, positions: positions.clone(), normals: normals.clone(), tangents: tangents.clone() }));
+        let object = self.objects.get_mut(id.0).expect("checked above");
+        Arc::make_mut(object).move_vertices(positions, normals, tangents);
+        Ok(())
+    }
+
+    fn check_vertices(&self, id: ObjectId, positions: &[Vec3], normals: Option<&[Vec3]>, tangents: Option<&[glam::Vec4]>) -> Result<(), SceneError> {
+        let mesh = &self.objects.get(id.0).ok_or(SceneError::UnknownObject(id))?.mesh;
+        let expected = mesh.positions.len();
         if positions.len() != expected {
             return Err(SceneError::WrongLength { field: "positions", got: positions.len(), expected });
         }
         if let Some(index) = positions.iter().position(|p| !p.is_finite()) {
             return Err(SceneError::NotFinite { field: "positions", index });
         }
-        self.journal.record(self.recording(|| SceneEdit::SetPositions { id, positions: positions.clone() }));
-        let object = self.objects.get_mut(id.0).expect("checked above");
-        Arc::make_mut(object).move_vertices(positions);
+        for (field, given, has) in [("normals", normals.map(|n| (n.len(), n.iter().all(|v| v.is_finite()))), mesh.normals.len()), ("tangents", tangents.map(|t| (t.len(), t.iter().all(|v| v.is_finite()))), mesh.tangents.len())] {
+            match given {
+                Some((got, _)) if got != has => return Err(SceneError::WrongLength { field, got, expected: has }),
+                Some((_, false)) => return Err(SceneError::NotFinite { field, index: 0 }),
+                _ => {}
+            }
+        }
         Ok(())
     }
 
