@@ -389,7 +389,7 @@ impl Scene {
         let images: u64 = self.textures.iter().map(|(_, t)| if let Texture::Image(image) = &**t { image.memory_bytes() } else { 0 }).sum();
         // Instances are small but may be millions (a glTF file of a million nodes): their
         // records, and what each frame builds for them.
-        let instances = self.instances.slot_bytes() + self.instances.iter().count() as u64 * crate::frame::FRAME_BYTES_PER_INSTANCE as u64;
+        let instances = self.instances.slot_bytes() + self.instances.count() as u64 * crate::frame::FRAME_BYTES_PER_INSTANCE as u64;
         objects + images + instances + self.lights.slot_bytes() + self.shaders.slot_bytes() + self.textures.slot_bytes()
     }
 
