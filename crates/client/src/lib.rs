@@ -3,8 +3,9 @@
 //! raystage's viewer: an egui window (eframe, OpenGL) that shows the frame stream of one scene
 //! of a raystage server (`/scenes/{scene}/stream`, `api/stream.md`), moves the scene's camera
 //! with the mouse (left-drag orbits around the target, right- or middle-drag pans, scroll
-//! zooms), chooses the integrator and the samples per pixel, follows the window's size, and
-//! lists the frame statistics and the scene's objects and instances.
+//! zooms), chooses the integrator and the samples per pixel, follows the window's size, plays
+//! a glTF scene's animations, and lists the frame statistics and the scene's objects and
+//! instances.
 //!
 //! [`run`] opens the window; `raystage-client` and `raystage view` are thin shells around it.
 //! The network runs in a background thread ([`net::connect`]) and talks to the UI
@@ -18,6 +19,7 @@ pub mod http;
 pub mod net;
 pub mod orbit;
 pub mod protocol;
+mod timeline;
 mod viewer;
 
 use std::path::PathBuf;

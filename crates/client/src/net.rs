@@ -21,7 +21,7 @@ use tokio_tungstenite::tungstenite::http::HeaderValue;
 
 use crate::Error;
 use crate::http::Server;
-use crate::protocol::{CameraPatch, FrameStats, Hello, InstanceInfo, LightInfo, ObjectInfo, PROTOCOL, Request, SceneInfo, ServerMessage, Settings};
+use crate::protocol::{AnimationInfo, CameraPatch, FrameStats, Hello, InstanceInfo, LightInfo, ObjectInfo, PROTOCOL, Request, SceneInfo, ServerMessage, Settings};
 
 /// A camera change whose reply has not come in this long is taken as lost.
 const CAMERA_REPLY_TIMEOUT: Duration = Duration::from_secs(2);
@@ -31,7 +31,7 @@ const FIRST_SIZE_WAIT: Duration = Duration::from_millis(500);
 /// What the connection tells the viewer.
 #[derive(Debug)]
 pub enum Event {
-    /// The scene's summary, objects and instances (over HTTP, at the start and on request).
+    /// The scene's summary, objects, instances, lights and animations (over HTTP, at the start and on request).
     Scene(Box<SceneSnapshot>),
     /// The stream is open, with these settings.
     Connected(Hello),
@@ -54,6 +54,8 @@ pub struct SceneSnapshot {
     pub instances: Vec<InstanceInfo>,
     /// Every light.
     pub lights: Vec<LightInfo>,
+    /// Every animation (none for most scenes: they come with glTF files).
+    pub animations: Vec<AnimationInfo>,
 }
 
 /// A frame: its statistics and its pixels.
@@ -346,13 +348,14 @@ async fn environment_image(server: &Server, scene: u32, path: &std::path::Path, 
     fetch_scene(server, scene).await
 }
 
-/// The scene's summary, objects and instances.
+/// The scene's summary, objects, instances, lights and animations.
 async fn fetch_scene(server: &Server, scene: u32) -> Result<SceneSnapshot, Error> {
     let info = server.get(&format!("/scenes/{scene}")).await?;
     let objects = server.get(&format!("/scenes/{scene}/objects")).await?;
     let instances = server.get(&format!("/scenes/{scene}/instances")).await?;
     let lights = server.get(&format!("/scenes/{scene}/lights")).await?;
-    Ok(SceneSnapshot { info, objects, instances, lights })
+    let animations = server.get(&format!("/scenes/{scene}/animations")).await?;
+    Ok(SceneSnapshot { info, objects, instances, lights, animations })
 }
 
 /// The frame decoder: a thread that decodes the newest PNG offered to it.

@@ -198,6 +198,17 @@ pub struct InstanceInfo {
     pub matrix: [[f32; 4]; 4],
 }
 
+/// An animation (`GET /scenes/{scene}/animations`), which the `set_time` command plays.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+pub struct AnimationInfo {
+    /// Its index, as `set_time` names it.
+    pub index: u32,
+    /// Its name (may be empty).
+    pub name: String,
+    /// Seconds to its last keyframe.
+    pub duration: f32,
+}
+
 /// The `settings` message: changes this stream's image (fields left out stay).
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Settings {

@@ -1,6 +1,6 @@
 //! The viewer's window: the newest frame filling the central panel, mouse controls that move
-//! the camera, and a side panel with the render settings, the scene's environment light, the
-//! frame statistics and the scene's objects and instances.
+//! the camera, and a side panel with the render settings, the scene's environment light, its
+//! animations' timeline, the frame statistics and the scene's objects and instances.
 //!
 //! [`Viewer`] is all UI state and no I/O: what it learns comes from [`Link::events`], what it
 //! wants goes out on [`Link::requests`], so a test can play the server on the other end of the
@@ -15,6 +15,7 @@ use eframe::egui::{self, Color32, ColorImage, PointerButton, Rect, Sense, Textur
 use crate::net::{Event, Link, SceneSnapshot};
 use crate::orbit::Orbit;
 use crate::protocol::{FrameStats, Hello, LightInfo, Request, Settings};
+use crate::timeline::Timeline;
 
 /// The integrators a stream can use, as the server names them.
 pub const INTEGRATORS: [&str; 4] = ["eyelight", "whitted", "distribution", "path"];
@@ -80,6 +81,8 @@ pub struct Viewer {
     environment: Option<Environment>,
     /// The image file the lighting controls would load.
     environment_file: String,
+    /// The animations' clock, for a scene with animations.
+    timeline: Timeline,
 }
 
 /// The scene's (first) environment light, as the panel shows and edits it: every change is a
@@ -213,6 +216,7 @@ impl Viewer {
             screenshot: Screenshot::NotYet,
             environment: None,
             environment_file: String::new(),
+            timeline: Timeline::default(),
         }
     }
 
@@ -439,6 +443,15 @@ impl Viewer {
 
         self.lighting(ui);
         ui.separator();
+
+        if let Some(scene) = self.scene.as_ref().filter(|s| !s.animations.is_empty()) {
+            ui.strong("Timeline");
+            let request = self.timeline.controls(ui, &scene.animations);
+            ui.separator();
+            if let Some(request) = request {
+                self.send(request);
+            }
+        }
 
         ui.strong("Statistics");
         egui::Grid::new("stats").num_columns(2).show(ui, |ui| {

@@ -1,6 +1,6 @@
 //! The client's network layer against a real server started in-process: the scene arrives over
-//! HTTP, frames over the WebSocket (decoded, refining), and a camera change shows in a later
-//! frame.
+//! HTTP, frames over the WebSocket (decoded, refining), a camera change shows in a later
+//! frame, and a glTF scene's animation is listed and posed by the timeline's `set_time`.
 
 use std::sync::mpsc::RecvTimeoutError;
 use std::time::{Duration, Instant};
@@ -82,6 +82,64 @@ fn frames_arrive_refine_and_follow_the_camera() {
     let end = Instant::now() + Duration::from_secs(10);
     while events.recv_timeout(end.saturating_duration_since(Instant::now())).is_ok() {}
     assert!(Instant::now() < end, "the network thread stops when the viewer goes");
+}
+
+/// A GLB file: a unit quad that its animation `slide` moves from x = 0 at 0 s to x = 2 at 1 s.
+fn sliding_quad() -> Vec<u8> {
+    let floats = [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0];
+    let mut bin: Vec<u8> = floats[..12].iter().flat_map(|f| f.to_le_bytes()).collect();
+    bin.extend([0u16, 1, 2, 0, 2, 3].iter().flat_map(|i| i.to_le_bytes()));
+    bin.extend(floats[12..].iter().flat_map(|f| f.to_le_bytes()));
+    let document = serde_json::json!({
+        "asset": { "version": "2.0" },
+        "buffers": [{ "byteLength": bin.len() }],
+        "bufferViews": [
+            { "buffer": 0, "byteLength": 48 }, { "buffer": 0, "byteOffset": 48, "byteLength": 12 },
+            { "buffer": 0, "byteOffset": 60, "byteLength": 8 }, { "buffer": 0, "byteOffset": 68, "byteLength": 24 }
+        ],
+        "accessors": [
+            { "bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0] },
+            { "bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR" },
+            { "bufferView": 2, "componentType": 5126, "count": 2, "type": "SCALAR", "min": [0], "max": [1] },
+            { "bufferView": 3, "componentType": 5126, "count": 2, "type": "VEC3" }
+        ],
+        "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0 }, "indices": 1 }] }],
+        "nodes": [{ "mesh": 0 }],
+        "animations": [{ "name": "slide", "channels": [{ "sampler": 0, "target": { "node": 0, "path": "translation" } }],
+            "samplers": [{ "input": 2, "output": 3, "interpolation": "LINEAR" }] }],
+        "scenes": [{ "nodes": [0] }]
+    });
+    raystage_gltf_import::glb(&serde_json::to_vec(&document).unwrap(), &bin)
+}
+
+/// The timeline's request reaches the scene: a glTF scene's snapshot lists its animation, a
+/// `set_time` command makes a new version of the image, and the scene fetched again has the
+/// quad where the animation puts it.
+#[test]
+fn set_time_poses_the_scene_the_stream_shows() {
+    let (runtime, url) = server();
+    let server = Server::parse(&url, None).unwrap();
+    let created: serde_json::Value = runtime.block_on(server.post("/scenes", "model/gltf-binary", &sliding_quad())).unwrap();
+    let scene = created["id"].as_u64().unwrap() as u32;
+    let settings = Settings { width: Some(32), height: Some(24), integrator: Some("eyelight".into()), max_samples: Some(1), ..Settings::default() };
+    let link = connect(StreamConfig { server, scene: Some(scene), settings }, || {});
+    let deadline = Instant::now() + Duration::from_secs(30);
+    let Event::Scene(snapshot) = next(&link, deadline) else { panic!("the scene comes first") };
+    let [animation] = snapshot.animations.as_slice() else { panic!("one animation: {:?}", snapshot.animations) };
+    assert_eq!((animation.index, animation.name.as_str(), animation.duration), (0, "slide", 1.0));
+    let version = next_frame(&link, deadline).stats.scene_version;
+
+    link.requests.send(Request::Commands(serde_json::json!([{ "set_time": { "seconds": 0.25, "animation": 0 } }]))).unwrap();
+    while next_frame(&link, deadline).stats.scene_version == version {}
+    link.requests.send(Request::RefreshScene).unwrap();
+    let posed = loop {
+        match next(&link, deadline) {
+            Event::Scene(scene) => break scene,
+            Event::Problem(problem) => panic!("{problem}"),
+            _ => {}
+        }
+    };
+    assert_eq!(posed.instances[0].matrix[0][3], 0.5, "{:?}", posed.instances);
 }
 
 /// An image file on the viewer's machine lights the scene: uploaded as a texture and made the

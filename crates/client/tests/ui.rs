@@ -2,7 +2,8 @@
 //! channels (egui_kittest, no window, no rendering): statistics show up in the side panel,
 //! choosing an integrator sends a `settings` message, a drag sends the orbited camera, and the
 //! first frame of a scene version refreshes objects the panel shows as not built; the lighting
-//! controls edit the scene's environment light with `commands` messages.
+//! controls edit the scene's environment light with `commands` messages, and the timeline of a
+//! scene with animations sends `set_time` commands, at most ten a second while it plays.
 
 use std::time::{Duration, Instant};
 
@@ -10,14 +11,14 @@ use eframe::egui::{self, Color32, ColorImage};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use raystage_client::net::{Event, Frame, Link, Remote, SceneSnapshot};
-use raystage_client::protocol::{CameraJson, FrameStats, Hello, LightInfo, ObjectInfo, Rays, Request, SceneInfo, Settings};
+use raystage_client::protocol::{AnimationInfo, CameraJson, FrameStats, Hello, LightInfo, ObjectInfo, Rays, Request, SceneInfo, Settings};
 use raystage_client::{Viewer, ViewerOptions};
 use serde_json::json;
 
 fn scene() -> SceneSnapshot {
     let camera = CameraJson { eye: [0.0, 0.0, 5.0], target: [0.0; 3], up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0 };
     let info = SceneInfo { id: 1, origin: "demo:test".into(), version: 0, objects: 0, instances: 0, lights: 0, triangles: 0, camera };
-    SceneSnapshot { info, objects: Vec::new(), instances: Vec::new(), lights: Vec::new() }
+    SceneSnapshot { info, objects: Vec::new(), instances: Vec::new(), lights: Vec::new(), animations: Vec::new() }
 }
 
 fn frame(seq: u64, samples: u32, received: Instant) -> Event {
@@ -253,4 +254,73 @@ fn the_lighting_controls_choose_uniform_image_or_a_file() {
     harness.run();
     let white = json!({ "class": "EnvironmentLight", "radiance": [1.0, 1.0, 1.0], "map": null, "rotate": 0.0 });
     assert_eq!(requests(&mut remote), [Request::Commands(json!([{ "add_light": white }])), Request::RefreshScene]);
+}
+
+/// The `set_time` commands among `requests`: (seconds, animation).
+fn times(requests: Vec<Request>) -> Vec<(f64, u64)> {
+    requests
+        .into_iter()
+        .filter_map(|r| match r {
+            Request::Commands(c) => Some((c[0]["set_time"]["seconds"].as_f64().unwrap(), c[0]["set_time"]["animation"].as_u64().unwrap())),
+            _ => None,
+        })
+        .collect()
+}
+
+/// A scene with two animations, one second and four seconds long.
+fn animated() -> Event {
+    let animations = vec![
+        AnimationInfo { index: 0, name: "slide".into(), duration: 1.0 },
+        AnimationInfo { index: 1, name: "spin".into(), duration: 4.0 },
+    ];
+    Event::Scene(Box::new(SceneSnapshot { animations, ..scene() }))
+}
+
+#[test]
+fn the_timeline_sends_the_time_the_slider_is_moved_to() {
+    let (mut harness, mut remote) = viewer();
+    remote.events.send(Event::Scene(Box::new(scene()))).unwrap();
+    harness.run();
+    assert!(harness.query_by_label("Timeline").is_none(), "a scene without animations has no timeline");
+    remote.events.send(animated()).unwrap();
+    harness.run();
+    assert!(harness.query_by_label("play").is_some() && harness.query_by_label("animation").is_some());
+    assert_eq!(times(requests(&mut remote)), [], "opening the viewer poses nothing");
+
+    harness.get_by_role_and_label(egui::accesskit::Role::Slider, "seconds").focus();
+    harness.run();
+    harness.key_press(egui::Key::ArrowRight);
+    harness.run();
+    let sent = times(requests(&mut remote));
+    let [(seconds, 0)] = sent.as_slice() else { panic!("one set_time of animation 0, got {sent:?}") };
+    assert!(*seconds > 0.0 && *seconds <= 1.0, "{seconds}");
+}
+
+#[test]
+fn playing_sends_the_advancing_time_at_most_ten_times_a_second_and_loops() {
+    let (link, mut remote) = Link::pair();
+    let viewer = Viewer::new(link, ViewerOptions { max_samples: 256, ..ViewerOptions::default() });
+    // Steps of 40 ms: faster than the timeline may send.
+    let mut harness = Harness::builder().with_size([1000.0, 600.0]).with_step_dt(0.04).build_ui_state(|ui, viewer: &mut Viewer| viewer.ui(ui), viewer);
+    remote.events.send(animated()).unwrap();
+    harness.run();
+    requests(&mut remote);
+    harness.get_by_label("play").click();
+    // Playing repaints continuously: step, not run (which waits for the UI to settle).
+    for _ in 0..50 {
+        harness.step();
+    }
+    let sent = times(requests(&mut remote));
+    // Two seconds of steps: about one send per 120 ms (three steps), never closer than 100 ms.
+    assert!((14..=20).contains(&sent.len()), "{} sends: {sent:?}", sent.len());
+    assert!(sent.iter().all(|&(s, animation)| animation == 0 && (0.0..=1.0).contains(&s)), "{sent:?}");
+    assert!(sent.windows(2).any(|w| w[1].0 < w[0].0), "the one-second animation loops: {sent:?}");
+    harness.get_by_label("pause").click();
+    harness.step();
+    harness.step();
+    requests(&mut remote);
+    for _ in 0..10 {
+        harness.step();
+    }
+    assert_eq!(times(requests(&mut remote)), [], "paused, nothing more goes");
 }

@@ -1,17 +1,17 @@
 //! Applying edits. Every edit, whether it came alone (`POST /objects`) or in a batch
 //! (`POST /commands`), runs through [`execute`]: first each command is checked against the
 //! scene as the earlier commands will have left it (ids, labels, deletions, meshes,
-//! transforms, parameters, lights, textures, camera), with no edit made; only when all pass
+//! transforms, parameters, lights, textures, camera, animations), with no edit made; only when all pass
 //! are they applied. So a failed batch changes nothing, without copying the scene.
 
 use std::collections::{BTreeMap, HashMap, HashSet};
 
 use glam::{Affine3A, Vec3};
-use raystage_scene::{Camera, InstanceId, Light, LightId, Mesh, ObjectId, ObjectKind, ParamValue, Scene, SceneError, Shader, ShaderId, Texture, TextureId};
+use raystage_scene::{Camera, InstanceId, Light, LightId, Mesh, ObjectId, ObjectKind, ParamValue, Play, Scene, SceneError, Shader, ShaderId, Texture, TextureId};
 
 use crate::config::Limits;
 use crate::error::{ApiError, ApiResult};
-use crate::model::{Binding, Command, CommandResult, Kind as JsonKind, LightSpec, MeshSpec, ParamJson, ParamWrite, Ref, decode_positions, param_value};
+use crate::model::{AnimationRef, Binding, Command, CommandResult, Kind as JsonKind, LightSpec, MeshSpec, ParamJson, ParamWrite, Ref, decode_positions, param_value};
 
 /// The kinds of resources commands refer to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -70,6 +70,7 @@ enum Op {
     SetTexture(Target, Texture),
     DeleteTexture(Target),
     SetCamera(Camera),
+    SetTime { play: Play, seconds: f32 },
 }
 
 /// Checks every command, then applies them all. In a batch, error fields are prefixed with the
@@ -84,7 +85,7 @@ pub(crate) fn execute(scene: &mut Scene, commands: Vec<Command>, limits: &Limits
         let name = command.op();
         ops.push(planner.plan(i, command).map_err(|e| if in_batch { e.within(&format!("commands[{i}].{name}")) } else { e })?);
     }
-    apply(scene, ops)
+    apply(scene, ops, in_batch)
 }
 
 /// The scene as the commands checked so far will leave it, as far as later commands can tell.
@@ -245,7 +246,34 @@ impl<'s> Planner<'s> {
                 self.camera = patch.apply(self.camera)?;
                 Op::SetCamera(self.camera)
             }
+            Command::SetTime(t) => {
+                // The bound is `f32`'s, the scene's time type: past it a time is infinite.
+                let seconds = t.seconds as f32;
+                if !(t.seconds >= 0.0 && seconds.is_finite()) {
+                    return Err(ApiError::unprocessable(Some("seconds".into()), format!("{} is not a time: it must be a finite number of seconds, at least 0", t.seconds)));
+                }
+                Op::SetTime { play: self.play(t.animation)?, seconds }
+            }
         })
+    }
+
+    /// The animations `animation` names (default the first), which must be the scene's.
+    fn play(&self, animation: Option<AnimationRef>) -> ApiResult<Play> {
+        let field = Some("animation".to_string());
+        let animations = self.scene.animations();
+        if animations.is_empty() {
+            return Err(ApiError::unprocessable(field, "the scene has no animations (a glTF file's come with it: POST /scenes/{scene}/gltf)"));
+        }
+        match animation {
+            None => Ok(Play::Clip(0)),
+            Some(AnimationRef::Name(name)) if name == "all" => Ok(Play::All),
+            Some(AnimationRef::Index(k)) if (k as usize) < animations.len() => Ok(Play::Clip(k as usize)),
+            Some(AnimationRef::Index(k)) => Err(ApiError::unprocessable(field, format!("there is no animation {k}: the scene has {}", animations.len()))),
+            Some(AnimationRef::Name(name)) => match animations.iter().position(|a| a.name == name) {
+                Some(k) => Ok(Play::Clip(k)),
+                None => Err(ApiError::unprocessable(field, format!("the scene has no animation named `{name}`"))),
+            },
+        }
     }
 
     /// A light checked, with its environment map resolved.
@@ -372,13 +400,20 @@ impl<'s> Planner<'s> {
     }
 }
 
-/// Applies checked commands in order.
-fn apply(scene: &mut Scene, ops: Vec<Op>) -> ApiResult<Vec<CommandResult>> {
+/// Applies checked commands in order. A pose is the one edit that can still fail here: whether
+/// every node can be placed at a time (a node scaled to zero cannot) is known only by posing,
+/// so that failure is the client's (422), and the caller restores the scene.
+fn apply(scene: &mut Scene, ops: Vec<Op>, in_batch: bool) -> ApiResult<Vec<CommandResult>> {
     let mut ids: Vec<Option<u32>> = Vec::with_capacity(ops.len());
     let mut results = Vec::with_capacity(ops.len());
     for (k, op) in ops.into_iter().enumerate() {
+        let posing = matches!(op, Op::SetTime { .. });
         let result = apply_one(scene, op, &ids).map_err(|e| {
-            ApiError::internal(format!("command {k} failed although it was checked ({e}); the commands before it were applied"))
+            if !posing {
+                return ApiError::internal(format!("command {k} failed although it was checked ({e}); the commands before it were applied"));
+            }
+            let e = ApiError::unprocessable(Some("seconds".into()), format!("the scene cannot be posed at this time: {e}"));
+            if in_batch { e.within(&format!("commands[{k}].set_time")) } else { e }
         })?;
         ids.push(result.id);
         results.push(result);
@@ -485,6 +520,10 @@ fn apply_one(scene: &mut Scene, op: Op, ids: &[Option<u32>]) -> Result<CommandRe
         }
         Op::SetCamera(camera) => {
             scene.set_camera(camera)?;
+            done
+        }
+        Op::SetTime { play, seconds } => {
+            scene.pose(play, seconds)?;
             done
         }
     })

@@ -197,6 +197,29 @@ pub struct Delete {
     pub id: Ref,
 }
 
+/// Batch `set_time`: the scene posed at a time of its animations (`GET
+/// /scenes/{scene}/animations` lists them).
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SetTime {
+    /// Seconds into the animation, at least 0; past its end it holds its last keyframe.
+    pub seconds: f64,
+    /// Which animation: its index, its name, or `all` for all of them together; default the
+    /// first.
+    pub animation: Option<AnimationRef>,
+}
+
+/// An animation: its index in `GET /scenes/{scene}/animations`, its name, or `all` (every
+/// animation at once; a name `all` is therefore only reachable by index).
+#[derive(Clone, Debug, PartialEq, Eq, Deserialize, Serialize, ToSchema)]
+#[serde(untagged, expecting = "an animation's index (a number), its name, or `all` (a string)")]
+pub enum AnimationRef {
+    /// An index.
+    Index(u32),
+    /// A name, or `all`.
+    Name(String),
+}
+
 /// One edit of a batch: an object with one key, the operation, whose value is its arguments
 /// (`{"add_instance": {"object": 1, "transform": {"translate": [0, 1, 0]}}}`).
 #[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
@@ -239,6 +262,8 @@ pub enum Command {
     DeleteTexture(Delete),
     /// Changes the camera (fields left out stay).
     SetCamera(CameraPatch),
+    /// Poses the scene at a time of its animations.
+    SetTime(SetTime),
 }
 
 impl Command {
@@ -263,6 +288,7 @@ impl Command {
             Command::SetTexture(_) => "set_texture",
             Command::DeleteTexture(_) => "delete_texture",
             Command::SetCamera(_) => "set_camera",
+            Command::SetTime(_) => "set_time",
         }
     }
 }

@@ -12,7 +12,7 @@ mod transform;
 
 pub use camera::{CameraJson, CameraPatch};
 pub use command::{
-    Command, CommandResult, Commands, CommandsResult, Delete, DefineObject, DefineShader, InstanceBody, InstanceUpdate, ObjectBody,
+    AnimationRef, Command, CommandResult, Commands, CommandsResult, Delete, DefineObject, DefineShader, InstanceBody, InstanceUpdate, ObjectBody,
     ObjectUpdate, ParamsBody, PositionsBody, SetInstance, SetLight, SetParams, SetPositions, SetTexture, ShaderBody, ShaderUpdate,
 };
 pub use light::{LIGHT_CLASSES, LightInfo, LightSpec, Rgb};

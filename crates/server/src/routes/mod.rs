@@ -1,6 +1,7 @@
 //! The HTTP routes: one module per resource, each handler a thin shell around an edit (run
 //! through [`crate::batch`]), a read, or a render.
 
+mod animations;
 mod camera;
 mod classes;
 pub(crate) mod commands;
@@ -49,6 +50,7 @@ pub(crate) fn router(state: AppState) -> Router {
         .route("/scenes/{scene}/lights/{id}", get(lights::get).put(lights::set).delete(lights::delete))
         .route("/scenes/{scene}/textures", get(textures::list).post(textures::add))
         .route("/scenes/{scene}/textures/{id}", get(textures::get).put(textures::set).delete(textures::delete))
+        .route("/scenes/{scene}/animations", get(animations::list))
         .route("/scenes/{scene}/camera", get(camera::get).put(camera::set))
         .route("/scenes/{scene}/commands", axum::routing::post(commands::run))
         .route("/scenes/{scene}/gltf", axum::routing::post(gltf::upload))

@@ -28,6 +28,7 @@ use crate::stream::{ClientMessage, FrameMessage, ServerMessage, SettingsChange};
         super::lights::list, super::lights::add, super::lights::get, super::lights::set, super::lights::delete,
         super::textures::list, super::textures::add, super::textures::get, super::textures::set, super::textures::delete,
         super::camera::get, super::camera::set,
+        super::animations::list,
         super::commands::run,
         super::gltf::upload,
         super::frame::frame_png, super::frame::channel, super::frame::pick,
@@ -48,6 +49,7 @@ use crate::stream::{ClientMessage, FrameMessage, ServerMessage, SettingsChange};
         (name = "lights", description = "Light sources"),
         (name = "textures", description = "Procedural and image textures, for shaders' texture parameters and environment maps"),
         (name = "camera", description = "The camera"),
+        (name = "animations", description = "Animations of glTF files, posed by the batch command `set_time`"),
         (name = "commands", description = "Batches of edits, all or nothing"),
         (name = "frames", description = "Rendering: PNG frames, picking, the progressive stream"),
         (name = "server", description = "The server itself"),
@@ -202,7 +204,8 @@ const DECIMAL: &str = "(0|[1-9][0-9]{0,5})(\\.[0-9]{1,6})?";
 ///   `positions` or `positions_base64`;
 /// - a light takes the parameters of its class only: `LightSpec` and `LightInfo` are one-ofs by
 ///   `class`, each class's other parameters null if present (the server reads null as absent);
-/// - a `_base64` field is padded standard base64 (the server refuses other text with 400).
+/// - a `_base64` field is padded standard base64 (the server refuses other text with 400);
+/// - `set_time`'s seconds are a time the scene can hold.
 fn exact_json(json: &mut serde_json::Value) {
     use serde_json::{Value, json};
     fn unsigned(node: &mut Value) {
@@ -259,6 +262,10 @@ fn exact_json(json: &mut serde_json::Value) {
     }
 
     let schemas = &mut json["components"]["schemas"];
+    // The scene's times are `f32`: past its largest, a number of seconds would be infinite.
+    let seconds = &mut schemas["SetTime"]["properties"]["seconds"];
+    seconds["minimum"] = json!(0);
+    seconds["maximum"] = json!(f32::MAX as f64);
     for kind in schemas["ProjectionJson"]["oneOf"].as_array_mut().into_iter().flatten() {
         kind["additionalProperties"] = json!(false);
     }
