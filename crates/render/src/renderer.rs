@@ -15,7 +15,7 @@ use crate::integrator::{Hit, Tracer, eyelight, first_matte, path, recursive};
 use crate::lights::Seen;
 use crate::sampler::PixelSampler;
 use crate::stats::{FrameStats, PhaseTimes, RayCounts, TaskTimes};
-use crate::tiles::{Share, Sums, Tile, render_tiles_with};
+use crate::tiles::{Share, Tile, TileSums, render_tiles_with};
 use crate::{Cancel, Error, Film, FrameSettings, Integrator, MIN_ADAPTIVE_SAMPLES, RenderSettings};
 
 /// Renders `settings.samples_per_pixel` samples of every pixel of `frame`, on the current rayon
@@ -226,12 +226,12 @@ impl Progressive {
         // Adaptive sampling: each tile's count, the tile's task the only one to touch it.
         let tile_samples: Option<Vec<AtomicU32>> = self.tile_samples.as_ref().map(|t| t.iter().map(|&n| AtomicU32::new(n)).collect());
         let (sum, sum_sq) = (&mut self.sum, self.sum_sq.as_deref_mut());
-        let add = |tile: &Tile, sums: &Sums<'_>| {
+        let add = |tile: &Tile, sums: &mut TileSums<'_>| {
             let slot = tile_samples.as_ref().map(|t| &t[crate::tiles::tile_of(tile.x0, tile.y0, s.width, s.height)]);
             let first = slot.map_or(first_index, |n| n.load(Relaxed));
             if let (Some(threshold), Some(_)) = (s.noise_threshold, slot)
                 && first >= MIN_ADAPTIVE_SAMPLES
-                && sums.converged(tile, first, threshold)
+                && sums.converged(first, threshold)
             {
                 return;
             }
@@ -389,10 +389,10 @@ impl TileWork {
     /// One sample (number `index`) of every pixel of the tile, added to the tile's sums (sample
     /// 0 is written over them). A frame of one sample per pixel looks through pixel centres;
     /// with more, samples spread over the pixel by the filter.
-    fn sample(&mut self, t: &Tracer<'_, '_>, camera: &CameraRays, index: u32, sums: &Sums<'_>) {
+    fn sample(&mut self, t: &Tracer<'_, '_>, camera: &CameraRays, index: u32, sums: &mut TileSums<'_>) {
         self.trace_and_shade(t, camera, index);
         // The first sample writes every pixel over what the buffers held.
-        sums.add_tile(&self.tile, &self.samples, index == 0);
+        sums.add(&self.samples, index == 0);
     }
 
     /// [`TileWork::sample`] of any frame: the tile's camera rays traced together, then shaded

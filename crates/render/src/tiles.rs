@@ -10,12 +10,9 @@
 //! image of 128×128 or more keeps 64 threads busy with tasks of at most 1/256 of it. Rayon
 //! splits the row-major range of tiles in halves, so neighbouring tiles go to the same thread.
 //!
-//! Each tile writes its own pixels of the shared accumulation buffers in place (no copies, no
-//! locks; tiles are disjoint, so no two tasks touch one pixel), and the last tile to finish a
-//! band of rows hands the band on.
-
-use std::marker::PhantomData;
-use std::sync::atomic::{AtomicU32, Ordering};
+//! Each tile writes its own pixels of the accumulation buffers in place, through a mutable view
+//! of its row segments ([`TileSums`]: no copies, no locks, no two tasks touching one pixel, as the
+//! borrow checker sees), and a band of rows is handed on once its tiles are done.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -129,48 +126,38 @@ impl Tile {
     }
 }
 
-/// The per-pixel accumulation buffers of a frame, shared by its tiles: each tile writes only its
-/// own pixels.
-pub(crate) struct Sums<'a> {
-    /// Sum of the samples, per pixel, row-major.
-    sum: *mut Vec3,
-    /// Sum of the squared sample luminances, per pixel, if the variance is kept.
-    sum_sq: Option<*mut f32>,
-    width: u32,
-    len: usize,
-    _borrow: PhantomData<&'a mut [Vec3]>,
+/// A tile's own pixels of the frame's accumulation buffers: its row segments of the sums (and of
+/// the squared luminances, if kept), borrowed mutably and disjointly from every other tile's, so
+/// that tiles write in place on many threads without locks and without `unsafe`.
+pub(crate) struct TileSums<'a> {
+    /// The tile's rows of sums of the samples, top to bottom.
+    rows: Vec<&'a mut [Vec3]>,
+    /// The tile's rows of sums of the squared sample luminances, if the variance is kept.
+    squares: Option<Vec<&'a mut [f32]>>,
 }
 
-// Safety: tiles are disjoint and each is given to one task only (`render_tiles_with`), so the
-// threads sharing the buffers never write, or read, the same pixel at once.
-unsafe impl Sync for Sums<'_> {}
-
-impl Sums<'_> {
-    /// Adds one sample of every pixel of `tile`, `samples` in the tile's row-major order, to the
+impl TileSums<'_> {
+    /// Adds one sample of every pixel of the tile, `samples` in the tile's row-major order, to the
     /// sums (and their squared luminances, if kept); the first pass writes them over the sums
-    /// instead. Only the task that was given `tile` may call it.
+    /// instead.
     ///
     /// The samples are gathered per tile rather than stored pixel by pixel as they are shaded:
     /// a frame's sums are far larger than the caches, and each store that misses them holds up
     /// the stores behind it (the next packet's camera rays, its shading), where row by row the
     /// misses come together.
-    pub fn add_tile(&self, tile: &Tile, samples: &[Vec3], first_pass: bool) {
-        assert_eq!(samples.len(), tile.len(), "a sample per pixel of the tile");
-        let width = tile.width as usize;
-        for (row, samples) in samples.chunks(width).enumerate() {
-            let at = ((tile.y0 as usize + row) * self.width as usize) + tile.x0 as usize;
-            assert!(tile.x0 + tile.width <= self.width && at + width <= self.len, "the tile lies in the image");
-            // Safety: in bounds (checked), and only this tile's task touches these pixels.
-            let sum = unsafe { std::slice::from_raw_parts_mut(self.sum.add(at), width) };
+    pub fn add(&mut self, samples: &[Vec3], first_pass: bool) {
+        let width = self.rows.first().map_or(0, |r| r.len());
+        assert_eq!(samples.len(), width * self.rows.len(), "a sample per pixel of the tile");
+        for (row, samples) in self.rows.iter_mut().zip(samples.chunks(width.max(1))) {
             if first_pass {
-                sum.copy_from_slice(samples);
+                row.copy_from_slice(samples);
             } else {
-                sum.iter_mut().zip(samples).for_each(|(sum, sample)| *sum += *sample);
+                row.iter_mut().zip(samples).for_each(|(sum, sample)| *sum += *sample);
             }
-            if let Some(sum_sq) = self.sum_sq {
-                // Safety: as above, the squared sums have one entry per pixel too.
-                let sum_sq = unsafe { std::slice::from_raw_parts_mut(sum_sq.add(at), width) };
-                for (sum_sq, sample) in sum_sq.iter_mut().zip(samples) {
+        }
+        if let Some(squares) = &mut self.squares {
+            for (row, samples) in squares.iter_mut().zip(samples.chunks(width.max(1))) {
+                for (sum_sq, sample) in row.iter_mut().zip(samples) {
                     let square = luminance(*sample) * luminance(*sample);
                     *sum_sq = if first_pass { square } else { *sum_sq + square };
                 }
@@ -178,29 +165,17 @@ impl Sums<'_> {
         }
     }
 
-    /// Whether every pixel of `tile`, with `samples` samples, has a standard error of its mean
+    /// Whether every pixel of the tile, with `samples` samples, has a standard error of its mean
     /// luminance within `threshold` of the mean (a floor of 10⁻³ keeps black pixels from
-    /// dividing by zero). Only the task that was given `tile` may call it.
-    pub fn converged(&self, tile: &Tile, samples: u32, threshold: f32) -> bool {
-        let Some(sum_sq) = self.sum_sq else { return false };
-        (0..tile.height).all(|row| {
-            let at = ((tile.y0 + row) as usize * self.width as usize) + tile.x0 as usize;
-            assert!(at + tile.width as usize <= self.len, "the tile lies in the image");
-            // Safety: in bounds, and only this tile's task touches these pixels.
-            let (sums, squares) = unsafe { (std::slice::from_raw_parts(self.sum.add(at), tile.width as usize), std::slice::from_raw_parts(sum_sq.add(at), tile.width as usize)) };
-            sums.iter().zip(squares).all(|(s, sq)| {
+    /// dividing by zero).
+    pub fn converged(&self, samples: u32, threshold: f32) -> bool {
+        let Some(squares) = &self.squares else { return false };
+        self.rows.iter().zip(squares).all(|(sums, squares)| {
+            sums.iter().zip(squares.iter()).all(|(s, sq)| {
                 let mean = luminance(*s) / samples as f32;
                 variance_of_mean(*s, *sq, samples).sqrt() <= threshold * mean.max(1e-3)
             })
         })
-    }
-
-    /// The sums of rows `rows`, once every tile over them is done.
-    fn rows(&self, rows: std::ops::Range<u32>) -> &[Vec3] {
-        let (start, end) = (rows.start as usize * self.width as usize, rows.end as usize * self.width as usize);
-        assert!(end <= self.len);
-        // Safety: in bounds, and no task writes these rows any more (their tiles are done).
-        unsafe { std::slice::from_raw_parts(self.sum.add(start), end - start) }
     }
 }
 
@@ -220,12 +195,15 @@ pub(crate) fn luminance(c: Vec3) -> f32 {
     c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
 }
 
-/// Runs `add` over every tile of `share` of a `width × height` image, each tile a task on the current
-/// rayon pool (run it inside `ThreadPool::install` to choose the number of threads), giving it
-/// the per-pixel accumulation buffers (row-major, one entry per pixel; the squared sums only if
-/// kept) to write its pixels into. Once every tile of a band of rows is done,
-/// `finished(first_row, sums)` is called with the band's rows of sums, on the thread that
-/// finished its last tile.
+/// Runs `add` over every tile of `share` of a `width × height` image, each tile a task on the
+/// current rayon pool (run it inside `ThreadPool::install` to choose the number of threads),
+/// giving it its own pixels of the per-pixel accumulation buffers (row-major, one entry per
+/// pixel; the squared sums only if kept) to write into. Once every tile of a band of rows is
+/// done, `finished(first_row, sums)` is called with the band's rows of sums.
+///
+/// The buffers are cut into bands of rows, each a task, and each band into its tiles' row
+/// segments, each a task too: every task holds a mutable view of its own pixels only, and a
+/// band's task, once its tiles are done, holds the whole band again to hand it on.
 ///
 /// Once `cancel` is cancelled, the tiles not yet started are skipped, and so are the bands they
 /// lie in: a cancelled frame's sums are incomplete, and only the caller knows what to do with
@@ -237,7 +215,7 @@ pub(crate) fn render_tiles_with(
     sum: &mut [Vec3],
     sum_sq: Option<&mut [f32]>,
     cancel: Option<&Cancel>,
-    add: impl Fn(&Tile, &Sums<'_>) + Sync,
+    add: impl Fn(&Tile, &mut TileSums<'_>) + Sync,
     finished: impl Fn(u32, &[Vec3]) + Sync,
 ) {
     if width == 0 || height == 0 {
@@ -246,26 +224,55 @@ pub(crate) fn render_tiles_with(
     let n = width as usize * height as usize;
     assert!(sum.len() == n && sum_sq.as_ref().is_none_or(|s| s.len() == n), "one sum per pixel");
     let side = tile_size(width, height);
-    let (columns, bands) = (width.div_ceil(side), height.div_ceil(side));
-    let sums = Sums { sum: sum.as_mut_ptr(), sum_sq: sum_sq.map(|s| s.as_mut_ptr()), width, len: n, _borrow: PhantomData };
-    // The share's tiles only: the others' pixels are left as they are.
-    let owned: Vec<u32> = (0..columns * bands).filter(|&index| share.owns_tile(index)).collect();
-    // The share's tiles still to finish in each band: the one that brings it to 0 hands the band
-    // on (whole in a whole-frame render; with only the share's tiles done otherwise).
-    let pending: Vec<AtomicU32> = (0..bands).map(|band| AtomicU32::new((0..columns).filter(|c| share.owns_tile(band * columns + c)).count() as u32)).collect();
-    owned.into_par_iter().for_each(|index| {
-        if cancel.is_some_and(Cancel::is_cancelled) {
+    let columns = width.div_ceil(side);
+    let band_len = side as usize * width as usize;
+    let square_bands: Vec<Option<&mut [f32]>> = match sum_sq {
+        Some(squares) => squares.chunks_mut(band_len).map(Some).collect(),
+        None => (0..height.div_ceil(side)).map(|_| None).collect(),
+    };
+    let cancelled = || cancel.is_some_and(Cancel::is_cancelled);
+    sum.par_chunks_mut(band_len).zip(square_bands).enumerate().for_each(|(band, (band_sums, band_squares))| {
+        let y0 = band as u32 * side;
+        // The share's tiles of the band only: the others' pixels are left as they are.
+        let owned: Vec<u32> = (0..columns).filter(|c| share.owns_tile(band as u32 * columns + c)).collect();
+        if owned.is_empty() || cancelled() {
             return;
         }
-        let (band, column) = (index / columns, index % columns);
-        let (x0, y0) = (column * side, band * side);
-        let tile = Tile { x0, y0, width: side.min(width - x0), height: side.min(height - y0) };
-        add(&tile, &sums);
-        // Release the tile's writes to, and acquire the others' for, whoever finishes the band.
-        if pending[band as usize].fetch_sub(1, Ordering::AcqRel) == 1 {
-            finished(y0, sums.rows(y0..y0 + tile.height));
+        let mut tiles: Vec<(Tile, TileSums<'_>)> = owned
+            .iter()
+            .map(|&c| {
+                let x0 = c * side;
+                let tile = Tile { x0, y0, width: side.min(width - x0), height: side.min(height - y0) };
+                (tile, TileSums { rows: Vec::new(), squares: band_squares.is_some().then(Vec::new) })
+            })
+            .collect();
+        cut_rows(band_sums, width, side, &owned, &mut tiles, |sums, row| sums.rows.push(row));
+        if let Some(squares) = band_squares {
+            cut_rows(squares, width, side, &owned, &mut tiles, |sums, row| sums.squares.as_mut().expect("kept").push(row));
+        }
+        tiles.into_par_iter().for_each(|(tile, mut sums)| {
+            if !cancelled() {
+                add(&tile, &mut sums);
+            }
+        });
+        // A tile skipped for a cancelled frame leaves the band incomplete.
+        if !cancelled() {
+            finished(y0, band_sums);
         }
     });
+}
+
+/// Cuts `band`'s rows (of `width` pixels) at every `side` pixels and hands the segments of the
+/// columns `owned` to their tiles, `push(tile's sums, segment)`, top to bottom.
+fn cut_rows<'a, T>(band: &'a mut [T], width: u32, side: u32, owned: &[u32], tiles: &mut [(Tile, TileSums<'a>)], push: impl Fn(&mut TileSums<'a>, &'a mut [T])) {
+    for row in band.chunks_mut(width as usize) {
+        let mut next = owned.iter().zip(tiles.iter_mut()).peekable();
+        for (column, segment) in row.chunks_mut(side as usize).enumerate() {
+            if let Some((_, (_, sums))) = next.next_if(|(c, _)| **c == column as u32) {
+                push(sums, segment);
+            }
+        }
+    }
 }
 
 #[cfg(test)]
@@ -277,7 +284,7 @@ mod tests {
     const SIZES: [(u32, u32); 7] = [(1, 1), (16, 16), (17, 16), (16, 33), (35, 7), (160, 90), (3, 250)];
 
     /// Runs `add` over a fresh `width × height` image; returns the sums.
-    fn run(width: u32, height: u32, add: impl Fn(&Tile, &Sums<'_>) + Sync) -> Vec<Vec3> {
+    fn run(width: u32, height: u32, add: impl Fn(&Tile, &mut TileSums<'_>) + Sync) -> Vec<Vec3> {
         let n = (width * height) as usize;
         let (mut sum, mut sum_sq) = (vec![Vec3::ZERO; n], vec![0.0; n]);
         render_tiles_with(width, height, Share::WHOLE, &mut sum, Some(&mut sum_sq), None, add, |_, _| {});
@@ -294,7 +301,7 @@ mod tests {
                     let (x, y) = tile.pixel(i);
                     calls[(y * width + x) as usize].fetch_add(1, Ordering::Relaxed);
                 }
-                sums.add_tile(tile, &samples, true);
+                sums.add(&samples, true);
             });
             assert!(calls.iter().all(|c| c.load(Ordering::Relaxed) == 1), "{width}×{height}");
             for (i, p) in sum.iter().enumerate() {
@@ -312,7 +319,7 @@ mod tests {
         for pass in 0..2 {
             render_tiles_with(width, height, Share::WHOLE, &mut sum, Some(&mut sum_sq), None, |tile, sums| {
                 let samples: Vec<Vec3> = (0..tile.len()).map(|i| sample(tile.pixel(i).0, tile.pixel(i).1)).collect();
-                sums.add_tile(tile, &samples, pass == 0);
+                sums.add(&samples, pass == 0);
             }, |_, _| {});
         }
         for (i, (s, sq)) in sum.iter().zip(&sum_sq).enumerate() {
@@ -343,7 +350,7 @@ mod tests {
         let (width, height) = (100, 75);
         let bands = std::sync::Mutex::new(Vec::new());
         let mut sum = vec![Vec3::ZERO; (width * height) as usize];
-        render_tiles_with(width, height, Share::WHOLE, &mut sum, None, None, |tile, sums| sums.add_tile(tile, &vec![Vec3::ONE; tile.len()], true), |y0, rows| {
+        render_tiles_with(width, height, Share::WHOLE, &mut sum, None, None, |tile, sums| sums.add(&vec![Vec3::ONE; tile.len()], true), |y0, rows| {
             assert!(rows.iter().all(|&p| p == Vec3::ONE), "band at {y0} complete");
             bands.lock().unwrap().push((y0, rows.len() as u32 / width));
         });
@@ -380,7 +387,7 @@ mod tests {
     fn runs_on_the_callers_pool() {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
         let sum = pool.install(|| {
-            run(40, 40, |tile, sums| sums.add_tile(tile, &vec![Vec3::splat(rayon::current_num_threads() as f32); tile.len()], true))
+            run(40, 40, |tile, sums| sums.add(&vec![Vec3::splat(rayon::current_num_threads() as f32); tile.len()], true))
         });
         assert_eq!(sum[0], Vec3::ONE);
     }
