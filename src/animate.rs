@@ -21,6 +21,10 @@ pub struct ScenePose {
     /// The animation: its name, its index, or `all` for every one together; `None` for the
     /// first.
     pub animation: Option<String>,
+    /// Seconds the shutter stays open from `time` (and from each frame's time of a sequence):
+    /// the instances the animation moves blur along their motion over that interval, where the
+    /// integrator simulates motion blur (distribution, path); `None` for an instant.
+    pub shutter: Option<f32>,
 }
 
 /// Frames `first..=last` of a file's animation at `fps` frames per second: frame `n` shows
@@ -74,8 +78,21 @@ pub(crate) fn pose(scene: &mut Scene, pose: &ScenePose, log: &mut impl Write, na
         return Ok(());
     }
     let play = play_for(scene, pose.animation.as_deref())?;
-    scene.pose(play, pose.time).with_context(|| format!("cannot pose {name} at {} s", pose.time))?;
+    pose_at(scene, play, pose.time, pose.shutter, name)?;
     writeln!(log, "{name}: posed at {:.3} s of {}", pose.time, describe(scene, play))?;
+    Ok(())
+}
+
+/// Poses `scene` at `time` seconds of `play`, its instances moving over `shutter` seconds from
+/// then with the camera's shutter open over the interval, if given.
+fn pose_at(scene: &mut Scene, play: Play, time: f32, shutter: Option<f32>, name: &str) -> Result<()> {
+    let Some(open) = shutter else {
+        return scene.pose(play, time).with_context(|| format!("cannot pose {name} at {time} s"));
+    };
+    ensure!(open.is_finite() && open > 0.0, "--shutter must be a positive number of seconds, got {open}");
+    scene.pose_over(play, time, time + open).with_context(|| format!("cannot pose {name} from {time} s to {} s", time + open))?;
+    let camera = raystage_scene::Camera { shutter: [0.0, 1.0], ..*scene.camera() };
+    scene.set_camera(camera).context("cannot open the camera's shutter")?;
     Ok(())
 }
 
@@ -123,7 +140,7 @@ pub(crate) fn render_sequence(job: &RenderJob, sequence: &Sequence, log: &mut im
     for n in sequence.first..=sequence.last {
         let time = n as f32 / sequence.fps;
         let start = Instant::now();
-        scene.pose(play, time).with_context(|| format!("cannot pose {} at {time} s", job.scene.name()))?;
+        pose_at(&mut scene, play, time, chosen.as_ref().and_then(|p| p.shutter), &job.scene.name())?;
         let posed = start.elapsed().as_secs_f64();
         let (film, frame, _) = pool.install(|| render_with_progress(&scene, &settings, raystage_render::Share::WHOLE)).context("bad render settings")?;
         let path = frame_path(&job.out, n)?;

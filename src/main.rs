@@ -41,6 +41,10 @@ enum Command {
         /// together [default: the first].
         #[arg(long, conflicts_with = "demo")]
         animation: Option<String>,
+        /// Seconds the shutter stays open from --time (or each frame's time): what the animation
+        /// moves blurs along its motion, with the distribution or path integrator.
+        #[arg(long, conflicts_with = "demo")]
+        shutter: Option<f32>,
         /// Render frames FIRST..LAST (both included) of the glTF file's animation at --fps,
         /// frame n at n / fps seconds, from one import; --out is then a pattern with %d or %0Nd
         /// for the frame number (frame_%04d.png).
@@ -162,6 +166,7 @@ fn main() -> ExitCode {
             frame,
             time,
             animation,
+            shutter,
             frames,
             fps,
             out,
@@ -172,7 +177,7 @@ fn main() -> ExitCode {
             #[cfg(feature = "mpi")]
             mpi,
         } => {
-            let pose = (time.is_some() || animation.is_some()).then(|| raystage::ScenePose { time: time.unwrap_or(0.0), animation });
+            let pose = (time.is_some() || animation.is_some() || shutter.is_some()).then(|| raystage::ScenePose { time: time.unwrap_or(0.0), animation, shutter });
             let scene = SceneSource::from_args(scene, demo, frame, pose).expect("clap requires a file or a demo");
             let frames = frames.map(|(first, last)| raystage::Sequence { first, last, fps });
             let mut settings = settings.patch();

@@ -215,3 +215,29 @@ fn an_unknown_animation_or_a_time_for_a_demo_is_an_error() {
     let demo = run(&["render", "--demo", "cornell", "--time", "1", "--out", out.to_str().unwrap()]);
     assert!(!demo.status.success() && String::from_utf8_lossy(&demo.stderr).contains("cannot be used with"));
 }
+
+/// `--shutter` blurs what the animation moves along its motion: over a shutter open from 0 to
+/// 1 s the right square covers its place at time 0 for half the interval and its place at time
+/// 1 for the other half, so both show between the square and what is behind it; the still
+/// square stays sharp. (Without the animation's motion, the blurred image would be the crisp one
+/// at time 0.)
+#[test]
+fn shutter_blurs_what_the_animation_moves() {
+    let file = write_animated_squares("blurred");
+    let render = |name: &str, extra: &[&str]| {
+        let out = temp(&format!("blurred-{name}.png"));
+        let mut args = vec!["render", file.to_str().unwrap(), "--out", out.to_str().unwrap(), "--width", "64", "--height", "64", "--integrator", "path", "--spp", "64"];
+        args.extend_from_slice(extra);
+        render_args(&args);
+        image::open(&out).unwrap().to_rgba8()
+    };
+    let (at_0, at_1, blurred) = (render("0", &["--time", "0"]), render("1", &["--time", "1"]), render("blur", &["--time", "0", "--shutter", "1"]));
+    for (x, y) in [(47, 32), (47, 47)] {
+        // Red: none in the green square, much in the grey studio behind it.
+        let (a, b, c) = (at_0.get_pixel(x, y)[0], at_1.get_pixel(x, y)[0], blurred.get_pixel(x, y)[0]);
+        let (low, high) = (a.min(b), a.max(b));
+        assert!(high - low > 100, "the square moves across ({x}, {y}): {a} and {b}");
+        assert!(c > low + 30 && c < high - 30, "({x}, {y}) is blurred between {low} and {high}: {c}");
+    }
+    assert_eq!(blurred.get_pixel(17, 32), at_0.get_pixel(17, 32), "the still square stays sharp");
+}

@@ -13,6 +13,9 @@ use rayon::prelude::*;
 use crate::error::ImportError;
 use crate::{Limits, buffers};
 
+/// An image decoded: its index, whether it holds colours, and its texels.
+pub(crate) type Decoded = ((usize, bool), Image);
+
 /// The images `used` (each an index and whether it holds colours) of `document`, decoded, from
 /// the buffers already loaded (`buffers`) or URIs resolved against `base`. Every image's header
 /// is read first, so that an image, or all of them together, larger than the limits allow is
@@ -25,7 +28,7 @@ pub(crate) fn load_all(
     buffers: &[Vec<u8>],
     base: Option<&Path>,
     limits: &Limits,
-) -> Result<Vec<((usize, bool), Image)>, ImportError> {
+) -> Result<Vec<Decoded>, ImportError> {
     let encoded = used.iter().map(|&(index, _)| bytes_of(document, index, buffers, base)).collect::<Result<Vec<_>, _>>()?;
     let mut total = 0usize;
     for (&(index, _), bytes) in used.iter().zip(&encoded) {

@@ -524,19 +524,30 @@ impl Scene {
         self.rig.as_ref().map(|r| r.animations()).unwrap_or_default()
     }
 
+    /// Poses the scene for a shutter open from `open` to `close` seconds of the animations
+    /// `play` names: each animated node's instance moves from its transform at `open` to its
+    /// transform at `close` while the shutter is open (`Camera::shutter` `[0, 1]` spans the
+    /// interval), so that motion blur takes its motion from the animation; skinned and morphed
+    /// meshes are posed at `open` (their vertices have one position per frame).
+    pub fn pose_over(&mut self, play: Play, open: f32, close: f32) -> Result<(), SceneError> {
+        let Some(rig) = self.rig.clone() else { return Ok(()) };
+        let end: std::collections::HashMap<InstanceId, Affine3A> = if close == open { Default::default() } else { rig.pose(play, close)?.transforms.into_iter().collect() };
+        let start = rig.pose(play, open)?;
+        for (instance, transform) in start.transforms {
+            // An instance that does not move over the interval has no motion to blur.
+            self.set_motion(instance, transform, end.get(&instance).copied().filter(|e| *e != transform))?;
+        }
+        for v in start.vertices {
+            self.set_vertices(v.object, v.positions, Some(v.normals).filter(|n| !n.is_empty()), Some(v.tangents).filter(|t| !t.is_empty()))?;
+        }
+        Ok(())
+    }
+
     /// Poses the scene at `time` seconds of the animations `play` names: sets the transforms of
     /// the animated nodes' instances and the vertices of skinned and morphed meshes. A scene
     /// without animations has nothing to pose: `Ok` with no edit.
     pub fn pose(&mut self, play: Play, time: f32) -> Result<(), SceneError> {
-        let Some(rig) = self.rig.clone() else { return Ok(()) };
-        let pose = rig.pose(play, time)?;
-        for (instance, transform) in pose.transforms {
-            self.set_transform(instance, transform)?;
-        }
-        for v in pose.vertices {
-            self.set_vertices(v.object, v.positions, Some(v.normals).filter(|n| !n.is_empty()), Some(v.tangents).filter(|t| !t.is_empty()))?;
-        }
-        Ok(())
+        self.pose_over(play, time, time)
     }
 }
 
