@@ -620,6 +620,11 @@ typedef uint32_t RTuint;
 #define RT_MAX_IDS (1 << 20)
 
 /**
+ * Every code an error carries: those the constructors below give.
+ */
+#define Error_CODES { RT_INVALID_ENUM, RT_INVALID_VALUE, RT_INVALID_OPERATION, RT_STACK_OVERFLOW, RT_STACK_UNDERFLOW, RT_OUT_OF_MEMORY, RT_IO_ERROR, RT_INTERNAL_ERROR, }
+
+/**
  * Sets a symmetric perspective projection with a vertical field of view of `fovy` degrees, in
  * (0, 180). `aspect`, `znear` and `zfar` are checked (positive, `znear < zfar`) but do not
  * change the image: its aspect ratio is the frame buffer's, and a ray tracer clips nothing.

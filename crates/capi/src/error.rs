@@ -21,6 +21,10 @@ pub(crate) struct Error {
 }
 
 impl Error {
+    /// Every code an error carries: those the constructors below give.
+    pub const CODES: [RTenum; 8] =
+        [RT_INVALID_ENUM, RT_INVALID_VALUE, RT_INVALID_OPERATION, RT_STACK_OVERFLOW, RT_STACK_UNDERFLOW, RT_OUT_OF_MEMORY, RT_IO_ERROR, RT_INTERNAL_ERROR];
+
     fn new(code: RTenum, message: impl Into<String>) -> Error {
         Error { code, message: message.into() }
     }

@@ -2,10 +2,6 @@
 
 use std::ffi::c_char;
 
-use crate::abi::enums::{
-    RT_INTERNAL_ERROR, RT_INVALID_ENUM, RT_INVALID_OPERATION, RT_INVALID_VALUE, RT_IO_ERROR, RT_OUT_OF_MEMORY, RT_STACK_OVERFLOW,
-    RT_STACK_UNDERFLOW,
-};
 use crate::abi::types::RTenum;
 use crate::boundary::{c_str, call_in_primitive, query};
 use crate::context::Context;
@@ -40,17 +36,7 @@ pub extern "C" fn rtGetErrorString() -> *const c_char {
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn rtRecordError(code: RTenum, call: *const c_char, message: *const c_char) {
     call_in_primitive("rtRecordError", |ctx| {
-        const CODES: [RTenum; 8] = [
-            RT_INVALID_ENUM,
-            RT_INVALID_VALUE,
-            RT_INVALID_OPERATION,
-            RT_STACK_OVERFLOW,
-            RT_STACK_UNDERFLOW,
-            RT_OUT_OF_MEMORY,
-            RT_IO_ERROR,
-            RT_INTERNAL_ERROR,
-        ];
-        if !CODES.contains(&code) {
+        if !Error::CODES.contains(&code) {
             return Err(Error::invalid_enum(format!("{code:#x} is not an error code")));
         }
         // SAFETY: the caller's promise above.
