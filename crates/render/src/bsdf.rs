@@ -250,7 +250,7 @@ impl Bsdf {
             Bsdf::PhysicallyBased(p) | Bsdf::Layer(p) if p.coat == 0.0 && p.sheen == Vec3::ZERO && wo.z > 0.0 => {
                 let energy = p.energy(wo.z);
                 let probabilities = self.lobe_probabilities(wo, &energy);
-                Some((p, energy, probabilities))
+                Some((energy, probabilities))
             }
             _ => None,
         };
@@ -599,9 +599,9 @@ impl Bsdf {
 pub(crate) struct Scattering {
     bsdf: Bsdf,
     wo: Vec3,
-    /// For a physically based function without coat or sheen, seen from above: its factors,
-    /// what it takes of the tables for `wo`, and its lobes' probabilities.
-    shared: Option<(Pbr, Energy, [f32; 3])>,
+    /// For a physically based function without coat or sheen, seen from above: what it takes
+    /// of the tables for `wo`, and its lobes' probabilities.
+    shared: Option<(Energy, [f32; 3])>,
 }
 
 impl Scattering {
@@ -613,7 +613,7 @@ impl Scattering {
     /// BSDF × |cos θi| and the density with which [`Scattering::sample`] picks `wi`.
     pub fn eval_pdf(&self, wi: Vec3) -> (Vec3, f32) {
         match &self.shared {
-            Some((_, energy, probabilities)) if wi.z != 0.0 => {
+            Some((energy, probabilities)) if wi.z != 0.0 => {
                 (self.bsdf.physically_based_eval(energy, self.wo, wi), self.bsdf.physically_based_pdf(self.wo, wi, *probabilities))
             }
             _ => (self.bsdf.eval(self.wo, wi), self.bsdf.pdf(self.wo, wi)),
@@ -623,8 +623,10 @@ impl Scattering {
     /// Samples a direction from two uniform numbers and a third for choosing a lobe, as
     /// [`Bsdf::sample`] does.
     pub fn sample(&self, u: [f32; 2], choose: f32) -> Option<BsdfSample> {
-        let Some((Pbr { alpha, eta, thin, .. }, energy, probabilities)) = &self.shared else { return self.bsdf.sample(self.wo, u, choose) };
-        let (wo, alpha, eta) = (self.wo, *alpha, *eta);
+        let (Some((energy, probabilities)), Bsdf::PhysicallyBased(Pbr { alpha, eta, thin, .. }) | Bsdf::Layer(Pbr { alpha, eta, thin, .. })) = (&self.shared, self.bsdf) else {
+            return self.bsdf.sample(self.wo, u, choose);
+        };
+        let wo = self.wo;
         // One lobe by its share of the light, the weight over every lobe's density (the
         // one-sample model: unbiased whichever lobe drew it). A lobe's direction on the wrong
         // side of the surface is refused, so that each side's density is that of the lobes
@@ -635,7 +637,7 @@ impl Scattering {
         } else if choose < specular + transmitted {
             let h = sample_visible_normal(wo, alpha, u);
             let reflected = reflect(wo, h);
-            if *thin {
+            if thin {
                 Some(Vec3::new(reflected.x, reflected.y, -reflected.z)).filter(|wi| wi.z < 0.0)
             } else {
                 match refract_about(wo, h, eta) {
