@@ -22,6 +22,7 @@
 
 mod auth;
 mod batch;
+mod clock;
 pub mod cluster;
 mod config;
 mod edit;

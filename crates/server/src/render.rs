@@ -15,7 +15,7 @@ use crate::config::Limits;
 use crate::error::{ApiError, ApiResult};
 use crate::state::{AppState, SceneSlot};
 use crate::turns::Client;
-use crate::stats::FrameReport;
+use crate::stats::{FrameReport, scene_time};
 
 /// Bytes a frame takes per pixel while it renders: the sums of its samples (three `f32`) and
 /// its sRGB rows on their way to the PNG.
@@ -165,7 +165,7 @@ pub(crate) async fn render_png(
         let settings = frame.for_scene(&scene);
         let Some(cluster) = cluster else {
             let (png, stats, rendered, encoded) = crate::png::render_png(&scene.frame(), &settings, frame.look, cancel, &rows_done)?;
-            let mut report = FrameReport::new(&settings, &stats, encoded, version);
+            let mut report = FrameReport::new(&settings, &stats, encoded, version, scene_time(&scene));
             // The whole render, with the film's allocation and resolve, which the frame
             // statistics leave out.
             report.render_seconds = rendered;
@@ -179,7 +179,7 @@ pub(crate) async fn render_png(
         let rendered = start.elapsed().as_secs_f64();
         rows_done.store(settings.height, std::sync::atomic::Ordering::Relaxed);
         let png = crate::png::encode(&accumulator.film(), frame.look)?;
-        let mut report = FrameReport::new(&settings, &stats, start.elapsed().as_secs_f64() - rendered, version);
+        let mut report = FrameReport::new(&settings, &stats, start.elapsed().as_secs_f64() - rendered, version, scene_time(&scene));
         report.render_seconds = rendered;
         report.cluster = accumulator.times();
         Ok(Rendered { png, report })
@@ -208,7 +208,12 @@ pub(crate) async fn on_a_turn<T: Send + 'static>(
     let turn = state.render_permit(client).await;
     let (scene, version) = match snapshot {
         Some(snapshot) => snapshot,
-        None => slot.snapshot().await,
+        None => {
+            // A clock that cannot move the scene pauses itself: the frame then shows the
+            // scene as it is.
+            let _ = slot.follow_clock(state).await;
+            slot.snapshot().await
+        }
     };
     let cancel = CancelOnDrop(Cancel::new());
     let token = cancel.0.clone();
