@@ -11,7 +11,7 @@ use std::process::Command;
 fn linked(package: &str, features: &[&str]) -> Option<Vec<String>> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let mut command = Command::new(cargo);
-    command.args(["tree", "--offline", "--locked", "-e", "normal", "--prefix", "none", "--format", "{p}", "-p", package]);
+    command.args(["tree", "--offline", "-e", "normal", "--prefix", "none", "--format", "{p}", "-p", package]);
     if !features.is_empty() {
         command.args(["--features", &features.join(",")]);
     }
