@@ -7,7 +7,7 @@
 use std::collections::{BTreeMap, HashMap, HashSet};
 
 use glam::{Affine3A, Vec3};
-use raystage_scene::{Camera, InstanceId, Light, LightId, Mesh, ObjectId, ObjectKind, ParamValue, Play, Scene, SceneError, Shader, ShaderId, Texture, TextureId};
+use raystage_scene::{AnimationChoice, Camera, InstanceId, Light, LightId, Mesh, ObjectId, ObjectKind, ParamValue, Play, Scene, SceneError, Shader, ShaderId, Texture, TextureId};
 
 use crate::config::Limits;
 use crate::error::{Error, Result};
@@ -264,16 +264,18 @@ impl<'s> Planner<'s> {
         if animations.is_empty() {
             return Err(Error::unprocessable(field, "the scene has no animations (a glTF file's come with it: POST /scenes/{scene}/gltf)"));
         }
-        match animation {
-            None => Ok(Play::Clip(0)),
-            Some(AnimationRef::Name(name)) if name == "all" => Ok(Play::All),
-            Some(AnimationRef::Index(k)) if (k as usize) < animations.len() => Ok(Play::Clip(k as usize)),
-            Some(AnimationRef::Index(k)) => Err(Error::unprocessable(field, format!("there is no animation {k}: the scene has {}", animations.len()))),
-            Some(AnimationRef::Name(name)) => match animations.iter().position(|a| a.name == name) {
-                Some(k) => Ok(Play::Clip(k)),
-                None => Err(Error::unprocessable(field, format!("the scene has no animation named `{name}`"))),
-            },
-        }
+        let choice = animation.as_ref().map(|a| match a {
+            AnimationRef::Index(k) => AnimationChoice::Index(*k as usize),
+            AnimationRef::Name(name) => AnimationChoice::Name(name),
+        });
+        Play::choose(&animations, choice).ok_or_else(|| {
+            let message = match &animation {
+                Some(AnimationRef::Index(k)) => format!("there is no animation {k}: the scene has {}", animations.len()),
+                Some(AnimationRef::Name(name)) => format!("the scene has no animation named `{name}`"),
+                None => "the scene has no animations".to_string(),
+            };
+            Error::unprocessable(field, message)
+        })
     }
 
     /// A light checked, with its environment map resolved.
