@@ -23,7 +23,7 @@
 //!   whole job. A worker that refuses an edit (an error where rank 0 had none) has it refused
 //!   everywhere.
 //!
-//! The messages travel over a [`Transport`] (MPI with the `mpi` feature, [`MpiTransport`];
+//! The messages travel over a [`Transport`] (MPI with the `mpi` feature, `MpiTransport`;
 //! channels between threads in the tests), encoded as CBOR: compact, and self-describing enough
 //! for the API's untagged values. Nothing here speaks HTTP: the C library joins a cluster
 //! without linking the HTTP server.

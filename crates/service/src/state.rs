@@ -355,7 +355,7 @@ impl SceneSlot {
         .map_err(|e| Error::internal(format!("an edit failed: {e}")))?
     }
 
-    /// Runs commands on the scene (see [`crate::batch`]): a batch's (all or nothing, labels
+    /// Runs commands on the scene, each checked before any is applied: a batch's (all or nothing, labels
     /// allowed) or one resource request's. Returns their results and the version after them.
     pub async fn commands(self: &Arc<Self>, state: &AppState, commands: Vec<Command>, in_batch: bool) -> Result<(Vec<CommandResult>, u64)> {
         match self.edit(state, Edit::Commands { commands, in_batch }).await? {

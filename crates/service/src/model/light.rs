@@ -102,7 +102,7 @@ pub struct LightInfo {
 
 impl LightSpec {
     /// The scene's light, checked (422 naming the field), without its map: `map` is a
-    /// reference, which the caller resolves (see [`crate::batch`]).
+    /// reference, which the caller resolves (a batch resolves it as it applies its commands).
     pub fn to_light(&self) -> Result<Light> {
         let Some((class, params)) = LIGHT_CLASSES.iter().find(|(name, _)| *name == self.class) else {
             let names: Vec<&str> = LIGHT_CLASSES.iter().map(|(n, _)| *n).collect();
