@@ -4,7 +4,8 @@ use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
 use raystage_bench::kernel::Api;
-use raystage_bench::{cluster_model, dynamic, kernel, mpi, pathtrace, plot, render, scaling, table};
+use raystage_bench::stamp::{Stamp, StampLine};
+use raystage_bench::{cluster_model, dynamic, kernel, mpi, page, pathtrace, plot, render, scaling, table};
 use raystage_demo::animated::{Animation, Baked, Museum, Robots, Still, Terrain};
 use raystage_demo::StandardScene;
 
@@ -169,10 +170,49 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// A Markdown performance page from a `--json` report: the run's stamp (machine, commit,
+    /// date), then its records as tables, with the first system's figures over each other's.
+    Page {
+        /// The report, one JSON object per line as `--json` prints it (`-` for standard input).
+        report: PathBuf,
+    },
+}
+
+impl Command {
+    /// Whether the run prints a JSON report (which then starts with the run's stamp).
+    fn json(&self) -> bool {
+        match self {
+            Command::Kernel { json, .. }
+            | Command::Dynamic { json, .. }
+            | Command::Render { json, .. }
+            | Command::Pathtrace { json, .. }
+            | Command::Scaling { json, .. }
+            | Command::Mpi { json, .. } => *json,
+            Command::Page { .. } => false,
+        }
+    }
 }
 
 fn main() {
-    match Cli::parse().command {
+    let cli = Cli::parse();
+    if cli.command.json() {
+        // First, so that every report says what it was measured on (see `page`).
+        let args: Vec<String> = std::env::args().skip(1).collect();
+        println!("{}", serde_json::to_string(&StampLine { stamp: Stamp::now(&args) }).expect("stamps serialise"));
+    }
+    match cli.command {
+        Command::Page { report } => {
+            let text = if report.as_os_str() == "-" {
+                std::io::read_to_string(std::io::stdin())
+            } else {
+                std::fs::read_to_string(&report)
+            };
+            let text = text.unwrap_or_else(|e| fail(&format!("cannot read {}: {e}", report.display())));
+            match page::render(&text) {
+                Ok(page) => print!("{page}"),
+                Err(e) => fail(&format!("{}: {e}", report.display())),
+            }
+        }
         Command::Mpi { ranks, cores, raystage, demo, integrator, width, height, spp, reps, cores_per_node, model_spp, dir, json } => {
             let raystage = raystage.unwrap_or_else(|| {
                 let bench = std::env::current_exe().unwrap_or_else(|e| fail(&format!("cannot find this executable: {e}")));

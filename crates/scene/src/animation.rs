@@ -540,6 +540,7 @@ impl Scene {
             }
         }
         self.rig = Some(std::sync::Arc::new(rig));
+        self.posed = None;
         Ok(())
     }
 
@@ -564,7 +565,15 @@ impl Scene {
         for v in start.vertices {
             self.set_vertices(v.object, v.positions, Some(v.normals).filter(|n| !n.is_empty()), Some(v.tangents).filter(|t| !t.is_empty()))?;
         }
+        self.posed = Some((play, open));
         Ok(())
+    }
+
+    /// The animations and time the scene was last posed at (the shutter's opening, for
+    /// [`Scene::pose_over`]); `None` until it is posed. Frames are tagged with the time, so
+    /// that a client sees which moment of the animation an image shows.
+    pub fn posed(&self) -> Option<(Play, f32)> {
+        self.posed
     }
 
     /// Poses the scene at `time` seconds of the animations `play` names: sets the transforms of
@@ -762,6 +771,7 @@ mod tests {
         assert_eq!(scene.mesh(object).unwrap().positions[0], Vec3::Z);
         assert_eq!(snapshot.mesh(object).unwrap().positions[0], Vec3::ZERO, "the snapshot keeps the pose it was taken in");
         assert_eq!(snapshot.animations(), scene.animations());
+        assert_eq!((snapshot.posed(), scene.posed()), (None, Some((Play::Clip(0), 1.0))), "a scene says when it was posed");
     }
 
     #[test]

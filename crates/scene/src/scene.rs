@@ -42,6 +42,8 @@ pub struct Scene {
     /// Its animations, if it has any (shared with its snapshots: posing edits the scene, never
     /// the rig).
     pub(crate) rig: Option<Arc<Rig>>,
+    /// The animations and time the scene was last posed at (see [`Scene::posed`]).
+    pub(crate) posed: Option<(crate::animation::Play, f32)>,
 }
 
 /// What camera rays that hit nothing show: a backdrop, which lights nothing (OpenGL's clear
@@ -119,6 +121,7 @@ impl Scene {
             background: None,
             journal: Journal::default(),
             rig: None,
+            posed: None,
         }
     }
 

@@ -6,7 +6,7 @@ use std::sync::atomic::AtomicU32;
 
 use raystage_render::{FrameSettings, RenderSettings, SettingsPatch};
 use raystage_scene::Scene;
-use raystage_service::{AppState, Client, Error, FrameReport, Limits, Rendered, Result, SceneSlot, on_a_turn};
+use raystage_service::{AppState, Client, Error, FrameReport, Limits, Rendered, Result, SceneSlot, on_a_turn, scene_time};
 use serde::Deserialize;
 use utoipa::{IntoParams, ToSchema};
 
@@ -150,7 +150,7 @@ pub(crate) async fn render_png(
         let settings = frame.for_scene(&scene);
         let Some(cluster) = cluster else {
             let (png, stats, rendered, encoded) = crate::png::render_png(&scene.frame(), &settings, frame.look, cancel, &rows_done)?;
-            let mut report = FrameReport::new(&settings, &stats, encoded, version);
+            let mut report = FrameReport::new(&settings, &stats, encoded, version, scene_time(&scene));
             // The whole render, with the film's allocation and resolve, which the frame
             // statistics leave out.
             report.render_seconds = rendered;
@@ -164,7 +164,7 @@ pub(crate) async fn render_png(
         let rendered = start.elapsed().as_secs_f64();
         rows_done.store(settings.height, std::sync::atomic::Ordering::Relaxed);
         let png = crate::png::encode(&accumulator.film(), frame.look)?;
-        let mut report = FrameReport::new(&settings, &stats, start.elapsed().as_secs_f64() - rendered, version);
+        let mut report = FrameReport::new(&settings, &stats, start.elapsed().as_secs_f64() - rendered, version, scene_time(&scene));
         report.render_seconds = rendered;
         report.cluster = accumulator.times();
         Ok(Rendered { png, report })

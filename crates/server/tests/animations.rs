@@ -7,33 +7,7 @@ mod common;
 use axum::body::Body;
 use axum::http::StatusCode;
 use common::*;
-use serde_json::{Value, json};
-
-/// [`document`] with an animation `slide` that moves the left square (node 0) from x = −0.6
-/// at 0 s to x = 0.4 at 1 s, linearly: keyframe times and values follow the square's buffer.
-fn animated_glb() -> Vec<u8> {
-    let mut bin = square_buffer();
-    [0.0f32, 1.0, -0.6, 0.0, 0.0, 0.4, 0.0, 0.0].iter().for_each(|f| bin.extend(f.to_le_bytes()));
-    let mut doc = document(None);
-    doc["buffers"][0]["byteLength"] = json!(bin.len());
-    let views = doc["bufferViews"].as_array_mut().unwrap();
-    views.push(json!({ "buffer": 0, "byteOffset": 60, "byteLength": 8 }));
-    views.push(json!({ "buffer": 0, "byteOffset": 68, "byteLength": 24 }));
-    let accessors = doc["accessors"].as_array_mut().unwrap();
-    accessors.push(json!({ "bufferView": 2, "componentType": 5126, "count": 2, "type": "SCALAR", "min": [0], "max": [1] }));
-    accessors.push(json!({ "bufferView": 3, "componentType": 5126, "count": 2, "type": "VEC3" }));
-    doc["animations"] = json!([{ "name": "slide", "channels": [{ "sampler": 0, "target": { "node": 0, "path": "translation" } }],
-        "samplers": [{ "input": 2, "output": 3, "interpolation": "LINEAR" }] }]);
-    raystage_gltf_import::glb(&serde_json::to_vec(&doc).unwrap(), &bin)
-}
-
-/// A scene made from [`animated_glb`].
-async fn animated_scene(app: &axum::Router) -> u64 {
-    let (status, _, body) = send(app, "POST", "/scenes", Body::from(animated_glb()), &[("content-type", "model/gltf-binary")]).await;
-    let info: Value = serde_json::from_slice(&body).unwrap();
-    assert_eq!(status, StatusCode::CREATED, "{info}");
-    info["id"].as_u64().unwrap()
-}
+use serde_json::json;
 
 /// The x of every instance's translation, by id.
 async fn xs(app: &axum::Router, s: u64) -> Vec<f64> {
@@ -99,4 +73,94 @@ async fn times_and_animations_that_cannot_play_are_refused_and_change_nothing() 
     assert_eq!(ok(&app, "GET", &format!("/scenes/{empty}/animations"), json!(null), StatusCode::OK).await, json!([]));
     let error = fails(&app, "POST", &format!("/scenes/{empty}/commands"), json!({ "commands": [{ "set_time": { "seconds": 0 } }] }), StatusCode::UNPROCESSABLE_ENTITY).await;
     assert_eq!(error, "commands[0].set_time.animation");
+}
+
+/// A frame of scene `s` and the animation time it shows (its `x-scene-time` header).
+async fn frame_time(app: &axum::Router, s: u64) -> f64 {
+    let response = tower::ServiceExt::oneshot(app.clone(), axum::http::Request::get(format!("/scenes/{s}/frame.png?width=8&height=8&integrator=eyelight")).body(Body::empty()).unwrap()).await.unwrap();
+    assert_eq!(response.status(), StatusCode::OK);
+    response.headers()["x-scene-time"].to_str().unwrap().parse().unwrap()
+}
+
+#[tokio::test]
+async fn the_clock_is_set_played_paused_and_stops_at_the_end_and_frames_say_their_time() {
+    let app = app();
+    let s = animated_scene(&app).await;
+    let clock = format!("/scenes/{s}/clock");
+    assert_eq!(fails(&app, "GET", &clock, json!(null), StatusCode::NOT_FOUND).await, "clock", "no clock before the scene is posed");
+    // Set: the scene is posed at once.
+    let set = ok(&app, "PUT", &clock, json!({ "time": 0.5 }), StatusCode::OK).await;
+    assert_eq!(set, json!({ "animation": 0, "time": 0.5, "duration": 1.0, "playing": false, "rate": 1.0, "loop": true }));
+    assert!(close(&xs(&app, s).await, &[-0.1, 0.6]), "{:?}", xs(&app, s).await);
+    assert_eq!(frame_time(&app, s).await, 0.5);
+    // Played: each frame moves the scene to the clock's time, and says which.
+    ok(&app, "PUT", &clock, json!({ "playing": true, "rate": 0.1 }), StatusCode::OK).await;
+    tokio::time::sleep(std::time::Duration::from_millis(100)).await;
+    let first = frame_time(&app, s).await;
+    assert!(first > 0.5 && first < 1.0, "{first}");
+    let x = xs(&app, s).await[0];
+    assert!((x - (-0.6 + first)).abs() < 1e-5, "the square is where the frame's time puts it: {x} at {first}");
+    tokio::time::sleep(std::time::Duration::from_millis(100)).await;
+    let later = frame_time(&app, s).await;
+    assert!(later > first, "{later} after {first}");
+    // Paused: the time stands.
+    let paused = ok(&app, "PUT", &clock, json!({ "playing": false }), StatusCode::OK).await;
+    tokio::time::sleep(std::time::Duration::from_millis(50)).await;
+    assert_eq!(ok(&app, "GET", &clock, json!(null), StatusCode::OK).await, paused);
+    // `set_time` sets the clock too.
+    ok(&app, "POST", &format!("/scenes/{s}/commands"), json!({ "commands": [{ "set_time": { "seconds": 0.25 } }] }), StatusCode::OK).await;
+    assert_eq!(ok(&app, "GET", &clock, json!(null), StatusCode::OK).await["time"], 0.25);
+    // Not looping, fast: it runs into the end and stops there.
+    ok(&app, "PUT", &clock, json!({ "playing": true, "rate": 20, "loop": false, "animation": "slide" }), StatusCode::OK).await;
+    tokio::time::sleep(std::time::Duration::from_millis(100)).await;
+    assert_eq!(frame_time(&app, s).await, 1.0);
+    let ended = ok(&app, "GET", &clock, json!(null), StatusCode::OK).await;
+    assert_eq!((ended["time"].as_f64(), ended["playing"].as_bool()), (Some(1.0), Some(false)), "{ended}");
+    assert!(close(&xs(&app, s).await, &[0.4, 0.6]));
+}
+
+#[tokio::test]
+async fn an_edit_made_while_the_clock_plays_stays_and_the_animation_goes_on() {
+    let app = app();
+    let s = animated_scene(&app).await;
+    ok(&app, "PUT", &format!("/scenes/{s}/clock"), json!({ "playing": true, "rate": 0.1 }), StatusCode::OK).await;
+    let instances = ok(&app, "GET", &format!("/scenes/{s}/instances"), json!(null), StatusCode::OK).await;
+    // The right square is not animated: moved, it stays moved while the left one plays on.
+    let right = instances[1]["id"].clone();
+    ok(&app, "PUT", &format!("/scenes/{s}/instances/{right}"), json!({ "transform": { "translate": [2, 0, 0] } }), StatusCode::OK).await;
+    let before = frame_time(&app, s).await;
+    tokio::time::sleep(std::time::Duration::from_millis(100)).await;
+    let after = frame_time(&app, s).await;
+    assert!(after > before, "{after} after {before}");
+    let x = xs(&app, s).await;
+    assert!((x[0] - (-0.6 + after)).abs() < 1e-5 && (x[1] - 2.0).abs() < 1e-6, "{x:?} at {after}");
+}
+
+#[tokio::test]
+async fn clock_changes_that_cannot_play_are_refused_naming_the_field_and_change_nothing() {
+    let app = app();
+    let s = animated_scene(&app).await;
+    let clock = format!("/scenes/{s}/clock");
+    let set = ok(&app, "PUT", &clock, json!({ "time": 0.5, "rate": 2 }), StatusCode::OK).await;
+    let version = ok(&app, "GET", &format!("/scenes/{s}"), json!(null), StatusCode::OK).await["version"].clone();
+    for (change, field) in [
+        (json!({ "time": -1 }), "time"),
+        (json!({ "time": 1e39 }), "time"),
+        (json!({ "rate": 1001 }), "rate"),
+        (json!({ "rate": -1e300, "playing": true }), "rate"),
+        (json!({ "animation": 1, "playing": true }), "animation"),
+        (json!({ "animation": "walk" }), "animation"),
+    ] {
+        assert_eq!(fails(&app, "PUT", &clock, change.clone(), StatusCode::UNPROCESSABLE_ENTITY).await, field, "{change}");
+    }
+    for malformed in [json!({ "speed": 2 }), json!({ "playing": "yes" }), json!({ "time": "0" }), json!([])] {
+        let (status, body) = call(&app, "PUT", &clock, malformed.clone()).await;
+        assert!(status == StatusCode::BAD_REQUEST || status == StatusCode::UNPROCESSABLE_ENTITY, "{malformed}: {status} {body}");
+    }
+    assert_eq!(ok(&app, "GET", &clock, json!(null), StatusCode::OK).await, set);
+    assert_eq!(ok(&app, "GET", &format!("/scenes/{s}"), json!(null), StatusCode::OK).await["version"], version);
+    // A scene without animations has no clock to set.
+    let empty = new_scene(&app).await;
+    assert_eq!(fails(&app, "PUT", &format!("/scenes/{empty}/clock"), json!({ "playing": true }), StatusCode::UNPROCESSABLE_ENTITY).await, "animation");
+    assert_eq!(fails(&app, "GET", &format!("/scenes/{empty}/clock"), json!(null), StatusCode::NOT_FOUND).await, "clock");
 }

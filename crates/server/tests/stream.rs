@@ -270,3 +270,39 @@ async fn a_commands_message_is_counted_as_it_is_parsed() {
     assert_eq!(reply(&mut socket).await["type"], "error");
     socket.close(None).await.unwrap();
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_stream_follows_a_playing_clock_and_tags_each_frame_with_its_time() {
+    let state = AppState::new(Config::default());
+    let app = raystage_server::router(state.clone());
+    let s = animated_scene(&app).await;
+    let addr = listen(state).await;
+    // Few samples: the image is finished at once, and only the clock brings new frames.
+    let url = format!("ws://{addr}/scenes/{s}/stream?width=40&height=20&integrator=eyelight&max_samples=1");
+    let (mut socket, _) = tokio_tungstenite::connect_async(url).await.unwrap();
+    let (still, _) = next_frame(&mut socket).await;
+    assert_eq!(still["converged"], true);
+    ok(&app, "PUT", &format!("/scenes/{s}/clock"), json!({ "playing": true, "rate": 0.1 }), StatusCode::OK).await;
+    // Bounded, so that a clock the stream ignores fails the test instead of hanging it.
+    let within = std::time::Duration::from_secs(60);
+    let mut times = Vec::new();
+    while times.len() < 5 {
+        let (stats, _) = tokio::time::timeout(within, next_frame(&mut socket)).await.expect("frames keep coming while the clock plays");
+        if let Some(time) = stats["scene_time"].as_f64() {
+            times.push((time, stats["scene_version"].as_u64().unwrap()));
+        }
+    }
+    assert!(times.windows(2).all(|w| w[1].0 > w[0].0 && w[1].1 > w[0].1), "each frame a later time and version: {times:?}");
+    // Paused, the frames stop coming once the last pose is finished.
+    ok(&app, "PUT", &format!("/scenes/{s}/clock"), json!({ "playing": false }), StatusCode::OK).await;
+    let paused = ok(&app, "GET", &format!("/scenes/{s}/clock"), json!(null), StatusCode::OK).await["time"].as_f64().unwrap();
+    let last = loop {
+        let (stats, _) = tokio::time::timeout(within, next_frame(&mut socket)).await.expect("the paused pose is shown");
+        if stats["scene_time"].as_f64() == Some(paused) {
+            break stats;
+        }
+    };
+    assert_eq!(last["converged"], true);
+    let quiet = tokio::time::timeout(std::time::Duration::from_millis(300), next_frame(&mut socket)).await;
+    assert!(quiet.is_err(), "no frames while nothing changes: {:?}", quiet.map(|f| f.0));
+}

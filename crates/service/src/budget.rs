@@ -32,7 +32,12 @@ pub async fn on_a_turn<T: Send + 'static>(
     let turn = state.render_permit(client).await;
     let (scene, version) = match snapshot {
         Some(snapshot) => snapshot,
-        None => slot.snapshot().await,
+        None => {
+            // A clock that cannot move the scene pauses itself: the frame then shows the
+            // scene as it is.
+            let _ = slot.follow_clock(state).await;
+            slot.snapshot().await
+        }
     };
     let cancel = CancelOnDrop(Cancel::new());
     let token = cancel.0.clone();

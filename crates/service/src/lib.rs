@@ -19,6 +19,7 @@
 mod batch;
 mod budget;
 mod build;
+mod clock;
 mod config;
 mod edit;
 mod error;
@@ -32,12 +33,13 @@ mod workers;
 
 pub use budget::{CancelOnDrop, on_a_turn, within_budget};
 pub use build::{SceneBuild, SceneStart};
+pub use clock::{Clock, ClockChange, ClockState};
 pub use config::{Config, Limits, Refused, usable_memory};
 pub use edit::{Applied, Blob, Edit, unknown_texture};
 pub use error::{Error, ErrorDetail, ErrorKind, Result};
 pub use gltf::{CameraChoice, Environment, GltfAdded, add_environment, import_limits, parse_environment};
 pub use jobs::{Job, JobStatus, Jobs, RenderJobInfo, Rendered};
 pub use state::{AppState, RenderTurn, RunningRender, SceneSlot, StreamGuard};
-pub use stats::{ClusterTimes, FrameReport, RaysJson};
+pub use stats::{ClusterTimes, FrameReport, RaysJson, scene_time};
 pub use turns::Client;
 pub use workers::{Accumulate, Workers};

@@ -4,18 +4,19 @@
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, RwLock};
-
-use raystage_scene::Scene;
-use tokio::sync::{OwnedSemaphorePermit, Semaphore, watch};
+use std::time::Instant;
 
 use raystage_render::{Error as RenderError, Progressive, RenderSettings};
+use raystage_scene::{Play, Scene};
+use tokio::sync::{OwnedSemaphorePermit, Semaphore, watch};
 
 use crate::build::SceneBuild;
+use crate::clock::{Clock, ClockState, TICK};
 use crate::config::{Config, Limits};
 use crate::edit::{Applied, Edit, apply};
 use crate::error::{Error, Result};
 use crate::jobs::Jobs;
-use crate::model::{Command, CommandResult};
+use crate::model::{AnimationRef, Command, CommandResult, SetTime};
 use crate::stats::FrameReport;
 use crate::turns::{Client, Turn, Turns};
 use crate::workers::{Accumulate, Workers};
@@ -71,6 +72,9 @@ pub struct SceneSlot {
     bytes: AtomicU64,
     /// The server's memory budget for scenes, which every edit is checked against.
     budget: Budget,
+    /// The animation clock, once the scene has been posed or its clock set (see
+    /// [`crate::clock`]).
+    clock: Mutex<Option<Clock>>,
 }
 
 /// The limits on scenes' memory and what the server's scenes take together.
@@ -201,6 +205,7 @@ impl AppState {
             deleted: AtomicBool::new(false),
             bytes: AtomicU64::new(bytes),
             budget,
+            clock: Mutex::new(None),
         };
         scenes.insert(id, Arc::new(slot));
         Ok(id)
@@ -339,17 +344,32 @@ impl SceneSlot {
     /// on every rank: see [`SceneSlot::edit_blocking`]). Returns what it gave back and the
     /// version after it.
     pub async fn edit(self: &Arc<Self>, state: &AppState, edit: Edit) -> Result<(Applied, u64)> {
+        self.edit_as(state, edit, true).await
+    }
+
+    /// [`SceneSlot::edit`]; where `sets_clock`, an edit that poses the scene at a new time
+    /// (`set_time`) sets the clock to it. The clock's own moves do not, or every tick would
+    /// lose the time the edit took.
+    async fn edit_as(self: &Arc<Self>, state: &AppState, edit: Edit, sets_clock: bool) -> Result<(Applied, u64)> {
         let mut guard = self.scene.clone().write_owned().await;
+        let posed = guard.posed();
         let slot = self.clone();
         let limits = state.config().limits;
         let cluster = state.cluster().cloned();
         tokio::task::spawn_blocking(move || {
             // Encoded before it is applied, which consumes it.
             let message = cluster.as_ref().map(|cluster| cluster.edit_message(slot.id, &edit));
-            slot.edit_locked(&mut guard, edit, &limits, |local| match (local, &cluster, message) {
+            let edited = slot.edit_locked(&mut guard, edit, &limits, |local| match (local, &cluster, message) {
                 (Ok(()), Some(cluster), Some(message)) => cluster.replicate(&message),
                 _ => Ok(()),
-            })
+            });
+            if sets_clock
+                && edited.is_ok()
+                && let Some((play, time)) = guard.posed().filter(|p| Some(*p) != posed)
+            {
+                slot.set_clock(&guard, play, f64::from(time), |_| {});
+            }
+            edited
         })
         .await
         .map_err(|e| Error::internal(format!("an edit failed: {e}")))?
@@ -361,6 +381,77 @@ impl SceneSlot {
         match self.edit(state, Edit::Commands { commands, in_batch }).await? {
             (Applied::Commands(results), version) => Ok((results, version)),
             _ => Err(Error::internal("commands gave back something else")),
+        }
+    }
+
+    /// Sets the clock to `time` (held within the animation) of `play` (`scene` says how long
+    /// that lasts), keeping whether it plays, its rate and looping, then lets `change` change
+    /// it further; a scene without a clock gets a paused one.
+    pub fn set_clock(&self, scene: &Scene, play: Play, time: f64, change: impl FnOnce(&mut Clock)) -> ClockState {
+        let animations = scene.animations();
+        let duration = match play {
+            Play::Clip(k) => animations.get(k).map_or(0.0, |a| a.duration),
+            Play::All => animations.iter().map(|a| a.duration).fold(0.0, f32::max),
+        };
+        let now = Instant::now();
+        let mut clock = self.clock.lock().unwrap_or_else(|e| e.into_inner());
+        let clock = clock.get_or_insert_with(|| Clock::paused(play, f64::from(duration), time));
+        clock.play = play;
+        clock.duration = f64::from(duration);
+        // The scene's time is an f32: the clock reads what the scene was posed at.
+        clock.set(f64::from(time as f32).min(clock.duration), now);
+        change(clock);
+        clock.state(now)
+    }
+
+    /// The clock now (`None` before the scene was first posed or its clock set).
+    pub fn clock(&self) -> Option<ClockState> {
+        let now = Instant::now();
+        let mut clock = self.clock.lock().unwrap_or_else(|e| e.into_inner());
+        clock.as_mut().map(|c| {
+            c.settle(now);
+            c.state(now)
+        })
+    }
+
+    /// Moves the scene to its clock's time, if the clock plays and has not moved it within the
+    /// last `clock::TICK`: an ordinary `set_time` edit, so that it is ordered with every other edit
+    /// and reaches a cluster's ranks. Renders call this before they take their snapshot. An
+    /// edit that fails (the animation can no longer be posed) pauses the clock.
+    pub async fn follow_clock(self: &Arc<Self>, state: &AppState) -> Result<()> {
+        let now = Instant::now();
+        let (play, time) = {
+            let mut clock = self.clock.lock().unwrap_or_else(|e| e.into_inner());
+            let Some(clock) = clock.as_mut().filter(|c| c.playing) else { return Ok(()) };
+            if clock.last_tick.is_some_and(|t| now.saturating_duration_since(t) < TICK) {
+                return Ok(());
+            }
+            clock.last_tick = Some(now);
+            clock.settle(now);
+            (clock.play, clock.time_at(now))
+        };
+        let animation = Some(match play {
+            Play::Clip(k) => AnimationRef::Index(k as u32),
+            Play::All => AnimationRef::Name("all".into()),
+        });
+        let command = Command::SetTime(SetTime { seconds: time, animation });
+        let edited = self.edit_as(state, Edit::Commands { commands: vec![command], in_batch: false }, false).await;
+        if edited.is_err()
+            && let Some(clock) = self.clock.lock().unwrap_or_else(|e| e.into_inner()).as_mut()
+        {
+            clock.playing = false;
+        }
+        edited.map(|_| ())
+    }
+
+    /// Completes when a playing clock is due to move the scene again; never, if it is not
+    /// playing. A stream whose image is finished waits for this beside the scene's edits.
+    pub async fn clock_due(&self) {
+        let playing = self.clock.lock().unwrap_or_else(|e| e.into_inner()).as_ref().is_some_and(|c| c.playing);
+        if playing {
+            tokio::time::sleep(TICK).await;
+        } else {
+            std::future::pending::<()>().await;
         }
     }
 

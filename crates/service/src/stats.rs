@@ -1,6 +1,7 @@
 //! Frame statistics as JSON: what a frame computed and what it cost.
 
 use raystage_render::{FrameStats, RenderSettings};
+use raystage_scene::Scene;
 use serde::Serialize;
 use utoipa::ToSchema;
 
@@ -53,6 +54,10 @@ pub struct FrameReport {
     pub mrays_per_second: f64,
     /// The scene version rendered.
     pub scene_version: u64,
+    /// The animation time the scene was posed at (see `/scenes/{scene}/clock`); absent for a
+    /// scene never posed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scene_time: Option<f64>,
     /// Where the frame's (or pass's) time went across a cluster's ranks (`raystage serve
     /// --mpi`); absent where one process rendered it.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -79,7 +84,7 @@ pub struct ClusterTimes {
 
 impl FrameReport {
     /// The report of a render with `settings` that produced `stats`.
-    pub fn new(settings: &RenderSettings, stats: &FrameStats, encode_seconds: f64, scene_version: u64) -> FrameReport {
+    pub fn new(settings: &RenderSettings, stats: &FrameStats, encode_seconds: f64, scene_version: u64, scene_time: Option<f64>) -> FrameReport {
         let r = stats.rays;
         FrameReport {
             width: settings.width,
@@ -96,7 +101,13 @@ impl FrameReport {
             encode_seconds,
             mrays_per_second: stats.mrays_per_second(),
             scene_version,
+            scene_time,
             cluster: None,
         }
     }
+}
+
+/// The animation time `scene` shows, as frames report it.
+pub fn scene_time(scene: &Scene) -> Option<f64> {
+    scene.posed().map(|(_, time)| f64::from(time))
 }

@@ -1,12 +1,16 @@
 //! `/scenes/{scene}/animations`: the animations a glTF file brought, which the batch command
-//! `set_time` plays.
+//! `set_time` poses; `/scenes/{scene}/clock`: the clock that plays them (see
+//! [`raystage_service::Clock`]).
 
 use axum::Json;
+use axum::extract::State;
+use raystage_service::model::{Command, SetTime};
+use raystage_service::{AppState, ClockChange, ClockState, Error};
 use serde::Serialize;
 use utoipa::ToSchema;
 
 use crate::error::{ApiResult, ErrorBody};
-use crate::extract::Target;
+use crate::extract::{JsonBody, Target};
 
 /// An animation.
 #[derive(Clone, Debug, Serialize, ToSchema)]
@@ -37,4 +41,60 @@ pub(crate) async fn list(target: Target) -> ApiResult<Json<Vec<AnimationInfo>>> 
             .map(|(k, a)| AnimationInfo { index: k as u32, name: a.name, duration: a.duration, channels: a.channels as u32 })
             .collect(),
     ))
+}
+
+/// The scene's animation clock: the animation its frames show, the time, and whether and how
+/// fast it plays. 404 naming `clock` for a scene that has not been posed yet (set the clock,
+/// or `set_time`, first).
+#[utoipa::path(get, path = "/scenes/{scene}/clock", tag = "animations",
+    params(("scene" = u32, Path, description = "The scene's id")),
+    responses(
+        (status = 200, description = "Success", body = ClockState),
+        (status = 404, description = "No such scene, resource or route", body = ErrorBody),
+    ))]
+pub(crate) async fn clock(target: Target) -> ApiResult<Json<ClockState>> {
+    target.scene.clock().map(Json).ok_or_else(|| {
+        let message = format!("scene {} has no clock yet: PUT /scenes/{}/clock (a scene with animations) starts one", target.scene.id, target.scene.id);
+        Error::not_found(Some("clock".into()), message).into()
+    })
+}
+
+/// Sets the scene's clock: fields left out stay (a new clock starts paused at 0 s of the first
+/// animation, at rate 1, looping). The scene is posed at the clock's time at once; while the
+/// clock plays, every render (frames, render jobs, each pass of a stream) first moves the scene
+/// to the clock's time, as a `set_time` edit, at most 60 times a second. Edits compose with it:
+/// an instance moved while the animation plays stays where it was put unless the animation
+/// moves it. 422 naming `animation` for a scene without animations.
+#[utoipa::path(put, path = "/scenes/{scene}/clock", tag = "animations",
+    params(("scene" = u32, Path, description = "The scene's id")),
+    request_body = ClockChange,
+    responses(
+        (status = 200, description = "Success", body = ClockState),
+        (status = 400, description = "Malformed request: the error names the field", body = ErrorBody),
+        (status = 404, description = "No such scene, resource or route", body = ErrorBody),
+        (status = 422, description = "A value is not acceptable: the error names the field", body = ErrorBody),
+    ))]
+pub(crate) async fn set_clock(State(state): State<AppState>, target: Target, JsonBody(change): JsonBody<ClockChange>) -> ApiResult<Json<ClockState>> {
+    change.check()?;
+    let slot = &target.scene;
+    let current = slot.clock();
+    let time = change.time.or(current.as_ref().map(|c| c.time)).unwrap_or(0.0);
+    let animation = change.animation.clone().or(current.map(|c| c.animation));
+    // Posing checks the animation and moves the scene to the time now.
+    slot.commands(&state, vec![Command::SetTime(SetTime { seconds: time, animation })], false).await?;
+    let (scene, _) = slot.snapshot().await;
+    let (play, _) = scene.posed().ok_or_else(|| Error::internal("a scene just posed has no pose"))?;
+    let clock = slot.set_clock(&scene, play, time, |clock| {
+        if let Some(rate) = change.rate {
+            clock.rate = rate;
+        }
+        if let Some(looping) = change.looping {
+            clock.looping = looping;
+        }
+        if let Some(playing) = change.playing {
+            clock.playing = playing;
+        }
+        clock.last_tick = None;
+    });
+    Ok(Json(clock))
 }

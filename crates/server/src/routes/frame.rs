@@ -38,7 +38,11 @@ pub(crate) async fn frame_png(State(state): State<AppState>, target: Target, Par
         (header::HeaderName::from_static("x-integrator"), r.integrator.clone()),
         (header::HeaderName::from_static("x-scene-version"), r.scene_version.to_string()),
     ];
-    Ok((headers, rendered.png).into_response())
+    let mut response = (headers, rendered.png).into_response();
+    if let Some(time) = r.scene_time {
+        response.headers_mut().insert("x-scene-time", header::HeaderValue::from_str(&format!("{time:.6}")).expect("a number is a header value"));
+    }
+    Ok(response)
 }
 
 /// Bytes a channel takes per pixel while it renders: what the first hit holds (distances,

@@ -50,6 +50,7 @@ pub(crate) fn router(state: AppState) -> Router {
         .route("/scenes/{scene}/textures", get(textures::list).post(textures::add))
         .route("/scenes/{scene}/textures/{id}", get(textures::get).put(textures::set).delete(textures::delete))
         .route("/scenes/{scene}/animations", get(animations::list))
+        .route("/scenes/{scene}/clock", get(animations::clock).put(animations::set_clock))
         .route("/scenes/{scene}/camera", get(camera::get).put(camera::set))
         .route("/scenes/{scene}/commands", axum::routing::post(commands::run))
         .route("/scenes/{scene}/gltf", axum::routing::post(gltf::upload))

@@ -3,7 +3,7 @@
 
 use axum::Json;
 use raystage_service::model::*;
-use raystage_service::{CameraChoice, ErrorDetail, FrameReport, RaysJson};
+use raystage_service::{CameraChoice, ClockChange, ClockState, ErrorDetail, FrameReport, RaysJson};
 use utoipa::OpenApi;
 
 use crate::error::ErrorBody;
@@ -28,7 +28,7 @@ use crate::stream::{ClientMessage, FrameMessage, ServerMessage, SettingsChange};
         super::lights::list, super::lights::add, super::lights::get, super::lights::set, super::lights::delete,
         super::textures::list, super::textures::add, super::textures::get, super::textures::set, super::textures::delete,
         super::camera::get, super::camera::set,
-        super::animations::list,
+        super::animations::list, super::animations::clock, super::animations::set_clock,
         super::commands::run,
         super::gltf::upload,
         super::frame::frame_png, super::frame::channel, super::frame::pick,
@@ -39,6 +39,7 @@ use crate::stream::{ClientMessage, FrameMessage, ServerMessage, SettingsChange};
         ErrorBody, ErrorDetail, FrameReport, RaysJson, Rgb, Transform, Rotation, Scale, Ref, ParamJson, ParamOut, Kind, MeshSpec,
         TextureParam, TextureKind, TextureDescription, IntegratorName, ToneMapName, CameraChoice,
         ClientMessage, SettingsChange, ServerMessage, FrameMessage, Command, CommandResult,
+        ClockState, ClockChange,
     )),
     modifiers(&Exact),
     tags(
@@ -49,7 +50,7 @@ use crate::stream::{ClientMessage, FrameMessage, ServerMessage, SettingsChange};
         (name = "lights", description = "Light sources"),
         (name = "textures", description = "Procedural and image textures, for shaders' texture parameters and environment maps"),
         (name = "camera", description = "The camera"),
-        (name = "animations", description = "Animations of glTF files, posed by the batch command `set_time`"),
+        (name = "animations", description = "Animations of glTF files, posed by the batch command `set_time` or played by the scene's clock"),
         (name = "commands", description = "Batches of edits, all or nothing"),
         (name = "frames", description = "Rendering: PNG frames, picking, the progressive stream"),
         (name = "server", description = "The server itself"),

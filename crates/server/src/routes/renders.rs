@@ -35,6 +35,7 @@ pub(crate) async fn start(State(state): State<AppState>, target: Target, Params(
     // The job takes its turns as the connection that made it: a backlog of jobs is one client's.
     let (runner, slot, client) = (Arc::clone(&job), target.scene, target.client);
     // Frame semantics: the job renders the scene as it is now, whatever is edited meanwhile.
+    let _ = slot.follow_clock(&state).await;
     let snapshot = slot.snapshot().await;
     let task = tokio::spawn(async move {
         let outcome = render_png(&state, &slot, client, Some(snapshot), frame, runner.rows()).await;

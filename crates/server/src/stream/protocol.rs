@@ -109,6 +109,10 @@ pub struct FrameMessage {
     pub seq: u64,
     /// The scene version the image shows.
     pub scene_version: u64,
+    /// The animation time the image shows (see `/scenes/{scene}/clock`); absent for a scene
+    /// never posed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scene_time: Option<f64>,
     /// Width in pixels.
     pub width: u32,
     /// Height in pixels.

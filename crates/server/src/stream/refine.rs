@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use raystage_render::{Cancel, Film, FrameSettings, Look, RenderSettings};
 use raystage_scene::Scene;
-use raystage_service::{Accumulate, AppState, CancelOnDrop, Error, FrameReport, SceneSlot};
+use raystage_service::{Accumulate, AppState, CancelOnDrop, Error, FrameReport, SceneSlot, scene_time};
 use tokio::sync::{OwnedSemaphorePermit, mpsc, watch};
 
 use crate::render::STREAM_BYTES_PER_PIXEL;
@@ -100,6 +100,8 @@ pub(crate) async fn refine(
             let _ = replies.send(ServerMessage::Error { request: None, error: error.detail }).await;
             return;
         }
+        // A playing clock moves the scene before the pass (a failing one pauses itself).
+        let _ = slot.follow_clock(&state).await;
         let wanted = *settings.borrow_and_update();
         let converged = accumulation
             .as_ref()
@@ -122,6 +124,7 @@ pub(crate) async fn refine(
             tokio::select! {
                 changed = versions.changed() => if changed.is_err() { return },
                 changed = settings.changed() => if changed.is_err() { return },
+                () = slot.clock_due() => {}
             }
             continue;
         }
@@ -176,10 +179,11 @@ pub(crate) async fn refine(
         let mut pass = tokio::task::spawn_blocking(move || {
             let _running = turn.running();
             let stats = acc.progressive.add(scene_id, &scene.frame(), acc.version, samples, false, &token);
+            let time = scene_time(&scene);
             drop(scene);
             // Decided after the pass, which gave the sender its duration to deliver the last frame.
             let png = (stats.is_ok() && (last || sent.load(Ordering::Acquire))).then(|| timed_png(&acc.progressive.film(), acc.settings.frame.look));
-            (acc, stats, png.flatten())
+            (acc, stats, png.flatten(), time)
             // The turn goes to the next render here, once the work has stopped.
         });
         let deadline = tokio::time::Instant::now() + SUPERSEDED_AFTER;
@@ -190,7 +194,7 @@ pub(crate) async fn refine(
                 pass.await
             }
         };
-        let Ok((mut acc, stats, png)) = joined else {
+        let Ok((mut acc, stats, png, time)) = joined else {
             return;
         };
         let Ok(stats) = stats else {
@@ -207,11 +211,12 @@ pub(crate) async fn refine(
         };
         if let Some((png, encode_seconds)) = png {
             seq += 1;
-            let mut report = FrameReport::new(acc.progressive.settings(), &stats, encode_seconds, acc.version);
+            let mut report = FrameReport::new(acc.progressive.settings(), &stats, encode_seconds, acc.version, time);
             report.cluster = acc.progressive.times();
             let message = FrameMessage {
                 seq,
                 scene_version: acc.version,
+                scene_time: report.scene_time,
                 width: report.width,
                 height: report.height,
                 integrator: report.integrator.clone(),

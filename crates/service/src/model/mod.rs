@@ -13,7 +13,7 @@ mod transform;
 pub use camera::{CameraJson, CameraPatch};
 pub use command::{
     AnimationRef, Command, CommandResult, Commands, CommandsResult, Delete, DefineObject, DefineShader, InstanceBody, InstanceUpdate, ObjectBody,
-    ObjectUpdate, ParamsBody, PositionsBody, SetInstance, SetLight, SetParams, SetPositions, SetTexture, ShaderBody, ShaderUpdate,
+    ObjectUpdate, ParamsBody, PositionsBody, SetInstance, SetLight, SetParams, SetPositions, SetTexture, SetTime, ShaderBody, ShaderUpdate,
 };
 pub use light::{LIGHT_CLASSES, LightInfo, LightSpec, Rgb};
 pub use mesh::{Kind, MeshSpec};
