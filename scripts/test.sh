@@ -9,7 +9,7 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 packages=(libembree-dev gcc g++ pkg-config cmake)
-# The viewer's window test (crates/client/tests/window.rs): a virtual X server, Mesa's software
+# The viewer's window tests (crates/client/tests/window.rs, tests/cli_view.rs): a virtual X server (Xvfb, xvfb-run), Mesa's software
 # OpenGL through GLX (llvmpipe), and the X libraries winit loads at run time.
 packages+=(xvfb libgl1 libglx-mesa0 libgl1-mesa-dri libegl1 libx11-xcb1 libxcursor1 libxi6 libxkbcommon-x11-0)
 # RTUT's window test (crates/capi/tests/examples.rs) types keys and clicks into its window.

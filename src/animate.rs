@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail, ensure};
 use raystage_render::OutputFormat;
-use raystage_scene::{Play, Scene};
+use raystage_scene::{AnimationChoice, Play, Scene};
 
 use crate::render::{RenderJob, RenderReport, SceneSource, prepare, render_with_progress, settings_for};
 
@@ -49,25 +49,20 @@ pub fn parse_frames(text: &str) -> Result<(u32, u32)> {
     }
 }
 
-/// Which animations `choice` names in `scene`: an index, a name, or `all`; the first for none.
+/// Which animations `choice` names in `scene` (see [`Play::choose`]): a number is an index,
+/// other text a name or `all`; the first for none.
 fn play_for(scene: &Scene, choice: Option<&str>) -> Result<Play> {
     let animations = scene.animations();
-    let Some(choice) = choice else { return Ok(Play::Clip(0)) };
-    if let Some(k) = animations.iter().position(|a| a.name == choice) {
-        return Ok(Play::Clip(k));
-    }
-    match choice.parse::<usize>() {
-        Ok(k) if k < animations.len() => Ok(Play::Clip(k)),
-        _ if choice == "all" => Ok(Play::All),
-        _ => {
-            let names: Vec<String> = animations
-                .iter()
-                .enumerate()
-                .map(|(k, a)| if a.name.is_empty() { format!("{k} (unnamed, {:.3} s)", a.duration) } else { format!("{k} `{}` ({:.3} s)", a.name, a.duration) })
-                .collect();
-            bail!("no animation `{choice}`: the file has {} (or `all`)", names.join(", "))
-        }
-    }
+    let named = choice.map(|text| text.parse().map_or(AnimationChoice::Name(text), AnimationChoice::Index));
+    let Some(play) = Play::choose(&animations, named) else {
+        let names: Vec<String> = animations
+            .iter()
+            .enumerate()
+            .map(|(k, a)| if a.name.is_empty() { format!("{k} (unnamed, {:.3} s)", a.duration) } else { format!("{k} `{}` ({:.3} s)", a.name, a.duration) })
+            .collect();
+        bail!("no animation `{}`: the file has {} (or `all`)", choice.unwrap_or_default(), names.join(", "))
+    };
+    Ok(play)
 }
 
 /// Poses `scene` as `pose` says; a file without animations is left as it is, with a note.

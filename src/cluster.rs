@@ -22,7 +22,7 @@ use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use raystage_render::{Film, FrameStats, Share};
 
-use raystage_server::cluster::{MpiJob, MpiTransport};
+use raystage_cluster::{MpiJob, MpiTransport};
 
 use crate::render::Ranks;
 

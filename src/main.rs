@@ -110,10 +110,12 @@ enum Command {
         /// The demo scene (see `render --demo`).
         #[arg(long, value_parser = raystage::parse_demo)]
         demo: Option<Demo>,
-        /// How pixels are shaded [default: chosen for the scene as `render` chooses].
+        /// How pixels are shaded at first (the viewer's panel changes it) [default: chosen for
+        /// the scene as `render` chooses].
         #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(raystage_client::INTEGRATORS))]
         integrator: Option<String>,
-        /// Samples per pixel the image refines to.
+        /// Samples per pixel the image refines to while nothing changes, at first (the
+        /// viewer's panel changes it; at most the server's limit on samples per pixel).
         #[arg(long, default_value_t = 256)]
         max_samples: u32,
         /// Save a PNG screenshot of the window here once the first frame is shown, then exit.

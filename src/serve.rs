@@ -33,7 +33,7 @@ pub fn serve(job: &ServeJob, log: &mut impl Write) -> Result<()> {
 }
 
 /// [`serve`] from every rank of an MPI job started by `mpirun`: rank 0 serves the API and
-/// every other rank is a render worker (see [`raystage_server::cluster`]) until rank 0 stops.
+/// every other rank is a render worker (see [`raystage_cluster`]) until rank 0 stops.
 /// Every rank loads the scene of the command line (a vote makes all go on or all stop); from
 /// then on rank 0 sends the workers every edit, and renders every frame with them. Rank 0
 /// gives up a worker that does not answer within `timeout` and serves alone from then on.
@@ -63,9 +63,9 @@ pub fn serve_mpi(job: &ServeJob, log: &mut impl Write, mpi: &crate::Cluster, tim
     if !root {
         // The scene of the command line is scene 1 on every rank.
         let scenes = loaded.into_iter().map(|(scene, name)| (1, scene, name)).collect();
-        return raystage_server::cluster::work(&transport, config, scenes).map_err(|e| anyhow::anyhow!("rank {}: {e}", mpi.rank()));
+        return raystage_cluster::work(&transport, config, scenes).map_err(|e| anyhow::anyhow!("rank {}: {e}", mpi.rank()));
     }
-    let cluster = raystage_server::cluster::Cluster::new(Box::new(transport), timeout);
+    let cluster = raystage_cluster::Cluster::new(Box::new(transport), timeout);
     let state = AppState::clustered(config, cluster.clone());
     if let Some((scene, name)) = loaded {
         let id = state.add_scene(scene, name.clone()).map_err(|e| anyhow::anyhow!(e.detail.message))?;

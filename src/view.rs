@@ -6,7 +6,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::time::Duration;
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, ensure};
 use raystage_server::{AppState, Config};
 
 use crate::render::{Environment, SceneSource};
@@ -21,9 +21,10 @@ pub struct ViewJob {
     /// Whether a scene that nothing lights gets the default light (the studio for a glTF file
     /// without lights of its own, the sky for a demo).
     pub default_lights: bool,
-    /// The integrator, or `None` for the server's choice.
+    /// The integrator the stream starts with, or `None` for the server's choice for the scene.
     pub integrator: Option<String>,
-    /// Samples per pixel the image refines to.
+    /// Samples per pixel the stream's image refines to, at first (`1..=` the server's
+    /// [`Limits::max_spp`](raystage_server::Limits::max_spp)).
     pub max_samples: u32,
     /// Save a screenshot of the window here once the first frame is shown, then exit.
     pub screenshot: Option<PathBuf>,
@@ -32,8 +33,12 @@ pub struct ViewJob {
 /// Loads the scene, serves it on 127.0.0.1 (a free port) and opens the viewer on it; returns
 /// when the window is closed.
 pub fn view(job: &ViewJob, log: &mut impl Write) -> Result<()> {
+    let config = Config::default();
+    // Checked before the window opens, where the stream would refuse it.
+    let max = config.limits.max_spp;
+    ensure!((1..=max).contains(&job.max_samples), "--max-samples {} is not in 1..={max}", job.max_samples);
     let scene = job.scene.load(log, &job.environment, job.default_lights)?;
-    let state = AppState::new(Config::default());
+    let state = AppState::new(config);
     let id = state.add_scene(scene, job.scene.name()).map_err(|e| anyhow::anyhow!(e.detail.message))?;
     let runtime = tokio::runtime::Runtime::new().context("cannot start the server's threads")?;
     let listener = runtime.block_on(tokio::net::TcpListener::bind("127.0.0.1:0")).context("cannot listen on 127.0.0.1")?;

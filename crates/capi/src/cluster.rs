@@ -1,11 +1,11 @@
 //! `rtInitMPI` and `rtFinishMPI`: a C program started by `mpirun` renders its frames with every
 //! rank of the job, as OpenRT hid its cluster from the application. Rank 0 runs the program; on
 //! every other rank `rtInitMPI` does not return: the rank serves as a render worker (the
-//! server's, `raystage_server::cluster::work`) until rank 0 calls `rtFinishMPI`, then exits.
+//! cluster's, `raystage_cluster::work`) until rank 0 calls `rtFinishMPI`, then exits.
 //!
 //! The scene stays the program's: the context's scene journals its edits (see
 //! `raystage_scene::SceneEdit`), and each `rtSwapBuffers` sends the workers what changed since
-//! the last frame, then renders across the ranks (`raystage_server::cluster::Mirror`). Frame
+//! the last frame, then renders across the ranks (`raystage_cluster::Mirror`). Frame
 //! semantics hold across the cluster: what the frame sees is the scene when the frame starts,
 //! on every rank, and the image is the one a single process renders, to the bit.
 //!
@@ -19,11 +19,11 @@ use crate::error::Error;
 #[cfg(feature = "mpi")]
 pub(crate) struct Session {
     /// The workers' replica of the scene; dropped before `job`, whose drop finalises MPI.
-    mirror: raystage_server::cluster::Mirror,
+    mirror: raystage_cluster::Mirror,
     /// Set when the workers could not replay the scene's edits: their replicas differ, so frames
     /// render on rank 0 alone from then on.
     diverged: bool,
-    job: raystage_server::cluster::MpiJob,
+    job: raystage_cluster::MpiJob,
 }
 
 #[cfg(feature = "mpi")]
@@ -43,7 +43,7 @@ impl Context {
     /// serves as a worker and ends the process.
     #[cfg(feature = "mpi")]
     pub fn init_mpi(&mut self) -> Result<i32, Error> {
-        use raystage_server::cluster::{Cluster, Mirror, MpiJob, Transport, work};
+        use raystage_cluster::{Cluster, Mirror, MpiJob, Transport, work};
         if self.cluster.is_some() {
             return Err(Error::invalid_operation("rtInitMPI was called already"));
         }
@@ -63,8 +63,8 @@ impl Context {
         if rank != 0 {
             // The program's own C ABI calls would only repeat rank 0's: this rank renders
             // instead, until rank 0 is done, and never returns to the program.
-            let limits = raystage_server::Limits { max_scene_bytes: u64::MAX, max_total_scene_bytes: u64::MAX, ..Default::default() };
-            let served = work(&transport, raystage_server::Config { token: None, limits }, Vec::new());
+            let limits = raystage_service::Limits { max_scene_bytes: u64::MAX, max_total_scene_bytes: u64::MAX, ..Default::default() };
+            let served = work(&transport, raystage_service::Config { token: None, limits }, Vec::new());
             drop(transport);
             drop(job);
             match served {

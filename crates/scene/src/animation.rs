@@ -317,6 +317,30 @@ pub enum Play {
     All,
 }
 
+/// An animation as a front end names it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AnimationChoice<'a> {
+    /// By its index among the scene's animations.
+    Index(usize),
+    /// By its name, or `all` for every animation together.
+    Name(&'a str),
+}
+
+impl Play {
+    /// What `choice` plays among `animations` (the first where it names none); `None` where
+    /// it names none of them. `all` plays every animation together, so an animation named
+    /// `all` is reachable only by its index: one rule for every front end.
+    pub fn choose(animations: &[AnimationInfo], choice: Option<AnimationChoice<'_>>) -> Option<Play> {
+        match choice {
+            _ if animations.is_empty() => None,
+            None => Some(Play::Clip(0)),
+            Some(AnimationChoice::Name("all")) => Some(Play::All),
+            Some(AnimationChoice::Name(name)) => animations.iter().position(|a| a.name == name).map(Play::Clip),
+            Some(AnimationChoice::Index(k)) => (k < animations.len()).then_some(Play::Clip(k)),
+        }
+    }
+}
+
 /// The instance transforms and deformed vertices of a rig at a time.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Pose {
@@ -565,6 +589,21 @@ mod tests {
     use std::f32::consts::FRAC_PI_2;
 
     use super::*;
+
+    #[test]
+    fn all_plays_every_animation_even_beside_one_named_all() {
+        let clip = |name: &str| AnimationInfo { name: name.into(), duration: 1.0, channels: 1 };
+        let animations = [clip("walk"), clip("all"), clip("")];
+        let choose = |choice| Play::choose(&animations, choice);
+        assert_eq!(choose(None), Some(Play::Clip(0)));
+        assert_eq!(choose(Some(AnimationChoice::Name("all"))), Some(Play::All));
+        assert_eq!(choose(Some(AnimationChoice::Index(1))), Some(Play::Clip(1)), "the one named `all`, by index");
+        assert_eq!(choose(Some(AnimationChoice::Name("walk"))), Some(Play::Clip(0)));
+        assert_eq!(choose(Some(AnimationChoice::Index(3))), None);
+        assert_eq!(choose(Some(AnimationChoice::Name("run"))), None);
+        assert_eq!(Play::choose(&[], None), None, "a scene without animations plays none");
+        assert_eq!(Play::choose(&[], Some(AnimationChoice::Name("all"))), None);
+    }
 
     fn at(k: &Keyframes, time: f32, rotation: bool) -> Vec<f32> {
         let mut out = vec![0.0; k.width()];

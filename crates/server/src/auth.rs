@@ -6,9 +6,9 @@ use axum::extract::{Request, State};
 use axum::http::header::AUTHORIZATION;
 use axum::middleware::Next;
 use axum::response::{IntoResponse, Response};
+use raystage_service::AppState;
 
 use crate::error::ApiError;
-use crate::state::AppState;
 
 /// Lets a request through if the server has no token or the request carries it; 401 otherwise.
 pub(crate) async fn require_token(State(state): State<AppState>, request: Request, next: Next) -> Response {

@@ -9,10 +9,10 @@ use axum::body::Bytes;
 use axum::extract::{FromRequest, FromRequestParts, Path, Request};
 use axum::http::StatusCode;
 use axum::http::request::Parts;
+use raystage_service::{AppState, Client, Error, ErrorKind, Result, SceneSlot};
 use serde::de::{DeserializeOwned, DeserializeSeed};
 
-use crate::error::{ApiError, ApiResult};
-use crate::state::{AppState, SceneSlot};
+use crate::error::ApiError;
 
 /// Bodies larger than this are parsed on a blocking thread, off the reactor.
 const PARSE_INLINE_BYTES: usize = 1 << 20;
@@ -27,14 +27,14 @@ impl<T: DeserializeOwned + Send + 'static> FromRequest<AppState> for JsonBody<T>
 
     async fn from_request(req: Request, state: &AppState) -> Result<Self, ApiError> {
         let bytes = RawBody::from_request(req, state).await?.0;
-        parse_body(bytes, |bytes| parse_json(bytes)).await.map(JsonBody)
+        Ok(JsonBody(parse_body(bytes, |bytes| parse_json(bytes)).await?))
     }
 }
 
 /// Runs `parse` on a body: inline if it is small, else on a blocking thread, off the reactor.
-pub(crate) async fn parse_body<T: Send + 'static>(bytes: Bytes, parse: impl FnOnce(&[u8]) -> ApiResult<T> + Send + 'static) -> ApiResult<T> {
+pub(crate) async fn parse_body<T: Send + 'static>(bytes: Bytes, parse: impl FnOnce(&[u8]) -> Result<T> + Send + 'static) -> Result<T> {
     if bytes.len() > PARSE_INLINE_BYTES {
-        tokio::task::spawn_blocking(move || parse(&bytes)).await.map_err(|e| ApiError::internal(e.to_string()))?
+        tokio::task::spawn_blocking(move || parse(&bytes)).await.map_err(|e| Error::internal(e.to_string()))?
     } else {
         parse(&bytes)
     }
@@ -53,18 +53,19 @@ impl FromRequest<AppState> for RawBody {
         let read = tokio::time::timeout(Duration::from_secs(seconds), Bytes::from_request(req, state)).await.map_err(|_| {
             ApiError::timeout("body_read_seconds", format!("the request body did not arrive within the server's limit of {seconds} s"))
         })?;
-        read.map(RawBody).map_err(|e| {
+        let body = read.map_err(|e| {
             if e.status() == StatusCode::PAYLOAD_TOO_LARGE {
-                ApiError::too_large(None, "the request body is larger than the server's limit").limit("max_body_bytes")
+                Error::too_large(None, "the request body is larger than the server's limit").limit("max_body_bytes")
             } else {
-                ApiError::bad_request(None, e.body_text())
+                Error::bad_request(None, e.body_text())
             }
-        })
+        })?;
+        Ok(RawBody(body))
     }
 }
 
 /// Parses JSON, naming the field where parsing failed.
-pub(crate) fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> ApiResult<T> {
+pub(crate) fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> Result<T> {
     parse_json_seed(bytes, std::marker::PhantomData::<T>)
 }
 
@@ -75,15 +76,15 @@ pub(crate) fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> ApiResult<T> {
 /// fails to parse as its type and holds whole numbers written with a fraction or an exponent,
 /// it is parsed again with those written as integers (serde reads `2.0` as a float only, which
 /// an id or an index refuses). Bodies that parse the first time are not copied.
-pub(crate) fn parse_json_seed<V, S: for<'de> DeserializeSeed<'de, Value = V> + Clone>(bytes: &[u8], seed: S) -> ApiResult<V> {
+pub(crate) fn parse_json_seed<V, S: for<'de> DeserializeSeed<'de, Value = V> + Clone>(bytes: &[u8], seed: S) -> Result<V> {
     // Every body the API takes is an object; serde would also read a struct from an array of its
     // fields in order (`[null, null]` as `{}`), which no client means and the description forbids.
     if bytes.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'[') {
-        return Err(ApiError::bad_request(None, "the body must be a JSON object, not an array"));
+        return Err(Error::bad_request(None, "the body must be a JSON object, not an array"));
     }
     let first = parse_json_once(bytes, seed.clone());
     match first {
-        Err(ref e) if e.status == StatusCode::BAD_REQUEST => match integers_as_integers(bytes) {
+        Err(ref e) if e.kind == ErrorKind::BadRequest => match integers_as_integers(bytes) {
             Some(rewritten) => parse_json_once(&rewritten, seed),
             None => first,
         },
@@ -92,21 +93,21 @@ pub(crate) fn parse_json_seed<V, S: for<'de> DeserializeSeed<'de, Value = V> + C
 }
 
 /// One parse of [`parse_json_seed`].
-fn parse_json_once<V, S: for<'de> DeserializeSeed<'de, Value = V>>(bytes: &[u8], seed: S) -> ApiResult<V> {
+fn parse_json_once<V, S: for<'de> DeserializeSeed<'de, Value = V>>(bytes: &[u8], seed: S) -> Result<V> {
     let mut de = serde_json::Deserializer::from_slice(bytes);
     let mut track = serde_path_to_error::Track::new();
     let value = seed.deserialize(serde_path_to_error::Deserializer::new(&mut de, &mut track)).map_err(|inner| {
         let path = track.path().to_string();
         let field = (path != ".").then_some(path);
         if inner.is_syntax() && non_finite_literal_at(bytes, inner.line(), inner.column()) {
-            ApiError::unprocessable(field, "numbers must be finite: JSON has no NaN or Infinity")
+            Error::unprocessable(field, "numbers must be finite: JSON has no NaN or Infinity")
         } else if inner.is_eof() {
-            ApiError::bad_request(field, format!("the JSON ends early: {inner}"))
+            Error::bad_request(field, format!("the JSON ends early: {inner}"))
         } else {
-            ApiError::bad_request(field, inner.to_string())
+            Error::bad_request(field, inner.to_string())
         }
     })?;
-    de.end().map_err(|e| ApiError::bad_request(None, e.to_string()))?;
+    de.end().map_err(|e| Error::bad_request(None, e.to_string()))?;
     Ok(value)
 }
 
@@ -180,10 +181,11 @@ impl<S: Send + Sync, T: DeserializeOwned> FromRequestParts<S> for Params<T> {
     async fn from_request_parts(parts: &mut Parts, _: &S) -> Result<Self, ApiError> {
         let query = parts.uri.query().unwrap_or("");
         let de = serde_urlencoded::Deserializer::new(form_urlencoded::parse(query.as_bytes()));
-        serde_path_to_error::deserialize(de).map(Params).map_err(|e| {
+        let params = serde_path_to_error::deserialize(de).map_err(|e| {
             let path = e.path().to_string();
-            ApiError::bad_request((path != ".").then_some(path), format!("bad query string: {}", e.into_inner()))
-        })
+            Error::bad_request((path != ".").then_some(path), format!("bad query string: {}", e.into_inner()))
+        })?;
+        Ok(Params(params))
     }
 }
 
@@ -195,8 +197,8 @@ pub struct Target {
     /// The resource id of the path, if any.
     pub id: Option<u32>,
     /// Who asked: the request's connection, whose renders take their turns fairly with other
-    /// clients' (see [`crate::turns`]).
-    pub(crate) client: crate::turns::Client,
+    /// clients' (see [`raystage_service::Client`]).
+    pub(crate) client: Client,
 }
 
 impl Target {
@@ -212,16 +214,16 @@ impl FromRequestParts<AppState> for Target {
     async fn from_request_parts(parts: &mut Parts, state: &AppState) -> Result<Self, ApiError> {
         let Path(params) = Path::<HashMap<String, String>>::from_request_parts(parts, state)
             .await
-            .map_err(|e| ApiError::bad_request(None, e.body_text()))?;
-        let number = |key: &str| -> ApiResult<Option<u32>> {
+            .map_err(|e| Error::bad_request(None, e.body_text()))?;
+        let number = |key: &str| -> Result<Option<u32>> {
             params
                 .get(key)
-                .map(|v| v.parse::<u32>().map_err(|_| ApiError::not_found(Some(key.into()), format!("`{v}` is not an id: ids are numbers"))))
+                .map(|v| v.parse::<u32>().map_err(|_| Error::not_found(Some(key.into()), format!("`{v}` is not an id: ids are numbers"))))
                 .transpose()
         };
-        let scene_id = number("scene")?.ok_or_else(|| ApiError::internal("route without a scene"))?;
+        let scene_id = number("scene")?.ok_or_else(|| Error::internal("route without a scene"))?;
         let scene = state.scene(scene_id)?;
-        let client = parts.extensions.get::<crate::turns::Client>().copied().unwrap_or(crate::turns::Client::ANY);
+        let client = parts.extensions.get::<Client>().copied().unwrap_or(Client::ANY);
         Ok(Target { scene, id: number("id")?, client })
     }
 }
@@ -239,18 +241,18 @@ mod tests {
     #[test]
     fn errors_name_the_field_and_tell_nan_from_bad_syntax() {
         let err = parse_json::<Point>(br#"{"xyz": [1, "two", 3]}"#).unwrap_err();
-        assert_eq!((err.status, err.detail.field.as_deref()), (StatusCode::BAD_REQUEST, Some("xyz[1]")));
+        assert_eq!((ApiError(err.clone()).status(), err.detail.field.as_deref()), (StatusCode::BAD_REQUEST, Some("xyz[1]")));
         let err = parse_json::<Point>(br#"{"xyz": [1, NaN, 3]}"#).unwrap_err();
-        assert_eq!((err.status, err.detail.field.as_deref()), (StatusCode::UNPROCESSABLE_ENTITY, Some("xyz[1]")));
+        assert_eq!((ApiError(err.clone()).status(), err.detail.field.as_deref()), (StatusCode::UNPROCESSABLE_ENTITY, Some("xyz[1]")));
         let err = parse_json::<Point>(b"{\n  \"xyz\": [1, 2,\n -Infinity]}").unwrap_err();
-        assert_eq!(err.status, StatusCode::UNPROCESSABLE_ENTITY);
+        assert_eq!(ApiError(err).status(), StatusCode::UNPROCESSABLE_ENTITY);
         let err = parse_json::<Point>(br#"{"xyz": [1, 2, 3}"#).unwrap_err();
-        assert_eq!(err.status, StatusCode::BAD_REQUEST);
+        assert_eq!(ApiError(err).status(), StatusCode::BAD_REQUEST);
         let err = parse_json::<Point>(br#"{"xyz": [1, 2, 3]} trailing"#).unwrap_err();
-        assert_eq!(err.status, StatusCode::BAD_REQUEST);
+        assert_eq!(ApiError(err).status(), StatusCode::BAD_REQUEST);
         assert!(parse_json::<Point>(br#"{"xyz": [1, 2, 3]}"#).is_ok());
         let err = parse_json::<Point>(br#" [[1, 2, 3]]"#).unwrap_err();
-        assert_eq!(err.status, StatusCode::BAD_REQUEST);
+        assert_eq!(ApiError(err).status(), StatusCode::BAD_REQUEST);
     }
 
     #[test]
@@ -265,7 +267,7 @@ mod tests {
         assert_eq!(ids, Ids { ids: vec![2, 1000, 7], name: "1.0".into(), x: -0.0 });
         assert!(ids.x.is_sign_negative());
         let err = parse_json::<Ids>(br#"{"ids": [2.5], "name": "", "x": 0}"#).unwrap_err();
-        assert_eq!((err.status, err.detail.field.as_deref()), (StatusCode::BAD_REQUEST, Some("ids[0]")));
+        assert_eq!((ApiError(err.clone()).status(), err.detail.field.as_deref()), (StatusCode::BAD_REQUEST, Some("ids[0]")));
         assert_eq!(integers_as_integers(br#"{"a": "2.0", "b": [1.5, 3.0, 1e300]}"#).as_deref(), Some(&br#"{"a": "2.0", "b": [1.5, 3, 1e300]}"#[..]));
     }
 }

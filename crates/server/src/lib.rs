@@ -13,38 +13,29 @@
 //! against [`Limits`] before work starts, and nothing a request sends can panic the server or
 //! leave a scene half-edited.
 //!
-//! [`cluster`] serves from every rank of a cluster (`raystage serve --mpi`): edits replicated to
-//! render workers as they happen, frames rendered by all ranks; over a [`cluster::Transport`] the
-//! command line provides (MPI), so this crate does not depend on MPI.
+//! The scenes, edits, limits and render jobs behind the routes are the service's
+//! ([`raystage_service`]), which a cluster's workers (`raystage-cluster`, `raystage serve
+//! --mpi`) replicate: an [`AppState`] made with [`AppState::clustered`] renders with them.
 //!
-//! Not in here: the scene ([`raystage_scene`]), rendering ([`raystage_render`]), glTF reading
-//! ([`raystage_gltf_import`]), and the command line that starts the server.
+//! Not in here: the service, the cluster, the scene ([`raystage_scene`]), rendering
+//! ([`raystage_render`]), glTF reading ([`raystage_gltf_import`]), and the command line that
+//! starts the server.
 
 mod auth;
-mod batch;
-mod clock;
-pub mod cluster;
-mod config;
-mod edit;
+mod commands;
 mod error;
 mod extract;
-mod model;
 mod png;
 mod render;
 mod routes;
-mod state;
-mod stats;
 mod stream;
-mod turns;
 
 use std::future::Future;
 use std::time::Duration;
 
-pub use config::{Config, Limits, Refused, usable_memory};
-pub use error::{ApiError, ErrorBody, ErrorDetail};
+pub use error::{ApiError, ErrorBody};
+pub use raystage_service::{AppState, ClusterTimes, Config, ErrorDetail, Limits, Refused, usable_memory};
 pub use routes::openapi::ApiDoc;
-pub use state::AppState;
-pub use stats::ClusterTimes;
 
 /// The whole API as a router, ready for `axum::serve` or `tower::ServiceExt::oneshot`.
 pub fn router(state: AppState) -> axum::Router {
@@ -70,7 +61,8 @@ pub async fn serve(listener: tokio::net::TcpListener, state: AppState, shutdown:
     let (stop_tx, stop) = tokio::sync::watch::channel(());
     let (open_tx, open) = tokio::sync::watch::channel(());
     let mut shutdown = std::pin::pin!(shutdown);
-    // Connections are the clients whose renders take turns (crate::turns); 0 is no connection.
+    // Connections are the clients whose renders take turns (`raystage_service::Client`); 0 is
+    // no connection.
     let mut clients = 0u64;
     loop {
         let stream = tokio::select! {
@@ -84,7 +76,7 @@ pub async fn serve(listener: tokio::net::TcpListener, state: AppState, shutdown:
             () = &mut shutdown => break,
         };
         clients += 1;
-        let client = turns::Client(clients);
+        let client = raystage_service::Client(clients);
         let app = tower::ServiceExt::map_request(app.clone(), move |mut request: axum::http::Request<hyper::body::Incoming>| {
             request.extensions_mut().insert(client);
             request

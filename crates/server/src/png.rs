@@ -18,15 +18,15 @@ use std::time::Instant;
 use raystage_render::{Cancel, Film, FrameStats, Look, RenderSettings, render_rows};
 use raystage_scene::Frame;
 use rayon::prelude::*;
+use raystage_service::{Error, Result};
 
-use crate::error::{ApiError, ApiResult};
 
 /// Rows converted together: small enough that compression starts early, large enough that
 /// handing bands over costs nothing.
 const BAND_ROWS: u32 = 16;
 
 /// The film as an sRGB PNG seen through `look` (exposed, tone-mapped).
-pub fn encode(film: &Film, look: Look) -> ApiResult<Vec<u8>> {
+pub fn encode(film: &Film, look: Look) -> Result<Vec<u8>> {
     let (width, height) = (film.width(), film.height());
     let bands = height.div_ceil(BAND_ROWS);
     compress(width, height, |sender| {
@@ -44,7 +44,7 @@ pub fn encode(film: &Film, look: Look) -> ApiResult<Vec<u8>> {
 /// tone-mapped) while it renders (see the module documentation), until `cancel` stops it,
 /// counting the rows finished in `rows_done`. Returns the PNG, the frame's statistics, and the
 /// seconds the render and the encoding left after it took.
-pub fn render_png(frame: &Frame<'_>, settings: &RenderSettings, look: Look, cancel: &Cancel, rows_done: &AtomicU32) -> ApiResult<(Vec<u8>, FrameStats, f64, f64)> {
+pub fn render_png(frame: &Frame<'_>, settings: &RenderSettings, look: Look, cancel: &Cancel, rows_done: &AtomicU32) -> Result<(Vec<u8>, FrameStats, f64, f64)> {
     let start = Instant::now();
     let mut rendered = None;
     let compressed = compress(settings.width, settings.height, |sender| {
@@ -58,7 +58,7 @@ pub fn render_png(frame: &Frame<'_>, settings: &RenderSettings, look: Look, canc
     let Some((result, render_seconds)) = rendered else {
         // The encoder failed before the render could start.
         compressed?;
-        return Err(ApiError::internal("the frame was not rendered"));
+        return Err(Error::internal("the frame was not rendered"));
     };
     let (_, stats) = result.map_err(render_error)?;
     // After the render's own error: a cancelled render leaves the PNG short of rows.
@@ -69,17 +69,17 @@ pub fn render_png(frame: &Frame<'_>, settings: &RenderSettings, look: Look, canc
 /// A render's error as the API reports it: a cancelled render as busy (whoever cancelled has
 /// answered the client already; this is for the record), anything else as settings the
 /// renderer refused.
-pub(crate) fn render_error(e: raystage_render::Error) -> ApiError {
+pub(crate) fn render_error(e: raystage_render::Error) -> Error {
     match e {
-        raystage_render::Error::Cancelled => ApiError::busy(e.to_string()),
-        e => ApiError::unprocessable(None, e.to_string()),
+        raystage_render::Error::Cancelled => Error::busy(e.to_string()),
+        e => Error::unprocessable(None, e.to_string()),
     }
 }
 
 /// A `width × height` PNG of the RGB8 rows that `produce` sends as `(first row, bytes)` pairs,
 /// in any order, each row once, compressed in image order on this thread while `produce` runs
 /// on another. Returns the PNG and when it was done.
-fn compress(width: u32, height: u32, produce: impl FnOnce(Sender<(u32, Vec<u8>)>) + Send) -> ApiResult<(Vec<u8>, Instant)> {
+fn compress(width: u32, height: u32, produce: impl FnOnce(Sender<(u32, Vec<u8>)>) + Send) -> Result<(Vec<u8>, Instant)> {
     let mut out = Vec::with_capacity(width as usize * height as usize / 2);
     let mut encoder = png::Encoder::new(&mut out, width, height);
     encoder.set_color(png::ColorType::Rgb);
@@ -87,7 +87,7 @@ fn compress(width: u32, height: u32, produce: impl FnOnce(Sender<(u32, Vec<u8>)>
     encoder.set_compression(png::Compression::Fast);
     encoder.set_filter(png::Filter::Paeth);
     encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
-    let fail = |e: png::EncodingError| ApiError::internal(format!("cannot encode the PNG: {e}"));
+    let fail = |e: png::EncodingError| Error::internal(format!("cannot encode the PNG: {e}"));
     let mut writer = encoder.write_header().map_err(fail)?;
     let mut stream = writer.stream_writer_with_size(1 << 20).map_err(fail)?;
     let (sender, receiver) = std::sync::mpsc::channel::<(u32, Vec<u8>)>();
@@ -105,7 +105,7 @@ fn compress(width: u32, height: u32, produce: impl FnOnce(Sender<(u32, Vec<u8>)>
         }
         Ok(())
     });
-    written.map_err(|e| ApiError::internal(format!("cannot encode the PNG: {e}")))?;
+    written.map_err(|e| Error::internal(format!("cannot encode the PNG: {e}")))?;
     stream.finish().map_err(fail)?;
     writer.finish().map_err(fail)?;
     Ok((out, Instant::now()))

@@ -16,7 +16,7 @@ use axum::body::Body;
 use axum::http::StatusCode;
 use common::*;
 use futures_util::StreamExt;
-use raystage_server::cluster::{Cluster, Transport, work};
+use raystage_cluster::{Cluster, Transport, work};
 use raystage_server::{AppState, Config, Limits, router};
 use serde_json::{Value, json};
 use tokio_tungstenite::tungstenite::Message;

@@ -1,17 +1,16 @@
 //! `/scenes/{scene}/animations`: the animations a glTF file brought, which the batch command
-//! `set_time` poses; `/scenes/{scene}/clock`: the clock that plays them (see [`crate::clock`]).
+//! `set_time` poses; `/scenes/{scene}/clock`: the clock that plays them (see
+//! [`raystage_service::Clock`]).
 
 use axum::Json;
 use axum::extract::State;
+use raystage_service::model::{Command, SetTime};
+use raystage_service::{AppState, ClockChange, ClockState, Error};
 use serde::Serialize;
 use utoipa::ToSchema;
 
-use super::edit;
-use crate::clock::{ClockChange, ClockState};
-use crate::error::{ApiError, ApiResult, ErrorBody};
+use crate::error::{ApiResult, ErrorBody};
 use crate::extract::{JsonBody, Target};
-use crate::model::{Command, SetTime};
-use crate::state::AppState;
 
 /// An animation.
 #[derive(Clone, Debug, Serialize, ToSchema)]
@@ -56,7 +55,7 @@ pub(crate) async fn list(target: Target) -> ApiResult<Json<Vec<AnimationInfo>>> 
 pub(crate) async fn clock(target: Target) -> ApiResult<Json<ClockState>> {
     target.scene.clock().map(Json).ok_or_else(|| {
         let message = format!("scene {} has no clock yet: PUT /scenes/{}/clock (a scene with animations) starts one", target.scene.id, target.scene.id);
-        ApiError::not_found(Some("clock".into()), message)
+        Error::not_found(Some("clock".into()), message).into()
     })
 }
 
@@ -82,9 +81,9 @@ pub(crate) async fn set_clock(State(state): State<AppState>, target: Target, Jso
     let time = change.time.or(current.as_ref().map(|c| c.time)).unwrap_or(0.0);
     let animation = change.animation.clone().or(current.map(|c| c.animation));
     // Posing checks the animation and moves the scene to the time now.
-    edit(&state, slot, vec![Command::SetTime(SetTime { seconds: time, animation })], false).await?;
+    slot.commands(&state, vec![Command::SetTime(SetTime { seconds: time, animation })], false).await?;
     let (scene, _) = slot.snapshot().await;
-    let (play, _) = scene.posed().ok_or_else(|| ApiError::internal("a scene just posed has no pose"))?;
+    let (play, _) = scene.posed().ok_or_else(|| Error::internal("a scene just posed has no pose"))?;
     let clock = slot.set_clock(&scene, play, time, |clock| {
         if let Some(rate) = change.rate {
             clock.rate = rate;

@@ -2,12 +2,12 @@
 
 use axum::Json;
 use axum::extract::State;
+use raystage_service::model::{CameraJson, CameraPatch, Command};
+use raystage_service::AppState;
 
 use super::{Updated, update};
 use crate::error::{ApiResult, ErrorBody};
 use crate::extract::{JsonBody, Target};
-use crate::model::{CameraJson, CameraPatch, Command};
-use crate::state::AppState;
 
 /// The camera.
 #[utoipa::path(get, path = "/scenes/{scene}/camera", tag = "camera",

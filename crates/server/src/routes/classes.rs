@@ -2,10 +2,10 @@
 
 use axum::Json;
 use raystage_scene::{ParamValue, SHADER_CLASSES};
+use raystage_service::model::{LIGHT_CLASSES, ParamOut};
 use serde::Serialize;
 use utoipa::ToSchema;
 
-use crate::model::{LIGHT_CLASSES, ParamOut};
 
 /// A shader class.
 #[derive(Clone, Debug, Serialize, ToSchema)]

@@ -5,13 +5,13 @@ use axum::extract::{Path, State};
 use raystage_render::{Channel, RenderSettings};
 use axum::http::header;
 use axum::response::{IntoResponse, Response};
+use raystage_service::{AppState, Error, on_a_turn};
 use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
 
-use crate::error::{ApiError, ApiResult, ErrorBody};
+use crate::error::{ApiResult, ErrorBody};
 use crate::extract::{Params, Target};
-use crate::render::{FrameQuery, check_limits, on_a_turn, render_png};
-use crate::state::AppState;
+use crate::render::{FrameQuery, check_limits, render_png};
 
 /// Renders a frame as PNG. The statistics come as headers: `x-render-seconds`,
 /// `x-encode-seconds`, `x-rays`, `x-effects`, `x-integrator`, `x-scene-version` (and, in full,
@@ -19,7 +19,7 @@ use crate::state::AppState;
 #[utoipa::path(get, path = "/scenes/{scene}/frame.png", tag = "frames",
     params(("scene" = u32, Path, description = "The scene's id"), FrameQuery),
     responses(
-        (status = 200, description = "The frame", content_type = "image/png", body = crate::model::Binary),
+        (status = 200, description = "The frame", content_type = "image/png", body = raystage_service::model::Binary),
         (status = 400, description = "Malformed request: the error names the field", body = ErrorBody),
         (status = 404, description = "No such scene, resource or route", body = ErrorBody),
         (status = 422, description = "A value is not acceptable: the error names the field", body = ErrorBody),
@@ -74,7 +74,7 @@ pub struct ChannelQuery {
     params(("scene" = u32, Path, description = "The scene's id"),
         ("channel" = String, Path, description = "depth, z, normal, albedo, instance, object or primitive"), ChannelQuery),
     responses(
-        (status = 200, description = "The channel", content_type = "image/png", body = crate::model::Binary),
+        (status = 200, description = "The channel", content_type = "image/png", body = raystage_service::model::Binary),
         (status = 400, description = "Malformed request: the error names the field", body = ErrorBody),
         (status = 404, description = "No such scene, resource or route", body = ErrorBody),
         (status = 422, description = "A value is not acceptable: the error names the field", body = ErrorBody),
@@ -85,7 +85,7 @@ pub(crate) async fn channel(
     Path((_, name)): Path<(u32, String)>,
     Params(q): Params<ChannelQuery>,
 ) -> ApiResult<Response> {
-    let channel: Channel = name.parse().map_err(|e: raystage_render::Error| ApiError::not_found(Some("channel".into()), e.to_string()))?;
+    let channel: Channel = name.parse().map_err(|e: raystage_render::Error| Error::not_found(Some("channel".into()), e.to_string()))?;
     let defaults = RenderSettings::default();
     let request = RenderSettings { width: q.width.unwrap_or(defaults.width), height: q.height.unwrap_or(defaults.height), ..defaults };
     check_limits(&request, "spp", &state.config().limits)?;
@@ -93,18 +93,18 @@ pub(crate) async fn channel(
         None => channel.is_distance(),
         Some("pfm") => true,
         Some("png") if channel.is_distance() => {
-            return Err(ApiError::unprocessable(Some("format".into()), format!("the {name} channel has no PNG form: ask for pfm")));
+            return Err(Error::unprocessable(Some("format".into()), format!("the {name} channel has no PNG form: ask for pfm")).into());
         }
         Some("png") => false,
-        Some(other) => return Err(ApiError::unprocessable(Some("format".into()), format!("format `{other}` is not png or pfm"))),
+        Some(other) => return Err(Error::unprocessable(Some("format".into()), format!("format `{other}` is not png or pfm")).into()),
     };
     let memory = request.width as u64 * request.height as u64 * CHANNEL_BYTES_PER_PIXEL;
     // One ray a pixel: short enough that it runs to the end once started.
     let bytes = on_a_turn(&state, &target.scene, target.client, None, memory, move |scene, _, _| {
-        let [image] = &raystage_render::render_channels(&scene.frame(), request.width, request.height, &[channel]).map_err(|e| ApiError::unprocessable(None, e.to_string()))?[..] else {
-            return Err(ApiError::internal("one channel asked for, one rendered"));
+        let [image] = &raystage_render::render_channels(&scene.frame(), request.width, request.height, &[channel]).map_err(|e| Error::unprocessable(None, e.to_string()))?[..] else {
+            return Err(Error::internal("one channel asked for, one rendered").into());
         };
-        if pfm { Ok(image.pfm()) } else { image.png().map_err(|e| ApiError::internal(e.to_string())) }
+        if pfm { Ok(image.pfm()) } else { image.png().map_err(|e| Error::internal(e.to_string())) }
     })
     .await?;
     let content_type = if pfm { "image/x-portable-floatmap" } else { "image/png" };
@@ -164,12 +164,12 @@ pub(crate) async fn pick(State(state): State<AppState>, target: Target, Params(q
     let max = state.config().limits.max_dimension;
     for (name, value) in [("width", width), ("height", height)] {
         if !(1..=max).contains(&value) {
-            return Err(ApiError::unprocessable(Some(name.into()), format!("{name} {value} is not in 1..={max}")));
+            return Err(Error::unprocessable(Some(name.into()), format!("{name} {value} is not in 1..={max}")).into());
         }
     }
     if q.x >= width || q.y >= height {
         let field = if q.x >= width { "x" } else { "y" };
-        return Err(ApiError::unprocessable(Some(field.into()), format!("pixel ({}, {}) is outside the {width}×{height} image", q.x, q.y)));
+        return Err(Error::unprocessable(Some(field.into()), format!("pixel ({}, {}) is outside the {width}×{height} image", q.x, q.y)).into());
     }
     let (x, y) = (q.x, q.y);
     let hit = target

@@ -3,14 +3,14 @@
 use axum::Json;
 use axum::extract::State;
 use axum::http::StatusCode;
+use raystage_service::model::{Command, Delete, InstanceBody, InstanceUpdate, Ref, SetInstance, Transform};
+use raystage_service::{AppState, Error};
 use serde::Serialize;
 use utoipa::ToSchema;
 
 use super::{CreatedResponse, Updated, create, update};
-use crate::error::{ApiError, ApiResult, ErrorBody};
+use crate::error::{ApiResult, ErrorBody};
 use crate::extract::{JsonBody, Target};
-use crate::model::{Command, Delete, InstanceBody, InstanceUpdate, Ref, SetInstance, Transform};
-use crate::state::AppState;
 
 /// An instance.
 #[derive(Clone, Debug, Serialize, ToSchema)]
@@ -23,7 +23,7 @@ pub struct InstanceInfo {
     pub matrix: [[f32; 4]; 4],
 }
 
-async fn all(target: &Target) -> ApiResult<Vec<InstanceInfo>> {
+async fn all(target: &Target) -> raystage_service::Result<Vec<InstanceInfo>> {
     target
         .scene
         .read(|scene, _| scene.instances().map(|(id, object, t)| InstanceInfo { id: id.0, object: object.0, matrix: Transform::rows(&t) }).collect())
@@ -64,7 +64,7 @@ pub(crate) async fn add(State(state): State<AppState>, target: Target, JsonBody(
     ))]
 pub(crate) async fn get(target: Target) -> ApiResult<Json<InstanceInfo>> {
     let id = target.id();
-    all(&target).await?.into_iter().find(|i| i.id == id).map(Json).ok_or_else(|| ApiError::not_found(Some("id".into()), format!("unknown instance {id}")))
+    all(&target).await?.into_iter().find(|i| i.id == id).map(Json).ok_or_else(|| Error::not_found(Some("id".into()), format!("unknown instance {id}")).into())
 }
 
 /// Moves an instance.

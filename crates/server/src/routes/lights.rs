@@ -3,14 +3,14 @@
 use axum::Json;
 use axum::extract::State;
 use axum::http::StatusCode;
+use raystage_service::model::{Command, Delete, LightInfo, LightSpec, Ref, SetLight};
+use raystage_service::{AppState, Error};
 
 use super::{CreatedResponse, Updated, create, update};
 use crate::error::{ApiError, ApiResult, ErrorBody};
 use crate::extract::{JsonBody, Target};
-use crate::model::{Command, Delete, LightInfo, LightSpec, Ref, SetLight};
-use crate::state::AppState;
 
-async fn all(target: &Target) -> ApiResult<Vec<LightInfo>> {
+async fn all(target: &Target) -> raystage_service::Result<Vec<LightInfo>> {
     target.scene.read(|scene, _| scene.lights().map(|(id, l)| LightInfo { id: id.0, light: LightSpec::from_light(l) }).collect()).await
 }
 
@@ -48,7 +48,7 @@ pub(crate) async fn add(State(state): State<AppState>, target: Target, JsonBody(
     ))]
 pub(crate) async fn get(target: Target) -> ApiResult<Json<LightInfo>> {
     let id = target.id();
-    all(&target).await?.into_iter().find(|l| l.id == id).map(Json).ok_or_else(|| ApiError::not_found(Some("id".into()), format!("unknown light {id}")))
+    all(&target).await?.into_iter().find(|l| l.id == id).map(Json).ok_or_else(|| Error::not_found(Some("id".into()), format!("unknown light {id}")).into())
 }
 
 /// Replaces a light.
@@ -63,7 +63,7 @@ pub(crate) async fn get(target: Target) -> ApiResult<Json<LightInfo>> {
     ))]
 pub(crate) async fn set(State(state): State<AppState>, target: Target, JsonBody(body): JsonBody<LightSpec>) -> ApiResult<Json<Updated>> {
     // Within a light body, fields are named as they are in it (`intensity`, not `light.intensity`).
-    update(&state, &target.scene, Command::SetLight(SetLight { id: Ref::Id(target.id()), light: body })).await.map_err(|e| e.without_prefix("light."))
+    update(&state, &target.scene, Command::SetLight(SetLight { id: Ref::Id(target.id()), light: body })).await.map_err(|e| ApiError(e.0.without_prefix("light.")))
 }
 
 /// Removes a light.

@@ -1,34 +1,33 @@
 //! The HTTP routes: one module per resource, each handler a thin shell around an edit (run
-//! through [`crate::batch`]), a read, or a render.
+//! through the service's [`SceneSlot::commands`]), a read, or a render.
 
 mod animations;
 mod camera;
 mod classes;
-pub(crate) mod commands;
+mod commands;
 mod frame;
-pub(crate) mod gltf;
+mod gltf;
 mod instances;
 mod lights;
 mod objects;
 pub(crate) mod openapi;
-pub(crate) mod renders;
+mod renders;
 mod scenes;
 mod shaders;
-pub(crate) mod textures;
+mod textures;
 
 use std::sync::Arc;
 
 use axum::extract::DefaultBodyLimit;
 use axum::routing::get;
 use axum::{Json, Router, middleware};
+use raystage_service::model::Command;
+use raystage_service::{AppState, Error, ErrorKind, SceneSlot};
 use serde::Serialize;
 use utoipa::ToSchema;
 
 use crate::auth::require_token;
-use crate::edit::{Applied, Edit};
 use crate::error::{ApiError, ApiResult};
-use crate::model::{Command, CommandResult};
-use crate::state::{AppState, SceneSlot};
 
 /// The whole API as a router.
 pub(crate) fn router(state: AppState) -> Router {
@@ -63,9 +62,9 @@ pub(crate) fn router(state: AppState) -> Router {
         .route("/renders/{id}", get(renders::get).delete(renders::delete))
         .route("/renders/{id}/image.png", get(renders::image))
         .route("/scenes/{scene}/stream", get(crate::stream::stream))
-        .fallback(|| async { ApiError::not_found(None, "no such route: see /openapi.json") })
+        .fallback(|| async { ApiError(Error::not_found(None, "no such route: see /openapi.json")) })
         .method_not_allowed_fallback(|| async {
-            ApiError { status: axum::http::StatusCode::METHOD_NOT_ALLOWED, ..ApiError::bad_request(None, "this route does not take that method: see /openapi.json") }
+            ApiError(Error::new(ErrorKind::MethodNotAllowed, None, "this route does not take that method: see /openapi.json"))
         })
         .layer(middleware::from_fn_with_state(state.clone(), require_token))
         .layer(DefaultBodyLimit::max(limits.max_body_bytes))
@@ -111,25 +110,17 @@ pub struct CreatedResponse {
     pub ignored: Vec<String>,
 }
 
-/// Runs edits on a scene (see [`crate::batch`]); returns their results and the new version.
-pub(crate) async fn edit(state: &AppState, scene: &Arc<SceneSlot>, commands: Vec<Command>, in_batch: bool) -> ApiResult<(Vec<CommandResult>, u64)> {
-    match scene.edit(state, Edit::Commands { commands, in_batch }).await? {
-        (Applied::Commands(results), version) => Ok((results, version)),
-        _ => Err(ApiError::internal("commands gave back something else")),
-    }
-}
-
 /// Runs one edit that creates a resource: 201 with its id.
 pub(crate) async fn create(state: &AppState, scene: &Arc<SceneSlot>, command: Command) -> ApiResult<(axum::http::StatusCode, Json<CreatedResponse>)> {
-    let (mut results, version) = edit(state, scene, vec![command], false).await?;
+    let (mut results, version) = scene.commands(state, vec![command], false).await?;
     let result = results.pop().expect("one result per command");
-    let id = result.id.ok_or_else(|| ApiError::internal("a creation returned no id"))?;
+    let id = result.id.ok_or_else(|| Error::internal("a creation returned no id"))?;
     Ok((axum::http::StatusCode::CREATED, Json(CreatedResponse { id, version, ignored: result.ignored })))
 }
 
 /// Runs one edit that changes or deletes a resource.
 pub(crate) async fn update(state: &AppState, scene: &Arc<SceneSlot>, command: Command) -> ApiResult<Json<Updated>> {
-    let (mut results, version) = edit(state, scene, vec![command], false).await?;
+    let (mut results, version) = scene.commands(state, vec![command], false).await?;
     let ignored = results.pop().map(|r| r.ignored).unwrap_or_default();
     Ok(Json(Updated { version, ignored }))
 }

@@ -6,14 +6,14 @@ use axum::Json;
 use axum::extract::State;
 use axum::http::StatusCode;
 use raystage_scene::{ObjectId, Scene};
+use raystage_service::model::{Command, DefineObject, Delete, Kind, ObjectBody, ObjectUpdate, PositionsBody, Ref, SetPositions};
+use raystage_service::AppState;
 use serde::Serialize;
 use utoipa::ToSchema;
 
 use super::{CreatedResponse, Updated, create, update};
 use crate::error::{ApiResult, ErrorBody};
 use crate::extract::{JsonBody, Target};
-use crate::model::{Command, Delete, DefineObject, Kind, ObjectBody, ObjectUpdate, PositionsBody, Ref, SetPositions};
-use crate::state::AppState;
 
 /// An object at a glance.
 #[derive(Clone, Debug, Serialize, ToSchema)]
@@ -31,7 +31,7 @@ pub struct ObjectInfo {
     pub built: bool,
 }
 
-fn info(scene: &Scene, id: ObjectId) -> ApiResult<ObjectInfo> {
+fn info(scene: &Scene, id: ObjectId) -> raystage_service::Result<ObjectInfo> {
     let mesh = scene.mesh(id)?;
     Ok(ObjectInfo {
         id: id.0,
@@ -50,7 +50,7 @@ fn info(scene: &Scene, id: ObjectId) -> ApiResult<ObjectInfo> {
         (status = 404, description = "No such scene, resource or route", body = ErrorBody),
     ))]
 pub(crate) async fn list(target: Target) -> ApiResult<Json<Vec<ObjectInfo>>> {
-    let objects = target.scene.read(|scene, _| scene.object_ids().map(|id| info(scene, id)).collect::<ApiResult<Vec<_>>>()).await??;
+    let objects = target.scene.read(|scene, _| scene.object_ids().map(|id| info(scene, id)).collect::<raystage_service::Result<Vec<_>>>()).await??;
     Ok(Json(objects))
 }
 

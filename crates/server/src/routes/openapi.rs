@@ -2,12 +2,12 @@
 //! `api/openapi.json`; a test fails when they differ).
 
 use axum::Json;
+use raystage_service::model::*;
+use raystage_service::{CameraChoice, ClockChange, ClockState, ErrorDetail, FrameReport, RaysJson};
 use utoipa::OpenApi;
 
-use crate::error::{ErrorBody, ErrorDetail};
-use crate::model::*;
+use crate::error::ErrorBody;
 use crate::render::{IntegratorName, ToneMapName};
-use crate::stats::{FrameReport, RaysJson};
 use crate::stream::{ClientMessage, FrameMessage, ServerMessage, SettingsChange};
 
 /// The API's description.
@@ -37,9 +37,9 @@ use crate::stream::{ClientMessage, FrameMessage, ServerMessage, SettingsChange};
     ),
     components(schemas(
         ErrorBody, ErrorDetail, FrameReport, RaysJson, Rgb, Transform, Rotation, Scale, Ref, ParamJson, ParamOut, Kind, MeshSpec,
-        TextureParam, TextureKind, TextureDescription, IntegratorName, ToneMapName, super::gltf::CameraChoice,
+        TextureParam, TextureKind, TextureDescription, IntegratorName, ToneMapName, CameraChoice,
         ClientMessage, SettingsChange, ServerMessage, FrameMessage, Command, CommandResult,
-        crate::clock::ClockState, crate::clock::ClockChange,
+        ClockState, ClockChange,
     )),
     modifiers(&Exact),
     tags(

@@ -5,16 +5,13 @@ use axum::Json;
 use axum::extract::{FromRequest, Request, State};
 use axum::http::{HeaderMap, StatusCode, header};
 use raystage_scene::Scene;
+use raystage_service::model::CameraJson;
+use raystage_service::{AppState, Blob, Error, FrameReport, SceneBuild, SceneSlot, SceneStart, parse_environment};
 use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
 
-use crate::cluster::{SceneBuild, SceneStart};
-use crate::edit::Blob;
-use crate::error::{ApiError, ApiResult, ErrorBody};
+use crate::error::{ApiResult, ErrorBody};
 use crate::extract::{Params, RawBody, Target, parse_json};
-use crate::model::CameraJson;
-use crate::state::{AppState, SceneSlot};
-use crate::stats::FrameReport;
 
 /// A new scene: empty, or a built-in demo. (To start from a glTF file, send the file itself
 /// with content type `model/gltf-binary` or `model/gltf+json`.)
@@ -107,8 +104,8 @@ pub(crate) async fn list(State(state): State<AppState>) -> ApiResult<Json<Vec<Sc
     params(NewSceneQuery),
     request_body(description = "Optional: no body makes an empty scene", content(
         (NewScene = "application/json"),
-        (crate::model::Binary = "model/gltf-binary"),
-        (crate::model::Binary = "model/gltf+json"),
+        (raystage_service::model::Binary = "model/gltf-binary"),
+        (raystage_service::model::Binary = "model/gltf+json"),
     )),
     responses(
         (status = 201, description = "Created", body = SceneInfo),
@@ -123,7 +120,7 @@ pub(crate) async fn create(
     request: Request,
 ) -> ApiResult<(StatusCode, Json<SceneInfo>)> {
     if let Some(text) = &query.environment {
-        super::gltf::parse_environment(text)?;
+        parse_environment(text)?;
     }
     let gltf = headers.get(header::CONTENT_TYPE).and_then(|v| v.to_str().ok()).is_some_and(|t| t.starts_with("model/gltf"));
     let body = RawBody::from_request(request, &state).await?.0;
@@ -134,7 +131,7 @@ pub(crate) async fn create(
     } else {
         let new: NewScene = if body.iter().all(u8::is_ascii_whitespace) { NewScene::default() } else { parse_json(&body)? };
         match new.demo {
-            None if new.frame.is_some() => return Err(ApiError::bad_request(Some("frame".into()), "`frame` needs a `demo`")),
+            None if new.frame.is_some() => return Err(Error::bad_request(Some("frame".into()), "`frame` needs a `demo`").into()),
             None => SceneStart::Empty,
             Some(name) => SceneStart::Demo { name, frame: new.frame.unwrap_or(0) },
         }
@@ -147,7 +144,7 @@ pub(crate) async fn create(
         state_for_build.create_scene(scene, origin, &build)
     })
     .await
-    .map_err(|e| ApiError::internal(e.to_string()))??;
+    .map_err(|e| Error::internal(e.to_string()))??;
     let slot = state.scene(id)?;
     let s = slot.clone();
     Ok((StatusCode::CREATED, Json(slot.read(move |scene, version| info_of(&s, scene, version)).await?)))

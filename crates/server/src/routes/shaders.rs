@@ -4,12 +4,12 @@ use axum::Json;
 use axum::extract::State;
 use axum::http::StatusCode;
 use raystage_scene::ShaderId;
+use raystage_service::model::{Command, DefineShader, Delete, ParamsBody, Ref, SetParams, ShaderBody, ShaderInfo, ShaderSummary, ShaderUpdate};
+use raystage_service::{AppState, Error};
 
 use super::{CreatedResponse, Updated, create, update};
 use crate::error::{ApiResult, ErrorBody};
 use crate::extract::{JsonBody, Target};
-use crate::model::{Command, DefineShader, Delete, ParamsBody, Ref, SetParams, ShaderBody, ShaderInfo, ShaderSummary, ShaderUpdate};
-use crate::state::AppState;
 
 /// Every shader of the scene: id, class and name (the default shader is not listed).
 #[utoipa::path(get, path = "/scenes/{scene}/shaders", tag = "shaders",
@@ -45,7 +45,7 @@ pub(crate) async fn add(State(state): State<AppState>, target: Target, JsonBody(
     ))]
 pub(crate) async fn get(target: Target) -> ApiResult<Json<ShaderInfo>> {
     let id = target.id();
-    Ok(Json(target.scene.read(move |scene, _| scene.shader(ShaderId(id)).map(|s| ShaderInfo::of(id, s))).await??))
+    Ok(Json(target.scene.read(move |scene, _| scene.shader(ShaderId(id)).map(|s| ShaderInfo::of(id, s))).await?.map_err(Error::from)?))
 }
 
 /// Replaces a shader (class and parameters): every triangle bound to it changes with it.

@@ -1,19 +1,18 @@
 //! `/scenes/{scene}/textures`: textures for shaders' texture parameters and environment maps.
 //! A body is a procedural texture as JSON, or the bytes of a PNG, JPEG or Radiance HDR file,
-//! told apart by its content type. JSON edits run through [`crate::batch`] as batch commands
+//! told apart by its content type. JSON edits run through [`raystage_service::model::Command`] as batch commands
 //! do; image uploads are decoded off the reactor and edit the scene directly.
 
 use axum::Json;
 use axum::extract::{FromRequest, Request, State};
 use axum::http::{StatusCode, header};
 use raystage_scene::{Image, TextureId};
+use raystage_service::model::{Command, Delete, Ref, SetTexture, TextureInfo, TextureSpec, decode_image};
+use raystage_service::{AppState, Applied, Blob, Edit, Error, unknown_texture};
 
 use super::{CreatedResponse, Updated, create, update};
-use crate::edit::{Applied, Blob, Edit};
 use crate::error::{ApiError, ApiResult, ErrorBody};
 use crate::extract::{JsonBody, RawBody, Target};
-use crate::model::{Command, Delete, Ref, SetTexture, TextureInfo, TextureSpec, decode_image};
-use crate::state::AppState;
 
 /// Content types of image bodies: the file's own bytes, whose format is read from them.
 const IMAGE_TYPES: [&str; 4] = ["image/png", "image/jpeg", "image/vnd.radiance", "application/octet-stream"];
@@ -44,7 +43,7 @@ impl FromRequest<AppState> for TextureBody {
             let limits = state.config().limits;
             let (bytes, image) = tokio::task::spawn_blocking(move || decode_image(&bytes, &limits).map(|image| (bytes, image)))
                 .await
-                .map_err(|e| ApiError::internal(e.to_string()))??;
+                .map_err(|e| Error::internal(e.to_string()))??;
             return Ok(TextureBody::Image(bytes.into(), image));
         }
         Err(ApiError::unsupported_media_type(format!(
@@ -55,13 +54,8 @@ impl FromRequest<AppState> for TextureBody {
     }
 }
 
-async fn all(target: &Target) -> ApiResult<Vec<TextureInfo>> {
+async fn all(target: &Target) -> raystage_service::Result<Vec<TextureInfo>> {
     target.scene.read(|scene, _| scene.textures().map(|(id, t)| TextureInfo::of(id.0, t)).collect()).await
-}
-
-/// 404 naming the path's `id`.
-pub(crate) fn unknown(id: u32) -> ApiError {
-    ApiError::not_found(Some("id".into()), format!("unknown texture {id}"))
 }
 
 /// Every texture.
@@ -83,10 +77,10 @@ pub(crate) async fn list(target: Target) -> ApiResult<Json<Vec<TextureInfo>>> {
     params(("scene" = u32, Path, description = "The scene's id")),
     request_body(content(
         (TextureSpec = "application/json"),
-        (crate::model::Binary = "image/png"),
-        (crate::model::Binary = "image/jpeg"),
-        (crate::model::Binary = "image/vnd.radiance"),
-        (crate::model::Binary = "application/octet-stream"),
+        (raystage_service::model::Binary = "image/png"),
+        (raystage_service::model::Binary = "image/jpeg"),
+        (raystage_service::model::Binary = "image/vnd.radiance"),
+        (raystage_service::model::Binary = "application/octet-stream"),
     )),
     responses(
         (status = 201, description = "Created", body = CreatedResponse),
@@ -116,7 +110,7 @@ pub(crate) async fn add(State(state): State<AppState>, target: Target, body: Tex
 pub(crate) async fn get(target: Target) -> ApiResult<Json<TextureInfo>> {
     let id = target.id();
     let texture = target.scene.read(move |scene, _| scene.texture(TextureId(id)).map(|t| TextureInfo::of(id, t)).ok()).await?;
-    texture.map(Json).ok_or_else(|| unknown(id))
+    texture.map(Json).ok_or_else(|| unknown_texture(id).into())
 }
 
 /// Replaces a texture, with the same bodies as `POST`: every shader and environment light
@@ -125,10 +119,10 @@ pub(crate) async fn get(target: Target) -> ApiResult<Json<TextureInfo>> {
     params(("scene" = u32, Path, description = "The scene's id"), ("id" = u32, Path, description = "The texture's id")),
     request_body(content(
         (TextureSpec = "application/json"),
-        (crate::model::Binary = "image/png"),
-        (crate::model::Binary = "image/jpeg"),
-        (crate::model::Binary = "image/vnd.radiance"),
-        (crate::model::Binary = "application/octet-stream"),
+        (raystage_service::model::Binary = "image/png"),
+        (raystage_service::model::Binary = "image/jpeg"),
+        (raystage_service::model::Binary = "image/vnd.radiance"),
+        (raystage_service::model::Binary = "application/octet-stream"),
     )),
     responses(
         (status = 200, description = "Success", body = Updated),
@@ -144,7 +138,7 @@ pub(crate) async fn set(State(state): State<AppState>, target: Target, body: Tex
         TextureBody::Procedural(texture) => {
             // Within a texture body, fields are named as they are in it (`scale`, not `texture.scale`).
             let command = Command::SetTexture(SetTexture { id: Ref::Id(id), texture });
-            update(&state, &target.scene, command).await.map_err(|e| e.without_prefix("texture."))
+            update(&state, &target.scene, command).await.map_err(|e| ApiError(e.0.without_prefix("texture.")))
         }
         TextureBody::Image(file, image) => {
             let (_, version) = image_edit(&state, &target, Some(id), file, image).await?;
@@ -155,10 +149,10 @@ pub(crate) async fn set(State(state): State<AppState>, target: Target, body: Tex
 
 /// Adds an image `file` (decoded as `image`) as a texture, or replaces texture `texture` with
 /// it; returns the texture's id and the scene's version.
-async fn image_edit(state: &AppState, target: &Target, texture: Option<u32>, file: Vec<u8>, image: Image) -> ApiResult<(u32, u64)> {
+async fn image_edit(state: &AppState, target: &Target, texture: Option<u32>, file: Vec<u8>, image: Image) -> raystage_service::Result<(u32, u64)> {
     match target.scene.edit(state, Edit::Image { texture, file: Blob(file), decoded: Some(image) }).await? {
         (Applied::Texture(id), version) => Ok((id, version)),
-        _ => Err(ApiError::internal("an image texture gave back something else")),
+        _ => Err(Error::internal("an image texture gave back something else")),
     }
 }
 

@@ -18,17 +18,16 @@ use axum::extract::ws::{Message, WebSocket, WebSocketUpgrade};
 use axum::response::Response;
 use futures_util::{SinkExt, StreamExt};
 use raystage_render::{FrameSettings, RenderSettings};
+use raystage_service::model::Command;
+use raystage_service::{AppState, Error, Limits, SceneSlot};
 use tokio::sync::{mpsc, watch};
 
 pub use protocol::{ClientMessage, FrameMessage, PROTOCOL, ServerMessage, SettingsChange, StreamQuery};
 use refine::{Packet, StreamSettings, refine};
 
-use crate::config::Limits;
-use crate::error::{ApiError, ApiResult, ErrorBody};
+use crate::error::{ApiResult, ErrorBody};
 use crate::extract::{Params, Target, parse_json};
-use crate::model::Command;
 use crate::render::{check_limits, setting_error};
-use crate::state::{AppState, SceneSlot};
 
 /// Default samples per pixel a stream refines to.
 const DEFAULT_MAX_SAMPLES: u32 = 256;
@@ -51,7 +50,7 @@ pub(crate) async fn stream(
 ) -> ApiResult<Response> {
     // A plain HTTP request gets the API's JSON error, naming the header it lacks, not axum's
     // text.
-    let upgrade = upgrade.map_err(|e| ApiError::bad_request(Some("upgrade".into()), format!("{}: open the stream as a WebSocket", e.body_text())))?;
+    let upgrade = upgrade.map_err(|e| Error::bad_request(Some("upgrade".into()), format!("{}: open the stream as a WebSocket", e.body_text())))?;
     let limits = state.config().limits;
     let mut frame = FrameSettings::default();
     frame.apply(&query.patch()).map_err(|e| setting_error(e, "max_samples"))?;
@@ -70,18 +69,18 @@ pub(crate) async fn stream(
 
 /// Checks a stream's settings as a frame request of `max_samples` samples per pixel, and its
 /// image against the memory for images being rendered (413 if it could never fit).
-fn check(settings: &StreamSettings, limits: &Limits) -> ApiResult<()> {
+fn check(settings: &StreamSettings, limits: &Limits) -> raystage_service::Result<()> {
     let render = settings.frame.render;
     check_limits(&RenderSettings { samples_per_pixel: settings.max_samples, ..render }, "max_samples", limits)?;
     let bytes = settings.bytes();
     if bytes > limits.max_render_bytes as u64 {
         let message = format!("a {}×{} stream takes {bytes} bytes: the limit is {}", render.width, render.height, limits.max_render_bytes);
-        return Err(ApiError::too_large(None, message).limit("max_render_bytes"));
+        return Err(Error::too_large(None, message).limit("max_render_bytes").into());
     }
     Ok(())
 }
 
-async fn session(socket: WebSocket, state: AppState, slot: Arc<SceneSlot>, client: crate::turns::Client, settings: StreamSettings) {
+async fn session(socket: WebSocket, state: AppState, slot: Arc<SceneSlot>, client: raystage_service::Client, settings: StreamSettings) {
     let (mut sink, mut incoming) = socket.split();
     let (settings_tx, settings_rx) = watch::channel(settings);
     let (frames_tx, mut frames_rx) = watch::channel::<Option<Arc<Packet>>>(None);
@@ -142,7 +141,7 @@ async fn session(socket: WebSocket, state: AppState, slot: Arc<SceneSlot>, clien
             Message::Text(text) => handle(&state, &slot, &settings_tx, text.as_str()).await,
             Message::Binary(_) => ServerMessage::Error {
                 request: None,
-                error: ApiError::bad_request(None, "binary messages are not understood: send JSON text").detail,
+                error: Error::bad_request(None, "binary messages are not understood: send JSON text").detail,
             },
             Message::Close(_) => break,
             Message::Ping(_) | Message::Pong(_) => continue,
@@ -162,8 +161,8 @@ async fn handle(state: &AppState, slot: &Arc<SceneSlot>, settings: &watch::Sende
         Err(e) => return ServerMessage::Error { request: None, error: e.detail },
     };
     let (request, outcome) = match message {
-        ClientMessage::Camera { request, camera } => (request, crate::routes::edit(state, slot, vec![Command::SetCamera(camera)], false).await),
-        ClientMessage::Commands { request, commands } => (request, crate::routes::edit(state, slot, commands, true).await),
+        ClientMessage::Camera { request, camera } => (request, slot.commands(state, vec![Command::SetCamera(camera)], false).await),
+        ClientMessage::Commands { request, commands } => (request, slot.commands(state, commands, true).await),
         ClientMessage::Settings(change) => {
             let mut new = *settings.borrow();
             let applied = new.frame.apply(&change.patch()).map_err(|e| setting_error(e, "max_samples")).and_then(|()| {
@@ -185,9 +184,9 @@ async fn handle(state: &AppState, slot: &Arc<SceneSlot>, settings: &watch::Sende
 /// A client message. A `commands` message is read with its commands counted as they are
 /// parsed (as `POST /commands` reads a batch): the one past `max_commands` ends parsing, so that
 /// a huge message costs the memory of the limit, not of all it holds.
-fn parse_message(bytes: &[u8], max_commands: usize) -> ApiResult<ClientMessage> {
+fn parse_message(bytes: &[u8], max_commands: usize) -> raystage_service::Result<ClientMessage> {
     if message_type(bytes).as_deref() == Some("commands") {
-        let (commands, request) = crate::routes::commands::parse_commands(bytes, max_commands, true)?;
+        let (commands, request) = crate::commands::parse_commands(bytes, max_commands, true)?;
         return Ok(ClientMessage::Commands { request, commands: commands.commands });
     }
     parse_json(bytes)

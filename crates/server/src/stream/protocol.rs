@@ -1,13 +1,12 @@
 //! The stream's messages (`api/stream.md` describes the protocol).
 
+use raystage_service::model::{CameraPatch, Command, CommandResult};
+use raystage_service::{ErrorDetail, RaysJson};
 use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
 
-use crate::error::ErrorDetail;
 // The settings list names the schemas of the integrators and tone curves.
 use crate::render::{IntegratorName, ToneMapName, settings_type};
-use crate::model::{CameraPatch, Command, CommandResult};
-use crate::stats::RaysJson;
 
 /// The protocol's version, sent in `hello`.
 pub const PROTOCOL: u32 = 1;

@@ -9,13 +9,10 @@ use std::time::Instant;
 
 use raystage_render::{Cancel, Film, FrameSettings, Look, RenderSettings};
 use raystage_scene::Scene;
+use raystage_service::{Accumulate, AppState, CancelOnDrop, Error, FrameReport, SceneSlot, scene_time};
 use tokio::sync::{OwnedSemaphorePermit, mpsc, watch};
 
-use crate::render::{CancelOnDrop, STREAM_BYTES_PER_PIXEL};
-use crate::state::{AppState, SceneSlot};
-use crate::stats::{FrameReport, scene_time};
-use crate::cluster::Accumulator;
-use crate::error::ApiError;
+use crate::render::STREAM_BYTES_PER_PIXEL;
 use crate::stream::protocol::{FrameMessage, ServerMessage};
 
 /// A pass aims to take about this long: short enough for interactive frame rates, long enough
@@ -72,7 +69,7 @@ struct Accumulation {
     /// What it renders, and how its last frame was graded.
     settings: StreamSettings,
     version: u64,
-    progressive: Accumulator,
+    progressive: Box<dyn Accumulate>,
     /// Its share of the memory for images being rendered, given back with it.
     memory: OwnedSemaphorePermit,
     /// The statistics of the last frame sent, sent again with a re-graded image.
@@ -82,11 +79,11 @@ struct Accumulation {
 /// Renders until the session ends (`settings` closes) or the scene is deleted (then it says so
 /// on `replies` and returns). `out` holds the newest packet; `taken` says whether the sender has
 /// delivered the last one. Each pass waits for `client`'s turn to render (see
-/// [`crate::turns`]), so a stream's passes and other clients' frames alternate.
+/// [`raystage_service::Client`]), so a stream's passes and other clients' frames alternate.
 pub(crate) async fn refine(
     state: AppState,
     slot: Arc<SceneSlot>,
-    client: crate::turns::Client,
+    client: raystage_service::Client,
     mut settings: watch::Receiver<StreamSettings>,
     out: watch::Sender<Option<Arc<Packet>>>,
     taken: Arc<AtomicBool>,
@@ -99,7 +96,7 @@ pub(crate) async fn refine(
     let mut out_of_memory = false;
     loop {
         if slot.is_deleted() {
-            let error = ApiError::not_found(Some("scene".into()), format!("scene {} was deleted", slot.id));
+            let error = Error::not_found(Some("scene".into()), format!("scene {} was deleted", slot.id));
             let _ = replies.send(ServerMessage::Error { request: None, error: error.detail }).await;
             return;
         }
@@ -165,7 +162,7 @@ pub(crate) async fn refine(
                 let Some(memory) = memory.or_else(|| old.map(|a| a.memory)) else {
                     return; // One of the two holds the memory.
                 };
-                let Ok(progressive) = Accumulator::new(wanted.render_settings(&scene), state.cluster()) else {
+                let Ok(progressive) = state.accumulator(wanted.render_settings(&scene)) else {
                     return; // The settings were checked when they were received.
                 };
                 Accumulation { settings: wanted, version, progressive, memory, sent: None }

@@ -1,6 +1,9 @@
+//! # raystage-cluster
+//!
 //! Serving from every rank of a cluster (`mpirun -n N raystage serve --mpi`), as OpenRT served
-//! its applications from a cluster: rank 0 runs the HTTP server, every other rank is a render
-//! worker ([`work`]) holding a replica of every scene.
+//! its applications from a cluster: rank 0 runs the server, every other rank is a render
+//! worker ([`work`]) holding a replica of every scene. Rank 0's [`Cluster`] is the service's
+//! [`Workers`]; a C program's scene reaches the workers through a [`Mirror`] (`rtInitMPI`).
 //!
 //! - **Edits** are replicated as they happen: rank 0 applies an [`Edit`] under the scene's
 //!   write lock, sends the same value to every worker, each applies it and answers, and rank 0
@@ -20,9 +23,10 @@
 //!   whole job. A worker that refuses an edit (an error where rank 0 had none) has it refused
 //!   everywhere.
 //!
-//! The messages travel over a [`Transport`] (MPI in the command line; this crate does not
-//! depend on MPI), encoded as CBOR: compact, and self-describing enough for the API's untagged
-//! values.
+//! The messages travel over a [`Transport`] (MPI with the `mpi` feature, `MpiTransport`;
+//! channels between threads in the tests), encoded as CBOR: compact, and self-describing enough
+//! for the API's untagged values. Nothing here speaks HTTP: the C library joins a cluster
+//! without linking the HTTP server.
 
 #[cfg(feature = "mpi")]
 mod mpi;
@@ -36,10 +40,7 @@ use std::time::{Duration, Instant};
 use raystage_render::{Cancel, Error as RenderError, Film, FrameStats, Progressive, RenderSettings, Share};
 use raystage_scene::{Frame, SceneEdit};
 
-use crate::edit::Edit;
-use crate::error::{ApiError, ApiResult};
-use crate::stats::ClusterTimes;
-pub use wire::{SceneBuild, SceneStart};
+use raystage_service::{Accumulate, ClusterTimes, Edit, Error, SceneBuild, SceneStart, Workers};
 use wire::{Message, PassMessage, Reply, decode, encode};
 pub use worker::work;
 #[cfg(feature = "mpi")]
@@ -76,11 +77,6 @@ impl Cluster {
     /// than `timeout` to answer.
     pub fn new(transport: Box<dyn Transport>, timeout: Duration) -> Arc<Cluster> {
         Arc::new(Cluster { transport, timeout, link: Mutex::new(None), next_key: AtomicU64::new(1), ended: Mutex::default() })
-    }
-
-    /// Ranks rendering now: all of the job's, or 1 once the workers were given up.
-    pub fn ranks(&self) -> u32 {
-        if self.lock().is_some() { 1 } else { self.transport.ranks() }
     }
 
     /// Ends the job's workers (they return from [`work`]); `Err` with why if they were given
@@ -133,11 +129,16 @@ impl Cluster {
         *link = Some(message.clone());
         message
     }
+}
 
-    /// Applies an edit on every worker, after rank 0 applied `message`'s edit: `Ok` if every
-    /// rank did (the edit stands), an error naming the rank that could not (the edit is refused
-    /// everywhere). Once the workers are given up, rank 0's edit stands alone.
-    pub(crate) fn replicate(&self, message: &[u8]) -> ApiResult<()> {
+/// Rank 0's side of a cluster, as the service's scenes are replicated and their frames
+/// rendered (see [`Workers`] for what each call does).
+impl Workers for Cluster {
+    fn ranks(&self) -> u32 {
+        if self.lock().is_some() { 1 } else { self.transport.ranks() }
+    }
+
+    fn replicate(&self, message: &[u8]) -> raystage_service::Result<()> {
         let mut link = self.lock();
         if link.is_some() {
             return Ok(());
@@ -154,27 +155,26 @@ impl Cluster {
         let _ = self.send_all(&mut link, &encode(&Message::<&Edit>::Verdict { stands: refused.is_none() }));
         match refused {
             None => Ok(()),
-            Some(why) => Err(ApiError::internal(format!("{why}; the edit is refused on every rank"))),
+            Some(why) => Err(Error::internal(format!("{why}; the edit is refused on every rank"))),
         }
     }
 
-    /// The message that replicates `edit` of scene `scene` (encoded before the edit is applied,
-    /// which consumes it).
-    pub(crate) fn edit_message(scene: u32, edit: &Edit) -> Vec<u8> {
+    fn edit_message(&self, scene: u32, edit: &Edit) -> Vec<u8> {
         encode(&Message::Edit { scene, edit })
     }
 
-    /// Replicates a new scene that rank 0 built from `build` and holds as `id`.
-    pub(crate) fn replicate_new_scene(&self, id: u32, origin: &str, build: &SceneBuild) -> ApiResult<()> {
+    fn replicate_new_scene(&self, id: u32, origin: &str, build: &SceneBuild) -> raystage_service::Result<()> {
         self.replicate(&encode(&Message::<&Edit>::NewScene { id, origin: origin.to_string(), build: build.clone() }))
     }
 
-    /// Replicates the deletion of scene `id` (a worker that cannot is only logged: the scene is
-    /// gone on rank 0, which is what clients see).
-    pub(crate) fn replicate_delete(&self, id: u32) {
+    fn replicate_delete(&self, id: u32) {
         if let Err(e) = self.replicate(&encode(&Message::<&Edit>::DeleteScene { id })) {
             eprintln!("warning: deleting scene {id} on the workers: {}", e.detail.message);
         }
+    }
+
+    fn accumulate(self: Arc<Self>, settings: RenderSettings) -> Result<Box<dyn Accumulate>, RenderError> {
+        Ok(Box::new(Accumulator::new(settings, &self)?))
     }
 }
 
@@ -225,7 +225,7 @@ impl Mirror {
             return Ok(());
         }
         let edit = Edit::Journal { edits };
-        self.cluster.replicate(&Cluster::edit_message(Mirror::SCENE, &edit)).map_err(|e| e.detail.message)?;
+        self.cluster.replicate(&self.cluster.edit_message(Mirror::SCENE, &edit)).map_err(|e| e.detail.message)?;
         self.version += 1;
         Ok(())
     }
@@ -233,15 +233,15 @@ impl Mirror {
     /// Renders `frame` (of the scene as the workers hold it after [`Mirror::sync`]) with every
     /// rank: one pass of all its samples, the image the one this process would render alone.
     pub fn render(&self, frame: &Frame<'_>, settings: RenderSettings) -> Result<(Film, FrameStats, Option<ClusterTimes>), RenderError> {
-        let mut accumulator = Accumulator::new(settings, Some(&self.cluster))?;
+        let mut accumulator = Accumulator::new(settings, &self.cluster)?;
         let stats = accumulator.add(Mirror::SCENE, frame, self.version, settings.samples_per_pixel, true, &Cancel::new())?;
         Ok((accumulator.film(), stats, accumulator.times()))
     }
 }
 
-/// An accumulation of samples rendered by this process alone, or by every rank of a cluster:
-/// the stream's and `frame.png`'s renders in a cluster (`Progressive` behind the same calls).
-pub(crate) struct Accumulator {
+/// An accumulation of samples rendered by every rank of a cluster, or by rank 0 alone once the
+/// cluster failed: the stream's and `frame.png`'s renders in a cluster, and a C program's frames.
+struct Accumulator {
     progressive: Progressive,
     /// The cluster rendering it and the accumulation's key there; `None` alone.
     cluster: Option<(Arc<Cluster>, u64)>,
@@ -252,10 +252,10 @@ pub(crate) struct Accumulator {
 }
 
 impl Accumulator {
-    /// An empty accumulation of `settings`, across `cluster`'s ranks if given and still
-    /// working.
-    pub(crate) fn new(settings: RenderSettings, cluster: Option<&Arc<Cluster>>) -> Result<Accumulator, RenderError> {
-        let cluster = cluster.filter(|c| c.ranks() > 1);
+    /// An empty accumulation of `settings`, across `cluster`'s ranks if its workers still
+    /// answer.
+    fn new(settings: RenderSettings, cluster: &Arc<Cluster>) -> Result<Accumulator, RenderError> {
+        let cluster = Some(cluster).filter(|c| c.ranks() > 1);
         let mut progressive = Progressive::new(settings)?;
         let cluster = match cluster {
             Some(cluster) => {
@@ -265,46 +265,6 @@ impl Accumulator {
             None => None,
         };
         Ok(Accumulator { progressive, cluster, film: None, times: None })
-    }
-
-    /// The settings it renders with.
-    pub(crate) fn settings(&self) -> &RenderSettings {
-        self.progressive.settings()
-    }
-
-    /// Samples per pixel so far.
-    pub(crate) fn samples(&self) -> u32 {
-        self.progressive.samples()
-    }
-
-    /// The image so far.
-    pub(crate) fn film(&self) -> Film {
-        self.film.clone().unwrap_or_else(|| self.progressive.film())
-    }
-
-    /// Ranks that rendered the last pass, and where its time went on rank 0 (`None` alone).
-    pub(crate) fn times(&self) -> Option<ClusterTimes> {
-        self.times
-    }
-
-    /// Adds `samples` samples per pixel of `frame`, of scene `scene_id` at `version`, stopping
-    /// rank 0's share soon after `cancel` says so (the workers finish theirs: they are not
-    /// reached while they render). If the cluster fails (a worker gave up, or lacks the
-    /// version), the accumulation goes on alone from an empty image, rendering this pass.
-    /// `last` says no pass follows: the workers drop their state at once.
-    pub(crate) fn add(&mut self, scene_id: u32, frame: &Frame<'_>, version: u64, samples: u32, last: bool, cancel: &Cancel) -> Result<FrameStats, RenderError> {
-        let Some((cluster, key)) = self.cluster.clone() else {
-            return self.progressive.add_cancellable(frame, samples, cancel);
-        };
-        match self.add_across(&cluster, key, (scene_id, frame, version), samples, last, cancel) {
-            Ok(stats) => Ok(stats),
-            Err(Failed::Render(e)) => Err(e),
-            Err(Failed::Cluster(why)) => {
-                eprintln!("warning: a pass across the cluster failed ({why}): rendering it on rank 0 alone");
-                self.alone()?;
-                self.progressive.add_cancellable(frame, samples, cancel)
-            }
-        }
     }
 
     /// Goes on alone, from an empty image.
@@ -373,6 +333,43 @@ impl Accumulator {
     fn forget(&mut self) {
         if let Some((cluster, key)) = self.cluster.take() {
             cluster.ended.lock().unwrap_or_else(|e| e.into_inner()).push(key);
+        }
+    }
+}
+
+impl Accumulate for Accumulator {
+    fn settings(&self) -> &RenderSettings {
+        self.progressive.settings()
+    }
+
+    fn samples(&self) -> u32 {
+        self.progressive.samples()
+    }
+
+    fn film(&self) -> Film {
+        self.film.clone().unwrap_or_else(|| self.progressive.film())
+    }
+
+    fn times(&self) -> Option<ClusterTimes> {
+        self.times
+    }
+
+    /// Rank 0's share stops soon after `cancel` says so (the workers finish theirs: they are
+    /// not reached while they render). If the cluster fails (a worker gave up, or lacks the
+    /// version), the accumulation goes on alone from an empty image, rendering this pass.
+    /// With `last` the workers drop their state at once.
+    fn add(&mut self, scene_id: u32, frame: &Frame<'_>, version: u64, samples: u32, last: bool, cancel: &Cancel) -> Result<FrameStats, RenderError> {
+        let Some((cluster, key)) = self.cluster.clone() else {
+            return self.progressive.add_cancellable(frame, samples, cancel);
+        };
+        match self.add_across(&cluster, key, (scene_id, frame, version), samples, last, cancel) {
+            Ok(stats) => Ok(stats),
+            Err(Failed::Render(e)) => Err(e),
+            Err(Failed::Cluster(why)) => {
+                eprintln!("warning: a pass across the cluster failed ({why}): rendering it on rank 0 alone");
+                self.alone()?;
+                self.progressive.add_cancellable(frame, samples, cancel)
+            }
         }
     }
 }

@@ -1,7 +1,7 @@
 //! Edits as values: every change the API makes to a scene's contents is an [`Edit`], which a
 //! route builds from its request and [`apply`]s under the scene's write lock. A value rather
 //! than a closure so that, in a cluster, the very same edit can go to every rank (see
-//! [`crate::cluster`]) and be applied there the same way: every rank then holds the same scene
+//! [`crate::Workers`]) and be applied there the same way: every rank then holds the same scene
 //! at the same version. Files (images, glTF) travel as the client sent them, once.
 
 use raystage_gltf_import::Import;
@@ -10,9 +10,9 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use crate::batch;
 use crate::config::Limits;
-use crate::error::ApiResult;
+use crate::error::{Error, Result};
 use crate::model::{Command, CommandResult, decode_image};
-use crate::routes::gltf::{CameraChoice, GltfAdded, add_environment, import_limits, parse_environment};
+use crate::gltf::{CameraChoice, GltfAdded, add_environment, import_limits, parse_environment};
 
 /// A change to one scene's contents.
 #[derive(Serialize, Deserialize)]
@@ -48,7 +48,7 @@ pub enum Edit {
         import: Option<Box<Import>>,
     },
     /// Edits an application made to its own scene (the C ABI's), replayed in order (see
-    /// [`cluster::Mirror`](crate::cluster::Mirror)).
+    /// `raystage_cluster::Mirror`).
     Journal {
         /// The edits.
         edits: Vec<SceneEdit>,
@@ -70,7 +70,7 @@ pub enum Applied {
 /// Applies `edit` to `scene`; returns what it gave back and whether it changed anything. On
 /// an error the scene may be partly changed: the caller restores it (as
 /// [`crate::state::SceneSlot`] does).
-pub(crate) fn apply(scene: &mut Scene, edit: Edit, limits: &Limits) -> ApiResult<(Applied, bool)> {
+pub(crate) fn apply(scene: &mut Scene, edit: Edit, limits: &Limits) -> Result<(Applied, bool)> {
     match edit {
         Edit::Commands { commands, in_batch } => {
             let results = batch::execute(scene, commands, limits, in_batch)?;
@@ -86,7 +86,7 @@ pub(crate) fn apply(scene: &mut Scene, edit: Edit, limits: &Limits) -> ApiResult
             let id = match texture {
                 None => scene.add_texture(image)?.0,
                 Some(id) => {
-                    scene.texture(TextureId(id)).map_err(|_| crate::routes::textures::unknown(id))?;
+                    scene.texture(TextureId(id)).map_err(|_| unknown_texture(id))?;
                     scene.set_texture(TextureId(id), image)?;
                     id
                 }
@@ -131,6 +131,11 @@ pub(crate) fn apply(scene: &mut Scene, edit: Edit, limits: &Limits) -> ApiResult
             Ok((Applied::Replayed, changed))
         }
     }
+}
+
+/// The error for texture `id` that a request names and the scene lacks.
+pub fn unknown_texture(id: u32) -> Error {
+    Error::not_found(Some("id".into()), format!("unknown texture {id}"))
 }
 
 /// Bytes that serialise as one byte string (CBOR's own type), not as a list of numbers.

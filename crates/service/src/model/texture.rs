@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
 use crate::config::Limits;
-use crate::error::{ApiError, ApiResult};
+use crate::error::{Error, Result};
 use crate::model::light::Rgb;
 
 /// The kinds of procedural texture.
@@ -45,21 +45,21 @@ pub struct TextureSpec {
 
 impl TextureSpec {
     /// The scene's texture, checked (422 naming the field).
-    pub fn to_texture(&self) -> ApiResult<Texture> {
-        let colour = |value: Option<Rgb>, default: f32, field: &str| -> ApiResult<Vec3> {
+    pub fn to_texture(&self) -> Result<Texture> {
+        let colour = |value: Option<Rgb>, default: f32, field: &str| -> Result<Vec3> {
             let c = value.map_or(Vec3::splat(default), Rgb::vec);
             if !c.is_finite() {
-                return Err(ApiError::unprocessable(Some(field.into()), format!("{field} is not finite: {c}")));
+                return Err(Error::unprocessable(Some(field.into()), format!("{field} is not finite: {c}")));
             }
             if c.min_element() < 0.0 {
-                return Err(ApiError::unprocessable(Some(field.into()), format!("{field} has a negative channel: {c}")));
+                return Err(Error::unprocessable(Some(field.into()), format!("{field} has a negative channel: {c}")));
             }
             Ok(c)
         };
         let (a, b) = (colour(self.a, 0.8, "a")?, colour(self.b, 0.2, "b")?);
         let scale = self.scale.unwrap_or(1.0);
         if !(scale.is_finite() && scale > 0.0) {
-            return Err(ApiError::unprocessable(Some("scale".into()), format!("scale must be a positive number, not {scale}")));
+            return Err(Error::unprocessable(Some("scale".into()), format!("scale must be a positive number, not {scale}")));
         }
         Ok(match self.kind {
             TextureKind::Checker => Texture::Checker { a, b, scale },
@@ -127,16 +127,16 @@ const TEXEL_BYTES: u64 = 4 * 4;
 /// Decodes a PNG, JPEG or Radiance HDR file: 422 if it cannot be read, 413 if it is wider or
 /// taller than the limit on image sizes or would take more memory than the texture budget
 /// (both checked from its header, before it is decoded).
-pub(crate) fn decode_image(bytes: &[u8], limits: &Limits) -> ApiResult<Image> {
+pub fn decode_image(bytes: &[u8], limits: &Limits) -> Result<Image> {
     let (width, height) = Image::dimensions(bytes)?;
     let max = limits.max_dimension;
     if width > max || height > max {
-        return Err(ApiError::too_large(None, format!("the image is {width}×{height} texels: the limit is {max} a side")).limit("max_dimension"));
+        return Err(Error::too_large(None, format!("the image is {width}×{height} texels: the limit is {max} a side")).limit("max_dimension"));
     }
     let decoded = width as u64 * height as u64 * TEXEL_BYTES;
     let budget = limits.max_texture_bytes as u64;
     if decoded > budget {
-        return Err(ApiError::too_large(None, format!("the image is {width}×{height} texels, {decoded} bytes decoded: the limit is {budget} bytes"))
+        return Err(Error::too_large(None, format!("the image is {width}×{height} texels, {decoded} bytes decoded: the limit is {budget} bytes"))
             .limit("max_texture_bytes"));
     }
     Ok(Image::decode(bytes)?)
@@ -145,6 +145,7 @@ pub(crate) fn decode_image(bytes: &[u8], limits: &Limits) -> ApiResult<Image> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::ErrorKind;
 
     fn spec(kind: TextureKind) -> TextureSpec {
         TextureSpec { label: None, kind, a: None, b: None, scale: None }
@@ -175,14 +176,14 @@ mod tests {
         let mut png = std::io::Cursor::new(Vec::new());
         image::RgbImage::new(20, 4).write_to(&mut png, image::ImageFormat::Png).unwrap();
         let small = Limits { max_dimension: 16, ..Limits::default() };
-        assert_eq!(decode_image(png.get_ref(), &small).unwrap_err().status, axum::http::StatusCode::PAYLOAD_TOO_LARGE);
+        assert_eq!(decode_image(png.get_ref(), &small).unwrap_err().kind, ErrorKind::TooLarge);
         let image = decode_image(png.get_ref(), &Limits::default()).unwrap();
         assert_eq!((image.width(), image.height()), (20, 4));
         let budget = Limits { max_texture_bytes: 20 * 4 * 16 - 1, ..Limits::default() };
         let over = decode_image(png.get_ref(), &budget).unwrap_err();
-        assert_eq!((over.status, over.detail.limit), (axum::http::StatusCode::PAYLOAD_TOO_LARGE, Some("max_texture_bytes")));
+        assert_eq!((over.kind, over.detail.limit), (ErrorKind::TooLarge, Some("max_texture_bytes")));
         let garbage = decode_image(b"\x89PNG\r\n\x1a\n but not really", &Limits::default()).unwrap_err();
-        assert_eq!(garbage.status, axum::http::StatusCode::UNPROCESSABLE_ENTITY);
+        assert_eq!(garbage.kind, ErrorKind::Unprocessable);
         assert!(garbage.detail.message.starts_with("the image cannot be read"), "{}", garbage.detail.message);
     }
 }

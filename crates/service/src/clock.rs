@@ -3,7 +3,7 @@
 //!
 //! The clock lives beside the scene, on the server that takes the requests, because it reads
 //! the wall clock; the scene only ever sees where the clock has got to, as ordinary `set_time`
-//! edits (see [`crate::state::SceneSlot::follow_clock`]). Those edits go the way every edit
+//! edits (see [`crate::SceneSlot::follow_clock`]). Those edits go the way every edit
 //! goes, under the scene's write lock and, in a cluster, to every rank: a client moving an
 //! instance while the animation plays is one more edit in the same order, and a frame shows
 //! the scene at one version, so at one time ([`raystage_scene::Scene::posed`]).
@@ -14,20 +14,20 @@ use raystage_scene::Play;
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
-use crate::error::{ApiError, ApiResult};
+use crate::error::{Error, Result};
 use crate::model::AnimationRef;
 
 /// The fastest a clock may run, in scene seconds per second either way.
-pub(crate) const MAX_RATE: f64 = 1000.0;
+pub const MAX_RATE: f64 = 1000.0;
 
 /// How often a playing clock moves the scene at most: a new time restarts every stream's
 /// accumulation, so a faster tick would show fewer samples, not smoother motion, and would
 /// fill a cluster's links with edits.
-pub(crate) const TICK: Duration = Duration::from_millis(1000 / 60);
+pub const TICK: Duration = Duration::from_millis(1000 / 60);
 
 /// A scene's clock.
 #[derive(Clone, Debug)]
-pub(crate) struct Clock {
+pub struct Clock {
     /// The animations it plays.
     pub play: Play,
     /// Seconds from the start to the end of what it plays (the longest, for all of them).
@@ -139,16 +139,16 @@ pub struct ClockChange {
 
 impl ClockChange {
     /// Checks the numbers (the animation is checked by the edit that poses the scene).
-    pub(crate) fn check(&self) -> ApiResult<()> {
+    pub fn check(&self) -> Result<()> {
         if let Some(time) = self.time
             && !(time >= 0.0 && (time as f32).is_finite())
         {
-            return Err(ApiError::unprocessable(Some("time".into()), format!("{time} is not a time: it must be a finite number of seconds, at least 0")));
+            return Err(Error::unprocessable(Some("time".into()), format!("{time} is not a time: it must be a finite number of seconds, at least 0")));
         }
         if let Some(rate) = self.rate
             && !(rate.abs() <= MAX_RATE)
         {
-            return Err(ApiError::unprocessable(Some("rate".into()), format!("{rate} is not a rate: it must be between −{MAX_RATE} and {MAX_RATE}")));
+            return Err(Error::unprocessable(Some("rate".into()), format!("{rate} is not a rate: it must be between −{MAX_RATE} and {MAX_RATE}")));
         }
         Ok(())
     }

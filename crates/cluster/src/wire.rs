@@ -1,20 +1,14 @@
 //! The messages between rank 0 and the workers, and their encoding (CBOR).
 
-use raystage_demo::animated::Demo;
 use raystage_render::RenderSettings;
-use raystage_scene::Scene;
+use raystage_service::{Blob, SceneBuild};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
-
-use crate::config::Limits;
-use crate::edit::Blob;
-use crate::error::{ApiError, ApiResult};
-use crate::routes::gltf::{add_environment, import_limits, parse_environment};
 
 /// From rank 0 to the workers. `E` is the edit: borrowed when rank 0 encodes it, owned when a
 /// worker decodes it (the two encode alike).
 #[derive(Serialize, Deserialize)]
-pub(super) enum Message<E> {
+pub(crate) enum Message<E> {
     /// A scene built on rank 0 as `build` says, held as `id`. Answered, then a verdict.
     NewScene { id: u32, origin: String, build: SceneBuild },
     /// Scene `id` deleted. Answered, then a verdict.
@@ -32,7 +26,7 @@ pub(super) enum Message<E> {
 /// A pass of accumulation `key`: `samples` more samples per pixel of scene `scene` as it was
 /// at `version`.
 #[derive(Serialize, Deserialize)]
-pub(super) struct PassMessage {
+pub(crate) struct PassMessage {
     pub key: u64,
     pub scene: u32,
     pub version: u64,
@@ -49,7 +43,7 @@ pub(super) struct PassMessage {
 
 /// From a worker to rank 0.
 #[derive(Serialize, Deserialize)]
-pub(super) enum Reply {
+pub(crate) enum Reply {
     /// The edit (or new scene, or deletion) was applied here.
     Applied,
     /// It could not be, for this reason.
@@ -63,72 +57,22 @@ pub(super) enum Reply {
     Failed(String),
 }
 
-/// How a new scene is built: what `POST /scenes` was given.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct SceneBuild {
-    /// What it starts as.
-    pub start: SceneStart,
-    /// The environment to light it with (`studio`, `none`, `R,G,B` or one number); `None`
-    /// for the default (the studio for a glTF file without lights).
-    pub environment: Option<String>,
-}
-
-/// What a new scene starts as.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub enum SceneStart {
-    /// Nothing.
-    Empty,
-    /// A built-in demo at a frame of its animation.
-    Demo { name: String, frame: u32 },
-    /// A glTF 2.0 file.
-    Gltf(Blob),
-}
-
-impl SceneBuild {
-    /// Builds the scene (on a blocking thread: demos and files take time), and its origin's
-    /// name (`empty`, `demo:NAME`, `gltf`); 422 naming the field that is wrong.
-    pub(crate) fn build(&self, limits: &Limits) -> ApiResult<(Scene, String)> {
-        let environment = self.environment.as_deref().map(parse_environment).transpose()?;
-        let (mut scene, origin, unlit) = match &self.start {
-            SceneStart::Empty => (Scene::new(), "empty".to_string(), false),
-            SceneStart::Gltf(file) => {
-                let import = raystage_gltf_import::read(&file.0, None, &import_limits(limits))?;
-                let unlit = import.lights().is_empty();
-                (import.into_scene()?, "gltf".to_string(), unlit)
-            }
-            SceneStart::Demo { name, frame } => {
-                let demo =
-                    Demo::from_name(name).ok_or_else(|| ApiError::unprocessable(Some("demo".into()), format!("unknown demo scene `{name}`: expected {}", Demo::NAMES)))?;
-                if let Demo::Museum(triangles) = demo
-                    && triangles > limits.max_demo_triangles
-                {
-                    let max = limits.max_demo_triangles;
-                    return Err(ApiError::unprocessable(Some("demo".into()), format!("`{name}` has {triangles} triangles: the limit is {max}")).limit("max_demo_triangles"));
-                }
-                let scene = demo.scene(*frame).map_err(|e| ApiError::internal(format!("cannot build the demo scene: {e}")))?;
-                (scene, format!("demo:{}", demo.name()), false)
-            }
-        };
-        add_environment(&mut scene, environment, unlit)?;
-        Ok((scene, origin))
-    }
-}
-
 /// `value` as CBOR.
-pub(super) fn encode<T: Serialize>(value: &T) -> Vec<u8> {
+pub(crate) fn encode<T: Serialize>(value: &T) -> Vec<u8> {
     let mut bytes = Vec::new();
     ciborium::into_writer(value, &mut bytes).expect("writing to memory cannot fail, and every message serialises");
     bytes
 }
 
 /// A value from CBOR, or why it cannot be read.
-pub(super) fn decode<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, String> {
+pub(crate) fn decode<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, String> {
     ciborium::from_reader(bytes).map_err(|e| e.to_string())
 }
 
 #[cfg(test)]
 mod tests {
     use raystage_render::{FrameSettings, SettingsPatch};
+    use raystage_scene::Scene;
 
     use super::*;
 

@@ -4,7 +4,7 @@ use glam::{Affine3A, Mat4, Quat, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
-use crate::error::{ApiError, ApiResult};
+use crate::error::{Error, Result};
 
 /// An object-to-world transform: either `matrix`, or any of `translate`, `rotate` (or
 /// `quaternion`) and `scale`, applied as scale first, then rotation, then translation.
@@ -47,32 +47,32 @@ pub enum Scale {
 
 impl Transform {
     /// The affine transform, checked to be finite and invertible (422 otherwise).
-    pub fn to_affine(&self) -> ApiResult<Affine3A> {
+    pub fn to_affine(&self) -> Result<Affine3A> {
         let field = |f: &str| Some(f.to_string());
         let trs = self.translate.is_some() || self.rotate.is_some() || self.quaternion.is_some() || self.scale.is_some();
         let t = if let Some(rows) = self.matrix {
             if trs {
-                return Err(ApiError::bad_request(field("matrix"), "give `matrix` or translate/rotate/scale, not both"));
+                return Err(Error::bad_request(field("matrix"), "give `matrix` or translate/rotate/scale, not both"));
             }
             let m = Mat4::from_cols_array_2d(&rows).transpose();
             if m.row(3) != Vec4::W {
-                return Err(ApiError::unprocessable(field("matrix"), "the last row must be [0, 0, 0, 1]: projective transforms cannot place objects"));
+                return Err(Error::unprocessable(field("matrix"), "the last row must be [0, 0, 0, 1]: projective transforms cannot place objects"));
             }
             Affine3A::from_mat4(m)
         } else {
             let rotation = match (self.rotate, self.quaternion) {
-                (Some(_), Some(_)) => return Err(ApiError::bad_request(field("quaternion"), "give `rotate` or `quaternion`, not both")),
+                (Some(_), Some(_)) => return Err(Error::bad_request(field("quaternion"), "give `rotate` or `quaternion`, not both")),
                 (Some(r), None) => {
                     let axis = Vec3::from(r.axis).normalize_or_zero();
                     if axis == Vec3::ZERO {
-                        return Err(ApiError::unprocessable(field("rotate.axis"), "the rotation axis must be finite and not zero"));
+                        return Err(Error::unprocessable(field("rotate.axis"), "the rotation axis must be finite and not zero"));
                     }
                     Quat::from_axis_angle(axis, r.degrees.to_radians())
                 }
                 (None, Some(q)) => {
                     let q = Quat::from_array(q);
                     if !q.is_finite() || q.length_squared() == 0.0 {
-                        return Err(ApiError::unprocessable(field("quaternion"), "the quaternion must be finite and not zero"));
+                        return Err(Error::unprocessable(field("quaternion"), "the quaternion must be finite and not zero"));
                     }
                     q.normalize()
                 }
@@ -95,13 +95,13 @@ impl Transform {
 }
 
 /// Finite and invertible, as the scene requires of an instance's transform.
-fn check_affine(t: Affine3A) -> ApiResult<Affine3A> {
+fn check_affine(t: Affine3A) -> Result<Affine3A> {
     if !t.is_finite() {
-        return Err(ApiError::unprocessable(None, "the transform is not finite"));
+        return Err(Error::unprocessable(None, "the transform is not finite"));
     }
     let determinant = t.matrix3.determinant();
     if !determinant.is_normal() || !t.inverse().is_finite() {
-        return Err(ApiError::unprocessable(None, format!("the transform is singular (determinant {determinant:e}): a scale of zero?")));
+        return Err(Error::unprocessable(None, format!("the transform is singular (determinant {determinant:e}): a scale of zero?")));
     }
     Ok(t)
 }
@@ -109,6 +109,7 @@ fn check_affine(t: Affine3A) -> ApiResult<Affine3A> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::ErrorKind;
 
     #[test]
     fn trs_and_matrix_agree() {
@@ -129,7 +130,7 @@ mod tests {
     #[test]
     fn bad_transforms_are_refused() {
         let singular = Transform { scale: Some(Scale::PerAxis([1.0, 0.0, 1.0])), ..Transform::default() };
-        assert_eq!(singular.to_affine().unwrap_err().status, axum::http::StatusCode::UNPROCESSABLE_ENTITY);
+        assert_eq!(singular.to_affine().unwrap_err().kind, ErrorKind::Unprocessable);
         let projective = Transform { matrix: Some([[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 1.0, 1.0]]), ..Transform::default() };
         assert_eq!(projective.to_affine().unwrap_err().detail.field.as_deref(), Some("matrix"));
         let infinite = Transform { translate: Some([f32::INFINITY, 0.0, 0.0]), ..Transform::default() };

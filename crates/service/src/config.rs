@@ -6,7 +6,7 @@ use std::net::SocketAddr;
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Config {
     /// The bearer token every request must carry (`Authorization: Bearer <token>`); `None`
-    /// serves anyone who can connect, which [`crate::serve`] allows on loopback addresses only.
+    /// serves anyone who can connect, which `raystage_server::serve` allows on loopback addresses only.
     pub token: Option<String>,
     /// Size limits.
     pub limits: Limits,

@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
 use crate::config::Limits;
-use crate::error::{ApiError, ApiResult};
+use crate::error::{Error, Result};
 use crate::model::refs::Ref;
 
 /// How an object's geometry changes (see the scene's object kinds).
@@ -90,9 +90,9 @@ pub(crate) enum Binding<T> {
 impl MeshSpec {
     /// The mesh (without shaders) and which shaders it binds, decoded and checked against the
     /// limits (413 past them, 400 for bad base64, 422 for bad numbers or indices).
-    pub(crate) fn decode(self, limits: &Limits) -> ApiResult<(Mesh, Binding<Ref>)> {
+    pub(crate) fn decode(self, limits: &Limits) -> Result<(Mesh, Binding<Ref>)> {
         let positions = vectors(self.positions, self.positions_base64, "positions", limits.max_vertices)?
-            .ok_or_else(|| ApiError::bad_request(Some("positions".into()), "a mesh needs `positions` or `positions_base64`"))?;
+            .ok_or_else(|| Error::bad_request(Some("positions".into()), "a mesh needs `positions` or `positions_base64`"))?;
         let indices = match pick(self.indices, self.indices_base64, "indices")? {
             Some(Either::Json(indices)) => {
                 check_count(indices.len(), limits.max_triangles, "indices", "triangles")?;
@@ -117,7 +117,7 @@ impl MeshSpec {
         };
         check_count(uvs.len(), limits.max_vertices, "uvs", "vertices")?;
         let binding = match (self.shader, self.shaders) {
-            (Some(_), Some(_)) => return Err(ApiError::unprocessable(Some("shaders".into()), "give `shader` or `shaders`, not both")),
+            (Some(_), Some(_)) => return Err(Error::unprocessable(Some("shaders".into()), "give `shader` or `shaders`, not both")),
             (Some(one), None) => Binding::All(one),
             (None, Some(each)) => Binding::Each(each),
             (None, None) => Binding::Default,
@@ -128,9 +128,9 @@ impl MeshSpec {
 }
 
 /// Positions for a PATCH of an object's vertices: JSON or base64, one of them.
-pub(crate) fn decode_positions(json: Option<Vec<[f32; 3]>>, base64: Option<String>, limits: &Limits) -> ApiResult<Vec<Vec3>> {
+pub(crate) fn decode_positions(json: Option<Vec<[f32; 3]>>, base64: Option<String>, limits: &Limits) -> Result<Vec<Vec3>> {
     vectors(json, base64, "positions", limits.max_vertices)?
-        .ok_or_else(|| ApiError::unprocessable(Some("positions".into()), "give `positions` or `positions_base64`"))
+        .ok_or_else(|| Error::unprocessable(Some("positions".into()), "give `positions` or `positions_base64`"))
 }
 
 enum Either<T> {
@@ -142,9 +142,9 @@ enum Either<T> {
 /// positions (above): each field is well formed, their combination is refused, as other
 /// relations between a mesh's fields are (indices in range); the description says it in words,
 /// since a schema of every pair's exclusion is more than schema-driven clients can generate from.
-fn pick<T>(json: Option<T>, base64: Option<String>, name: &str) -> ApiResult<Option<Either<T>>> {
+fn pick<T>(json: Option<T>, base64: Option<String>, name: &str) -> Result<Option<Either<T>>> {
     match (json, base64) {
-        (Some(_), Some(_)) => Err(ApiError::unprocessable(Some(format!("{name}_base64")), format!("give `{name}` or `{name}_base64`, not both"))),
+        (Some(_), Some(_)) => Err(Error::unprocessable(Some(format!("{name}_base64")), format!("give `{name}` or `{name}_base64`, not both"))),
         (Some(j), None) => Ok(Some(Either::Json(j))),
         (None, Some(b)) => Ok(Some(Either::Base64(b))),
         (None, None) => Ok(None),
@@ -152,7 +152,7 @@ fn pick<T>(json: Option<T>, base64: Option<String>, name: &str) -> ApiResult<Opt
 }
 
 /// A per-vertex attribute of three numbers, in either spelling.
-fn vectors(json: Option<Vec<[f32; 3]>>, base64: Option<String>, name: &str, limit: usize) -> ApiResult<Option<Vec<Vec3>>> {
+fn vectors(json: Option<Vec<[f32; 3]>>, base64: Option<String>, name: &str, limit: usize) -> Result<Option<Vec<Vec3>>> {
     let out: Option<Vec<Vec3>> = match pick(json, base64, name)? {
         Some(Either::Json(v)) => Some(v.into_iter().map(Vec3::from).collect()),
         Some(Either::Base64(text)) => {
@@ -168,25 +168,25 @@ fn vectors(json: Option<Vec<[f32; 3]>>, base64: Option<String>, name: &str, limi
 }
 
 /// 413 when `count` is past `limit`.
-fn check_count(count: usize, limit: usize, field: &str, what: &str) -> ApiResult<()> {
+fn check_count(count: usize, limit: usize, field: &str, what: &str) -> Result<()> {
     if count > limit {
-        return Err(ApiError::too_large(Some(field.into()), format!("{count} {what}: the limit is {limit}")));
+        return Err(Error::too_large(Some(field.into()), format!("{count} {what}: the limit is {limit}")));
     }
     Ok(())
 }
 
 /// Base64 of little-endian `f32`s, `element` bytes per element.
-fn floats(text: &str, field: &str, element: usize) -> ApiResult<Vec<f32>> {
+fn floats(text: &str, field: &str, element: usize) -> Result<Vec<f32>> {
     Ok(decode_words(text, field, element)?.into_iter().map(f32::from_le_bytes).collect())
 }
 
 /// Base64 of 4-byte little-endian words, whose length is a multiple of `element` bytes.
-fn decode_words(text: &str, field: &str, element: usize) -> ApiResult<Vec<[u8; 4]>> {
+fn decode_words(text: &str, field: &str, element: usize) -> Result<Vec<[u8; 4]>> {
     let bytes = base64::engine::general_purpose::STANDARD
         .decode(text)
-        .map_err(|e| ApiError::bad_request(Some(field.into()), format!("not base64: {e}")))?;
+        .map_err(|e| Error::bad_request(Some(field.into()), format!("not base64: {e}")))?;
     if bytes.len() % element != 0 {
-        return Err(ApiError::unprocessable(Some(field.into()), format!("{} bytes is not a whole number of {element}-byte elements", bytes.len())));
+        return Err(Error::unprocessable(Some(field.into()), format!("{} bytes is not a whole number of {element}-byte elements", bytes.len())));
     }
     Ok(bytes.chunks_exact(4).map(|w| [w[0], w[1], w[2], w[3]]).collect())
 }
@@ -194,6 +194,7 @@ fn decode_words(text: &str, field: &str, element: usize) -> ApiResult<Vec<[u8; 4
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::ErrorKind;
 
     fn b64(bytes: &[u8]) -> String {
         base64::engine::general_purpose::STANDARD.encode(bytes)
@@ -218,12 +219,12 @@ mod tests {
     fn bad_spellings_and_sizes_are_refused() {
         let limits = Limits { max_vertices: 2, ..Limits::default() };
         let big = MeshSpec { positions: Some(vec![[0.0; 3]; 3]), ..MeshSpec::default() };
-        assert_eq!(big.decode(&limits).unwrap_err().status, axum::http::StatusCode::PAYLOAD_TOO_LARGE);
+        assert_eq!(big.decode(&limits).unwrap_err().kind, ErrorKind::TooLarge);
         let both = MeshSpec { positions: Some(vec![]), positions_base64: Some(String::new()), ..MeshSpec::default() };
         assert_eq!(both.decode(&Limits::default()).unwrap_err().detail.field.as_deref(), Some("positions_base64"));
         let ragged = MeshSpec { positions_base64: Some(b64(&[0; 13])), ..MeshSpec::default() };
-        assert_eq!(ragged.decode(&Limits::default()).unwrap_err().status, axum::http::StatusCode::UNPROCESSABLE_ENTITY);
+        assert_eq!(ragged.decode(&Limits::default()).unwrap_err().kind, ErrorKind::Unprocessable);
         let garbage = MeshSpec { positions_base64: Some("%%%".into()), ..MeshSpec::default() };
-        assert_eq!(garbage.decode(&Limits::default()).unwrap_err().status, axum::http::StatusCode::BAD_REQUEST);
+        assert_eq!(garbage.decode(&Limits::default()).unwrap_err().kind, ErrorKind::BadRequest);
     }
 }

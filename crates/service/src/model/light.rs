@@ -5,7 +5,7 @@ use raystage_scene::Light;
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
-use crate::error::{ApiError, ApiResult};
+use crate::error::{Error, Result};
 use crate::model::refs::Ref;
 
 /// A linear RGB colour: three numbers, or one for a grey.
@@ -102,15 +102,15 @@ pub struct LightInfo {
 
 impl LightSpec {
     /// The scene's light, checked (422 naming the field), without its map: `map` is a
-    /// reference, which the caller resolves (see [`crate::batch`]).
-    pub fn to_light(&self) -> ApiResult<Light> {
+    /// reference, which the caller resolves (a batch resolves it as it applies its commands).
+    pub fn to_light(&self) -> Result<Light> {
         let Some((class, params)) = LIGHT_CLASSES.iter().find(|(name, _)| *name == self.class) else {
             let names: Vec<&str> = LIGHT_CLASSES.iter().map(|(n, _)| *n).collect();
-            return Err(ApiError::unprocessable(Some("class".into()), format!("unknown light class `{}`: expected one of {}", self.class, names.join(", "))));
+            return Err(Error::unprocessable(Some("class".into()), format!("unknown light class `{}`: expected one of {}", self.class, names.join(", "))));
         };
         for (name, given) in self.given() {
             if given && !params.contains(&name) {
-                return Err(ApiError::unprocessable(Some(name.into()), format!("{class} has no parameter `{name}`: it takes {}", params.join(", "))));
+                return Err(Error::unprocessable(Some(name.into()), format!("{class} has no parameter `{name}`: it takes {}", params.join(", "))));
             }
         }
         let v = |p: Option<[f32; 3]>, default: Vec3| p.map_or(default, Vec3::from);
@@ -135,12 +135,12 @@ impl LightSpec {
             _ => Light::Environment { radiance: c(self.radiance, Vec3::ONE), map: None, rotate_degrees: self.rotate.unwrap_or(0.0) },
         };
         light.validate().map_err(|e| {
-            let e = ApiError::from(e).without_prefix("light.");
+            let e = Error::from(e).without_prefix("light.");
             // The scene calls the spot angles and the environment's turn by their full names.
             match e.detail.field.as_deref() {
-                Some("cone_degrees") => ApiError { detail: crate::error::ErrorDetail { field: Some("cone".into()), ..e.detail }, ..e },
-                Some("falloff_degrees") => ApiError { detail: crate::error::ErrorDetail { field: Some("falloff".into()), ..e.detail }, ..e },
-                Some("rotate_degrees") => ApiError { detail: crate::error::ErrorDetail { field: Some("rotate".into()), ..e.detail }, ..e },
+                Some("cone_degrees") => Error { detail: crate::error::ErrorDetail { field: Some("cone".into()), ..e.detail }, ..e },
+                Some("falloff_degrees") => Error { detail: crate::error::ErrorDetail { field: Some("falloff".into()), ..e.detail }, ..e },
+                Some("rotate_degrees") => Error { detail: crate::error::ErrorDetail { field: Some("rotate".into()), ..e.detail }, ..e },
                 _ => e,
             }
         })?;

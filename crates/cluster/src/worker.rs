@@ -8,11 +8,10 @@ use std::time::Instant;
 use raystage_render::{Progressive, Share};
 use raystage_scene::Scene;
 
-use super::wire::{Message, PassMessage, Reply, decode, encode};
-use super::Transport;
-use crate::config::Config;
-use crate::edit::{Blob, Edit};
-use crate::state::AppState;
+use raystage_service::{AppState, Blob, Config, Edit, Error};
+
+use crate::Transport;
+use crate::wire::{Message, PassMessage, Reply, decode, encode};
 
 /// Versions of each scene a worker keeps: a pass names the version rank 0 took its snapshot
 /// of, and edits made meanwhile may have reached the worker first. More than a few edits
@@ -59,10 +58,10 @@ pub fn work(transport: &dyn Transport, config: Config, scenes: Vec<(u32, Scene, 
                 let mut vote_failed = None;
                 let result = slot.edit_blocking(edit, &limits, |local| match worker.voted(local) {
                     Ok(true) => Ok(()),
-                    Ok(false) => Err(crate::error::ApiError::internal("another rank refused the edit")),
+                    Ok(false) => Err(Error::internal("another rank refused the edit")),
                     Err(e) => {
                         vote_failed = Some(e);
-                        Err(crate::error::ApiError::internal("rank 0 cannot be heard"))
+                        Err(Error::internal("rank 0 cannot be heard"))
                     }
                 });
                 if let Some(e) = vote_failed {

@@ -108,6 +108,6 @@ impl FrameReport {
 }
 
 /// The animation time `scene` shows, as frames report it.
-pub(crate) fn scene_time(scene: &Scene) -> Option<f64> {
+pub fn scene_time(scene: &Scene) -> Option<f64> {
     scene.posed().map(|(_, time)| f64::from(time))
 }

@@ -9,7 +9,7 @@ use mpi::environment::Universe;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 
-use super::Transport;
+use crate::Transport;
 
 /// This process's place in the MPI job it was started in: MPI stays initialised while it
 /// lives, and is finalised when it is dropped.
@@ -48,7 +48,7 @@ impl MpiJob {
 }
 
 /// The MPI job as the messages of `raystage serve --mpi` travel (see
-/// [`crate::cluster`]): point-to-point messages on a communicator of their own. A
+/// [`crate`]): point-to-point messages on a communicator of their own. A
 /// rank waiting for a message probes for it and sleeps in between, rather than blocking in MPI
 /// (Open MPI spins while it waits, which would take a core from the rank's render threads), and
 /// rank 0 can give up a worker that does not answer in time.

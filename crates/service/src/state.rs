@@ -6,19 +6,20 @@ use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, AtomicUsize, Ordering}
 use std::sync::{Arc, Mutex, RwLock};
 use std::time::Instant;
 
+use raystage_render::{Error as RenderError, Progressive, RenderSettings};
 use raystage_scene::{Play, Scene};
 use tokio::sync::{OwnedSemaphorePermit, Semaphore, watch};
 
-use crate::turns::{Client, Turn, Turns};
-
+use crate::build::SceneBuild;
 use crate::clock::{Clock, ClockState, TICK};
-use crate::model::{AnimationRef, Command, SetTime};
-
-use crate::cluster::{Cluster, SceneBuild};
 use crate::config::{Config, Limits};
 use crate::edit::{Applied, Edit, apply};
-use crate::error::{ApiError, ApiResult};
+use crate::error::{Error, Result};
+use crate::jobs::Jobs;
+use crate::model::{AnimationRef, Command, CommandResult, SetTime};
 use crate::stats::FrameReport;
+use crate::turns::{Client, Turn, Turns};
+use crate::workers::{Accumulate, Workers};
 
 /// The unit in which render memory is reserved.
 const MIB: usize = 1 << 20;
@@ -40,20 +41,20 @@ struct Shared {
     /// The memory of images being rendered, in MiB (see [`Limits::max_render_bytes`]).
     render_memory: Arc<Semaphore>,
     streams: AtomicUsize,
-    jobs: crate::routes::renders::Jobs,
+    jobs: Jobs,
     /// What every scene's memory adds up to (see [`Limits::max_total_scene_bytes`]).
     scene_bytes: Arc<AtomicU64>,
     /// The cluster whose workers replicate the scenes and render with this server (rank 0 of
     /// `raystage serve --mpi`), if any.
-    cluster: Option<Arc<Cluster>>,
+    cluster: Option<Arc<dyn Workers>>,
 }
 
 /// A scene held by the server.
 pub struct SceneSlot {
     /// Its id.
-    pub(crate) id: u32,
+    pub id: u32,
     /// Where it came from (`empty`, `demo:spheres`, `gltf`, ...).
-    pub(crate) origin: String,
+    pub origin: String,
     /// The scene. Edits hold the write lock; renders take a snapshot under a brief read lock
     /// and hold no lock while they run, so edits never wait for a frame.
     scene: Arc<tokio::sync::RwLock<Scene>>,
@@ -64,7 +65,7 @@ pub struct SceneSlot {
     /// The number of edits so far, changed only while the write lock is held.
     version: watch::Sender<u64>,
     /// The last frame rendered by `frame.png` or a stream.
-    pub(crate) last_frame: Mutex<Option<FrameReport>>,
+    pub last_frame: Mutex<Option<FrameReport>>,
     /// Whether the scene was deleted (its streams end).
     deleted: AtomicBool,
     /// The memory the scene takes ([`Scene::memory_bytes`]), as of its last edit.
@@ -87,10 +88,10 @@ struct Budget {
 impl Budget {
     /// Moves a scene from `before` to `after` bytes if both limits allow it; else 413 naming the
     /// limit, and nothing is counted.
-    fn change(&self, before: u64, after: u64) -> ApiResult<()> {
+    fn change(&self, before: u64, after: u64) -> Result<()> {
         if after > self.per_scene {
             let message = format!("the scene would take {after} bytes of geometry, trees and images: the limit is {}", self.per_scene);
-            return Err(ApiError::too_large(None, message).limit("max_scene_bytes"));
+            return Err(Error::too_large(None, message).limit("max_scene_bytes"));
         }
         self.used
             .fetch_update(Ordering::AcqRel, Ordering::Acquire, |used| {
@@ -100,7 +101,7 @@ impl Budget {
             .map(|_| ())
             .map_err(|used| {
                 let message = format!("the server's scenes take {used} bytes and this would add {}: the limit is {}", after - before, self.total);
-                ApiError::too_large(None, message).limit("max_total_scene_bytes")
+                Error::too_large(None, message).limit("max_total_scene_bytes")
             })
     }
 }
@@ -113,11 +114,11 @@ impl AppState {
 
     /// A server with no scenes that renders with `cluster`'s workers and replicates its
     /// scenes' edits to them (rank 0 of `raystage serve --mpi`).
-    pub fn clustered(config: Config, cluster: Arc<Cluster>) -> AppState {
+    pub fn clustered(config: Config, cluster: Arc<dyn Workers>) -> AppState {
         AppState::build(config, Some(cluster))
     }
 
-    fn build(config: Config, cluster: Option<Arc<Cluster>>) -> AppState {
+    fn build(config: Config, cluster: Option<Arc<dyn Workers>>) -> AppState {
         let renders = Turns::new(config.limits.concurrent_renders);
         let render_memory = Arc::new(Semaphore::new(config.limits.max_render_bytes / MIB));
         AppState(Arc::new(Shared {
@@ -135,12 +136,21 @@ impl AppState {
     }
 
     /// The cluster this server renders with, if any.
-    pub(crate) fn cluster(&self) -> Option<&Arc<Cluster>> {
+    pub fn cluster(&self) -> Option<&Arc<dyn Workers>> {
         self.0.cluster.as_ref()
     }
 
+    /// An empty accumulation of `settings`, rendered across the cluster's ranks if the server
+    /// has a cluster whose workers still answer, else in this process.
+    pub fn accumulator(&self, settings: RenderSettings) -> Result<Box<dyn Accumulate>, RenderError> {
+        match self.cluster().filter(|c| c.ranks() > 1) {
+            Some(cluster) => Arc::clone(cluster).accumulate(settings),
+            None => Ok(Box::new(Progressive::new(settings)?)),
+        }
+    }
+
     /// The render jobs.
-    pub(crate) fn jobs(&self) -> &crate::routes::renders::Jobs {
+    pub fn jobs(&self) -> &Jobs {
         &self.0.jobs
     }
 
@@ -151,13 +161,13 @@ impl AppState {
 
     /// Adds a scene; returns its id (ids start at 1 and are never reused). Refused (413) if the
     /// server holds as many scenes as it may, or the scene's memory is past the budget.
-    pub fn add_scene(&self, scene: Scene, origin: impl Into<String>) -> ApiResult<u32> {
+    pub fn add_scene(&self, scene: Scene, origin: impl Into<String>) -> Result<u32> {
         self.insert(None, scene, origin.into())
     }
 
     /// Adds a scene a request built from `build` and, in a cluster, has every worker build and
     /// add it too (refused everywhere if one cannot). Returns its id.
-    pub(crate) fn create_scene(&self, scene: Scene, origin: String, build: &SceneBuild) -> ApiResult<u32> {
+    pub fn create_scene(&self, scene: Scene, origin: String, build: &SceneBuild) -> Result<u32> {
         let id = self.insert(None, scene, origin.clone())?;
         if let Some(cluster) = self.cluster()
             && let Err(e) = cluster.replicate_new_scene(id, &origin, build)
@@ -170,15 +180,15 @@ impl AppState {
 
     /// Adds a scene as `id` (a worker's replica of rank 0's scene `id`), with the same checks
     /// as [`AppState::add_scene`].
-    pub(crate) fn insert_scene(&self, id: u32, scene: Scene, origin: String) -> ApiResult<u32> {
+    pub fn insert_scene(&self, id: u32, scene: Scene, origin: String) -> Result<u32> {
         self.insert(Some(id), scene, origin)
     }
 
-    fn insert(&self, id: Option<u32>, scene: Scene, origin: String) -> ApiResult<u32> {
+    fn insert(&self, id: Option<u32>, scene: Scene, origin: String) -> Result<u32> {
         let mut scenes = self.0.scenes.write().unwrap_or_else(|e| e.into_inner());
         self.room_for(scenes.len())?;
         if id.is_some_and(|id| scenes.contains_key(&id)) {
-            return Err(ApiError::internal(format!("scene {} exists already", id.unwrap_or_default())));
+            return Err(Error::internal(format!("scene {} exists already", id.unwrap_or_default())));
         }
         let limits = &self.0.config.limits;
         let budget = Budget { per_scene: limits.max_scene_bytes, total: limits.max_total_scene_bytes, used: Arc::clone(&self.0.scene_bytes) };
@@ -204,44 +214,44 @@ impl AppState {
     /// 413 naming `max_scenes` if the server holds as many scenes as it may. Checked before a
     /// scene is built, so that a request past the limit costs nothing (and again when it is
     /// added, as others may have been added meanwhile).
-    pub(crate) fn check_room_for_scene(&self) -> ApiResult<()> {
+    pub fn check_room_for_scene(&self) -> Result<()> {
         self.room_for(self.0.scenes.read().unwrap_or_else(|e| e.into_inner()).len())
     }
 
-    fn room_for(&self, held: usize) -> ApiResult<()> {
+    fn room_for(&self, held: usize) -> Result<()> {
         let limit = self.0.config.limits.max_scenes;
         if held >= limit {
-            return Err(ApiError::too_large(None, format!("the server holds {limit} scenes, its limit: delete one first")).limit("max_scenes"));
+            return Err(Error::too_large(None, format!("the server holds {limit} scenes, its limit: delete one first")).limit("max_scenes"));
         }
         Ok(())
     }
 
     /// The scene with id `id` (404 if there is none).
-    pub(crate) fn scene(&self, id: u32) -> ApiResult<Arc<SceneSlot>> {
+    pub fn scene(&self, id: u32) -> Result<Arc<SceneSlot>> {
         let scenes = self.0.scenes.read().unwrap_or_else(|e| e.into_inner());
-        scenes.get(&id).cloned().ok_or_else(|| ApiError::not_found(Some("scene".into()), format!("unknown scene {id}")))
+        scenes.get(&id).cloned().ok_or_else(|| Error::not_found(Some("scene".into()), format!("unknown scene {id}")))
     }
 
     /// Every scene, by id.
-    pub(crate) fn scenes(&self) -> Vec<Arc<SceneSlot>> {
+    pub fn scenes(&self) -> Vec<Arc<SceneSlot>> {
         self.0.scenes.read().unwrap_or_else(|e| e.into_inner()).values().cloned().collect()
     }
 
     /// Forgets a scene: its render jobs stop, its streams end; in a cluster, the workers forget
     /// their replicas.
-    pub(crate) async fn delete_scene(&self, id: u32) -> ApiResult<()> {
+    pub async fn delete_scene(&self, id: u32) -> Result<()> {
         self.forget_scene(id)?;
         if let Some(cluster) = self.cluster().cloned() {
-            tokio::task::spawn_blocking(move || cluster.replicate_delete(id)).await.map_err(|e| ApiError::internal(e.to_string()))?;
+            tokio::task::spawn_blocking(move || cluster.replicate_delete(id)).await.map_err(|e| Error::internal(e.to_string()))?;
         }
         Ok(())
     }
 
     /// Forgets a scene here: its render jobs stop (failed, naming the deletion), frames being
     /// rendered for a request finish with their snapshots, its streams end.
-    pub(crate) fn forget_scene(&self, id: u32) -> ApiResult<()> {
+    pub fn forget_scene(&self, id: u32) -> Result<()> {
         let mut scenes = self.0.scenes.write().unwrap_or_else(|e| e.into_inner());
-        let slot = scenes.remove(&id).ok_or_else(|| ApiError::not_found(Some("scene".into()), format!("unknown scene {id}")))?;
+        let slot = scenes.remove(&id).ok_or_else(|| Error::not_found(Some("scene".into()), format!("unknown scene {id}")))?;
         slot.deleted.store(true, Ordering::Release);
         // Renders and streams that still hold it finish with their snapshots; new scenes may
         // have its share of the budget.
@@ -257,7 +267,7 @@ impl AppState {
     /// Waits for a turn to render for `client` (at most `concurrent_renders` at once, the
     /// turns going round the waiting clients). Move the turn into the task that renders and
     /// call [`RenderTurn::running`] there.
-    pub(crate) async fn render_permit(&self, client: Client) -> RenderTurn {
+    pub async fn render_permit(&self, client: Client) -> RenderTurn {
         RenderTurn { _turn: self.0.renders.take(client).await, state: self.clone() }
     }
 
@@ -271,33 +281,33 @@ impl AppState {
     /// Reserves `bytes` of the memory for images being rendered, until the reservation is
     /// dropped: 413 if that is more than all of it, 503 if it does not fit beside the images
     /// in progress (both naming `max_render_bytes`).
-    pub(crate) fn reserve_render_memory(&self, bytes: u64) -> ApiResult<OwnedSemaphorePermit> {
+    pub fn reserve_render_memory(&self, bytes: u64) -> Result<OwnedSemaphorePermit> {
         let limit = self.0.config.limits.max_render_bytes;
         let mib = bytes.div_ceil(MIB as u64);
-        let too_large = || ApiError::too_large(None, format!("the image takes {bytes} bytes to render: the limit is {limit}")).limit("max_render_bytes");
+        let too_large = || Error::too_large(None, format!("the image takes {bytes} bytes to render: the limit is {limit}")).limit("max_render_bytes");
         if mib > (limit / MIB) as u64 {
             return Err(too_large());
         }
         let mib = u32::try_from(mib).map_err(|_| too_large())?;
         self.0.render_memory.clone().try_acquire_many_owned(mib).map_err(|_| {
-            ApiError::busy(format!("the images being rendered leave no room for {bytes} bytes more (the limit is {limit}): try again")).limit("max_render_bytes")
+            Error::busy(format!("the images being rendered leave no room for {bytes} bytes more (the limit is {limit}): try again")).limit("max_render_bytes")
         })
     }
 
     /// Counts a new stream in, if there is room: the guard counts it out when dropped.
-    pub(crate) fn open_stream(&self) -> ApiResult<StreamGuard> {
+    pub fn open_stream(&self) -> Result<StreamGuard> {
         let limit = self.0.config.limits.max_streams;
         let open = self.0.streams.fetch_add(1, Ordering::Relaxed);
         let guard = StreamGuard(self.clone());
         if open >= limit {
-            return Err(ApiError::busy(format!("{limit} streams are open, the server's limit")));
+            return Err(Error::busy(format!("{limit} streams are open, the server's limit")));
         }
         Ok(guard)
     }
 }
 
 /// A turn to render, held by the work itself: dropping it gives the turn to the next render.
-pub(crate) struct RenderTurn {
+pub struct RenderTurn {
     _turn: Turn,
     state: AppState,
 }
@@ -305,14 +315,14 @@ pub(crate) struct RenderTurn {
 impl RenderTurn {
     /// Counts the render as running until the guard is dropped (call it on the thread that
     /// renders, where the work starts).
-    pub(crate) fn running(&self) -> RunningRender {
+    pub fn running(&self) -> RunningRender {
         self.state.0.active_renders.fetch_add(1, Ordering::Relaxed);
         RunningRender(self.state.clone())
     }
 }
 
 /// A render counted in [`AppState::active_renders`] until dropped.
-pub(crate) struct RunningRender(AppState);
+pub struct RunningRender(AppState);
 
 impl Drop for RunningRender {
     fn drop(&mut self) {
@@ -321,7 +331,7 @@ impl Drop for RunningRender {
 }
 
 /// An open stream, counted until dropped.
-pub(crate) struct StreamGuard(AppState);
+pub struct StreamGuard(AppState);
 
 impl Drop for StreamGuard {
     fn drop(&mut self) {
@@ -333,14 +343,14 @@ impl SceneSlot {
     /// Applies `edit` to the scene under the write lock, on a blocking thread (in a cluster,
     /// on every rank: see [`SceneSlot::edit_blocking`]). Returns what it gave back and the
     /// version after it.
-    pub(crate) async fn edit(self: &Arc<Self>, state: &AppState, edit: Edit) -> ApiResult<(Applied, u64)> {
+    pub async fn edit(self: &Arc<Self>, state: &AppState, edit: Edit) -> Result<(Applied, u64)> {
         self.edit_as(state, edit, true).await
     }
 
     /// [`SceneSlot::edit`]; where `sets_clock`, an edit that poses the scene at a new time
     /// (`set_time`) sets the clock to it. The clock's own moves do not, or every tick would
     /// lose the time the edit took.
-    async fn edit_as(self: &Arc<Self>, state: &AppState, edit: Edit, sets_clock: bool) -> ApiResult<(Applied, u64)> {
+    async fn edit_as(self: &Arc<Self>, state: &AppState, edit: Edit, sets_clock: bool) -> Result<(Applied, u64)> {
         let mut guard = self.scene.clone().write_owned().await;
         let posed = guard.posed();
         let slot = self.clone();
@@ -348,7 +358,7 @@ impl SceneSlot {
         let cluster = state.cluster().cloned();
         tokio::task::spawn_blocking(move || {
             // Encoded before it is applied, which consumes it.
-            let message = cluster.as_ref().map(|_| Cluster::edit_message(slot.id, &edit));
+            let message = cluster.as_ref().map(|cluster| cluster.edit_message(slot.id, &edit));
             let edited = slot.edit_locked(&mut guard, edit, &limits, |local| match (local, &cluster, message) {
                 (Ok(()), Some(cluster), Some(message)) => cluster.replicate(&message),
                 _ => Ok(()),
@@ -362,13 +372,22 @@ impl SceneSlot {
             edited
         })
         .await
-        .map_err(|e| ApiError::internal(format!("an edit failed: {e}")))?
+        .map_err(|e| Error::internal(format!("an edit failed: {e}")))?
+    }
+
+    /// Runs commands on the scene, each checked before any is applied: a batch's (all or nothing, labels
+    /// allowed) or one resource request's. Returns their results and the version after them.
+    pub async fn commands(self: &Arc<Self>, state: &AppState, commands: Vec<Command>, in_batch: bool) -> Result<(Vec<CommandResult>, u64)> {
+        match self.edit(state, Edit::Commands { commands, in_batch }).await? {
+            (Applied::Commands(results), version) => Ok((results, version)),
+            _ => Err(Error::internal("commands gave back something else")),
+        }
     }
 
     /// Sets the clock to `time` (held within the animation) of `play` (`scene` says how long
     /// that lasts), keeping whether it plays, its rate and looping, then lets `change` change
     /// it further; a scene without a clock gets a paused one.
-    pub(crate) fn set_clock(&self, scene: &Scene, play: Play, time: f64, change: impl FnOnce(&mut Clock)) -> ClockState {
+    pub fn set_clock(&self, scene: &Scene, play: Play, time: f64, change: impl FnOnce(&mut Clock)) -> ClockState {
         let animations = scene.animations();
         let duration = match play {
             Play::Clip(k) => animations.get(k).map_or(0.0, |a| a.duration),
@@ -386,7 +405,7 @@ impl SceneSlot {
     }
 
     /// The clock now (`None` before the scene was first posed or its clock set).
-    pub(crate) fn clock(&self) -> Option<ClockState> {
+    pub fn clock(&self) -> Option<ClockState> {
         let now = Instant::now();
         let mut clock = self.clock.lock().unwrap_or_else(|e| e.into_inner());
         clock.as_mut().map(|c| {
@@ -396,10 +415,10 @@ impl SceneSlot {
     }
 
     /// Moves the scene to its clock's time, if the clock plays and has not moved it within the
-    /// last [`TICK`]: an ordinary `set_time` edit, so that it is ordered with every other edit
+    /// last `clock::TICK`: an ordinary `set_time` edit, so that it is ordered with every other edit
     /// and reaches a cluster's ranks. Renders call this before they take their snapshot. An
     /// edit that fails (the animation can no longer be posed) pauses the clock.
-    pub(crate) async fn follow_clock(self: &Arc<Self>, state: &AppState) -> ApiResult<()> {
+    pub async fn follow_clock(self: &Arc<Self>, state: &AppState) -> Result<()> {
         let now = Instant::now();
         let (play, time) = {
             let mut clock = self.clock.lock().unwrap_or_else(|e| e.into_inner());
@@ -427,7 +446,7 @@ impl SceneSlot {
 
     /// Completes when a playing clock is due to move the scene again; never, if it is not
     /// playing. A stream whose image is finished waits for this beside the scene's edits.
-    pub(crate) async fn clock_due(&self) {
+    pub async fn clock_due(&self) {
         let playing = self.clock.lock().unwrap_or_else(|e| e.into_inner()).as_ref().is_some_and(|c| c.playing);
         if playing {
             tokio::time::sleep(TICK).await;
@@ -439,12 +458,12 @@ impl SceneSlot {
     /// [`SceneSlot::edit`] on this thread (a cluster's worker, which has no runtime), asking
     /// `vote` once the edit was tried here (with its error's message if it failed) whether it
     /// stands.
-    pub(crate) fn edit_blocking(
+    pub fn edit_blocking(
         &self,
         edit: Edit,
         limits: &Limits,
-        vote: impl FnOnce(Result<(), String>) -> ApiResult<()>,
-    ) -> ApiResult<(Applied, u64)> {
+        vote: impl FnOnce(Result<(), String>) -> Result<()>,
+    ) -> Result<(Applied, u64)> {
         let mut guard = self.scene.blocking_write();
         self.edit_locked(&mut guard, edit, limits, vote)
     }
@@ -455,7 +474,7 @@ impl SceneSlot {
     /// cluster it answers whether every rank applied the edit. An edit that fails, or is voted
     /// down, leaves the scene as it was (a clone shares its objects and images, so keeping it
     /// is cheap).
-    fn edit_locked(&self, scene: &mut Scene, edit: Edit, limits: &Limits, vote: impl FnOnce(Result<(), String>) -> ApiResult<()>) -> ApiResult<(Applied, u64)> {
+    fn edit_locked(&self, scene: &mut Scene, edit: Edit, limits: &Limits, vote: impl FnOnce(Result<(), String>) -> Result<()>) -> Result<(Applied, u64)> {
         *self.last_snapshot.lock().unwrap_or_else(|e| e.into_inner()) = None;
         let before = scene.clone();
         let old = self.bytes.load(Ordering::Acquire);
@@ -489,20 +508,20 @@ impl SceneSlot {
 
     /// Runs `read` on a snapshot of the scene, on a blocking thread (it may trace rays or build
     /// trees), with the version the scene had.
-    pub(crate) async fn read<R: Send + 'static>(self: &Arc<Self>, read: impl FnOnce(&Scene, u64) -> R + Send + 'static) -> ApiResult<R> {
+    pub async fn read<R: Send + 'static>(self: &Arc<Self>, read: impl FnOnce(&Scene, u64) -> R + Send + 'static) -> Result<R> {
         let (scene, version) = self.snapshot().await;
-        tokio::task::spawn_blocking(move || read(&scene, version)).await.map_err(|e| ApiError::internal(format!("a read failed: {e}")))
+        tokio::task::spawn_blocking(move || read(&scene, version)).await.map_err(|e| Error::internal(format!("a read failed: {e}")))
     }
 
     /// The scene as it is now, as an immutable snapshot, and its version (consistent: edits
     /// change both under the write lock). Taking one holds the read lock only while the scene is
     /// cloned, which shares its objects, trees, shaders and textures (see [`Scene`]).
-    pub(crate) async fn snapshot(&self) -> (Arc<Scene>, u64) {
+    pub async fn snapshot(&self) -> (Arc<Scene>, u64) {
         self.snapshot_of(&*self.scene.read().await)
     }
 
     /// [`SceneSlot::snapshot`] on this thread (a cluster's worker, which has no runtime).
-    pub(crate) fn snapshot_blocking(&self) -> (u64, Arc<Scene>) {
+    pub fn snapshot_blocking(&self) -> (u64, Arc<Scene>) {
         let (scene, version) = self.snapshot_of(&self.scene.blocking_read());
         (version, scene)
     }
@@ -522,17 +541,17 @@ impl SceneSlot {
     }
 
     /// Whether the scene was deleted.
-    pub(crate) fn is_deleted(&self) -> bool {
+    pub fn is_deleted(&self) -> bool {
         self.deleted.load(Ordering::Acquire)
     }
 
     /// The version now.
-    pub(crate) fn version(&self) -> u64 {
+    pub fn version(&self) -> u64 {
         *self.version.borrow()
     }
 
     /// A receiver told of every new version.
-    pub(crate) fn watch(&self) -> watch::Receiver<u64> {
+    pub fn watch(&self) -> watch::Receiver<u64> {
         self.version.subscribe()
     }
 }

@@ -7,10 +7,10 @@
 use std::collections::{BTreeMap, HashMap, HashSet};
 
 use glam::{Affine3A, Vec3};
-use raystage_scene::{Camera, InstanceId, Light, LightId, Mesh, ObjectId, ObjectKind, ParamValue, Play, Scene, SceneError, Shader, ShaderId, Texture, TextureId};
+use raystage_scene::{AnimationChoice, Camera, InstanceId, Light, LightId, Mesh, ObjectId, ObjectKind, ParamValue, Play, Scene, SceneError, Shader, ShaderId, Texture, TextureId};
 
 use crate::config::Limits;
-use crate::error::{ApiError, ApiResult};
+use crate::error::{Error, Result};
 use crate::model::{AnimationRef, Binding, Command, CommandResult, Kind as JsonKind, LightSpec, MeshSpec, ParamJson, ParamWrite, Ref, decode_positions, param_value};
 
 /// The kinds of resources commands refer to.
@@ -75,9 +75,9 @@ enum Op {
 
 /// Checks every command, then applies them all. In a batch, error fields are prefixed with the
 /// command's place (`commands[2].add_object.mesh.positions`).
-pub(crate) fn execute(scene: &mut Scene, commands: Vec<Command>, limits: &Limits, in_batch: bool) -> ApiResult<Vec<CommandResult>> {
+pub(crate) fn execute(scene: &mut Scene, commands: Vec<Command>, limits: &Limits, in_batch: bool) -> Result<Vec<CommandResult>> {
     if commands.len() > limits.max_commands {
-        return Err(ApiError::too_large(Some("commands".into()), format!("{} commands: the limit is {}", commands.len(), limits.max_commands)).limit("max_commands"));
+        return Err(Error::too_large(Some("commands".into()), format!("{} commands: the limit is {}", commands.len(), limits.max_commands)).limit("max_commands"));
     }
     let mut planner = Planner::new(scene, limits);
     let mut ops = Vec::with_capacity(commands.len());
@@ -122,7 +122,7 @@ impl<'s> Planner<'s> {
         }
     }
 
-    fn plan(&mut self, i: usize, command: Command) -> ApiResult<Op> {
+    fn plan(&mut self, i: usize, command: Command) -> Result<Op> {
         Ok(match command {
             Command::AddObject(b) => {
                 let (mesh, shaders) = self.mesh(b.mesh)?;
@@ -183,7 +183,7 @@ impl<'s> Planner<'s> {
                 Op::DeleteInstance(id)
             }
             Command::AddShader(b) => {
-                let shader = Shader::new(&b.class).map_err(ApiError::from)?;
+                let shader = Shader::new(&b.class).map_err(Error::from)?;
                 let (shader, params, ignored) = self.write_params(shader, b.params)?;
                 self.label(b.label, Kind::Shader, i)?;
                 self.shaders.insert(Target::New(i), shader);
@@ -191,7 +191,7 @@ impl<'s> Planner<'s> {
             }
             Command::DefineShader(d) => {
                 let id = self.resolve(&d.id, Kind::Shader, "id")?;
-                let shader = Shader::new(&d.class).map_err(ApiError::from)?;
+                let shader = Shader::new(&d.class).map_err(Error::from)?;
                 let (shader, params, ignored) = self.write_params(shader, d.params)?;
                 self.shaders.insert(id, shader);
                 Op::DefineShader { id, class: d.class, params, ignored }
@@ -250,7 +250,7 @@ impl<'s> Planner<'s> {
                 // The bound is `f32`'s, the scene's time type: past it a time is infinite.
                 let seconds = t.seconds as f32;
                 if !(t.seconds >= 0.0 && seconds.is_finite()) {
-                    return Err(ApiError::unprocessable(Some("seconds".into()), format!("{} is not a time: it must be a finite number of seconds, at least 0", t.seconds)));
+                    return Err(Error::unprocessable(Some("seconds".into()), format!("{} is not a time: it must be a finite number of seconds, at least 0", t.seconds)));
                 }
                 Op::SetTime { play: self.play(t.animation)?, seconds }
             }
@@ -258,26 +258,28 @@ impl<'s> Planner<'s> {
     }
 
     /// The animations `animation` names (default the first), which must be the scene's.
-    fn play(&self, animation: Option<AnimationRef>) -> ApiResult<Play> {
+    fn play(&self, animation: Option<AnimationRef>) -> Result<Play> {
         let field = Some("animation".to_string());
         let animations = self.scene.animations();
         if animations.is_empty() {
-            return Err(ApiError::unprocessable(field, "the scene has no animations (a glTF file's come with it: POST /scenes/{scene}/gltf)"));
+            return Err(Error::unprocessable(field, "the scene has no animations (a glTF file's come with it: POST /scenes/{scene}/gltf)"));
         }
-        match animation {
-            None => Ok(Play::Clip(0)),
-            Some(AnimationRef::Name(name)) if name == "all" => Ok(Play::All),
-            Some(AnimationRef::Index(k)) if (k as usize) < animations.len() => Ok(Play::Clip(k as usize)),
-            Some(AnimationRef::Index(k)) => Err(ApiError::unprocessable(field, format!("there is no animation {k}: the scene has {}", animations.len()))),
-            Some(AnimationRef::Name(name)) => match animations.iter().position(|a| a.name == name) {
-                Some(k) => Ok(Play::Clip(k)),
-                None => Err(ApiError::unprocessable(field, format!("the scene has no animation named `{name}`"))),
-            },
-        }
+        let choice = animation.as_ref().map(|a| match a {
+            AnimationRef::Index(k) => AnimationChoice::Index(*k as usize),
+            AnimationRef::Name(name) => AnimationChoice::Name(name),
+        });
+        Play::choose(&animations, choice).ok_or_else(|| {
+            let message = match &animation {
+                Some(AnimationRef::Index(k)) => format!("there is no animation {k}: the scene has {}", animations.len()),
+                Some(AnimationRef::Name(name)) => format!("the scene has no animation named `{name}`"),
+                None => "the scene has no animations".to_string(),
+            };
+            Error::unprocessable(field, message)
+        })
     }
 
     /// A light checked, with its environment map resolved.
-    fn light(&mut self, spec: &LightSpec) -> ApiResult<(Light, Option<Target>)> {
+    fn light(&mut self, spec: &LightSpec) -> Result<(Light, Option<Target>)> {
         let light = spec.to_light()?;
         let map = spec.map.as_ref().map(|r| self.resolve(r, Kind::Texture, "map")).transpose()?;
         Ok((light, map))
@@ -287,7 +289,7 @@ impl<'s> Planner<'s> {
     /// resolving textures); returns the shader, the writes to make, and the names the class
     /// does not export.
     #[allow(clippy::type_complexity)]
-    fn write_params(&mut self, mut shader: Shader, params: BTreeMap<String, ParamJson>) -> ApiResult<(Shader, Vec<(String, Write)>, Vec<String>)> {
+    fn write_params(&mut self, mut shader: Shader, params: BTreeMap<String, ParamJson>) -> Result<(Shader, Vec<(String, Write)>, Vec<String>)> {
         let mut writes = Vec::new();
         let mut ignored = Vec::new();
         for (name, value) in params {
@@ -296,7 +298,7 @@ impl<'s> Planner<'s> {
                 None => ignored.push(name),
                 Some(ParamWrite::Value(value)) => {
                     shader.set(&name, value).map_err(|e| {
-                        let mut e = ApiError::from(e);
+                        let mut e = Error::from(e);
                         e.detail.field = Some(field);
                         e
                     })?;
@@ -314,15 +316,15 @@ impl<'s> Planner<'s> {
     }
 
     /// A mesh decoded and checked, with its shaders resolved.
-    fn mesh(&mut self, spec: MeshSpec) -> ApiResult<(Mesh, Binding<Target>)> {
+    fn mesh(&mut self, spec: MeshSpec) -> Result<(Mesh, Binding<Target>)> {
         let (mesh, binding) = spec.decode(self.limits).map_err(|e| e.within("mesh"))?;
-        mesh.validate().map_err(|e| ApiError::from(e).within("mesh"))?;
+        mesh.validate().map_err(|e| Error::from(e).within("mesh"))?;
         let shaders = match binding {
             Binding::Default => Binding::Default,
             Binding::All(r) => Binding::All(self.resolve(&r, Kind::Shader, "mesh.shader")?),
             Binding::Each(refs) => {
                 if refs.len() != mesh.indices.len() {
-                    return Err(ApiError::from(SceneError::WrongLength { field: "shaders", got: refs.len(), expected: mesh.indices.len() }).within("mesh"));
+                    return Err(Error::from(SceneError::WrongLength { field: "shaders", got: refs.len(), expected: mesh.indices.len() }).within("mesh"));
                 }
                 let mut resolved = HashMap::new();
                 let mut out = Vec::with_capacity(refs.len());
@@ -345,20 +347,20 @@ impl<'s> Planner<'s> {
     }
 
     /// Gives the resource command `i` creates a label.
-    fn label(&mut self, label: Option<String>, kind: Kind, i: usize) -> ApiResult<()> {
+    fn label(&mut self, label: Option<String>, kind: Kind, i: usize) -> Result<()> {
         let Some(label) = label else {
             return Ok(());
         };
         if self.labels.contains_key(&label) {
-            return Err(ApiError::unprocessable(Some("label".into()), format!("label `{label}` is already used in this batch")));
+            return Err(Error::unprocessable(Some("label".into()), format!("label `{label}` is already used in this batch")));
         }
         self.labels.insert(label, (kind, i));
         Ok(())
     }
 
     /// The resource `r` names, which must exist when the command runs (404 otherwise).
-    fn resolve(&mut self, r: &Ref, kind: Kind, field: &str) -> ApiResult<Target> {
-        let missing = |message: String| ApiError::not_found(Some(field.to_string()), message);
+    fn resolve(&mut self, r: &Ref, kind: Kind, field: &str) -> Result<Target> {
+        let missing = |message: String| Error::not_found(Some(field.to_string()), message);
         let target = match r {
             Ref::Id(id) => {
                 if !self.exists(kind, *id) {
@@ -369,7 +371,7 @@ impl<'s> Planner<'s> {
             Ref::Label(label) => match self.labels.get(label) {
                 Some(&(k, i)) if k == kind => Target::New(i),
                 Some(&(k, _)) => {
-                    return Err(ApiError::unprocessable(Some(field.to_string()), format!("`{label}` labels a {}, not a {}", k.name(), kind.name())));
+                    return Err(Error::unprocessable(Some(field.to_string()), format!("`{label}` labels a {}, not a {}", k.name(), kind.name())));
                 }
                 None => return Err(missing(format!("no earlier command of this batch has the label `{label}`"))),
             },
@@ -403,16 +405,16 @@ impl<'s> Planner<'s> {
 /// Applies checked commands in order. A pose is the one edit that can still fail here: whether
 /// every node can be placed at a time (a node scaled to zero cannot) is known only by posing,
 /// so that failure is the client's (422), and the caller restores the scene.
-fn apply(scene: &mut Scene, ops: Vec<Op>, in_batch: bool) -> ApiResult<Vec<CommandResult>> {
+fn apply(scene: &mut Scene, ops: Vec<Op>, in_batch: bool) -> Result<Vec<CommandResult>> {
     let mut ids: Vec<Option<u32>> = Vec::with_capacity(ops.len());
     let mut results = Vec::with_capacity(ops.len());
     for (k, op) in ops.into_iter().enumerate() {
         let posing = matches!(op, Op::SetTime { .. });
         let result = apply_one(scene, op, &ids).map_err(|e| {
             if !posing {
-                return ApiError::internal(format!("command {k} failed although it was checked ({e}); the commands before it were applied"));
+                return Error::internal(format!("command {k} failed although it was checked ({e}); the commands before it were applied"));
             }
-            let e = ApiError::unprocessable(Some("seconds".into()), format!("the scene cannot be posed at this time: {e}"));
+            let e = Error::unprocessable(Some("seconds".into()), format!("the scene cannot be posed at this time: {e}"));
             if in_batch { e.within(&format!("commands[{k}].set_time")) } else { e }
         })?;
         ids.push(result.id);

@@ -5,7 +5,7 @@ use raystage_scene::{Camera, Projection};
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
-use crate::error::{ApiError, ApiResult};
+use crate::error::{Error, Result};
 
 /// A change of the camera: the fields given replace the camera's, the others stay.
 #[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize, ToSchema)]
@@ -111,7 +111,7 @@ pub struct CameraJson {
 
 impl CameraPatch {
     /// `camera` with the patch applied, checked (422 naming the field).
-    pub fn apply(&self, camera: Camera) -> ApiResult<Camera> {
+    pub fn apply(&self, camera: Camera) -> Result<Camera> {
         let v = |p: Option<[f32; 3]>, old: Vec3| p.map_or(old, Vec3::from);
         let out = Camera {
             eye: v(self.eye, camera.eye),
@@ -123,7 +123,7 @@ impl CameraPatch {
             focus_distance: self.focus_distance.unwrap_or(camera.focus_distance),
             shutter: self.shutter.unwrap_or(camera.shutter),
         };
-        out.validate().map_err(|e| ApiError::from(e).without_prefix("camera."))?;
+        out.validate().map_err(|e| Error::from(e).without_prefix("camera."))?;
         Ok(out)
     }
 }

@@ -17,7 +17,7 @@ use tokio::sync::oneshot;
 /// server accepted them. Requests that came some other way (the router driven directly, as
 /// tests do) are [`Client::ANY`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub(crate) struct Client(pub u64);
+pub struct Client(pub u64);
 
 impl Client {
     /// A request without a connection of its own.

@@ -19,7 +19,7 @@ pub use light::{LIGHT_CLASSES, LightInfo, LightSpec, Rgb};
 pub use mesh::{Kind, MeshSpec};
 pub use refs::Ref;
 pub use shader::{ParamJson, ParamOut, ShaderInfo, ShaderSummary, TextureParam};
-pub use texture::{TextureDescription, TextureInfo, TextureKind, TextureSpec};
+pub use texture::{TextureDescription, TextureInfo, TextureKind, TextureSpec, decode_image};
 pub use transform::{Rotation, Scale, Transform};
 
 /// A file or image in the body, as it is.
@@ -29,4 +29,3 @@ pub struct Binary(#[allow(dead_code, reason = "a schema only")] Vec<u8>);
 
 pub(crate) use mesh::{Binding, decode_positions};
 pub(crate) use shader::{ParamWrite, param_value};
-pub(crate) use texture::decode_image;

@@ -1,0 +1,76 @@
+//! Renders within the server's budgets: each waits for its client's turn ([`crate::turns`]),
+//! holds memory for its image while it runs, and stops past the time limit. The render itself
+//! runs on a blocking thread (on the rayon pool, never on the reactor).
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use raystage_render::Cancel;
+use raystage_scene::Scene;
+
+use crate::config::Limits;
+use crate::error::{Error, Result};
+use crate::state::{AppState, SceneSlot};
+use crate::turns::Client;
+
+/// Runs `work` on a snapshot of `slot` (`snapshot` if given, else the scene as it is when the
+/// turn comes) and its version, on a blocking thread, once `bytes` of memory for images are
+/// reserved (refused at once if they cannot be) and `client`'s turn to render has come. `work` should
+/// stop when its cancel token says so: when the returned future is dropped (the client hung up,
+/// a render job was deleted) or past [`Limits::max_render_seconds`] (the render budget). Either way the turn
+/// and the memory go to the next render only once the work has stopped.
+pub async fn on_a_turn<T: Send + 'static>(
+    state: &AppState,
+    slot: &Arc<SceneSlot>,
+    client: Client,
+    snapshot: Option<(Arc<Scene>, u64)>,
+    bytes: u64,
+    work: impl FnOnce(Arc<Scene>, u64, &Cancel) -> Result<T> + Send + 'static,
+) -> Result<T> {
+    // Before waiting for a turn: work that cannot have its memory fails at once.
+    let memory = state.reserve_render_memory(bytes)?;
+    let turn = state.render_permit(client).await;
+    let (scene, version) = match snapshot {
+        Some(snapshot) => snapshot,
+        None => {
+            // A clock that cannot move the scene pauses itself: the frame then shows the
+            // scene as it is.
+            let _ = slot.follow_clock(state).await;
+            slot.snapshot().await
+        }
+    };
+    let cancel = CancelOnDrop(Cancel::new());
+    let token = cancel.0.clone();
+    let task = tokio::task::spawn_blocking(move || {
+        let _running = turn.running();
+        let _memory = memory;
+        work(scene, version, &token)
+        // The turn is dropped here, when the work has stopped, and not when the client goes.
+    });
+    within_budget(&state.config().limits, task).await?
+}
+
+/// Waits for a render's blocking task for at most [`Limits::max_render_seconds`]: past it, an error
+/// naming the limit. The caller's [`CancelOnDrop`] then stops the render as it returns.
+pub async fn within_budget<T>(limits: &Limits, work: tokio::task::JoinHandle<T>) -> Result<T> {
+    let budget = limits.max_render_seconds;
+    match tokio::time::timeout(Duration::from_secs(budget), work).await {
+        Ok(joined) => joined.map_err(|e| Error::internal(format!("a render failed: {e}"))),
+        Err(_) => Err(Error::render_budget(
+            "max_render_seconds",
+            format!("the render ran past the server's limit of {budget} s: ask for fewer pixels or samples, or a faster integrator"),
+        )),
+    }
+}
+
+/// Cancels a render when dropped: held by whatever waits for the render (a request's future,
+/// a stream's loop), so that the render stops as soon as nobody waits for it, whichever way
+/// the waiting ends (the client hung up and hyper dropped the future, a budget ran out, a
+/// stream closed).
+pub struct CancelOnDrop(pub Cancel);
+
+impl Drop for CancelOnDrop {
+    fn drop(&mut self) {
+        self.0.cancel();
+    }
+}
