@@ -122,6 +122,10 @@ pub struct Bvh8Stats {
     pub mean_children: f32,
     /// Bytes of node and leaf storage.
     pub bytes: usize,
+    /// The tree's surface-area cost: the summed surface area of every child box (inner node or
+    /// leaf block) over the area of the tree's box, the number of child boxes a random ray
+    /// through the tree's box enters (the SAH with unit costs). Lower is better.
+    pub sah_cost: f32,
 }
 
 /// An 8-wide BVH that owns a copy of its triangles. Queries take only the ray.
@@ -363,6 +367,7 @@ impl Bvh8 {
             depth: self.depth,
             mean_children: used as f32 / self.nodes.len().max(1) as f32,
             bytes: self.nodes.len() * size_of::<Node8>() + self.blocks.len() * size_of::<TriBlock>(),
+            sah_cost: box_cost(&self.nodes, &self.bounds),
         }
     }
 }
