@@ -4,8 +4,8 @@
 //! with the lowest surface-area-heuristic cost is chosen, and the primitive references are
 //! partitioned in place; nodes of a few primitives are split by an exact sweep instead. Large
 //! nodes bin in parallel and both halves of a split are built as independent rayon tasks, each
-//! into its own node vector that the parent splices in; small subtrees run sequentially so that
-//! no task is smaller than a few thousand primitives.
+//! subtree of a few thousand primitives into its own node vector, put together with the others
+//! once at the end; small subtrees run sequentially so that no task is smaller than that.
 
 use glam::Vec4;
 use rayon::prelude::*;
@@ -14,9 +14,13 @@ use super::{BuildOptions, Growing, MAX_BINS, PrimRef, SetBounds, splice};
 use crate::aabb::Aabb;
 use crate::bvh2::Node2;
 
-/// Builds the tree over `refs` (reordered in place into leaf order); root at index 0.
+/// Builds the tree over `refs` (reordered in place into leaf order); root at index 0, nodes in
+/// depth-first order.
 pub(super) fn build(refs: &mut [PrimRef], set: SetBounds, opts: &BuildOptions) -> Vec<Node2> {
-    build_subtree(Task { refs, offset: 0, set, depth: 0 }, opts)
+    let part = build_part(Task { refs, offset: 0, set, depth: 0 }, opts);
+    let mut nodes = Vec::with_capacity(part.len());
+    part.flatten_into(&mut nodes);
+    nodes
 }
 
 /// Below this depth the builder stops looking for SAH splits and halves nodes at the object
@@ -40,13 +44,61 @@ struct Task<'a> {
     depth: u32,
 }
 
-fn build_subtree(task: Task<'_>, opts: &BuildOptions) -> Vec<Node2> {
-    let mut nodes = Vec::with_capacity(2 * task.refs.len() / opts.max_leaf_size + 1);
-    build_into(task, opts, &mut nodes);
-    nodes
+/// A subtree as the parallel tasks leave it: nodes built by one task into one vector, or an inner
+/// node whose halves were built by separate tasks. The parts are put together once, at the end:
+/// splicing each task's vector into its parent's, as the tasks returned, copied the top of the
+/// tree once per level (a tenth of the sphere scene's build on one thread, with the page faults
+/// of each level's fresh vector).
+enum Part {
+    Nodes(Vec<Node2>),
+    Split { bounds: Aabb, halves: Box<(Part, Part)> },
 }
 
-/// Builds the subtree of `task` into `out` and returns its root index.
+impl Part {
+    /// Number of nodes.
+    fn len(&self) -> usize {
+        match self {
+            Part::Nodes(nodes) => nodes.len(),
+            Part::Split { halves, .. } => 1 + halves.0.len() + halves.1.len(),
+        }
+    }
+
+    /// Appends the part's nodes to `out` in depth-first order; returns its root's index.
+    fn flatten_into(self, out: &mut Vec<Node2>) -> u32 {
+        match self {
+            Part::Nodes(nodes) => splice(out, nodes),
+            Part::Split { bounds, halves } => {
+                let index = out.len();
+                out.push(Node2::leaf(bounds, 0, 0));
+                let (left, right) = *halves;
+                let l = left.flatten_into(out);
+                let r = right.flatten_into(out);
+                out[index] = Node2::inner(bounds, l, r);
+                index as u32
+            }
+        }
+    }
+}
+
+/// Builds the subtree of `task`, its halves as separate tasks while they are large.
+fn build_part(task: Task<'_>, opts: &BuildOptions) -> Part {
+    if task.refs.len() < PARALLEL_SUBTREES {
+        let mut nodes = Vec::with_capacity(2 * task.refs.len() / opts.max_leaf_size + 1);
+        build_into(task, opts, &mut nodes);
+        return Part::Nodes(nodes);
+    }
+    let bounds = task.set.geometry;
+    let (offset, count) = (task.offset, task.refs.len() as u32);
+    match split(task, opts) {
+        None => Part::Nodes(vec![Node2::leaf(bounds, offset, count)]),
+        Some((left, right)) => {
+            let halves = rayon::join(|| build_part(left, opts), || build_part(right, opts));
+            Part::Split { bounds, halves: Box::new(halves) }
+        }
+    }
+}
+
+/// Builds the subtree of `task` into `out` on this thread and returns its root index.
 fn build_into(task: Task<'_>, opts: &BuildOptions, out: &mut Vec<Node2>) -> u32 {
     let index = out.len();
     let bounds = task.set.geometry;
@@ -55,12 +107,8 @@ fn build_into(task: Task<'_>, opts: &BuildOptions, out: &mut Vec<Node2>) -> u32 
     let Some((left, right)) = split(task, opts) else {
         return index as u32;
     };
-    let (l, r) = if count as usize >= PARALLEL_SUBTREES {
-        let (ln, rn) = rayon::join(|| build_subtree(left, opts), || build_subtree(right, opts));
-        (splice(out, ln), splice(out, rn))
-    } else {
-        (build_into(left, opts, out), build_into(right, opts, out))
-    };
+    let l = build_into(left, opts, out);
+    let r = build_into(right, opts, out);
     out[index] = Node2::inner(bounds, l, r);
     index as u32
 }
@@ -138,11 +186,28 @@ type Bins = [[Bin; MAX_BINS]; 3];
 
 const _: () = assert!(MAX_BINS.is_power_of_two(), "bin indices are masked into range");
 
-/// Below this many references one set of bins is filled; from it, two (see [`bin_refs`]).
-const TWO_BIN_SETS: usize = 256;
+/// Below this many references one set of bins is filled; from it, several (see [`bin_refs`]).
+const SEVERAL_BIN_SETS: usize = 256;
 
 /// Bins the references sequentially.
 fn bin_refs(refs: &[PrimRef], map: &BinMapping) -> Bins {
+    if refs.len() < SEVERAL_BIN_SETS {
+        // A small node's bins would cost more to clear and merge several times than they save.
+        bin_in_sets::<1>(refs, map)
+    } else {
+        bin_in_sets::<SETS>(refs, map)
+    }
+}
+
+/// Sets of bins filled in turn by large nodes. Neighbouring references usually fall into the
+/// same bins (meshes are stored in spatial order), and then each update waits for the previous
+/// one to reach memory: taking turns between sets cuts that chain. On one thread two sets took
+/// the sphere scene's build from 0.76 s to 0.60 s, and the SIMD bin indices (`bins_of`) then to
+/// 0.46 s.
+const SETS: usize = 2;
+
+/// Bins the references into `K` sets of bins in turn, then merges them.
+fn bin_in_sets<const K: usize>(refs: &[PrimRef], map: &BinMapping) -> Bins {
     // Masking the indices (already in range: `bins_of` clamps them) drops three bounds checks
     // per reference.
     let add = |bins: &mut Bins, r: &PrimRef| {
@@ -154,28 +219,22 @@ fn bin_refs(refs: &[PrimRef], map: &BinMapping) -> Bins {
             bin.count += 1;
         }
     };
-    let mut a = [[Bin::EMPTY; MAX_BINS]; 3];
-    if refs.len() < TWO_BIN_SETS {
-        // A small node's bins would cost more to clear and merge twice than they save.
-        refs.iter().for_each(|r| add(&mut a, r));
-        return a;
+    let mut sets = [[[Bin::EMPTY; MAX_BINS]; 3]; K];
+    let groups = refs.chunks_exact(K);
+    let rest = groups.remainder();
+    for group in groups {
+        for (set, r) in sets.iter_mut().zip(group) {
+            add(set, r);
+        }
     }
-    // Neighbouring references usually fall into the same bins (meshes are stored in spatial
-    // order), and then each update waits for the previous one to reach memory: alternating
-    // between two sets of bins halves that chain. On one thread it took the sphere scene's build
-    // from 0.76 s to 0.60 s, and the SIMD bin indices (`bins_of`) then to 0.46 s.
-    let mut b = [[Bin::EMPTY; MAX_BINS]; 3];
-    let pairs = refs.chunks_exact(2);
-    let rest = pairs.remainder();
-    for pair in pairs {
-        add(&mut a, &pair[0]);
-        add(&mut b, &pair[1]);
+    for r in rest {
+        add(&mut sets[0], r);
     }
-    if let Some(r) = rest.first() {
-        add(&mut a, r);
+    let (first, others) = sets.split_first_mut().expect("at least one set");
+    for other in others.iter() {
+        merge_bins(first, other);
     }
-    merge_bins(&mut a, &b);
-    a
+    *first
 }
 
 /// Merges the bins of `b` into `a`.
