@@ -2,6 +2,8 @@
 //! tests. Its nodes are [`crate::wide`]'s; its leaves are blocks of up to eight triangles stored
 //! as structure of arrays and tested against the ray all at once.
 
+use std::mem::MaybeUninit;
+
 use rayon::prelude::*;
 
 use crate::aabb::Aabb;
@@ -29,13 +31,12 @@ pub(crate) struct TriBlock {
 }
 
 impl TriBlock {
-    /// A block to fill.
-    const EMPTY: TriBlock = TriBlock { v: [[0.0; WIDTH]; 9], prim: [0; WIDTH] };
-
-    /// Gathers triangles `prims` (lanes past the last repeating it) into the block, in place
-    /// (a block built elsewhere and copied in is read back before its stores have settled), and
-    /// returns the box around them.
-    fn fill(&mut self, tris: &(impl TriangleSource + ?Sized), prims: &[u32]) -> Aabb {
+    /// Writes triangles `prims` (lanes past the last repeating it) into `block`, in place (a block
+    /// built elsewhere and copied in is read back before its stores have settled), and returns the
+    /// box around them. Every field is written, so the block's storage need not be initialised
+    /// first: a fresh tree's blocks are written once, by the threads that fill them, instead of
+    /// cleared by one thread and then overwritten.
+    fn fill(block: &mut MaybeUninit<TriBlock>, tris: &(impl TriangleSource + ?Sized), prims: &[u32]) -> Aabb {
         debug_assert!(!prims.is_empty() && prims.len() <= WIDTH);
         let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
         let last = prims.len() - 1;
@@ -43,17 +44,21 @@ impl TriBlock {
         for (lane, prim) in lanes.iter_mut().enumerate() {
             *prim = prims[lane.min(last)];
         }
+        let out = block.as_mut_ptr();
         for (lane, &prim) in lanes.iter().enumerate() {
             let tri = tris.triangle(prim);
             for (vertex, p) in tri.iter().enumerate() {
                 for (axis, c) in p.to_array().into_iter().enumerate() {
-                    self.v[3 * vertex + axis][lane] = c;
+                    // SAFETY: `out` points to the block's storage; plain floats are written to it
+                    // field by field, no reference to the uninitialised block is made.
+                    unsafe { (*out).v[3 * vertex + axis][lane] = c };
                     lo[axis] = lo[axis].min(c);
                     hi[axis] = hi[axis].max(c);
                 }
             }
         }
-        self.prim = lanes;
+        // SAFETY: as above; with this, every field has been written.
+        unsafe { (*out).prim = lanes };
         Aabb { min: glam::Vec3::from_array(lo), max: glam::Vec3::from_array(hi) }
     }
 
@@ -71,22 +76,25 @@ const FILL_RUN: usize = 256;
 /// How many blocks ahead the vertices of a block are prefetched (and twice that, its indices).
 const PREFETCH_BLOCKS: usize = 2;
 
-/// Fills every block `i` of `blocks` with the triangles `prims[first..first + count]`, where
-/// `(first, count) = ranges(i)` (see [`TriBlock::fill`]), putting each block's box in
-/// `bounds[i]` if asked. The triangles are gathered in tree order, at random in memory, so each
-/// run of blocks prefetches the indices and then the vertices of the blocks a little ahead of
-/// the one it fills.
-fn fill_blocks<T, R>(blocks: &mut [TriBlock], tris: &T, prims: &[u32], ranges: R, bounds: Option<&mut [Aabb]>)
+/// Makes `blocks` the `count` blocks where block `i` holds the triangles `prims[first..first +
+/// count]`, `(first, count) = ranges(i)` (see [`TriBlock::fill`]), reusing its storage, and puts
+/// each block's box in `bounds[i]` if asked. The triangles are gathered in tree order, at random
+/// in memory, so each run of blocks prefetches the indices and then the vertices of the blocks a
+/// little ahead of the one it fills.
+fn fill_blocks<T, R>(blocks: &mut Vec<TriBlock>, count: usize, tris: &T, prims: &[u32], ranges: R, bounds: Option<&mut [Aabb]>)
 where
     T: TriangleSource + ?Sized,
     R: Fn(usize) -> (usize, usize) + Sync,
 {
+    blocks.clear();
+    blocks.reserve(count);
+    let total = count;
+    let filled = &mut blocks.spare_capacity_mut()[..count];
     let of = |i: usize| {
         let (first, count) = ranges(i);
         &prims[first..first + count]
     };
-    let total = blocks.len();
-    let fill_run = |run: usize, blocks: &mut [TriBlock], mut bounds: Option<&mut [Aabb]>| {
+    let fill_run = |run: usize, blocks: &mut [MaybeUninit<TriBlock>], mut bounds: Option<&mut [Aabb]>| {
         let first = run * FILL_RUN;
         for (j, block) in blocks.iter_mut().enumerate() {
             let i = first + j;
@@ -95,16 +103,18 @@ where
                     of(i + ahead).iter().for_each(|&p| tris.prefetch(p, vertices));
                 }
             }
-            let b = block.fill(tris, of(i));
+            let b = TriBlock::fill(block, tris, of(i));
             if let Some(bounds) = bounds.as_deref_mut() {
                 bounds[j] = b;
             }
         }
     };
     match bounds {
-        Some(bounds) => blocks.par_chunks_mut(FILL_RUN).zip(bounds.par_chunks_mut(FILL_RUN)).enumerate().for_each(|(run, (b, out))| fill_run(run, b, Some(out))),
-        None => blocks.par_chunks_mut(FILL_RUN).enumerate().for_each(|(run, b)| fill_run(run, b, None)),
+        Some(bounds) => filled.par_chunks_mut(FILL_RUN).zip(bounds.par_chunks_mut(FILL_RUN)).enumerate().for_each(|(run, (b, out))| fill_run(run, b, Some(out))),
+        None => filled.par_chunks_mut(FILL_RUN).enumerate().for_each(|(run, b)| fill_run(run, b, None)),
     }
+    // SAFETY: `TriBlock::fill` wrote every one of the first `count` blocks, each run its own.
+    unsafe { blocks.set_len(count) };
 }
 
 /// Shape figures of a wide BVH, for tuning and for the benchmark report.
@@ -184,8 +194,7 @@ impl Bvh8 {
         });
         // Gathering the triangles into blocks reads the vertices in tree order, at random in
         // memory: done in parallel, it is no longer the slowest part of a fast build.
-        blocks.resize(ranges.len(), TriBlock::EMPTY);
-        fill_blocks(&mut blocks, tris, &bvh2.prims, |i| (ranges[i].0 as usize, ranges[i].1 as usize), None);
+        fill_blocks(&mut blocks, ranges.len(), tris, &bvh2.prims, |i| (ranges[i].0 as usize, ranges[i].1 as usize), None);
         let bounds = bvh2.bounds();
         Bvh8 {
             built_cost: box_cost(&wide.nodes, &bounds),
@@ -321,7 +330,7 @@ impl Bvh8 {
         let mut leaf_bounds = vec![Aabb::EMPTY; self.blocks.len()];
         // The blocks' own triangles, lanes as they are (the last repeated to fill a block).
         let prims: Vec<u32> = self.blocks.iter().flat_map(|b| b.prim).collect();
-        fill_blocks(&mut self.blocks, tris, &prims, |i| (WIDTH * i, WIDTH), Some(&mut leaf_bounds));
+        fill_blocks(&mut self.blocks, prims.len() / WIDTH, tris, &prims, |i| (WIDTH * i, WIDTH), Some(&mut leaf_bounds));
         if self.root == EMPTY {
             return 0.0;
         }
