@@ -178,7 +178,7 @@ impl Bvh8 {
     fn collapsed(bvh2: &Bvh2, tris: &(impl TriangleSource + ?Sized), (mut nodes, mut blocks): (Vec<Node8>, Vec<TriBlock>)) -> Bvh8 {
         // Every binary leaf becomes one block; every wide node consumes at least one binary inner
         // node, so the binary counts bound both arrays and they never reallocate.
-        let leaves = bvh2.nodes.iter().filter(|n| matches!(n.kind(), Node2Kind::Leaf { .. })).count();
+        let leaves = bvh2.nodes.par_iter().with_min_len(4096).filter(|n| matches!(n.kind(), Node2Kind::Leaf { .. })).count();
         let inner = bvh2.nodes.len() - leaves;
         nodes.clear();
         if nodes.capacity() < inner {
