@@ -490,3 +490,51 @@ fn median_split(task: Task<'_>) -> (Task<'_>, Task<'_>) {
     task.refs.select_nth_unstable_by(mid, |a, b| a.centroid2()[axis].total_cmp(&b.centroid2()[axis]));
     halves(task, mid, None)
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use crate::build::{BuildOptions, build};
+    use crate::bvh2::{Node2, Node2Kind};
+
+    /// Small triangles on a jittered grid, enough of them for parallel binning and tasks.
+    fn grid(n: u32) -> Vec<[Vec3; 3]> {
+        (0..n * n)
+            .map(|i| {
+                let (x, y) = ((i % n) as f32, (i / n) as f32);
+                let z = (i.wrapping_mul(2_654_435_761) >> 20) as f32 / 4096.0;
+                let p = Vec3::new(x, y, z);
+                [p, p + Vec3::new(0.9, 0.1, 0.0), p + Vec3::new(0.2, 0.8, 0.3)]
+            })
+            .collect()
+    }
+
+    /// Checks that the subtree at `index` is laid out depth-first (each inner node followed by its
+    /// left subtree, then its right); returns the index just past it.
+    fn depth_first(nodes: &[Node2], index: usize) -> usize {
+        match nodes[index].kind() {
+            Node2Kind::Leaf { .. } => index + 1,
+            Node2Kind::Inner { left, right } => {
+                assert_eq!(left as usize, index + 1, "left child of node {index} follows it");
+                let end = depth_first(nodes, index + 1);
+                assert_eq!(right as usize, end, "right child of node {index} follows its left subtree");
+                depth_first(nodes, end)
+            }
+        }
+    }
+
+    #[test]
+    fn parallel_parts_make_one_depth_first_tree_whatever_the_threads() {
+        let tris = grid(300);
+        let on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
+            pool.install(|| build(&tris, &BuildOptions::default()))
+        };
+        let one = on(1);
+        assert_eq!(depth_first(&one.nodes, 0), one.nodes.len(), "every node is reached once");
+        let three = on(3);
+        assert_eq!(format!("{:?}", one.nodes), format!("{:?}", three.nodes));
+        assert_eq!(one.prims, three.prims);
+    }
+}
