@@ -76,20 +76,19 @@ const FILL_RUN: usize = 256;
 /// How many blocks ahead the vertices of a block are prefetched (and twice that, its indices).
 const PREFETCH_BLOCKS: usize = 2;
 
-/// Makes `blocks` the `count` blocks where block `i` holds the triangles `prims[first..first +
+/// Makes `blocks` the `len` blocks where block `i` holds the triangles `prims[first..first +
 /// count]`, `(first, count) = ranges(i)` (see [`TriBlock::fill`]), reusing its storage, and puts
 /// each block's box in `bounds[i]` if asked. The triangles are gathered in tree order, at random
 /// in memory, so each run of blocks prefetches the indices and then the vertices of the blocks a
 /// little ahead of the one it fills.
-fn fill_blocks<T, R>(blocks: &mut Vec<TriBlock>, count: usize, tris: &T, prims: &[u32], ranges: R, bounds: Option<&mut [Aabb]>)
+fn fill_blocks<T, R>(blocks: &mut Vec<TriBlock>, len: usize, tris: &T, prims: &[u32], ranges: R, bounds: Option<&mut [Aabb]>)
 where
     T: TriangleSource + ?Sized,
     R: Fn(usize) -> (usize, usize) + Sync,
 {
     blocks.clear();
-    blocks.reserve(count);
-    let total = count;
-    let filled = &mut blocks.spare_capacity_mut()[..count];
+    blocks.reserve(len);
+    let filled = &mut blocks.spare_capacity_mut()[..len];
     let of = |i: usize| {
         let (first, count) = ranges(i);
         &prims[first..first + count]
@@ -99,7 +98,7 @@ where
         for (j, block) in blocks.iter_mut().enumerate() {
             let i = first + j;
             for (ahead, vertices) in [(2 * PREFETCH_BLOCKS, false), (PREFETCH_BLOCKS, true)] {
-                if i + ahead < total {
+                if i + ahead < len {
                     of(i + ahead).iter().for_each(|&p| tris.prefetch(p, vertices));
                 }
             }
@@ -113,8 +112,8 @@ where
         Some(bounds) => filled.par_chunks_mut(FILL_RUN).zip(bounds.par_chunks_mut(FILL_RUN)).enumerate().for_each(|(run, (b, out))| fill_run(run, b, Some(out))),
         None => filled.par_chunks_mut(FILL_RUN).enumerate().for_each(|(run, b)| fill_run(run, b, None)),
     }
-    // SAFETY: `TriBlock::fill` wrote every one of the first `count` blocks, each run its own.
-    unsafe { blocks.set_len(count) };
+    // SAFETY: `TriBlock::fill` wrote every one of the first `len` blocks, each run its own.
+    unsafe { blocks.set_len(len) };
 }
 
 /// Shape figures of a wide BVH, for tuning and for the benchmark report.
