@@ -32,6 +32,9 @@ enum Command {
         /// Print one JSON object per system, scene and thread count instead of tables.
         #[arg(long)]
         json: bool,
+        /// Measure the builds only (raystage, Embree MEDIUM and HIGH taking turns), no rays.
+        #[arg(long)]
+        build_only: bool,
     },
     /// Animated scenes updated and traced frame by frame (robots, museum, terrain).
     Dynamic {
@@ -399,7 +402,7 @@ fn main() {
                 print!("{}", table::throughput_against(StandardScene::Spheres.name(), &reports));
             }
         }
-        Command::Kernel { scene, threads, reps, json } => {
+        Command::Kernel { scene, threads, reps, json, build_only } => {
             let scenes = match scene.as_str() {
                 "all" => StandardScene::ALL.to_vec(),
                 name => match StandardScene::from_name(name) {
@@ -411,7 +414,7 @@ fn main() {
                 eprintln!("note: built without the `embree` feature; only raystage is measured");
             }
             for s in scenes {
-                let run = kernel::run(s, threads.max(1), reps, |line| eprintln!("{line}"));
+                let run = kernel::run(s, threads.max(1), reps, build_only, |line| eprintln!("{line}"));
                 if json {
                     for r in run.reports() {
                         println!("{}", serde_json::to_string(&r).expect("report serialises"));
