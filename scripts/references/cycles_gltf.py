@@ -14,9 +14,10 @@ read back linear and written as `NAME.pfm`, little-endian linear RGB, rows botto
 size is the scene's `extras.image_size`, else `--size`.
 
 `--time SECONDS` renders the file's animation at that time, as the importer made it: the
-importer keys glTF time t at frame t × fps (the scene's, 24), leaves the first animation active
-and stashes every other one on NLA tracks named after it; `--animation NAME|INDEX` makes
-another one's action active (the importer's own `restore_animation_on_object`), and the scene
+importer keys glTF time t at frame t × fps (the scene's, 24) and stashes each animation on NLA
+tracks named after it; asked (through its import hook) to leave them all stashed, so that every
+node keeps its file's transform until then, it has the chosen one's actions made active by its
+own `restore_animation_on_object` (`--animation NAME|INDEX`, default the first), and the scene
 frame is set to time × fps, the fraction as a subframe. Node animation, skins (an armature
 deforming the mesh) and morph targets (shape keys) are Blender's. The image is then
 `NAME_TIMEs.pfm` (`box_animated_1.875s.pfm`).
@@ -215,23 +216,38 @@ def front_emission(bpy):
             tree.links.new(front.outputs["Value"], node.inputs["Emission Strength"])
 
 
+class KeepAnimationsStashed:
+    """An import hook (the importer's user-extension interface, which it finds as
+    `glTF2ImportUserExtension` on an enabled add-on's module): the importer makes no animation
+    active, where it would make the first one's actions active and Blender would move every node
+    it animates to its value at the current frame, which nodes that another animation chosen
+    later does not animate would keep. Nothing else of the import changes."""
+
+    def gather_import_animations(self, animations, options, gltf):
+        options.restore_first_anim = False
+
+
 def pose(bpy, doc, scene, time, animation):
     """`scene` at `time` seconds of the animation `animation` names (its name or index; None:
-    the first, which the importer leaves active). Returns the frame it is set to."""
-    if not doc.get("animations"):
+    the first), imported with `KeepAnimationsStashed`. Returns the frame it is set to."""
+    from io_scene_gltf2.blender.imp.animation_utils import restore_animation_on_object
+    from io_scene_gltf2.blender.imp.blender_gltf import BlenderGlTF
+    # The NLA track names the importer gave the animations, in the file's order (its own
+    # naming, as blender_gltf.py does it).
+    tracks = []
+    for k, animation_k in enumerate(doc.get("animations", [])):
+        tracks.append(BlenderGlTF.find_unused_name(set(tracks), animation_k.get("name") or f"Anim_{k}"))
+    if not tracks:
         sys.exit("--time: the file has no animations")
-    if animation is not None:
-        from io_scene_gltf2.blender.imp.animation_utils import restore_animation_on_object
-        # The importer's NLA track names, one per animation in the file's order.
-        tracks = [track.name for track in scene.gltf2_animation_tracks]
-        if animation not in tracks:
-            if not animation.isdigit() or int(animation) >= len(tracks):
-                sys.exit(f"--animation {animation}: the file has {', '.join(tracks)} (or an index)")
-            animation = tracks[int(animation)]
-        for obj in scene.objects:
-            restore_animation_on_object(obj, animation)
-            if obj.type == "MESH" and obj.data.shape_keys is not None:
-                restore_animation_on_object(obj.data.shape_keys, animation)
+    animation = tracks[0] if animation is None else animation
+    if animation not in tracks:
+        if not animation.isdigit() or int(animation) >= len(tracks):
+            sys.exit(f"--animation {animation}: the file has {', '.join(tracks)} (or an index)")
+        animation = tracks[int(animation)]
+    for obj in scene.objects:
+        restore_animation_on_object(obj, animation)
+        if obj.type == "MESH" and obj.data.shape_keys is not None:
+            restore_animation_on_object(obj.data.shape_keys, animation)
     # The importer's own conversion of glTF seconds to frames (animation_node.py).
     frame = time * scene.render.fps * scene.render.fps_base
     whole = int(np.floor(frame))
@@ -267,6 +283,9 @@ def render(bpy, path, args):
     """`path` rendered by Cycles: its linear RGB, rows bottom to top."""
     doc = read_document(path)
     reset(bpy)
+    if args.time is not None:
+        import io_scene_gltf2
+        io_scene_gltf2.glTF2ImportUserExtension = KeepAnimationsStashed
     result = bpy.ops.import_scene.gltf(filepath=os.path.abspath(path))
     if result != {"FINISHED"}:
         sys.exit(f"{path}: Blender's importer says {result}")

@@ -122,8 +122,9 @@ struct FrameTime {
     rebuilt: bool,
 }
 
-/// Closest hits of `rays` on `threads` threads, each ray handed to `closest`; returns the hits,
-/// so that the work is not optimised away and the systems can be checked against each other.
+/// Closest hits of `rays` on the current thread pool, each ray handed to `closest`; returns how
+/// many hit, so that the work is not optimised away and the systems can be checked against each
+/// other.
 fn trace(rays: &[Ray], closest: &(dyn Fn(&Ray) -> Option<f32> + Sync)) -> usize {
     rays.par_chunks(4096).map(|chunk| chunk.iter().filter(|r| closest(r).is_some()).count()).sum()
 }
