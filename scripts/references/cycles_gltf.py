@@ -34,7 +34,7 @@ repository:
     done
     for asset in box_animated:0.625:1.875 rigged_simple:0.5:1 animated_morph_cube:1:3; do
       for time in $(echo ${asset#*:} | tr : ' '); do
-        nice -n 10 ~/venv-bpy/bin/python ../scripts/references/cycles_gltf.py ${asset%%:*}.glb \
+        nice -n 10 ~/venv-bpy/bin/python ../scripts/references/cycles_gltf.py ${asset%%:*}.glb \\
           --out ../tests/references/ --prefix cycles_ --spp 1024 --time $time --backface-culling
       done
     done
