@@ -42,4 +42,6 @@ fn a_short_run_reports_every_step() {
     let systems: Vec<&str> = reports.iter().map(|r| r.system.as_str()).collect();
     let expected: &[&str] = if cfg!(feature = "embree") { &["raystage", "embree-refit", "embree-low"] } else { &["raystage"] };
     assert_eq!(systems, expected);
+    assert!(reports[1..].iter().all(|r| r.raystage_update_ratio.is_some_and(f64::is_finite) && r.raystage_trace_ratio.is_some_and(f64::is_finite)), "{reports:?}");
+    assert!(ours.raystage_update_ratio.is_none() && ours.raystage_trace_ratio.is_none());
 }
