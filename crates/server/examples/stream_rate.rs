@@ -69,12 +69,12 @@ async fn main() {
                     last = value;
                 }
             }
-            Message::Binary(png) => {
+            Message::Binary(image) => {
                 // The first frame builds the scene's trees: the clock starts after it.
                 let start = *first.get_or_insert_with(Instant::now);
                 if start.elapsed() > Duration::ZERO {
                     frames += 1;
-                    bytes += png.len();
+                    bytes += image.len();
                 }
                 if start.elapsed().as_secs_f64() >= seconds {
                     break;
@@ -85,7 +85,7 @@ async fn main() {
     }
     let elapsed = first.map_or(0.0, |f| f.elapsed().as_secs_f64());
     println!(
-        "{frames} frames in {elapsed:.2} s = {:.1} frames/s, {:.0} KB each; last: {} samples per pixel, passes of {} in {:.1} ms, PNG {:.1} ms",
+        "{frames} frames in {elapsed:.2} s = {:.1} frames/s, {:.0} KB each; last: {} samples per pixel, passes of {} in {:.1} ms, encoded in {:.1} ms",
         frames as f64 / elapsed,
         bytes as f64 / frames.max(1) as f64 / 1024.0,
         last["samples"],
