@@ -9,24 +9,6 @@ use axum::http::StatusCode;
 use common::*;
 use serde_json::{Value, json};
 
-/// [`document`] with an animation `slide` that moves the left square (node 0) from x = −0.6
-/// at 0 s to x = 0.4 at 1 s, linearly: keyframe times and values follow the square's buffer.
-fn animated_glb() -> Vec<u8> {
-    let mut bin = square_buffer();
-    [0.0f32, 1.0, -0.6, 0.0, 0.0, 0.4, 0.0, 0.0].iter().for_each(|f| bin.extend(f.to_le_bytes()));
-    let mut doc = document(None);
-    doc["buffers"][0]["byteLength"] = json!(bin.len());
-    let views = doc["bufferViews"].as_array_mut().unwrap();
-    views.push(json!({ "buffer": 0, "byteOffset": 60, "byteLength": 8 }));
-    views.push(json!({ "buffer": 0, "byteOffset": 68, "byteLength": 24 }));
-    let accessors = doc["accessors"].as_array_mut().unwrap();
-    accessors.push(json!({ "bufferView": 2, "componentType": 5126, "count": 2, "type": "SCALAR", "min": [0], "max": [1] }));
-    accessors.push(json!({ "bufferView": 3, "componentType": 5126, "count": 2, "type": "VEC3" }));
-    doc["animations"] = json!([{ "name": "slide", "channels": [{ "sampler": 0, "target": { "node": 0, "path": "translation" } }],
-        "samplers": [{ "input": 2, "output": 3, "interpolation": "LINEAR" }] }]);
-    raystage_gltf_import::glb(&serde_json::to_vec(&doc).unwrap(), &bin)
-}
-
 /// A scene made from [`animated_glb`].
 async fn animated_scene(app: &axum::Router) -> u64 {
     let (status, _, body) = send(app, "POST", "/scenes", Body::from(animated_glb()), &[("content-type", "model/gltf-binary")]).await;

@@ -414,9 +414,10 @@ async fn the_page_streams_orbits_picks_and_opens_a_dropped_gltf_file() {
     assert!(mean == 0.0 && max == 0, "the frame after the drag is not the PNG route's: mean {mean}, largest {max}");
     page.screenshot("orbited").await;
 
-    // A glTF file dropped on the page becomes a new scene, which the page opens.
+    // A glTF file dropped on the page becomes a new scene, which the page opens; it has an
+    // animation, so the page shows a timeline.
     let file = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("dropped-{}.glb", std::process::id()));
-    std::fs::write(&file, glb()).unwrap();
+    std::fs::write(&file, animated_glb()).unwrap();
     let data = json!({ "items": [], "files": [file.to_str().unwrap()], "dragOperationsMask": 1 });
     for kind in ["dragEnter", "dragOver", "drop"] {
         page.call("Input.dispatchDragEvent", json!({ "type": kind, "x": centre.0, "y": centre.1, "data": data })).await;
@@ -429,6 +430,23 @@ async fn the_page_streams_orbits_picks_and_opens_a_dropped_gltf_file() {
     page.wait_for("the new scene listed", &format!("document.getElementById('scene').value === '{created}'")).await;
     std::fs::remove_file(&file).unwrap();
     page.screenshot("dropped").await;
+
+    // The timeline poses the scene: the time slider at 0.5 s of `slide` (which moves the left
+    // square, instance 0 of the file, from x = −0.6 at 0 s to 0.4 at 1 s) is a `set_time`.
+    assert_eq!(page.eval("document.getElementById('timeline').hidden").await, false);
+    page.eval("(t => { t.value = '0.5'; t.dispatchEvent(new Event('input')); })(document.getElementById('time'))").await;
+    let start = Instant::now();
+    loop {
+        let instances = ok(&app, "GET", &format!("/scenes/{created}/instances"), json!(null), StatusCode::OK).await;
+        if (instances[0]["matrix"][0][3].as_f64().unwrap() + 0.1).abs() < 1e-5 {
+            break;
+        }
+        assert!(start.elapsed() < PATIENCE, "the timeline did not pose the scene at 0.5 s: {instances}");
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    let posed = ok(&app, "GET", &format!("/scenes/{created}"), json!(null), StatusCode::OK).await["version"].as_u64().unwrap();
+    page.wait_for("a frame of the pose", &format!("Number(document.getElementById('frame').dataset.sceneVersion) >= {posed}")).await;
+    page.screenshot("timeline").await;
 
     assert_eq!(page.errors(), Vec::<String>::new(), "the page reported errors");
 }
