@@ -53,9 +53,12 @@ async fn main() {
             addr
         }
     };
-    // Within the frame limit at 1080p (1920 × 1080 × 256 samples) when timing edits.
-    let max_samples = if edits > 0 { 64 } else { 1024 };
-    let url = format!("ws://{addr}/scenes/{scene}/stream?{query}&max_samples={max_samples}");
+    // Unless the query says: within the frame limit at 1080p (1920 × 1080 × 256 samples) when
+    // timing edits.
+    if !query.contains("max_samples=") {
+        query += &format!("&max_samples={}", if edits > 0 { 64 } else { 1024 });
+    }
+    let url = format!("ws://{addr}/scenes/{scene}/stream?{query}");
     let (mut socket, _) = tokio_tungstenite::connect_async(url).await.expect("the stream opens");
     if edits > 0 {
         return edit_latency(socket, edits).await;

@@ -304,17 +304,36 @@ function openStream() {
   const [width, height] = (sentSize = wantedSize());
   const query = new URLSearchParams({ width, height, ...controlSettings() });
   if (token) query.set('token', token);
+  const path = `/scenes/${sceneId}/stream?${query}`;
   const scheme = location.protocol === 'https:' ? 'wss' : 'ws';
-  const stream = new WebSocket(`${scheme}://${location.host}/scenes/${sceneId}/stream?${query}`);
+  const stream = new WebSocket(`${scheme}://${location.host}${path}`);
+  let opened = false;
   stream.binaryType = 'blob';
-  stream.onopen = () => say('Waiting for the first frame…');
+  stream.onopen = () => {
+    opened = true;
+    say('Waiting for the first frame…');
+  };
   stream.onmessage = (event) => (typeof event.data === 'string' ? onMessage(JSON.parse(event.data)) : onImage(event.data));
-  stream.onclose = (event) => {
+  stream.onclose = async (event) => {
     if (socket !== stream) return;
     socket = null;
-    say(`The stream closed${event.reason ? `: ${event.reason}` : ''}. Choose the scene again to reconnect.`);
+    const why = event.reason || (opened ? '' : await whyRefused(path));
+    say(`The stream closed${why ? `: ${why}` : ''}. Change a setting or choose the scene again to reconnect.`);
   };
   socket = stream;
+}
+
+/** Why the server refused to open the stream at `path`: a browser's WebSocket does not tell,
+ *  but the same request without the upgrade gets the server's error (api/stream.md), which names
+ *  the upgrade only where the stream would have opened. */
+async function whyRefused(path) {
+  try {
+    const response = await fetch(path, { headers: token ? { Authorization: `Bearer ${token}` } : {} });
+    const { error } = await response.json();
+    return error.field === 'upgrade' ? '' : error.message;
+  } catch {
+    return '';
+  }
 }
 
 function closeStream() {
@@ -328,6 +347,13 @@ function closeStream() {
   latencyProbe = null;
   frameMessage = null;
   newest = null;
+}
+
+/** Sends a `settings` change; a stream that is not open opens anew with the controls' settings,
+ *  which include the change. */
+function changeSettings(change) {
+  if (socket?.readyState === WebSocket.OPEN) send({ type: 'settings', ...change });
+  else if (sceneId !== null) openStream();
 }
 
 /** Sends `message` on the stream with a new request number; `answer` gets the reply. */
@@ -425,17 +451,17 @@ for (const [id, name, convert] of [
   ['encoding', 'encoding', String],
   ['quality', 'quality', Number],
 ]) {
-  $(id).addEventListener('change', () => send({ type: 'settings', [name]: convert($(id).value) }));
+  $(id).addEventListener('change', () => changeSettings({ [name]: convert($(id).value) }));
 }
 $('exposure').addEventListener('input', () => {
   $('exposure-value').textContent = $('exposure').value;
-  send({ type: 'settings', exposure: Number($('exposure').value) });
+  changeSettings({ exposure: Number($('exposure').value) });
 });
 $('quality').addEventListener('input', () => ($('quality-value').textContent = $('quality').value));
 $('integrator').addEventListener('change', () => {
   // The scene's own choice cannot be asked for on a stream that has one: it opens anew.
-  if ($('integrator').value) send({ type: 'settings', integrator: $('integrator').value });
-  else openStream();
+  if ($('integrator').value) changeSettings({ integrator: $('integrator').value });
+  else if (sceneId !== null) openStream();
 });
 $('scale').addEventListener('change', sendSize);
 
@@ -448,7 +474,8 @@ let resizeTimer = null;
 function sendSize() {
   const [width, height] = wantedSize();
   if (sentSize && sentSize[0] === width && sentSize[1] === height) return;
-  if (send({ type: 'settings', width, height })) sentSize = [width, height];
+  changeSettings({ width, height });
+  sentSize = [width, height];
 }
 
 const followSize = () => {

@@ -32,7 +32,8 @@ use crate::state::{AppState, SceneSlot};
 
 /// Default samples per pixel a stream refines to.
 const DEFAULT_MAX_SAMPLES: u32 = 256;
-/// Default JPEG quality: at 1920×1080, a frame of the sphere grid takes about 150 KB.
+/// Default JPEG quality: at 1920×1080, a frame of the sphere grid takes 170 KB (its PNG
+/// 860 KB; docs/performance.md).
 const DEFAULT_QUALITY: u8 = 80;
 
 /// Opens a stream of progressive frames (a WebSocket; see `api/stream.md`).
@@ -51,9 +52,6 @@ pub(crate) async fn stream(
     Params(query): Params<StreamQuery>,
     upgrade: Result<WebSocketUpgrade, WebSocketUpgradeRejection>,
 ) -> ApiResult<Response> {
-    // A plain HTTP request gets the API's JSON error, naming the header it lacks, not axum's
-    // text.
-    let upgrade = upgrade.map_err(|e| ApiError::bad_request(Some("upgrade".into()), format!("{}: open the stream as a WebSocket", e.body_text())))?;
     let limits = state.config().limits;
     let mut frame = FrameSettings::default();
     frame.apply(&query.patch()).map_err(|e| setting_error(e, "max_samples"))?;
@@ -65,6 +63,11 @@ pub(crate) async fn stream(
     };
     check(&settings, &limits)?;
     let guard = state.open_stream()?;
+    // A plain HTTP request gets the API's JSON error, naming the header it lacks, not axum's
+    // text; only once the settings and the room for a stream are checked, so that a browser,
+    // which cannot see why its WebSocket was refused, learns it from the same request without
+    // the upgrade.
+    let upgrade = upgrade.map_err(|e| ApiError::bad_request(Some("upgrade".into()), format!("{}: open the stream as a WebSocket", e.body_text())))?;
     let (scene, client) = (target.scene, target.client);
     // A message may come in one frame as large as the message limit (tungstenite's own frame
     // limit, 16 MiB, would drop the connection with no close code well under it).
