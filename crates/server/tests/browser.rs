@@ -480,7 +480,6 @@ async fn a_drag_shows_in_a_frame_and_the_page_measures_how_soon() {
     let page = browser.open(&format!("http://{addr}/#scene={s}"), 1280, 720, 1.0).await;
     page.wait_for("a first frame", "document.getElementById('frame').dataset.seq").await;
     let drags = 12;
-    let mut measured = 0;
     for (setting, egui_like) in [("640×360 view, eye light, 1024 samples", true), ("1280×720 window, the page's defaults", false)] {
         // The samples change where the image's size keeps them within the server's limit on
         // samples per frame: after the view shrinks, before it grows.
@@ -509,24 +508,30 @@ async fn a_drag_shows_in_a_frame_and_the_page_measures_how_soon() {
             let (first, start) = (seq().await, Instant::now());
             tokio::time::sleep(Duration::from_secs(4)).await;
             let rate = (seq().await - first) / start.elapsed().as_secs_f64();
+            let count = async || page.eval("Number(document.getElementById('stat-latency').dataset.count ?? 0)").await.as_u64().unwrap();
+            let before = count().await;
             for k in 0..drags {
                 // Back and forth, so that the view stays on the spheres.
+                let measured = count().await;
                 page.drag("left", centre, (if k % 2 == 0 { 5.0 } else { -5.0 }, 0.0), 6).await;
-                measured += 1;
-                let shown = format!("JSON.parse(document.getElementById('stat-latency').dataset.samples || '[]').length >= {}", measured.min(50));
-                page.wait_for("a frame showing the drag", &shown).await;
-                // As a person pauses between drags: the image refines meanwhile.
+                page.wait_for("a frame showing the drag", &format!("Number(document.getElementById('stat-latency').dataset.count) > {measured}")).await;
+                // Every camera change of the drag shown (a drag may send several, and the page
+                // measures one at a time), and a pause, as a person's, while the image refines.
+                let version = ok(&app, "GET", &format!("/scenes/{s}"), json!(null), StatusCode::OK).await["version"].as_u64().unwrap();
+                page.wait_for("the drag's last frame", &format!("Number(document.getElementById('frame').dataset.sceneVersion) >= {version}")).await;
                 tokio::time::sleep(Duration::from_millis(300)).await;
             }
+            let new = (count().await - before) as usize;
             let all: Vec<f64> = serde_json::from_str(page.eval("document.getElementById('stat-latency').dataset.samples").await.as_str().unwrap()).unwrap();
-            let mut latencies = all[all.len() - drags..].to_vec();
+            assert!(new <= all.len(), "{new} measurements, {} kept", all.len());
+            let mut latencies = all[all.len() - new..].to_vec();
             latencies.sort_by(f64::total_cmp);
             let stats = page.eval("['stat-image', 'stat-pass', 'stat-encoding', 'stat-rate'].map(id => document.getElementById(id).textContent).join('; ')").await;
             eprintln!(
-                "{setting}, {encoding}: {rate:.1} frames/s refining; drag to frame over {drags} drags: median {:.0} ms, fastest {:.0} ms, slowest {:.0} ms (last frame: {})",
-                latencies[drags / 2],
+                "{setting}, {encoding}: {rate:.1} frames/s refining; drag to frame over {drags} drags ({new} measured): median {:.0} ms, fastest {:.0} ms, slowest {:.0} ms (last frame: {})",
+                latencies[new / 2],
                 latencies[0],
-                latencies[drags - 1],
+                latencies[new - 1],
                 stats.as_str().unwrap()
             );
         }

@@ -523,14 +523,17 @@ function sendCamera() {
 // carries to the drawing of the first frame of the scene version its reply names. One change
 // is measured at a time.
 let latencyProbe = null;
-/** The last measurements, in ms (kept on the statistics' element for scripts as well). */
+/** The last 50 measurements, in ms, and how many there have been (both kept on the statistics'
+ *  element for scripts as well). */
 const latencies = [];
+let measured = 0;
 
 function measureLatency(frame) {
   if (latencyProbe?.version == null || frame.scene_version < latencyProbe.version) return;
   latencies.push(performance.now() - latencyProbe.input);
   if (latencies.length > 50) latencies.shift();
   latencyProbe = null;
+  $('stat-latency').dataset.count = ++measured;
   const sorted = [...latencies].sort((a, b) => a - b);
   const median = sorted[Math.floor(sorted.length / 2)];
   $('stat-latency').textContent = `${latencies.at(-1).toFixed(0)} ms (median ${median.toFixed(0)} of ${latencies.length})`;
