@@ -273,7 +273,7 @@ let shown = null;
 /** The newest image not yet decoded (older ones are dropped), and whether one is decoding. */
 let newest = null;
 let decoding = false;
-/** Images received in the last seconds: when, and how many bytes, for the rate. */
+/** Images received in the last second: when, and how many bytes, for the rate. */
 const received = [];
 
 /** The image size for the view: its CSS pixels times the device pixel ratio times the chosen
@@ -384,7 +384,6 @@ function onMessage(message) {
 function onImage(blob) {
   const now = performance.now();
   received.push({ at: now, bytes: blob.size });
-  while (received.length && received[0].at < now - 1000) received.shift();
   if (frameMessage) newest = { blob, frame: frameMessage };
   frameMessage = null;
   if (!decoding) decodeNewest();
@@ -433,15 +432,24 @@ function clearFrame() {
 }
 
 function showStats(frame) {
-  const kilobytes = received.reduce((sum, r) => sum + r.bytes, 0) / 1000;
   $('stat-image').textContent = `${frame.width}×${frame.height}, ${frame.integrator}`;
   $('stat-samples').textContent = `${frame.samples} of ${Number($('max-samples').value)} per pixel${frame.converged ? ', converged' : ''}`;
   $('stat-pass').textContent = `${frame.pass_samples} spp in ${(frame.pass_seconds * 1000).toFixed(0)} ms, ${frame.mrays_per_second.toFixed(1)} Mrays/s`;
   $('stat-rays').textContent = frame.rays.total.toLocaleString('en');
   $('stat-effects').textContent = frame.effects.join(', ') || 'none';
   $('stat-encoding').textContent = `${frame.encoding.toUpperCase()} in ${(frame.encode_seconds * 1000).toFixed(1)} ms`;
+  showRate();
+}
+
+/** The frames and bytes received in the last second; shown every second too, so that a
+ *  converged image, which gets no frames, shows none. */
+function showRate() {
+  const now = performance.now();
+  while (received.length && received[0].at < now - 1000) received.shift();
+  const kilobytes = received.reduce((sum, r) => sum + r.bytes, 0) / 1000;
   $('stat-rate').textContent = `${received.length} frames/s, ${kilobytes.toFixed(0)} kB/s`;
 }
+setInterval(showRate, 1000);
 
 // Settings: each control sends the stream's `settings` message; grading and encoding re-encode
 // the image the server has, anything else restarts it.
