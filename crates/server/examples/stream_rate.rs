@@ -53,9 +53,12 @@ async fn main() {
             addr
         }
     };
-    // Within the frame limit at 1080p (1920 × 1080 × 256 samples) when timing edits.
-    let max_samples = if edits > 0 { 64 } else { 1024 };
-    let url = format!("ws://{addr}/scenes/{scene}/stream?{query}&max_samples={max_samples}");
+    // Unless the query says: within the frame limit at 1080p (1920 × 1080 × 256 samples) when
+    // timing edits.
+    if !query.contains("max_samples=") {
+        query += &format!("&max_samples={}", if edits > 0 { 64 } else { 1024 });
+    }
+    let url = format!("ws://{addr}/scenes/{scene}/stream?{query}");
     let (mut socket, _) = tokio_tungstenite::connect_async(url).await.expect("the stream opens");
     if edits > 0 {
         return edit_latency(socket, edits).await;
@@ -69,12 +72,12 @@ async fn main() {
                     last = value;
                 }
             }
-            Message::Binary(png) => {
+            Message::Binary(image) => {
                 // The first frame builds the scene's trees: the clock starts after it.
                 let start = *first.get_or_insert_with(Instant::now);
                 if start.elapsed() > Duration::ZERO {
                     frames += 1;
-                    bytes += png.len();
+                    bytes += image.len();
                 }
                 if start.elapsed().as_secs_f64() >= seconds {
                     break;
@@ -85,7 +88,7 @@ async fn main() {
     }
     let elapsed = first.map_or(0.0, |f| f.elapsed().as_secs_f64());
     println!(
-        "{frames} frames in {elapsed:.2} s = {:.1} frames/s, {:.0} KB each; last: {} samples per pixel, passes of {} in {:.1} ms, PNG {:.1} ms",
+        "{frames} frames in {elapsed:.2} s = {:.1} frames/s, {:.0} KB each; last: {} samples per pixel, passes of {} in {:.1} ms, encoded in {:.1} ms",
         frames as f64 / elapsed,
         bytes as f64 / frames.max(1) as f64 / 1024.0,
         last["samples"],

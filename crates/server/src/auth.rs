@@ -1,6 +1,6 @@
 //! The access token: with one configured, every request must carry it as
 //! `Authorization: Bearer <token>` (a stream may pass it as `?token=`, since browsers cannot set
-//! headers on a WebSocket).
+//! headers on a WebSocket), but for the viewer page and its files, which hold no data.
 
 use axum::extract::{Request, State};
 use axum::http::header::AUTHORIZATION;
@@ -10,12 +10,13 @@ use raystage_service::AppState;
 
 use crate::error::ApiError;
 
-/// Lets a request through if the server has no token or the request carries it; 401 otherwise.
+/// Lets a request through if the server has no token, the request carries it, or it is for the
+/// viewer page; 401 otherwise.
 pub(crate) async fn require_token(State(state): State<AppState>, request: Request, next: Next) -> Response {
     let Some(token) = state.config().token.as_deref() else {
         return next.run(request).await;
     };
-    if carries(&request, token) { next.run(request).await } else { ApiError::unauthorized().into_response() }
+    if carries(&request, token) || crate::routes::web::is_public(&request) { next.run(request).await } else { ApiError::unauthorized().into_response() }
 }
 
 /// Whether the request carries `token`: as a bearer token, or in the query of a stream.

@@ -253,3 +253,44 @@ async fn channels_say_what_each_pixel_sees() {
         assert_eq!((got, error["error"]["field"].as_str()), (status, Some(field)), "{uri}: {error}");
     }
 }
+
+#[tokio::test]
+async fn the_root_is_the_viewer_page_for_browsers_and_the_index_for_everyone_else() {
+    let app = raystage_server::router(raystage_server::AppState::new(raystage_server::Config { token: Some("s3cret".into()), ..Default::default() }));
+    let get = async |uri: &str, headers: &[(&str, &str)]| {
+        let mut request = axum::http::Request::get(uri);
+        for (name, value) in headers {
+            request = request.header(*name, *value);
+        }
+        let response = tower::ServiceExt::oneshot(app.clone(), request.body(axum::body::Body::empty()).unwrap()).await.unwrap();
+        let (status, headers) = (response.status(), response.headers().clone());
+        let body = http_body_util::BodyExt::collect(response.into_body()).await.unwrap().to_bytes();
+        (status, headers, String::from_utf8_lossy(&body).into_owned())
+    };
+    // A browser gets the page and its files without the token (they hold no data), under a
+    // policy that allows the server's own files and connections only.
+    let browser = [("accept", "text/html,application/xhtml+xml,*/*;q=0.8")];
+    let (status, headers, page) = get("/", &browser).await;
+    assert_eq!(status, StatusCode::OK);
+    assert!(headers["content-type"].to_str().unwrap().starts_with("text/html"));
+    assert!(page.contains(r#"<script src="/web/viewer.js" defer></script>"#), "{page}");
+    let policy = headers["content-security-policy"].to_str().unwrap();
+    assert!(policy.contains("default-src 'none'") && policy.contains("script-src 'self'") && policy.contains("connect-src 'self'"), "{policy}");
+    assert_eq!(headers["vary"], "accept");
+    for (path, content_type) in [("/web/viewer.js", "text/javascript"), ("/web/viewer.css", "text/css")] {
+        let (status, headers, body) = get(path, &[]).await;
+        assert_eq!(status, StatusCode::OK, "{path}");
+        assert!(headers["content-type"].to_str().unwrap().starts_with(content_type) && !body.is_empty(), "{path}");
+        assert_eq!(headers["x-content-type-options"], "nosniff");
+    }
+    // Anyone else gets the JSON index, which needs the token like the rest of the API.
+    let (status, _, _) = get("/", &[("accept", "*/*")]).await;
+    assert_eq!(status, StatusCode::UNAUTHORIZED);
+    let (status, headers, body) = get("/", &[("authorization", "Bearer s3cret")]).await;
+    assert_eq!((status, headers["vary"].to_str().unwrap()), (StatusCode::OK, "accept"));
+    let index: serde_json::Value = serde_json::from_str(&body).unwrap();
+    assert_eq!((index["name"].as_str(), index["openapi"].as_str()), (Some("raystage"), Some("/openapi.json")));
+    // The exemption is for the page only: the API stays closed to a browser without the token.
+    let (status, _, _) = get("/scenes", &browser).await;
+    assert_eq!(status, StatusCode::UNAUTHORIZED);
+}

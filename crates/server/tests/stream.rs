@@ -46,6 +46,33 @@ async fn next_frame(socket: &mut Socket) -> (Value, image::RgbaImage) {
     }
 }
 
+/// A server with the red square scene (`red_square_scene`) and a stream of it with `query`: the
+/// server's address, the scene's id and the socket.
+async fn stream_of_the_red_square(query: &str) -> (std::net::SocketAddr, u64, Socket) {
+    let state = AppState::new(Config::default());
+    let (s, _, _) = red_square_scene(&raystage_server::router(state.clone())).await;
+    let addr = listen(state).await;
+    let (socket, _) = tokio_tungstenite::connect_async(format!("ws://{addr}/scenes/{s}/stream?{query}")).await.unwrap();
+    (addr, s, socket)
+}
+
+/// The next `error` message.
+async fn next_error(socket: &mut Socket) -> Value {
+    loop {
+        let message = next_json(socket).await;
+        if message["type"] == "error" {
+            return message;
+        }
+    }
+}
+
+/// The status that opening a stream at `path` is refused with.
+async fn refusal(addr: std::net::SocketAddr, path: &str) -> u16 {
+    let refused = tokio_tungstenite::connect_async(format!("ws://{addr}{path}")).await.unwrap_err();
+    let tokio_tungstenite::tungstenite::Error::Http(response) = refused else { panic!("{path}: {refused}") };
+    response.status().as_u16()
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn frames_refine_and_a_camera_change_restarts_them() {
     let state = AppState::new(Config::default());
@@ -108,12 +135,8 @@ async fn frames_refine_and_a_camera_change_restarts_them() {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_stream_is_set_up_as_frames_are_and_regraded_without_rendering_again() {
-    let state = AppState::new(Config::default());
-    let app = raystage_server::router(state.clone());
-    let (s, _, _) = red_square_scene(&app).await;
-    let addr = listen(state).await;
     let query = "width=32&height=32&integrator=eyelight&max_samples=4&background=0.2,0.2,0.2&exposure=1&tonemap=neutral";
-    let (mut socket, _) = tokio_tungstenite::connect_async(format!("ws://{addr}/scenes/{s}/stream?{query}")).await.unwrap();
+    let (addr, s, mut socket) = stream_of_the_red_square(query).await;
     let converged = async |socket: &mut Socket| loop {
         let (stats, image) = next_frame(socket).await;
         if stats["converged"] == true {
@@ -142,19 +165,56 @@ async fn a_stream_is_set_up_as_frames_are_and_regraded_without_rendering_again()
     assert_eq!((image.get_pixel(0, 0).0, image.get_pixel(16, 16).0), ([0, 0, 0, 255], [188, 0, 0, 255]));
     for (change, field) in [(r#""max_depth": 0"#, "max_depth"), (r#""tonemap": "fancy""#, "tonemap"), (r#""background": "blue""#, "background")] {
         socket.send(Message::text(format!(r#"{{"type": "settings", "request": 3, {change}}}"#))).await.unwrap();
-        let error = loop {
-            let message = next_json(&mut socket).await;
-            if message["type"] == "error" {
-                break message;
-            }
-        };
+        let error = next_error(&mut socket).await;
         assert_eq!(error["error"]["field"], field, "{error}");
     }
     socket.close(None).await.unwrap();
+    assert_eq!(refusal(addr, &format!("/scenes/{s}/stream?filter=sinc")).await, 422);
+}
 
-    let refused = tokio_tungstenite::connect_async(format!("ws://{addr}/scenes/{s}/stream?filter=sinc")).await.unwrap_err();
-    let tokio_tungstenite::tungstenite::Error::Http(response) = refused else { panic!("{refused}") };
-    assert_eq!(response.status().as_u16(), 422);
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn frames_come_as_jpeg_when_asked_and_a_new_encoding_needs_no_new_samples() {
+    let (addr, s, mut socket) = stream_of_the_red_square("width=64&height=48&integrator=eyelight&max_samples=4&encoding=jpeg&quality=90").await;
+    // The raw bytes of the next converged frame, and its statistics.
+    let converged = async |socket: &mut Socket| loop {
+        let message = next_json(socket).await;
+        if message["type"] != "frame" {
+            continue;
+        }
+        let Some(Ok(Message::Binary(bytes))) = socket.next().await else { panic!("a frame's image follows its statistics") };
+        if message["converged"] == true {
+            return (message, bytes.to_vec());
+        }
+    };
+    let (first, jpeg) = converged(&mut socket).await;
+    assert_eq!(first["encoding"], "jpeg");
+    assert_eq!(jpeg[..3], [0xff, 0xd8, 0xff], "a JPEG's start of image");
+    let jpeg = image::load_from_memory_with_format(&jpeg, image::ImageFormat::Jpeg).unwrap().to_rgb8();
+
+    // A new encoding re-encodes the samples the image has, as a new grading does.
+    socket.send(Message::text(r#"{"type": "settings", "request": 1, "encoding": "png"}"#)).await.unwrap();
+    let (second, png) = converged(&mut socket).await;
+    assert_eq!((second["encoding"].as_str(), second["samples"].as_u64()), (Some("png"), first["samples"].as_u64()));
+    assert_eq!(second["pass_seconds"], first["pass_seconds"], "the image was not rendered again: {second}");
+    let png = image::load_from_memory_with_format(&png, image::ImageFormat::Png).unwrap().to_rgb8();
+    assert_eq!(png.get_pixel(32, 24).0, [255, 0, 0]);
+    // The same image, lossy: at quality 90, within a few levels on average (measured 1.3),
+    // farther only where ringing follows the square's hard edges (measured 52).
+    let errors: Vec<u32> = jpeg.as_raw().iter().zip(png.as_raw()).map(|(&a, &b)| a.abs_diff(b) as u32).collect();
+    let mean = errors.iter().sum::<u32>() as f64 / errors.len() as f64;
+    let max = errors.iter().max().unwrap();
+    eprintln!("JPEG at quality 90 against the PNG: mean error {mean:.2} levels, largest {max}");
+    assert!(mean < 2.0 && *max < 64, "mean {mean}, largest {max}");
+
+    for (change, field) in [(r#""quality": 0"#, "quality"), (r#""quality": 101"#, "quality"), (r#""encoding": "webp""#, "encoding")] {
+        socket.send(Message::text(format!(r#"{{"type": "settings", "request": 2, {change}}}"#))).await.unwrap();
+        let error = next_error(&mut socket).await;
+        assert_eq!(error["error"]["field"], field, "{error}");
+    }
+    socket.close(None).await.unwrap();
+    for query in ["quality=101", "encoding=gif"] {
+        assert_eq!(refusal(addr, &format!("/scenes/{s}/stream?{query}")).await, 422, "{query}");
+    }
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -192,9 +252,10 @@ async fn a_stream_of_an_unknown_scene_or_with_bad_settings_is_refused() {
         // 2.3 GB of accumulation, more than all the server's memory for images.
         (&format!("/scenes/{s}/stream?width=8192&height=8192&max_samples=1"), 413),
     ] {
-        let error = tokio_tungstenite::connect_async(format!("ws://{addr}{path}")).await.unwrap_err();
-        let tokio_tungstenite::tungstenite::Error::Http(response) = error else { panic!("{path}: {error}") };
-        assert_eq!(response.status().as_u16(), status, "{path}");
+        assert_eq!(refusal(addr, path).await, status, "{path}");
+        // The same request without the upgrade gets the same error, for browsers, whose
+        // WebSocket does not show it.
+        assert_eq!(call(&app, "GET", path, Value::Null).await.0.as_u16(), status, "{path} without the upgrade");
     }
 }
 

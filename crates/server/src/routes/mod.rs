@@ -15,6 +15,7 @@ mod renders;
 mod scenes;
 mod shaders;
 mod textures;
+pub(crate) mod web;
 
 use std::sync::Arc;
 
@@ -33,7 +34,9 @@ use crate::error::{ApiError, ApiResult};
 pub(crate) fn router(state: AppState) -> Router {
     let limits = state.config().limits;
     Router::new()
-        .route("/", get(index))
+        .route("/", get(web::root))
+        .route(web::SCRIPT_PATH, get(web::script))
+        .route(web::STYLE_PATH, get(web::style))
         .route("/openapi.json", get(openapi::openapi_json))
         .route("/shader-classes", get(classes::list))
         .route("/scenes", get(scenes::list).post(scenes::create))
@@ -82,8 +85,11 @@ pub struct Index {
     pub openapi: &'static str,
 }
 
-/// What this server is.
-#[utoipa::path(get, path = "/", tag = "server", responses((status = 200, description = "Success", body = Index)))]
+/// What this server is; a browser (`Accept: text/html`) gets the viewer page instead.
+#[utoipa::path(get, path = "/", tag = "server", responses((status = 200, description = "Success: the index, or the viewer page for a browser", content(
+    (Index = "application/json"),
+    (String = "text/html"),
+))))]
 async fn index() -> Json<Index> {
     Json(Index { name: "raystage", version: env!("CARGO_PKG_VERSION"), openapi: "/openapi.json" })
 }

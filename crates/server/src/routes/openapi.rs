@@ -8,7 +8,7 @@ use utoipa::OpenApi;
 
 use crate::error::ErrorBody;
 use crate::render::{IntegratorName, ToneMapName};
-use crate::stream::{ClientMessage, FrameMessage, ServerMessage, SettingsChange};
+use crate::stream::{ClientMessage, Encoding, FrameMessage, ServerMessage, SettingsChange};
 
 /// The API's description.
 #[derive(OpenApi)]
@@ -38,7 +38,7 @@ use crate::stream::{ClientMessage, FrameMessage, ServerMessage, SettingsChange};
     components(schemas(
         ErrorBody, ErrorDetail, FrameReport, RaysJson, Rgb, Transform, Rotation, Scale, Ref, ParamJson, ParamOut, Kind, MeshSpec,
         TextureParam, TextureKind, TextureDescription, IntegratorName, ToneMapName, CameraChoice,
-        ClientMessage, SettingsChange, ServerMessage, FrameMessage, Command, CommandResult,
+        ClientMessage, SettingsChange, ServerMessage, FrameMessage, Encoding, Command, CommandResult,
         ClockState, ClockChange,
     )),
     modifiers(&Exact),

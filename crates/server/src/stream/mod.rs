@@ -22,7 +22,7 @@ use raystage_service::model::Command;
 use raystage_service::{AppState, Error, Limits, SceneSlot};
 use tokio::sync::{mpsc, watch};
 
-pub use protocol::{ClientMessage, FrameMessage, PROTOCOL, ServerMessage, SettingsChange, StreamQuery};
+pub use protocol::{ClientMessage, Encoding, FrameMessage, PROTOCOL, ServerMessage, SettingsChange, StreamQuery};
 use refine::{Packet, StreamSettings, refine};
 
 use crate::error::{ApiResult, ErrorBody};
@@ -31,6 +31,9 @@ use crate::render::{check_limits, setting_error};
 
 /// Default samples per pixel a stream refines to.
 const DEFAULT_MAX_SAMPLES: u32 = 256;
+/// Default JPEG quality: at 1920×1080, a frame of the sphere grid takes 170 KB (its PNG
+/// 860 KB; docs/performance.md).
+const DEFAULT_QUALITY: u8 = 80;
 
 /// Opens a stream of progressive frames (a WebSocket; see `api/stream.md`).
 #[utoipa::path(get, path = "/scenes/{scene}/stream", tag = "frames",
@@ -48,15 +51,22 @@ pub(crate) async fn stream(
     Params(query): Params<StreamQuery>,
     upgrade: Result<WebSocketUpgrade, WebSocketUpgradeRejection>,
 ) -> ApiResult<Response> {
-    // A plain HTTP request gets the API's JSON error, naming the header it lacks, not axum's
-    // text.
-    let upgrade = upgrade.map_err(|e| Error::bad_request(Some("upgrade".into()), format!("{}: open the stream as a WebSocket", e.body_text())))?;
     let limits = state.config().limits;
     let mut frame = FrameSettings::default();
     frame.apply(&query.patch()).map_err(|e| setting_error(e, "max_samples"))?;
-    let settings = StreamSettings { frame, max_samples: query.max_samples.unwrap_or(DEFAULT_MAX_SAMPLES.min(limits.max_spp)) };
+    let settings = StreamSettings {
+        frame,
+        max_samples: query.max_samples.unwrap_or(DEFAULT_MAX_SAMPLES.min(limits.max_spp)),
+        encoding: query.encoding.as_deref().map(Encoding::parse).transpose()?.unwrap_or_default(),
+        quality: query.quality.unwrap_or(DEFAULT_QUALITY),
+    };
     check(&settings, &limits)?;
     let guard = state.open_stream()?;
+    // A plain HTTP request gets the API's JSON error, naming the header it lacks, not axum's
+    // text; only once the settings and the room for a stream are checked, so that a browser,
+    // which cannot see why its WebSocket was refused, learns it from the same request without
+    // the upgrade.
+    let upgrade = upgrade.map_err(|e| Error::bad_request(Some("upgrade".into()), format!("{}: open the stream as a WebSocket", e.body_text())))?;
     let (scene, client) = (target.scene, target.client);
     // A message may come in one frame as large as the message limit (tungstenite's own frame
     // limit, 16 MiB, would drop the connection with no close code well under it).
@@ -67,9 +77,13 @@ pub(crate) async fn stream(
     }))
 }
 
-/// Checks a stream's settings as a frame request of `max_samples` samples per pixel, and its
-/// image against the memory for images being rendered (413 if it could never fit).
+/// Checks a stream's settings as a frame request of `max_samples` samples per pixel, its JPEG
+/// quality, and its image against the memory for images being rendered (413 if it could never
+/// fit).
 fn check(settings: &StreamSettings, limits: &Limits) -> raystage_service::Result<()> {
+    if !(1..=100).contains(&settings.quality) {
+        return Err(Error::unprocessable(Some("quality".into()), format!("quality {} is not in 1..=100", settings.quality)));
+    }
     let render = settings.frame.render;
     check_limits(&RenderSettings { samples_per_pixel: settings.max_samples, ..render }, "max_samples", limits)?;
     let bytes = settings.bytes();
@@ -118,7 +132,7 @@ async fn session(socket: WebSocket, state: AppState, slot: Arc<SceneSlot>, clien
                     let packet = frames_rx.borrow_and_update().clone();
                     if let Some(packet) = packet {
                         if sink.send(Message::text(packet.json.clone())).await.is_err()
-                            || sink.send(Message::binary(packet.png.clone())).await.is_err()
+                            || sink.send(Message::binary(packet.image.clone())).await.is_err()
                         {
                             return;
                         }
@@ -167,6 +181,8 @@ async fn handle(state: &AppState, slot: &Arc<SceneSlot>, settings: &watch::Sende
             let mut new = *settings.borrow();
             let applied = new.frame.apply(&change.patch()).map_err(|e| setting_error(e, "max_samples")).and_then(|()| {
                 new.max_samples = change.max_samples.unwrap_or(new.max_samples);
+                new.encoding = change.encoding.as_deref().map(Encoding::parse).transpose()?.unwrap_or(new.encoding);
+                new.quality = change.quality.unwrap_or(new.quality);
                 check(&new, &state.config().limits)
             });
             (change.request, applied.map(|()| {

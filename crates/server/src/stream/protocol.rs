@@ -1,7 +1,7 @@
 //! The stream's messages (`api/stream.md` describes the protocol).
 
 use raystage_service::model::{CameraPatch, Command, CommandResult};
-use raystage_service::{ErrorDetail, RaysJson};
+use raystage_service::{Error, ErrorDetail, RaysJson};
 use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
 
@@ -21,6 +21,13 @@ raystage_render::frame_settings!(settings_type! {
         /// default 256.
         #[param(minimum = 1)]
         pub max_samples: Option<u32>,
+        /// How frames are encoded: `png` (lossless, the default) or `jpeg` (lossy, for
+        /// browsers on slow links: a fifth of the bytes of the sphere grid's PNG at 1080p).
+        #[param(value_type = Option<Encoding>)]
+        pub encoding: Option<String>,
+        /// JPEG quality, 1 to 100; default 80. Kept for when `jpeg` is chosen.
+        #[param(minimum = 1, maximum = 100)]
+        pub quality: Option<u8>,
         /// The access token, for clients that cannot send an `Authorization` header.
         #[allow(dead_code, reason = "checked by the authentication middleware, from the raw query")]
         pub token: Option<String>,
@@ -59,11 +66,44 @@ raystage_render::frame_settings!(settings_type! {
         pub request: Option<u64>,
         /// Samples per pixel to refine to.
         pub max_samples: Option<u32>,
+        /// How frames are encoded: `png` or `jpeg`.
+        #[schema(value_type = Option<Encoding>)]
+        pub encoding: Option<String>,
+        /// JPEG quality, 1 to 100.
+        #[schema(minimum = 1, maximum = 100)]
+        pub quality: Option<u8>,
     }
 });
 
+/// How a stream's frames are encoded (the binary message after each `frame`). A stream option,
+/// not a frame setting: a new encoding re-encodes the image it has, as a new grading does.
+/// (Requests name it as a string, parsed by [`Encoding::parse`], so that a wrong name is
+/// refused naming the field, as a wrong integrator is.)
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, ToSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum Encoding {
+    /// PNG: lossless, sRGB, RGB8.
+    #[default]
+    Png,
+    /// Baseline JPEG at the stream's `quality`: lossy, fewer bytes (a fifth of the sphere
+    /// grid's PNG at 1080p and quality 80), twice the time to encode.
+    Jpeg,
+}
+
+impl Encoding {
+    /// The encoding called `name` (422 naming the field `encoding` if there is none).
+    pub(crate) fn parse(name: &str) -> raystage_service::Result<Encoding> {
+        match name {
+            "png" => Ok(Encoding::Png),
+            "jpeg" => Ok(Encoding::Jpeg),
+            _ => Err(Error::unprocessable(Some("encoding".into()), format!("encoding `{name}` is not png or jpeg"))),
+        }
+    }
+}
+
+
 /// A message from the server (a JSON text message; every `frame` is followed by one binary
-/// message, the PNG).
+/// message, the image).
 #[derive(Clone, Debug, Serialize, ToSchema)]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum ServerMessage {
@@ -82,7 +122,7 @@ pub enum ServerMessage {
         /// Samples per pixel to refine to.
         max_samples: u32,
     },
-    /// A frame: its statistics. The next message is its PNG (binary).
+    /// A frame: its statistics. The next message is its image (binary).
     Frame(FrameMessage),
     /// A client message succeeded.
     Result {
@@ -125,7 +165,9 @@ pub struct FrameMessage {
     pub pass_samples: u32,
     /// Seconds the last pass took.
     pub pass_seconds: f64,
-    /// Seconds the PNG took to encode.
+    /// How the image that follows is encoded.
+    pub encoding: Encoding,
+    /// Seconds the image took to encode.
     pub encode_seconds: f64,
     /// Rays the last pass traced.
     pub rays: RaysJson,

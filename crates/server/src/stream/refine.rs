@@ -1,6 +1,6 @@
 //! A stream's render loop: progressive passes while the scene and settings stay the same,
-//! starting over when either changes, and a PNG of the newest image whenever the sender has
-//! delivered the previous one. A slow client therefore gets fewer, newer frames: nothing
+//! starting over when either changes, and the newest image encoded (PNG or JPEG) whenever the
+//! sender has delivered the previous one. A slow client therefore gets fewer, newer frames: nothing
 //! queues.
 
 use std::sync::Arc;
@@ -13,7 +13,7 @@ use raystage_service::{Accumulate, AppState, CancelOnDrop, Error, FrameReport, S
 use tokio::sync::{OwnedSemaphorePermit, mpsc, watch};
 
 use crate::render::STREAM_BYTES_PER_PIXEL;
-use crate::stream::protocol::{FrameMessage, ServerMessage};
+use crate::stream::protocol::{Encoding, FrameMessage, ServerMessage};
 
 /// A pass aims to take about this long: short enough for interactive frame rates, long enough
 /// that encoding a PNG per pass is a small part of it.
@@ -37,6 +37,10 @@ pub(crate) struct StreamSettings {
     pub frame: FrameSettings,
     /// Samples per pixel the image refines to.
     pub max_samples: u32,
+    /// How its frames are encoded.
+    pub encoding: Encoding,
+    /// JPEG quality, 1 to 100.
+    pub quality: u8,
 }
 
 impl StreamSettings {
@@ -45,11 +49,16 @@ impl StreamSettings {
         self.frame.render.width as u64 * self.frame.render.height as u64 * STREAM_BYTES_PER_PIXEL
     }
 
-    /// Whether `other` renders the same image: it may only grade it differently (its exposure
-    /// and tone curve apply when a PNG is encoded), which needs no new samples.
+    /// How the image is graded and encoded: what may change without new samples.
+    fn presentation(&self) -> (Look, Encoding, u8) {
+        (self.frame.look, self.encoding, self.quality)
+    }
+
+    /// Whether `other` renders the same image: it may only grade or encode it differently
+    /// (exposure and tone curve apply when a frame is encoded), which needs no new samples.
     fn same_image(&self, other: &StreamSettings) -> bool {
-        let ungraded = |s: &StreamSettings| StreamSettings { frame: FrameSettings { look: Look::default(), ..s.frame }, ..*s };
-        ungraded(self) == ungraded(other)
+        let unpresented = |s: &StreamSettings| StreamSettings { frame: FrameSettings { look: Look::default(), ..s.frame }, encoding: Encoding::Png, quality: 0, ..*s };
+        unpresented(self) == unpresented(other)
     }
 
     /// The render settings for `scene`, a sample per pixel.
@@ -58,10 +67,10 @@ impl StreamSettings {
     }
 }
 
-/// A frame ready to send: its statistics as JSON text, and its PNG.
+/// A frame ready to send: its statistics as JSON text, and its image.
 pub(crate) struct Packet {
     pub json: String,
-    pub png: Vec<u8>,
+    pub image: Vec<u8>,
 }
 
 /// The accumulation in progress.
@@ -108,16 +117,15 @@ pub(crate) async fn refine(
             .is_some_and(|a| a.settings.same_image(&wanted) && a.version == slot.version() && a.progressive.samples() >= wanted.max_samples);
         if converged {
             let acc = accumulation.as_mut().expect("converged");
-            if acc.settings.frame.look != wanted.frame.look {
-                // Only the grading changed: the finished image is encoded again.
+            if acc.settings.presentation() != wanted.presentation() {
+                // Only the grading or the encoding changed: the finished image is encoded again.
                 acc.settings = wanted;
                 let film = acc.progressive.film();
-                let look = wanted.frame.look;
-                let encoded = tokio::task::spawn_blocking(move || timed_png(&film, look)).await;
-                if let (Ok(Some((png, encode_seconds))), Some(sent)) = (encoded, acc.sent.clone()) {
+                let encoded = tokio::task::spawn_blocking(move || timed_encode(&film, &wanted)).await;
+                if let (Ok(Some((image, encode_seconds))), Some(sent)) = (encoded, acc.sent.clone()) {
                     seq += 1;
-                    let message = FrameMessage { seq, encode_seconds, ..sent };
-                    send(&out, &taken, message, png);
+                    let message = FrameMessage { seq, encoding: wanted.encoding, encode_seconds, ..sent };
+                    send(&out, &taken, message, image);
                 }
                 continue;
             }
@@ -182,8 +190,8 @@ pub(crate) async fn refine(
             let time = scene_time(&scene);
             drop(scene);
             // Decided after the pass, which gave the sender its duration to deliver the last frame.
-            let png = (stats.is_ok() && (last || sent.load(Ordering::Acquire))).then(|| timed_png(&acc.progressive.film(), acc.settings.frame.look));
-            (acc, stats, png.flatten(), time)
+            let image = (stats.is_ok() && (last || sent.load(Ordering::Acquire))).then(|| timed_encode(&acc.progressive.film(), &acc.settings));
+            (acc, stats, image.flatten(), time)
             // The turn goes to the next render here, once the work has stopped.
         });
         let deadline = tokio::time::Instant::now() + SUPERSEDED_AFTER;
@@ -194,7 +202,7 @@ pub(crate) async fn refine(
                 pass.await
             }
         };
-        let Ok((mut acc, stats, png, time)) = joined else {
+        let Ok((mut acc, stats, image, time)) = joined else {
             return;
         };
         let Ok(stats) = stats else {
@@ -209,7 +217,7 @@ pub(crate) async fn refine(
         } else {
             pass_samples
         };
-        if let Some((png, encode_seconds)) = png {
+        if let Some((image, encode_seconds)) = image {
             seq += 1;
             let mut report = FrameReport::new(acc.progressive.settings(), &stats, encode_seconds, acc.version, time);
             report.cluster = acc.progressive.times();
@@ -223,6 +231,7 @@ pub(crate) async fn refine(
                 samples: report.accumulated_samples,
                 pass_samples: report.samples_per_pixel,
                 pass_seconds: report.render_seconds,
+                encoding: acc.settings.encoding,
                 encode_seconds,
                 rays: report.rays,
                 mrays_per_second: report.mrays_per_second,
@@ -231,23 +240,37 @@ pub(crate) async fn refine(
             };
             *slot.last_frame.lock().unwrap_or_else(|e| e.into_inner()) = Some(report);
             acc.sent = Some(message.clone());
-            send(&out, &taken, message, png);
+            send(&out, &taken, message, image);
         }
         accumulation = Some(acc);
     }
 }
 
-/// `film` as a PNG graded by `look`, and the seconds encoding took (`None` if it failed).
-fn timed_png(film: &Film, look: Look) -> Option<(Vec<u8>, f64)> {
+/// `film` graded and encoded as `settings` say, and the seconds encoding took (`None` if it
+/// failed).
+fn timed_encode(film: &Film, settings: &StreamSettings) -> Option<(Vec<u8>, f64)> {
     let start = Instant::now();
-    crate::png::encode(film, look).ok().map(|png| (png, start.elapsed().as_secs_f64()))
+    let image = match settings.encoding {
+        Encoding::Png => crate::png::encode(film, settings.frame.look).ok()?,
+        Encoding::Jpeg => jpeg(film, settings.frame.look, settings.quality).ok()?,
+    };
+    Some((image, start.elapsed().as_secs_f64()))
 }
 
-/// Makes `message` and its PNG the newest packet, for the sender to deliver.
-fn send(out: &watch::Sender<Option<Arc<Packet>>>, taken: &AtomicBool, message: FrameMessage, png: Vec<u8>) {
+/// `film` as a baseline JPEG (sRGB, colour at full resolution) graded by `look`.
+fn jpeg(film: &Film, look: Look, quality: u8) -> image::ImageResult<Vec<u8>> {
+    let (width, height) = (film.width(), film.height());
+    let rgb = film.rgb8_rows(0..height, look);
+    let mut out = Vec::with_capacity(rgb.len() / 10);
+    image::codecs::jpeg::JpegEncoder::new_with_quality(&mut out, quality).encode(&rgb, width, height, image::ExtendedColorType::Rgb8)?;
+    Ok(out)
+}
+
+/// Makes `message` and its image the newest packet, for the sender to deliver.
+fn send(out: &watch::Sender<Option<Arc<Packet>>>, taken: &AtomicBool, message: FrameMessage, image: Vec<u8>) {
     let json = serde_json::to_string(&ServerMessage::Frame(message)).expect("frames serialise");
     taken.store(false, Ordering::Release);
-    out.send_replace(Some(Arc::new(Packet { json, png })));
+    out.send_replace(Some(Arc::new(Packet { json, image })));
 }
 
 /// Completes once the scene or the image the stream asks for changed (a new grading does not

@@ -1,0 +1,580 @@
+//! The viewer page (`GET /`, `crates/server/web`) in a real browser: headless Chromium (Debian's
+//! `chromium`), driven over the DevTools protocol through a WebSocket, against a server on a
+//! loopback port. The page must load without console errors, show frames whose pixels are the
+//! PNG route's for the same camera, move the scene's camera as the egui viewer does, pick,
+//! open a dropped glTF file, and ask for a token where the server needs one.
+//!
+//! Without Chromium these tests say so and pass, unless they run as root: `scripts/test.sh`
+//! installs Chromium as root, so there a missing browser is a failure. Screenshots go to
+//! `$CARGO_TARGET_TMPDIR/browser/`.
+
+mod common;
+
+use std::collections::HashMap;
+use std::io::BufRead;
+use std::os::unix::fs::MetadataExt;
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use axum::body::Body;
+use axum::http::StatusCode;
+use base64::Engine;
+use common::*;
+use futures_util::stream::SplitSink;
+use futures_util::{SinkExt, StreamExt};
+use raystage_server::{AppState, Config};
+use serde_json::{Value, json};
+use tokio::sync::oneshot;
+use tokio_tungstenite::tungstenite::Message;
+
+type Socket = tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
+
+/// How long the page has for anything it is waited for: generous, as the machine that runs the
+/// tests may be busy compiling beside them.
+const PATIENCE: Duration = Duration::from_secs(90);
+
+/// Headless Chromium and its DevTools connection; the process ends when this is dropped.
+struct Browser {
+    process: Child,
+    profile: PathBuf,
+    devtools: Arc<DevTools>,
+}
+
+impl Browser {
+    /// Starts Chromium, or says why not and gives `None` where the test may be skipped.
+    async fn start() -> Option<Browser> {
+        let Some(executable) = std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default()).map(|dir| dir.join("chromium")).find(|p| p.is_file()) else {
+            let root = std::fs::metadata("/proc/self").is_ok_and(|m| m.uid() == 0);
+            assert!(!root, "chromium is not installed: as root, scripts/test.sh installs it (apt-get install chromium)");
+            eprintln!("skipped: chromium is not installed (scripts/test.sh installs it when run as root)");
+            return None;
+        };
+        static PROFILES: AtomicU64 = AtomicU64::new(0);
+        let profile = std::env::temp_dir().join(format!("raystage-browser-{}-{}", std::process::id(), PROFILES.fetch_add(1, Ordering::Relaxed)));
+        let mut process = Command::new(executable)
+            .args(["--headless", "--disable-gpu", "--no-first-run", "--no-default-browser-check", "--disable-extensions", "--disable-background-networking", "--disable-sync"])
+            // Chromium's sandbox refuses to run as root, as CI does.
+            .arg("--no-sandbox")
+            .arg("--remote-debugging-port=0")
+            .arg(format!("--user-data-dir={}", profile.display()))
+            .arg("about:blank")
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("chromium starts");
+        // Chromium names its DevTools address on stderr; the thread reads on, so that the pipe
+        // never fills.
+        let stderr = process.stderr.take().expect("stderr is piped");
+        let (address, found) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            for line in std::io::BufReader::new(stderr).lines().map_while(Result::ok) {
+                if let Some(url) = line.strip_prefix("DevTools listening on ") {
+                    let _ = address.send(url.trim().to_string());
+                }
+            }
+        });
+        let url = found.recv_timeout(PATIENCE).expect("chromium names its DevTools address");
+        Some(Browser { process, profile, devtools: DevTools::connect(&url).await })
+    }
+
+    /// A new tab with a viewport of `width` × `height` CSS pixels and `scale` device pixels to
+    /// each, showing `url`.
+    async fn open(&self, url: &str, width: u32, height: u32, scale: f64) -> Page {
+        let target = self.devtools.call(None, "Target.createTarget", json!({ "url": "about:blank" })).await;
+        let attached = self.devtools.call(None, "Target.attachToTarget", json!({ "targetId": target["targetId"], "flatten": true })).await;
+        let page = Page { devtools: self.devtools.clone(), session: attached["sessionId"].as_str().unwrap().to_string() };
+        for domain in ["Runtime.enable", "Log.enable", "Page.enable"] {
+            page.call(domain, json!({})).await;
+        }
+        page.call("Emulation.setDeviceMetricsOverride", json!({ "width": width, "height": height, "deviceScaleFactor": scale, "mobile": false })).await;
+        page.call("Page.navigate", json!({ "url": url })).await;
+        page.wait_for("the page to load", &format!("document.readyState === 'complete' && location.href === '{url}'")).await;
+        page
+    }
+}
+
+impl Drop for Browser {
+    fn drop(&mut self) {
+        let _ = self.process.kill();
+        let _ = self.process.wait();
+        let _ = std::fs::remove_dir_all(&self.profile);
+    }
+}
+
+/// A DevTools protocol connection: commands answered by id, events kept for the test to read.
+struct DevTools {
+    sink: tokio::sync::Mutex<SplitSink<Socket, Message>>,
+    next_id: AtomicU64,
+    replies: Mutex<HashMap<u64, oneshot::Sender<Value>>>,
+    events: Mutex<Vec<Value>>,
+}
+
+impl DevTools {
+    async fn connect(url: &str) -> Arc<DevTools> {
+        let (socket, _) = tokio_tungstenite::connect_async(url).await.expect("the DevTools WebSocket opens");
+        let (sink, mut stream) = socket.split();
+        let devtools = Arc::new(DevTools { sink: tokio::sync::Mutex::new(sink), next_id: AtomicU64::new(1), replies: Mutex::default(), events: Mutex::default() });
+        let reader = devtools.clone();
+        tokio::spawn(async move {
+            while let Some(Ok(message)) = stream.next().await {
+                let Message::Text(text) = message else { continue };
+                let value: Value = serde_json::from_str(text.as_str()).expect("DevTools sends JSON");
+                match value["id"].as_u64() {
+                    Some(id) => {
+                        if let Some(reply) = reader.replies.lock().unwrap().remove(&id) {
+                            let _ = reply.send(value);
+                        }
+                    }
+                    None => reader.events.lock().unwrap().push(value),
+                }
+            }
+        });
+        devtools
+    }
+
+    /// Runs `method` (in the tab of `session`, or the browser's); its result.
+    async fn call(&self, session: Option<&str>, method: &str, params: Value) -> Value {
+        let id = self.next_id.fetch_add(1, Ordering::Relaxed);
+        let (reply, answered) = oneshot::channel();
+        self.replies.lock().unwrap().insert(id, reply);
+        let mut message = json!({ "id": id, "method": method, "params": params });
+        if let Some(session) = session {
+            message["sessionId"] = json!(session);
+        }
+        self.sink.lock().await.send(Message::text(message.to_string())).await.expect("DevTools takes the command");
+        let reply = tokio::time::timeout(PATIENCE, answered).await.unwrap_or_else(|_| panic!("{method}: no answer")).expect("DevTools answers");
+        assert!(reply.get("error").is_none(), "{method}: {}", reply["error"]);
+        reply["result"].clone()
+    }
+}
+
+/// A tab.
+struct Page {
+    devtools: Arc<DevTools>,
+    session: String,
+}
+
+impl Page {
+    async fn call(&self, method: &str, params: Value) -> Value {
+        self.devtools.call(Some(&self.session), method, params).await
+    }
+
+    /// The value of a JavaScript expression in the page (awaited if it is a promise).
+    async fn eval(&self, expression: &str) -> Value {
+        let result = self.call("Runtime.evaluate", json!({ "expression": expression, "awaitPromise": true, "returnByValue": true })).await;
+        assert!(result.get("exceptionDetails").is_none(), "{expression}: {}", result["exceptionDetails"]);
+        result["result"]["value"].clone()
+    }
+
+    /// Waits until `expression` is truthy; its value.
+    async fn wait_for(&self, what: &str, expression: &str) -> Value {
+        let start = Instant::now();
+        loop {
+            let value = self.eval(expression).await;
+            if !(value.is_null() || value == false || value == "" || value == 0) {
+                return value;
+            }
+            assert!(start.elapsed() < PATIENCE, "waited {PATIENCE:?} for {what} ({expression}); the page says: {}", self.eval("document.getElementById('message').textContent").await);
+            tokio::time::sleep(Duration::from_millis(50)).await;
+        }
+    }
+
+    /// What the page reported as errors: console errors, uncaught exceptions, and the browser's
+    /// own error log (failed loads, refusals by the Content-Security-Policy).
+    fn errors(&self) -> Vec<String> {
+        let events = self.devtools.events.lock().unwrap();
+        let mine = events.iter().filter(|e| e["sessionId"] == self.session.as_str());
+        mine.filter_map(|e| {
+            let p = &e["params"];
+            match e["method"].as_str()? {
+                "Runtime.consoleAPICalled" if p["type"] == "error" || p["type"] == "assert" => Some(format!("console: {}", p["args"])),
+                "Runtime.exceptionThrown" => Some(format!("exception: {}", p["exceptionDetails"])),
+                "Log.entryAdded" if p["entry"]["level"] == "error" => Some(format!("log: {} {}", p["entry"]["text"], p["entry"]["url"])),
+                _ => None,
+            }
+        })
+        .collect()
+    }
+
+    /// Saves a screenshot of the tab as `$CARGO_TARGET_TMPDIR/browser/<name>.png`.
+    async fn screenshot(&self, name: &str) -> PathBuf {
+        let shot = self.call("Page.captureScreenshot", json!({ "format": "png" })).await;
+        let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("browser");
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join(format!("{name}.png"));
+        std::fs::write(&path, base64::engine::general_purpose::STANDARD.decode(shot["data"].as_str().unwrap()).unwrap()).unwrap();
+        eprintln!("screenshot: {}", path.display());
+        path
+    }
+
+    /// The pixels of the canvas with id `id`, as the page has them.
+    async fn canvas(&self, id: &str) -> image::RgbImage {
+        let url = self.eval(&format!("document.getElementById('{id}').toDataURL('image/png')")).await;
+        let data = url.as_str().unwrap().strip_prefix("data:image/png;base64,").expect("a PNG data URL");
+        image::load_from_memory(&base64::engine::general_purpose::STANDARD.decode(data).unwrap()).unwrap().to_rgb8()
+    }
+
+    /// A mouse event at (x, y) with `button` (`left` or `right`), which is down while `down`.
+    async fn mouse(&self, kind: &str, (x, y): (f64, f64), button: &str, down: bool) {
+        let buttons = if !down { 0 } else if button == "left" { 1 } else { 2 };
+        let params = json!({ "type": kind, "x": x, "y": y, "button": button, "buttons": buttons, "clickCount": 1 });
+        self.call("Input.dispatchMouseEvent", params).await;
+    }
+
+    /// A drag with `button` from `from` through `steps` steps of (dx, dy) CSS pixels.
+    async fn drag(&self, button: &str, from: (f64, f64), step: (f64, f64), steps: u32) {
+        self.mouse("mousePressed", from, button, true).await;
+        let mut at = from;
+        for _ in 0..steps {
+            at = (at.0 + step.0, at.1 + step.1);
+            self.mouse("mouseMoved", at, button, true).await;
+        }
+        self.mouse("mouseReleased", at, button, false).await;
+    }
+
+    async fn click(&self, at: (f64, f64)) {
+        self.mouse("mousePressed", at, "left", true).await;
+        self.mouse("mouseReleased", at, "left", false).await;
+    }
+
+    /// Sets a control of the page as a person would, and tells the page it changed.
+    async fn choose(&self, id: &str, value: &str) {
+        self.eval(&format!("(e => {{ e.value = '{value}'; e.dispatchEvent(new Event('change')); }})(document.getElementById('{id}'))")).await;
+    }
+
+    /// The canvas's box in the viewport: left, top, width, height (CSS pixels).
+    async fn frame_box(&self) -> [f64; 4] {
+        let rect = self.eval("(r => [r.left, r.top, r.width, r.height])(document.getElementById('frame').getBoundingClientRect())").await;
+        serde_json::from_value(rect).unwrap()
+    }
+}
+
+/// A scene of two `Constant` squares side by side in front of the default camera (eye at
+/// (0, 0, 5), 45° high): red on the left at x = −1, green on the right at x = +1. Its id and
+/// the two instances' ids.
+async fn two_squares(app: &axum::Router) -> (u64, u64, u64) {
+    let s = new_scene(app).await;
+    let mut red = square(0.5);
+    red["shader"] = json!("red");
+    let mut green = square(0.5);
+    green["shader"] = json!("green");
+    let batch = json!({ "commands": [
+        { "add_shader": { "label": "red", "class": "Constant", "params": { "color": [1, 0, 0] } } },
+        { "add_shader": { "label": "green", "class": "Constant", "params": { "color": [0, 1, 0] } } },
+        { "add_object": { "label": "left", "mesh": red } },
+        { "add_object": { "label": "right", "mesh": green } },
+        { "add_instance": { "object": "left", "transform": { "translate": [-1, 0, 0] } } },
+        { "add_instance": { "object": "right", "transform": { "translate": [1, 0, 0] } } }
+    ] });
+    let result = ok(app, "POST", &format!("/scenes/{s}/commands"), batch, StatusCode::OK).await;
+    (s, result["results"][4]["id"].as_u64().unwrap(), result["results"][5]["id"].as_u64().unwrap())
+}
+
+/// Waits until the camera of scene `s`, read over HTTP, has `eye` and `target` (to 10⁻³).
+async fn camera_becomes(app: &axum::Router, s: u64, eye: [f32; 3], target: [f32; 3]) {
+    let start = Instant::now();
+    loop {
+        let camera = ok(app, "GET", &format!("/scenes/{s}/camera"), json!(null), StatusCode::OK).await;
+        let close = |field: &str, expected: [f32; 3]| {
+            let got: [f32; 3] = serde_json::from_value(camera[field].clone()).unwrap();
+            got.iter().zip(expected).all(|(a, b)| (a - b).abs() < 1e-3)
+        };
+        if close("eye", eye) && close("target", target) {
+            return;
+        }
+        assert!(start.elapsed() < PATIENCE, "the camera did not become eye {eye:?}, target {target:?}: {camera}");
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+}
+
+/// Mean and largest difference per channel between two images of the same size, in levels.
+fn difference(a: &image::RgbImage, b: &image::RgbImage) -> (f64, u8) {
+    assert_eq!(a.dimensions(), b.dimensions());
+    let (sum, max) = a.as_raw().iter().zip(b.as_raw()).fold((0u64, 0u8), |(sum, max), (&x, &y)| (sum + x.abs_diff(y) as u64, max.max(x.abs_diff(y))));
+    (sum as f64 / a.as_raw().len() as f64, max)
+}
+
+/// Waits for the page to show the converged frame of the scene's current version at one sample
+/// per pixel in `encoding`, and returns its difference from the PNG route's frame of the same
+/// size, camera and samples. (One sample: a stream's image of more is the same samples summed
+/// over several passes, which differs from one frame's sum in the last bit, and so by a level
+/// here and there.)
+async fn against_the_png_route(page: &Page, app: &axum::Router, s: u64, encoding: &str) -> (f64, u8) {
+    let version = ok(app, "GET", &format!("/scenes/{s}"), json!(null), StatusCode::OK).await["version"].as_u64().unwrap();
+    let shown = format!(
+        "document.getElementById('frame').dataset.sceneVersion === '{version}' \
+         && document.getElementById('stat-samples').textContent === '1 of 1 per pixel, converged' \
+         && document.getElementById('stat-encoding').textContent.startsWith('{}')",
+        encoding.to_uppercase()
+    );
+    page.wait_for(&format!("the converged {encoding} frame of version {version}"), &shown).await;
+    let shown = page.canvas("frame").await;
+    let (width, height) = shown.dimensions();
+    let (status, _, png) = send(app, "GET", &format!("/scenes/{s}/frame.png?width={width}&height={height}&spp=1"), Body::empty(), &[]).await;
+    assert_eq!(status, StatusCode::OK);
+    difference(&shown, &image::load_from_memory(&png).unwrap().to_rgb8())
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_page_streams_orbits_picks_and_opens_a_dropped_gltf_file() {
+    let Some(browser) = Browser::start().await else { return };
+    let state = AppState::new(Config::default());
+    let app = raystage_server::router(state.clone());
+    let (s, left, right) = two_squares(&app).await;
+    let addr = listen(state).await;
+    // Two device pixels to each CSS pixel, as on a laptop's screen.
+    let page = browser.open(&format!("http://{addr}/#scene={s}"), 900, 600, 2.0).await;
+
+    // The first frame is sized to the view and the device pixel ratio.
+    page.wait_for("a first frame", "document.getElementById('frame').dataset.seq").await;
+    for hidden in ["auth", "drop-hint"] {
+        assert_eq!(page.eval(&format!("getComputedStyle(document.getElementById('{hidden}')).display")).await, "none", "#{hidden} shows");
+    }
+    let sizes = page.eval("(v => [v.clientWidth, v.clientHeight])(document.getElementById('view'))").await;
+    let (css_width, css_height) = (sizes[0].as_u64().unwrap(), sizes[1].as_u64().unwrap());
+    page.wait_for("a frame of the view's device pixels", &format!("(c => c.width === {} && c.height === {})(document.getElementById('frame'))", 2 * css_width, 2 * css_height))
+        .await;
+
+    // Pixels as the PNG route renders them: lossless PNG exactly (the page draws the image it
+    // is sent, one pixel to one pixel), the default JPEG within a few levels on average and
+    // less than half the range anywhere (ringing at the squares' hard edges).
+    page.choose("max-samples", "1").await;
+    let (mean, max) = against_the_png_route(&page, &app, s, "jpeg").await;
+    eprintln!("JPEG frame against the PNG route: mean {mean:.3} levels, largest {max}");
+    assert!(mean < 1.5 && max < 128, "the JPEG frame is not the PNG route's: mean {mean}, largest {max}");
+    page.choose("encoding", "png").await;
+    let (mean, max) = against_the_png_route(&page, &app, s, "png").await;
+    eprintln!("PNG frame against the PNG route: mean {mean:.3} levels, largest {max}");
+    assert!(mean == 0.0 && max == 0, "the PNG frame is not the PNG route's: mean {mean}, largest {max}");
+    page.screenshot("streamed").await;
+
+    // A click on the red square's centre picks its instance and outlines it.
+    let [x, y, width, height] = page.frame_box().await;
+    let half_width_at_target = 5.0 * (22.5f64).to_radians().tan() * width / height;
+    let centre_of = |world_x: f64| (x + width * (0.5 + world_x / half_width_at_target / 2.0), y + height / 2.0);
+    page.click(centre_of(-1.0)).await;
+    page.wait_for("the red square picked", &format!("document.getElementById('picked').dataset.instance === '{left}'")).await;
+    let text = page.eval("document.getElementById('picked').textContent").await;
+    assert!(text.as_str().unwrap().starts_with(&format!("instance {left} of object ")), "{text}");
+    page.wait_for("the highlight", &format!("document.getElementById('highlight').dataset.instance === '{left}'")).await;
+    let highlight = |(cx, cy): (f64, f64)| {
+        format!("document.getElementById('highlight').getContext('2d').getImageData({}, {}, 1, 1).data[3]", ((cx - x) * 2.0) as u32, ((cy - y) * 2.0) as u32)
+    };
+    assert!(page.eval(&highlight(centre_of(-1.0))).await.as_u64().unwrap() > 0, "the picked square is highlighted");
+    assert_eq!(page.eval(&highlight(centre_of(1.0))).await, 0, "the other square is not");
+    assert_eq!(page.eval(&format!("document.querySelector('#instances tr.selected').dataset.id === '{left}'")).await, true);
+    page.screenshot("picked").await;
+    page.click(centre_of(1.0)).await;
+    page.wait_for("the green square picked", &format!("document.getElementById('picked').dataset.instance === '{right}'")).await;
+
+    // The mouse moves the camera as the egui viewer does (crates/client/src/orbit.rs: 0.01
+    // radian of orbit a point, a distance factor of e^(−0.002) a point of scroll), read back
+    // over HTTP. A drag 100 points to the right in ten steps turns the eye one radian about the
+    // target; one 50 points down raises it half a radian; a wheel turned 100 points away from
+    // the user brings it e^(−0.2) of the way.
+    let centre = (x + width / 2.0, y + height / 2.0);
+    let before = ok(&app, "GET", &format!("/scenes/{s}"), json!(null), StatusCode::OK).await["version"].as_u64().unwrap();
+    page.drag("left", centre, (10.0, 0.0), 10).await;
+    let (sin, cos) = (1f32.sin(), 1f32.cos());
+    camera_becomes(&app, s, [-5.0 * sin, 0.0, 5.0 * cos], [0.0; 3]).await;
+    page.drag("left", centre, (0.0, 10.0), 5).await;
+    let raised = [-5.0 * sin * 0.5f32.cos(), 5.0 * 0.5f32.sin(), 5.0 * cos * 0.5f32.cos()];
+    camera_becomes(&app, s, raised, [0.0; 3]).await;
+    // (A wheel event of the page's own: DevTools scales the delta of the wheel events it makes
+    // by the emulated device pixel ratio.)
+    page.eval("document.getElementById('frame').dispatchEvent(new WheelEvent('wheel', { deltaY: -100, deltaMode: 0, cancelable: true }))").await;
+    let closer = raised.map(|c| c * (-0.2f32).exp());
+    camera_becomes(&app, s, closer, [0.0; 3]).await;
+    // A right-drag pans: eye and target move together, sideways (the camera's up is +y, and
+    // the drag is horizontal), by the view's height at the target's depth per view height.
+    page.drag("right", centre, (-10.0, 0.0), 5).await;
+    let view_height = page.eval("document.getElementById('view').clientHeight").await.as_f64().unwrap() as f32;
+    let shift = 50.0 * 2.0 * (5.0 * (-0.2f32).exp()) * 22.5f32.to_radians().tan() / view_height;
+    let start = Instant::now();
+    let (eye, target) = loop {
+        let camera = ok(&app, "GET", &format!("/scenes/{s}/camera"), json!(null), StatusCode::OK).await;
+        let (eye, target): ([f32; 3], [f32; 3]) = (serde_json::from_value(camera["eye"].clone()).unwrap(), serde_json::from_value(camera["target"].clone()).unwrap());
+        if target != [0.0; 3] && (0..3).all(|k| (eye[k] - closer[k] - target[k]).abs() < 1e-3) {
+            break (eye, target);
+        }
+        assert!(start.elapsed() < PATIENCE, "the right-drag did not pan: {camera}");
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    };
+    let forward = [-closer[0], -closer[1], -closer[2]];
+    assert!((target.iter().map(|c| c * c).sum::<f32>().sqrt() - shift).abs() < 1e-3 && target[1].abs() < 1e-5, "{target:?} is not {shift} sideways");
+    assert!(target.iter().zip(forward).map(|(a, b)| a * b).sum::<f32>().abs() < 1e-4, "{target:?} is not across the view, {eye:?}");
+    // The next frames show the new camera: the PNG route's frame of it.
+    let after = ok(&app, "GET", &format!("/scenes/{s}"), json!(null), StatusCode::OK).await["version"].as_u64().unwrap();
+    assert!(after > before);
+    let (mean, max) = against_the_png_route(&page, &app, s, "png").await;
+    assert!(mean == 0.0 && max == 0, "the frame after the drag is not the PNG route's: mean {mean}, largest {max}");
+    page.screenshot("orbited").await;
+
+    // A glTF file dropped on the page becomes a new scene, which the page opens; it has an
+    // animation, so the page shows a timeline.
+    let file = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("dropped-{}.glb", std::process::id()));
+    std::fs::write(&file, animated_glb()).unwrap();
+    let data = json!({ "items": [], "files": [file.to_str().unwrap()], "dragOperationsMask": 1 });
+    for kind in ["dragEnter", "dragOver", "drop"] {
+        page.call("Input.dispatchDragEvent", json!({ "type": kind, "x": centre.0, "y": centre.1, "data": data })).await;
+    }
+    let created = page.wait_for("the dropped file's scene", "document.getElementById('upload-status').dataset.scene").await;
+    let created: u64 = created.as_str().unwrap().parse().unwrap();
+    let info = ok(&app, "GET", &format!("/scenes/{created}"), json!(null), StatusCode::OK).await;
+    assert_eq!((info["origin"].as_str(), info["objects"].as_u64(), info["instances"].as_u64()), (Some("gltf"), Some(1), Some(2)));
+    page.wait_for("the new scene's frames", &format!("location.hash === '#scene={created}' && document.getElementById('frame').dataset.seq")).await;
+    page.wait_for("the new scene listed", &format!("document.getElementById('scene').value === '{created}'")).await;
+    std::fs::remove_file(&file).unwrap();
+    page.screenshot("dropped").await;
+
+    // The timeline poses the scene: the time slider at 0.5 s of `slide` (which moves the left
+    // square, instance 0 of the file, from x = −0.6 at 0 s to 0.4 at 1 s) is a `set_time`.
+    assert_eq!(page.eval("document.getElementById('timeline').hidden").await, false);
+    page.eval("(t => { t.value = '0.5'; t.dispatchEvent(new Event('input')); })(document.getElementById('time'))").await;
+    let start = Instant::now();
+    loop {
+        let instances = ok(&app, "GET", &format!("/scenes/{created}/instances"), json!(null), StatusCode::OK).await;
+        if (instances[0]["matrix"][0][3].as_f64().unwrap() + 0.1).abs() < 1e-5 {
+            break;
+        }
+        assert!(start.elapsed() < PATIENCE, "the timeline did not pose the scene at 0.5 s: {instances}");
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    let posed = ok(&app, "GET", &format!("/scenes/{created}"), json!(null), StatusCode::OK).await["version"].as_u64().unwrap();
+    page.wait_for("a frame of the pose", &format!("Number(document.getElementById('frame').dataset.sceneVersion) >= {posed}")).await;
+    page.screenshot("timeline").await;
+    assert_eq!(page.errors(), Vec::<String>::new(), "the page reported errors");
+
+    // Settings past the server's limits are refused with its reason, on an open stream and on
+    // one that opens anew (where the browser does not show why: the page asks), and a setting
+    // within them opens the stream again.
+    page.choose("max-samples", "1024").await;
+    page.wait_for("the refusal of 1024 samples", "document.getElementById('message').textContent.includes('more than the limit')").await;
+    page.choose("integrator", "").await;
+    page.wait_for("the refusal to open", "document.getElementById('message').textContent.startsWith('The stream closed: ') && document.getElementById('message').textContent.includes('more than the limit')").await;
+    page.screenshot("refused").await;
+    page.choose("max-samples", "1").await;
+    page.wait_for("frames again", "document.getElementById('stat-samples').textContent === '1 of 1 per pixel, converged' && document.getElementById('message').textContent === ''").await;
+    let errors = page.errors();
+    assert!(errors.iter().all(|e| e.contains("422") || e.contains("WebSocket connection")), "{errors:?}");
+}
+
+/// The latency from a drag to the first frame that shows it, as the page measures it
+/// (`performance.now()`, from the drag's first input event to the drawing of the first frame of
+/// the scene version the camera change made), and the frame rate as the page receives frames,
+/// on the sphere grid (a million triangles): first as the egui viewer's frame rate was measured
+/// (docs/performance.md: a 640×360 view, eye light, refining to 1024 samples), then with the
+/// page's defaults in a 1280×720 window (the scene's integrator, Whitted as the default sky
+/// lights it; 256 samples); each in JPEG at quality 80 and in PNG. Printed; every drag must show.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_drag_shows_in_a_frame_and_the_page_measures_how_soon() {
+    let Some(browser) = Browser::start().await else { return };
+    let state = AppState::new(Config::default());
+    let app = raystage_server::router(state.clone());
+    let s = ok(&app, "POST", "/scenes", json!({ "demo": "spheres" }), StatusCode::CREATED).await["id"].as_u64().unwrap();
+    let addr = listen(state).await;
+    let page = browser.open(&format!("http://{addr}/#scene={s}"), 1280, 720, 1.0).await;
+    page.wait_for("a first frame", "document.getElementById('frame').dataset.seq").await;
+    let drags = 12;
+    for (setting, egui_like) in [("640×360 view, eye light, 1024 samples", true), ("1280×720 window, the page's defaults", false)] {
+        // The samples change where the image's size keeps them within the server's limit on
+        // samples per frame: after the view shrinks, before it grows.
+        if !egui_like {
+            page.choose("max-samples", "256").await;
+        }
+        let view = page.eval("(v => [v.clientWidth, v.clientHeight])(document.getElementById('view'))").await;
+        let (view_width, view_height) = (view[0].as_i64().unwrap(), view[1].as_i64().unwrap());
+        let (window_width, window_height) = if egui_like { (1280 + 640 - view_width, 720 + 360 - view_height) } else { (1280, 720) };
+        page.call("Emulation.setDeviceMetricsOverride", json!({ "width": window_width, "height": window_height, "deviceScaleFactor": 1, "mobile": false })).await;
+        let [x, y, width, height] = page.frame_box().await;
+        let centre = (x + width / 2.0, y + height / 2.0);
+        let view = page.eval("(v => [v.clientWidth, v.clientHeight])(document.getElementById('view'))").await;
+        let (width, height) = (view[0].as_i64().unwrap(), view[1].as_i64().unwrap());
+        page.wait_for("the stream in the view's size", &format!("document.getElementById('frame').width === {width}")).await;
+        if egui_like {
+            page.choose("max-samples", "1024").await;
+        }
+        page.choose("integrator", if egui_like { "eyelight" } else { "" }).await;
+        for encoding in ["jpeg", "png"] {
+            page.choose("encoding", encoding).await;
+            let integrator = if egui_like { "eyelight" } else { "whitted" };
+            page.wait_for("the stream's settings", &format!("document.getElementById('stat-image').textContent === '{width}×{height}, {integrator}' && document.getElementById('stat-encoding').textContent.startsWith('{}')", encoding.to_uppercase())).await;
+            // Frames a second, as the page receives them, while the image refines.
+            let seq = async || page.eval("Number(document.getElementById('frame').dataset.seq)").await.as_f64().unwrap();
+            let (first, start) = (seq().await, Instant::now());
+            tokio::time::sleep(Duration::from_secs(4)).await;
+            let rate = (seq().await - first) / start.elapsed().as_secs_f64();
+            let count = async || page.eval("Number(document.getElementById('stat-latency').dataset.count ?? 0)").await.as_u64().unwrap();
+            let before = count().await;
+            for k in 0..drags {
+                // Back and forth, so that the view stays on the spheres.
+                let measured = count().await;
+                page.drag("left", centre, (if k % 2 == 0 { 5.0 } else { -5.0 }, 0.0), 6).await;
+                page.wait_for("a frame showing the drag", &format!("Number(document.getElementById('stat-latency').dataset.count) > {measured}")).await;
+                // Every camera change of the drag shown (a drag may send several, and the page
+                // measures one at a time), and a pause, as a person's, while the image refines.
+                let version = ok(&app, "GET", &format!("/scenes/{s}"), json!(null), StatusCode::OK).await["version"].as_u64().unwrap();
+                page.wait_for("the drag's last frame", &format!("Number(document.getElementById('frame').dataset.sceneVersion) >= {version}")).await;
+                tokio::time::sleep(Duration::from_millis(300)).await;
+            }
+            let new = (count().await - before) as usize;
+            let all: Vec<f64> = serde_json::from_str(page.eval("document.getElementById('stat-latency').dataset.samples").await.as_str().unwrap()).unwrap();
+            assert!(new <= all.len(), "{new} measurements, {} kept", all.len());
+            let mut latencies = all[all.len() - new..].to_vec();
+            latencies.sort_by(f64::total_cmp);
+            let stats = page.eval("['stat-image', 'stat-pass', 'stat-encoding', 'stat-rate'].map(id => document.getElementById(id).textContent).join('; ')").await;
+            eprintln!(
+                "{setting}, {encoding}: {rate:.1} frames/s refining; drag to frame over {drags} drags ({new} measured): median {:.0} ms, fastest {:.0} ms, slowest {:.0} ms (last frame: {})",
+                latencies[new / 2],
+                latencies[0],
+                latencies[new - 1],
+                stats.as_str().unwrap()
+            );
+        }
+    }
+    page.screenshot("spheres").await;
+    assert_eq!(page.errors(), Vec::<String>::new(), "the page reported errors");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn with_a_token_the_page_asks_for_it_and_without_it_says_why_nothing_loads() {
+    let Some(browser) = Browser::start().await else { return };
+    let state = AppState::new(Config { token: Some("s3cret".into()), ..Config::default() });
+    let app = raystage_server::router(state.clone());
+    let (status, _, body) = send(&app, "POST", "/scenes", Body::from("{}"), &[("authorization", "Bearer s3cret")]).await;
+    assert_eq!(status, StatusCode::CREATED);
+    let s = serde_json::from_slice::<Value>(&body).unwrap()["id"].as_u64().unwrap();
+    let addr = listen(state).await;
+    let page = browser.open(&format!("http://{addr}/"), 800, 500, 1.0).await;
+
+    // Without the token: the form, and a message saying why nothing loads.
+    page.wait_for("the token form", "!document.getElementById('auth').hidden").await;
+    let message = page.eval("document.getElementById('message').textContent").await;
+    assert_eq!(message, "This server needs an access token. Nothing loads without it.");
+    page.screenshot("token-asked").await;
+    // The only errors are the browser's notes of the refused requests.
+    let errors = page.errors();
+    assert!(!errors.is_empty() && errors.iter().all(|e| e.contains("401")), "{errors:?}");
+
+    // A wrong token is refused, and said so.
+    page.call("Input.insertText", json!({ "text": "wrong" })).await;
+    page.eval("document.getElementById('auth').requestSubmit()").await;
+    page.wait_for("the refusal", "document.getElementById('message').textContent.startsWith('The server refused this token')").await;
+
+    // The right one: the page lists the scene and streams it (the stream takes the token as
+    // `?token=`), and the tab keeps it.
+    page.eval("document.getElementById('token').value = ''").await;
+    page.call("Input.insertText", json!({ "text": "s3cret" })).await;
+    page.eval("document.getElementById('auth').requestSubmit()").await;
+    page.wait_for("a frame", "document.getElementById('frame').dataset.seq").await;
+    assert_eq!(page.eval("document.getElementById('auth').hidden").await, true);
+    assert_eq!(page.eval("document.getElementById('scene').value").await, s.to_string());
+    assert_eq!(page.eval("sessionStorage.getItem('raystage.token')").await, "s3cret");
+    page.screenshot("token-given").await;
+    let errors = page.errors();
+    assert!(errors.iter().all(|e| e.contains("401")), "{errors:?}");
+}
