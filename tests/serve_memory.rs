@@ -2,7 +2,8 @@
 //! (default limits), one server per case, its peak resident memory (`VmHWM`, from /proc) before
 //! and after a request that must be refused. Each limit is checked before the memory it guards
 //! is spent, so the peak barely moves; without the checks, each case would take hundreds of
-//! megabytes to gigabytes (the figures in docs/performance.md, "HTTP server").
+//! megabytes to gigabytes (the figures in docs/performance.md, "HTTP server"). And what an
+//! accepted scene counts against the budgets is what it holds: its resident memory.
 
 #![cfg(target_os = "linux")]
 
@@ -139,4 +140,54 @@ fn a_stream_whose_client_does_not_read_is_not_buffered() {
     let text = String::from_utf8_lossy(&received[..got]);
     assert!(text.starts_with("HTTP/1.1 101") && text.contains(r#""type":"frame""#), "the stream sent no frame: {:?}", &text[..text.len().min(300)]);
     assert!(grown < 64.0, "the server's peak grew by {grown:.0} MiB for a stream nobody read");
+}
+
+/// The server's resident memory now, in MiB.
+fn resident_mib(server: &Server) -> f64 {
+    let status = std::fs::read_to_string(format!("/proc/{}/status", server.child.id())).unwrap();
+    let line = status.lines().find(|l| l.starts_with("VmRSS:")).expect("Linux reports the resident set");
+    line.split_whitespace().nth(1).unwrap().parse::<f64>().unwrap() / 1024.0
+}
+
+/// A glTF file of `nodes` nodes side by side, each placing the same one-triangle mesh: an
+/// instance each, in a few megabytes of file.
+fn many_nodes_glb(nodes: usize) -> Vec<u8> {
+    let mut bin: Vec<u8> = [-0.5f32, -0.5, 0.0, 0.5, -0.5, 0.0, 0.5, 0.5, 0.0].iter().flat_map(|f| f.to_le_bytes()).collect();
+    bin.extend([0u16, 1, 2, 0].iter().flat_map(|i| i.to_le_bytes()));
+    let placed: Vec<serde_json::Value> = (0..nodes).map(|k| serde_json::json!({ "mesh": 0, "translation": [k as f32 * 1e-3, 0, 0] })).collect();
+    let document = serde_json::json!({
+        "asset": { "version": "2.0" },
+        "buffers": [{ "byteLength": bin.len() }],
+        "bufferViews": [{ "buffer": 0, "byteOffset": 0, "byteLength": 36 }, { "buffer": 0, "byteOffset": 36, "byteLength": 6 }],
+        "accessors": [
+            { "bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [-0.5, -0.5, 0], "max": [0.5, 0.5, 0] },
+            { "bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR" }
+        ],
+        "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0 }, "indices": 1 }] }],
+        "nodes": placed,
+        "scenes": [{ "nodes": (0..nodes).collect::<Vec<_>>() }],
+        "scene": 0
+    });
+    raystage_gltf_import::glb(&serde_json::to_vec(&document).unwrap(), &bin)
+}
+
+/// What a scene counts (`memory_bytes`, which the budgets are checked against) is what it
+/// holds: a file of 200,000 nodes (the case that once grew the server by hundreds of megabytes
+/// while its scene counted a few hundred bytes) is within 1.5× of the resident memory it adds,
+/// either way, once a frame has built the trees it counts for.
+#[test]
+fn a_scene_of_many_instances_counts_the_memory_it_holds() {
+    let server = Server::start();
+    let before = resident_mib(&server);
+    let (status, body) = server.request("POST", "/scenes", "model/gltf-binary", &many_nodes_glb(200_000));
+    assert_eq!(status, 201, "{body}");
+    let json = &body[body.find('{').unwrap()..];
+    let info: serde_json::Value = serde_json::from_str(json).unwrap();
+    assert_eq!(info["instances"], 200_000);
+    let (status, body) = server.request("GET", "/scenes/2/frame.png?width=64&height=64&integrator=eyelight", "application/json", b"");
+    assert_eq!(status, 200, "{body}");
+    let counted = info["memory_bytes"].as_f64().unwrap() / (1 << 20) as f64;
+    let grown = resident_mib(&server) - before;
+    let ratio = counted / grown;
+    assert!((1.0 / 1.5..=1.5).contains(&ratio), "the scene counts {counted:.1} MiB and the server grew by {grown:.1} MiB: {ratio:.2}×");
 }

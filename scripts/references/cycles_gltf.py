@@ -13,6 +13,15 @@ uniform colour when the scene's `extras.environment` (raystage's material scenes
 read back linear and written as `NAME.pfm`, little-endian linear RGB, rows bottom to top; its
 size is the scene's `extras.image_size`, else `--size`.
 
+`--time SECONDS` renders the file's animation at that time, as the importer made it: the
+importer keys glTF time t at frame t × fps (the scene's, 24) and stashes each animation on NLA
+tracks named after it; asked (through its import hook) to leave them all stashed, so that every
+node keeps its file's transform until then, it has the chosen one's actions made active by its
+own `restore_animation_on_object` (`--animation NAME|INDEX`, default the first), and the scene
+frame is set to time × fps, the fraction as a subframe. Node animation, skins (an armature
+deforming the mesh) and morph targets (shape keys) are Blender's. The image is then
+`NAME_TIMEs.pfm` (`box_animated_1.875s.pfm`).
+
 Blender runs as a Python module (no Blender install), in a Python 3.11 environment outside the
 repository:
 
@@ -23,14 +32,21 @@ repository:
       nice -n 10 ~/venv-bpy/bin/python ../scripts/references/cycles_gltf.py ${spp#*:}.gltf \\
         --out ../tests/references/ --prefix cycles_ --spp ${spp%:*} --linear-textures --front-emission
     done
+    for asset in box_animated:0.625:1.875 rigged_simple:0.5:1 animated_morph_cube:1:3; do
+      for time in $(echo ${asset#*:} | tr : ' '); do
+        nice -n 10 ~/venv-bpy/bin/python ../scripts/references/cycles_gltf.py ${asset%%:*}.glb \\
+          --out ../tests/references/ --prefix cycles_ --spp 1024 --time $time --backface-culling
+      done
+    done
 
 (the Cornell box, lit by a small light, at 8,192 samples per pixel: about 3 minutes on two
 shared cores; the transmitting spheres at 8,192, 85 seconds; the others at 4,096, under 80
-seconds each).
+seconds each; the animated assets, 160×120 at 1,024, 4 to 13 seconds each).
 
-Two differences of convention between Cycles and raystage (and Mitsuba) are taken out by
+Three differences of convention between Cycles and raystage (and Mitsuba) are taken out by
 options, which the checked-in references use: `--front-emission` (Cycles' emitters shine from
-both sides) and `--linear-textures` (Cycles filters 8-bit sRGB texels before decoding them).
+both sides), `--linear-textures` (Cycles filters 8-bit sRGB texels before decoding them) and
+`--backface-culling` (Cycles shows the backs of glTF's single-sided materials).
 
 Nothing here models a BSDF: the reference is what the importer and Cycles make of the file.
 `--dump` prints the node tree the importer built for each material, to see what was imported.
@@ -200,10 +216,76 @@ def front_emission(bpy):
             tree.links.new(front.outputs["Value"], node.inputs["Emission Strength"])
 
 
+class KeepAnimationsStashed:
+    """An import hook (the importer's user-extension interface, which it finds as
+    `glTF2ImportUserExtension` on an enabled add-on's module): the importer makes no animation
+    active, where it would make the first one's actions active and Blender would move every node
+    it animates to its value at the current frame, which nodes that another animation chosen
+    later does not animate would keep. Nothing else of the import changes."""
+
+    def gather_import_animations(self, animations, options, gltf):
+        options.restore_first_anim = False
+
+
+def pose(bpy, doc, scene, time, animation):
+    """`scene` at `time` seconds of the animation `animation` names (its name or index; None:
+    the first), imported with `KeepAnimationsStashed`. Returns the frame it is set to."""
+    from io_scene_gltf2.blender.imp.animation_utils import restore_animation_on_object
+    from io_scene_gltf2.blender.imp.blender_gltf import BlenderGlTF
+    # The NLA track names the importer gave the animations, in the file's order (its own
+    # naming, as blender_gltf.py does it).
+    tracks = []
+    for k, animation_k in enumerate(doc.get("animations", [])):
+        tracks.append(BlenderGlTF.find_unused_name(set(tracks), animation_k.get("name") or f"Anim_{k}"))
+    if not tracks:
+        sys.exit("--time: the file has no animations")
+    animation = tracks[0] if animation is None else animation
+    if animation not in tracks:
+        if not animation.isdigit() or int(animation) >= len(tracks):
+            sys.exit(f"--animation {animation}: the file has {', '.join(tracks)} (or an index)")
+        animation = tracks[int(animation)]
+    for obj in scene.objects:
+        restore_animation_on_object(obj, animation)
+        if obj.type == "MESH" and obj.data.shape_keys is not None:
+            restore_animation_on_object(obj.data.shape_keys, animation)
+    # The importer's own conversion of glTF seconds to frames (animation_node.py).
+    frame = time * scene.render.fps * scene.render.fps_base
+    whole = int(np.floor(frame))
+    scene.frame_set(whole, subframe=frame - whole)
+    return frame
+
+
+def backface_culling(bpy):
+    """Single-sided materials (glTF's default) invisible from behind to every ray, as glTF asks
+    and raystage's are: the importer only marks them `use_backface_culling`, which Cycles
+    ignores (a setting of the viewport), so that a ray meets the back of a face and, where a
+    surface lies on another facing the other way (the walls of BoxAnimated's boxes), the
+    back of either. Their surface shader is mixed with a transparent BSDF by Backfacing."""
+    for material in bpy.data.materials:
+        tree = material.node_tree
+        if not material.use_backface_culling or tree is None:
+            continue
+        output = next(n for n in tree.nodes if n.type == "OUTPUT_MATERIAL" and n.is_active_output)
+        surface = output.inputs["Surface"]
+        if not surface.is_linked:
+            continue
+        shader = surface.links[0].from_socket
+        geometry = tree.nodes.new("ShaderNodeNewGeometry")
+        transparent = tree.nodes.new("ShaderNodeBsdfTransparent")
+        mix = tree.nodes.new("ShaderNodeMixShader")
+        tree.links.new(geometry.outputs["Backfacing"], mix.inputs["Fac"])
+        tree.links.new(shader, mix.inputs[1])
+        tree.links.new(transparent.outputs["BSDF"], mix.inputs[2])
+        tree.links.new(mix.outputs["Shader"], surface)
+
+
 def render(bpy, path, args):
     """`path` rendered by Cycles: its linear RGB, rows bottom to top."""
     doc = read_document(path)
     reset(bpy)
+    if args.time is not None:
+        import io_scene_gltf2
+        io_scene_gltf2.glTF2ImportUserExtension = KeepAnimationsStashed
     result = bpy.ops.import_scene.gltf(filepath=os.path.abspath(path))
     if result != {"FINISHED"}:
         sys.exit(f"{path}: Blender's importer says {result}")
@@ -211,6 +293,7 @@ def render(bpy, path, args):
     extras = doc.get("scenes", [{}])[doc.get("scene", 0)].get("extras", {})
     width, height = extras.get("image_size", [args.size, args.size])
     environment = args.environment or extras.get("environment", [0.0, 0.0, 0.0])
+    frame = None if args.time is None else pose(bpy, doc, scene, args.time, args.animation)
     scene.camera = camera_of(bpy, doc)
     scene.world = world(bpy, environment)
     configure(bpy, scene, width, height, args.spp, args.seed, args.threads, args.depth)
@@ -218,6 +301,8 @@ def render(bpy, path, args):
         linear_textures(bpy)
     if args.front_emission:
         front_emission(bpy)
+    if args.backface_culling:
+        backface_culling(bpy)
     if args.dump:
         dump_materials(bpy)
     with tempfile.TemporaryDirectory() as folder:
@@ -232,7 +317,7 @@ def render(bpy, path, args):
             sys.exit(f"{path}: rendered {tuple(image.size)}, not {width}×{height}")
         pixels = np.empty(width * height * 4, dtype=np.float32)
         image.pixels.foreach_get(pixels)
-    return pixels.reshape(height, width, 4)[:, :, :3], environment, seconds
+    return pixels.reshape(height, width, 4)[:, :, :3], environment, frame, seconds
 
 
 def main():
@@ -248,8 +333,13 @@ def main():
     parser.add_argument("--environment", type=lambda s: [float(c) for c in s.split(",")], help="uniform world radiance R,G,B (default: the scene's extras.environment, else black)")
     parser.add_argument("--linear-textures", action="store_true", help="filter colour textures as linear floats (see linear_textures)")
     parser.add_argument("--front-emission", action="store_true", help="emitters shine from their fronts only (see front_emission)")
+    parser.add_argument("--time", type=float, help="render the animation at this many seconds (see pose)")
+    parser.add_argument("--animation", help="with --time: the animation, by name or index (default: the first)")
+    parser.add_argument("--backface-culling", action="store_true", help="single-sided materials invisible from behind (see backface_culling)")
     parser.add_argument("--dump", action="store_true", help="print the imported materials' node trees")
     args = parser.parse_args()
+    if args.animation is not None and args.time is None:
+        sys.exit("--animation needs --time")
     if args.environment is not None and len(args.environment) != 3:
         sys.exit("--environment takes R,G,B")
     try:
@@ -258,10 +348,13 @@ def main():
         sys.exit("Blender's Python module is not installed: in a Python 3.11 environment, pip install bpy==5.0.1")
     for path in args.gltf:
         name = os.path.splitext(os.path.basename(path))[0]
-        rgb, environment, seconds = render(bpy, path, args)
+        if args.time is not None:
+            name += f"_{args.time:g}s"
+        rgb, environment, frame, seconds = render(bpy, path, args)
         write_pfm(os.path.join(args.out, f"{args.prefix}{name}.pfm"), rgb)
         means = " ".join(f"{m:.4f}" for m in rgb.reshape(-1, 3).mean(axis=0))
-        print(f"{name}: {rgb.shape[1]}×{rgb.shape[0]}, {args.spp} spp, environment {environment}, means {means}, {seconds:.0f} s (Blender {bpy.app.version_string})", flush=True)
+        at = "" if frame is None else f", frame {frame:g}"
+        print(f"{name}: {rgb.shape[1]}×{rgb.shape[0]}{at}, {args.spp} spp, environment {environment}, means {means}, {seconds:.0f} s (Blender {bpy.app.version_string})", flush=True)
 
 
 if __name__ == "__main__":

@@ -187,16 +187,21 @@ pub struct KernelReport {
     pub scene: String,
     /// Threads used to build and trace.
     pub threads: usize,
-    /// BVH build seconds (Embree: `RTC_BUILD_QUALITY_HIGH`).
+    /// BVH build seconds (Embree: `RTC_BUILD_QUALITY_HIGH`, the tree it traces).
     pub build_s: f64,
-    /// Primary rays traced one per call (`rtcIntersect1` for Embree), million per second.
-    pub primary_mrays: f64,
+    /// Embree only: `RTC_BUILD_QUALITY_MEDIUM` (binned SAH) build seconds.
+    pub medium_build_s: Option<f64>,
+    /// raystage only: the surface-area cost of its tree ([`raystage_kernel::Bvh8Stats::sah_cost`]).
+    pub sah_cost: Option<f32>,
+    /// Primary rays traced one per call (`rtcIntersect1` for Embree), million per second; the
+    /// rates are `None` when only builds were measured.
+    pub primary_mrays: Option<f64>,
     /// Primary rays traced in packets of eight, 4×2 pixels (`rtcIntersect8` for Embree).
-    pub primary_packet_mrays: f64,
+    pub primary_packet_mrays: Option<f64>,
     /// Random incoherent rays, million per second.
-    pub incoherent_mrays: f64,
+    pub incoherent_mrays: Option<f64>,
     /// Diffuse bounce rays, million per second.
-    pub bounce_mrays: f64,
+    pub bounce_mrays: Option<f64>,
     /// Primary rays that hit.
     pub hits: u64,
     /// Sum of primary hit distances.
@@ -267,19 +272,24 @@ impl Samples {
         self.bounce.push(bounce);
     }
 
-    /// Medians as a report line.
-    pub fn report(&self, system: &str, scene: StandardScene, threads: usize, sets: &RaySets) -> KernelReport {
-        let mrays = |runs: &[Traced], n: usize| median(&runs.iter().map(|r| n as f64 / r.seconds / 1e6).collect::<Vec<_>>());
+    /// Medians as a report line (without the fields only one system has).
+    pub fn report(&self, system: &str, scene: StandardScene, threads: usize, sets: Option<&RaySets>) -> KernelReport {
+        let mrays = |runs: &[Traced], n: fn(&RaySets) -> usize| {
+            let n = n(sets?);
+            (!runs.is_empty()).then(|| median(&runs.iter().map(|r| n as f64 / r.seconds / 1e6).collect::<Vec<_>>()))
+        };
         let last = self.primary.last().copied().unwrap_or_default();
         KernelReport {
             system: system.to_string(),
             scene: scene.name().to_string(),
             threads,
             build_s: median(&self.build),
-            primary_mrays: mrays(&self.primary, sets.primary.len()),
-            primary_packet_mrays: mrays(&self.packets, sets.packets.len()),
-            incoherent_mrays: mrays(&self.incoherent, sets.incoherent.len()),
-            bounce_mrays: mrays(&self.bounce, sets.bounce.len()),
+            medium_build_s: None,
+            sah_cost: None,
+            primary_mrays: mrays(&self.primary, |s| s.primary.len()),
+            primary_packet_mrays: mrays(&self.packets, |s| s.packets.len()),
+            incoherent_mrays: mrays(&self.incoherent, |s| s.incoherent.len()),
+            bounce_mrays: mrays(&self.bounce, |s| s.bounce.len()),
             hits: last.hits,
             tsum: last.tsum,
         }
@@ -292,25 +302,44 @@ pub struct SceneRun {
     pub scene: StandardScene,
     /// Its triangle count.
     pub triangles: usize,
-    /// The identical rays every system traced.
-    pub sets: RaySets,
-    /// `(system, threads, samples)` for every measured combination.
+    /// The identical rays every system traced (`None` when only builds were measured).
+    pub sets: Option<RaySets>,
+    /// `(system, threads, samples)` for every measured combination. Embree's `build` samples are
+    /// its `RTC_BUILD_QUALITY_HIGH` builds (spatial splits), the tree it traces.
     pub runs: Vec<(&'static str, usize, Samples)>,
-    /// Embree's `RTC_BUILD_QUALITY_MEDIUM` build seconds per thread count, for reference.
-    pub embree_medium_build: Vec<(usize, f64)>,
+    /// Embree's `RTC_BUILD_QUALITY_MEDIUM` build seconds per thread count, one per repetition:
+    /// the binned SAH build, the like-for-like counterpart of raystage's.
+    pub embree_medium_build: Vec<(usize, Vec<f64>)>,
+    /// The surface-area cost of raystage's tree per thread count ([`raystage_kernel::Bvh8Stats::sah_cost`]):
+    /// a build made faster must not make it worse.
+    pub sah_cost: Vec<(usize, f32)>,
 }
 
 impl SceneRun {
     /// Median report lines, one per system and thread count.
     pub fn reports(&self) -> Vec<KernelReport> {
-        self.runs.iter().map(|(system, threads, s)| s.report(system, self.scene, *threads, &self.sets)).collect()
+        self.runs
+            .iter()
+            .map(|(system, threads, s)| KernelReport {
+                medium_build_s: self.medium_build(*threads).filter(|_| *system == "embree"),
+                sah_cost: self.sah_cost.iter().find(|(t, _)| t == threads).map(|c| c.1).filter(|_| *system == "raystage"),
+                ..s.report(system, self.scene, *threads, self.sets.as_ref())
+            })
+            .collect()
+    }
+
+    /// Embree's median MEDIUM build seconds at `threads` threads, if measured.
+    pub fn medium_build(&self, threads: usize) -> Option<f64> {
+        self.embree_medium_build.iter().find(|(t, _)| *t == threads).map(|(_, v)| median(v))
     }
 }
 
 /// Measures `scene` at 1 thread and at `threads` threads (if more than one), `reps` times, every
 /// system on the same rays, alternating systems within each repetition so that drift in machine
-/// speed affects both alike. `progress` receives a line per step.
-pub fn run(scene: StandardScene, threads: usize, reps: usize, mut progress: impl FnMut(&str)) -> SceneRun {
+/// speed affects both alike: the builds take turns build by build (raystage, Embree MEDIUM,
+/// Embree HIGH), the traces slice by slice. With `build_only`, no rays are traced. `progress`
+/// receives a line per step.
+pub fn run(scene: StandardScene, threads: usize, reps: usize, build_only: bool, mut progress: impl FnMut(&str)) -> SceneRun {
     let reps = reps.max(1);
     let mut counts = vec![1];
     if threads > 1 {
@@ -319,49 +348,69 @@ pub fn run(scene: StandardScene, threads: usize, reps: usize, mut progress: impl
     progress(&format!("{}: generating triangles", scene.name()));
     let mesh = scene.mesh();
     let mut runs: Vec<(&'static str, usize, Samples)> = Vec::new();
-    let mut bvhs = Vec::new();
     for &t in &counts {
-        let mut samples = Samples::default();
-        let mut bvh = None;
-        for _ in 0..reps {
-            let (b, s) = build_raystage(&mesh, t);
-            progress(&format!("{}: raystage build, {t} thread(s): {s:.3} s", scene.name()));
-            samples.build.push(s);
-            bvh = Some(b);
+        runs.push(("raystage", t, Samples::default()));
+        if cfg!(feature = "embree") {
+            runs.push(("embree", t, Samples::default()));
         }
-        bvhs.push(bvh.expect("reps >= 1"));
-        runs.push(("raystage", t, samples));
+    }
+    let mut embree_medium_build: Vec<(usize, Vec<f64>)> = counts.iter().map(|&t| (t, Vec::new())).collect();
+    let mut bvhs: Vec<Option<Bvh8>> = counts.iter().map(|_| None).collect();
+    #[cfg(feature = "embree")]
+    let devices: Vec<crate::embree::Device> = counts.iter().map(|&t| crate::embree::Device::new(t).expect("Embree device")).collect();
+    #[cfg(feature = "embree")]
+    let mut embree_high: Vec<Option<crate::embree::Scene>> = counts.iter().map(|_| None).collect();
+    let mut record_build = |system: &str, t: usize, seconds: f64| {
+        let entry = runs.iter_mut().find(|(s, th, _)| *s == system && *th == t).expect("run registered");
+        entry.2.build.push(seconds);
+    };
+    for rep in 0..reps {
+        for (i, &t) in counts.iter().enumerate() {
+            // Drop the previous repetition's trees first, so that no build runs beside another's
+            // memory any more than the first one did.
+            bvhs[i] = None;
+            let (b, s) = build_raystage(&mesh, t);
+            progress(&format!("{}: rep {}/{reps} raystage build, {t} thread(s): {s:.3} s", scene.name(), rep + 1));
+            record_build("raystage", t, s);
+            bvhs[i] = Some(b);
+            #[cfg(feature = "embree")]
+            {
+                use crate::embree::{Quality, Scene};
+                let device = &devices[i];
+                let secs = Scene::build(device, &mesh, Quality::Medium).1;
+                progress(&format!("{}: rep {}/{reps} embree {} MEDIUM build, {t} thread(s): {secs:.3} s", scene.name(), rep + 1, device.version()));
+                embree_medium_build[i].1.push(secs);
+                embree_high[i] = None;
+                let (s, secs) = Scene::build(device, &mesh, Quality::High);
+                progress(&format!("{}: rep {}/{reps} embree HIGH build, {t} thread(s): {secs:.3} s", scene.name(), rep + 1));
+                record_build("embree", t, secs);
+                embree_high[i] = Some(s);
+            }
+        }
+    }
+    if !cfg!(feature = "embree") {
+        embree_medium_build.clear();
+    }
+    let bvhs: Vec<Bvh8> = bvhs.into_iter().map(|b| b.expect("reps >= 1")).collect();
+    let sah_cost = counts.iter().zip(&bvhs).map(|(&t, b)| (t, b.stats().sah_cost)).collect();
+    if build_only {
+        return SceneRun { scene, triangles: mesh.indices.len(), sets: None, runs, embree_medium_build, sah_cost };
     }
     progress(&format!("{}: generating rays", scene.name()));
     let sets = RaySets::new(scene, &mesh, &bvhs[0]);
-    #[allow(unused_mut)]
-    let mut embree_medium_build = Vec::new();
-    // Per thread count: Embree at HIGH quality, built `reps` times (the build is measured), and
-    // the same in robust mode, built once.
+    // Embree in robust mode traces too (built once per thread count at HIGH; its build is shown
+    // but not interleaved with the others).
     #[cfg(feature = "embree")]
     let embree_scenes: Vec<(crate::embree::Scene, crate::embree::Scene)> = counts
         .iter()
-        .map(|&t| {
-            use crate::embree::{Device, Quality, Scene};
-            let device = Device::new(t).expect("Embree device");
-            let mut medium = Vec::new();
-            for _ in 0..reps {
-                medium.push(Scene::build(&device, &mesh, Quality::Medium).1);
-            }
-            embree_medium_build.push((t, median(&medium)));
-            let mut samples = Samples::default();
-            let mut kept = None;
-            for _ in 0..reps {
-                let (s, secs) = Scene::build(&device, &mesh, Quality::High);
-                progress(&format!("{}: embree {} HIGH build, {t} thread(s): {secs:.3} s", scene.name(), device.version()));
-                samples.build.push(secs);
-                kept = Some(s);
-            }
-            runs.push(("embree", t, samples));
-            let (robust, secs) = Scene::build_robust(&device, &mesh, Quality::High);
+        .zip(&devices)
+        .zip(embree_high)
+        .map(|((&t, device), high)| {
+            use crate::embree::{Quality, Scene};
+            let (robust, secs) = Scene::build_robust(device, &mesh, Quality::High);
             progress(&format!("{}: embree HIGH robust build, {t} thread(s): {secs:.3} s", scene.name()));
             runs.push(("embree-robust", t, Samples { build: vec![secs], ..Samples::default() }));
-            (kept.expect("reps >= 1"), robust)
+            (high.expect("reps >= 1"), robust)
         })
         .collect();
     for rep in 0..reps {
@@ -386,5 +435,5 @@ pub fn run(scene: StandardScene, threads: usize, reps: usize, mut progress: impl
             }
         }
     }
-    SceneRun { scene, triangles: mesh.indices.len(), sets, runs, embree_medium_build }
+    SceneRun { scene, triangles: mesh.indices.len(), sets: Some(sets), runs, embree_medium_build, sah_cost }
 }

@@ -9,6 +9,7 @@
 
 #[cfg(feature = "embree")]
 pub mod embree;
+pub mod animation;
 pub mod cluster_model;
 pub mod dynamic;
 pub mod kernel;

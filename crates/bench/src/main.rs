@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::{Parser, Subcommand};
 use raystage_bench::kernel::Api;
 use raystage_bench::stamp::{Stamp, StampLine};
-use raystage_bench::{cluster_model, dynamic, kernel, mpi, page, pathtrace, plot, render, scaling, table};
+use raystage_bench::{animation, cluster_model, dynamic, kernel, mpi, page, pathtrace, plot, render, scaling, table};
 use raystage_demo::animated::{Animation, Baked, Museum, Robots, Still, Terrain};
 use raystage_demo::StandardScene;
 
@@ -32,6 +32,9 @@ enum Command {
         /// Print one JSON object per system, scene and thread count instead of tables.
         #[arg(long)]
         json: bool,
+        /// Measure the builds only (raystage, Embree MEDIUM and HIGH taking turns), no rays.
+        #[arg(long)]
+        build_only: bool,
     },
     /// Animated scenes updated and traced frame by frame (robots, museum, terrain).
     Dynamic {
@@ -170,6 +173,24 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// A skinned glTF asset played frame by frame: evaluation, skinning, tree update and the
+    /// eye-light preview at 1280x720 per frame; with Embree (feature `embree`) the same
+    /// skinned vertices refitted and rebuilt, and the same primary rays traced.
+    Animation {
+        /// `rigged` (RiggedSimple), `tube` (a generated 99,840-triangle skinned tube) or a
+        /// .glb/.gltf file, comma-separated.
+        #[arg(long, default_value = "rigged,tube", value_delimiter = ',')]
+        assets: Vec<String>,
+        /// Thread counts, comma-separated.
+        #[arg(long, default_value = "1,2", value_delimiter = ',')]
+        threads: Vec<usize>,
+        /// Frames after the first (at 24 frames per second).
+        #[arg(long, default_value_t = 24)]
+        frames: u32,
+        /// Print one JSON object per system, asset and thread count instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
     /// A Markdown performance page from a `--json` report: the run's stamp (machine, commit,
     /// date), then its records as tables, with the first system's figures over each other's.
     Page {
@@ -187,7 +208,8 @@ impl Command {
             | Command::Render { json, .. }
             | Command::Pathtrace { json, .. }
             | Command::Scaling { json, .. }
-            | Command::Mpi { json, .. } => *json,
+            | Command::Mpi { json, .. }
+            | Command::Animation { json, .. } => *json,
             Command::Page { .. } => false,
         }
     }
@@ -201,6 +223,27 @@ fn main() {
         println!("{}", serde_json::to_string(&StampLine { stamp: Stamp::now(&args) }).expect("stamps serialise"));
     }
     match cli.command {
+        Command::Animation { assets, threads, frames, json } => {
+            if !cfg!(feature = "embree") {
+                eprintln!("note: built without the `embree` feature; only raystage is measured");
+            }
+            let mut reports = Vec::new();
+            for name in &assets {
+                let asset = animation::Asset::from_name(name).unwrap_or_else(|| fail(&format!("unknown asset `{name}` (expected rigged, tube or a .glb/.gltf file)")));
+                for &threads in &threads {
+                    let runs = animation::run(&asset, threads.max(1), frames.max(1)).unwrap_or_else(|e| fail(&e));
+                    if json {
+                        for r in &runs {
+                            println!("{}", serde_json::to_string(r).expect("report serialises"));
+                        }
+                    }
+                    reports.extend(runs);
+                }
+            }
+            if !json {
+                print!("{}", animation::table(&reports));
+            }
+        }
         Command::Page { report } => {
             let text = if report.as_os_str() == "-" {
                 std::io::read_to_string(std::io::stdin())
@@ -399,7 +442,7 @@ fn main() {
                 print!("{}", table::throughput_against(StandardScene::Spheres.name(), &reports));
             }
         }
-        Command::Kernel { scene, threads, reps, json } => {
+        Command::Kernel { scene, threads, reps, json, build_only } => {
             let scenes = match scene.as_str() {
                 "all" => StandardScene::ALL.to_vec(),
                 name => match StandardScene::from_name(name) {
@@ -411,7 +454,7 @@ fn main() {
                 eprintln!("note: built without the `embree` feature; only raystage is measured");
             }
             for s in scenes {
-                let run = kernel::run(s, threads.max(1), reps, |line| eprintln!("{line}"));
+                let run = kernel::run(s, threads.max(1), reps, build_only, |line| eprintln!("{line}"));
                 if json {
                     for r in run.reports() {
                         println!("{}", serde_json::to_string(&r).expect("report serialises"));

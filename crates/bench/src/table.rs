@@ -20,24 +20,31 @@ struct RaySet {
 /// The kernel benchmark of one scene as a table: one column per system (raystage, Embree, Embree
 /// in robust mode) and the raystage/Embree ratio of each row against both (build: raystage's
 /// time over Embree's, below 1 is faster; throughput: raystage's rate over Embree's, above 1 is
-/// faster).
+/// faster). The build is compared with Embree's MEDIUM build (binned SAH, like raystage's) and
+/// its HIGH build (spatial splits, the tree Embree traces here), with raystage's tree's SAH cost
+/// beside it.
 pub fn kernel_table(run: &SceneRun) -> String {
     let mut out = String::new();
     let reps = run.runs.first().map_or(0, |r| r.2.build.len());
     let _ = writeln!(
         out,
-        "scene {}: {} triangles, {}x{} primary rays, median of {reps}",
+        "scene {}: {} triangles, {}, median of {reps}",
         run.scene.name(),
         run.triangles,
-        crate::rays::WIDTH,
-        crate::rays::HEIGHT
+        match run.sets {
+            Some(_) => format!("{}x{} primary rays", crate::rays::WIDTH, crate::rays::HEIGHT),
+            None => "builds only".to_string(),
+        }
     );
-    let sets = [
-        RaySet { name: "primary", runs: |s| &s.primary, rays: run.sets.primary.len() },
-        RaySet { name: "primary packets", runs: |s| &s.packets, rays: run.sets.packets.len() },
-        RaySet { name: "incoherent", runs: |s| &s.incoherent, rays: run.sets.incoherent.len() },
-        RaySet { name: "bounce", runs: |s| &s.bounce, rays: run.sets.bounce.len() },
-    ];
+    let sets: Vec<RaySet> = match &run.sets {
+        Some(sets) => vec![
+            RaySet { name: "primary", runs: |s| &s.primary, rays: sets.primary.len() },
+            RaySet { name: "primary packets", runs: |s| &s.packets, rays: sets.packets.len() },
+            RaySet { name: "incoherent", runs: |s| &s.incoherent, rays: sets.incoherent.len() },
+            RaySet { name: "bounce", runs: |s| &s.bounce, rays: sets.bounce.len() },
+        ],
+        None => Vec::new(),
+    };
     let mut thread_counts: Vec<usize> = run.runs.iter().map(|r| r.1).collect();
     thread_counts.sort_unstable();
     thread_counts.dedup();
@@ -54,9 +61,10 @@ pub fn kernel_table(run: &SceneRun) -> String {
             let _ = writeln!(out, "  {name:<22} {} {} {} {} {}  {unit}", fmt(a, 9), fmt(b, 11), ratio(b), fmt(c, 8), ratio(c));
         };
         let build = |s: &Samples| median(&s.build);
-        row(&mut out, "build", ours.map(build), theirs.map(build), robust.map(build), "s (Embree HIGH)");
-        if let Some((_, m)) = run.embree_medium_build.iter().find(|(t, _)| *t == threads) {
-            row(&mut out, "build", ours.map(build), Some(*m), None, "s (Embree MEDIUM)");
+        row(&mut out, "build", ours.map(build), run.medium_build(threads), None, "s (Embree MEDIUM: binned SAH)");
+        row(&mut out, "build", ours.map(build), theirs.map(build), robust.map(build), "s (Embree HIGH: spatial splits)");
+        if let Some((_, cost)) = run.sah_cost.iter().find(|(t, _)| *t == threads) {
+            let _ = writeln!(out, "  {:<22} {cost:>9.3}  (raystage's tree: child boxes a random ray enters)", "SAH cost");
         }
         for set in &sets {
             let rate = |s: &Samples| mrays((set.runs)(s), set.rays);
@@ -66,9 +74,9 @@ pub fn kernel_table(run: &SceneRun) -> String {
             };
             row(&mut out, set.name, ours.map(rate), theirs.map(rate), robust.map(rate), unit);
         }
-        let single = |s: &Samples| mrays(&s.primary, run.sets.primary.len());
-        if let Some(s) = ours {
-            let packets = Some(mrays(&s.packets, run.sets.packets.len()));
+        if let (Some(s), Some(all)) = (ours, &run.sets) {
+            let single = |s: &Samples| mrays(&s.primary, all.primary.len());
+            let packets = Some(mrays(&s.packets, all.packets.len()));
             row(&mut out, "raystage packets vs", packets, theirs.map(single), robust.map(single), "Mrays/s (Embree rtcIntersect1)");
         }
         for set in &sets {

@@ -58,6 +58,11 @@ impl Server {
         self.request("POST", path, Some((content_type, body))).await
     }
 
+    /// PUTs JSON `body` to `path` and reads the JSON answer as `T`.
+    pub async fn put<T: DeserializeOwned>(&self, path: &str, body: &serde_json::Value) -> Result<T, Error> {
+        self.request("PUT", path, Some(("application/json", body.to_string().as_bytes()))).await
+    }
+
     /// Sends a request and reads a successful (2xx) answer's JSON body as `T`; the server's
     /// error message otherwise.
     async fn request<T: DeserializeOwned>(&self, method: &str, path: &str, body: Option<(&str, &[u8])>) -> Result<T, Error> {

@@ -21,7 +21,7 @@ use tokio_tungstenite::tungstenite::http::HeaderValue;
 
 use crate::Error;
 use crate::http::Server;
-use crate::protocol::{AnimationInfo, CameraPatch, FrameStats, Hello, InstanceInfo, LightInfo, ObjectInfo, PROTOCOL, Request, SceneInfo, ServerMessage, Settings};
+use crate::protocol::{AnimationInfo, CameraPatch, Clock, FrameStats, Hello, InstanceInfo, LightInfo, ObjectInfo, PROTOCOL, Request, SceneInfo, ServerMessage, Settings};
 
 /// A camera change whose reply has not come in this long is taken as lost.
 const CAMERA_REPLY_TIMEOUT: Duration = Duration::from_secs(2);
@@ -37,6 +37,8 @@ pub enum Event {
     Connected(Hello),
     /// A frame, decoded.
     Frame(Frame),
+    /// The scene's clock, as a change left it.
+    Clock(Clock),
     /// The server refused a request (the stream goes on), or a fetch failed.
     Problem(String),
     /// The connection ended, for this reason.
@@ -56,6 +58,8 @@ pub struct SceneSnapshot {
     pub lights: Vec<LightInfo>,
     /// Every animation (none for most scenes: they come with glTF files).
     pub animations: Vec<AnimationInfo>,
+    /// The clock that plays them, once the scene was posed.
+    pub clock: Option<Clock>,
 }
 
 /// A frame: its statistics and its pixels.
@@ -190,6 +194,7 @@ async fn session(config: StreamConfig, events: &Events, requests: &mut Unbounded
             Request::Camera(c) => camera.pending = Some(c),
             Request::Commands(commands) => edits.push(Request::Commands(commands)),
             Request::EnvironmentImage { path, id, light } => spawn_environment_image(&server, scene, events, path, id, light),
+            Request::Clock(change) => spawn_clock(&server, scene, events, change),
             Request::RefreshScene => {}
         }
     }
@@ -268,6 +273,7 @@ async fn session(config: StreamConfig, events: &Events, requests: &mut Unbounded
                     });
                 }
                 Some(Request::EnvironmentImage { path, id, light }) => spawn_environment_image(&server, scene, events, path, id, light),
+                Some(Request::Clock(change)) => spawn_clock(&server, scene, events, change),
                 Some(request) => {
                     let message = request.message(next_request).expect("settings and commands are stream messages");
                     next_request += 1;
@@ -354,8 +360,23 @@ async fn fetch_scene(server: &Server, scene: u32) -> Result<SceneSnapshot, Error
     let objects = server.get(&format!("/scenes/{scene}/objects")).await?;
     let instances = server.get(&format!("/scenes/{scene}/instances")).await?;
     let lights = server.get(&format!("/scenes/{scene}/lights")).await?;
-    let animations = server.get(&format!("/scenes/{scene}/animations")).await?;
-    Ok(SceneSnapshot { info, objects, instances, lights, animations })
+    let animations: Vec<AnimationInfo> = server.get(&format!("/scenes/{scene}/animations")).await?;
+    // A scene never posed has no clock yet (404).
+    let clock = if animations.is_empty() { None } else { server.get(&format!("/scenes/{scene}/clock")).await.ok() };
+    Ok(SceneSnapshot { info, objects, instances, lights, animations, clock })
+}
+
+/// Changes the scene's clock in the background ([`Request::Clock`]): the clock it left, or
+/// the server's refusal, comes back as an event.
+fn spawn_clock(server: &Server, scene: u32, events: &Events, change: serde_json::Value) {
+    let (server, events) = (server.clone(), events.clone());
+    tokio::spawn(async move {
+        let event = match server.put(&format!("/scenes/{scene}/clock"), &change).await {
+            Ok(clock) => Event::Clock(clock),
+            Err(e) => Event::Problem(e.to_string()),
+        };
+        events.send(event);
+    });
 }
 
 /// The frame decoder: a thread that decodes the newest PNG offered to it.

@@ -52,6 +52,18 @@ pub struct Hello {
     pub max_samples: u32,
 }
 
+/// A scene's animation clock (`GET` and `PUT /scenes/{scene}/clock`), which plays its
+/// animation on the server for every client.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+pub struct Clock {
+    /// The animation it plays: an index, or `"all"`.
+    pub animation: Value,
+    /// Seconds into it.
+    pub time: f64,
+    /// Whether the time moves.
+    pub playing: bool,
+}
+
 /// A frame's statistics (the `frame` message).
 #[derive(Clone, Debug, Default, Deserialize, PartialEq)]
 pub struct FrameStats {
@@ -59,6 +71,9 @@ pub struct FrameStats {
     pub seq: u64,
     /// The scene version the image shows.
     pub scene_version: u64,
+    /// The animation time the image shows, once the scene was posed.
+    #[serde(default)]
+    pub scene_time: Option<f64>,
     /// Width in pixels.
     pub width: u32,
     /// Height in pixels.
@@ -294,6 +309,9 @@ pub enum Request {
     /// Edit the scene: a batch of commands, as `POST /scenes/{scene}/commands` takes them
     /// (`commands` message).
     Commands(Value),
+    /// Change the scene's clock: the fields of `PUT /scenes/{scene}/clock` (HTTP); the
+    /// clock's new state comes back as [`Event::Clock`](crate::net::Event::Clock).
+    Clock(Value),
     /// Light the scene with an image file on this machine: upload it as a texture
     /// (`POST /scenes/{scene}/textures`), make it the map of `light` (a `set_light` of light
     /// `id`, or an `add_light` where there is none), and fetch the scene again (HTTP).
@@ -320,7 +338,7 @@ impl Request {
                 Some(message)
             }
             Request::Commands(commands) => Some(json!({ "type": "commands", "request": request, "commands": commands })),
-            Request::RefreshScene | Request::EnvironmentImage { .. } => None,
+            Request::RefreshScene | Request::EnvironmentImage { .. } | Request::Clock(_) => None,
         }
     }
 }

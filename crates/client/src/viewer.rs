@@ -256,7 +256,15 @@ impl Viewer {
                         let before = self.environment.as_ref();
                         self.environment = snapshot.lights.iter().find(|l| l.class == "EnvironmentLight").map(|l| Environment::of(l, before));
                     }
+                    if let Some(clock) = &snapshot.clock {
+                        self.timeline.follow(clock, &snapshot.animations);
+                    }
                     self.scene = Some(*snapshot);
+                }
+                Event::Clock(clock) => {
+                    if let Some(scene) = &self.scene {
+                        self.timeline.follow(&clock, &scene.animations);
+                    }
                 }
                 Event::Connected(hello) => {
                     if self.integrator.is_none() {
@@ -446,7 +454,8 @@ impl Viewer {
 
         if let Some(scene) = self.scene.as_ref().filter(|s| !s.animations.is_empty()) {
             ui.strong("Timeline");
-            let request = self.timeline.controls(ui, &scene.animations);
+            let shown = self.stats.as_ref().and_then(|s| s.scene_time);
+            let request = self.timeline.controls(ui, &scene.animations, shown);
             ui.separator();
             if let Some(request) = request {
                 self.send(request);

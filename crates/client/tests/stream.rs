@@ -1,6 +1,6 @@
 //! The client's network layer against a real server started in-process: the scene arrives over
 //! HTTP, frames over the WebSocket (decoded, refining), a camera change shows in a later
-//! frame, and a glTF scene's animation is listed and posed by the timeline's `set_time`.
+//! frame, and a glTF scene's animation is listed, posed and played by the scene's clock.
 
 use std::sync::mpsc::RecvTimeoutError;
 use std::time::{Duration, Instant};
@@ -112,11 +112,12 @@ fn sliding_quad() -> Vec<u8> {
     raystage_gltf_import::glb(&serde_json::to_vec(&document).unwrap(), &bin)
 }
 
-/// The timeline's request reaches the scene: a glTF scene's snapshot lists its animation, a
-/// `set_time` command makes a new version of the image, and the scene fetched again has the
-/// quad where the animation puts it.
+/// The timeline's requests reach the scene's clock: a glTF scene's snapshot lists its
+/// animation, setting the clock's time makes a new version of the image and comes back as the
+/// clock's state, the scene fetched again has the quad where the animation puts it, and a
+/// playing clock brings frames of later and later times with nothing more sent.
 #[test]
-fn set_time_poses_the_scene_the_stream_shows() {
+fn the_clock_poses_and_plays_the_scene_the_stream_shows() {
     let (runtime, url) = server();
     let server = Server::parse(&url, None).unwrap();
     let created: serde_json::Value = runtime.block_on(server.post("/scenes", "model/gltf-binary", &sliding_quad())).unwrap();
@@ -129,7 +130,15 @@ fn set_time_poses_the_scene_the_stream_shows() {
     assert_eq!((animation.index, animation.name.as_str(), animation.duration), (0, "slide", 1.0));
     let version = next_frame(&link, deadline).stats.scene_version;
 
-    link.requests.send(Request::Commands(serde_json::json!([{ "set_time": { "seconds": 0.25, "animation": 0 } }]))).unwrap();
+    link.requests.send(Request::Clock(serde_json::json!({ "time": 0.25, "animation": 0 }))).unwrap();
+    let clock = loop {
+        match next(&link, deadline) {
+            Event::Clock(clock) => break clock,
+            Event::Problem(problem) => panic!("{problem}"),
+            _ => {}
+        }
+    };
+    assert_eq!((clock.time, clock.playing), (0.25, false));
     while next_frame(&link, deadline).stats.scene_version == version {}
     link.requests.send(Request::RefreshScene).unwrap();
     let posed = loop {
@@ -140,6 +149,16 @@ fn set_time_poses_the_scene_the_stream_shows() {
         }
     };
     assert_eq!(posed.instances[0].matrix[0][3], 0.5, "{:?}", posed.instances);
+    assert_eq!(posed.clock, Some(clock), "the scene comes with its clock");
+
+    link.requests.send(Request::Clock(serde_json::json!({ "playing": true, "rate": 0.1 }))).unwrap();
+    let mut times = Vec::new();
+    while times.len() < 4 {
+        if let Some(time) = next_frame(&link, deadline).stats.scene_time.filter(|&t| t > 0.25) {
+            times.push(time);
+        }
+    }
+    assert!(times.windows(2).all(|w| w[1] > w[0]), "{times:?}");
 }
 
 /// An image file on the viewer's machine lights the scene: uploaded as a texture and made the

@@ -3,7 +3,8 @@
 //! choosing an integrator sends a `settings` message, a drag sends the orbited camera, and the
 //! first frame of a scene version refreshes objects the panel shows as not built; the lighting
 //! controls edit the scene's environment light with `commands` messages, and the timeline of a
-//! scene with animations sends `set_time` commands, at most ten a second while it plays.
+//! scene with animations sets the scene's clock (a time from the slider at most ten times a
+//! second, play and pause once each) and follows the time of the frames while it plays.
 
 use std::time::{Duration, Instant};
 
@@ -11,20 +12,21 @@ use eframe::egui::{self, Color32, ColorImage};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use raystage_client::net::{Event, Frame, Link, Remote, SceneSnapshot};
-use raystage_client::protocol::{AnimationInfo, CameraJson, FrameStats, Hello, LightInfo, ObjectInfo, Rays, Request, SceneInfo, Settings};
+use raystage_client::protocol::{AnimationInfo, CameraJson, Clock, FrameStats, Hello, LightInfo, ObjectInfo, Rays, Request, SceneInfo, Settings};
 use raystage_client::{Viewer, ViewerOptions};
 use serde_json::json;
 
 fn scene() -> SceneSnapshot {
     let camera = CameraJson { eye: [0.0, 0.0, 5.0], target: [0.0; 3], up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0 };
     let info = SceneInfo { id: 1, origin: "demo:test".into(), version: 0, objects: 0, instances: 0, lights: 0, triangles: 0, camera };
-    SceneSnapshot { info, objects: Vec::new(), instances: Vec::new(), lights: Vec::new(), animations: Vec::new() }
+    SceneSnapshot { info, objects: Vec::new(), instances: Vec::new(), lights: Vec::new(), animations: Vec::new(), clock: None }
 }
 
 fn frame(seq: u64, samples: u32, received: Instant) -> Event {
     let stats = FrameStats {
         seq,
         scene_version: 0,
+        scene_time: None,
         width: 8,
         height: 4,
         integrator: "eyelight".into(),
@@ -256,15 +258,22 @@ fn the_lighting_controls_choose_uniform_image_or_a_file() {
     assert_eq!(requests(&mut remote), [Request::Commands(json!([{ "add_light": white }])), Request::RefreshScene]);
 }
 
-/// The `set_time` commands among `requests`: (seconds, animation).
+/// The clock times set among `requests`: (seconds, animation).
 fn times(requests: Vec<Request>) -> Vec<(f64, u64)> {
     requests
         .into_iter()
         .filter_map(|r| match r {
-            Request::Commands(c) => Some((c[0]["set_time"]["seconds"].as_f64().unwrap(), c[0]["set_time"]["animation"].as_u64().unwrap())),
+            Request::Clock(c) => Some((c["time"].as_f64()?, c["animation"].as_u64().unwrap())),
             _ => None,
         })
         .collect()
+}
+
+/// A frame showing the scene at `time` seconds of its animation.
+fn frame_at(time: f64) -> Event {
+    let Event::Frame(mut frame) = frame(1, 1, Instant::now()) else { unreachable!("frame makes frames") };
+    frame.stats.scene_time = Some(time);
+    Event::Frame(frame)
 }
 
 /// A scene with two animations, one second and four seconds long.
@@ -297,7 +306,7 @@ fn the_timeline_sends_the_time_the_slider_is_moved_to() {
 }
 
 #[test]
-fn playing_sends_the_advancing_time_at_most_ten_times_a_second_and_loops() {
+fn the_slider_sends_at_most_ten_times_a_second() {
     let (link, mut remote) = Link::pair();
     let viewer = Viewer::new(link, ViewerOptions { max_samples: 256, ..ViewerOptions::default() });
     // Steps of 40 ms: faster than the timeline may send.
@@ -305,22 +314,48 @@ fn playing_sends_the_advancing_time_at_most_ten_times_a_second_and_loops() {
     remote.events.send(animated()).unwrap();
     harness.run();
     requests(&mut remote);
-    harness.get_by_label("play").click();
-    // Playing repaints continuously: step, not run (which waits for the UI to settle).
-    for _ in 0..50 {
+    harness.get_by_role_and_label(egui::accesskit::Role::Slider, "seconds").focus();
+    harness.run();
+    // 20 presses of →, each with two steps of 40 ms (the press's and one more): 1.6 s, so at
+    // most 16 sends at ten a second, and the last time is sent once the slider rests.
+    for _ in 0..20 {
+        harness.key_press(egui::Key::ArrowRight);
+        harness.step();
+    }
+    for _ in 0..5 {
         harness.step();
     }
     let sent = times(requests(&mut remote));
-    // Two seconds of steps: about one send per 120 ms (three steps), never closer than 100 ms.
-    assert!((14..=20).contains(&sent.len()), "{} sends: {sent:?}", sent.len());
-    assert!(sent.iter().all(|&(s, animation)| animation == 0 && (0.0..=1.0).contains(&s)), "{sent:?}");
-    assert!(sent.windows(2).any(|w| w[1].0 < w[0].0), "the one-second animation loops: {sent:?}");
-    harness.get_by_label("pause").click();
-    harness.step();
-    harness.step();
+    assert!((8..=16).contains(&sent.len()), "{} sends: {sent:?}", sent.len());
+    assert!(sent.windows(2).all(|w| w[1].0 > w[0].0 && w[1].1 == 0), "{sent:?}");
+    assert!((sent.last().unwrap().0 - 0.2).abs() < 1e-6, "the time the slider rests at goes last: {sent:?}");
+}
+
+#[test]
+fn playing_starts_the_scene_clock_once_and_the_slider_follows_the_frames() {
+    let (mut harness, mut remote) = viewer();
+    remote.events.send(animated()).unwrap();
+    harness.run();
     requests(&mut remote);
+    harness.get_by_label("play").click();
+    harness.run();
+    assert_eq!(requests(&mut remote), [Request::Clock(json!({ "playing": true, "animation": 0, "time": 0.0 }))]);
+    // The clock plays on the server: frames bring its time, and the viewer sends nothing.
+    remote.events.send(frame_at(0.6)).unwrap();
     for _ in 0..10 {
         harness.step();
     }
-    assert_eq!(times(requests(&mut remote)), [], "paused, nothing more goes");
+    assert_eq!(requests(&mut remote), []);
+    harness.get_by_label("pause").click();
+    harness.run();
+    assert_eq!(requests(&mut remote), [Request::Clock(json!({ "playing": false, "animation": 0 }))]);
+    harness.get_by_label("play").click();
+    harness.run();
+    let sent = times(requests(&mut remote));
+    let [(seconds, 0)] = sent.as_slice() else { panic!("one clock change of animation 0, got {sent:?}") };
+    assert!((seconds - 0.6).abs() < 1e-6, "playing again starts where the frames showed it: {seconds}");
+    // Another client paused the clock: the server's word stands.
+    remote.events.send(Event::Clock(Clock { animation: json!(0), time: 0.3, playing: false })).unwrap();
+    harness.run();
+    assert!(harness.query_by_label("play").is_some() && harness.query_by_label("pause").is_none());
 }

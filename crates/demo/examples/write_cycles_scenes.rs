@@ -1,8 +1,10 @@
 //! Writes the scenes Blender's Cycles is the reference for into the folder given, as
 //! `NAME.gltf`: the Cornell box with rough dielectric walls (`cornell_box.gltf`, see
-//! `raystage_demo::cornell_box::rough_dielectric_gltf`) and `MaterialScene::CYCLES`.
+//! `raystage_demo::cornell_box::rough_dielectric_gltf`), `MaterialScene::CYCLES`, and the
+//! animated assets wrapped with their cameras (`NAME.glb`, `AnimatedAsset::ALL`).
 //! `scripts/references/cycles_gltf.py` renders them; `tests/cycles_reference.rs` compares.
 
+use raystage_demo::animated_assets::AnimatedAsset;
 use raystage_demo::material_scenes::MaterialScene;
 
 fn main() -> std::io::Result<()> {
@@ -15,6 +17,9 @@ fn main() -> std::io::Result<()> {
     std::fs::write(folder.join("cornell_box.gltf"), raystage_demo::cornell_box::rough_dielectric_gltf())?;
     for scene in MaterialScene::CYCLES {
         std::fs::write(folder.join(format!("{}.gltf", scene.name())), scene.gltf())?;
+    }
+    for asset in AnimatedAsset::ALL {
+        std::fs::write(folder.join(format!("{}.glb", asset.name())), asset.glb())?;
     }
     Ok(())
 }

@@ -11,6 +11,7 @@
 //! Not in here: acceleration structures, shading arithmetic, frame loops.
 
 pub mod animated;
+pub mod animated_assets;
 pub mod cornell_box;
 pub mod image_compare;
 pub mod material_scenes;

@@ -379,10 +379,7 @@ impl Document {
     /// A perspective camera at `eye` looking at `target` (+y up), with vertical field of view
     /// `yfov` radians.
     fn camera(&mut self, eye: Vec3, target: Vec3, yfov: f32, aspect: f32) {
-        // glTF cameras look down their −z with +y up.
-        let back = (eye - target).normalize();
-        let right = Vec3::Y.cross(back).normalize();
-        let rotation = Quat::from_mat3(&Mat3::from_cols(right, back.cross(right), back));
+        let rotation = look_at(eye, target);
         self.cameras.push(json!({ "type": "perspective", "perspective": { "yfov": yfov, "aspectRatio": aspect, "znear": 0.01 } }));
         self.nodes.push(json!({ "name": "camera", "camera": self.cameras.len() - 1, "translation": eye.to_array(), "rotation": rotation.to_array() }));
     }
@@ -411,6 +408,14 @@ impl Document {
         }
         serde_json::to_string_pretty(&document).expect("JSON values serialise")
     }
+}
+
+/// The rotation of a glTF camera node at `eye` that looks at `target` with +y up (glTF cameras
+/// look down their −z with +y up).
+pub(crate) fn look_at(eye: Vec3, target: Vec3) -> Quat {
+    let back = (eye - target).normalize();
+    let right = Vec3::Y.cross(back).normalize();
+    Quat::from_mat3(&Mat3::from_cols(right, back.cross(right), back))
 }
 
 /// The vertex colour at `p` on the unit sphere: a hue that turns once around the z axis (the

@@ -2,6 +2,8 @@
 //! tests. Its nodes are [`crate::wide`]'s; its leaves are blocks of up to eight triangles stored
 //! as structure of arrays and tested against the ray all at once.
 
+use std::mem::MaybeUninit;
+
 use rayon::prelude::*;
 
 use crate::aabb::Aabb;
@@ -29,13 +31,12 @@ pub(crate) struct TriBlock {
 }
 
 impl TriBlock {
-    /// A block to fill.
-    const EMPTY: TriBlock = TriBlock { v: [[0.0; WIDTH]; 9], prim: [0; WIDTH] };
-
-    /// Gathers triangles `prims` (lanes past the last repeating it) into the block, in place
-    /// (a block built elsewhere and copied in is read back before its stores have settled), and
-    /// returns the box around them.
-    fn fill(&mut self, tris: &(impl TriangleSource + ?Sized), prims: &[u32]) -> Aabb {
+    /// Writes triangles `prims` (lanes past the last repeating it) into `block`, in place (a block
+    /// built elsewhere and copied in is read back before its stores have settled), and returns the
+    /// box around them. Every field is written, so the block's storage need not be initialised
+    /// first: a fresh tree's blocks are written once, by the threads that fill them, instead of
+    /// cleared by one thread and then overwritten.
+    fn fill(block: &mut MaybeUninit<TriBlock>, tris: &(impl TriangleSource + ?Sized), prims: &[u32]) -> Aabb {
         debug_assert!(!prims.is_empty() && prims.len() <= WIDTH);
         let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
         let last = prims.len() - 1;
@@ -43,17 +44,21 @@ impl TriBlock {
         for (lane, prim) in lanes.iter_mut().enumerate() {
             *prim = prims[lane.min(last)];
         }
+        let out = block.as_mut_ptr();
         for (lane, &prim) in lanes.iter().enumerate() {
             let tri = tris.triangle(prim);
             for (vertex, p) in tri.iter().enumerate() {
                 for (axis, c) in p.to_array().into_iter().enumerate() {
-                    self.v[3 * vertex + axis][lane] = c;
+                    // SAFETY: `out` points to the block's storage; plain floats are written to it
+                    // field by field, no reference to the uninitialised block is made.
+                    unsafe { (*out).v[3 * vertex + axis][lane] = c };
                     lo[axis] = lo[axis].min(c);
                     hi[axis] = hi[axis].max(c);
                 }
             }
         }
-        self.prim = lanes;
+        // SAFETY: as above; with this, every field has been written.
+        unsafe { (*out).prim = lanes };
         Aabb { min: glam::Vec3::from_array(lo), max: glam::Vec3::from_array(hi) }
     }
 
@@ -71,40 +76,44 @@ const FILL_RUN: usize = 256;
 /// How many blocks ahead the vertices of a block are prefetched (and twice that, its indices).
 const PREFETCH_BLOCKS: usize = 2;
 
-/// Fills every block `i` of `blocks` with the triangles `prims[first..first + count]`, where
-/// `(first, count) = ranges(i)` (see [`TriBlock::fill`]), putting each block's box in
-/// `bounds[i]` if asked. The triangles are gathered in tree order, at random in memory, so each
-/// run of blocks prefetches the indices and then the vertices of the blocks a little ahead of
-/// the one it fills.
-fn fill_blocks<T, R>(blocks: &mut [TriBlock], tris: &T, prims: &[u32], ranges: R, bounds: Option<&mut [Aabb]>)
+/// Makes `blocks` the `len` blocks where block `i` holds the triangles `prims[first..first +
+/// count]`, `(first, count) = ranges(i)` (see [`TriBlock::fill`]), reusing its storage, and puts
+/// each block's box in `bounds[i]` if asked. The triangles are gathered in tree order, at random
+/// in memory, so each run of blocks prefetches the indices and then the vertices of the blocks a
+/// little ahead of the one it fills.
+fn fill_blocks<T, R>(blocks: &mut Vec<TriBlock>, len: usize, tris: &T, prims: &[u32], ranges: R, bounds: Option<&mut [Aabb]>)
 where
     T: TriangleSource + ?Sized,
     R: Fn(usize) -> (usize, usize) + Sync,
 {
+    blocks.clear();
+    blocks.reserve(len);
+    let filled = &mut blocks.spare_capacity_mut()[..len];
     let of = |i: usize| {
         let (first, count) = ranges(i);
         &prims[first..first + count]
     };
-    let total = blocks.len();
-    let fill_run = |run: usize, blocks: &mut [TriBlock], mut bounds: Option<&mut [Aabb]>| {
+    let fill_run = |run: usize, blocks: &mut [MaybeUninit<TriBlock>], mut bounds: Option<&mut [Aabb]>| {
         let first = run * FILL_RUN;
         for (j, block) in blocks.iter_mut().enumerate() {
             let i = first + j;
             for (ahead, vertices) in [(2 * PREFETCH_BLOCKS, false), (PREFETCH_BLOCKS, true)] {
-                if i + ahead < total {
+                if i + ahead < len {
                     of(i + ahead).iter().for_each(|&p| tris.prefetch(p, vertices));
                 }
             }
-            let b = block.fill(tris, of(i));
+            let b = TriBlock::fill(block, tris, of(i));
             if let Some(bounds) = bounds.as_deref_mut() {
                 bounds[j] = b;
             }
         }
     };
     match bounds {
-        Some(bounds) => blocks.par_chunks_mut(FILL_RUN).zip(bounds.par_chunks_mut(FILL_RUN)).enumerate().for_each(|(run, (b, out))| fill_run(run, b, Some(out))),
-        None => blocks.par_chunks_mut(FILL_RUN).enumerate().for_each(|(run, b)| fill_run(run, b, None)),
+        Some(bounds) => filled.par_chunks_mut(FILL_RUN).zip(bounds.par_chunks_mut(FILL_RUN)).enumerate().for_each(|(run, (b, out))| fill_run(run, b, Some(out))),
+        None => filled.par_chunks_mut(FILL_RUN).enumerate().for_each(|(run, b)| fill_run(run, b, None)),
     }
+    // SAFETY: `TriBlock::fill` wrote every one of the first `len` blocks, each run its own.
+    unsafe { blocks.set_len(len) };
 }
 
 /// Shape figures of a wide BVH, for tuning and for the benchmark report.
@@ -122,6 +131,10 @@ pub struct Bvh8Stats {
     pub mean_children: f32,
     /// Bytes of node and leaf storage.
     pub bytes: usize,
+    /// The tree's surface-area cost: the summed surface area of every child box (inner node or
+    /// leaf block) over the area of the tree's box, the number of child boxes a random ray
+    /// through the tree's box enters (the SAH with unit costs). Lower is better.
+    pub sah_cost: f32,
 }
 
 /// An 8-wide BVH that owns a copy of its triangles. Queries take only the ray.
@@ -164,7 +177,7 @@ impl Bvh8 {
     fn collapsed(bvh2: &Bvh2, tris: &(impl TriangleSource + ?Sized), (mut nodes, mut blocks): (Vec<Node8>, Vec<TriBlock>)) -> Bvh8 {
         // Every binary leaf becomes one block; every wide node consumes at least one binary inner
         // node, so the binary counts bound both arrays and they never reallocate.
-        let leaves = bvh2.nodes.iter().filter(|n| matches!(n.kind(), Node2Kind::Leaf { .. })).count();
+        let leaves = bvh2.nodes.par_iter().with_min_len(4096).filter(|n| matches!(n.kind(), Node2Kind::Leaf { .. })).count();
         let inner = bvh2.nodes.len() - leaves;
         nodes.clear();
         if nodes.capacity() < inner {
@@ -180,8 +193,7 @@ impl Bvh8 {
         });
         // Gathering the triangles into blocks reads the vertices in tree order, at random in
         // memory: done in parallel, it is no longer the slowest part of a fast build.
-        blocks.resize(ranges.len(), TriBlock::EMPTY);
-        fill_blocks(&mut blocks, tris, &bvh2.prims, |i| (ranges[i].0 as usize, ranges[i].1 as usize), None);
+        fill_blocks(&mut blocks, ranges.len(), tris, &bvh2.prims, |i| (ranges[i].0 as usize, ranges[i].1 as usize), None);
         let bounds = bvh2.bounds();
         Bvh8 {
             built_cost: box_cost(&wide.nodes, &bounds),
@@ -317,7 +329,7 @@ impl Bvh8 {
         let mut leaf_bounds = vec![Aabb::EMPTY; self.blocks.len()];
         // The blocks' own triangles, lanes as they are (the last repeated to fill a block).
         let prims: Vec<u32> = self.blocks.iter().flat_map(|b| b.prim).collect();
-        fill_blocks(&mut self.blocks, tris, &prims, |i| (WIDTH * i, WIDTH), Some(&mut leaf_bounds));
+        fill_blocks(&mut self.blocks, prims.len() / WIDTH, tris, &prims, |i| (WIDTH * i, WIDTH), Some(&mut leaf_bounds));
         if self.root == EMPTY {
             return 0.0;
         }
@@ -363,6 +375,7 @@ impl Bvh8 {
             depth: self.depth,
             mean_children: used as f32 / self.nodes.len().max(1) as f32,
             bytes: self.nodes.len() * size_of::<Node8>() + self.blocks.len() * size_of::<TriBlock>(),
+            sah_cost: box_cost(&self.nodes, &self.bounds),
         }
     }
 }

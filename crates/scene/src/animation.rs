@@ -350,6 +350,18 @@ pub struct Pose {
     pub vertices: Vec<Vertices>,
 }
 
+/// A rig's nodes at a time, what [`Rig::pose_evaluated`] places instances and deforms meshes
+/// from: every node's world matrix and morph weights.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Evaluated {
+    /// The time, seconds.
+    time: f32,
+    /// Each node's world matrix.
+    world: Vec<Mat4>,
+    /// Each node's morph weights.
+    weights: Vec<Vec<f32>>,
+}
+
 /// A deformed object's vertices at a time.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Vertices {
@@ -416,6 +428,13 @@ impl Rig {
     /// deformed mesh's vertices. Fails for a clip that is not there, a time that is not finite,
     /// or a node whose world matrix is singular there (a node scaled to zero).
     pub fn pose(&self, play: Play, time: f32) -> Result<Pose, SceneError> {
+        self.pose_evaluated(&self.evaluate(play, time)?)
+    }
+
+    /// The animation's part of [`Rig::pose`]: the channels `play` names sampled at `time`
+    /// seconds, the hierarchy's world matrices and the morph weights. Fails for a clip that is
+    /// not there or a time that is not finite.
+    pub fn evaluate(&self, play: Play, time: f32) -> Result<Evaluated, SceneError> {
         if !time.is_finite() {
             return Err(invalid("time", format!("{time} is not finite")));
         }
@@ -447,6 +466,14 @@ impl Rig {
         for (node, local) in self.nodes.iter().zip(&locals) {
             world.push(node.parent.map_or(Mat4::IDENTITY, |p| world[p]) * local.matrix());
         }
+        Ok(Evaluated { time, world, weights })
+    }
+
+    /// The meshes' part of [`Rig::pose`]: the instance transforms and the skinned and morphed
+    /// vertices of the nodes as `evaluated` has them. Fails for a node whose world matrix is
+    /// singular (a node scaled to zero).
+    pub fn pose_evaluated(&self, evaluated: &Evaluated) -> Result<Pose, SceneError> {
+        let Evaluated { time, world, weights } = evaluated;
         let mut pose = Pose::default();
         for (k, node) in self.nodes.iter().enumerate().filter(|(_, n)| !n.instances.is_empty()) {
             let affine = validate_transform("node transform", Affine3A::from_mat4(world[k]))
@@ -544,6 +571,12 @@ impl Scene {
         Ok(())
     }
 
+    /// What animates the scene, if anything does: to pose it in steps (see
+    /// [`Scene::set_pose`]).
+    pub fn rig(&self) -> Option<&Rig> {
+        self.rig.as_deref()
+    }
+
     /// The scene's animations: name, duration, channel count (none for a scene without).
     pub fn animations(&self) -> Vec<AnimationInfo> {
         self.rig.as_ref().map(|r| r.animations()).unwrap_or_default()
@@ -558,6 +591,19 @@ impl Scene {
         let Some(rig) = self.rig.clone() else { return Ok(()) };
         let end: std::collections::HashMap<InstanceId, Affine3A> = if close == open { Default::default() } else { rig.pose(play, close)?.transforms.into_iter().collect() };
         let start = rig.pose(play, open)?;
+        self.apply_pose(play, open, start, &end)
+    }
+
+    /// Poses the scene as [`Scene::pose`] does with `pose`, which the scene's rig made at `time`
+    /// seconds of `play` ([`Rig::pose`], or [`Rig::evaluate`] then [`Rig::pose_evaluated`]):
+    /// for a caller that times the steps apart.
+    pub fn set_pose(&mut self, play: Play, time: f32, pose: Pose) -> Result<(), SceneError> {
+        self.apply_pose(play, time, pose, &Default::default())
+    }
+
+    /// Sets the instance transforms and vertices of `start`, each instance moving to its
+    /// transform in `end` over the shutter where it has one there.
+    fn apply_pose(&mut self, play: Play, open: f32, start: Pose, end: &std::collections::HashMap<InstanceId, Affine3A>) -> Result<(), SceneError> {
         for (instance, transform) in start.transforms {
             // An instance that does not move over the interval has no motion to blur.
             self.set_motion(instance, transform, end.get(&instance).copied().filter(|e| *e != transform))?;
@@ -719,6 +765,28 @@ mod tests {
         // At rest (time 0) nothing moves.
         let rest = rig.pose(Play::Clip(0), 0.0).unwrap();
         assert!(rest.vertices[0].positions.iter().zip(&rig.deformers[0].positions).all(|(a, b)| a.abs_diff_eq(*b, 1e-6)));
+    }
+
+    #[test]
+    fn posing_in_steps_poses_as_posing_at_once() {
+        let rig = bent_arm([[1.0, 0.0]; 5].concat());
+        let evaluated = rig.evaluate(Play::Clip(0), 0.5).unwrap();
+        assert_eq!(rig.pose_evaluated(&evaluated).unwrap(), rig.pose(Play::Clip(0), 0.5).unwrap());
+        let mut scene = Scene::new();
+        let object = scene.add_object(crate::ObjectKind::Unstructured, crate::Mesh::new(rig.deformers[0].positions.clone(), vec![[0, 1, 3], [1, 4, 3]])).unwrap();
+        scene.add_instance(object, Affine3A::IDENTITY).unwrap();
+        let mut rig = rig;
+        // The scene's mesh has no normals to pose.
+        (rig.deformers[0].object, rig.deformers[0].normals) = (object, Vec::new());
+        scene.set_rig(rig).unwrap();
+        let mut stepped = scene.clone();
+        scene.pose(Play::Clip(0), 0.5).unwrap();
+        let rig = stepped.rig().unwrap().clone();
+        let pose = rig.pose_evaluated(&rig.evaluate(Play::Clip(0), 0.5).unwrap()).unwrap();
+        stepped.set_pose(Play::Clip(0), 0.5, pose).unwrap();
+        assert_eq!(stepped.mesh(object).unwrap(), scene.mesh(object).unwrap());
+        assert_ne!(stepped.mesh(object).unwrap().positions, rig.deformers[0].positions, "the arm is bent at 0.5 s");
+        assert_eq!(stepped.posed(), scene.posed());
     }
 
     #[test]

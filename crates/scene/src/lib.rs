@@ -34,7 +34,7 @@ mod studio;
 mod tangents;
 mod texture;
 
-pub use animation::{AnimationChoice, AnimationInfo, Binding, Channel, Clip, Deformer, Interpolation, Keyframes, Local, MorphTarget, Node, Play, Pose, Rig, Skin, Target, Vertices};
+pub use animation::{AnimationChoice, AnimationInfo, Binding, Channel, Clip, Deformer, Evaluated, Interpolation, Keyframes, Local, MorphTarget, Node, Play, Pose, Rig, Skin, Target, Vertices};
 pub use camera::{Camera, CameraRays, Projection};
 pub use error::SceneError;
 pub use frame::{Frame, FrameWork, PreviewAttributes, PreviewPoint, SceneHit, SurfacePoint, WorldTriangle};

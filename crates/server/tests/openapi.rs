@@ -129,3 +129,22 @@ fn every_frame_setting_is_described_wherever_the_api_takes_one() {
         assert!(message.contains_key(stream), "the settings message does not describe `{stream}`");
     }
 }
+
+/// The request examples in the description are requests the server takes, so that clients and
+/// generated tests (schemathesis's examples phase) have a valid mesh and a valid batch to start
+/// from: indices that name vertices, a label used after it is defined, relations no schema
+/// states.
+#[tokio::test]
+async fn the_description_s_request_examples_are_accepted() {
+    let app = app();
+    let description = ok(&app, "GET", "/openapi.json", json!(null), StatusCode::OK).await;
+    let schemas = &description["components"]["schemas"];
+    for (schema, route, status) in [("ObjectBody", "objects", StatusCode::CREATED), ("Commands", "commands", StatusCode::OK)] {
+        let example = schemas[schema]["example"].clone();
+        assert!(example.is_object(), "{schema} has no example");
+        let s = new_scene(&app).await;
+        ok(&app, "POST", &format!("/scenes/{s}/{route}"), example, status).await;
+        let info = ok(&app, "GET", &format!("/scenes/{s}"), json!(null), StatusCode::OK).await;
+        assert_eq!(info["triangles"], 2, "{schema}'s example builds its quad: {info}");
+    }
+}

@@ -4,8 +4,8 @@
 //! with the lowest surface-area-heuristic cost is chosen, and the primitive references are
 //! partitioned in place; nodes of a few primitives are split by an exact sweep instead. Large
 //! nodes bin in parallel and both halves of a split are built as independent rayon tasks, each
-//! into its own node vector that the parent splices in; small subtrees run sequentially so that
-//! no task is smaller than a few thousand primitives.
+//! subtree of a few thousand primitives into its own node vector, put together with the others
+//! once at the end; small subtrees run sequentially so that no task is smaller than that.
 
 use glam::Vec4;
 use rayon::prelude::*;
@@ -14,9 +14,13 @@ use super::{BuildOptions, Growing, MAX_BINS, PrimRef, SetBounds, splice};
 use crate::aabb::Aabb;
 use crate::bvh2::Node2;
 
-/// Builds the tree over `refs` (reordered in place into leaf order); root at index 0.
+/// Builds the tree over `refs` (reordered in place into leaf order); root at index 0, nodes in
+/// depth-first order.
 pub(super) fn build(refs: &mut [PrimRef], set: SetBounds, opts: &BuildOptions) -> Vec<Node2> {
-    build_subtree(Task { refs, offset: 0, set, depth: 0 }, opts)
+    let part = build_part(Task { refs, offset: 0, set, depth: 0 }, opts);
+    let mut nodes = Vec::with_capacity(part.len());
+    part.flatten_into(&mut nodes);
+    nodes
 }
 
 /// Below this depth the builder stops looking for SAH splits and halves nodes at the object
@@ -40,13 +44,61 @@ struct Task<'a> {
     depth: u32,
 }
 
-fn build_subtree(task: Task<'_>, opts: &BuildOptions) -> Vec<Node2> {
-    let mut nodes = Vec::with_capacity(2 * task.refs.len() / opts.max_leaf_size + 1);
-    build_into(task, opts, &mut nodes);
-    nodes
+/// A subtree as the parallel tasks leave it: nodes built by one task into one vector, or an inner
+/// node whose halves were built by separate tasks. The parts are put together once, at the end:
+/// splicing each task's vector into its parent's, as the tasks returned, copied the top of the
+/// tree once per level, each time into fresh pages (5 % of the sphere scene's build on one
+/// thread).
+enum Part {
+    Nodes(Vec<Node2>),
+    Split { bounds: Aabb, halves: Box<(Part, Part)> },
 }
 
-/// Builds the subtree of `task` into `out` and returns its root index.
+impl Part {
+    /// Number of nodes.
+    fn len(&self) -> usize {
+        match self {
+            Part::Nodes(nodes) => nodes.len(),
+            Part::Split { halves, .. } => 1 + halves.0.len() + halves.1.len(),
+        }
+    }
+
+    /// Appends the part's nodes to `out` in depth-first order; returns its root's index.
+    fn flatten_into(self, out: &mut Vec<Node2>) -> u32 {
+        match self {
+            Part::Nodes(nodes) => splice(out, nodes),
+            Part::Split { bounds, halves } => {
+                let index = out.len();
+                out.push(Node2::leaf(bounds, 0, 0));
+                let (left, right) = *halves;
+                let l = left.flatten_into(out);
+                let r = right.flatten_into(out);
+                out[index] = Node2::inner(bounds, l, r);
+                index as u32
+            }
+        }
+    }
+}
+
+/// Builds the subtree of `task`, its halves as separate tasks while they are large.
+fn build_part(task: Task<'_>, opts: &BuildOptions) -> Part {
+    if task.refs.len() < PARALLEL_SUBTREES {
+        let mut nodes = Vec::with_capacity(2 * task.refs.len() / opts.max_leaf_size + 1);
+        build_into(task, opts, &mut nodes);
+        return Part::Nodes(nodes);
+    }
+    let bounds = task.set.geometry;
+    let (offset, count) = (task.offset, task.refs.len() as u32);
+    match split(task, opts) {
+        None => Part::Nodes(vec![Node2::leaf(bounds, offset, count)]),
+        Some((left, right)) => {
+            let halves = rayon::join(|| build_part(left, opts), || build_part(right, opts));
+            Part::Split { bounds, halves: Box::new(halves) }
+        }
+    }
+}
+
+/// Builds the subtree of `task` into `out` on this thread and returns its root index.
 fn build_into(task: Task<'_>, opts: &BuildOptions, out: &mut Vec<Node2>) -> u32 {
     let index = out.len();
     let bounds = task.set.geometry;
@@ -55,12 +107,8 @@ fn build_into(task: Task<'_>, opts: &BuildOptions, out: &mut Vec<Node2>) -> u32 
     let Some((left, right)) = split(task, opts) else {
         return index as u32;
     };
-    let (l, r) = if count as usize >= PARALLEL_SUBTREES {
-        let (ln, rn) = rayon::join(|| build_subtree(left, opts), || build_subtree(right, opts));
-        (splice(out, ln), splice(out, rn))
-    } else {
-        (build_into(left, opts, out), build_into(right, opts, out))
-    };
+    let l = build_into(left, opts, out);
+    let r = build_into(right, opts, out);
     out[index] = Node2::inner(bounds, l, r);
     index as u32
 }
@@ -136,35 +184,57 @@ impl BinMapping {
 
 type Bins = [[Bin; MAX_BINS]; 3];
 
+const _: () = assert!(MAX_BINS.is_power_of_two(), "bin indices are masked into range");
+
+/// Below this many references one set of bins is filled; from it, several (see [`bin_refs`]).
+const SEVERAL_BIN_SETS: usize = 256;
+
 /// Bins the references sequentially.
-fn bin_refs(refs: &[PrimRef], map: &BinMapping) -> Box<Bins> {
-    // Neighbouring references usually fall into the same bins (meshes are stored in spatial
-    // order), and then each update waits for the previous one to reach memory: alternating
-    // between two sets of bins halves that chain. On one thread it took the sphere scene's build
-    // from 0.76 s to 0.60 s, and the SIMD bin indices (`bins_of`) then to 0.46 s.
-    let mut sets = Box::new([[[Bin::EMPTY; MAX_BINS]; 3]; 2]);
+fn bin_refs(refs: &[PrimRef], map: &BinMapping) -> Bins {
+    if refs.len() < SEVERAL_BIN_SETS {
+        // A small node's bins would cost more to clear and merge several times than they save.
+        bin_in_sets::<1>(refs, map)
+    } else {
+        bin_in_sets::<SETS>(refs, map)
+    }
+}
+
+/// Sets of bins filled in turn by large nodes. Neighbouring references usually fall into the
+/// same bins (meshes are stored in spatial order), and then each update waits for the previous
+/// one to reach memory: taking turns between sets cuts that chain. On one thread two sets took
+/// the sphere scene's build from 0.76 s to 0.60 s, and the SIMD bin indices (`bins_of`) then to
+/// 0.46 s.
+const SETS: usize = 2;
+
+/// Bins the references into `K` sets of bins in turn, then merges them.
+fn bin_in_sets<const K: usize>(refs: &[PrimRef], map: &BinMapping) -> Bins {
+    // Masking the indices (already in range: `bins_of` clamps them) drops three bounds checks
+    // per reference.
     let add = |bins: &mut Bins, r: &PrimRef| {
         let b = map.bins_of(r);
         for axis in 0..3 {
-            let bin = &mut bins[axis][b[axis]];
+            let bin = &mut bins[axis][b[axis] & (MAX_BINS - 1)];
             bin.lo = bin.lo.min(r.lo);
             bin.hi = bin.hi.max(r.hi);
             bin.count += 1;
         }
     };
-    let pairs = refs.chunks_exact(2);
-    let rest = pairs.remainder();
-    for pair in pairs {
-        let [a, b] = &mut *sets;
-        add(a, &pair[0]);
-        add(b, &pair[1]);
+    let mut sets = [[[Bin::EMPTY; MAX_BINS]; 3]; K];
+    let groups = refs.chunks_exact(K);
+    let rest = groups.remainder();
+    for group in groups {
+        for (set, r) in sets.iter_mut().zip(group) {
+            add(set, r);
+        }
     }
-    if let Some(r) = rest.first() {
+    for r in rest {
         add(&mut sets[0], r);
     }
-    let [mut a, b] = *sets;
-    merge_bins(&mut a, &b);
-    Box::new(a)
+    let (first, others) = sets.split_first_mut().expect("at least one set");
+    for other in others.iter() {
+        merge_bins(first, other);
+    }
+    *first
 }
 
 /// Merges the bins of `b` into `a`.
@@ -176,7 +246,7 @@ fn merge_bins(a: &mut Bins, b: &Bins) {
     }
 }
 
-fn bin_all(refs: &[PrimRef], map: &BinMapping) -> Box<Bins> {
+fn bin_all(refs: &[PrimRef], map: &BinMapping) -> Bins {
     if refs.len() < PARALLEL_BINNING {
         return bin_refs(refs, map);
     }
@@ -189,6 +259,35 @@ fn bin_all(refs: &[PrimRef], map: &BinMapping) -> Box<Bins> {
         .expect("at least one chunk")
 }
 
+/// The SAH cost of a leaf of `count` primitives: up to `max_leaf_size` of them are tested at once
+/// (one 8-lane block of triangles, or one box of a box tree), so it counts such groups. Evaluated
+/// for every candidate split; a power-of-two leaf size (the default 8) makes the group count a
+/// shift instead of a division (with the bins on the stack, a sixth off the sphere scene's build
+/// on one thread).
+#[derive(Clone, Copy)]
+struct LeafCost {
+    intersection_cost: f32,
+    max_leaf_size: u32,
+    /// `log2(max_leaf_size)` when it is a power of two.
+    shift: Option<u32>,
+}
+
+impl LeafCost {
+    fn new(opts: &BuildOptions) -> LeafCost {
+        let size = opts.max_leaf_size as u32;
+        LeafCost { intersection_cost: opts.intersection_cost, max_leaf_size: size, shift: size.is_power_of_two().then(|| size.trailing_zeros()) }
+    }
+
+    #[inline(always)]
+    fn of(&self, count: u32) -> f32 {
+        let groups = match self.shift {
+            Some(shift) => (count + (self.max_leaf_size - 1)) >> shift,
+            None => count.div_ceil(self.max_leaf_size),
+        };
+        self.intersection_cost * groups as f32
+    }
+}
+
 /// The best split found: axis, where the right side starts (a bin for binning, a position in
 /// centroid order for a sweep), and SAH cost (in units of `intersection_cost × parent area`,
 /// without the traversal term).
@@ -198,7 +297,7 @@ struct BinSplit {
     cost: f32,
 }
 
-fn best_bin_split(bins: &Bins, n_bins: usize, map: &BinMapping, leaf_cost: impl Fn(u32) -> f32) -> Option<BinSplit> {
+fn best_bin_split(bins: &Bins, n_bins: usize, map: &BinMapping, leaf_cost: LeafCost) -> Option<BinSplit> {
     let mut best: Option<BinSplit> = None;
     for (axis, row) in bins.iter().enumerate() {
         if map.scale[axis] == 0.0 {
@@ -211,7 +310,7 @@ fn best_bin_split(bins: &Bins, n_bins: usize, map: &BinMapping, leaf_cost: impl 
         let mut acc = Bin::EMPTY;
         for i in (1..n_bins).rev() {
             acc = acc.merge(row[i]);
-            right_cost[i] = acc.area() * leaf_cost(acc.count);
+            right_cost[i] = acc.area() * leaf_cost.of(acc.count);
             right_count[i] = acc.count;
         }
         let mut left = Bin::EMPTY;
@@ -220,7 +319,7 @@ fn best_bin_split(bins: &Bins, n_bins: usize, map: &BinMapping, leaf_cost: impl 
             if left.count == 0 || right_count[pos] == 0 {
                 continue;
             }
-            let cost = left.area() * leaf_cost(left.count) + right_cost[pos];
+            let cost = left.area() * leaf_cost.of(left.count) + right_cost[pos];
             if best.as_ref().is_none_or(|b| cost < b.cost) {
                 best = Some(BinSplit { axis, pos, cost });
             }
@@ -232,7 +331,7 @@ fn best_bin_split(bins: &Bins, n_bins: usize, map: &BinMapping, leaf_cost: impl 
 /// The exact best SAH split of a few primitives: along each axis, sorted by centroid, every
 /// position between two primitives is evaluated. `pos` is the size of the left side; the keys
 /// returned are the split axis's sort keys, whose low halves are the indices of `refs` in order.
-fn best_sweep_split(refs: &[PrimRef], leaf_cost: impl Fn(u32) -> f32) -> Option<(BinSplit, [u64; SWEEP_BELOW])> {
+fn best_sweep_split(refs: &[PrimRef], leaf_cost: LeafCost) -> Option<(BinSplit, [u64; SWEEP_BELOW])> {
     let n = refs.len();
     debug_assert!(n <= SWEEP_BELOW);
     let mut best: Option<(BinSplit, [u64; SWEEP_BELOW])> = None;
@@ -254,13 +353,13 @@ fn best_sweep_split(refs: &[PrimRef], leaf_cost: impl Fn(u32) -> f32) -> Option<
         let (mut lo, mut hi) = (Vec4::INFINITY, Vec4::NEG_INFINITY);
         for i in (1..n).rev() {
             (lo, hi) = (lo.min(at(i).lo), hi.max(at(i).hi));
-            right_cost[i] = box_area(lo, hi) * leaf_cost((n - i) as u32);
+            right_cost[i] = box_area(lo, hi) * leaf_cost.of((n - i) as u32);
         }
         let (mut lo, mut hi) = (Vec4::INFINITY, Vec4::NEG_INFINITY);
         let mut best_pos = None;
         for (pos, &right) in right_cost[..n].iter().enumerate().skip(1) {
             (lo, hi) = (lo.min(at(pos - 1).lo), hi.max(at(pos - 1).hi));
-            let cost = box_area(lo, hi) * leaf_cost(pos as u32) + right;
+            let cost = box_area(lo, hi) * leaf_cost.of(pos as u32) + right;
             if cost < best_cost {
                 (best_cost, best_pos) = (cost, Some(pos));
             }
@@ -292,20 +391,18 @@ fn split<'a>(task: Task<'a>, opts: &BuildOptions) -> Option<(Task<'a>, Task<'a>)
         return None;
     }
     let fits_leaf = n <= opts.max_leaf_size;
-    // Up to `max_leaf_size` primitives are tested at once (one 8-lane block of triangles, or one
-    // box of a box tree), so the leaf cost counts such groups.
-    let leaf_cost = |count: u32| opts.intersection_cost * count.div_ceil(opts.max_leaf_size as u32) as f32;
+    let leaf_cost = LeafCost::new(opts);
     if task.depth >= SAH_DEPTH_LIMIT {
         return (!fits_leaf).then(|| median_split(task));
     }
     // A split costs at least the traversal step: a node that fits a leaf whose test costs no more
     // is a leaf without looking at its primitives. With the default costs that is every node of
     // at most `max_leaf_size`; sweeping them took the sphere scene's build from 0.36 s to 0.39 s.
-    if fits_leaf && opts.traversal_cost >= leaf_cost(n as u32) {
+    if fits_leaf && opts.traversal_cost >= leaf_cost.of(n as u32) {
         return None;
     }
     let area = task.set.geometry.area().max(f32::MIN_POSITIVE);
-    let worth_splitting = |cost: f32| !fits_leaf || opts.traversal_cost + cost / area < leaf_cost(n as u32);
+    let worth_splitting = |cost: f32| !fits_leaf || opts.traversal_cost + cost / area < leaf_cost.of(n as u32);
     let (mid, sides) = if n <= SWEEP_BELOW {
         // Few primitives: sorting them is cheaper than binning and finds the exact best plane.
         let Some((best, keys)) = best_sweep_split(task.refs, leaf_cost) else {
@@ -392,4 +489,52 @@ fn median_split(task: Task<'_>) -> (Task<'_>, Task<'_>) {
     let mid = task.refs.len() / 2;
     task.refs.select_nth_unstable_by(mid, |a, b| a.centroid2()[axis].total_cmp(&b.centroid2()[axis]));
     halves(task, mid, None)
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use crate::build::{BuildOptions, build};
+    use crate::bvh2::{Node2, Node2Kind};
+
+    /// Small triangles on a jittered grid, enough of them for parallel binning and tasks.
+    fn grid(n: u32) -> Vec<[Vec3; 3]> {
+        (0..n * n)
+            .map(|i| {
+                let (x, y) = ((i % n) as f32, (i / n) as f32);
+                let z = (i.wrapping_mul(2_654_435_761) >> 20) as f32 / 4096.0;
+                let p = Vec3::new(x, y, z);
+                [p, p + Vec3::new(0.9, 0.1, 0.0), p + Vec3::new(0.2, 0.8, 0.3)]
+            })
+            .collect()
+    }
+
+    /// Checks that the subtree at `index` is laid out depth-first (each inner node followed by its
+    /// left subtree, then its right); returns the index just past it.
+    fn depth_first(nodes: &[Node2], index: usize) -> usize {
+        match nodes[index].kind() {
+            Node2Kind::Leaf { .. } => index + 1,
+            Node2Kind::Inner { left, right } => {
+                assert_eq!(left as usize, index + 1, "left child of node {index} follows it");
+                let end = depth_first(nodes, index + 1);
+                assert_eq!(right as usize, end, "right child of node {index} follows its left subtree");
+                depth_first(nodes, end)
+            }
+        }
+    }
+
+    #[test]
+    fn parallel_parts_make_one_depth_first_tree_whatever_the_threads() {
+        let tris = grid(300);
+        let on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
+            pool.install(|| build(&tris, &BuildOptions::default()))
+        };
+        let one = on(1);
+        assert_eq!(depth_first(&one.nodes, 0), one.nodes.len(), "every node is reached once");
+        let three = on(3);
+        assert_eq!(format!("{:?}", one.nodes), format!("{:?}", three.nodes));
+        assert_eq!(one.prims, three.prims);
+    }
 }

@@ -17,6 +17,10 @@ use crate::model::transform::Transform;
 /// A new object (`POST /scenes/{scene}/objects`, batch `add_object`).
 #[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
+// An example whose indices name its vertices: the relation no schema states, so that clients
+// and generated tests (schemathesis's examples) have a mesh the server takes.
+#[schema(example = json!({ "label": "quad", "kind": "static", "mesh": {
+    "positions": [[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]], "indices": [[0, 1, 2], [0, 2, 3]] } }))]
 pub struct ObjectBody {
     /// In a batch, a name later commands can use for this object instead of its id.
     pub label: Option<String>,
@@ -297,6 +301,11 @@ impl Command {
 /// so a batch changes everything it says or nothing.
 #[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
+// A batch that builds what it uses: a mesh, then an instance of it by its label.
+#[schema(example = json!({ "commands": [
+    { "add_object": { "label": "quad", "mesh": { "positions": [[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]], "indices": [[0, 1, 2], [0, 2, 3]] } } },
+    { "add_instance": { "object": "quad", "transform": { "translate": [0, 1, 0] } } }
+] }))]
 pub struct Commands {
     /// The edits, applied in order.
     pub commands: Vec<Command>,
