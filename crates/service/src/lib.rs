@@ -33,7 +33,7 @@ mod workers;
 
 pub use budget::{CancelOnDrop, on_a_turn, within_budget};
 pub use build::{SceneBuild, SceneStart};
-pub use clock::{Clock, ClockChange, ClockState};
+pub use clock::{ClockChange, ClockState};
 pub use config::{Config, Limits, Refused, usable_memory};
 pub use edit::{Applied, Blob, Edit, unknown_texture};
 pub use error::{Error, ErrorDetail, ErrorKind, Result};

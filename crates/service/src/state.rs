@@ -11,7 +11,7 @@ use raystage_scene::{Play, Scene};
 use tokio::sync::{OwnedSemaphorePermit, Semaphore, watch};
 
 use crate::build::SceneBuild;
-use crate::clock::{Clock, ClockState, TICK};
+use crate::clock::{Clock, ClockChange, ClockState, TICK};
 use crate::config::{Config, Limits};
 use crate::edit::{Applied, Edit, apply};
 use crate::error::{Error, Result};
@@ -387,7 +387,7 @@ impl SceneSlot {
     /// Sets the clock to `time` (held within the animation) of `play` (`scene` says how long
     /// that lasts), keeping whether it plays, its rate and looping, then lets `change` change
     /// it further; a scene without a clock gets a paused one.
-    pub fn set_clock(&self, scene: &Scene, play: Play, time: f64, change: impl FnOnce(&mut Clock)) -> ClockState {
+    fn set_clock(&self, scene: &Scene, play: Play, time: f64, change: impl FnOnce(&mut Clock)) -> ClockState {
         let animations = scene.animations();
         let duration = match play {
             Play::Clip(k) => animations.get(k).map_or(0.0, |a| a.duration),
@@ -402,6 +402,32 @@ impl SceneSlot {
         clock.set(f64::from(time as f32).min(clock.duration), now);
         change(clock);
         clock.state(now)
+    }
+
+    /// Changes the clock as `change` says: fields left out stay (a new clock starts paused at
+    /// 0 s of the first animation, at rate 1, looping). The scene is posed at the clock's time
+    /// at once, which checks the animation (unprocessable for a scene without animations).
+    pub async fn change_clock(self: &Arc<Self>, state: &AppState, change: ClockChange) -> Result<ClockState> {
+        change.check()?;
+        let current = self.clock();
+        let time = change.time.or(current.as_ref().map(|c| c.time)).unwrap_or(0.0);
+        let animation = change.animation.clone().or(current.map(|c| c.animation));
+        // Posing checks the animation and moves the scene to the time now.
+        self.commands(state, vec![Command::SetTime(SetTime { seconds: time, animation })], false).await?;
+        let (scene, _) = self.snapshot().await;
+        let (play, _) = scene.posed().ok_or_else(|| Error::internal("a scene just posed has no pose"))?;
+        Ok(self.set_clock(&scene, play, time, |clock| {
+            if let Some(rate) = change.rate {
+                clock.rate = rate;
+            }
+            if let Some(looping) = change.looping {
+                clock.looping = looping;
+            }
+            if let Some(playing) = change.playing {
+                clock.playing = playing;
+            }
+            clock.last_tick = None;
+        }))
     }
 
     /// The clock now (`None` before the scene was first posed or its clock set).

@@ -1,10 +1,9 @@
 //! `/scenes/{scene}/animations`: the animations a glTF file brought, which the batch command
 //! `set_time` poses; `/scenes/{scene}/clock`: the clock that plays them (see
-//! [`raystage_service::Clock`]).
+//! [`raystage_service::SceneSlot::change_clock`]).
 
 use axum::Json;
 use axum::extract::State;
-use raystage_service::model::{Command, SetTime};
 use raystage_service::{AppState, ClockChange, ClockState, Error};
 use serde::Serialize;
 use utoipa::ToSchema;
@@ -75,26 +74,5 @@ pub(crate) async fn clock(target: Target) -> ApiResult<Json<ClockState>> {
         (status = 422, description = "A value is not acceptable: the error names the field", body = ErrorBody),
     ))]
 pub(crate) async fn set_clock(State(state): State<AppState>, target: Target, JsonBody(change): JsonBody<ClockChange>) -> ApiResult<Json<ClockState>> {
-    change.check()?;
-    let slot = &target.scene;
-    let current = slot.clock();
-    let time = change.time.or(current.as_ref().map(|c| c.time)).unwrap_or(0.0);
-    let animation = change.animation.clone().or(current.map(|c| c.animation));
-    // Posing checks the animation and moves the scene to the time now.
-    slot.commands(&state, vec![Command::SetTime(SetTime { seconds: time, animation })], false).await?;
-    let (scene, _) = slot.snapshot().await;
-    let (play, _) = scene.posed().ok_or_else(|| Error::internal("a scene just posed has no pose"))?;
-    let clock = slot.set_clock(&scene, play, time, |clock| {
-        if let Some(rate) = change.rate {
-            clock.rate = rate;
-        }
-        if let Some(looping) = change.looping {
-            clock.looping = looping;
-        }
-        if let Some(playing) = change.playing {
-            clock.playing = playing;
-        }
-        clock.last_tick = None;
-    });
-    Ok(Json(clock))
+    Ok(Json(target.scene.change_clock(&state, change).await?))
 }
