@@ -87,7 +87,8 @@ async fn the_clock_is_set_played_paused_and_stops_at_the_end_and_frames_say_thei
     let app = app();
     let s = animated_scene(&app).await;
     let clock = format!("/scenes/{s}/clock");
-    assert_eq!(fails(&app, "GET", &clock, json!(null), StatusCode::NOT_FOUND).await, "clock", "no clock before the scene is posed");
+    let opened = ok(&app, "GET", &clock, json!(null), StatusCode::OK).await;
+    assert_eq!(opened, json!({ "animation": 0, "time": 0.0, "duration": 1.0, "playing": false, "rate": 1.0, "loop": true }), "a glTF scene opens posed at 0 s: its clock is there, paused");
     // Set: the scene is posed at once.
     let set = ok(&app, "PUT", &clock, json!({ "time": 0.5 }), StatusCode::OK).await;
     assert_eq!(set, json!({ "animation": 0, "time": 0.5, "duration": 1.0, "playing": false, "rate": 1.0, "loop": true }));

@@ -205,7 +205,9 @@ async function openScene(id) {
   say('Loading the scene…');
   const [info, animations] = await Promise.all([showScene(id), getJson(`/scenes/${id}/animations`)]);
   orbit = new Orbit(info.camera);
-  showTimeline(animations);
+  // A scene never posed has no clock yet (404).
+  const clock = animations.length > 0 ? await getJson(`/scenes/${id}/clock`).catch(() => null) : null;
+  showTimeline(animations, clock);
   openStream();
 }
 
@@ -369,6 +371,7 @@ function onMessage(message) {
   switch (message.type) {
     case 'frame':
       frameMessage = message;
+      followFrame(message);
       break;
     case 'result':
     case 'error': {
@@ -743,29 +746,46 @@ function drawHighlight(ids, instance) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The timeline of a scene with animations, as crates/client/src/timeline.rs plays it: the time
-// shown is sent as a `set_time` command at most every SEND_INTERVAL_MS, which every client of the
-// scene sees; playing runs the page's clock and loops.
+// The timeline of a scene with animations, on the scene's clock (`PUT /scenes/{s}/clock`), as
+// crates/client/src/timeline.rs does it: the clock plays on the server, so every client sees the
+// same moment and the page sends nothing while it plays, its slider following the time of the
+// frames shown; a slider moved sends its time at most every SEND_INTERVAL_MS.
 
-/** The least time between two `set_time` commands, in ms: each restarts the image, so sending
- *  faster would show fewer samples, not more poses. */
+/** The least time between two times sent from the slider, in ms: each restarts the image, so
+ *  sending faster would show fewer samples, not more poses. */
 const SEND_INTERVAL_MS = 100;
-const timeline = { animations: [], seconds: 0, playing: null, sent: null, timer: null };
+const timeline = { animations: [], seconds: 0, playing: false, unsent: null, sentAt: -Infinity, timer: null };
 
-function showTimeline(animations) {
+/** Shows the timeline of `animations`, at the scene's `clock` if it has one (else at 0 s). */
+function showTimeline(animations, clock) {
   timeline.animations = animations;
-  timeline.seconds = 0;
-  timeline.playing = null;
-  // A glTF scene opens posed at 0 s of its first animation: that pose counts as sent.
-  timeline.sent = { animation: 0, seconds: 0, at: -Infinity };
+  timeline.unsent = null;
   $('timeline').hidden = animations.length === 0;
   $('animation-label').hidden = animations.length < 2;
   $('animation').replaceChildren(...animations.map((a, k) => new Option(a.name || `animation ${k}`, k)));
-  $('play').textContent = 'play';
+  followClock(clock ?? { animation: 0, time: 0, playing: false });
+}
+
+/** Takes the clock as the server has it. */
+function followClock(clock) {
+  const k = timeline.animations.findIndex((a) => a.index === clock.animation);
+  if (k >= 0) $('animation').value = k;
+  timeline.playing = clock.playing;
+  if (timeline.unsent === null) timeline.seconds = clock.time;
+  $('play').textContent = timeline.playing ? 'pause' : 'play';
   showTime();
 }
 
+/** While the clock plays, the slider shows the time of the frame on screen. */
+function followFrame(message) {
+  if (timeline.playing && timeline.unsent === null && typeof message.scene_time === 'number') {
+    timeline.seconds = message.scene_time;
+    showTime();
+  }
+}
+
 const duration = () => Math.max(timeline.animations[Number($('animation').value)]?.duration ?? 0, 0);
+const animationIndex = () => timeline.animations[Number($('animation').value)]?.index;
 
 function showTime() {
   $('time').max = duration();
@@ -773,49 +793,52 @@ function showTime() {
   $('time-value').textContent = timeline.seconds.toFixed(2);
 }
 
+/** Changes the scene's clock; shows the clock the server answers with. */
+async function setClock(change) {
+  try {
+    const response = await api(`/scenes/${sceneId}/clock`, { method: 'PUT', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(change) });
+    followClock(await response.json());
+  } catch (e) {
+    if (!(e instanceof Unauthorized)) say(e.message);
+  }
+}
+
 $('time').addEventListener('input', () => {
   timeline.seconds = Number($('time').value);
+  timeline.unsent = timeline.seconds;
   showTime();
   sendTime();
 });
 $('animation').addEventListener('change', () => {
-  timeline.seconds = Math.min(timeline.seconds, duration());
+  timeline.seconds = 0;
+  timeline.unsent = null;
   showTime();
-  sendTime();
+  setClock({ animation: animationIndex(), time: 0 });
 });
 $('play').addEventListener('click', () => {
-  timeline.playing = timeline.playing === null ? performance.now() : null;
-  $('play').textContent = timeline.playing === null ? 'play' : 'pause';
-  if (timeline.playing !== null) requestAnimationFrame(play);
+  timeline.playing = !timeline.playing;
+  $('play').textContent = timeline.playing ? 'pause' : 'play';
+  // Playing starts from the time on the slider; pausing keeps the clock's.
+  const change = { playing: timeline.playing, animation: animationIndex() };
+  if (timeline.playing) change.time = timeline.unsent ?? timeline.seconds;
+  timeline.unsent = null;
+  setClock(change);
 });
 
-function play(now) {
-  if (timeline.playing === null) return;
-  const length = duration();
-  const advanced = timeline.seconds + (now - timeline.playing) / 1000;
-  timeline.seconds = length > 0 ? advanced % length : 0;
-  timeline.playing = now;
-  showTime();
-  sendTime();
-  requestAnimationFrame(play);
-}
-
-/** Sends the time shown if it is not the one last sent, now or once SEND_INTERVAL_MS has passed
- *  since the last. */
+/** Sends the time the slider was moved to, now or once SEND_INTERVAL_MS has passed since the
+ *  last. */
 function sendTime() {
-  const animation = Number($('animation').value);
-  const { sent } = timeline;
-  if (sent.animation === animation && sent.seconds === timeline.seconds) return;
-  const wait = sent.at + SEND_INTERVAL_MS - performance.now();
+  if (timeline.unsent === null) return;
+  const wait = timeline.sentAt + SEND_INTERVAL_MS - performance.now();
   if (wait > 0) {
     clearTimeout(timeline.timer);
     timeline.timer = setTimeout(sendTime, wait);
     return;
   }
-  const index = timeline.animations[animation]?.index;
-  if (index === undefined) return;
-  const commands = [{ set_time: { seconds: timeline.seconds, animation: index } }];
-  if (send({ type: 'commands', commands })) timeline.sent = { animation, seconds: timeline.seconds, at: performance.now() };
+  const time = timeline.unsent;
+  timeline.unsent = null;
+  timeline.sentAt = performance.now();
+  setClock({ time, animation: animationIndex() });
 }
 
 // ---------------------------------------------------------------------------------------------

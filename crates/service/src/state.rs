@@ -440,6 +440,18 @@ impl SceneSlot {
         })
     }
 
+    /// The clock now; a scene posed without one (a glTF file opens posed at 0 s of its first
+    /// animation) gets a paused clock at its pose. `None` for a scene never posed: one
+    /// without animations.
+    pub async fn current_clock(&self) -> Option<ClockState> {
+        if let Some(clock) = self.clock() {
+            return Some(clock);
+        }
+        let (scene, _) = self.snapshot().await;
+        let (play, time) = scene.posed()?;
+        Some(self.set_clock(&scene, play, f64::from(time), |_| {}))
+    }
+
     /// Moves the scene to its clock's time, if the clock plays and has not moved it within the
     /// last `clock::TICK`: an ordinary `set_time` edit, so that it is ordered with every other edit
     /// and reaches a cluster's ranks. Renders call this before they take their snapshot. An

@@ -43,8 +43,8 @@ pub(crate) async fn list(target: Target) -> ApiResult<Json<Vec<AnimationInfo>>> 
 }
 
 /// The scene's animation clock: the animation its frames show, the time, and whether and how
-/// fast it plays. 404 naming `clock` for a scene that has not been posed yet (set the clock,
-/// or `set_time`, first).
+/// fast it plays (a glTF scene's opens paused at its pose, 0 s of the first animation). 404
+/// naming `clock` for a scene without animations.
 #[utoipa::path(get, path = "/scenes/{scene}/clock", tag = "animations",
     params(("scene" = u32, Path, description = "The scene's id")),
     responses(
@@ -52,8 +52,8 @@ pub(crate) async fn list(target: Target) -> ApiResult<Json<Vec<AnimationInfo>>> 
         (status = 404, description = "No such scene, resource or route", body = ErrorBody),
     ))]
 pub(crate) async fn clock(target: Target) -> ApiResult<Json<ClockState>> {
-    target.scene.clock().map(Json).ok_or_else(|| {
-        let message = format!("scene {} has no clock yet: PUT /scenes/{}/clock (a scene with animations) starts one", target.scene.id, target.scene.id);
+    target.scene.current_clock().await.map(Json).ok_or_else(|| {
+        let message = format!("scene {} has no clock: it has no animations", target.scene.id);
         Error::not_found(Some("clock".into()), message).into()
     })
 }
