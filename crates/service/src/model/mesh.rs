@@ -180,9 +180,14 @@ fn floats(text: &str, field: &str, element: usize) -> Result<Vec<f32>> {
     Ok(decode_words(text, field, element)?.into_iter().map(f32::from_le_bytes).collect())
 }
 
+/// Standard base64 as the description's pattern states it: padded, with whatever bits the last
+/// character carries past the data (some encoders leave them set; they hold nothing) ignored.
+const BASE64: base64::engine::GeneralPurpose =
+    base64::engine::GeneralPurpose::new(&base64::alphabet::STANDARD, base64::engine::GeneralPurposeConfig::new().with_decode_allow_trailing_bits(true));
+
 /// Base64 of 4-byte little-endian words, whose length is a multiple of `element` bytes.
 fn decode_words(text: &str, field: &str, element: usize) -> Result<Vec<[u8; 4]>> {
-    let bytes = base64::engine::general_purpose::STANDARD
+    let bytes = BASE64
         .decode(text)
         .map_err(|e| Error::bad_request(Some(field.into()), format!("not base64: {e}")))?;
     if bytes.len() % element != 0 {
@@ -198,6 +203,15 @@ mod tests {
 
     fn b64(bytes: &[u8]) -> String {
         base64::engine::general_purpose::STANDARD.encode(bytes)
+    }
+
+    #[test]
+    fn base64_whose_last_character_carries_stray_bits_decodes_as_its_pattern_allows() {
+        // `a=` ends 8 bytes with 2 bits set past the data (`Y=` would be canonical): the
+        // description's pattern allows it, so the decoder does.
+        assert_eq!(floats("0kLUj79v7fa=", "positions_base64", 12).unwrap_err().kind, ErrorKind::Unprocessable);
+        assert_eq!(decode_words("AAAAAAAAAAB=", "f", 4).unwrap(), decode_words("AAAAAAAAAAA=", "f", 4).unwrap());
+        assert_eq!(decode_words("AAAA!", "f", 4).unwrap_err().kind, ErrorKind::BadRequest);
     }
 
     #[test]
