@@ -339,6 +339,15 @@ impl Play {
             Some(AnimationChoice::Index(k)) => (k < animations.len()).then_some(Play::Clip(k)),
         }
     }
+
+    /// Seconds from the start to the end of what this plays among `animations`: the clip's
+    /// duration, or the longest one's for all of them (0 for a clip that is not there).
+    pub fn duration(self, animations: &[AnimationInfo]) -> f32 {
+        match self {
+            Play::Clip(k) => animations.get(k).map_or(0.0, |a| a.duration),
+            Play::All => animations.iter().map(|a| a.duration).fold(0.0, f32::max),
+        }
+    }
 }
 
 /// The instance transforms and deformed vertices of a rig at a time.
@@ -649,6 +658,15 @@ mod tests {
         assert_eq!(choose(Some(AnimationChoice::Name("run"))), None);
         assert_eq!(Play::choose(&[], None), None, "a scene without animations plays none");
         assert_eq!(Play::choose(&[], Some(AnimationChoice::Name("all"))), None);
+    }
+
+    #[test]
+    fn what_plays_lasts_its_clip_or_the_longest_of_all() {
+        let clip = |duration: f32| AnimationInfo { name: String::new(), duration, channels: 1 };
+        let animations = [clip(1.5), clip(4.0), clip(2.0)];
+        assert_eq!(Play::Clip(0).duration(&animations), 1.5);
+        assert_eq!(Play::All.duration(&animations), 4.0);
+        assert_eq!(Play::Clip(3).duration(&animations), 0.0);
     }
 
     fn at(k: &Keyframes, time: f32, rotation: bool) -> Vec<f32> {

@@ -87,10 +87,7 @@ impl Clock {
     /// The clock as JSON, at `now`.
     pub fn state(&self, now: Instant) -> ClockState {
         ClockState {
-            animation: match self.play {
-                Play::Clip(k) => AnimationRef::Index(k as u32),
-                Play::All => AnimationRef::Name("all".into()),
-            },
+            animation: self.play.into(),
             time: self.time_at(now),
             duration: self.duration,
             playing: self.playing,
@@ -146,7 +143,7 @@ impl ClockChange {
             return Err(Error::unprocessable(Some("time".into()), format!("{time} is not a time: it must be a finite number of seconds, at least 0")));
         }
         if let Some(rate) = self.rate
-            && !(rate.abs() <= MAX_RATE)
+            && (rate.is_nan() || rate.abs() > MAX_RATE)
         {
             return Err(Error::unprocessable(Some("rate".into()), format!("{rate} is not a rate: it must be between −{MAX_RATE} and {MAX_RATE}")));
         }

@@ -16,7 +16,7 @@ use crate::config::{Config, Limits};
 use crate::edit::{Applied, Edit, apply};
 use crate::error::{Error, Result};
 use crate::jobs::Jobs;
-use crate::model::{AnimationRef, Command, CommandResult, SetTime};
+use crate::model::{Command, CommandResult, SetTime};
 use crate::stats::FrameReport;
 use crate::turns::{Client, Turn, Turns};
 use crate::workers::{Accumulate, Workers};
@@ -388,11 +388,7 @@ impl SceneSlot {
     /// that lasts), keeping whether it plays, its rate and looping, then lets `change` change
     /// it further; a scene without a clock gets a paused one.
     fn set_clock(&self, scene: &Scene, play: Play, time: f64, change: impl FnOnce(&mut Clock)) -> ClockState {
-        let animations = scene.animations();
-        let duration = match play {
-            Play::Clip(k) => animations.get(k).map_or(0.0, |a| a.duration),
-            Play::All => animations.iter().map(|a| a.duration).fold(0.0, f32::max),
-        };
+        let duration = play.duration(&scene.animations());
         let now = Instant::now();
         let mut clock = self.clock.lock().unwrap_or_else(|e| e.into_inner());
         let clock = clock.get_or_insert_with(|| Clock::paused(play, f64::from(duration), time));
@@ -468,11 +464,7 @@ impl SceneSlot {
             clock.settle(now);
             (clock.play, clock.time_at(now))
         };
-        let animation = Some(match play {
-            Play::Clip(k) => AnimationRef::Index(k as u32),
-            Play::All => AnimationRef::Name("all".into()),
-        });
-        let command = Command::SetTime(SetTime { seconds: time, animation });
+        let command = Command::SetTime(SetTime { seconds: time, animation: Some(play.into()) });
         let edited = self.edit_as(state, Edit::Commands { commands: vec![command], in_batch: false }, false).await;
         if edited.is_err()
             && let Some(clock) = self.clock.lock().unwrap_or_else(|e| e.into_inner()).as_mut()

@@ -224,6 +224,16 @@ pub enum AnimationRef {
     Name(String),
 }
 
+impl From<raystage_scene::Play> for AnimationRef {
+    /// How the API names what a pose plays: its index, or `all`.
+    fn from(play: raystage_scene::Play) -> AnimationRef {
+        match play {
+            raystage_scene::Play::Clip(k) => AnimationRef::Index(k as u32),
+            raystage_scene::Play::All => AnimationRef::Name("all".into()),
+        }
+    }
+}
+
 /// One edit of a batch: an object with one key, the operation, whose value is its arguments
 /// (`{"add_instance": {"object": 1, "transform": {"translate": [0, 1, 0]}}}`).
 #[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
