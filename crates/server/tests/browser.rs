@@ -107,8 +107,7 @@ impl Browser {
             Kind::Firefox => Tab::Bidi(bidi::Tab::open(&self.connection, width, height, scale).await),
         };
         let page = Page { browser: self.kind, tab };
-        on_tab!(page, tab => tab.navigate(url).await);
-        page.wait_for("the page to load", &format!("document.readyState === 'complete' && location.href === '{url}'")).await;
+        page.navigate(url).await;
         page
     }
 }
@@ -162,7 +161,6 @@ macro_rules! on_tab {
         }
     };
 }
-use on_tab;
 
 /// The page in a tab: what the scenarios do with it, the same in either browser.
 struct Page {
@@ -171,6 +169,12 @@ struct Page {
 }
 
 impl Page {
+    /// Loads `url`, and waits until it has loaded.
+    async fn navigate(&self, url: &str) {
+        on_tab!(self, tab => tab.navigate(url).await);
+        self.wait_for("the page to load", &format!("document.readyState === 'complete' && location.href === '{url}'")).await;
+    }
+
     /// The value of a JavaScript expression in the page (awaited if it is a promise), as JSON.
     async fn eval(&self, expression: &str) -> Value {
         on_tab!(self, tab => tab.eval(expression).await)
