@@ -2,8 +2,8 @@
 # Runs every test of the workspace. As root on Debian it first installs the system packages the
 # tests need (Embree 3, for the benchmark's side-by-side checks; gcc, g++, pkg-config and CMake,
 # to build the C and C++ examples against the installed C library; Xvfb and Mesa, for the
-# viewer's and RTUT's window tests, and xdotool to type into RTUT's; Chromium, for the viewer
-# page's browser tests; Open MPI and libclang, for rendering across MPI ranks); with Embree's
+# viewer's and RTUT's window tests, and xdotool to type into RTUT's; Chromium and Firefox, for the
+# viewer page's browser tests; Open MPI and libclang, for rendering across MPI ranks); with Embree's
 # headers present, the benchmark crate is tested with its `embree` feature, and with Open MPI
 # the command line and the C library with their `mpi` features.
 set -euo pipefail
@@ -17,8 +17,10 @@ packages+=(xvfb libgl1 libglx-mesa0 libgl1-mesa-dri libegl1 libx11-xcb1 libxcurs
 packages+=(xdotool)
 # The API's schemathesis run (scripts/schemathesis.sh) waits for the server with curl.
 packages+=(curl)
-# The viewer page's browser tests (crates/server/tests/browser.rs) drive headless Chromium.
-packages+=(chromium)
+# The viewer page's browser tests (crates/server/tests/browser.rs) drive headless Chromium
+# (over the DevTools protocol) and headless Firefox (over WebDriver BiDi, which Firefox speaks
+# itself: no geckodriver).
+packages+=(chromium firefox-esr)
 # The C ABI's memory checks (crates/capi/tests: random_calls.rs, examples.rs) run under valgrind.
 packages+=(valgrind)
 # Rendering across MPI ranks (the root crate's `mpi` feature, tests/cli_mpi.rs): Open MPI, and

@@ -342,7 +342,11 @@ function closeStream() {
   if (socket) {
     const old = socket;
     socket = null;
-    old.close();
+    // One still connecting closes once it opens: closed before, Firefox logs an error (that it
+    // could not connect) for a connection the page gave up itself, as when two settings change
+    // in a row.
+    if (old.readyState === WebSocket.CONNECTING) old.onopen = () => old.close();
+    else old.close();
   }
   answers.clear();
   cameraQueue.inFlight = null;
