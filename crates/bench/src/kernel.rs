@@ -5,7 +5,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use raystage_demo::{Mesh, StandardScene};
-use raystage_kernel::{BuildOptions, Bvh8, PACKET_SIZE, Ray};
+use raystage_kernel::{BuildOptions, Bvh8, PACKET_SIZE, Ray, WalkCounts};
 use serde::Serialize;
 
 use crate::rays::{self, HEIGHT, PrimaryHit, WIDTH};
@@ -202,10 +202,60 @@ pub struct KernelReport {
     pub incoherent_mrays: Option<f64>,
     /// Diffuse bounce rays, million per second.
     pub bounce_mrays: Option<f64>,
+    /// raystage only: what its closest-hit walks did per ray, ray set by ray set (single rays,
+    /// the tree the 1-thread build made).
+    pub walks: Option<Walks>,
     /// Primary rays that hit.
     pub hits: u64,
     /// Sum of primary hit distances.
     pub tsum: f64,
+}
+
+/// Traversal statistics per ray set, as MLRTA's Table 2 gives them (seed 000).
+#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+pub struct Walks {
+    /// Primary rays.
+    pub primary: PerRay,
+    /// Random incoherent rays.
+    pub incoherent: PerRay,
+    /// Diffuse bounce rays.
+    pub bounce: PerRay,
+}
+
+/// What a closest-hit walk does per ray, on average.
+#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+pub struct PerRay {
+    /// Inner nodes whose eight child boxes were tested.
+    pub nodes: f64,
+    /// Leaves (blocks of up to eight triangles) tested.
+    pub leaves: f64,
+    /// Triangles in those leaves.
+    pub triangles: f64,
+}
+
+impl Walks {
+    /// Walks every ray of `sets` through `bvh`, counting, on the current rayon pool.
+    pub fn of(bvh: &Bvh8, sets: &RaySets) -> Walks {
+        use rayon::prelude::*;
+        let per_ray = |rays: &[Ray]| {
+            let c = rays
+                .par_chunks(SHARED_RUN)
+                .map(|chunk| {
+                    let mut counts = WalkCounts::default();
+                    for ray in chunk {
+                        bvh.intersect_counted(ray, &mut counts);
+                    }
+                    counts
+                })
+                .reduce(WalkCounts::default, |mut a, b| {
+                    a += b;
+                    a
+                });
+            let n = c.rays.max(1) as f64;
+            PerRay { nodes: c.nodes as f64 / n, leaves: c.leaves as f64 / n, triangles: c.triangles as f64 / n }
+        };
+        Walks { primary: per_ray(&sets.primary), incoherent: per_ray(&sets.incoherent), bounce: per_ray(&sets.bounce) }
+    }
 }
 
 /// Per-repetition samples of one system at one thread count.
@@ -290,6 +340,7 @@ impl Samples {
             primary_packet_mrays: mrays(&self.packets, |s| s.packets.len()),
             incoherent_mrays: mrays(&self.incoherent, |s| s.incoherent.len()),
             bounce_mrays: mrays(&self.bounce, |s| s.bounce.len()),
+            walks: None,
             hits: last.hits,
             tsum: last.tsum,
         }
@@ -313,6 +364,8 @@ pub struct SceneRun {
     /// The surface-area cost of raystage's tree per thread count ([`raystage_kernel::Bvh8Stats::sah_cost`]):
     /// a build made faster must not make it worse.
     pub sah_cost: Vec<(usize, f32)>,
+    /// What raystage's walks did per ray (`None` when only builds were measured).
+    pub walks: Option<Walks>,
 }
 
 impl SceneRun {
@@ -323,6 +376,7 @@ impl SceneRun {
             .map(|(system, threads, s)| KernelReport {
                 medium_build_s: self.medium_build(*threads).filter(|_| *system == "embree"),
                 sah_cost: self.sah_cost.iter().find(|(t, _)| t == threads).map(|c| c.1).filter(|_| *system == "raystage"),
+                walks: self.walks.filter(|_| *system == "raystage"),
                 ..s.report(system, self.scene, *threads, self.sets.as_ref())
             })
             .collect()
@@ -394,10 +448,12 @@ pub fn run(scene: StandardScene, threads: usize, reps: usize, build_only: bool, 
     let bvhs: Vec<Bvh8> = bvhs.into_iter().map(|b| b.expect("reps >= 1")).collect();
     let sah_cost = counts.iter().zip(&bvhs).map(|(&t, b)| (t, b.stats().sah_cost)).collect();
     if build_only {
-        return SceneRun { scene, triangles: mesh.indices.len(), sets: None, runs, embree_medium_build, sah_cost };
+        return SceneRun { scene, triangles: mesh.indices.len(), sets: None, runs, embree_medium_build, sah_cost, walks: None };
     }
     progress(&format!("{}: generating rays", scene.name()));
     let sets = RaySets::new(scene, &mesh, &bvhs[0]);
+    progress(&format!("{}: counting raystage's walk steps", scene.name()));
+    let walks = Some(Walks::of(&bvhs[0], &sets));
     // Embree in robust mode traces too (built once per thread count at HIGH; its build is shown
     // but not interleaved with the others).
     #[cfg(feature = "embree")]
@@ -435,5 +491,5 @@ pub fn run(scene: StandardScene, threads: usize, reps: usize, build_only: bool, 
             }
         }
     }
-    SceneRun { scene, triangles: mesh.indices.len(), sets: Some(sets), runs, embree_medium_build, sah_cost }
+    SceneRun { scene, triangles: mesh.indices.len(), sets: Some(sets), runs, embree_medium_build, sah_cost, walks }
 }

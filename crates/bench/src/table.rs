@@ -45,6 +45,12 @@ pub fn kernel_table(run: &SceneRun) -> String {
         ],
         None => Vec::new(),
     };
+    if let Some(w) = &run.walks {
+        let _ = writeln!(out, "  raystage's walks per ray     nodes   leaves  triangles  (closest hit, single rays)");
+        for (name, per) in [("primary", w.primary), ("incoherent", w.incoherent), ("bounce", w.bounce)] {
+            let _ = writeln!(out, "  {name:<22} {:>11.2} {:>8.2} {:>10.2}", per.nodes, per.leaves, per.triangles);
+        }
+    }
     let mut thread_counts: Vec<usize> = run.runs.iter().map(|r| r.1).collect();
     thread_counts.sort_unstable();
     thread_counts.dedup();

@@ -13,7 +13,7 @@ use crate::isa::Isa;
 use crate::memory::huge_page_vec;
 use crate::prepared::PreparedRay;
 use crate::ray::{Hit, Ray};
-use crate::traverse;
+use crate::traverse::{self, Tally, WalkCounts};
 use crate::triangle::TriangleSource;
 use crate::wide::{EMPTY, LEAF, Node8, WIDTH, box_cost, collapse};
 
@@ -31,6 +31,11 @@ pub(crate) struct TriBlock {
 }
 
 impl TriBlock {
+    /// Triangles in the block: lanes past the last repeat it.
+    pub(crate) fn triangles(&self) -> usize {
+        1 + (1..WIDTH).filter(|&lane| self.prim[lane] != self.prim[lane - 1]).count()
+    }
+
     /// Writes triangles `prims` (lanes past the last repeating it) into `block`, in place (a block
     /// built elsewhere and copied in is read back before its stores have settled), and returns the
     /// box around them. Every field is written, so the block's storage need not be initialised
@@ -234,11 +239,23 @@ impl Bvh8 {
     /// [`Bvh8::intersect`] for a ray prepared once for several trees.
     #[inline]
     pub fn intersect_prepared(&self, pre: &PreparedRay) -> Option<Hit> {
+        self.intersect_tallied(pre, &mut ())
+    }
+
+    /// [`Bvh8::intersect`], adding what the walk did to `counts`: the same walk, step for
+    /// step (the statistics the benchmarks report).
+    pub fn intersect_counted(&self, ray: &Ray, counts: &mut WalkCounts) -> Option<Hit> {
+        counts.rays += 1;
+        self.intersect_tallied(&PreparedRay::new(ray), counts)
+    }
+
+    #[inline]
+    fn intersect_tallied(&self, pre: &PreparedRay, tally: &mut impl Tally) -> Option<Hit> {
         match self.isa {
             // SAFETY: `isa` is only ever set to a flavour `is_supported` confirmed on this CPU.
             #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 => unsafe { traverse::avx2::intersect(self, pre) },
-            _ => traverse::portable::intersect(self, pre),
+            Isa::Avx2 => unsafe { traverse::avx2::intersect(self, pre, tally) },
+            _ => traverse::portable::intersect(self, pre, tally),
         }
     }
 
@@ -272,7 +289,7 @@ impl Bvh8 {
             Isa::Avx2 => unsafe { traverse::avx2::intersect_packet(self, rays, hits) },
             _ => {
                 for (ray, hit) in rays.iter().zip(hits.iter_mut()) {
-                    *hit = traverse::portable::intersect(self, ray);
+                    *hit = traverse::portable::intersect(self, ray, &mut ());
                 }
             }
         }
@@ -287,11 +304,23 @@ impl Bvh8 {
     /// [`Bvh8::occluded`] for a ray prepared once for several trees.
     #[inline]
     pub fn occluded_prepared(&self, pre: &PreparedRay) -> bool {
+        self.occluded_tallied(pre, &mut ())
+    }
+
+    /// [`Bvh8::occluded`], adding what the walk did to `counts`, as
+    /// [`Bvh8::intersect_counted`] does.
+    pub fn occluded_counted(&self, ray: &Ray, counts: &mut WalkCounts) -> bool {
+        counts.rays += 1;
+        self.occluded_tallied(&PreparedRay::new(ray), counts)
+    }
+
+    #[inline]
+    fn occluded_tallied(&self, pre: &PreparedRay, tally: &mut impl Tally) -> bool {
         match self.isa {
             // SAFETY: as in `intersect`.
             #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 => unsafe { traverse::avx2::occluded(self, pre) },
-            _ => traverse::portable::occluded(self, pre),
+            Isa::Avx2 => unsafe { traverse::avx2::occluded(self, pre, tally) },
+            _ => traverse::portable::occluded(self, pre, tally),
         }
     }
 
@@ -308,7 +337,7 @@ impl Bvh8 {
             // SAFETY: as in `intersect`.
             #[cfg(target_arch = "x86_64")]
             Isa::Avx2 if !rays.is_empty() => unsafe { traverse::avx2::occluded_packet(self, rays) },
-            _ => (0..rays.len()).filter(|&i| traverse::portable::occluded(self, &rays[i])).fold(0, |m, i| m | 1 << i),
+            _ => (0..rays.len()).filter(|&i| traverse::portable::occluded(self, &rays[i], &mut ())).fold(0, |m, i| m | 1 << i),
         }
     }
 

@@ -49,6 +49,7 @@ pub use memory::{huge_page_vec, prefetch};
 pub use prepared::PreparedRay;
 pub use ray::{Hit, Ray};
 pub use ray_packet::{Entries, RayPacket};
+pub use traverse::WalkCounts;
 pub use triangle::{IndexedMesh, TriangleSource, geometric_normal, is_degenerate, prefetch_indexed};
 
 /// Uniform floats in `[0, 1)` from a xorshift sequence started at `seed`: the unit tests' cheap,

@@ -6,7 +6,7 @@
 
 use glam::Vec3;
 use proptest::prelude::*;
-use raystage_kernel::{Aabb, BoxTree, BuildOptions, BuildQuality, Bvh2, Bvh8, Hit, Isa, PACKET_SIZE, PreparedRay, Ray, brute};
+use raystage_kernel::{Aabb, BoxTree, BuildOptions, BuildQuality, Bvh2, Bvh8, Hit, Isa, PACKET_SIZE, PreparedRay, Ray, WalkCounts, brute};
 
 /// Checks one ray against every layout and instruction set, closest and any hit.
 fn check_ray(tris: &Vec<[Vec3; 3]>, bvh2: &Bvh2, bvh8s: &[Bvh8], ray: &Ray) -> Result<(), TestCaseError> {
@@ -18,8 +18,21 @@ fn check_ray(tris: &Vec<[Vec3; 3]>, bvh2: &Bvh2, bvh8s: &[Bvh8], ray: &Ray) -> R
     for bvh in bvh8s {
         prop_assert_eq!(bvh.intersect(ray), expected, "Bvh8/{} closest hit, ray {:?}", bvh.isa().name(), ray);
         prop_assert_eq!(bvh.occluded(ray), expected_any, "Bvh8/{} any hit, ray {:?}", bvh.isa().name(), ray);
+        let mut counts = WalkCounts::default();
+        prop_assert_eq!(bvh.intersect_counted(ray, &mut counts), expected, "Bvh8/{} counted closest hit, ray {:?}", bvh.isa().name(), ray);
+        prop_assert_eq!(bvh.occluded_counted(ray, &mut counts), expected_any, "Bvh8/{} counted any hit, ray {:?}", bvh.isa().name(), ray);
     }
     Ok(())
+}
+
+/// What `rays`' closest-hit and any-hit walks of `bvh` did.
+fn walk_counts(bvh: &Bvh8, rays: &[Ray]) -> (WalkCounts, WalkCounts) {
+    let (mut closest, mut any) = (WalkCounts::default(), WalkCounts::default());
+    for ray in rays {
+        bvh.intersect_counted(ray, &mut closest);
+        bvh.occluded_counted(ray, &mut any);
+    }
+    (closest, any)
 }
 
 /// Builds every layout over `tris` with the given leaf size: the binary SAH tree, and the wide
@@ -294,6 +307,23 @@ proptest! {
     }
 
     #[test]
+    fn every_instruction_set_takes_the_same_walk_steps(tris in soup(), rays in prop::collection::vec(ray(), 64), leaf in 1usize..=8) {
+        let bvh = Bvh8::build(&tris, &BuildOptions { max_leaf_size: leaf, ..BuildOptions::default() });
+        let stats = bvh.stats();
+        let (closest, any) = walk_counts(&bvh, &rays);
+        for counts in [closest, any] {
+            prop_assert_eq!(counts.rays, rays.len() as u64);
+            prop_assert!(counts.nodes <= counts.rays * stats.nodes as u64, "{:?} in {:?}", counts, stats);
+            prop_assert!(counts.leaves <= counts.triangles && counts.triangles <= 8 * counts.leaves, "{:?}", counts);
+        }
+        // Any-hit walks visit children in slot order, so every kernel takes the same steps;
+        // closest-hit walks order children by distance, and kernels may break ties otherwise.
+        for other in Isa::all().filter_map(|isa| bvh.clone().with_isa(isa)) {
+            prop_assert_eq!(walk_counts(&other, &rays).1, any, "Bvh8/{} against Bvh8/{}", other.isa().name(), bvh.isa().name());
+        }
+    }
+
+    #[test]
     fn random_soups(tris in soup(), rays in prop::collection::vec(ray(), 64), leaf in 1usize..=8) {
         let (bvh2, bvh8s) = layouts(&tris, leaf);
         for r in &rays {
@@ -452,5 +482,26 @@ fn packets_equal_single_rays_on_a_large_scene() {
             blocked += mask.count_ones();
         }
         assert!(blocked > 0 && (blocked as usize) < shadows.len(), "some points are lit, some in shadow: {blocked}");
+    }
+}
+
+#[test]
+fn walk_counts_count_the_steps_of_a_known_walk() {
+    // Two triangles far apart: the root holds two leaves.
+    let tris = vec![
+        [Vec3::new(-1.0, -1.0, 5.0), Vec3::new(1.0, -1.0, 5.0), Vec3::new(0.0, 1.0, 5.0)],
+        [Vec3::new(-1.0, -1.0, 50.0), Vec3::new(1.0, -1.0, 50.0), Vec3::new(0.0, 1.0, 50.0)],
+    ];
+    for bvh in Isa::all().filter_map(|isa| Bvh8::build(&tris, &BuildOptions { max_leaf_size: 1, ..BuildOptions::default() }).with_isa(isa)) {
+        assert_eq!(bvh.stats().nodes, 1, "one root over two leaves");
+        let mut counts = WalkCounts::default();
+        // Down the axis: both leaves' boxes are entered, the nearer one first, and its hit
+        // culls the farther one.
+        assert_eq!(bvh.intersect_counted(&Ray::new(Vec3::ZERO, Vec3::Z), &mut counts).map(|h| h.prim), Some(0));
+        assert_eq!(counts, WalkCounts { rays: 1, nodes: 1, leaves: 1, triangles: 1 }, "{}", bvh.isa().name());
+        // Beside them: the root's children are tested, no leaf.
+        let mut missed = WalkCounts::default();
+        assert!(bvh.intersect_counted(&Ray::new(Vec3::new(5.0, 0.0, 0.0), Vec3::Z), &mut missed).is_none());
+        assert_eq!(missed, WalkCounts { rays: 1, nodes: 1, leaves: 0, triangles: 0 }, "{}", bvh.isa().name());
     }
 }

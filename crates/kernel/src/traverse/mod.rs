@@ -5,6 +5,62 @@
 pub(crate) mod avx2;
 pub(crate) mod portable;
 
+use crate::bvh8::TriBlock;
+
+/// What single-ray walks of a tree did, summed over rays: the traversal statistics MLRTA's
+/// Table 2 reports (seed 000), counted by [`Bvh8::intersect_counted`](crate::Bvh8::intersect_counted)
+/// and [`Bvh8::occluded_counted`](crate::Bvh8::occluded_counted) as the tree's kernel (AVX2 or
+/// portable) takes its steps. The kernels' any-hit walks take the same steps; their closest-hit
+/// walks may order children at equal distances differently.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WalkCounts {
+    /// Rays walked.
+    pub rays: u64,
+    /// Inner nodes whose eight child boxes were tested.
+    pub nodes: u64,
+    /// Leaves (blocks of up to eight triangles) tested.
+    pub leaves: u64,
+    /// Triangles in those leaves.
+    pub triangles: u64,
+}
+
+impl std::ops::AddAssign for WalkCounts {
+    fn add_assign(&mut self, o: WalkCounts) {
+        self.rays += o.rays;
+        self.nodes += o.nodes;
+        self.leaves += o.leaves;
+        self.triangles += o.triangles;
+    }
+}
+
+/// Where a walk tells the steps it takes: [`WalkCounts`] counts them, `()` ignores them, so
+/// the walk that is not counted compiles to what it was without the calls.
+pub(crate) trait Tally {
+    /// An inner node's child boxes were tested.
+    fn node(&mut self);
+    /// A leaf's triangles were tested.
+    fn leaf(&mut self, block: &TriBlock);
+}
+
+impl Tally for () {
+    #[inline(always)]
+    fn node(&mut self) {}
+    #[inline(always)]
+    fn leaf(&mut self, _: &TriBlock) {}
+}
+
+impl Tally for WalkCounts {
+    #[inline]
+    fn node(&mut self) {
+        self.nodes += 1;
+    }
+    #[inline]
+    fn leaf(&mut self, block: &TriBlock) {
+        self.leaves += 1;
+        self.triangles += block.triangles() as u64;
+    }
+}
+
 /// The best hit found so far during a closest-hit traversal.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Best {

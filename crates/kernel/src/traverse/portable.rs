@@ -1,7 +1,7 @@
 //! The portable traversal: the same algorithm as the SIMD kernels, one lane at a time. It is the
 //! fallback for CPUs without AVX2 and the readable statement of what the SIMD code computes.
 
-use super::Best;
+use super::{Best, Tally};
 use crate::boxtree::BoxTree;
 use crate::bvh8::{Bvh8, TriBlock};
 use crate::wide::{EMPTY, LEAF, Node8, STACK_SIZE, WIDTH};
@@ -37,8 +37,8 @@ fn block_any(block: &TriBlock, ray: &PreparedRay) -> bool {
     (0..WIDTH).any(|lane| triangle::intersect(ray, &block.lane(lane), ray.tfar).is_some())
 }
 
-/// Closest hit, near-first.
-pub(crate) fn intersect(bvh: &Bvh8, ray: &PreparedRay) -> Option<Hit> {
+/// Closest hit, near-first, each step told to `tally`.
+pub(crate) fn intersect(bvh: &Bvh8, ray: &PreparedRay, tally: &mut impl Tally) -> Option<Hit> {
     let mut best = Best::none(ray.tfar);
     let mut stack = [(0u32, 0f32); STACK_SIZE];
     let mut sp = 0;
@@ -46,6 +46,7 @@ pub(crate) fn intersect(bvh: &Bvh8, ray: &PreparedRay) -> Option<Hit> {
     while let Some(link) = next.take() {
         if link & LEAF == 0 {
             let node = &bvh.nodes[link as usize];
+            tally.node();
             let base = sp;
             for (lane, d) in child_hits(node, ray, best.t).into_iter().enumerate() {
                 if let Some(d) = d {
@@ -56,7 +57,9 @@ pub(crate) fn intersect(bvh: &Bvh8, ray: &PreparedRay) -> Option<Hit> {
             // Farthest first onto the stack, so that the nearest child comes off next.
             stack[base..sp].sort_unstable_by(|a, b| b.1.total_cmp(&a.1));
         } else if link != EMPTY {
-            block_closest(&bvh.blocks[(link & !LEAF) as usize], ray, &mut best);
+            let block = &bvh.blocks[(link & !LEAF) as usize];
+            tally.leaf(block);
+            block_closest(block, ray, &mut best);
         }
         while sp > 0 {
             sp -= 1;
@@ -70,8 +73,8 @@ pub(crate) fn intersect(bvh: &Bvh8, ray: &PreparedRay) -> Option<Hit> {
     best.into_hit()
 }
 
-/// Any hit; stops at the first one.
-pub(crate) fn occluded(bvh: &Bvh8, ray: &PreparedRay) -> bool {
+/// Any hit; stops at the first one. Each step is told to `tally`.
+pub(crate) fn occluded(bvh: &Bvh8, ray: &PreparedRay, tally: &mut impl Tally) -> bool {
     let mut stack = [0u32; STACK_SIZE];
     stack[0] = bvh.root;
     let mut sp = 1;
@@ -80,14 +83,19 @@ pub(crate) fn occluded(bvh: &Bvh8, ray: &PreparedRay) -> bool {
         let link = stack[sp];
         if link & LEAF == 0 {
             let node = &bvh.nodes[link as usize];
+            tally.node();
             for (lane, d) in child_hits(node, ray, ray.tfar).into_iter().enumerate() {
                 if d.is_some() {
                     stack[sp] = node.child[lane];
                     sp += 1;
                 }
             }
-        } else if link != EMPTY && block_any(&bvh.blocks[(link & !LEAF) as usize], ray) {
-            return true;
+        } else if link != EMPTY {
+            let block = &bvh.blocks[(link & !LEAF) as usize];
+            tally.leaf(block);
+            if block_any(block, ray) {
+                return true;
+            }
         }
     }
     false

@@ -292,7 +292,7 @@ pub(crate) unsafe fn intersect_packet(bvh: &Bvh8, rays: &[PreparedRay], out: &mu
     match packet_kind(rays) {
         None => {
             for (ray, hit) in rays.iter().zip(out.iter_mut()) {
-                *hit = unsafe { super::intersect(bvh, ray) };
+                *hit = unsafe { super::intersect(bvh, ray, &mut ()) };
             }
         }
         Some(false) => unsafe { intersect_beam::<false>(bvh, rays, out) },
@@ -322,7 +322,7 @@ unsafe fn intersect_beam<const PARALLEL: bool>(bvh: &Bvh8, rays: &[PreparedRay],
         if live.count_ones() <= FEW {
             // Too few rays left to share the walk: they finish this subtree alone.
             for i in Lanes(live) {
-                let b = closest_below(bvh, &rays[i], e.link, state.best[i]);
+                let b = closest_below(bvh, &rays[i], e.link, state.best[i], &mut ());
                 state.settle(i, b);
             }
         } else if e.link & LEAF == 0 {
@@ -377,7 +377,7 @@ unsafe fn intersect_beam<const PARALLEL: bool>(bvh: &Bvh8, rays: &[PreparedRay],
 #[target_feature(enable = "avx2,fma")]
 pub(crate) unsafe fn occluded_packet(bvh: &Bvh8, rays: &[PreparedRay]) -> u32 {
     match packet_kind(rays) {
-        None => (0..rays.len()).filter(|&i| occluded_below(bvh, &rays[i], bvh.root)).fold(0, |m, i| m | 1 << i),
+        None => (0..rays.len()).filter(|&i| occluded_below(bvh, &rays[i], bvh.root, &mut ())).fold(0, |m, i| m | 1 << i),
         Some(false) => unsafe { occluded_beam::<false>(bvh, rays) },
         Some(true) => unsafe { occluded_beam::<true>(bvh, rays) },
     }
@@ -391,7 +391,7 @@ pub(crate) unsafe fn occluded_packet(bvh: &Bvh8, rays: &[PreparedRay]) -> u32 {
 unsafe fn occluded_beam<const PARALLEL: bool>(bvh: &Bvh8, rays: &[PreparedRay]) -> u32 {
     let finish = |link: u32, live: u32| {
         if live.count_ones() <= FEW {
-            Some(Lanes(live).filter(|&i| occluded_below(bvh, &rays[i], link)).fold(0, |m, i| m | 1 << i))
+            Some(Lanes(live).filter(|&i| occluded_below(bvh, &rays[i], link, &mut ())).fold(0, |m, i| m | 1 << i))
         } else if link & LEAF == 0 {
             None
         } else if link == EMPTY {

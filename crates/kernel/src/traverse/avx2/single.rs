@@ -8,7 +8,7 @@ use crate::bvh8::Bvh8;
 use crate::wide::{EMPTY, LEAF, STACK_SIZE};
 use crate::prepared::{PreparedRay, widen};
 use crate::ray::Hit;
-use crate::traverse::Best;
+use crate::traverse::{Best, Tally};
 
 /// Closest hit, near-first (the Embree BVH8 single-ray scheme: one hit child is followed
 /// directly, two are ordered by one comparison, more are pushed and sorted by distance).
@@ -16,14 +16,15 @@ use crate::traverse::Best;
 /// # Safety
 /// The CPU must support AVX2 and FMA.
 #[target_feature(enable = "avx2,fma")]
-pub(crate) unsafe fn intersect(bvh: &Bvh8, ray: &PreparedRay) -> Option<Hit> {
-    closest_below(bvh, ray, bvh.root, Best::none(ray.tfar)).into_hit()
+pub(crate) unsafe fn intersect(bvh: &Bvh8, ray: &PreparedRay, tally: &mut impl Tally) -> Option<Hit> {
+    closest_below(bvh, ray, bvh.root, Best::none(ray.tfar), tally).into_hit()
 }
 
-/// The best hit in the subtree under `link`, starting from (and never worse than) `best`. A
-/// packet hands rays over to this when too few of them share the rest of the walk.
+/// The best hit in the subtree under `link`, starting from (and never worse than) `best`, each
+/// step told to `tally`. A packet hands rays over to this when too few of them share the rest
+/// of the walk.
 #[target_feature(enable = "avx2,fma")]
-pub(super) fn closest_below(bvh: &Bvh8, ray: &PreparedRay, link: u32, best: Best) -> Best {
+pub(super) fn closest_below(bvh: &Bvh8, ray: &PreparedRay, link: u32, best: Best, tally: &mut impl Tally) -> Best {
     let r = BoxLanes::new(ray);
     let leaf = LeafLanes::new(ray);
     let mut best = best;
@@ -35,6 +36,7 @@ pub(super) fn closest_below(bvh: &Bvh8, ray: &PreparedRay, link: u32, best: Best
         if link & LEAF == 0 {
             // SAFETY: inner links written by the collapse are valid node indices.
             let node = unsafe { bvh.nodes.get_unchecked(link as usize) };
+            tally.node();
             let (mask, tn) = child_hits(node, &r, tfar_wide);
             if mask != 0 {
                 link = near_first(node, mask, tn, &mut stack, &mut sp, |link| prefetch(bvh, link));
@@ -43,6 +45,7 @@ pub(super) fn closest_below(bvh: &Bvh8, ray: &PreparedRay, link: u32, best: Best
         } else if link != EMPTY {
             // SAFETY: leaf links written by the collapse are valid block indices.
             let block = unsafe { bvh.blocks.get_unchecked((link & !LEAF) as usize) };
+            tally.leaf(block);
             block_closest(block, ray, &leaf, &mut best);
             tfar_wide = _mm256_set1_ps(widen(best.t));
         }
@@ -68,14 +71,14 @@ pub(super) fn closest_below(bvh: &Bvh8, ray: &PreparedRay, link: u32, best: Best
 /// # Safety
 /// The CPU must support AVX2 and FMA.
 #[target_feature(enable = "avx2,fma")]
-pub(crate) unsafe fn occluded(bvh: &Bvh8, ray: &PreparedRay) -> bool {
-    occluded_below(bvh, ray, bvh.root)
+pub(crate) unsafe fn occluded(bvh: &Bvh8, ray: &PreparedRay, tally: &mut impl Tally) -> bool {
+    occluded_below(bvh, ray, bvh.root, tally)
 }
 
-/// Whether anything in the subtree under `link` is hit. A packet hands rays over to this when
-/// too few of them share the rest of the walk.
+/// Whether anything in the subtree under `link` is hit, each step told to `tally`. A packet
+/// hands rays over to this when too few of them share the rest of the walk.
 #[target_feature(enable = "avx2,fma")]
-pub(super) fn occluded_below(bvh: &Bvh8, ray: &PreparedRay, link: u32) -> bool {
+pub(super) fn occluded_below(bvh: &Bvh8, ray: &PreparedRay, link: u32, tally: &mut impl Tally) -> bool {
     let r = BoxLanes::new(ray);
     let leaf = LeafLanes::new(ray);
     let tfar_wide = _mm256_set1_ps(widen(ray.tfar));
@@ -89,6 +92,7 @@ pub(super) fn occluded_below(bvh: &Bvh8, ray: &PreparedRay, link: u32) -> bool {
         if link & LEAF == 0 {
             // SAFETY: as in `intersect`.
             let node = unsafe { bvh.nodes.get_unchecked(link as usize) };
+            tally.node();
             let (mut mask, _) = child_hits(node, &r, tfar_wide);
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;
@@ -99,6 +103,7 @@ pub(super) fn occluded_below(bvh: &Bvh8, ray: &PreparedRay, link: u32) -> bool {
         } else if link != EMPTY {
             // SAFETY: as in `intersect`.
             let block = unsafe { bvh.blocks.get_unchecked((link & !LEAF) as usize) };
+            tally.leaf(block);
             if block_any(block, ray, &leaf) {
                 return true;
             }
