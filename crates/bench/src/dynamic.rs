@@ -140,7 +140,7 @@ fn rays_for(camera: &Camera, api: Api) -> Vec<Ray> {
     let rays = primary_rays(camera);
     match api {
         Api::Single => rays,
-        Api::Packets => crate::rays::in_packets(&rays, WIDTH, HEIGHT),
+        Api::Packets => crate::rays::in_blocks(&rays, WIDTH, HEIGHT, (4, 2)),
     }
 }
 

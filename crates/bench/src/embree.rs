@@ -51,55 +51,56 @@ struct RtcRayHit {
     hit: RtcHit,
 }
 
-/// Eight rays and their hits, structure of arrays (`RTCRayHit8`).
-#[repr(C, align(32))]
-struct RtcRayHit8 {
-    ray: RtcRay8,
-    ng: [[f32; 8]; 3],
-    u: [f32; 8],
-    v: [f32; 8],
-    prim_id: [u32; 8],
-    geom_id: [u32; 8],
-    inst_id: [u32; 8],
+/// `N` rays and their hits, structure of arrays (`RTCRayHit8`, `RTCRayHit16`).
+#[repr(C, align(64))]
+struct RtcRayHitN<const N: usize> {
+    ray: RtcRayN<N>,
+    ng: [[f32; N]; 3],
+    u: [f32; N],
+    v: [f32; N],
+    prim_id: [u32; N],
+    geom_id: [u32; N],
+    inst_id: [u32; N],
 }
 
-/// Eight rays, structure of arrays (`RTCRay8`): the first half of [`RtcRayHit8`].
-#[repr(C, align(32))]
-struct RtcRay8 {
-    org: [[f32; 8]; 3],
-    tnear: [f32; 8],
-    dir: [[f32; 8]; 3],
-    time: [f32; 8],
-    tfar: [f32; 8],
-    mask: [u32; 8],
-    id: [u32; 8],
-    flags: [u32; 8],
+/// `N` rays, structure of arrays (`RTCRay8`, `RTCRay16`): the first part of [`RtcRayHitN`]
+/// (whose size is a multiple of 64 bytes for 8 and 16 rays, so the alignment adds no padding).
+#[repr(C, align(64))]
+struct RtcRayN<const N: usize> {
+    org: [[f32; N]; 3],
+    tnear: [f32; N],
+    dir: [[f32; N]; 3],
+    time: [f32; N],
+    tfar: [f32; N],
+    mask: [u32; N],
+    id: [u32; N],
+    flags: [u32; N],
 }
 
-impl RtcRay8 {
-    /// Up to eight rays as a packet, lanes past the last repeating it, and the packet's valid
+impl<const N: usize> RtcRayN<N> {
+    /// Up to `N` rays as a packet, lanes past the last repeating it, and the packet's valid
     /// mask.
-    fn of(rays: &[Ray]) -> (Valid8, RtcRay8) {
-        assert!(!rays.is_empty() && rays.len() <= 8, "one to eight rays");
-        let valid = Valid8(std::array::from_fn(|i| if i < rays.len() { -1 } else { 0 }));
+    fn of(rays: &[Ray]) -> (ValidN<N>, RtcRayN<N>) {
+        assert!(!rays.is_empty() && rays.len() <= N, "one to {N} rays");
+        let valid = ValidN(std::array::from_fn(|i| if i < rays.len() { -1 } else { 0 }));
         let lane = |i: usize| &rays[i.min(rays.len() - 1)];
-        let ray = RtcRay8 {
+        let ray = RtcRayN {
             org: std::array::from_fn(|a| std::array::from_fn(|i| lane(i).origin[a])),
             tnear: std::array::from_fn(|i| lane(i).tnear),
             dir: std::array::from_fn(|a| std::array::from_fn(|i| lane(i).dir[a])),
-            time: [0.0; 8],
+            time: [0.0; N],
             tfar: std::array::from_fn(|i| lane(i).tfar),
-            mask: [u32::MAX; 8],
-            id: [0; 8],
-            flags: [0; 8],
+            mask: [u32::MAX; N],
+            id: [0; N],
+            flags: [0; N],
         };
         (valid, ray)
     }
 }
 
 /// The packet's valid mask (−1 active, 0 inactive), aligned as Embree requires.
-#[repr(C, align(32))]
-struct Valid8([i32; 8]);
+#[repr(C, align(64))]
+struct ValidN<const N: usize>([i32; N]);
 
 #[repr(C)]
 struct RtcIntersectContext {
@@ -143,8 +144,10 @@ unsafe extern "C" {
     fn rtcSetGeometryInstancedScene(geometry: RtcGeometry, scene: RtcScene);
     fn rtcSetGeometryTransform(geometry: RtcGeometry, time_step: u32, format: u32, xfm: *const c_void);
     fn rtcUpdateGeometryBuffer(geometry: RtcGeometry, kind: u32, slot: u32);
-    fn rtcIntersect8(valid: *const i32, scene: RtcScene, context: *mut RtcIntersectContext, rayhit: *mut RtcRayHit8);
-    fn rtcOccluded8(valid: *const i32, scene: RtcScene, context: *mut RtcIntersectContext, ray: *mut RtcRay8);
+    fn rtcIntersect8(valid: *const i32, scene: RtcScene, context: *mut RtcIntersectContext, rayhit: *mut RtcRayHitN<8>);
+    fn rtcOccluded8(valid: *const i32, scene: RtcScene, context: *mut RtcIntersectContext, ray: *mut RtcRayN<8>);
+    fn rtcIntersect16(valid: *const i32, scene: RtcScene, context: *mut RtcIntersectContext, rayhit: *mut RtcRayHitN<16>);
+    fn rtcOccluded16(valid: *const i32, scene: RtcScene, context: *mut RtcIntersectContext, ray: *mut RtcRayN<16>);
 }
 
 /// Embree's BVH build quality.
@@ -292,40 +295,79 @@ impl Scene {
 impl Scene {
     /// `rtcIntersect8`: closest-hit distances of up to eight rays traced as one packet.
     pub fn intersect8(&self, rays: &[Ray], out: &mut [Option<f32>]) {
-        intersect8(self.raw, rays, out);
+        intersect_n::<8>(self.raw, rays, out);
+    }
+
+    /// `rtcIntersect16`: closest-hit distances of up to sixteen rays traced as one packet.
+    pub fn intersect16(&self, rays: &[Ray], out: &mut [Option<f32>]) {
+        intersect_n::<16>(self.raw, rays, out);
+    }
+
+    /// `rtcOccluded1`: whether anything blocks the segment.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray) -> bool {
+        occluded1(self.raw, ray)
+    }
+
+    /// `rtcOccluded16`: which of up to sixteen segments are blocked (bit `i` for `rays[i]`).
+    pub fn occluded16(&self, rays: &[Ray]) -> u32 {
+        occluded_n::<16>(self.raw, rays)
     }
 }
 
-/// `rtcIntersect8` on a committed scene: closest-hit distances of up to eight rays.
-fn intersect8(scene: RtcScene, rays: &[Ray], out: &mut [Option<f32>]) {
+/// `rtcIntersect8` or `rtcIntersect16` (`N`) on a committed scene: closest-hit distances of up
+/// to `N` rays.
+fn intersect_n<const N: usize>(scene: RtcScene, rays: &[Ray], out: &mut [Option<f32>]) {
     assert!(rays.len() == out.len(), "one result per ray");
-    let (valid, ray) = RtcRay8::of(rays);
-    let mut rh = RtcRayHit8 {
+    let (valid, ray) = RtcRayN::<N>::of(rays);
+    let mut rh = RtcRayHitN::<N> {
         ray,
-        ng: [[0.0; 8]; 3],
-        u: [0.0; 8],
-        v: [0.0; 8],
-        prim_id: [0; 8],
-        geom_id: [INVALID_GEOMETRY_ID; 8],
-        inst_id: [INVALID_GEOMETRY_ID; 8],
+        ng: [[0.0; N]; 3],
+        u: [0.0; N],
+        v: [0.0; N],
+        prim_id: [0; N],
+        geom_id: [INVALID_GEOMETRY_ID; N],
+        inst_id: [INVALID_GEOMETRY_ID; N],
     };
     let mut context = RtcIntersectContext::new();
-    // SAFETY: committed scene; `valid` and the packet are 32-byte aligned as Embree requires.
-    unsafe { rtcIntersect8(valid.0.as_ptr(), scene, &mut context, &mut rh) };
+    let hits = (&mut rh as *mut RtcRayHitN<N>).cast();
+    // SAFETY: committed scene; `valid` and the packet are 64-byte aligned (Embree needs 32 for
+    // eight rays, 64 for sixteen) and laid out as `RTCRayHit8`/`RTCRayHit16` for these `N`.
+    match N {
+        8 => unsafe { rtcIntersect8(valid.0.as_ptr(), scene, &mut context, hits) },
+        16 => unsafe { rtcIntersect16(valid.0.as_ptr(), scene, &mut context, hits.cast()) },
+        _ => unreachable!("Embree has packets of 4, 8 and 16; the bench uses 8 and 16"),
+    }
     for (i, o) in out.iter_mut().enumerate() {
         *o = (rh.geom_id[i] != INVALID_GEOMETRY_ID).then_some(rh.ray.tfar[i]);
     }
 }
 
-/// `rtcOccluded8` on a committed scene: whether each of up to eight segments is blocked (bit
-/// `i` for `rays[i]`).
-fn occluded8(scene: RtcScene, rays: &[Ray]) -> u32 {
-    let (valid, mut r) = RtcRay8::of(rays);
+/// `rtcOccluded8` or `rtcOccluded16` (`N`) on a committed scene: whether each of up to `N`
+/// segments is blocked (bit `i` for `rays[i]`).
+fn occluded_n<const N: usize>(scene: RtcScene, rays: &[Ray]) -> u32 {
+    let (valid, mut r) = RtcRayN::<N>::of(rays);
     let mut context = RtcIntersectContext::new();
-    // SAFETY: committed scene; `valid` and the packet are 32-byte aligned as Embree requires.
-    unsafe { rtcOccluded8(valid.0.as_ptr(), scene, &mut context, &mut r) };
+    let packet = (&mut r as *mut RtcRayN<N>).cast();
+    // SAFETY: as in `intersect_n`, with `RTCRay8`/`RTCRay16`.
+    match N {
+        8 => unsafe { rtcOccluded8(valid.0.as_ptr(), scene, &mut context, packet) },
+        16 => unsafe { rtcOccluded16(valid.0.as_ptr(), scene, &mut context, packet.cast()) },
+        _ => unreachable!("Embree has packets of 4, 8 and 16; the bench uses 8 and 16"),
+    }
     // Embree marks an occluded ray by setting its tfar to −∞.
     (0..rays.len()).filter(|&i| r.tfar[i] == f32::NEG_INFINITY).fold(0, |m, i| m | 1 << i)
+}
+
+/// `rtcOccluded1` on a committed scene: whether anything blocks the segment.
+#[inline]
+fn occluded1(scene: RtcScene, ray: &Ray) -> bool {
+    let mut r = RtcRay::from(ray);
+    let mut context = RtcIntersectContext::new();
+    // SAFETY: committed scene, valid ray and context structs.
+    unsafe { rtcOccluded1(scene, &mut context, &mut r) };
+    // Embree marks an occluded ray by setting its tfar to −∞.
+    r.tfar == f32::NEG_INFINITY
 }
 
 impl Drop for Scene {
@@ -487,24 +529,19 @@ impl InstancedScene {
 
     /// `rtcIntersect8` on the top level: closest-hit distances of up to eight rays as a packet.
     pub fn intersect8(&self, rays: &[Ray], out: &mut [Option<f32>]) {
-        intersect8(self.top, rays, out);
+        intersect_n::<8>(self.top, rays, out);
     }
 
     /// `rtcOccluded8` on the top level: which of up to eight segments are blocked (bit `i` for
     /// `rays[i]`).
     pub fn occluded8(&self, rays: &[Ray]) -> u32 {
-        occluded8(self.top, rays)
+        occluded_n::<8>(self.top, rays)
     }
 
     /// `rtcOccluded1` on the top level: whether anything blocks the segment.
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
-        let mut r = RtcRay::from(ray);
-        let mut context = RtcIntersectContext::new();
-        // SAFETY: committed scene, valid ray and context structs.
-        unsafe { rtcOccluded1(self.top, &mut context, &mut r) };
-        // Embree marks an occluded ray by setting its tfar to −∞.
-        r.tfar == f32::NEG_INFINITY
+        occluded1(self.top, ray)
     }
 }
 

@@ -10,12 +10,23 @@ use serde::Serialize;
 
 use crate::rays::{self, HEIGHT, PrimaryHit, WIDTH};
 
-/// Something that answers closest-hit queries: raystage's BVH or Embree's scene.
+/// Rays of a 4×4-pixel group, Embree's largest packet (`rtcIntersect16`).
+pub const GROUP_SIZE: usize = 16;
+
+/// Something that answers closest-hit and any-hit queries: raystage's BVH or Embree's scene.
 pub trait Tracer: Sync {
     /// Distance of the closest hit, if any: the single-ray API.
     fn trace(&self, ray: &Ray) -> Option<f32>;
     /// Closest-hit distances of up to [`PACKET_SIZE`] rays traced as one packet.
     fn trace_packet(&self, rays: &[Ray], out: &mut [Option<f32>]);
+    /// Closest-hit distances of up to [`GROUP_SIZE`] rays of a 4×4-pixel group, traced together
+    /// as the system traces such a group fastest.
+    fn trace_group(&self, rays: &[Ray], out: &mut [Option<f32>]);
+    /// Whether anything blocks the segment: the single-ray any-hit API.
+    fn occluded(&self, ray: &Ray) -> bool;
+    /// Which of up to [`GROUP_SIZE`] segments are blocked (bit `i` for `rays[i]`), traced
+    /// together.
+    fn occluded_group(&self, rays: &[Ray]) -> u32;
 }
 
 impl Tracer for Bvh8 {
@@ -26,11 +37,30 @@ impl Tracer for Bvh8 {
 
     #[inline]
     fn trace_packet(&self, rays: &[Ray], out: &mut [Option<f32>]) {
-        let mut hits = [None; PACKET_SIZE];
+        let mut hits = [None; GROUP_SIZE];
         self.intersect_packets(rays, &mut hits[..rays.len()]);
         for (o, h) in out.iter_mut().zip(&hits) {
             *o = h.map(|h| h.t);
         }
+    }
+
+    /// Two packets of 4×2 pixels: raystage's packets are eight rays, one per AVX2 lane.
+    #[inline]
+    fn trace_group(&self, rays: &[Ray], out: &mut [Option<f32>]) {
+        self.trace_packet(rays, out);
+    }
+
+    #[inline]
+    fn occluded(&self, ray: &Ray) -> bool {
+        Bvh8::occluded(self, ray)
+    }
+
+    /// Two packets of eight.
+    fn occluded_group(&self, rays: &[Ray]) -> u32 {
+        rays.chunks(PACKET_SIZE).enumerate().fold(0, |mask, (k, packet)| {
+            let prepared = raystage_kernel::PreparedRay::packet(packet);
+            mask | self.occluded_packet_prepared(&prepared[..packet.len()]) << (k * PACKET_SIZE)
+        })
     }
 }
 
@@ -45,6 +75,21 @@ impl Tracer for crate::embree::Scene {
     fn trace_packet(&self, rays: &[Ray], out: &mut [Option<f32>]) {
         self.intersect8(rays, out);
     }
+
+    #[inline]
+    fn trace_group(&self, rays: &[Ray], out: &mut [Option<f32>]) {
+        self.intersect16(rays, out);
+    }
+
+    #[inline]
+    fn occluded(&self, ray: &Ray) -> bool {
+        crate::embree::Scene::occluded(self, ray)
+    }
+
+    #[inline]
+    fn occluded_group(&self, rays: &[Ray]) -> u32 {
+        self.occluded16(rays)
+    }
 }
 
 /// One traced ray set: wall time and the probe's checksum (hit count, sum of hit distances).
@@ -58,13 +103,26 @@ pub struct Traced {
     pub tsum: f64,
 }
 
-/// How a ray set is handed to a tracer.
+/// How a frame's rays are handed to a tracer (the dynamic bench's frames too).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Api {
     /// One ray per call.
     Single,
     /// Consecutive groups of [`PACKET_SIZE`] rays per call.
     Packets,
+}
+
+/// What [`trace_all`] asks of a tracer per call.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Calls {
+    /// The closest hits of rays handed over as the [`Api`] says.
+    Closest(Api),
+    /// The closest hits of consecutive groups of [`GROUP_SIZE`] rays.
+    ClosestGroups,
+    /// Whether one segment is blocked; a blocked segment counts as a hit at distance 0.
+    Occluded,
+    /// Which of consecutive groups of [`GROUP_SIZE`] segments are blocked.
+    OccludedGroups,
 }
 
 /// How the rays are shared out between threads.
@@ -82,7 +140,7 @@ pub enum Schedule {
 pub const SHARED_RUN: usize = 64 * PACKET_SIZE;
 
 /// Traces `rays` on `threads` threads, shared out by `schedule`.
-pub fn trace_all(tracer: &dyn Tracer, rays: &[Ray], threads: usize, api: Api, schedule: Schedule) -> Traced {
+pub fn trace_all(tracer: &dyn Tracer, rays: &[Ray], threads: usize, calls: Calls, schedule: Schedule) -> Traced {
     let chunk = |rays: &[Ray]| {
         let (mut hits, mut tsum) = (0u64, 0f64);
         let mut count = |t: Option<f32>| {
@@ -91,13 +149,26 @@ pub fn trace_all(tracer: &dyn Tracer, rays: &[Ray], threads: usize, api: Api, sc
                 tsum += t as f64;
             }
         };
-        match api {
-            Api::Single => rays.iter().for_each(|ray| count(tracer.trace(ray))),
-            Api::Packets => {
-                let mut out = [None; PACKET_SIZE];
+        let mut out = [None; GROUP_SIZE];
+        match calls {
+            Calls::Closest(Api::Single) => rays.iter().for_each(|ray| count(tracer.trace(ray))),
+            Calls::Closest(Api::Packets) => {
                 for packet in rays.chunks(PACKET_SIZE) {
                     tracer.trace_packet(packet, &mut out[..packet.len()]);
                     out[..packet.len()].iter().for_each(|&t| count(t));
+                }
+            }
+            Calls::ClosestGroups => {
+                for group in rays.chunks(GROUP_SIZE) {
+                    tracer.trace_group(group, &mut out[..group.len()]);
+                    out[..group.len()].iter().for_each(|&t| count(t));
+                }
+            }
+            Calls::Occluded => rays.iter().for_each(|ray| count(tracer.occluded(ray).then_some(0.0))),
+            Calls::OccludedGroups => {
+                for group in rays.chunks(GROUP_SIZE) {
+                    let blocked = tracer.occluded_group(group);
+                    (0..group.len()).for_each(|i| count((blocked >> i & 1 != 0).then_some(0.0)));
                 }
             }
         }
@@ -123,7 +194,7 @@ pub fn trace_all(tracer: &dyn Tracer, rays: &[Ray], threads: usize, api: Api, sc
         std::thread::scope(|s| {
             let handles: Vec<_> = match schedule {
                 Schedule::Halves => {
-                    let per = rays.len().div_ceil(threads).next_multiple_of(PACKET_SIZE);
+                    let per = rays.len().div_ceil(threads).next_multiple_of(GROUP_SIZE);
                     rays.chunks(per.max(1)).map(|c| s.spawn(move || chunk(c))).collect()
                 }
                 Schedule::Shared => (0..threads).map(|_| s.spawn(runs)).collect(),
@@ -161,20 +232,28 @@ pub struct RaySets {
     pub primary: Vec<Ray>,
     /// The same primary rays grouped in 4×2-pixel packets (tile rows of 480 packets).
     pub packets: Vec<Ray>,
+    /// The same primary rays grouped in 4×4-pixel groups (rows of 480 groups).
+    pub groups: Vec<Ray>,
     /// 1920×1080 random incoherent rays.
     pub incoherent: Vec<Ray>,
     /// Bounce rays from raystage's primary hits.
     pub bounce: Vec<Ray>,
+    /// Shadow rays from the scene's point light ([`rays::light`]) to raystage's primary hits,
+    /// stopping just short of them, in the 4×4 groups' order.
+    pub shadow: Vec<Ray>,
 }
 
 impl RaySets {
-    /// Generates the probe's ray sets for `scene`; bounce rays start at `bvh`'s primary hits.
+    /// Generates the probe's ray sets for `scene`; bounce and shadow rays go from and to `bvh`'s
+    /// primary hits.
     pub fn new(scene: StandardScene, mesh: &Mesh, bvh: &Bvh8) -> RaySets {
         let primary = rays::primary(scene, WIDTH, HEIGHT);
-        let packets = rays::in_packets(&primary, WIDTH, HEIGHT);
+        let packets = rays::in_blocks(&primary, WIDTH, HEIGHT, (4, 2));
+        let groups = rays::in_blocks(&primary, WIDTH, HEIGHT, (4, 4));
         let incoherent = rays::incoherent(scene, (WIDTH * HEIGHT) as usize);
         let bounce = rays::bounce(&primary, &primary_hits(bvh, mesh, &primary));
-        RaySets { primary, packets, incoherent, bounce }
+        let shadow = rays::shadows(rays::light(scene), &groups, &primary_hits(bvh, mesh, &groups));
+        RaySets { primary, packets, groups, incoherent, bounce, shadow }
     }
 }
 
@@ -198,10 +277,18 @@ pub struct KernelReport {
     pub primary_mrays: Option<f64>,
     /// Primary rays traced in packets of eight, 4×2 pixels (`rtcIntersect8` for Embree).
     pub primary_packet_mrays: Option<f64>,
+    /// Primary rays traced in groups of 4×4 pixels (`rtcIntersect16` for Embree, two packets
+    /// of eight for raystage).
+    pub primary_group_mrays: Option<f64>,
     /// Random incoherent rays, million per second.
     pub incoherent_mrays: Option<f64>,
     /// Diffuse bounce rays, million per second.
     pub bounce_mrays: Option<f64>,
+    /// Shadow rays to one point light, one per any-hit call (`rtcOccluded1`).
+    pub shadow_mrays: Option<f64>,
+    /// The same shadow rays in groups of 4×4 pixels (`rtcOccluded16`; two packets of eight for
+    /// raystage).
+    pub shadow_group_mrays: Option<f64>,
     /// raystage only: what its closest-hit walks did per ray, ray set by ray set (single rays,
     /// the tree the 1-thread build made).
     pub walks: Option<Walks>,
@@ -267,10 +354,16 @@ pub struct Samples {
     pub primary: Vec<Traced>,
     /// Primary rays in packets per repetition.
     pub packets: Vec<Traced>,
+    /// Primary rays in 4×4 groups per repetition.
+    pub groups: Vec<Traced>,
     /// Incoherent rays per repetition.
     pub incoherent: Vec<Traced>,
     /// Bounce rays per repetition.
     pub bounce: Vec<Traced>,
+    /// Shadow rays one by one per repetition.
+    pub shadow: Vec<Traced>,
+    /// Shadow rays in 4×4 groups per repetition.
+    pub shadow_groups: Vec<Traced>,
 }
 
 /// Median of a non-empty sample.
@@ -287,25 +380,31 @@ impl Traced {
     }
 }
 
+/// Ray sets and ways of tracing them that [`trace_interleaved`] measures.
+pub const SETS: usize = 7;
+
 /// Rays per slice when systems take turns (see [`trace_interleaved`]).
 const SLICE: usize = 1 << 16;
 
 /// Traces every ray set once with every tracer, the tracers taking turns slice by slice
 /// (65,536 rays), so that the machine's speed drifting during the run (these are shared virtual
 /// machines) affects all systems alike; returns one `Traced` per tracer and set, in
-/// `[primary, packets, incoherent, bounce]` order.
-pub fn trace_interleaved(tracers: &[&dyn Tracer], sets: &RaySets, threads: usize) -> Vec<[Traced; 4]> {
+/// [`Samples::record`]'s order.
+pub fn trace_interleaved(tracers: &[&dyn Tracer], sets: &RaySets, threads: usize) -> Vec<[Traced; SETS]> {
     let plan = [
-        (&sets.primary, Api::Single),
-        (&sets.packets, Api::Packets),
-        (&sets.incoherent, Api::Single),
-        (&sets.bounce, Api::Single),
+        (&sets.primary, Calls::Closest(Api::Single)),
+        (&sets.packets, Calls::Closest(Api::Packets)),
+        (&sets.groups, Calls::ClosestGroups),
+        (&sets.incoherent, Calls::Closest(Api::Single)),
+        (&sets.bounce, Calls::Closest(Api::Single)),
+        (&sets.shadow, Calls::Occluded),
+        (&sets.shadow, Calls::OccludedGroups),
     ];
-    let mut totals = vec![[Traced::default(); 4]; tracers.len()];
-    for (set, (rays, api)) in plan.iter().enumerate() {
+    let mut totals = vec![[Traced::default(); SETS]; tracers.len()];
+    for (set, (rays, calls)) in plan.iter().enumerate() {
         for slice in rays.chunks(SLICE) {
             for (k, tracer) in tracers.iter().enumerate() {
-                totals[k][set] = totals[k][set].plus(trace_all(*tracer, slice, threads, *api, Schedule::Halves));
+                totals[k][set] = totals[k][set].plus(trace_all(*tracer, slice, threads, *calls, Schedule::Halves));
             }
         }
     }
@@ -313,13 +412,18 @@ pub fn trace_interleaved(tracers: &[&dyn Tracer], sets: &RaySets, threads: usize
 }
 
 impl Samples {
-    /// Records one repetition, as returned by [`trace_interleaved`] for one tracer.
-    pub fn record(&mut self, traced: [Traced; 4]) {
-        let [primary, packets, incoherent, bounce] = traced;
+    /// Records one repetition, as returned by [`trace_interleaved`] for one tracer: primary rays
+    /// one by one, in packets and in groups, incoherent and bounce rays, shadow rays one by one
+    /// and in groups.
+    pub fn record(&mut self, traced: [Traced; SETS]) {
+        let [primary, packets, groups, incoherent, bounce, shadow, shadow_groups] = traced;
         self.primary.push(primary);
         self.packets.push(packets);
+        self.groups.push(groups);
         self.incoherent.push(incoherent);
         self.bounce.push(bounce);
+        self.shadow.push(shadow);
+        self.shadow_groups.push(shadow_groups);
     }
 
     /// Medians as a report line (without the fields only one system has).
@@ -338,8 +442,11 @@ impl Samples {
             sah_cost: None,
             primary_mrays: mrays(&self.primary, |s| s.primary.len()),
             primary_packet_mrays: mrays(&self.packets, |s| s.packets.len()),
+            primary_group_mrays: mrays(&self.groups, |s| s.groups.len()),
             incoherent_mrays: mrays(&self.incoherent, |s| s.incoherent.len()),
             bounce_mrays: mrays(&self.bounce, |s| s.bounce.len()),
+            shadow_mrays: mrays(&self.shadow, |s| s.shadow.len()),
+            shadow_group_mrays: mrays(&self.shadow_groups, |s| s.shadow.len()),
             walks: None,
             hits: last.hits,
             tsum: last.tsum,

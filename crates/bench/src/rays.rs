@@ -19,15 +19,38 @@ pub fn primary(scene: StandardScene, width: u32, height: u32) -> Vec<Ray> {
     (0..height).flat_map(|y| (0..width).map(move |x| Ray::new(cam.origin, cam.dir(x, y, width, height)))).collect()
 }
 
-/// The same rays reordered into packets of 4×2 pixels, packets row by row; `width` must be a
-/// multiple of 4 and `height` of 2.
-pub fn in_packets(primary: &[Ray], width: u32, height: u32) -> Vec<Ray> {
-    assert!(width.is_multiple_of(4) && height.is_multiple_of(2), "whole 4x2 packets");
+/// The same rays reordered into blocks of `bw × bh` pixels (4×2 for packets of eight, 4×4 for
+/// groups of sixteen), each block row by row, blocks row by row; `width` and `height` must be
+/// multiples of the block's.
+pub fn in_blocks(primary: &[Ray], width: u32, height: u32, (bw, bh): (usize, usize)) -> Vec<Ray> {
     let (w, h) = (width as usize, height as usize);
-    (0..h / 2)
-        .flat_map(|py| (0..w / 4).map(move |px| (px, py)))
-        .flat_map(|(px, py)| (0..8).map(move |k| (py * 2 + k / 4) * w + px * 4 + k % 4))
+    assert!(w.is_multiple_of(bw) && h.is_multiple_of(bh), "whole {bw}x{bh} blocks");
+    (0..h / bh)
+        .flat_map(|by| (0..w / bw).map(move |bx| (bx, by)))
+        .flat_map(|(bx, by)| (0..bw * bh).map(move |k| (by * bh + k / bw) * w + bx * bw + k % bw))
         .map(|i| primary[i])
+        .collect()
+}
+
+/// Where the scene's point light is, for its shadow rays: above the sphere grid, behind and to
+/// the right of its camera's view; above the soup's cube and in front of it.
+pub fn light(scene: StandardScene) -> Vec3 {
+    match scene {
+        StandardScene::Spheres => Vec3::new(6.0, 14.0, 4.0),
+        StandardScene::Soup => Vec3::new(0.9, 1.6, 1.8),
+    }
+}
+
+/// Shadow rays from `light` to the points `rays` hit (skipping misses), each a segment that
+/// stops just short of its point (a ten-thousandth of the way), so that the surface it lies on
+/// does not block it.
+pub fn shadows(light: Vec3, rays: &[Ray], hits: &[Option<PrimaryHit>]) -> Vec<Ray> {
+    rays.iter()
+        .zip(hits)
+        .filter_map(|(ray, hit)| {
+            let point = ray.origin + ray.dir * (*hit)?.t;
+            Some(Ray::segment(light, point - light, 0.0, 1.0 - 1e-4))
+        })
         .collect()
 }
 

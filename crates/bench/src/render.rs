@@ -27,7 +27,7 @@ use raystage_render::{Film, FrameStats, Integrator, Progressive, RayCounts, Rend
 use raystage_scene::{Light, LightId, Scene};
 use serde::Serialize;
 
-use crate::kernel::{Api, Schedule, build_raystage, median, trace_all};
+use crate::kernel::{Api, Calls, Schedule, build_raystage, median, trace_all};
 use crate::rays::{self, HEIGHT, WIDTH};
 
 /// The light of the shading measurements, replacing the sphere scene's two directional lights:
@@ -285,7 +285,7 @@ pub fn run_shading(threads: usize, reps: usize, mut progress: impl FnMut(&str)) 
     let mesh = StandardScene::Spheres.mesh();
     let (bvh, kernel_build) = build_raystage(&mesh, threads);
     progress(&format!("shading: kernel BVH built in {kernel_build:.3} s"));
-    let packets = rays::in_packets(&rays::primary(StandardScene::Spheres, WIDTH, HEIGHT), WIDTH, HEIGHT);
+    let packets = rays::in_blocks(&rays::primary(StandardScene::Spheres, WIDTH, HEIGHT), WIDTH, HEIGHT, (4, 2));
     let warm_up = System::EyeLight.settings().expect("a rendered system");
     let (_, stats) = pool.install(|| raystage_render::render(&point_lit.frame(), &warm_up)).expect("valid settings");
     pool.install(|| raystage_render::render(&area_lit.frame(), &warm_up)).expect("valid settings");
@@ -396,7 +396,7 @@ pub fn run_material_cost(threads: usize, reps: usize, mut progress: impl FnMut(&
 
 /// Traces the primary rays, in 4×2 packets, through `bvh` on `threads` threads.
 fn measure_kernel(bvh: &Bvh8, packets: &[raystage_kernel::Ray], threads: usize) -> Measured {
-    let traced = trace_all(bvh, packets, threads, Api::Packets, Schedule::Shared);
+    let traced = trace_all(bvh, packets, threads, Calls::Closest(Api::Packets), Schedule::Shared);
     Measured { seconds: traced.seconds, rays: RayCounts { primary: packets.len() as u64, ..RayCounts::default() } }
 }
 

@@ -40,8 +40,11 @@ pub fn kernel_table(run: &SceneRun) -> String {
         Some(sets) => vec![
             RaySet { name: "primary", runs: |s| &s.primary, rays: sets.primary.len() },
             RaySet { name: "primary packets", runs: |s| &s.packets, rays: sets.packets.len() },
+            RaySet { name: "primary 4x4", runs: |s| &s.groups, rays: sets.groups.len() },
             RaySet { name: "incoherent", runs: |s| &s.incoherent, rays: sets.incoherent.len() },
             RaySet { name: "bounce", runs: |s| &s.bounce, rays: sets.bounce.len() },
+            RaySet { name: "shadow", runs: |s| &s.shadow, rays: sets.shadow.len() },
+            RaySet { name: "shadow 4x4", runs: |s| &s.shadow_groups, rays: sets.shadow.len() },
         ],
         None => Vec::new(),
     };
@@ -76,6 +79,9 @@ pub fn kernel_table(run: &SceneRun) -> String {
             let rate = |s: &Samples| mrays((set.runs)(s), set.rays);
             let unit = match set.name {
                 "primary packets" => "Mrays/s (8 rays per call: rtcIntersect8)",
+                "primary 4x4" => "Mrays/s (16 rays per call: rtcIntersect16; raystage: 2 packets)",
+                "shadow" => "Mrays/s (1 ray per call: rtcOccluded1)",
+                "shadow 4x4" => "Mrays/s (16 rays per call: rtcOccluded16; raystage: 2 packets)",
                 _ => "Mrays/s (1 ray per call: rtcIntersect1)",
             };
             row(&mut out, set.name, ours.map(rate), theirs.map(rate), robust.map(rate), unit);
