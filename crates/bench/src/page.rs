@@ -15,6 +15,10 @@ use serde::de::{Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
 
 use crate::stamp::{Stamp, StampLine};
 
+/// Whole-number fields that say which case a record measures, as its text fields do: rows of
+/// two systems are compared only where these agree.
+const CASE_COUNTS: [&str; 2] = ["threads", "spp"];
+
 /// Why a report cannot make a page.
 #[derive(Debug, PartialEq, thiserror::Error)]
 pub enum PageError {
@@ -99,12 +103,19 @@ impl Table {
                 systems.push(name);
             }
         }
-        // Rows of two systems describe the same case when their text fields and thread counts
-        // agree; the figures compared are the fractional ones (times, rates, ratios).
-        let identity: Vec<usize> = (0..self.columns.len()).filter(|&c| c != system && (matches!(self.rows[0][c], Value::String(_)) || self.columns[c] == "threads")).collect();
+        // Rows of two systems describe the same case when their text fields and the case's
+        // counts (threads, samples per pixel) agree; the figures compared are the fractional
+        // ones (times, rates, ratios).
+        let identity: Vec<usize> = (0..self.columns.len())
+            .filter(|&c| c != system && (matches!(self.rows[0][c], Value::String(_)) || CASE_COUNTS.contains(&self.columns[c].as_str())))
+            .collect();
         let figures: Vec<usize> = (0..self.columns.len()).filter(|&c| self.rows.iter().any(|r| r[c].is_fraction())).collect();
         if figures.is_empty() {
             return;
+        }
+        // raystage's figures over each other system's, wherever raystage is in the table.
+        if let Some(at) = systems.iter().position(|s| s == "raystage") {
+            systems[..=at].rotate_right(1);
         }
         let ours = &systems[0];
         for theirs in &systems[1..] {
@@ -293,6 +304,23 @@ mod tests {
         ] {
             assert!(page.contains(expected), "missing {expected:?} in\n{page}");
         }
+    }
+
+    #[test]
+    fn rows_are_compared_at_equal_sample_counts_raystage_over_the_others() {
+        let report = [
+            stamp(),
+            r#"{"system":"mitsuba","spp":16,"seconds":2.0}"#.into(),
+            r#"{"system":"raystage","spp":16,"seconds":1.0}"#.into(),
+            r#"{"system":"raystage","spp":64,"seconds":3.0}"#.into(),
+            r#"{"system":"mitsuba","spp":64,"seconds":12.0}"#.into(),
+        ]
+        .join("\n");
+        let page = render(&report).unwrap();
+        for expected in ["raystage ÷ mitsuba", "| spp | seconds |", "| 16 | 0.50× |", "| 64 | 0.25× |"] {
+            assert!(page.contains(expected), "missing {expected:?} in\n{page}");
+        }
+        assert!(!page.contains("mitsuba ÷ raystage"), "{page}");
     }
 
     #[test]
