@@ -422,3 +422,42 @@ async fn an_edit_takes_the_turn_of_the_pass_it_cut_short() {
     assert!(shown.is_ok(), "the moved camera's frame waited for the other client's render, which never ends");
     drop(other);
 }
+
+/// The pass that starts a stream over after an edit runs to its end whatever changes
+/// meanwhile: a scene that changes faster than a pass renders (a drag's camera moves, a playing
+/// clock) still shows frames, each at most a pass old, rather than none until the changes
+/// stop. Here the camera moves back to back, many times during each path-traced pass.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn frames_keep_coming_while_the_camera_moves_faster_than_a_pass() {
+    let state = AppState::new(Config::default());
+    let app = raystage_server::router(state.clone());
+    let s = ok(&app, "POST", "/scenes", json!({ "demo": "cornell" }), StatusCode::CREATED).await["id"].clone();
+    let addr = listen(state).await;
+    let url = format!("ws://{addr}/scenes/{s}/stream?width=640&height=360&integrator=path&max_samples=256");
+    let (mut socket, _) = tokio_tungstenite::connect_async(url).await.unwrap();
+    let (first, _) = next_frame(&mut socket).await;
+    let moving = tokio::spawn({
+        let (app, camera) = (app.clone(), format!("/scenes/{s}/camera"));
+        async move {
+            for k in 0u32.. {
+                ok(&app, "PUT", &camera, json!({ "eye": [(k as f32 * 0.1).sin(), 1, 4] }), StatusCode::OK).await;
+            }
+        }
+    });
+    let patience = std::time::Duration::from_secs(60);
+    let shown = tokio::time::timeout(patience, async {
+        let mut version = first["scene_version"].as_u64().unwrap();
+        for _ in 0..3 {
+            loop {
+                let (frame, _) = next_frame(&mut socket).await;
+                if frame["scene_version"].as_u64().unwrap() > version {
+                    version = frame["scene_version"].as_u64().unwrap();
+                    break;
+                }
+            }
+        }
+    })
+    .await;
+    moving.abort();
+    assert!(shown.is_ok(), "no frame came while the camera kept moving");
+}

@@ -88,9 +88,10 @@ struct Accumulation {
 /// A pass yields to a change of the scene or of the image (an edit, a camera move, new
 /// settings): it is stopped at once, since its frame would show what is no longer wanted, and
 /// its turn goes to the pass that starts over with the change, which would otherwise wait for
-/// every other client's render first. That pass ends the turn, cut short or not, so a stream
-/// whose scene changes faster than it renders still takes turns with the others: the edit's
-/// frame comes one pass after it, not one round of the turns after it.
+/// every other client's render first: the edit's frame comes one pass after it, not one round
+/// of the turns after it. That pass runs to its end whatever changes meanwhile, and gives the
+/// turn back: a stream whose scene changes faster than it renders (a drag, a playing clock that
+/// other renders move) still shows frames, and takes turns with the others.
 pub(crate) async fn refine(
     state: AppState,
     slot: Arc<SceneSlot>,
@@ -168,10 +169,9 @@ pub(crate) async fn refine(
             },
         };
         out_of_memory = false;
-        // A pass on the turn of one cut short gives its turn back when it ends, either way.
-        let (turn, may_pass_on) = match cut_short.take() {
-            Some(turn) => (turn, false),
-            None => (state.render_permit(client).await, true),
+        let (turn, restart) = match cut_short.take() {
+            Some(turn) => (turn, true),
+            None => (state.render_permit(client).await, false),
         };
         let (scene, version) = slot.snapshot().await;
         let mut acc = match (accumulation.take(), memory) {
@@ -192,7 +192,7 @@ pub(crate) async fn refine(
         let sent = taken.clone();
         let scene_id = slot.id;
         // Dropped with this future when the stream closes (the session aborts it), which stops
-        // the pass; cancelled by hand when a change supersedes it.
+        // the pass; cancelled by hand when a change supersedes it (unless it restarts).
         let cancel = CancelOnDrop(Cancel::new());
         let token = cancel.0.clone();
         let mut pass = tokio::task::spawn_blocking(move || {
@@ -203,15 +203,19 @@ pub(crate) async fn refine(
             // Decided after the pass, which gave the sender its duration to deliver the last frame.
             let image = (stats.is_ok() && (last || sent.load(Ordering::Acquire))).then(|| timed_encode(&acc.progressive.film(), &acc.settings));
             // The turn goes to the next render here, once the work has stopped, unless a change
-            // cut the pass short and it is the first to be: then to the pass that starts over.
-            let kept = (stats.is_err() && may_pass_on).then_some(turn);
+            // cut the pass short: then to the pass that starts over (never a restart's turn).
+            let kept = (stats.is_err() && !restart).then_some(turn);
             (acc, stats, image.flatten(), time, kept)
         });
-        let joined = tokio::select! {
-            joined = &mut pass => joined,
-            () = superseded(&slot, &mut versions, &mut settings, version, wanted) => {
-                cancel.0.cancel();
-                pass.await
+        let joined = if restart {
+            pass.await
+        } else {
+            tokio::select! {
+                joined = &mut pass => joined,
+                () = superseded(&slot, &mut versions, &mut settings, version, wanted) => {
+                    cancel.0.cancel();
+                    pass.await
+                }
             }
         };
         let Ok((mut acc, stats, image, time, kept)) = joined else {
