@@ -428,6 +428,30 @@ impl Rig {
         Ok(Rig { nodes, clips, skins, deformers })
     }
 
+    /// The memory the rig holds, for memory budgets: its node hierarchy, keyframes, skins, and
+    /// the deformed meshes' rest vertices, morph targets and skin weights. A file's hierarchy
+    /// is kept whole when it is animated, so a few megabytes of nodes hold tens of megabytes.
+    pub fn memory_bytes(&self) -> u64 {
+        fn held<T>(v: &Vec<T>) -> u64 {
+            (v.capacity() * size_of::<T>()) as u64
+        }
+        let nodes = held(&self.nodes) + self.nodes.iter().map(|n| held(&n.weights) + held(&n.instances)).sum::<u64>();
+        let keyframes = |k: &Keyframes| held(&k.times) + held(&k.values);
+        let clips = held(&self.clips) + self.clips.iter().map(|c| c.name.capacity() as u64 + held(&c.channels) + c.channels.iter().map(|ch| keyframes(&ch.keyframes)).sum::<u64>()).sum::<u64>();
+        let skins = held(&self.skins) + self.skins.iter().map(|s| held(&s.joints) + held(&s.inverse_bind)).sum::<u64>();
+        let deformers = held(&self.deformers)
+            + self
+                .deformers
+                .iter()
+                .map(|d| {
+                    let targets: u64 = d.targets.iter().map(|t| held(&t.positions) + held(&t.normals) + held(&t.tangents)).sum();
+                    let binding = d.binding.as_ref().map_or(0, |b| held(&b.joints) + held(&b.weights));
+                    held(&d.positions) + held(&d.normals) + held(&d.tangents) + held(&d.targets) + targets + binding
+                })
+                .sum::<u64>();
+        nodes + clips + skins + deformers
+    }
+
     /// The animations: name, duration, channels.
     pub fn animations(&self) -> Vec<AnimationInfo> {
         self.clips.iter().map(|c| AnimationInfo { name: c.name.clone(), duration: c.duration(), channels: c.channels.len() }).collect()

@@ -175,6 +175,10 @@ pub struct FrameWork {
 /// and its share of the top-level tree. A scene that renders holds a frame most of the time.
 pub(crate) const FRAME_BYTES_PER_INSTANCE: usize = size_of::<FrameInstance<'static>>() + size_of::<Aabb>() + BoxTree::BYTES_PER_BOX;
 
+/// Bytes a frame holds per light, for memory budgets: its copy of the light (a frame sees the
+/// lights as they were when it started).
+pub(crate) const FRAME_BYTES_PER_LIGHT: usize = size_of::<Light>();
+
 /// The scene frozen for rendering: see the module documentation.
 pub struct Frame<'a> {
     scene: &'a Scene,

@@ -380,9 +380,10 @@ impl Scene {
 
     /// The memory the scene takes, with every object's tree counted as built
     /// ([`TREE_BYTES_PER_TRIANGLE`] a triangle, whether a frame has built it yet or not) and
-    /// every instance with what a frame builds for it: geometry, images, instances and the
-    /// tables of lights, shaders and textures. What a server budgets scenes by. Objects and
-    /// images that snapshots share count once.
+    /// every instance and light with what a frame builds for it: geometry, images, instances,
+    /// the tables of lights, shaders and textures, and the rig that animates it (its node hierarchy,
+    /// keyframes and deformed meshes). What a server budgets scenes by. Objects, images and the
+    /// rig that snapshots share count once.
     pub fn memory_bytes(&self) -> u64 {
         let objects: u64 = self
             .objects
@@ -393,7 +394,9 @@ impl Scene {
         // Instances are small but may be millions (a glTF file of a million nodes): their
         // records, and what each frame builds for them.
         let instances = self.instances.slot_bytes() + self.instances.count() as u64 * crate::frame::FRAME_BYTES_PER_INSTANCE as u64;
-        objects + images + instances + self.lights.slot_bytes() + self.shaders.slot_bytes() + self.textures.slot_bytes()
+        let lights = self.lights.slot_bytes() + self.lights.count() as u64 * crate::frame::FRAME_BYTES_PER_LIGHT as u64;
+        let rig = self.rig.as_ref().map_or(0, |rig| rig.memory_bytes());
+        objects + images + instances + lights + rig + self.shaders.slot_bytes() + self.textures.slot_bytes()
     }
 
     /// Every texture with its id, in id order.

@@ -10,12 +10,15 @@
 //! one frame first, so the lazy tree build is not measured). Only loopback addresses are
 //! accepted: this is for measuring a local server.
 
+mod common;
+
 use std::net::SocketAddr;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
-use tokio::io::{AsyncBufReadExt, AsyncReadExt, AsyncWriteExt, BufReader};
+use common::{exchange, percentile_ms};
+use tokio::io::BufReader;
 use tokio::net::TcpStream;
 
 struct Options {
@@ -38,39 +41,14 @@ fn options() -> Options {
             _ => panic!("unknown option {flag}: expected --addr, --path, --clients, --requests"),
         }
     }
-    assert!(o.addr.is_none_or(|a| a.ip().is_loopback()), "only loopback addresses are measured");
     o
 }
 
 /// What one client saw: latencies of successful requests, and failures.
 #[derive(Default)]
 struct Tally {
-    latencies: Vec<Duration>,
+    latencies: Vec<f64>,
     errors: Vec<String>,
-}
-
-/// Sends one request on the connection and reads the whole response; returns its status.
-async fn exchange(stream: &mut BufReader<TcpStream>, request: &[u8]) -> std::io::Result<u16> {
-    stream.get_mut().write_all(request).await?;
-    let mut line = String::new();
-    stream.read_line(&mut line).await?;
-    let status = line.split(' ').nth(1).and_then(|s| s.parse().ok()).ok_or_else(|| std::io::Error::other(format!("bad status line {line:?}")))?;
-    let mut length = 0;
-    loop {
-        line.clear();
-        stream.read_line(&mut line).await?;
-        if line == "\r\n" || line.is_empty() {
-            break;
-        }
-        if let Some((name, value)) = line.split_once(':')
-            && name.eq_ignore_ascii_case("content-length")
-        {
-            length = value.trim().parse().map_err(std::io::Error::other)?;
-        }
-    }
-    let mut body = vec![0; length];
-    stream.read_exact(&mut body).await?;
-    Ok(status)
 }
 
 async fn client(addr: SocketAddr, request: Arc<Vec<u8>>, next: Arc<AtomicUsize>, total: usize) -> Tally {
@@ -89,8 +67,8 @@ async fn client(addr: SocketAddr, request: Arc<Vec<u8>>, next: Arc<AtomicUsize>,
             },
         };
         match exchange(stream, &request).await {
-            Ok(200) => tally.latencies.push(start.elapsed()),
-            Ok(status) => tally.errors.push(format!("status {status}")),
+            Ok((200, _)) => tally.latencies.push(start.elapsed().as_secs_f64()),
+            Ok((status, _)) => tally.errors.push(format!("status {status}")),
             Err(e) => {
                 tally.errors.push(e.to_string());
                 connection = None;
@@ -103,22 +81,10 @@ async fn client(addr: SocketAddr, request: Arc<Vec<u8>>, next: Arc<AtomicUsize>,
 #[tokio::main]
 async fn main() {
     let o = options();
-    let addr = match o.addr {
-        Some(addr) => addr,
-        None => {
-            let state = raystage_server::AppState::new(raystage_server::Config::default());
-            let scene = raystage_demo::StandardScene::Spheres.scene().expect("the sphere grid builds");
-            state.add_scene(scene, "demo:spheres").expect("room for a scene");
-            let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
-            let addr = listener.local_addr().unwrap();
-            tokio::spawn(raystage_server::serve(listener, state, std::future::pending()));
-            addr
-        }
-    };
-    let request = Arc::new(format!("GET {} HTTP/1.1\r\nHost: {addr}\r\n\r\n", o.path).into_bytes());
+    let addr = common::server(o.addr).await;
+    let request = Arc::new(common::request(addr, "GET", &o.path, ""));
     // One request first: it builds the scene's trees, which is not what is measured.
-    let mut warm = BufReader::new(TcpStream::connect(addr).await.expect("the server accepts connections"));
-    let status = exchange(&mut warm, &request).await.expect("the server answers");
+    let (status, _) = exchange(&mut common::connect(addr).await, &request).await.expect("the server answers");
     assert_eq!(status, 200, "GET {} answers {status}", o.path);
 
     let next = Arc::new(AtomicUsize::new(0));
@@ -131,8 +97,8 @@ async fn main() {
         all.errors.extend(t.errors);
     }
     let wall = start.elapsed().as_secs_f64();
-    all.latencies.sort_unstable();
-    let pct = |p: f64| all.latencies.get(((all.latencies.len() as f64 * p) as usize).min(all.latencies.len().saturating_sub(1))).map_or(0.0, |d| d.as_secs_f64() * 1e3);
+    all.latencies.sort_by(f64::total_cmp);
+    let pct = |p: f64| percentile_ms(&all.latencies, p);
     println!(
         "GET {} x {} from {} clients: {} ok, {} errors in {wall:.2} s = {:.1} requests/s; latency p50 {:.1} ms, p90 {:.1} ms, p99 {:.1} ms, max {:.1} ms",
         o.path,

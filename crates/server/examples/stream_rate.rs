@@ -17,9 +17,12 @@
 //! cargo run --release -p raystage-server --example stream_rate -- --query 'width=1920&height=1080&integrator=path' --edits 10
 //! ```
 
+mod common;
+
 use std::net::SocketAddr;
 use std::time::{Duration, Instant};
 
+use common::{Socket, next_json};
 use futures_util::{SinkExt, StreamExt};
 use tokio_tungstenite::tungstenite::Message;
 
@@ -39,27 +42,13 @@ async fn main() {
             _ => panic!("unknown option {flag}: expected --addr, --query, --seconds, --scene, --edits"),
         }
     }
-    let addr = match addr {
-        Some(addr) => {
-            assert!(addr.ip().is_loopback(), "only loopback addresses are measured");
-            addr
-        }
-        None => {
-            let state = raystage_server::AppState::new(raystage_server::Config::default());
-            state.add_scene(raystage_demo::StandardScene::Spheres.scene().expect("the sphere grid builds"), "demo:spheres").unwrap();
-            let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
-            let addr = listener.local_addr().unwrap();
-            tokio::spawn(raystage_server::serve(listener, state, std::future::pending()));
-            addr
-        }
-    };
+    let addr = common::server(addr).await;
     // Unless the query says: within the frame limit at 1080p (1920 × 1080 × 256 samples) when
     // timing edits.
     if !query.contains("max_samples=") {
         query += &format!("&max_samples={}", if edits > 0 { 64 } else { 1024 });
     }
-    let url = format!("ws://{addr}/scenes/{scene}/stream?{query}");
-    let (mut socket, _) = tokio_tungstenite::connect_async(url).await.expect("the stream opens");
+    let mut socket = common::open_stream(addr, scene, &query).await;
     if edits > 0 {
         return edit_latency(socket, edits).await;
     }
@@ -96,18 +85,6 @@ async fn main() {
         last["pass_seconds"].as_f64().unwrap_or(0.0) * 1e3,
         last["encode_seconds"].as_f64().unwrap_or(0.0) * 1e3,
     );
-}
-
-type Socket = tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
-
-/// The next text message, as JSON (PNGs skipped).
-async fn next_json(socket: &mut Socket) -> serde_json::Value {
-    loop {
-        match socket.next().await.expect("the stream stays open").expect("no socket error") {
-            Message::Text(text) => return serde_json::from_str(text.as_str()).unwrap(),
-            _ => continue,
-        }
-    }
 }
 
 /// Sends `edits` camera moves, each 0.3 s into a pass, and times each to its first frame.

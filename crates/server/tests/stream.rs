@@ -367,3 +367,97 @@ async fn a_stream_follows_a_playing_clock_and_tags_each_frame_with_its_time() {
     let quiet = tokio::time::timeout(std::time::Duration::from_millis(300), next_frame(&mut socket)).await;
     assert!(quiet.is_err(), "no frames while nothing changes: {:?}", quiet.map(|f| f.0));
 }
+
+/// A pass yields to an edit: it is stopped, and its turn goes to the pass that starts over, not
+/// to a render another client queued meanwhile, so that the edit is on screen one pass later
+/// rather than one round of the turns later. With one turn to render: the stream's pass (a
+/// path-traced 1920×1080 image, far longer than an edit takes) holds it, another client waits
+/// for it, and the camera moves; the frame showing the move must come while the other client
+/// still waits (here: for ever, as it never gives its turn back once it has it).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_edit_takes_the_turn_of_the_pass_it_cut_short() {
+    use futures_util::FutureExt;
+
+    let state = AppState::new(Config { limits: raystage_server::Limits { concurrent_renders: 1, ..raystage_server::Limits::default() }, ..Config::default() });
+    let app = raystage_server::router(state.clone());
+    let s = ok(&app, "POST", "/scenes", json!({ "demo": "cornell" }), StatusCode::CREATED).await["id"].clone();
+    let addr = listen(state.clone()).await;
+    let url = format!("ws://{addr}/scenes/{s}/stream?width=1920&height=1080&integrator=path&max_samples=256");
+    let (mut socket, _) = tokio_tungstenite::connect_async(url).await.unwrap();
+    // Read all along, so that every pass's frame is delivered and the next one encoded.
+    let (versions_tx, mut versions) = tokio::sync::mpsc::unbounded_channel();
+    tokio::spawn(async move {
+        while let Some(Ok(message)) = socket.next().await {
+            if let Message::Text(text) = message {
+                let message: Value = serde_json::from_str(text.as_str()).unwrap();
+                if message["type"] == "frame" {
+                    let _ = versions_tx.send(message["scene_version"].as_u64().unwrap());
+                }
+            }
+        }
+    });
+    let patience = std::time::Duration::from_secs(60);
+    tokio::time::timeout(patience, versions.recv()).await.expect("a first frame").unwrap();
+
+    // The other client asks for the turn while a pass of the stream holds it.
+    let other = loop {
+        assert!(eventually(patience, || state.active_renders() == 1).await, "the stream renders");
+        let waiting = state.clone();
+        let mut other = Box::pin(async move { waiting.render_permit(raystage_service::Client(1_000_000)).await });
+        if (&mut other).now_or_never().is_none() {
+            break other;
+        }
+        // Taken between two passes: given back, and tried again.
+    };
+    let moved = ok(&app, "PUT", &format!("/scenes/{s}/camera"), json!({ "eye": [0.5, 1, 4] }), StatusCode::OK).await;
+    let version = moved["version"].as_u64().unwrap();
+    let shown = tokio::time::timeout(patience, async {
+        while let Some(shown) = versions.recv().await {
+            if shown >= version {
+                return;
+            }
+        }
+    })
+    .await;
+    assert!(shown.is_ok(), "the moved camera's frame waited for the other client's render, which never ends");
+    drop(other);
+}
+
+/// The pass that starts a stream over after an edit runs to its end whatever changes
+/// meanwhile: a scene that changes faster than a pass renders (a drag's camera moves, a playing
+/// clock) still shows frames, each at most a pass old, rather than none until the changes
+/// stop. Here the camera moves back to back, many times during each path-traced pass.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn frames_keep_coming_while_the_camera_moves_faster_than_a_pass() {
+    let state = AppState::new(Config::default());
+    let app = raystage_server::router(state.clone());
+    let s = ok(&app, "POST", "/scenes", json!({ "demo": "cornell" }), StatusCode::CREATED).await["id"].clone();
+    let addr = listen(state).await;
+    let url = format!("ws://{addr}/scenes/{s}/stream?width=640&height=360&integrator=path&max_samples=256");
+    let (mut socket, _) = tokio_tungstenite::connect_async(url).await.unwrap();
+    let (first, _) = next_frame(&mut socket).await;
+    let moving = tokio::spawn({
+        let (app, camera) = (app.clone(), format!("/scenes/{s}/camera"));
+        async move {
+            for k in 0u32.. {
+                ok(&app, "PUT", &camera, json!({ "eye": [(k as f32 * 0.1).sin(), 1, 4] }), StatusCode::OK).await;
+            }
+        }
+    });
+    let patience = std::time::Duration::from_secs(60);
+    let shown = tokio::time::timeout(patience, async {
+        let mut version = first["scene_version"].as_u64().unwrap();
+        for _ in 0..3 {
+            loop {
+                let (frame, _) = next_frame(&mut socket).await;
+                if frame["scene_version"].as_u64().unwrap() > version {
+                    version = frame["scene_version"].as_u64().unwrap();
+                    break;
+                }
+            }
+        }
+    })
+    .await;
+    moving.abort();
+    assert!(shown.is_ok(), "no frame came while the camera kept moving");
+}

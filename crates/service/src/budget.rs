@@ -63,6 +63,24 @@ pub async fn within_budget<T>(limits: &Limits, work: tokio::task::JoinHandle<T>)
     }
 }
 
+/// Returns the allocator's free memory to the system (glibc's `malloc_trim`; nothing where the
+/// C library is another). glibc keeps what a large render freed (its film: 16 bytes a pixel)
+/// for later, raising the size it hands out from its heap rather than mapping afresh, so after
+/// a render that leaves something behind the resident memory would stay at the render's peak
+/// instead of following what the budgets count.
+pub(crate) fn give_back_memory() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    {
+        unsafe extern "C" {
+            fn malloc_trim(pad: usize) -> std::ffi::c_int;
+        }
+        // SAFETY: malloc_trim takes any padding and releases only memory nobody holds.
+        unsafe {
+            malloc_trim(0);
+        }
+    }
+}
+
 /// Cancels a render when dropped: held by whatever waits for the render (a request's future,
 /// a stream's loop), so that the render stops as soon as nobody waits for it, whichever way
 /// the waiting ends (the client hung up and hyper dropped the future, a budget ran out, a

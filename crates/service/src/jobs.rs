@@ -136,7 +136,9 @@ impl Jobs {
     /// (413 naming the limit) if it alone is larger.
     pub fn finish(&self, job: &Job, outcome: Result<Rendered>, limits: &Limits) {
         let budget = limits.max_job_image_bytes;
-        let outcome = outcome.and_then(|rendered| {
+        let outcome = outcome.and_then(|mut rendered| {
+            // Kept for minutes: without the room the encoder left to grow into.
+            rendered.png.shrink_to_fit();
             if rendered.png.len() > budget {
                 let message = format!("the frame's PNG is {} bytes, more than the {budget} finished render jobs may hold", rendered.png.len());
                 return Err(Error::too_large(None, message).limit("max_job_image_bytes"));
@@ -152,6 +154,9 @@ impl Jobs {
             *slot = Some(outcome);
         }
         let _ = job.finished.set(Instant::now());
+        drop(slot);
+        // The render's film and buffers are gone; its PNG stays for minutes, and is counted.
+        crate::budget::give_back_memory();
     }
 }
 

@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use raystage_render::{Cancel, Film, FrameSettings, Look, RenderSettings};
 use raystage_scene::Scene;
-use raystage_service::{Accumulate, AppState, CancelOnDrop, Error, FrameReport, SceneSlot, scene_time};
+use raystage_service::{Accumulate, AppState, CancelOnDrop, Error, FrameReport, RenderTurn, SceneSlot, scene_time};
 use tokio::sync::{OwnedSemaphorePermit, mpsc, watch};
 
 use crate::render::STREAM_BYTES_PER_PIXEL;
@@ -20,11 +20,6 @@ use crate::stream::protocol::{Encoding, FrameMessage, ServerMessage};
 const TARGET_PASS_SECONDS: f64 = 0.05;
 /// Most samples per pixel in one pass.
 const MAX_PASS_SAMPLES: u32 = 64;
-
-/// A pass that a change of the scene or the settings makes out of date is stopped once it has
-/// run this long: a short pass finishes (its frame is on screen sooner than the next pass's
-/// would be), a long one (a large path-traced image) does not hold up the new image.
-const SUPERSEDED_AFTER: std::time::Duration = std::time::Duration::from_millis(100);
 
 /// How long a stream whose image found no room waits before it tries again (if nothing changes
 /// meanwhile).
@@ -89,6 +84,14 @@ struct Accumulation {
 /// on `replies` and returns). `out` holds the newest packet; `taken` says whether the sender has
 /// delivered the last one. Each pass waits for `client`'s turn to render (see
 /// [`raystage_service::Client`]), so a stream's passes and other clients' frames alternate.
+///
+/// A pass yields to a change of the scene or of the image (an edit, a camera move, new
+/// settings): it is stopped at once, since its frame would show what is no longer wanted, and
+/// its turn goes to the pass that starts over with the change, which would otherwise wait for
+/// every other client's render first: the edit's frame comes one pass after it, not one round
+/// of the turns after it. That pass runs to its end whatever changes meanwhile, and gives the
+/// turn back: a stream whose scene changes faster than it renders (a drag, a playing clock that
+/// other renders move) still shows frames, and takes turns with the others.
 pub(crate) async fn refine(
     state: AppState,
     slot: Arc<SceneSlot>,
@@ -103,6 +106,8 @@ pub(crate) async fn refine(
     let mut pass_samples = 1;
     let mut seq = 0;
     let mut out_of_memory = false;
+    // The turn of a pass a change cut short, for the pass that starts over.
+    let mut cut_short: Option<RenderTurn> = None;
     loop {
         if slot.is_deleted() {
             let error = Error::not_found(Some("scene".into()), format!("scene {} was deleted", slot.id));
@@ -129,6 +134,8 @@ pub(crate) async fn refine(
                 }
                 continue;
             }
+            // Nothing to render: a turn held for it goes to the others.
+            cut_short = None;
             tokio::select! {
                 changed = versions.changed() => if changed.is_err() { return },
                 changed = settings.changed() => if changed.is_err() { return },
@@ -151,6 +158,7 @@ pub(crate) async fn refine(
                         out_of_memory = true;
                         let _ = replies.send(ServerMessage::Error { request: None, error: error.detail }).await;
                     }
+                    cut_short = None;
                     tokio::select! {
                         changed = versions.changed() => if changed.is_err() { return },
                         changed = settings.changed() => if changed.is_err() { return },
@@ -161,7 +169,10 @@ pub(crate) async fn refine(
             },
         };
         out_of_memory = false;
-        let turn = state.render_permit(client).await;
+        let (turn, restart) = match cut_short.take() {
+            Some(turn) => (turn, true),
+            None => (state.render_permit(client).await, false),
+        };
         let (scene, version) = slot.snapshot().await;
         let mut acc = match (accumulation.take(), memory) {
             (Some(a), _) if a.version == version => Accumulation { settings: wanted, ..a },
@@ -181,7 +192,7 @@ pub(crate) async fn refine(
         let sent = taken.clone();
         let scene_id = slot.id;
         // Dropped with this future when the stream closes (the session aborts it), which stops
-        // the pass; cancelled by hand when a change supersedes a long pass.
+        // the pass; cancelled by hand when a change supersedes it (unless it restarts).
         let cancel = CancelOnDrop(Cancel::new());
         let token = cancel.0.clone();
         let mut pass = tokio::task::spawn_blocking(move || {
@@ -191,23 +202,29 @@ pub(crate) async fn refine(
             drop(scene);
             // Decided after the pass, which gave the sender its duration to deliver the last frame.
             let image = (stats.is_ok() && (last || sent.load(Ordering::Acquire))).then(|| timed_encode(&acc.progressive.film(), &acc.settings));
-            (acc, stats, image.flatten(), time)
-            // The turn goes to the next render here, once the work has stopped.
+            // The turn goes to the next render here, once the work has stopped, unless a change
+            // cut the pass short: then to the pass that starts over (never a restart's turn).
+            let kept = (stats.is_err() && !restart).then_some(turn);
+            (acc, stats, image.flatten(), time, kept)
         });
-        let deadline = tokio::time::Instant::now() + SUPERSEDED_AFTER;
-        let joined = tokio::select! {
-            joined = &mut pass => joined,
-            () = superseded(&mut versions, &mut settings, wanted, deadline) => {
-                cancel.0.cancel();
-                pass.await
+        let joined = if restart {
+            pass.await
+        } else {
+            tokio::select! {
+                joined = &mut pass => joined,
+                () = superseded(&slot, &mut versions, &mut settings, version, wanted) => {
+                    cancel.0.cancel();
+                    pass.await
+                }
             }
         };
-        let Ok((mut acc, stats, image, time)) = joined else {
+        let Ok((mut acc, stats, image, time, kept)) = joined else {
             return;
         };
         let Ok(stats) = stats else {
             // Superseded: the accumulation was reset, and the loop starts what is wanted now.
             accumulation = Some(acc);
+            cut_short = kept;
             continue;
         };
         pass_samples = if stats.seconds < TARGET_PASS_SECONDS / 2.0 {
@@ -273,27 +290,29 @@ fn send(out: &watch::Sender<Option<Arc<Packet>>>, taken: &AtomicBool, message: F
     out.send_replace(Some(Arc::new(Packet { json, image })));
 }
 
-/// Completes once the scene or the image the stream asks for changed (a new grading does not
-/// count: the pass's samples serve it) and `deadline` has passed: the pass running then
-/// renders what is no longer wanted. Never completes once the session has gone (its settings'
-/// sender is dropped): the session aborts the loop then.
+/// Completes once a pass rendering `version` of `slot`'s scene with `rendering` settings is
+/// out of date: the scene changed or was deleted, or the image the stream asks for changed (a
+/// new grading does not count: the pass's samples serve it). Judged by what they are, not by
+/// whether they were changed since last looked at: a change that came before the pass's
+/// snapshot is in the pass. Never completes once the session has gone (its settings' sender is
+/// dropped): the session aborts the loop then.
 async fn superseded(
+    slot: &SceneSlot,
     versions: &mut watch::Receiver<u64>,
     settings: &mut watch::Receiver<StreamSettings>,
+    version: u64,
     rendering: StreamSettings,
-    deadline: tokio::time::Instant,
 ) {
     loop {
-        let changed = tokio::select! {
-            changed = versions.changed() => changed.is_ok(),
-            changed = settings.changed() => changed.is_ok() && !settings.borrow().same_image(&rendering),
-        };
-        if changed {
-            break;
+        if *versions.borrow_and_update() != version || slot.is_deleted() || !settings.borrow_and_update().same_image(&rendering) {
+            return;
         }
-        if versions.has_changed().is_err() || settings.has_changed().is_err() {
+        let open = tokio::select! {
+            changed = versions.changed() => changed.is_ok(),
+            changed = settings.changed() => changed.is_ok(),
+        };
+        if !open {
             std::future::pending::<()>().await;
         }
     }
-    tokio::time::sleep_until(deadline).await;
 }
