@@ -9,6 +9,7 @@
 //! each; render jobs, the way to queue many frames, are all their creating connection's.
 
 use std::collections::{BTreeMap, VecDeque};
+use std::ops::Bound::{Excluded, Unbounded};
 use std::sync::{Arc, Mutex};
 
 use tokio::sync::oneshot;
@@ -74,7 +75,7 @@ impl Drop for Turn {
         loop {
             // The first waiting client after the one served last, round the ring.
             let after = next.last;
-            let client = match after.and_then(|last| next.waiting.range(Client(last.0 + 1)..).next().map(|(c, _)| *c)) {
+            let client = match after.and_then(|last| next.waiting.range((Excluded(last), Unbounded)).next().map(|(c, _)| *c)) {
                 Some(client) => client,
                 None => match next.waiting.keys().next() {
                     Some(client) => *client,
@@ -136,6 +137,8 @@ mod tests {
     async fn turns_go_round_the_clients() {
         assert_eq!(served(&[1, 1, 1, 1, 1, 2]).await, [1, 2, 1, 1, 1, 1]);
         assert_eq!(served(&[3, 3, 2, 2, 1]).await, [1, 2, 3, 2, 3]);
+        // The ring closes after the highest client number there can be.
+        assert_eq!(served(&[u64::MAX, u64::MAX, 1]).await, [u64::MAX, 1, u64::MAX]);
     }
 
     /// A waiter that goes away neither holds a turn nor loses one: the next gets it.
