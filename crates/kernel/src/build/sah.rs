@@ -89,7 +89,7 @@ impl Part {
 }
 
 /// Room for the nodes over `n` references in leaves of half `max_leaf_size` on average (the
-/// benchmark scenes' leaves average 7.6 of 8), so that the vector rarely grows and copies itself;
+/// benchmark scenes' leaves average 7.2 and 7.4 of 8), so that the vector rarely grows and copies itself;
 /// pages reserved but never written are never mapped.
 fn node_capacity(n: usize, opts: &BuildOptions) -> usize {
     4 * n / opts.max_leaf_size + 1
