@@ -120,18 +120,23 @@ impl<F: FnMut(u32, u32) -> u32> Collapsing<'_, F> {
         let Node2Kind::Inner { left, right } = nodes2[index as usize].kind() else {
             unreachable!("only inner nodes are collapsed")
         };
-        let mut kids = vec![left, right];
-        while kids.len() < WIDTH {
-            let widest = kids
+        // On the stack: a vector per wide node was an allocation per node.
+        let mut slots = [0u32; WIDTH];
+        (slots[0], slots[1]) = (left, right);
+        let mut used = 2;
+        while used < WIDTH {
+            let widest = slots[..used]
                 .iter()
                 .enumerate()
                 .filter(|(_, k)| matches!(nodes2[**k as usize].kind(), Node2Kind::Inner { .. }))
                 .max_by(|a, b| nodes2[*a.1 as usize].bounds.area().total_cmp(&nodes2[*b.1 as usize].bounds.area()));
             let Some((slot, &k)) = widest else { break };
             let Node2Kind::Inner { left, right } = nodes2[k as usize].kind() else { unreachable!() };
-            kids[slot] = left;
-            kids.push(right);
+            slots[slot] = left;
+            slots[used] = right;
+            used += 1;
         }
+        let kids = &slots[..used];
         let at = self.nodes.len();
         self.nodes.push(Node8::UNUSED);
         for (lane, &k) in kids.iter().enumerate() {

