@@ -289,13 +289,25 @@ pub struct KernelReport {
     /// The same shadow rays in groups of 4×4 pixels (`rtcOccluded16`; two packets of eight for
     /// raystage).
     pub shadow_group_mrays: Option<f64>,
-    /// raystage only: what its closest-hit walks did per ray, ray set by ray set (single rays,
-    /// the tree the 1-thread build made).
-    pub walks: Option<Walks>,
     /// Primary rays that hit.
     pub hits: u64,
     /// Sum of primary hit distances.
     pub tsum: f64,
+}
+
+/// One line of the JSON report: what raystage's closest-hit walks did per ray of one ray set
+/// (single rays, the tree the 1-thread build made), as MLRTA's Table 2 gives it (seed 000).
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct WalkReport {
+    /// `walks`: these lines make a table of their own.
+    pub measurement: &'static str,
+    /// `sphere` or `soup`.
+    pub scene: String,
+    /// `primary`, `incoherent` or `bounce`.
+    pub rays: &'static str,
+    /// The counts.
+    #[serde(flatten)]
+    pub per_ray: PerRay,
 }
 
 /// Traversal statistics per ray set, as MLRTA's Table 2 gives them (seed 000).
@@ -447,7 +459,6 @@ impl Samples {
             bounce_mrays: mrays(&self.bounce, |s| s.bounce.len()),
             shadow_mrays: mrays(&self.shadow, |s| s.shadow.len()),
             shadow_group_mrays: mrays(&self.shadow_groups, |s| s.shadow.len()),
-            walks: None,
             hits: last.hits,
             tsum: last.tsum,
         }
@@ -483,9 +494,18 @@ impl SceneRun {
             .map(|(system, threads, s)| KernelReport {
                 medium_build_s: self.medium_build(*threads).filter(|_| *system == "embree"),
                 sah_cost: self.sah_cost.iter().find(|(t, _)| t == threads).map(|c| c.1).filter(|_| *system == "raystage"),
-                walks: self.walks.filter(|_| *system == "raystage"),
                 ..s.report(system, self.scene, *threads, self.sets.as_ref())
             })
+            .collect()
+    }
+
+    /// What raystage's walks did per ray, a report line per ray set (none when only builds were
+    /// measured): lines of their own, as only raystage has them.
+    pub fn walk_reports(&self) -> Vec<WalkReport> {
+        let Some(w) = self.walks else { return Vec::new() };
+        [("primary", w.primary), ("incoherent", w.incoherent), ("bounce", w.bounce)]
+            .into_iter()
+            .map(|(rays, per_ray)| WalkReport { measurement: "walks", scene: self.scene.name().to_string(), rays, per_ray })
             .collect()
     }
 

@@ -459,6 +459,9 @@ fn main() {
                     for r in run.reports() {
                         println!("{}", serde_json::to_string(&r).expect("report serialises"));
                     }
+                    for r in run.walk_reports() {
+                        println!("{}", serde_json::to_string(&r).expect("report serialises"));
+                    }
                 } else {
                     print!("{}", table::kernel_table(&run));
                 }
