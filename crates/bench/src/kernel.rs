@@ -251,8 +251,9 @@ impl RaySets {
         let packets = rays::in_blocks(&primary, WIDTH, HEIGHT, (4, 2));
         let groups = rays::in_blocks(&primary, WIDTH, HEIGHT, (4, 4));
         let incoherent = rays::incoherent(scene, (WIDTH * HEIGHT) as usize);
-        let bounce = rays::bounce(&primary, &primary_hits(bvh, mesh, &primary));
-        let shadow = rays::shadows(rays::light(scene), &groups, &primary_hits(bvh, mesh, &groups));
+        let hits = primary_hits(bvh, mesh, &primary);
+        let bounce = rays::bounce(&primary, &hits);
+        let shadow = rays::shadows(rays::light(scene), &groups, &rays::in_blocks(&hits, WIDTH, HEIGHT, (4, 4)));
         RaySets { primary, packets, groups, incoherent, bounce, shadow }
     }
 }
@@ -311,7 +312,7 @@ pub struct WalkReport {
 }
 
 /// Traversal statistics per ray set, as MLRTA's Table 2 gives them (seed 000).
-#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Walks {
     /// Primary rays.
     pub primary: PerRay,

@@ -19,10 +19,10 @@ pub fn primary(scene: StandardScene, width: u32, height: u32) -> Vec<Ray> {
     (0..height).flat_map(|y| (0..width).map(move |x| Ray::new(cam.origin, cam.dir(x, y, width, height)))).collect()
 }
 
-/// The same rays reordered into blocks of `bw × bh` pixels (4×2 for packets of eight, 4×4 for
-/// groups of sixteen), each block row by row, blocks row by row; `width` and `height` must be
-/// multiples of the block's.
-pub fn in_blocks(primary: &[Ray], width: u32, height: u32, (bw, bh): (usize, usize)) -> Vec<Ray> {
+/// Per-pixel items (rays, their hits) of a `width × height` image reordered into blocks of
+/// `bw × bh` pixels (4×2 for packets of eight, 4×4 for groups of sixteen), each block row by
+/// row, blocks row by row; `width` and `height` must be multiples of the block's.
+pub fn in_blocks<T: Copy>(primary: &[T], width: u32, height: u32, (bw, bh): (usize, usize)) -> Vec<T> {
     let (w, h) = (width as usize, height as usize);
     assert!(w.is_multiple_of(bw) && h.is_multiple_of(bh), "whole {bw}x{bh} blocks");
     (0..h / bh)

@@ -89,8 +89,8 @@ impl Part {
 }
 
 /// Room for the nodes over `n` references in leaves of half `max_leaf_size` on average (the
-/// benchmark scenes' leaves average 7.2 and 7.4 of 8), so that the vector rarely grows and copies itself;
-/// pages reserved but never written are never mapped.
+/// benchmark scenes' leaves average 7.2 and 7.4 of 8), so that the vector rarely grows and
+/// copies itself; pages reserved but never written are never mapped.
 fn node_capacity(n: usize, opts: &BuildOptions) -> usize {
     4 * n / opts.max_leaf_size + 1
 }
@@ -190,8 +190,9 @@ impl BinMapping {
 
     /// Whether `r` falls into a bin below `pos` along `axis`, for `1 <= pos < bins`: the same as
     /// `bins_of(r)[axis] < pos` (the truncation and the clamping cannot change which side of an
-    /// integer a value lies on), without the conversion. All three axes are compared at once and the axis's bit picked from the mask: picking the
-    /// axis's lane first went through the stack and a jump table on every reference.
+    /// integer a value lies on), without the conversion. All three axes are compared at once
+    /// and the axis's bit picked from the mask: picking the axis's lane first went through the
+    /// stack and a jump table on every reference.
     #[inline(always)]
     fn below(&self, r: &PrimRef, axis: usize, pos: usize) -> bool {
         let f = (r.centroid2() - self.origin) * self.scale;
