@@ -368,23 +368,19 @@ async fn a_stream_follows_a_playing_clock_and_tags_each_frame_with_its_time() {
     assert!(quiet.is_err(), "no frames while nothing changes: {:?}", quiet.map(|f| f.0));
 }
 
-/// A pass yields to an edit: it is stopped, and its turn goes to the pass that starts over, not
-/// to a render another client queued meanwhile, so that the edit is on screen one pass later
-/// rather than one round of the turns later. With one turn to render: the stream's pass (a
-/// path-traced 1920×1080 image, far longer than an edit takes) holds it, another client waits
-/// for it, and the camera moves; the frame showing the move must come while the other client
-/// still waits (here: for ever, as it never gives its turn back once it has it).
-#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn an_edit_takes_the_turn_of_the_pass_it_cut_short() {
-    use futures_util::FutureExt;
+/// How long the tests of render turns wait for what must come.
+const PATIENCE: std::time::Duration = std::time::Duration::from_secs(60);
 
+/// A server with one turn to render, the Cornell box as scene `s`, a stream of it set up by
+/// `query`, and the scene version of each of the stream's frames as it arrives, once the first
+/// has. The stream is read all along, so that every pass's frame is delivered and the next one
+/// encoded.
+async fn stream_with_one_turn(query: &str) -> (AppState, axum::Router, Value, tokio::sync::mpsc::UnboundedReceiver<u64>) {
     let state = AppState::new(Config { limits: raystage_server::Limits { concurrent_renders: 1, ..raystage_server::Limits::default() }, ..Config::default() });
     let app = raystage_server::router(state.clone());
     let s = ok(&app, "POST", "/scenes", json!({ "demo": "cornell" }), StatusCode::CREATED).await["id"].clone();
     let addr = listen(state.clone()).await;
-    let url = format!("ws://{addr}/scenes/{s}/stream?width=1920&height=1080&integrator=path&max_samples=256");
-    let (mut socket, _) = tokio_tungstenite::connect_async(url).await.unwrap();
-    // Read all along, so that every pass's frame is delivered and the next one encoded.
+    let (mut socket, _) = tokio_tungstenite::connect_async(format!("ws://{addr}/scenes/{s}/stream?{query}")).await.unwrap();
     let (versions_tx, mut versions) = tokio::sync::mpsc::unbounded_channel();
     tokio::spawn(async move {
         while let Some(Ok(message)) = socket.next().await {
@@ -396,14 +392,39 @@ async fn an_edit_takes_the_turn_of_the_pass_it_cut_short() {
             }
         }
     });
-    let patience = std::time::Duration::from_secs(60);
-    tokio::time::timeout(patience, versions.recv()).await.expect("a first frame").unwrap();
+    tokio::time::timeout(PATIENCE, versions.recv()).await.expect("a first frame").unwrap();
+    (state, app, s, versions)
+}
+
+/// Whether a frame of scene version `version` or later arrives within [`PATIENCE`].
+async fn shows(versions: &mut tokio::sync::mpsc::UnboundedReceiver<u64>, version: u64) -> bool {
+    let shown = async {
+        while let Some(shown) = versions.recv().await {
+            if shown >= version {
+                return;
+            }
+        }
+    };
+    tokio::time::timeout(PATIENCE, shown).await.is_ok()
+}
+
+/// A pass yields to an edit: it is stopped, and its turn goes to the pass that starts over, not
+/// to a render another client queued meanwhile, so that the edit is on screen one pass later
+/// rather than one round of the turns later. With one turn to render: the stream's pass (a
+/// path-traced 1920×1080 image, far longer than an edit takes) holds it, another client waits
+/// for it, and the camera moves; the frame showing the move must come while the other client
+/// still waits (here: for ever, as it never gives its turn back once it has it).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_edit_takes_the_turn_of_the_pass_it_cut_short() {
+    use futures_util::FutureExt;
+
+    let (state, app, s, mut versions) = stream_with_one_turn("width=1920&height=1080&integrator=path&max_samples=256").await;
 
     // The other client asks for the turn while a pass of the stream holds it.
     let other = loop {
-        assert!(eventually(patience, || state.active_renders() == 1).await, "the stream renders");
+        assert!(eventually(PATIENCE, || state.active_renders() == 1).await, "the stream renders");
         let waiting = state.clone();
-        let mut other = Box::pin(async move { waiting.render_permit(raystage_service::Client(1_000_000)).await });
+        let mut other = Box::pin(async move { waiting.render_permit(raystage_service::Client(1_000_000), raystage_service::Urgency::InTurn).await });
         if (&mut other).now_or_never().is_none() {
             break other;
         }
@@ -411,15 +432,34 @@ async fn an_edit_takes_the_turn_of_the_pass_it_cut_short() {
     };
     let moved = ok(&app, "PUT", &format!("/scenes/{s}/camera"), json!({ "eye": [0.5, 1, 4] }), StatusCode::OK).await;
     let version = moved["version"].as_u64().unwrap();
-    let shown = tokio::time::timeout(patience, async {
-        while let Some(shown) = versions.recv().await {
-            if shown >= version {
-                return;
-            }
-        }
-    })
-    .await;
-    assert!(shown.is_ok(), "the moved camera's frame waited for the other client's render, which never ends");
+    assert!(shows(&mut versions, version).await, "the moved camera's frame waited for the other client's render, which never ends");
+    drop(other);
+}
+
+/// An edit that comes while the stream waits for a turn puts it ahead of the renders other
+/// clients queued: the frame showing it comes one render later, not one round of the turns
+/// later. With one turn to render: a render of this test's holds it while the stream waits for
+/// its next refining pass, another client queues (and would never give the turn back), and the
+/// camera moves. The other client is next in the round (its number follows the holder's), so
+/// the moved camera's frame comes only if the stream's edit goes first.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_edit_goes_before_renders_queued_earlier() {
+    use futures_util::FutureExt;
+    use raystage_service::{Client, Urgency};
+
+    let (state, app, s, mut versions) = stream_with_one_turn("width=320&height=180&integrator=path&max_samples=4096").await;
+
+    // The holder takes the turn between two refining passes; the stream then waits for it.
+    let held = tokio::time::timeout(PATIENCE, state.render_permit(Client(999_999), Urgency::InTurn)).await.expect("the holder's turn");
+    let waiting = state.clone();
+    let mut other = Box::pin(async move { waiting.render_permit(Client(1_000_000), Urgency::InTurn).await });
+    assert!((&mut other).now_or_never().is_none(), "the other client waits");
+    let moved = ok(&app, "PUT", &format!("/scenes/{s}/camera"), json!({ "eye": [0.5, 1, 4] }), StatusCode::OK).await;
+    let version = moved["version"].as_u64().unwrap();
+    // The stream has seen the change (it re-queues as an edit) before the turn comes free.
+    tokio::time::sleep(std::time::Duration::from_millis(200)).await;
+    drop(held);
+    assert!(shows(&mut versions, version).await, "the moved camera's frame waited for the other client's render, which never ends");
     drop(other);
 }
 

@@ -11,7 +11,7 @@ use raystage_scene::Scene;
 use crate::config::Limits;
 use crate::error::{Error, Result};
 use crate::state::{AppState, SceneSlot};
-use crate::turns::Client;
+use crate::turns::{Client, Urgency};
 
 /// Runs `work` on a snapshot of `slot` (`snapshot` if given, else the scene as it is when the
 /// turn comes) and its version, on a blocking thread, once `bytes` of memory for images are
@@ -29,7 +29,7 @@ pub async fn on_a_turn<T: Send + 'static>(
 ) -> Result<T> {
     // Before waiting for a turn: work that cannot have its memory fails at once.
     let memory = state.reserve_render_memory(bytes)?;
-    let turn = state.render_permit(client).await;
+    let turn = state.render_permit(client, Urgency::InTurn).await;
     let (scene, version) = match snapshot {
         Some(snapshot) => snapshot,
         None => {

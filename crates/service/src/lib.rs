@@ -41,5 +41,5 @@ pub use gltf::{CameraChoice, Environment, GltfAdded, add_environment, import_lim
 pub use jobs::{Job, JobStatus, Jobs, RenderJobInfo, Rendered};
 pub use state::{AppState, RenderTurn, RunningRender, SceneSlot, StreamGuard};
 pub use stats::{ClusterTimes, FrameReport, RaysJson, scene_time};
-pub use turns::Client;
+pub use turns::{Client, Urgency};
 pub use workers::{Accumulate, Workers};

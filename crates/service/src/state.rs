@@ -18,7 +18,7 @@ use crate::error::{Error, Result};
 use crate::jobs::Jobs;
 use crate::model::{Command, CommandResult, SetTime};
 use crate::stats::FrameReport;
-use crate::turns::{Client, Turn, Turns};
+use crate::turns::{Client, Turn, Turns, Urgency};
 use crate::workers::{Accumulate, Workers};
 
 /// The unit in which render memory is reserved.
@@ -265,10 +265,10 @@ impl AppState {
     }
 
     /// Waits for a turn to render for `client` (at most `concurrent_renders` at once, the
-    /// turns going round the waiting clients). Move the turn into the task that renders and
-    /// call [`RenderTurn::running`] there.
-    pub async fn render_permit(&self, client: Client) -> RenderTurn {
-        RenderTurn { _turn: self.0.renders.take(client).await, state: self.clone() }
+    /// turns going round the waiting clients, edits first: see [`Urgency`]). Move the turn into
+    /// the task that renders and call [`RenderTurn::running`] there.
+    pub async fn render_permit(&self, client: Client, urgency: Urgency) -> RenderTurn {
+        RenderTurn { _turn: self.0.renders.take(client, urgency).await, state: self.clone() }
     }
 
     /// Renders running now, frames and stream passes: at most

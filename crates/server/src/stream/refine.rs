@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use raystage_render::{Cancel, Film, FrameSettings, Look, RenderSettings};
 use raystage_scene::Scene;
-use raystage_service::{Accumulate, AppState, CancelOnDrop, Error, FrameReport, RenderTurn, SceneSlot, scene_time};
+use raystage_service::{Accumulate, AppState, CancelOnDrop, Error, FrameReport, RenderTurn, SceneSlot, Urgency, scene_time};
 use tokio::sync::{OwnedSemaphorePermit, mpsc, watch};
 
 use crate::render::STREAM_BYTES_PER_PIXEL;
@@ -89,7 +89,8 @@ struct Accumulation {
 /// settings): it is stopped at once, since its frame would show what is no longer wanted, and
 /// its turn goes to the pass that starts over with the change, which would otherwise wait for
 /// every other client's render first: the edit's frame comes one pass after it, not one round
-/// of the turns after it. That pass runs to its end whatever changes meanwhile, and gives the
+/// of the turns after it. A change that comes while the stream waits for a turn makes it wait
+/// as an edit, ahead of the round ([`Urgency::Edit`]). That pass runs to its end whatever changes meanwhile, and gives the
 /// turn back: a stream whose scene changes faster than it renders (a drag, a playing clock that
 /// other renders move) still shows frames, and takes turns with the others.
 pub(crate) async fn refine(
@@ -171,7 +172,17 @@ pub(crate) async fn refine(
         out_of_memory = false;
         let (turn, restart) = match cut_short.take() {
             Some(turn) => (turn, true),
-            None => (state.render_permit(client).await, false),
+            None => {
+                let shown = accumulation.as_ref().map(|a| (a.version, a.settings));
+                let (turn, changed) = pass_turn(&state, client, &slot, &mut versions, &mut settings, shown, wanted).await;
+                if changed {
+                    // What this pass was to render is out of date: the loop starts over with
+                    // the change, on this turn.
+                    cut_short = Some(turn);
+                    continue;
+                }
+                (turn, false)
+            }
         };
         let (scene, version) = slot.snapshot().await;
         let mut acc = match (accumulation.take(), memory) {
@@ -261,6 +272,33 @@ pub(crate) async fn refine(
         }
         accumulation = Some(acc);
     }
+}
+
+/// A turn for a stream's next pass, and whether the scene or the image changed while it
+/// waited. A pass that shows a change not yet shown (the stream's first image, an edit, new
+/// settings: anything but another pass of the image `shown`, the accumulation's version and
+/// settings) waits as an edit ([`Urgency::Edit`]); a refining pass waits in turn, and becomes an
+/// edit if a change comes meanwhile.
+async fn pass_turn(
+    state: &AppState,
+    client: raystage_service::Client,
+    slot: &SceneSlot,
+    versions: &mut watch::Receiver<u64>,
+    settings: &mut watch::Receiver<StreamSettings>,
+    shown: Option<(u64, StreamSettings)>,
+    wanted: StreamSettings,
+) -> (RenderTurn, bool) {
+    if let Some((version, rendering)) = shown
+        && version == slot.version()
+        && rendering.same_image(&wanted)
+    {
+        tokio::select! {
+            turn = state.render_permit(client, Urgency::InTurn) => return (turn, false),
+            () = superseded(slot, versions, settings, version, rendering) => {}
+        }
+        return (state.render_permit(client, Urgency::Edit).await, true);
+    }
+    (state.render_permit(client, Urgency::Edit).await, false)
 }
 
 /// `film` graded and encoded as `settings` say, and the seconds encoding took (`None` if it
