@@ -23,6 +23,13 @@ fi
 cargo build --release -p raystage-bench "${features[@]}"
 bench="${CARGO_TARGET_DIR:-target}/release/raystage-bench"
 python="${PYTHON:-python3}"
+# Mitsuba's JIT-vectorised variant is timed too where LLVM 19 is installed for it.
+variants=scalar_rgb
+llvm=/usr/lib/x86_64-linux-gnu/libLLVM-19.so
+if [[ -f $llvm ]]; then
+    export DRJIT_LIBLLVM_PATH="${DRJIT_LIBLLVM_PATH:-$llvm}"
+    variants=scalar_rgb,llvm_ad_rgb
+fi
 # Images the benchmarks write beside their reports (plots, renders) stay out of the repository.
 scratch="${CARGO_TARGET_DIR:-target}/performance"
 mkdir -p "$scratch"
@@ -33,9 +40,10 @@ declare -A args=(
     [dynamic]="dynamic --scene all --frames 20 --threads 2"
     [render]="render --reps 3 --plot $scratch/convergence.png"
     [scaling]="scaling --scene all --reps 3"
-    [pathtrace]="pathtrace --python $python --dir $scratch/pathtrace"
+    [pathtrace]="pathtrace --scene room --python $python --dir $scratch/pathtrace"
+    [pathtrace-spheres]="pathtrace --scene spheres --variants $variants --python $python --dir $scratch/pathtrace"
 )
-order=(kernel dynamic render scaling pathtrace)
+order=(kernel dynamic render scaling pathtrace pathtrace-spheres)
 names=("$@")
 if ((${#names[@]} == 0)); then
     names=("${order[@]}")
@@ -46,8 +54,8 @@ for name in "${names[@]}"; do
         echo "unknown benchmark $name (expected: ${order[*]})" >&2
         exit 2
     fi
-    if [[ $name == pathtrace ]] && ! "$python" -c 'import mitsuba' 2>/dev/null; then
-        echo "+ skipping pathtrace: $python has no mitsuba (pip install mitsuba, or set PYTHON)"
+    if [[ $name == pathtrace* ]] && ! "$python" -c 'import mitsuba' 2>/dev/null; then
+        echo "+ skipping $name: $python has no mitsuba (pip install mitsuba, or set PYTHON)"
         continue
     fi
     echo "+ raystage-bench ${args[$name]} --json"

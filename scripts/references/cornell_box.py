@@ -2,7 +2,8 @@
 """Renders the reference image of the classic Cornell box with Mitsuba 3.
 
 The room comes from raystage's own glTF (`cargo run -p raystage-demo --example
-write_cornell_box -- room.gltf`), so that both renderers read the very same arrays: every
+write_cornell_box -- room.gltf`, or `-- --spheres spheres.gltf` for the room with a million
+triangles of spheres), so that both renderers read the very same arrays: every
 primitive becomes a Mitsuba mesh with a two-sided diffuse BSDF of its base colour, the emissive
 one an area light of its emissive colour × strength (one-sided, as glTF's triangle fronts face),
 and the glTF camera a perspective sensor with its vertical field of view. Mitsuba's path
@@ -21,7 +22,6 @@ import base64
 import json
 import math
 import os
-import struct
 import sys
 import tempfile
 import time
@@ -66,8 +66,12 @@ def write_ply(path, positions, indices):
             ).encode()
         )
         f.write(positions.astype("<f4").tobytes())
-        for face in faces:
-            f.write(struct.pack("<B3i", 3, *map(int, face)))
+        # Each face as PLY lists it, a count byte then three indices: one packed array for a
+        # million faces rather than a million writes.
+        records = np.empty(len(faces), dtype=[("count", "u1"), ("indices", "<i4", (3,))])
+        records["count"] = 3
+        records["indices"] = faces
+        f.write(records.tobytes())
 
 
 def rotate(q, v):

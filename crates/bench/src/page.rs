@@ -15,9 +15,9 @@ use serde::de::{Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
 
 use crate::stamp::{Stamp, StampLine};
 
-/// Whole-number fields that say which case a record measures, as its text fields do: rows of
-/// two systems are compared only where these agree.
-const CASE_COUNTS: [&str; 2] = ["threads", "spp"];
+/// Numeric fields that say which case a record measures, as its text fields do: rows of two
+/// systems are compared only where these agree (`target`: the error a path tracer is timed to).
+const CASE_COUNTS: [&str; 3] = ["threads", "spp", "target"];
 
 /// Why a report cannot make a page.
 #[derive(Debug, PartialEq, thiserror::Error)]
@@ -109,7 +109,7 @@ impl Table {
         let identity: Vec<usize> = (0..self.columns.len())
             .filter(|&c| c != system && (matches!(self.rows[0][c], Value::String(_)) || CASE_COUNTS.contains(&self.columns[c].as_str())))
             .collect();
-        let figures: Vec<usize> = (0..self.columns.len()).filter(|&c| self.rows.iter().any(|r| r[c].is_fraction())).collect();
+        let figures: Vec<usize> = (0..self.columns.len()).filter(|&c| !identity.contains(&c) && self.rows.iter().any(|r| r[c].is_fraction())).collect();
         if figures.is_empty() {
             return;
         }

@@ -1,15 +1,17 @@
 //! The path-tracing benchmark: what accuracy costs in time, raystage against Mitsuba 3
 //! on the same scene in the same run.
 //!
-//! The scene is the classic Cornell box (`raystage_demo::cornell_box`), written as glTF; raystage
-//! imports it, and `scripts/references/cornell_box.py` builds the same scene in Mitsuba from the
-//! same file. A converged reference comes from Mitsuba's `scalar_rgb` path tracer; then, for each
-//! sample count, raystage and each Mitsuba variant render the room in turns on the same threads
-//! (who goes first alternates), each timed over its render alone (Mitsuba's scene loading and
+//! The scenes are the classic Cornell box (`raystage_demo::cornell_box`) and, as a scene too
+//! large for the caches, the same room with a million triangles of spheres on its floor instead
+//! of the blocks ([`PathScene`]), written as glTF; raystage imports each, and
+//! `scripts/references/cornell_box.py` builds the same scene in Mitsuba from the same file. A
+//! converged reference comes from Mitsuba's `scalar_rgb` path tracer; then, for each sample
+//! count, raystage and each Mitsuba variant render the room in turns on the same threads (who
+//! goes first alternates), each timed over its render alone (Mitsuba's scene loading and
 //! Python's start are left out), and each image is compared with the reference by the relative
 //! RMSE of 4×4 block means over the room without the light
 //! ([`raystage_demo::cornell_box::Comparison`]). From those points, the time each system needs to
-//! reach 1 % follows by interpolation on log-log axes.
+//! reach 5 %, 2 % and 1 % follows by interpolation on log-log axes.
 //!
 //! Without Mitsuba (the `mitsuba` PyPI package), the bench says how to get it and measures
 //! raystage alone, against a reference of its own at the reference sample count.
@@ -24,14 +26,47 @@ use raystage_render::{Film, Integrator, RenderSettings, render};
 use raystage_scene::Scene;
 use serde::Serialize;
 
-/// The error every system is timed to.
-pub const TARGET_RMSE: f64 = 0.01;
+/// The errors every system is timed to.
+pub const TARGETS: [f64; 3] = [0.05, 0.02, 0.01];
+
+/// A scene of the benchmark.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PathScene {
+    /// The classic Cornell box: 32 triangles.
+    Room,
+    /// The room with [`cornell_box::SPHERES_PER_SIDE`]² spheres on its floor instead of the
+    /// blocks: a million triangles.
+    Spheres,
+}
+
+impl PathScene {
+    /// Its name on the command line and in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            PathScene::Room => "room",
+            PathScene::Spheres => "spheres",
+        }
+    }
+
+    /// The scene named `name`.
+    pub fn from_name(name: &str) -> Option<PathScene> {
+        [PathScene::Room, PathScene::Spheres].into_iter().find(|s| s.name() == name)
+    }
+
+    /// The scene as glTF.
+    fn gltf(self) -> String {
+        match self {
+            PathScene::Room => cornell_box::gltf(),
+            PathScene::Spheres => cornell_box::spheres_gltf(),
+        }
+    }
+}
 
 /// What to measure.
 #[derive(Clone, Debug)]
 pub struct Config {
-    /// Image side in pixels (a multiple of 4).
-    pub size: u32,
+    /// The scenes, each with its image side in pixels (a multiple of 4).
+    pub scenes: Vec<(PathScene, u32)>,
     /// Sample counts to compare.
     pub spp: Vec<u32>,
     /// Samples per pixel of the reference.
@@ -46,11 +81,13 @@ pub struct Config {
     pub dir: PathBuf,
 }
 
-/// One render of the room.
+/// One render of a scene.
 #[derive(Clone, Debug, Serialize)]
 pub struct Point {
     /// `raystage` or `mitsuba-<variant>`.
     pub system: String,
+    /// Which scene ([`PathScene::name`]).
+    pub scene: &'static str,
     /// Samples per pixel.
     pub spp: u32,
     /// Seconds of the render.
@@ -61,9 +98,13 @@ pub struct Point {
     pub channel_ratio: [f32; 3],
 }
 
-/// Everything one run measured.
+/// Everything one run measured of one scene.
 #[derive(Clone, Debug, Serialize)]
 pub struct Report {
+    /// Which scene ([`PathScene::name`]).
+    pub scene: &'static str,
+    /// Its image side in pixels.
+    pub size: u32,
     /// Who rendered the reference, at how many samples per pixel.
     pub reference: String,
     /// Every render, in the order they ran.
@@ -73,9 +114,11 @@ pub struct Report {
     pub scaling: Scaling,
 }
 
-/// raystage's thread scaling on the room.
+/// raystage's thread scaling on a scene.
 #[derive(Clone, Debug, Serialize)]
 pub struct Scaling {
+    /// Which scene ([`PathScene::name`]).
+    pub scene: &'static str,
     /// Samples per pixel of the frames.
     pub spp: u32,
     /// Seconds on one thread.
@@ -90,12 +133,16 @@ pub struct Scaling {
     pub tasks: usize,
 }
 
-/// A summary line per system: time to the target error.
+/// A summary line per scene, system and target error: the time to reach it.
 #[derive(Clone, Debug, Serialize)]
 pub struct TimeToTarget {
     /// The system.
     pub system: String,
-    /// Seconds to reach [`TARGET_RMSE`], interpolated; `None` if no two measured points
+    /// Which scene ([`PathScene::name`]).
+    pub scene: &'static str,
+    /// The relative RMSE, one of [`TARGETS`].
+    pub target: f64,
+    /// Seconds to reach `target`, interpolated; `None` if no two measured points
     /// bracket it (or extrapolated from the last two when the error never got there).
     pub seconds: Option<f64>,
     /// Whether `seconds` is extrapolated beyond the measured points.
@@ -104,23 +151,35 @@ pub struct TimeToTarget {
     pub raystage_ratio: Option<f64>,
 }
 
-/// Runs the benchmark, logging progress through `log`.
-pub fn run(config: &Config, log: impl Fn(&str)) -> Result<Report, String> {
+/// Runs the benchmark on each scene of `config`, logging progress through `log`.
+pub fn run(config: &Config, log: impl Fn(&str)) -> Result<Vec<Report>, String> {
     std::fs::create_dir_all(&config.dir).map_err(|e| format!("cannot create {}: {e}", config.dir.display()))?;
-    let gltf = config.dir.join("cornell_box.gltf");
-    std::fs::write(&gltf, cornell_box::gltf()).map_err(|e| format!("cannot write {}: {e}", gltf.display()))?;
-    let scene = raystage_gltf_scene()?;
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(config.threads).build().map_err(|e| e.to_string())?;
     let mitsuba = mitsuba_available(&config.python);
     if !mitsuba {
         log("Mitsuba 3 is not installed for this Python: `pip install mitsuba numpy` (and for llvm_ad_rgb, \
              `apt-get install libllvm19` and DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM-19.so); measuring raystage alone");
     }
-    log(&format!("reference: {} at {} spp, {}x{}", if mitsuba { "mitsuba scalar_rgb" } else { "raystage" }, config.reference_spp, config.size, config.size));
+    config.scenes.iter().map(|&(scene, size)| run_scene(config, scene, size, mitsuba, &log)).collect()
+}
+
+/// The benchmark on `scene` at `size`² pixels, with Mitsuba if it is `mitsuba`.
+fn run_scene(config: &Config, which: PathScene, size: u32, mitsuba: bool, log: &impl Fn(&str)) -> Result<Report, String> {
+    let json = which.gltf();
+    let gltf = config.dir.join(format!("{}.gltf", which.name()));
+    std::fs::write(&gltf, &json).map_err(|e| format!("cannot write {}: {e}", gltf.display()))?;
+    let scene = raystage_gltf_scene(&json)?;
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(config.threads).build().map_err(|e| e.to_string())?;
+    let mitsuba_render = |variant: &str, spp: u32, seed: u32| mitsuba_render(config, &gltf, size, variant, spp, seed);
+    // Mitsuba's times leave out loading the scene, its BVH build included: raystage's trees,
+    // built lazily when a ray first needs them and kept with the scene, are built here, by a
+    // frame whose camera rays meet every object of the room, before any render is timed.
+    pool.install(|| raystage_render(&scene, size, 1, 0));
+    let reference_by = if mitsuba { "mitsuba scalar_rgb" } else { "raystage" };
+    log(&format!("{}: reference by {reference_by} at {} spp, {size}x{size}", which.name(), config.reference_spp));
     let reference = if mitsuba {
-        mitsuba_render(config, &gltf, "scalar_rgb", config.reference_spp, 1_000_003)?.0
+        mitsuba_render("scalar_rgb", config.reference_spp, 1_000_003)?.0
     } else {
-        pool.install(|| raystage_render(&scene, config.size, config.reference_spp, 1_000_003)).0
+        pool.install(|| raystage_render(&scene, size, config.reference_spp, 1_000_003)).0
     };
     let systems: Vec<String> = std::iter::once("raystage".to_string())
         .chain(config.variants.iter().filter(|_| mitsuba).map(|v| format!("mitsuba-{v}")))
@@ -132,42 +191,46 @@ pub fn run(config: &Config, log: impl Fn(&str)) -> Result<Report, String> {
         order.rotate_left(round % systems.len());
         for system in order {
             let (image, seconds) = match system.strip_prefix("mitsuba-") {
-                Some(variant) => mitsuba_render(config, &gltf, variant, spp, round as u32)?,
-                None => pool.install(|| raystage_render(&scene, config.size, spp, round as u32)),
+                Some(variant) => mitsuba_render(variant, spp, round as u32)?,
+                None => pool.install(|| raystage_render(&scene, size, spp, round as u32)),
             };
-            let c = Comparison::of(&image, &reference, config.size as usize);
-            let point = Point { system, spp, seconds, rmse: c.block_rmse as f64, channel_ratio: c.channel_ratio.to_array() };
+            let c = Comparison::of(&image, &reference, size as usize);
+            let point = Point { system, scene: which.name(), spp, seconds, rmse: c.block_rmse as f64, channel_ratio: c.channel_ratio.to_array() };
             log(&format!("{:>20} {:>6} spp  {:>8.3} s  RMSE {:.4}", point.system, spp, seconds, point.rmse));
             points.push(point);
         }
     }
-    let scaling = scaling(&scene, config, &log);
-    Ok(Report { reference: format!("{} at {} spp", if mitsuba { "mitsuba scalar_rgb" } else { "raystage" }, config.reference_spp), points, scaling })
+    let scaling = scaling(&scene, which, size, config, log);
+    Ok(Report { scene: which.name(), size, reference: format!("{reference_by} at {} spp", config.reference_spp), points, scaling })
 }
 
 impl Report {
-    /// Each system's time to [`TARGET_RMSE`], and raystage's ratio to it.
+    /// Each system's time to each of [`TARGETS`], and raystage's ratio to it.
     pub fn times_to_target(&self) -> Vec<TimeToTarget> {
         let mut systems: Vec<&str> = self.points.iter().map(|p| p.system.as_str()).collect();
-        systems.dedup();
         systems.sort_unstable();
         systems.dedup();
-        let times: Vec<(String, Option<(f64, bool)>)> = systems
+        let by_system: Vec<(&str, Vec<&Point>)> = systems
             .iter()
-            .map(|s| {
-                let mut points: Vec<&Point> = self.points.iter().filter(|p| p.system == *s).collect();
+            .map(|&s| {
+                let mut points: Vec<&Point> = self.points.iter().filter(|p| p.system == s).collect();
                 points.sort_by_key(|p| p.spp);
-                (s.to_string(), time_to(&points, TARGET_RMSE))
+                (s, points)
             })
             .collect();
-        let raystage = times.iter().find(|(s, _)| s == "raystage").and_then(|(_, t)| t.map(|t| t.0));
-        times
-            .into_iter()
-            .map(|(system, t)| TimeToTarget {
-                raystage_ratio: raystage.zip(t).map(|(r, (t, _))| r / t),
-                seconds: t.map(|t| t.0),
-                extrapolated: t.is_some_and(|t| t.1),
-                system,
+        TARGETS
+            .iter()
+            .flat_map(|&target| {
+                let times: Vec<(&str, Option<(f64, bool)>)> = by_system.iter().map(|(s, points)| (*s, time_to(points, target))).collect();
+                let raystage = times.iter().find(|(s, _)| *s == "raystage").and_then(|(_, t)| t.map(|t| t.0));
+                times.into_iter().map(move |(system, t)| TimeToTarget {
+                    system: system.to_string(),
+                    scene: self.scene,
+                    target,
+                    raystage_ratio: raystage.zip(t).map(|(r, (t, _))| r / t),
+                    seconds: t.map(|t| t.0),
+                    extrapolated: t.is_some_and(|t| t.1),
+                })
             })
             .collect()
     }
@@ -190,10 +253,8 @@ fn time_to(points: &[&Point], target: f64) -> Option<(f64, bool)> {
     }
 }
 
-/// The room as raystage imports it from its glTF.
-fn raystage_gltf_scene() -> Result<Scene, String> {
-    // The bench reads the very bytes it hands Mitsuba.
-    let json = cornell_box::gltf();
+/// A scene as raystage imports it from its glTF, `json`: the very bytes Mitsuba reads.
+fn raystage_gltf_scene(json: &str) -> Result<Scene, String> {
     let import = raystage_gltf_import::read(json.as_bytes(), None, &raystage_gltf_import::Limits::default()).map_err(|e| e.to_string())?;
     import.into_scene().map_err(|e| e.to_string())
 }
@@ -213,16 +274,17 @@ fn mitsuba_available(python: &str) -> bool {
     Command::new(python).args(["-c", "import mitsuba, numpy"]).output().is_ok_and(|o| o.status.success())
 }
 
-/// Mitsuba's render of the room with `variant` at `spp` (through the reference script), and the
-/// seconds it reports for the render alone.
-fn mitsuba_render(config: &Config, gltf: &Path, variant: &str, spp: u32, seed: u32) -> Result<(Vec<Vec3>, f64), String> {
+/// Mitsuba's render of the scene in `gltf` at `size`² pixels with `variant` at `spp` (through
+/// the reference script), and the seconds it reports for the render alone.
+fn mitsuba_render(config: &Config, gltf: &Path, size: u32, variant: &str, spp: u32, seed: u32) -> Result<(Vec<Vec3>, f64), String> {
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scripts/references/cornell_box.py");
-    let out = config.dir.join(format!("mitsuba-{variant}-{spp}.pfm"));
+    let stem = gltf.file_stem().map_or("scene".into(), |s| s.to_string_lossy());
+    let out = config.dir.join(format!("mitsuba-{stem}-{variant}-{spp}.pfm"));
     let output = Command::new(&config.python)
         .arg(&script)
         .arg(gltf)
         .arg(&out)
-        .args(["--size", &config.size.to_string(), "--spp", &spp.to_string(), "--variant", variant])
+        .args(["--size", &size.to_string(), "--spp", &spp.to_string(), "--variant", variant])
         .args(["--seed", &seed.to_string(), "--threads", &config.threads.to_string(), "--time"])
         .output()
         .map_err(|e| format!("cannot run {}: {e}", config.python))?;
@@ -233,22 +295,22 @@ fn mitsuba_render(config: &Config, gltf: &Path, variant: &str, spp: u32, seed: u
     let seconds = timing["seconds"].as_f64().ok_or("Mitsuba printed no seconds")?;
     let bytes = std::fs::read(&out).map_err(|e| format!("{}: {e}", out.display()))?;
     let film = Film::from_pfm(&bytes).map_err(|e| format!("{}: {e}", out.display()))?;
-    if (film.width(), film.height()) != (config.size, config.size) {
-        return Err(format!("{} is not {}x{}", out.display(), config.size, config.size));
+    if (film.width(), film.height()) != (size, size) {
+        return Err(format!("{} is not {size}x{size}", out.display()));
     }
     Ok((film.pixels().to_vec(), seconds))
 }
 
-/// raystage's frame time on the room on one thread and on `config.threads`, at the first
-/// sample count (the better of two frames each).
-fn scaling(scene: &Scene, config: &Config, log: &impl Fn(&str)) -> Scaling {
+/// raystage's frame time on `which` (`scene`, at `size`² pixels) on one thread and on
+/// `config.threads`, at the first sample count (the better of two frames each).
+fn scaling(scene: &Scene, which: PathScene, size: u32, config: &Config, log: &impl Fn(&str)) -> Scaling {
     let spp = config.spp.first().copied().unwrap_or(16);
     let time = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a thread pool");
-        (0..2).map(|seed| pool.install(|| raystage_render(scene, config.size, spp, seed).1)).fold(f64::INFINITY, f64::min)
+        (0..2).map(|seed| pool.install(|| raystage_render(scene, size, spp, seed).1)).fold(f64::INFINITY, f64::min)
     };
     let (one, many) = (time(1), time(config.threads));
-    let tasks = raystage_render::tasks(config.size, config.size);
+    let tasks = raystage_render::tasks(size, size);
     log(&format!("raystage at {spp} spp: {one:.3} s on 1 thread, {many:.3} s on {}: {:.2}x; {tasks} tasks a frame", config.threads, one / many));
-    Scaling { spp, one_thread_s: one, threads: config.threads, threads_s: many, speedup: one / many, tasks }
+    Scaling { scene: which.name(), spp, one_thread_s: one, threads: config.threads, threads_s: many, speedup: one / many, tasks }
 }

@@ -33,57 +33,113 @@ pub const EYE_MM: [f32; 3] = [278.0, 273.0, -800.0];
 /// The vertical field of view in degrees.
 pub const FOV_Y_DEGREES: f32 = 39.307_7;
 
-/// A surface of the room: quads (corners in order around them, mm) and what they are made of.
+/// A surface of the room: triangles (positions in mm, three indices each) and what they are
+/// made of.
 struct Surface {
     name: &'static str,
     reflectance: [f32; 3],
     emission: [f32; 3],
-    quads: Vec<[[f32; 3]; 4]>,
+    positions: Vec<[f32; 3]>,
+    indices: Vec<u32>,
 }
 
-/// Every surface, with the published coordinates.
-fn surfaces() -> Vec<Surface> {
+impl Surface {
+    /// A surface of quads, corners in order around each, cut along their first diagonal.
+    fn quads(name: &'static str, reflectance: [f32; 3], emission: [f32; 3], quads: &[[[f32; 3]; 4]]) -> Surface {
+        let positions = quads.iter().flatten().copied().collect();
+        let indices = (0..quads.len() as u32).flat_map(|q| [0, 1, 2, 0, 2, 3].map(|i| 4 * q + i)).collect();
+        Surface { name, reflectance, emission, positions, indices }
+    }
+}
+
+/// What stands on the room's floor.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Contents {
+    /// The two blocks of the measured room.
+    Blocks,
+    /// [`SPHERES_PER_SIDE`]² white spheres in rows on the floor, instead of the blocks.
+    Spheres,
+}
+
+/// Spheres along each side of the floor in [`spheres_gltf`]'s room.
+pub const SPHERES_PER_SIDE: u32 = 6;
+/// Segments around each of those spheres (and half as many from pole to pole): 27,888
+/// triangles a sphere, 1,003,968 in all.
+pub const SPHERE_SEGMENTS: u32 = 168;
+
+/// Every surface, with the published coordinates; what `contents` says in it.
+fn surfaces(contents: Contents) -> Vec<Surface> {
     let y = LIGHT_HEIGHT;
-    let white = vec![
+    let mut white = vec![
         // Floor, ceiling, back wall.
         [[552.8, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 559.2], [549.6, 0.0, 559.2]],
         [[556.0, 548.8, 0.0], [556.0, 548.8, 559.2], [0.0, 548.8, 559.2], [0.0, 548.8, 0.0]],
         [[549.6, 0.0, 559.2], [0.0, 0.0, 559.2], [0.0, 548.8, 559.2], [556.0, 548.8, 559.2]],
-        // The short block.
-        [[130.0, 165.0, 65.0], [82.0, 165.0, 225.0], [240.0, 165.0, 272.0], [290.0, 165.0, 114.0]],
-        [[290.0, 0.0, 114.0], [290.0, 165.0, 114.0], [240.0, 165.0, 272.0], [240.0, 0.0, 272.0]],
-        [[130.0, 0.0, 65.0], [130.0, 165.0, 65.0], [290.0, 165.0, 114.0], [290.0, 0.0, 114.0]],
-        [[82.0, 0.0, 225.0], [82.0, 165.0, 225.0], [130.0, 165.0, 65.0], [130.0, 0.0, 65.0]],
-        [[240.0, 0.0, 272.0], [240.0, 165.0, 272.0], [82.0, 165.0, 225.0], [82.0, 0.0, 225.0]],
-        // The tall block.
-        [[423.0, 330.0, 247.0], [265.0, 330.0, 296.0], [314.0, 330.0, 456.0], [472.0, 330.0, 406.0]],
-        [[423.0, 0.0, 247.0], [423.0, 330.0, 247.0], [472.0, 330.0, 406.0], [472.0, 0.0, 406.0]],
-        [[472.0, 0.0, 406.0], [472.0, 330.0, 406.0], [314.0, 330.0, 456.0], [314.0, 0.0, 456.0]],
-        [[314.0, 0.0, 456.0], [314.0, 330.0, 456.0], [265.0, 330.0, 296.0], [265.0, 0.0, 296.0]],
-        [[265.0, 0.0, 296.0], [265.0, 330.0, 296.0], [423.0, 330.0, 247.0], [423.0, 0.0, 247.0]],
     ];
-    vec![
-        Surface { name: "white", reflectance: WHITE, emission: [0.0; 3], quads: white },
-        Surface {
-            name: "red",
-            reflectance: RED,
-            emission: [0.0; 3],
-            quads: vec![[[552.8, 0.0, 0.0], [549.6, 0.0, 559.2], [556.0, 548.8, 559.2], [556.0, 548.8, 0.0]]],
-        },
-        Surface {
-            name: "green",
-            reflectance: GREEN,
-            emission: [0.0; 3],
-            quads: vec![[[0.0, 0.0, 559.2], [0.0, 0.0, 0.0], [0.0, 548.8, 0.0], [0.0, 548.8, 559.2]]],
-        },
+    if contents == Contents::Blocks {
+        white.extend([
+            // The short block.
+            [[130.0, 165.0, 65.0], [82.0, 165.0, 225.0], [240.0, 165.0, 272.0], [290.0, 165.0, 114.0]],
+            [[290.0, 0.0, 114.0], [290.0, 165.0, 114.0], [240.0, 165.0, 272.0], [240.0, 0.0, 272.0]],
+            [[130.0, 0.0, 65.0], [130.0, 165.0, 65.0], [290.0, 165.0, 114.0], [290.0, 0.0, 114.0]],
+            [[82.0, 0.0, 225.0], [82.0, 165.0, 225.0], [130.0, 165.0, 65.0], [130.0, 0.0, 65.0]],
+            [[240.0, 0.0, 272.0], [240.0, 165.0, 272.0], [82.0, 165.0, 225.0], [82.0, 0.0, 225.0]],
+            // The tall block.
+            [[423.0, 330.0, 247.0], [265.0, 330.0, 296.0], [314.0, 330.0, 456.0], [472.0, 330.0, 406.0]],
+            [[423.0, 0.0, 247.0], [423.0, 330.0, 247.0], [472.0, 330.0, 406.0], [472.0, 0.0, 406.0]],
+            [[472.0, 0.0, 406.0], [472.0, 330.0, 406.0], [314.0, 330.0, 456.0], [314.0, 0.0, 456.0]],
+            [[314.0, 0.0, 456.0], [314.0, 330.0, 456.0], [265.0, 330.0, 296.0], [265.0, 0.0, 296.0]],
+            [[265.0, 0.0, 296.0], [265.0, 330.0, 296.0], [423.0, 330.0, 247.0], [423.0, 0.0, 247.0]],
+        ]);
+    }
+    let mut surfaces = vec![
+        Surface::quads("white", WHITE, [0.0; 3], &white),
+        Surface::quads("red", RED, [0.0; 3], &[[[552.8, 0.0, 0.0], [549.6, 0.0, 559.2], [556.0, 548.8, 559.2], [556.0, 548.8, 0.0]]]),
+        Surface::quads("green", GREEN, [0.0; 3], &[[[0.0, 0.0, 559.2], [0.0, 0.0, 0.0], [0.0, 548.8, 0.0], [0.0, 548.8, 559.2]]]),
         // Wound so that its front (counter-clockwise) faces down, into the room.
-        Surface {
-            name: "light",
-            reflectance: [0.0; 3],
-            emission: LIGHT,
-            quads: vec![[[343.0, y, 227.0], [343.0, y, 332.0], [213.0, y, 332.0], [213.0, y, 227.0]]],
-        },
-    ]
+        Surface::quads("light", [0.0; 3], LIGHT, &[[[343.0, y, 227.0], [343.0, y, 332.0], [213.0, y, 332.0], [213.0, y, 227.0]]]),
+    ];
+    if contents == Contents::Spheres {
+        surfaces.push(spheres());
+    }
+    surfaces
+}
+
+/// [`SPHERES_PER_SIDE`]² spheres in rows on the floor, each resting on it and a
+/// latitude-longitude mesh of [`SPHERE_SEGMENTS`] segments: a million triangles, a scene too
+/// large for the caches, which most paths that reach the floor's half of the room trace into.
+fn spheres() -> Surface {
+    let (around, down) = (SPHERE_SEGMENTS, SPHERE_SEGMENTS / 2);
+    let cell = 549.6 / SPHERES_PER_SIDE as f32;
+    let radius = 0.45 * cell;
+    let (mut positions, mut indices) = (Vec::new(), Vec::new());
+    let n = SPHERES_PER_SIDE;
+    for (row, column) in (0..n * n).map(|k| (k / n, k % n)) {
+        let centre = Vec3::new((column as f32 + 0.5) * cell, radius, (row as f32 + 0.5) * cell);
+        let first = positions.len() as u32;
+        for i in 0..=down {
+            let (sin_theta, cos_theta) = (std::f32::consts::PI * i as f32 / down as f32).sin_cos();
+            for j in 0..around {
+                let (sin_phi, cos_phi) = (std::f32::consts::TAU * j as f32 / around as f32).sin_cos();
+                positions.push((centre + radius * Vec3::new(sin_theta * cos_phi, cos_theta, sin_theta * sin_phi)).to_array());
+            }
+        }
+        let at = |i: u32, j: u32| first + i * around + j % around;
+        for i in 0..down {
+            for j in 0..around {
+                let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+                // The rows at the poles are fans: the triangle with two corners on the pole
+                // has no area.
+                if i + 1 != down {
+                    indices.extend([a, c, b]);
+                }
+                if i != 0 {
+                    indices.extend([a, d, c]);
+                }
+            }
+        }
+    }
+    Surface { name: "spheres", reflectance: WHITE, emission: [0.0; 3], positions, indices }
 }
 
 /// The room as a glTF 2.0 JSON document with its buffer inline (a `data:` URI): one mesh with a
@@ -91,7 +147,14 @@ fn surfaces() -> Vec<Surface> {
 /// materials are Lambertian (`KHR_materials_specular` factor 0); the light's emits `LIGHT` as a
 /// unit colour times `KHR_materials_emissive_strength`.
 pub fn gltf() -> String {
-    document(Walls::Lambertian)
+    document(Walls::Lambertian, Contents::Blocks)
+}
+
+/// The room with [`SPHERES_PER_SIDE`]² Lambertian spheres on its floor instead of the blocks,
+/// a million triangles in all: the path-tracing benchmark's large scene, read by raystage and
+/// Mitsuba alike.
+pub fn spheres_gltf() -> String {
+    document(Walls::Lambertian, Contents::Spheres)
 }
 
 /// The same room with rough dielectric walls: glTF's metallic-roughness material as a user
@@ -100,7 +163,7 @@ pub fn gltf() -> String {
 /// (`scripts/references/cycles_gltf.py`) is the reference; the extras name the image size it
 /// is compared at.
 pub fn rough_dielectric_gltf() -> String {
-    document(Walls::RoughDielectric)
+    document(Walls::RoughDielectric, Contents::Blocks)
 }
 
 /// What the walls and blocks are made of.
@@ -112,16 +175,16 @@ enum Walls {
     RoughDielectric,
 }
 
-/// The room's glTF document, its walls as `walls` says.
-fn document(walls: Walls) -> String {
+/// The room's glTF document, its walls as `walls` says and `contents` in it.
+fn document(walls: Walls, contents: Contents) -> String {
     let mut bin: Vec<u8> = Vec::new();
     let mut buffer_views = Vec::new();
     let mut accessors = Vec::new();
     let mut materials = Vec::new();
     let mut primitives = Vec::new();
-    for surface in surfaces() {
-        let positions: Vec<[f32; 3]> = surface.quads.iter().flatten().map(|p| p.map(|c| c / 1000.0)).collect();
-        let indices: Vec<u32> = (0..surface.quads.len() as u32).flat_map(|q| [0, 1, 2, 0, 2, 3].map(|i| 4 * q + i)).collect();
+    for surface in surfaces(contents) {
+        let positions: Vec<[f32; 3]> = surface.positions.iter().map(|p| p.map(|c| c / 1000.0)).collect();
+        let indices = surface.indices;
         let (lo, hi) = positions.iter().fold(([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]), |(lo, hi), p| {
             (std::array::from_fn(|i| lo[i].min(p[i])), std::array::from_fn(|i| hi[i].max(p[i])))
         });
