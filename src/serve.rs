@@ -21,6 +21,9 @@ pub struct ServeJob {
 
 /// Serves the API until Ctrl-C, logging the address (and the scene loaded) to `log`.
 pub fn serve(job: &ServeJob, log: &mut impl Write) -> Result<()> {
+    // Before any thread allocates: the server's resident memory then follows what its scenes
+    // count.
+    raystage_server::one_allocator_arena();
     let config = Config { token: job.token.clone(), limits: Limits::default() };
     config.check_address(job.addr)?;
     let state = AppState::new(config);
@@ -39,6 +42,7 @@ pub fn serve(job: &ServeJob, log: &mut impl Write) -> Result<()> {
 /// gives up a worker that does not answer within `timeout` and serves alone from then on.
 #[cfg(feature = "mpi")]
 pub fn serve_mpi(job: &ServeJob, log: &mut impl Write, mpi: &crate::Cluster, timeout: std::time::Duration) -> Result<()> {
+    raystage_server::one_allocator_arena();
     use crate::render::Ranks;
     let config = Config { token: job.token.clone(), limits: Limits::default() };
     let root = mpi.rank() == 0;

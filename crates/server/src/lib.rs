@@ -34,7 +34,7 @@ use std::future::Future;
 use std::time::Duration;
 
 pub use error::{ApiError, ErrorBody};
-pub use raystage_service::{AppState, ClusterTimes, Config, ErrorDetail, Limits, Refused, usable_memory};
+pub use raystage_service::{AppState, ClusterTimes, Config, ErrorDetail, Limits, Refused, one_allocator_arena, usable_memory};
 pub use routes::openapi::ApiDoc;
 
 /// The whole API as a router, ready for `axum::serve` or `tower::ServiceExt::oneshot`.

@@ -31,7 +31,7 @@ mod stats;
 mod turns;
 mod workers;
 
-pub use budget::{CancelOnDrop, on_a_turn, within_budget};
+pub use budget::{CancelOnDrop, give_back_memory, on_a_turn, one_allocator_arena, within_budget};
 pub use build::{SceneBuild, SceneStart};
 pub use clock::{ClockChange, ClockState};
 pub use config::{Config, Limits, Refused, usable_memory};
