@@ -39,25 +39,16 @@ pub struct GltfQuery {
     ))]
 pub(crate) async fn upload(State(state): State<AppState>, target: Target, Params(query): Params<GltfQuery>, RawBody(body): RawBody) -> ApiResult<Json<GltfAdded>> {
     let limits = import_limits(&state.config().limits);
-    let read = tokio::task::spawn_blocking(move || {
-        let read = raystage_gltf_import::read(&body, None, &limits).map(|import| (body, import));
-        if read.is_err() {
-            // What the refused file's parse allocated goes back to the system.
-            raystage_service::give_back_memory();
-        }
-        read
-    });
-    let (body, import) = read.await.map_err(|e| Error::internal(e.to_string()))?.map_err(Error::from)?;
+    let (body, import) = tokio::task::spawn_blocking(move || raystage_gltf_import::read(&body, None, &limits).map(|import| (body, import)))
+        .await
+        .map_err(|e| Error::internal(e.to_string()))?
+        .map_err(Error::from)?;
     // Checked before the edit, which then adds what was imported here.
     let edit = Edit::Gltf { file: Blob(body.into()), camera: query.camera.unwrap_or_default(), environment: query.environment, import: Some(Box::new(import)) };
     if let Edit::Gltf { environment: Some(text), .. } = &edit {
         parse_environment(text)?;
     }
-    let edited = target.scene.edit(&state, edit).await;
-    // The file and its parse are freed now, added or refused: given back to the system, so
-    // that the server's resident memory follows what its scenes count.
-    tokio::task::spawn_blocking(raystage_service::give_back_memory);
-    let (added, version) = match edited? {
+    let (added, version) = match target.scene.edit(&state, edit).await? {
         (Applied::Gltf(added), version) => (added, version),
         _ => return Err(Error::internal("a glTF file gave back something else").into()),
     };

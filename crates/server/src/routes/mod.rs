@@ -70,8 +70,28 @@ pub(crate) fn router(state: AppState) -> Router {
             ApiError(Error::new(ErrorKind::MethodNotAllowed, None, "this route does not take that method: see /openapi.json"))
         })
         .layer(middleware::from_fn_with_state(state.clone(), require_token))
+        .layer(middleware::from_fn(give_back_after_large_bodies))
         .layer(DefaultBodyLimit::max(limits.max_body_bytes))
         .with_state(state)
+}
+
+/// A request body at least this large (a glTF file, a batch, an image) leaves megabytes its
+/// parse freed.
+const LARGE_BODY: u64 = 1 << 20;
+
+/// Gives the memory a large request freed back to the system once it is answered, accepted or
+/// refused: the body and whatever its parse allocated and dropped (tens of megabytes for a glTF
+/// file of a few hundred thousand nodes) would otherwise stay resident, and the server's memory
+/// would stop following what its scenes count (see [`raystage_service::give_back_memory`]).
+async fn give_back_after_large_bodies(request: axum::extract::Request, next: middleware::Next) -> axum::response::Response {
+    let length = request.headers().get(axum::http::header::CONTENT_LENGTH).and_then(|v| v.to_str().ok()?.parse::<u64>().ok());
+    let response = next.run(request).await;
+    if length.is_some_and(|n| n >= LARGE_BODY) {
+        // Before the answer goes out (a few milliseconds), so that a client that sees it sees
+        // the memory given back.
+        let _ = tokio::task::spawn_blocking(raystage_service::give_back_memory).await;
+    }
+    response
 }
 
 /// What the server is and where its description is.

@@ -140,12 +140,8 @@ pub(crate) async fn create(
     // The same build, in a cluster, makes every worker's replica.
     let state_for_build = state.clone();
     let id = tokio::task::spawn_blocking(move || {
-        let created = build.build(&limits).and_then(|(scene, origin)| state_for_build.create_scene(scene, origin, &build));
-        // The file and what its parse allocated are freed now, kept or refused: given back to
-        // the system, so that the server's resident memory follows what its scenes count.
-        drop(build);
-        raystage_service::give_back_memory();
-        created
+        let (scene, origin) = build.build(&limits)?;
+        state_for_build.create_scene(scene, origin, &build)
     })
     .await
     .map_err(|e| Error::internal(e.to_string()))??;
