@@ -463,15 +463,58 @@ fn split<'a>(task: Task<'a>, opts: &BuildOptions) -> Option<(Task<'a>, Task<'a>)
 }
 
 /// Partitions the references in place, those whose bin along `axis` lies below `pos` first;
-/// returns the size of the left side and the bounds of both sides. Growing the bounds here, while
-/// each reference is in registers anyway, saves a pass over the children's references after every
-/// split (as Embree does): the sphere scene's build went from 0.36 s to 0.31 s on one thread. The
-/// side test must stay cheap: taking it from `bins_of` (an index spilled to the stack and read
-/// back by axis) made this loop slower than the two passes it replaces.
+/// returns the size of the left side and the bounds of both sides. The side test must stay cheap:
+/// taking it from `bins_of` (an index spilled to the stack and read back by axis) made this loop
+/// slower than a pass of its own.
+///
+/// Blocks of references at each end are classified without branches first (the block partition
+/// of Edelkamp and Weiß's BlockQuicksort), then the misplaced ones of the two blocks swapped
+/// pairwise. A loop that branched on each reference's side mispredicted about every second
+/// reference of the triangle soup, whose neighbours in memory lie anywhere in space: this took
+/// the soup's one-thread build from 0.50 s to 0.36 s (CPU time), the sphere scene's staying
+/// within 4 %. Each side's bounds are grown from a block once it holds only that side, while it
+/// is still in the L1 cache (as Embree does, this saves a pass over the children's references);
+/// the last two blocks or fewer are partitioned one reference at a time.
 fn partition_bins(refs: &mut [PrimRef], map: &BinMapping, axis: usize, pos: usize) -> (usize, SetBounds, SetBounds) {
     let is_left = |r: &PrimRef| map.below(r, axis, pos);
     let (mut left, mut right) = (Growing::EMPTY, Growing::EMPTY);
     let (mut i, mut j) = (0, refs.len());
+    // Offsets of the misplaced references of the current block at each end (from `i` upwards,
+    // from `j - 1` downwards), and how many of them are swapped already and in all.
+    let (mut misplaced_left, mut misplaced_right) = ([0u8; BLOCK], [0u8; BLOCK]);
+    let (mut swapped_left, mut found_left, mut swapped_right, mut found_right) = (0, 0, 0, 0);
+    while j - i >= 2 * BLOCK {
+        if swapped_left == found_left {
+            (swapped_left, found_left) = (0, 0);
+            for (k, r) in refs[i..i + BLOCK].iter().enumerate() {
+                misplaced_left[found_left] = k as u8;
+                found_left += usize::from(!is_left(r));
+            }
+        }
+        if swapped_right == found_right {
+            (swapped_right, found_right) = (0, 0);
+            for (k, r) in refs[j - BLOCK..j].iter().rev().enumerate() {
+                misplaced_right[found_right] = k as u8;
+                found_right += usize::from(is_left(r));
+            }
+        }
+        let pairs = (found_left - swapped_left).min(found_right - swapped_right);
+        for (&a, &b) in misplaced_left[swapped_left..][..pairs].iter().zip(&misplaced_right[swapped_right..][..pairs]) {
+            refs.swap(i + a as usize, j - 1 - b as usize);
+        }
+        swapped_left += pairs;
+        swapped_right += pairs;
+        if swapped_left == found_left {
+            left = refs[i..i + BLOCK].iter().fold(left, Growing::add);
+            i += BLOCK;
+        }
+        if swapped_right == found_right {
+            right = refs[j - BLOCK..j].iter().fold(right, Growing::add);
+            j -= BLOCK;
+        }
+    }
+    // The references of a block only partly sorted out are still in `i..j`, and are grown into
+    // their side's bounds here.
     loop {
         while i < j && is_left(&refs[i]) {
             left = left.add(&refs[i]);
@@ -491,6 +534,9 @@ fn partition_bins(refs: &mut [PrimRef], map: &BinMapping, axis: usize, pos: usiz
         j -= 1;
     }
 }
+
+/// References classified at a time at each end by [`partition_bins`] (offsets fit a byte).
+const BLOCK: usize = 32;
 
 /// Splits the task's references at `mid` into two child tasks, with the sides' bounds if they
 /// are known (computed here otherwise).
@@ -521,8 +567,11 @@ fn median_split(task: Task<'_>) -> (Task<'_>, Task<'_>) {
 #[cfg(test)]
 mod tests {
     use glam::Vec3;
+    use proptest::prelude::*;
 
-    use crate::build::{BuildOptions, build};
+    use super::{BinMapping, partition_bins};
+    use crate::aabb::Aabb;
+    use crate::build::{BuildOptions, PrimRef, SetBounds, build};
     use crate::bvh2::{Node2, Node2Kind};
 
     /// Small triangles on a jittered grid, enough of them for parallel binning and tasks.
@@ -547,6 +596,48 @@ mod tests {
                 let end = depth_first(nodes, index + 1);
                 assert_eq!(right as usize, end, "right child of node {index} follows its left subtree");
                 depth_first(nodes, end)
+            }
+        }
+    }
+
+    /// References of random boxes, `n` of them, from `seed`.
+    fn random_refs(n: usize, seed: u64) -> Vec<PrimRef> {
+        let mut state = seed.wrapping_mul(6_364_136_223_846_793_005) | 1;
+        let mut next = move || {
+            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        (0..n as u32)
+            .map(|i| {
+                let lo = Vec3::new(next(), next(), next()) * 10.0;
+                PrimRef::new(Aabb { min: lo, max: lo + Vec3::new(next(), next(), next()) }, i)
+            })
+            .collect()
+    }
+
+    proptest! {
+        /// The block partition puts exactly the references on the left that the side test puts
+        /// there, keeps every reference, and grows each side's bounds over exactly its own.
+        #[test]
+        fn block_partition_matches_the_side_test(n in 0usize..400, seed in any::<u64>(), axis in 0usize..3, pos in 1usize..16, sorted in any::<bool>()) {
+            let mut refs = random_refs(n, seed);
+            if sorted {
+                // Spatially ordered input, as meshes are: long runs on each side.
+                refs.sort_by(|a, b| a.centroid2()[axis].total_cmp(&b.centroid2()[axis]));
+            }
+            let map = BinMapping::new(&SetBounds::of(&refs).centroids, 16);
+            let mut parted = refs.clone();
+            let (mid, left, right) = partition_bins(&mut parted, &map, axis, pos);
+            let expected_left: Vec<u32> = refs.iter().filter(|r| map.bins_of(r)[axis] < pos).map(PrimRef::prim).collect();
+            prop_assert_eq!(mid, expected_left.len());
+            prop_assert!(parted[..mid].iter().all(|r| map.bins_of(r)[axis] < pos));
+            prop_assert!(parted[mid..].iter().all(|r| map.bins_of(r)[axis] >= pos));
+            let mut prims: Vec<u32> = parted.iter().map(PrimRef::prim).collect();
+            prims.sort_unstable();
+            prop_assert_eq!(prims, (0..n as u32).collect::<Vec<_>>());
+            for (side, bounds) in [(&parted[..mid], left), (&parted[mid..], right)] {
+                let expected = SetBounds::of(side);
+                prop_assert_eq!(format!("{:?}", bounds), format!("{:?}", expected));
             }
         }
     }
