@@ -14,21 +14,21 @@ use super::{BuildOptions, Growing, MAX_BINS, PrimRef, SetBounds, splice};
 use crate::aabb::Aabb;
 use crate::bvh2::Node2;
 
-/// Builds the tree over `refs` (reordered in place into leaf order); root at index 0, nodes in
-/// depth-first order.
-pub(super) fn build(refs: &mut [PrimRef], set: SetBounds, opts: &BuildOptions) -> Vec<Node2> {
+/// Builds the tree over `refs` (reordered in place into leaf order) into `nodes` (emptied first,
+/// its storage reused); root at index 0, nodes in depth-first order.
+pub(super) fn build(refs: &mut [PrimRef], set: SetBounds, opts: &BuildOptions, nodes: &mut Vec<Node2>) {
+    nodes.clear();
     let task = Task { refs, offset: 0, set, depth: 0 };
     if rayon::current_num_threads() == 1 {
         // One thread builds the same tree straight into one vector: the parts would only be
-        // copied together again, into fresh pages.
-        let mut nodes = Vec::with_capacity(node_capacity(task.refs.len(), opts));
-        build_into(task, opts, &mut nodes);
-        return nodes;
+        // copied together again.
+        nodes.reserve(node_capacity(task.refs.len(), opts));
+        build_into(task, opts, nodes);
+        return;
     }
     let part = build_part(task, opts);
-    let mut nodes = Vec::with_capacity(part.len());
-    part.flatten_into(&mut nodes);
-    nodes
+    nodes.reserve(part.len());
+    part.flatten_into(nodes);
 }
 
 /// Below this depth the builder stops looking for SAH splits and halves nodes at the object
