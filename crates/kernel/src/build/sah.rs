@@ -282,8 +282,8 @@ fn bin_refs(refs: &[PrimRef], map: &BinMapping) -> Bins {
             *index = [x as u8, y as u8, z as u8, 0];
         }
         for (r, index) in run.iter().zip(&indices) {
-            for axis in 0..3 {
-                let i = usize::from(index[axis]) & (MAX_BINS - 1);
+            for (axis, &i) in index[..3].iter().enumerate() {
+                let i = usize::from(i) & (MAX_BINS - 1);
                 bins.boxes[axis][i].add(r);
                 bins.counts[axis][i] += 1;
             }
