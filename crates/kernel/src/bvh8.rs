@@ -7,7 +7,7 @@ use std::mem::MaybeUninit;
 use rayon::prelude::*;
 
 use crate::aabb::Aabb;
-use crate::build::BuildOptions;
+use crate::build::{self, BuildOptions, Scratch};
 use crate::bvh2::{Bvh2, Node2Kind};
 use crate::isa::Isa;
 use crate::memory::huge_page_vec;
@@ -155,6 +155,8 @@ pub struct Bvh8 {
     /// against.
     built_cost: f32,
     isa: Isa,
+    /// The last rebuild's working storage, kept for the next (empty unless rebuilt).
+    scratch: Scratch,
 }
 
 impl Bvh8 {
@@ -163,12 +165,20 @@ impl Bvh8 {
         Bvh8::from_bvh2(&Bvh2::build(tris, opts), tris)
     }
 
-    /// Rebuilds the tree over `tris` in place, reusing its node and block storage: an object
-    /// rebuilt every frame then does not fault in fresh pages for its tree each time (a
-    /// millisecond for the museum's 64k triangles, a third of the rebuild).
+    /// Rebuilds the tree over `tris` in place, reusing its node and block storage and, from the
+    /// second rebuild on, the build's working storage, which the tree keeps from then on (about
+    /// 90 bytes a triangle): an object rebuilt every frame then does not fault in fresh pages
+    /// each time (for the museum's 64k triangles, the tree's pages were a millisecond, a third
+    /// of the rebuild; a Morton-order rebuild of 64k triangles of the sphere scene then still
+    /// took 5.2 ms with fresh working vectors and takes 3.2 ms with the kept ones).
     pub fn rebuild(&mut self, tris: &(impl TriangleSource + ?Sized), opts: &BuildOptions) {
+        let mut scratch = std::mem::take(&mut self.scratch);
+        build::build_in(tris, opts, &mut scratch);
+        let bvh2 = Bvh2 { nodes: std::mem::take(&mut scratch.nodes), prims: std::mem::take(&mut scratch.prims) };
         let storage = (std::mem::take(&mut self.nodes), std::mem::take(&mut self.blocks));
-        *self = Bvh8::collapsed(&Bvh2::build(tris, opts), tris, storage);
+        *self = Bvh8::collapsed(&bvh2, tris, storage);
+        (scratch.nodes, scratch.prims) = (bvh2.nodes, bvh2.prims);
+        self.scratch = scratch;
     }
 
     /// Collapses a binary BVH into eight lanes (the kernel's `wide` collapse) and copies the
@@ -208,6 +218,7 @@ impl Bvh8 {
             bounds,
             depth: wide.depth,
             isa: Isa::best(),
+            scratch: Scratch::default(),
         }
     }
 
@@ -405,6 +416,40 @@ impl Bvh8 {
             mean_children: used as f32 / self.nodes.len().max(1) as f32,
             bytes: self.nodes.len() * size_of::<Node8>() + self.blocks.len() * size_of::<TriBlock>(),
             sah_cost: box_cost(&self.nodes, &self.bounds),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::Bvh8;
+    use crate::build::{BuildOptions, BuildQuality};
+
+    /// A jittered grid of `n`×`n` small triangles, shifted by `shift`.
+    fn grid(n: u32, shift: f32) -> Vec<[Vec3; 3]> {
+        (0..n * n)
+            .map(|i| {
+                let z = (i.wrapping_mul(2_654_435_761) >> 20) as f32 / 4096.0;
+                let p = Vec3::new((i % n) as f32 + shift * z, (i / n) as f32, z);
+                [p, p + Vec3::new(0.9, 0.1, 0.0), p + Vec3::new(0.2, 0.8, 0.3)]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn rebuilds_reuse_their_storage_and_equal_fresh_builds() {
+        for quality in [BuildQuality::Sah, BuildQuality::Fast] {
+            let opts = BuildOptions { quality, refittable: quality == BuildQuality::Fast, ..BuildOptions::default() };
+            let (first, moved) = (grid(150, 0.0), grid(150, 3.0));
+            let mut tree = Bvh8::build(&first, &opts);
+            tree.rebuild(&moved, &opts);
+            let storage = (tree.scratch.nodes.as_ptr(), tree.nodes.as_ptr(), tree.blocks.as_ptr());
+            tree.rebuild(&first, &opts);
+            let fresh = Bvh8::build(&first, &opts);
+            assert_eq!(format!("{:?}", (&tree.nodes, &tree.blocks, tree.root, tree.bounds)), format!("{:?}", (&fresh.nodes, &fresh.blocks, fresh.root, fresh.bounds)), "{quality:?}");
+            assert_eq!((tree.scratch.nodes.as_ptr(), tree.nodes.as_ptr(), tree.blocks.as_ptr()), storage, "{quality:?}: storage kept");
         }
     }
 }

@@ -15,37 +15,50 @@ use crate::bvh2::Node2;
 /// Bits per axis of the Morton code.
 const BITS: u32 = 10;
 
-/// Builds the tree over `refs` (reordered in place into Morton order); root at index 0.
-pub(super) fn build(refs: &mut [PrimRef], set: SetBounds, max_leaf_size: usize) -> Vec<Node2> {
-    let codes = sort_by_morton_code(refs, &set.centroids);
-    let mut nodes = Vec::with_capacity(2 * refs.len() / max_leaf_size + 1);
-    emit(refs, &codes, 0, max_leaf_size, &mut nodes);
-    nodes
+/// The Morton-order builder's working storage, kept across rebuilds (see `build::Scratch`).
+#[derive(Default)]
+pub(super) struct Scratch {
+    /// (code, position) pairs, sorted by code.
+    keyed: Vec<(u32, u32)>,
+    /// The radix sort's second buffer.
+    spare: Vec<(u32, u32)>,
+    /// The references in their order before the sort.
+    unsorted: Vec<PrimRef>,
+    /// The sorted codes.
+    codes: Vec<u32>,
+}
+
+/// Builds the tree over `refs` (reordered in place into Morton order) into `nodes` (emptied
+/// first, its storage reused); root at index 0.
+pub(super) fn build(refs: &mut [PrimRef], set: SetBounds, max_leaf_size: usize, scratch: &mut Scratch, nodes: &mut Vec<Node2>) {
+    sort_by_morton_code(refs, &set.centroids, scratch);
+    nodes.clear();
+    nodes.reserve(2 * refs.len() / max_leaf_size + 1);
+    emit(refs, &scratch.codes, 0, max_leaf_size, nodes);
 }
 
 /// Sorts `refs` by the Morton code of their centroid within `centroids` (the bounds of the
-/// doubled centroids) and returns the codes in the new order.
-fn sort_by_morton_code(refs: &mut [PrimRef], centroids: &Aabb) -> Vec<u32> {
+/// doubled centroids) and leaves the codes, in the new order, in `scratch.codes`.
+fn sort_by_morton_code(refs: &mut [PrimRef], centroids: &Aabb, scratch: &mut Scratch) {
     let cells = (1u32 << BITS) as f32;
     let extent = centroids.extent();
     let scale = |e: f32| if e > 0.0 { cells * (1.0 - 1e-6) / e } else { 0.0 };
     let (sx, sy, sz) = (scale(extent.x), scale(extent.y), scale(extent.z));
     // Sort (code, position) pairs, eight bytes each, then move the references once.
-    let keyed: Vec<(u32, u32)> = refs
-        .iter()
-        .enumerate()
-        .map(|(i, r)| {
-            let c = r.centroid2().truncate() - centroids.min;
-            let q = |v: f32, s: f32| ((v * s) as u32).min((1 << BITS) - 1);
-            (interleave(q(c.x, sx)) | interleave(q(c.y, sy)) << 1 | interleave(q(c.z, sz)) << 2, i as u32)
-        })
-        .collect();
-    let sorted = radix_sort(keyed);
-    let unsorted = refs.to_vec();
-    for (slot, &(_, i)) in refs.iter_mut().zip(&sorted) {
-        *slot = unsorted[i as usize];
+    scratch.keyed.clear();
+    scratch.keyed.extend(refs.iter().enumerate().map(|(i, r)| {
+        let c = r.centroid2().truncate() - centroids.min;
+        let q = |v: f32, s: f32| ((v * s) as u32).min((1 << BITS) - 1);
+        (interleave(q(c.x, sx)) | interleave(q(c.y, sy)) << 1 | interleave(q(c.z, sz)) << 2, i as u32)
+    }));
+    radix_sort(&mut scratch.keyed, &mut scratch.spare);
+    scratch.unsorted.clear();
+    scratch.unsorted.extend_from_slice(refs);
+    for (slot, &(_, i)) in refs.iter_mut().zip(&scratch.keyed) {
+        *slot = scratch.unsorted[i as usize];
     }
-    sorted.into_iter().map(|(code, _)| code).collect()
+    scratch.codes.clear();
+    scratch.codes.extend(scratch.keyed.iter().map(|&(code, _)| code));
 }
 
 /// Spreads the low 10 bits of `v` to every third bit.
@@ -58,12 +71,12 @@ fn interleave(v: u32) -> u32 {
 }
 
 /// Stable least-significant-digit radix sort on the 30-bit keys, 10 bits per pass (the three
-/// digits' counts taken in one read of the keys).
-fn radix_sort<T: Copy>(mut items: Vec<(u32, T)>) -> Vec<(u32, T)> {
+/// digits' counts taken in one read of the keys), with `spare` as the second buffer.
+fn radix_sort<T: Copy>(items: &mut Vec<(u32, T)>, spare: &mut Vec<(u32, T)>) {
     const DIGITS: usize = 1 << 10;
     let digit = |key: u32, pass: usize| ((key >> (10 * pass)) & 0x3ff) as usize;
     let mut offsets = vec![[0usize; 3]; DIGITS + 1];
-    for (key, _) in &items {
+    for (key, _) in items.iter() {
         for pass in 0..3 {
             offsets[digit(*key, pass) + 1][pass] += 1;
         }
@@ -72,16 +85,16 @@ fn radix_sort<T: Copy>(mut items: Vec<(u32, T)>) -> Vec<(u32, T)> {
         let below = offsets[d - 1];
         offsets[d].iter_mut().zip(below).for_each(|(o, b)| *o += b);
     }
-    let mut scratch = items.clone();
+    spare.clear();
+    spare.extend_from_slice(items);
     for pass in 0..3 {
-        for item in &items {
+        for item in items.iter() {
             let slot = &mut offsets[digit(item.0, pass)][pass];
-            scratch[*slot] = *item;
+            spare[*slot] = *item;
             *slot += 1;
         }
-        std::mem::swap(&mut items, &mut scratch);
+        std::mem::swap(items, spare);
     }
-    items
 }
 
 /// Emits the subtree over `refs` (whose codes are `codes`, sorted), starting at position
@@ -132,7 +145,9 @@ mod tests {
         let items: Vec<(u32, usize)> = (0..5000).map(|i| ((i * 7919 % 4093) as u32 & 0x3fff_ffff, i)).collect();
         let mut expected = items.clone();
         expected.sort_by_key(|(k, _)| *k);
-        assert_eq!(radix_sort(items), expected);
+        let (mut sorted, mut spare) = (items, vec![(7, 7)]);
+        radix_sort(&mut sorted, &mut spare);
+        assert_eq!(sorted, expected);
     }
 
     #[test]

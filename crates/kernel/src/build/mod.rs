@@ -169,20 +169,58 @@ pub(crate) struct Built {
     pub prims: Vec<u32>,
 }
 
+/// The working storage of a build, and the binary tree it leaves. A tree that is rebuilt keeps
+/// one (see `Bvh8::rebuild`), so that every rebuild after the first writes into pages already
+/// mapped: in vectors of its own, each Morton-order rebuild of 64k triangles faulted in and
+/// zeroed some 1,250 fresh pages.
+#[derive(Default)]
+pub(crate) struct Scratch {
+    /// The primitive references, in leaf order once built.
+    refs: Vec<PrimRef>,
+    /// The Morton-order builder's keys and codes.
+    morton: lbvh::Scratch,
+    /// The binary nodes built last (root at index 0).
+    pub(crate) nodes: Vec<Node2>,
+    /// The primitive order their leaves index into.
+    pub(crate) prims: Vec<u32>,
+}
+
+/// A copy of a tree starts without working storage: it is no part of the tree's value.
+impl Clone for Scratch {
+    fn clone(&self) -> Scratch {
+        Scratch::default()
+    }
+}
+
+impl std::fmt::Debug for Scratch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Scratch {{ {} references }}", self.refs.capacity())
+    }
+}
+
 /// Builds a binary BVH over all triangles that can be hit: triangles with a non-finite coordinate
 /// are left out, and so are triangles without area (two equal vertices, or three on a line: see
 /// `triangle::is_degenerate`) unless the tree must be refittable.
 /// Runs on the current rayon pool.
 pub(crate) fn build(tris: &(impl TriangleSource + ?Sized), opts: &BuildOptions) -> Built {
+    let mut scratch = Scratch::default();
+    build_in(tris, opts, &mut scratch);
+    Built { nodes: scratch.nodes, prims: scratch.prims }
+}
+
+/// [`build`] into `scratch`'s vectors, which keep their storage: the tree is left in
+/// `scratch.nodes` and `scratch.prims`.
+pub(crate) fn build_in(tris: &(impl TriangleSource + ?Sized), opts: &BuildOptions, scratch: &mut Scratch) {
     let opts = BuildOptions {
         max_leaf_size: opts.max_leaf_size.clamp(1, MAX_LEAF_SIZE),
         bins: opts.bins.clamp(2, MAX_BINS),
         ..*opts
     };
+    let refs = &mut scratch.refs;
     // One reference per triangle, written in place (an indexed collect), with the triangles
     // left out marked by empty bounds and dropped afterwards: collecting a `filter_map` would
     // gather pieces of unknown length and copy them together.
-    let mut refs: Vec<PrimRef> = (0..tris.triangle_count() as u32)
+    (0..tris.triangle_count() as u32)
         .into_par_iter()
         .with_min_len(4096)
         .map(|i| {
@@ -192,20 +230,22 @@ pub(crate) fn build(tris: &(impl TriangleSource + ?Sized), opts: &BuildOptions) 
             let finite = t.iter().all(|v| v.is_finite());
             if finite && hittable { PrimRef::new(b, i) } else { PrimRef::new(Aabb::EMPTY, i) }
         })
-        .collect();
+        .collect_into_vec(refs);
     // Usually every triangle is kept, and a parallel look saves the serial pass of `retain`.
     if refs.par_iter().any(|r| !r.lo.truncate().is_finite()) {
         refs.retain(|r| r.lo.truncate().is_finite());
     }
+    scratch.nodes.clear();
+    scratch.prims.clear();
     if refs.is_empty() {
-        return Built { nodes: Vec::new(), prims: Vec::new() };
+        return;
     }
-    let set = SetBounds::of(&refs);
-    let nodes = match opts.quality {
-        BuildQuality::Sah => sah::build(&mut refs, set, &opts),
-        BuildQuality::Fast => lbvh::build(&mut refs, set, opts.max_leaf_size),
-    };
-    Built { nodes, prims: refs.par_iter().with_min_len(4096).map(PrimRef::prim).collect() }
+    let set = SetBounds::of(refs);
+    match opts.quality {
+        BuildQuality::Sah => sah::build(refs, set, &opts, &mut scratch.nodes),
+        BuildQuality::Fast => lbvh::build(refs, set, opts.max_leaf_size, &mut scratch.morton, &mut scratch.nodes),
+    }
+    refs.par_iter().with_min_len(4096).map(PrimRef::prim).collect_into_vec(&mut scratch.prims);
 }
 
 // Triangles with two equal vertices are the common degenerate case: the watertight test can

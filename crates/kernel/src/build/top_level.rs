@@ -41,7 +41,9 @@ pub(crate) fn build_over_boxes(boxes: &[Aabb], max_leaf_size: usize) -> Built {
     } else if refs.len() < SAH_BELOW {
         let opts = BuildOptions { max_leaf_size, ..BuildOptions::default() };
         let set = SetBounds::of(&refs);
-        sah::build(&mut refs, set, &opts)
+        let mut nodes = Vec::new();
+        sah::build(&mut refs, set, &opts, &mut nodes);
+        nodes
     } else {
         let mut nodes = Vec::with_capacity(2 * refs.len());
         emit(&mut refs, 0, 0, max_leaf_size, &mut nodes);
