@@ -114,6 +114,30 @@ impl Frustum {
         let reach = s.radius + SLACK * oc.abs().element_sum();
         self.planes.iter().all(|n| n.dot(oc) <= reach)
     }
+
+    /// Whether the eye lies inside a sphere, which every ray of the tile then enters where it
+    /// starts: a scene's ground or city around the camera needs no test per ray. (Wrong only
+    /// by rounding, it would merely skip a test that culls nothing.)
+    #[inline]
+    fn inside(&self, s: &Sphere) -> bool {
+        (Vec3A::from(s.centre) - self.eye).length_squared() < s.radius * s.radius
+    }
+}
+
+/// A sphere a tile kept: its instance, and whether the tile's eye is inside it.
+#[derive(Clone, Copy, Debug)]
+struct Kept {
+    item: u32,
+    around_eye: bool,
+}
+
+impl Kept {
+    /// Where `ray` enters and leaves the sphere (see [`Sphere::span`]); the whole line for a
+    /// sphere around the eye.
+    #[inline]
+    fn span(&self, sphere: &Sphere, ray: &Ray) -> Option<(f32, f32)> {
+        if self.around_eye { Some((f32::NEG_INFINITY, f32::INFINITY)) } else { sphere.span(ray) }
+    }
 }
 
 /// A closest hit: distance, the instance (by its position in the animation's list) and the
@@ -208,14 +232,14 @@ struct TopLevel<'s> {
 impl TopLevel<'_> {
     /// The closest hit of `ray` among the instances `kept`: each sphere it enters, nearest entry
     /// first, until an entry lies past the closest hit so far. `order` is scratch.
-    fn closest(&self, ray: &Ray, kept: &[u32], order: &mut Vec<(f32, u32)>) -> Option<Found> {
+    fn closest(&self, ray: &Ray, kept: &[Kept], order: &mut Vec<(f32, u32)>) -> Option<Found> {
         order.clear();
-        for &item in kept {
-            if let Some((enter, leave)) = self.placed[item as usize].sphere.span(ray)
+        for k in kept {
+            if let Some((enter, leave)) = k.span(&self.placed[k.item as usize].sphere, ray)
                 && leave >= ray.tnear
                 && enter <= ray.tfar
             {
-                order.push((enter, item));
+                order.push((enter, k.item));
             }
         }
         order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
@@ -237,13 +261,18 @@ impl TopLevel<'_> {
         best
     }
 
-    /// The closest hits of a packet of [`PACKET_SIZE`] rays (a tile holds whole packets) among the instances `kept`: each
-    /// sphere any of them enters, by nearest entry, traced as a packet by the rays that enter it
-    /// before their closest hit so far (the others ride along with an empty segment, so the
-    /// packet keeps one origin and octant). `entered` is scratch.
-    fn closest_packet(&self, rays: &[Ray], kept: &[u32], entered: &mut Vec<Entered>, found: &mut [Option<Found>]) {
+    /// The closest hits of a packet of [`PACKET_SIZE`] rays (a tile holds whole packets) among
+    /// the instances `kept`: each sphere any of them enters, by nearest entry, traced as a packet
+    /// by the rays that enter it before their closest hit so far (the others ride along with an
+    /// empty segment, so the packet keeps one origin and octant). `entered` is scratch.
+    fn closest_packet(&self, rays: &[Ray], kept: &[Kept], entered: &mut Vec<Entered>, found: &mut [Option<Found>]) {
         entered.clear();
-        for &item in kept {
+        for kept in kept {
+            let item = kept.item;
+            if kept.around_eye {
+                entered.push(Entered { nearest: f32::NEG_INFINITY, item, rays: (1 << rays.len()) - 1, entry: [f32::NEG_INFINITY; PACKET_SIZE] });
+                continue;
+            }
             let sphere = &self.placed[item as usize].sphere;
             let mut e = Entered { nearest: f32::INFINITY, item, rays: 0, entry: [f32::INFINITY; PACKET_SIZE] };
             for (k, ray) in rays.iter().enumerate() {
@@ -284,15 +313,22 @@ impl TopLevel<'_> {
         }
     }
 
-    /// Traces `tiles` (each [`TILE`]² rays in 4×2 blocks, with its frustum) into `found`, as
-    /// `api` hands the rays over; returns the spheres kept over all tiles.
-    fn trace_tiles(&self, tiles: &[(&[Ray], Option<Frustum>)], api: Api, found: &mut [Option<Found>]) -> u64 {
+    /// Traces `tiles` (each [`TILE`]² rays in 4×2 blocks, with its frustum) as `api` hands
+    /// the rays over, each tile's hits into its part of `out` if given; returns the spheres kept
+    /// and the rays that hit, over all tiles.
+    fn trace_tiles(&self, tiles: &[(&[Ray], Option<Frustum>)], api: Api, mut out: Option<&mut [Option<Found>]>) -> (u64, u64) {
         let (mut kept, mut order, mut entered) = (Vec::new(), Vec::new(), Vec::new());
-        let mut total = 0;
+        let (mut total, mut hits) = (0, 0);
         let per_tile = (TILE * TILE) as usize;
-        for ((rays, frustum), found) in tiles.iter().zip(found.chunks_mut(per_tile)) {
+        // A tile's hits stay in cache: written out only for the check, as raystage's system
+        // keeps none either.
+        let mut found = vec![None; per_tile];
+        for (t, (rays, frustum)) in tiles.iter().enumerate() {
             kept.clear();
-            kept.extend((0..self.placed.len() as u32).filter(|&i| frustum.is_none_or(|f| f.keeps(&self.placed[i as usize].sphere))));
+            kept.extend(self.placed.iter().zip(0..).filter_map(|(p, item)| match frustum {
+                Some(f) => f.keeps(&p.sphere).then(|| Kept { item, around_eye: f.inside(&p.sphere) }),
+                None => Some(Kept { item, around_eye: false }),
+            }));
             total += kept.len() as u64;
             match api {
                 Api::Single => rays.iter().zip(found.iter_mut()).for_each(|(r, f)| *f = self.closest(r, &kept, &mut order)),
@@ -302,8 +338,27 @@ impl TopLevel<'_> {
                     }
                 }
             }
+            hits += found.iter().flatten().count() as u64;
+            if let Some(out) = out.as_deref_mut() {
+                out[t * per_tile..(t + 1) * per_tile].copy_from_slice(&found);
+            }
         }
-        total
+        (total, hits)
+    }
+
+    /// [`TopLevel::trace_tiles`] on `threads` threads, each a contiguous run of tiles (as the
+    /// dynamic bench splits raystage's rays).
+    fn trace(&self, tiles: &[(&[Ray], Option<Frustum>)], threads: usize, api: Api, out: Option<&mut [Option<Found>]>) -> (u64, u64) {
+        let per_thread = tiles.len().div_ceil(threads);
+        let runs = tiles.chunks(per_thread);
+        let outs: Vec<Option<&mut [Option<Found>]>> = match out {
+            Some(out) => out.chunks_mut(per_thread * (TILE * TILE) as usize).map(Some).collect(),
+            None => runs.clone().map(|_| None).collect(),
+        };
+        std::thread::scope(|s| {
+            let handles: Vec<_> = runs.zip(outs).map(|(tiles, out)| s.spawn(move || self.trace_tiles(tiles, api, out))).collect();
+            handles.into_iter().map(|h| h.join().expect("trace thread")).fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+        })
     }
 }
 
@@ -423,33 +478,21 @@ impl System for Rtrps<'_> {
         self.update(&instances, deformed);
         let update = start.elapsed().as_secs_f64();
 
-        // The hits are kept for the check; their buffer is not part of the trace.
-        let per_tile = (TILE * TILE) as usize;
-        let tiles: Vec<(&[Ray], Option<Frustum>)> = self.rays.chunks(per_tile).zip(self.frusta.iter().copied()).collect();
-        let mut found = vec![None; self.rays.len()];
+        let tiles: Vec<(&[Ray], Option<Frustum>)> = self.rays.chunks((TILE * TILE) as usize).zip(self.frusta.iter().copied()).collect();
         let start = Instant::now();
-        let scene = TopLevel { objects: &self.objects, placed: &self.placed };
-        // Contiguous runs of tiles per thread, as the dynamic bench splits raystage's rays.
-        let (per_thread, api) = (tiles.len().div_ceil(self.threads), self.api);
-        let kept: u64 = std::thread::scope(|s| {
-            let handles: Vec<_> = tiles
-                .chunks(per_thread)
-                .zip(found.chunks_mut(per_thread * per_tile))
-                .map(|(tiles, found)| {
-                    let scene = &scene;
-                    s.spawn(move || scene.trace_tiles(tiles, api, found))
-                })
-                .collect();
-            handles.into_iter().map(|h| h.join().expect("trace thread")).sum()
-        });
+        let top = TopLevel { objects: &self.objects, placed: &self.placed };
+        let (kept, hits) = top.trace(&tiles, self.threads, self.api, None);
         let trace = start.elapsed().as_secs_f64();
         let tally = self.tally;
         tally.kept.set(tally.kept.get() + kept);
         tally.tiles.set(tally.tiles.get() + tiles.len() as u64);
 
+        // The check traces the frame again, untimed, keeping every hit.
+        let mut found = vec![None; self.rays.len()];
+        top.trace(&tiles, self.threads, self.api, Some(&mut found));
         self.staged.advance(&instances, reference).expect("valid frame");
         tally.mismatches.set(tally.mismatches.get() + self.check(&found));
-        FrameTime { update, trace, rays: self.rays.len() as u64, hits: found.iter().flatten().count() as u64 }
+        FrameTime { update, trace, rays: self.rays.len() as u64, hits }
     }
 }
 
