@@ -9,13 +9,15 @@
 //! closest hit. raystage instead rebuilds a tree over the instances' world boxes every frame
 //! and walks it per ray or per 4×2 packet. [`Rtrps`] is that top level over the same object
 //! trees raystage builds (the same builder, options and refit-or-rebuild rule), so that the two
-//! differ only in the top level; every frame its hits are checked against `Frame::intersect`
-//! (or `Frame::intersect_many` for packets) ray by ray, untimed.
+//! differ only in the top level. Every frame is traced a second time, untimed, keeping every
+//! ray's hit, to check them against `Frame::intersect` (or `Frame::intersect_many` for packets)
+//! ray by ray.
 
 use std::cell::Cell;
 use std::time::Instant;
 
 use glam::{Affine3A, Vec3, Vec3A};
+use rayon::prelude::*;
 use raystage_demo::animated::{Animation, Staged};
 use raystage_kernel::{BuildOptions, BuildQuality, Bvh8, PACKET_SIZE, PreparedRay, Ray};
 use raystage_scene::{InstanceId, Mesh, ObjectKind, REBUILD_DEGRADATION};
@@ -421,7 +423,8 @@ impl<'a> Rtrps<'a> {
         Rtrps { animation, objects: Vec::new(), placed: Vec::new(), rays, frusta, threads: threads.max(1), api, staged, ids, tally }
     }
 
-    /// Brings objects, trees and spheres to frame `f` (building every tree at frame 0).
+    /// Brings objects, trees and spheres to a frame, `instances` and `deformed` as the animation
+    /// gives them (building every tree the first time).
     fn update(&mut self, instances: &[(usize, Affine3A)], deformed: Vec<(usize, Vec<Vec3>)>) {
         if self.objects.is_empty() {
             let objects = self.animation.objects();
@@ -457,7 +460,6 @@ impl<'a> Rtrps<'a> {
             };
             found.iter().zip(&theirs).filter(|(a, b)| !same(a, b)).count() as u64
         };
-        use rayon::prelude::*;
         self.rays.par_chunks(PACKET_SIZE).zip(found.par_chunks(PACKET_SIZE)).map(chunk).sum()
     }
 }
