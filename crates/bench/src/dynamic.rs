@@ -144,9 +144,9 @@ fn rays_for(camera: &Camera, api: Api) -> Vec<Ray> {
     }
 }
 
-/// Traces primary rays and a shadow ray per hit (one by one, or in packets with `api`), on
-/// `threads` threads; returns (rays traced, primary hits).
-fn trace_frame(rays: &[Ray], sun: glam::Vec3, threads: usize, api: Api, queries: &Queries<'_>) -> (u64, u64) {
+/// Traces primary rays and, given the `sun`, a shadow ray per hit (one by one, or in packets
+/// with `api`), on `threads` threads; returns (rays traced, primary hits).
+fn trace_frame(rays: &[Ray], sun: Option<glam::Vec3>, threads: usize, api: Api, queries: &Queries<'_>) -> (u64, u64) {
     let chunk = |rays: &[Ray]| {
         let (mut traced, mut hits) = (0u64, 0u64);
         let mut found = [None; PACKET_SIZE];
@@ -157,15 +157,17 @@ fn trace_frame(rays: &[Ray], sun: glam::Vec3, threads: usize, api: Api, queries:
                 Api::Single => found[0] = (queries.closest)(&rays[0]),
                 Api::Packets => (queries.closest_packet)(rays, found),
             }
-            let mut shadows = [Ray::new(sun, sun); PACKET_SIZE];
+            let mut shadows = [Ray::new(glam::Vec3::ZERO, glam::Vec3::X); PACKET_SIZE];
             let mut n = 0;
             for (ray, t) in rays.iter().zip(found.iter()) {
                 traced += 1;
                 if let Some(t) = t {
                     hits += 1;
-                    traced += 1;
-                    shadows[n] = shadow_ray(ray, *t, sun);
-                    n += 1;
+                    if let Some(sun) = sun {
+                        traced += 1;
+                        shadows[n] = shadow_ray(ray, *t, sun);
+                        n += 1;
+                    }
                 }
             }
             match api {
@@ -198,7 +200,8 @@ pub trait System {
 }
 
 /// raystage on an animation: primary rays handed over as `api` says (packets go through
-/// `Frame::intersect_many`, as the renderer's camera rays do).
+/// `Frame::intersect_many`, as the renderer's camera rays do), and shadow rays unless
+/// [`Raystage::primary_only`].
 pub struct Raystage<'a> {
     animation: &'a dyn Animation,
     staged: Staged,
@@ -206,6 +209,7 @@ pub struct Raystage<'a> {
     threads: usize,
     api: Api,
     pool: rayon::ThreadPool,
+    shadows: bool,
 }
 
 impl<'a> Raystage<'a> {
@@ -214,7 +218,13 @@ impl<'a> Raystage<'a> {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
         let staged = Staged::new(animation).expect("the animation makes a valid scene");
         let rays = rays_for(staged.scene.camera(), api);
-        Raystage { animation, staged, rays, threads, api, pool }
+        Raystage { animation, staged, rays, threads, api, pool, shadows: true }
+    }
+
+    /// The same system tracing the primary rays alone, to be set beside a system that traces
+    /// only those (the RTRPS experiment, [`crate::rtrps`]).
+    pub fn primary_only(self) -> Raystage<'a> {
+        Raystage { shadows: false, ..self }
     }
 }
 
@@ -241,7 +251,7 @@ impl System for Raystage<'_> {
             occluded: &|r| frame.occluded(r, 0.0),
             occluded_packet: &|rays| frame.occluded_many(rays, 0.0),
         };
-        let sun = self.animation.view().sun;
+        let sun = self.shadows.then(|| self.animation.view().sun);
         let (traced, hits) = self.pool.install(|| trace_frame(&self.rays, sun, self.threads, self.api, &queries));
         let traced_seconds = trace_start.elapsed().as_secs_f64();
         // Lazy builds and refits happened inside the trace; count them as update.
@@ -310,7 +320,7 @@ impl System for Embree<'_> {
             occluded: &|r| scene.occluded(r),
             occluded_packet: &|rays| scene.occluded8(rays),
         };
-        let (traced, hits) = trace_frame(&self.rays, self.animation.view().sun, self.threads, self.api, &queries);
+        let (traced, hits) = trace_frame(&self.rays, Some(self.animation.view().sun), self.threads, self.api, &queries);
         FrameTime { update, trace: start.elapsed().as_secs_f64(), rays: traced, hits }
     }
 }

@@ -19,6 +19,7 @@ pub mod pathtrace;
 pub mod plot;
 pub mod rays;
 pub mod render;
+pub mod rtrps;
 pub mod scaling;
 pub mod stamp;
 pub mod table;

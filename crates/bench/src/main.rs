@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::{Parser, Subcommand};
 use raystage_bench::kernel::Api;
 use raystage_bench::stamp::{Stamp, StampLine};
-use raystage_bench::{animation, cluster_model, dynamic, kernel, mpi, page, pathtrace, plot, render, scaling, table};
+use raystage_bench::{animation, cluster_model, dynamic, kernel, mpi, page, pathtrace, plot, render, rtrps, scaling, table};
 use raystage_demo::animated::{Animation, Baked, Museum, Robots, Still, Terrain};
 use raystage_demo::StandardScene;
 
@@ -53,6 +53,22 @@ enum Command {
         /// Print one JSON object per system and scene instead of tables.
         #[arg(long)]
         json: bool,
+    },
+    /// RTRPS (seed 004): bounding spheres culled per 16x16 tile instead of the top-level tree,
+    /// in turns with raystage on the animated demos' primary rays, hits checked ray by ray.
+    Rtrps {
+        /// `robots`, `museum` or `all`.
+        #[arg(long, default_value = "all")]
+        scene: String,
+        /// Moving triangles of the museum.
+        #[arg(long, default_value_t = 16384)]
+        triangles: usize,
+        /// Frames after the first.
+        #[arg(long, default_value_t = 20)]
+        frames: u32,
+        /// Threads tracing.
+        #[arg(long, default_value_t = 1)]
+        threads: usize,
     },
     /// Shading costs: eye-light and point-light frames against the bare kernel,
     /// specialised against general shading, and the path tracer's convergence.
@@ -216,7 +232,7 @@ impl Command {
             | Command::Scaling { json, .. }
             | Command::Mpi { json, .. }
             | Command::Animation { json, .. } => *json,
-            Command::Page { .. } => false,
+            Command::Page { .. } | Command::Rtrps { .. } => false,
         }
     }
 }
@@ -462,6 +478,26 @@ fn main() {
             }
             if !json {
                 print!("{}", table::throughput_against(StandardScene::Spheres.name(), &reports));
+            }
+        }
+        Command::Rtrps { scene, triangles, frames, threads } => {
+            let animations: Vec<Box<dyn Animation>> = match scene.as_str() {
+                "robots" => vec![Box::new(Robots)],
+                "museum" => vec![Box::new(Museum::new(triangles))],
+                "all" => vec![Box::new(Robots), Box::new(Museum::new(triangles))],
+                other => fail(&format!("unknown scene `{other}` (expected robots, museum or all)")),
+            };
+            let load = || std::fs::read_to_string("/proc/loadavg").unwrap_or_default().split_whitespace().take(3).collect::<Vec<_>>().join(" ");
+            println!("load average before: {}", load());
+            let mut differ = 0;
+            for animation in animations {
+                let (runs, tally) = rtrps::compare(animation.as_ref(), threads.max(1), frames);
+                print!("{}", rtrps::table(&animation.name(), animation.instances(0).len(), threads.max(1), &runs, &tally));
+                differ += tally.mismatches.get();
+            }
+            println!("load average after: {}", load());
+            if differ > 0 {
+                fail(&format!("{differ} rays' RTRPS hits differ from raystage's"));
             }
         }
         Command::Kernel { scene, threads, reps, json, build_only } => {
