@@ -223,10 +223,10 @@ pub fn run(asset: &Asset, threads: usize, frames: u32) -> Result<Vec<AnimationRe
             raystage_trace_ratio: (!preview).then(|| paired(times, |t| t.trace)),
         }
     };
-    let mut reports = vec![report("raystage", &ours, true)];
+    let reports = std::iter::once(report("raystage", &ours, true));
     #[cfg(feature = "embree")]
-    reports.extend(embree.iter().map(|(name, _, times)| report(name, times, false)));
-    Ok(reports)
+    let reports = reports.chain(embree.iter().map(|(name, _, times)| report(name, times, false)));
+    Ok(reports.collect())
 }
 
 /// The index of `object` among the scene's objects, as [`embree_scene`] lists them.
