@@ -42,8 +42,8 @@ pub fn serve(job: &ServeJob, log: &mut impl Write) -> Result<()> {
 /// gives up a worker that does not answer within `timeout` and serves alone from then on.
 #[cfg(feature = "mpi")]
 pub fn serve_mpi(job: &ServeJob, log: &mut impl Write, mpi: &crate::Cluster, timeout: std::time::Duration) -> Result<()> {
-    raystage_server::one_allocator_arena();
     use crate::render::Ranks;
+    raystage_server::one_allocator_arena();
     let config = Config { token: job.token.clone(), limits: Limits::default() };
     let root = mpi.rank() == 0;
     let loaded = (|| {

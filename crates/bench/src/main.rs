@@ -345,13 +345,10 @@ fn main() {
                 (scene, side.max(4) / 4 * 4)
             };
             let scenes = match scene.as_str() {
-                "all" => vec![sized(pathtrace::PathScene::Room), sized(pathtrace::PathScene::Spheres)],
+                "all" => pathtrace::PathScene::ALL.map(sized).to_vec(),
                 name => match pathtrace::PathScene::from_name(name) {
                     Some(scene) => vec![sized(scene)],
-                    None => {
-                        eprintln!("error: unknown scene {name:?}: expected room, spheres or all");
-                        std::process::exit(2);
-                    }
+                    None => fail(&format!("unknown scene `{name}` (expected room, spheres or all)")),
                 },
             };
             let config = pathtrace::Config { scenes, spp, reference_spp, threads: threads.max(1), variants, python, dir };

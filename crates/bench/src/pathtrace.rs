@@ -40,6 +40,9 @@ pub enum PathScene {
 }
 
 impl PathScene {
+    /// Every scene, in the order `--scene all` runs them.
+    pub const ALL: [PathScene; 2] = [PathScene::Room, PathScene::Spheres];
+
     /// Its name on the command line and in reports.
     pub fn name(self) -> &'static str {
         match self {
@@ -50,7 +53,7 @@ impl PathScene {
 
     /// The scene named `name`.
     pub fn from_name(name: &str) -> Option<PathScene> {
-        [PathScene::Room, PathScene::Spheres].into_iter().find(|s| s.name() == name)
+        PathScene::ALL.into_iter().find(|s| s.name() == name)
     }
 
     /// The scene as glTF.

@@ -19,7 +19,7 @@ use std::time::Instant;
 use glam::{Affine3A, Vec3, Vec3A};
 use rayon::prelude::*;
 use raystage_demo::animated::{Animation, Staged};
-use raystage_kernel::{BuildOptions, BuildQuality, Bvh8, PACKET_SIZE, PreparedRay, Ray};
+use raystage_kernel::{Bvh8, PACKET_SIZE, PreparedRay, Ray};
 use raystage_scene::{InstanceId, Mesh, ObjectKind, REBUILD_DEGRADATION};
 
 use crate::dynamic::{FrameTime, HEIGHT, Raystage, System, SystemRun, WIDTH, paired_ratio, primary_rays, run_in_turns};
@@ -169,17 +169,9 @@ struct Object {
 }
 
 impl Object {
-    /// The options raystage's scene builds an object of `kind` with: binned SAH once for
-    /// static and animated objects, the fast refittable build for unstructured ones.
-    fn options(kind: ObjectKind) -> BuildOptions {
-        match kind {
-            ObjectKind::Unstructured => BuildOptions { quality: BuildQuality::Fast, refittable: true, ..BuildOptions::default() },
-            _ => BuildOptions::default(),
-        }
-    }
-
+    /// `mesh` as an object of `kind`, its tree built with the options raystage's scene uses.
     fn new(kind: ObjectKind, mesh: Mesh) -> Object {
-        let tree = Bvh8::build(&mesh, &Object::options(kind));
+        let tree = Bvh8::build(&mesh, &kind.build_options());
         Object { kind, sphere: Sphere::around(&mesh), mesh, tree }
     }
 
@@ -190,7 +182,7 @@ impl Object {
         self.mesh.positions = positions;
         self.sphere = Sphere::around(&self.mesh);
         if self.tree.refit(&self.mesh) > REBUILD_DEGRADATION {
-            self.tree.rebuild(&self.mesh, &Object::options(self.kind));
+            self.tree.rebuild(&self.mesh, &self.kind.build_options());
         }
     }
 }

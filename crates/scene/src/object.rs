@@ -23,6 +23,17 @@ pub enum ObjectKind {
     Unstructured,
 }
 
+impl ObjectKind {
+    /// How an object of this kind builds its tree: binned SAH for static and animated objects,
+    /// built once; the fast builder, refittable, for unstructured ones, rebuilt often.
+    pub fn build_options(self) -> BuildOptions {
+        match self {
+            ObjectKind::Static | ObjectKind::Animated => BuildOptions::default(),
+            ObjectKind::Unstructured => BuildOptions { quality: BuildQuality::Fast, refittable: true, ..BuildOptions::default() },
+        }
+    }
+}
+
 /// Degradation (see [`Bvh8::refit`]) past which a refitted tree is rebuilt: once rays do 40 %
 /// more box tests than in a fresh tree, a rebuild (a few milliseconds for tens of thousands of
 /// triangles) pays for itself within a frame or two.
@@ -175,9 +186,9 @@ impl Object {
 
     fn build(&self) -> (Bvh8, BuildOutcome) {
         if self.kind != ObjectKind::Unstructured {
-            return (Bvh8::build(&self.mesh, &BuildOptions::default()), BuildOutcome::Built);
+            return (Bvh8::build(&self.mesh, &self.kind.build_options()), BuildOutcome::Built);
         }
-        let fast = BuildOptions { quality: BuildQuality::Fast, refittable: true, ..BuildOptions::default() };
+        let fast = self.kind.build_options();
         let mut refits = self.previous.lock().unwrap_or_else(|e| e.into_inner());
         let Some(mut tree) = refits.tree.take().and_then(owned) else {
             return (Bvh8::build(&self.mesh, &fast), BuildOutcome::Built);

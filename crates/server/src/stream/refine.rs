@@ -89,10 +89,11 @@ struct Accumulation {
 /// settings): it is stopped at once, since its frame would show what is no longer wanted, and
 /// its turn goes to the pass that starts over with the change, which would otherwise wait for
 /// every other client's render first: the edit's frame comes one pass after it, not one round
-/// of the turns after it. A change that comes while the stream waits for a turn makes it wait
-/// as an edit, ahead of the round ([`Urgency::Edit`]). That pass runs to its end whatever changes meanwhile, and gives the
+/// of the turns after it. That pass runs to its end whatever changes meanwhile, and gives the
 /// turn back: a stream whose scene changes faster than it renders (a drag, a playing clock that
-/// other renders move) still shows frames, and takes turns with the others.
+/// other renders move) still shows frames, and takes turns with the others. A pass that shows a
+/// change waits for its turn as an edit, ahead of the round ([`Urgency::Edit`]), and so does a
+/// refining pass that a change overtakes while it waits.
 pub(crate) async fn refine(
     state: AppState,
     slot: Arc<SceneSlot>,
