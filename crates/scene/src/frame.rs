@@ -3,6 +3,7 @@
 //! then builds or refits each object's tree the first time a ray reaches it.
 
 use std::borrow::Cow;
+use std::ops::Range;
 use std::collections::HashSet;
 use std::sync::Arc;
 use std::time::Instant;
@@ -255,7 +256,7 @@ impl<'a> Frame<'a> {
             return true;
         }
         let mesh = &fi.object.mesh;
-        let visibility = match mesh.shaders.get(h.prim as usize) {
+        let visibility = match fi.object.shader(h.prim) {
             Some(id) => self.visibility.get(id.0 as usize).unwrap_or(&self.default_visibility),
             None => &self.default_visibility,
         };
@@ -559,7 +560,7 @@ impl<'a> Frame<'a> {
         let (position, local_position, position_error) = crate::spawn::hit_point(&corners.map(|i| mesh.positions[i]), w, &placed);
         let [a, b, c] = corners;
         let [w0, w1, w2] = w;
-        let (shader, shader_id) = self.shader_of(mesh, hit.prim);
+        let (shader, shader_id) = self.shader_of(fi.object, hit.prim);
         SurfacePoint {
             position,
             position_error,
@@ -624,7 +625,7 @@ impl<'a> Frame<'a> {
             let (w, [a, b, c]) = barycentrics(mesh, hit);
             mesh.normals[a] * w[0] + mesh.normals[b] * w[1] + mesh.normals[c] * w[2]
         };
-        PreviewPoint { normal: fi.placed.normal_to_world(normal), shader_id: mesh.shaders.get(hit.prim as usize).copied() }
+        PreviewPoint { normal: fi.placed.normal_to_world(normal), shader_id: fi.object.shader(hit.prim) }
     }
 
     /// The interpolated attributes the mesh of `hit` of `ray` has, and an approximate
@@ -653,10 +654,10 @@ impl<'a> Frame<'a> {
         texture_density(&fi.object.mesh, hit.prim, &fi.placed_at(time), set)
     }
 
-    /// The shader of triangle `prim` of `mesh`, as the frame resolves it, and its id (`None`
+    /// The shader of triangle `prim` of `object`, as the frame resolves it, and its id (`None`
     /// for the default shader).
-    fn shader_of(&self, mesh: &crate::Mesh, prim: u32) -> (&'a Shader, Option<ShaderId>) {
-        match mesh.shaders.get(prim as usize).and_then(|&id| Some((self.scene.shader(id).ok()?, Some(id)))) {
+    fn shader_of(&self, object: &Object, prim: u32) -> (&'a Shader, Option<ShaderId>) {
+        match object.shader(prim).and_then(|id| Some((self.scene.shader(id).ok()?, Some(id)))) {
             Some(found) => found,
             None => (self.scene.default_shader(), None),
         }
@@ -679,7 +680,7 @@ impl<'a> Frame<'a> {
         /// Triangles one task maps: enough to make a task worth handing out.
         const CHUNK: u32 = 4096;
         // A task: an instance, the shaders picked among its object's, and a run of its triangles.
-        type Chunk<'f, 'a> = (&'f FrameInstance<'a>, Vec<Option<ShaderId>>, std::ops::Range<u32>);
+        type Chunk<'f, 'a> = (&'f FrameInstance<'a>, Vec<Option<ShaderId>>, Range<u32>);
         let mut work: Vec<Chunk<'_, 'a>> = Vec::new();
         for fi in &self.instances {
             let object = fi.object;
@@ -692,15 +693,21 @@ impl<'a> Frame<'a> {
             if chosen.is_empty() {
                 continue;
             }
-            let count = object.mesh.indices.len() as u32;
-            work.extend((0..count).step_by(CHUNK as usize).map(|first| (fi, chosen.clone(), first..(first + CHUNK).min(count))));
+            // Only the runs of the chosen shaders, where the object keeps its runs: a mesh of a
+            // million triangles with one small emitting part costs its part alone (the path
+            // tracer gathers the emitters at every progressive pass).
+            let runs: Option<Vec<Range<u32>>> = fi.object.shader_runs().map(|runs| runs.into_iter().filter(|(_, id)| chosen.contains(id)).map(|(r, _)| r).collect());
+            let every = || std::iter::once(0..object.mesh.indices.len() as u32).collect();
+            for run in runs.unwrap_or_else(every) {
+                work.extend(run.clone().step_by(CHUNK as usize).map(|first| (fi, chosen.clone(), first..(first + CHUNK).min(run.end))));
+            }
         }
         let map = &map;
         work.par_iter()
             .flat_map_iter(|(fi, chosen, prims)| {
                 let mesh = &fi.object.mesh;
                 prims.clone().filter_map(move |prim| {
-                    let (_, shader_id) = self.shader_of(mesh, prim);
+                    let (_, shader_id) = self.shader_of(fi.object, prim);
                     if !chosen.contains(&shader_id) {
                         return None;
                     }

@@ -1,11 +1,13 @@
 //! Objects: geometry with its own acceleration structure, built lazily, the first time a ray
 //! reaches the object (seed: Wald, *Handling Dynamic Scenes*, docs/design/seeds.md §1.3 and §4).
 
+use std::ops::Range;
 use std::sync::{Arc, Mutex, OnceLock};
 
 use raystage_kernel::{Aabb, BuildOptions, BuildQuality, Bvh8};
 
 use crate::builds::{BuildCounters, BuildOutcome};
+use crate::ids::ShaderId;
 use crate::mesh::Mesh;
 
 /// How an object's geometry changes over time, which decides how its tree is built.
@@ -48,11 +50,31 @@ pub const REBUILD_DEGRADATION: f32 = 0.4;
 const MAX_REFIT_BACKOFF: u32 = 8;
 
 /// The distinct shaders a mesh's triangles use, and whether some use none (the default).
-fn shaders_of(mesh: &Mesh) -> (Vec<crate::ShaderId>, bool) {
+fn shaders_of(mesh: &Mesh) -> (Vec<ShaderId>, bool) {
     let mut used = mesh.shaders.clone();
     used.sort_unstable();
     used.dedup();
     (used, mesh.shaders.is_empty())
+}
+
+/// Most runs an object keeps (see [`Object::shader_runs`]): an object whose shaders change
+/// more often than that along its triangles is gathered triangle by triangle.
+const MAX_SHADER_RUNS: usize = 64;
+
+/// The runs of consecutive triangles of `mesh` that share a shader, each as its first triangle
+/// and the shader, in triangle order; empty if the mesh has no shaders or more than
+/// [`MAX_SHADER_RUNS`] runs.
+fn shader_runs_of(mesh: &Mesh) -> Vec<(u32, ShaderId)> {
+    let mut runs: Vec<(u32, ShaderId)> = Vec::new();
+    for (prim, &id) in mesh.shaders.iter().enumerate() {
+        if runs.last().is_none_or(|&(_, last)| last != id) {
+            if runs.len() == MAX_SHADER_RUNS {
+                return Vec::new();
+            }
+            runs.push((prim as u32, id));
+        }
+    }
+    runs
 }
 
 /// The cover of an object of `kind` (see [`Object::cover`]).
@@ -75,8 +97,12 @@ pub(crate) struct Object {
     /// the extra pass over it to pay (they keep the box around their turned `bounds`).
     pub cover: Vec<Aabb>,
     /// The distinct shaders its triangles use, and whether some use the scene's default.
-    pub shaders_used: Vec<crate::ShaderId>,
+    pub shaders_used: Vec<ShaderId>,
     pub uses_default_shader: bool,
+    /// The mesh's shaders as runs of triangles (see [`shader_runs_of`]): a glTF mesh has one
+    /// per primitive. (Looking a hit's shader up among them measured no faster than reading
+    /// the per-triangle list, so hits read the list.)
+    run_starts: Vec<(u32, ShaderId)>,
     /// The tree for the current geometry, built by the first ray that needs it; shared with
     /// copies of the object that have the same geometry.
     accel: Arc<OnceLock<Bvh8>>,
@@ -118,6 +144,7 @@ impl Object {
             cover: cover_of(kind, &mesh, &bounds),
             shaders_used,
             uses_default_shader,
+            run_starts: shader_runs_of(&mesh),
             mesh,
             kind,
             accel: Arc::default(),
@@ -154,6 +181,7 @@ impl Object {
         self.bounds = mesh.bounds();
         self.cover = cover_of(self.kind, &mesh, &self.bounds);
         (self.shaders_used, self.uses_default_shader) = shaders_of(&mesh);
+        self.run_starts = shader_runs_of(&mesh);
         self.mesh = mesh;
     }
 
@@ -167,6 +195,31 @@ impl Object {
             (ObjectKind::Unstructured, true, false) => {}
             _ => *previous = Refits::default(),
         }
+    }
+
+    /// The shader of triangle `prim`, `None` for the scene's default.
+    #[inline]
+    pub fn shader(&self, prim: u32) -> Option<ShaderId> {
+        self.mesh.shaders.get(prim as usize).copied()
+    }
+
+    /// The object's triangles in runs that share a shader, in triangle order, each as its
+    /// triangles and their shader (`None` for the scene's default); `None` where the runs are
+    /// too many to keep (over [`MAX_SHADER_RUNS`]): then [`Object::shader`] tells each
+    /// triangle's. What lets a frame gather the triangles of a few shaders (its emitters) without
+    /// visiting every other triangle.
+    pub fn shader_runs(&self) -> Option<Vec<(Range<u32>, Option<ShaderId>)>> {
+        let count = self.mesh.indices.len() as u32;
+        if self.mesh.shaders.is_empty() {
+            return Some(vec![(0..count, None)]);
+        }
+        let runs = &self.run_starts;
+        (!runs.is_empty()).then(|| runs.iter().enumerate().map(|(k, &(first, id))| (first..runs.get(k + 1).map_or(count, |r| r.0), Some(id))).collect())
+    }
+
+    /// The memory its shader runs take.
+    pub fn shader_runs_bytes(&self) -> u64 {
+        (self.run_starts.len() * size_of::<(u32, ShaderId)>()) as u64
     }
 
     /// Whether the tree for the current geometry exists.
@@ -234,8 +287,49 @@ impl Clone for Object {
             cover: self.cover.clone(),
             shaders_used: self.shaders_used.clone(),
             uses_default_shader: self.uses_default_shader,
+            run_starts: self.run_starts.clone(),
             accel: Arc::clone(&self.accel),
             previous: Mutex::new(self.previous.lock().unwrap_or_else(|e| e.into_inner()).clone()),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An object of `shaders.len()` triangles (or one, without shaders) with these shaders.
+    fn object(triangles: usize, shaders: Vec<ShaderId>) -> Object {
+        let positions = vec![glam::Vec3::ZERO, glam::Vec3::X, glam::Vec3::Y];
+        let mesh = Mesh { shaders, ..Mesh::new(positions, vec![[0, 1, 2]; triangles]) };
+        Object::new(ObjectKind::Static, mesh)
+    }
+
+    #[test]
+    fn shader_runs_cover_every_triangle_with_its_shader() {
+        let (a, b) = (ShaderId(3), ShaderId(7));
+        let cases = [vec![], vec![a; 10], vec![a, a, b, b, b, a], vec![b]];
+        for shaders in cases {
+            let o = object(shaders.len().max(1), shaders.clone());
+            let runs = o.shader_runs().expect("few runs are kept");
+            assert_eq!(runs.first().map(|r| r.0.start), Some(0), "{shaders:?}");
+            assert_eq!(runs.last().map(|r| r.0.end), Some(o.mesh.indices.len() as u32), "{shaders:?}");
+            for pair in runs.windows(2) {
+                assert_eq!(pair[0].0.end, pair[1].0.start, "runs follow each other: {shaders:?}");
+                assert_ne!(pair[0].1, pair[1].1, "runs are maximal: {shaders:?}");
+            }
+            for (range, id) in runs {
+                assert!(!range.is_empty());
+                assert!(range.into_iter().all(|prim| o.shader(prim) == id), "{shaders:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn shaders_that_change_too_often_keep_no_runs() {
+        let alternating: Vec<ShaderId> = (0..=MAX_SHADER_RUNS as u32).map(|k| ShaderId(k % 2)).collect();
+        assert!(object(alternating.len(), alternating.clone()).shader_runs().is_none());
+        let just_enough = alternating[..MAX_SHADER_RUNS].to_vec();
+        assert_eq!(object(just_enough.len(), just_enough).shader_runs().map(|r| r.len()), Some(MAX_SHADER_RUNS));
     }
 }

@@ -388,7 +388,9 @@ impl Scene {
         let objects: u64 = self
             .objects
             .iter()
-            .map(|(_, o)| o.mesh.memory_bytes() + (o.cover.len() * size_of::<raystage_kernel::Aabb>()) as u64 + o.mesh.indices.len() as u64 * TREE_BYTES_PER_TRIANGLE)
+            .map(|(_, o)| {
+                o.mesh.memory_bytes() + (o.cover.len() * size_of::<raystage_kernel::Aabb>()) as u64 + o.shader_runs_bytes() + o.mesh.indices.len() as u64 * TREE_BYTES_PER_TRIANGLE
+            })
             .sum();
         let images: u64 = self.textures.iter().map(|(_, t)| if let Texture::Image(image) = &**t { image.memory_bytes() } else { 0 }).sum();
         // Instances are small but may be millions (a glTF file of a million nodes): their

@@ -419,3 +419,29 @@ fn an_environment_map_is_added_with_its_texture_or_not_at_all() {
     let (texture, _) = scene.textures().next().unwrap();
     assert_eq!(scene.lights().find(|(l, _)| *l == id).map(|(_, l)| *l), Some(raystage_scene::Light::Environment { radiance: Vec3::splat(2.0), map: Some(texture), rotate_degrees: 90.0 }));
 }
+
+#[test]
+fn world_triangles_gathers_exactly_the_triangles_of_the_chosen_shaders() {
+    // A strip of triangles whose shaders come in runs (as a glTF mesh's primitives do), and one
+    // whose shaders alternate too often to be kept as runs: either way the chosen shader's
+    // triangles come back, each once, in order, and nothing else.
+    let mut scene = Scene::new();
+    let [a, b] = [0, 1].map(|_| scene.add_shader("Constant").unwrap());
+    let strip = |n: u32| {
+        let positions = (0..n + 2).map(|k| Vec3::new(k as f32, (k % 2) as f32, 0.0)).collect();
+        Mesh::new(positions, (0..n).map(|k| [k, k + 1, k + 2]).collect())
+    };
+    let runs = [a, a, b, b, b, a, b];
+    let alternating: Vec<_> = (0..200).map(|k| if k % 3 == 0 { b } else { a }).collect();
+    for shaders in [runs.to_vec(), alternating] {
+        let n = shaders.len() as u32;
+        let object = scene.add_object(ObjectKind::Static, Mesh { shaders: shaders.clone(), ..strip(n) }).unwrap();
+        let instance = scene.add_instance(object, Affine3A::from_translation(Vec3::new(0.0, 0.0, 3.0))).unwrap();
+        let frame = scene.frame();
+        let gathered = frame.world_triangles(|id, _| id == Some(b), |t| Some((t.shader_id, t.corners[0].x as u32, t.corners[0].z)));
+        let expected: Vec<_> = (0..n).filter(|&k| shaders[k as usize] == b).map(|k| (Some(b), k, 3.0)).collect();
+        assert_eq!(gathered, expected, "{shaders:?}");
+        drop(frame);
+        scene.remove_instance(instance).unwrap();
+    }
+}
