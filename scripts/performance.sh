@@ -42,8 +42,9 @@ declare -A args=(
     [scaling]="scaling --scene all --reps 3"
     [pathtrace]="pathtrace --scene room --python $python --dir $scratch/pathtrace"
     [pathtrace-spheres]="pathtrace --scene spheres --variants $variants --python $python --dir $scratch/pathtrace"
+    [bounces]="bounces --scene all --reps 5"
 )
-order=(kernel dynamic render scaling pathtrace pathtrace-spheres)
+order=(kernel dynamic render scaling pathtrace pathtrace-spheres bounces)
 names=("$@")
 if ((${#names[@]} == 0)); then
     names=("${order[@]}")

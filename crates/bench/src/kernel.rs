@@ -252,7 +252,7 @@ impl RaySets {
         let groups = rays::in_blocks(&primary, WIDTH, HEIGHT, (4, 4));
         let incoherent = rays::incoherent(scene, (WIDTH * HEIGHT) as usize);
         let hits = primary_hits(bvh, mesh, &primary);
-        let bounce = rays::bounce(&primary, &hits);
+        let bounce = rays::bounce(&primary, &hits, rays::PROBE_BOUNCE_SEED);
         let shadow = rays::shadows(rays::light(scene), &groups, &rays::in_blocks(&hits, WIDTH, HEIGHT, (4, 4)));
         RaySets { primary, packets, groups, incoherent, bounce, shadow }
     }

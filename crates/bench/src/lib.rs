@@ -10,6 +10,7 @@
 #[cfg(feature = "embree")]
 pub mod embree;
 pub mod animation;
+pub mod bounces;
 pub mod cluster_model;
 pub mod dynamic;
 pub mod kernel;

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::{Parser, Subcommand};
 use raystage_bench::kernel::Api;
 use raystage_bench::stamp::{Stamp, StampLine};
-use raystage_bench::{animation, cluster_model, dynamic, kernel, mpi, page, pathtrace, plot, render, rtrps, scaling, table};
+use raystage_bench::{animation, bounces, cluster_model, dynamic, kernel, mpi, page, pathtrace, plot, render, rtrps, scaling, table};
 use raystage_demo::animated::{Animation, Baked, Museum, Robots, Still, Terrain};
 use raystage_demo::StandardScene;
 
@@ -129,6 +129,30 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// A path tracer's rays bounce by bounce (camera rays, then diffuse bounces), traced one by
+    /// one on one thread as made and sorted by where they start (origin cell, then octant), with
+    /// the walk's nodes, leaves and triangles per ray: Bikker's tables per bounce (seed 003).
+    Bounces {
+        /// `room`, `spheres`, `sphere-grid` or `all`.
+        #[arg(long, default_value = "all")]
+        scene: String,
+        /// Image side in pixels: one camera ray per pixel.
+        #[arg(long, default_value_t = 512)]
+        size: u32,
+        /// Bounces after the camera rays.
+        #[arg(long, default_value_t = 4)]
+        bounces: u32,
+        /// Batch sizes the rays are sorted in, comma-separated (all of a bounce's rays sorted at
+        /// once is measured too).
+        #[arg(long, default_value = "4096,65536", value_delimiter = ',')]
+        batches: Vec<usize>,
+        /// Repetitions; the best is reported.
+        #[arg(long, default_value_t = 3)]
+        reps: usize,
+        /// Print one JSON object per measurement instead of tables.
+        #[arg(long)]
+        json: bool,
+    },
     /// Frame time against threads (1, 2, 4, … up to `--threads`) for every integrator on the
     /// sphere grid at 1920x1080 and the Cornell room at 256x256: speedup, lazy build time, and
     /// the tasks a frame offers with the largest one's share of the work.
@@ -226,6 +250,7 @@ impl Command {
     fn json(&self) -> bool {
         match self {
             Command::Kernel { json, .. }
+            | Command::Bounces { json, .. }
             | Command::Dynamic { json, .. }
             | Command::Render { json, .. }
             | Command::Pathtrace { json, .. }
@@ -314,6 +339,39 @@ fn main() {
                 print!("{}", table::mpi_table(&report));
                 for frame in &frames {
                     print!("{}", table::cluster_model_table(frame, &encodings, &links));
+                }
+            }
+        }
+        Command::Bounces { scene, size, bounces: count, batches, reps, json } => {
+            let scenes = match scene.as_str() {
+                "all" => bounces::BounceScene::ALL.to_vec(),
+                name => match bounces::BounceScene::from_name(name) {
+                    Some(s) => vec![s],
+                    None => fail(&format!("unknown scene `{name}` (expected room, spheres, sphere-grid or all)")),
+                },
+            };
+            if !cfg!(feature = "embree") {
+                eprintln!("note: built without the `embree` feature; only raystage is measured");
+            }
+            let build_threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+            let config = bounces::Config { scenes, size: size.max(1), bounces: count, batches, reps, build_threads };
+            let runs = bounces::run(&config, |line| eprintln!("{line}")).unwrap_or_else(|e| {
+                eprintln!("error: {e}");
+                std::process::exit(1);
+            });
+            for run in &runs {
+                if json {
+                    for w in &run.walks {
+                        println!("{}", serde_json::to_string(w).expect("report serialises"));
+                    }
+                    for t in &run.traces {
+                        println!("{}", serde_json::to_string(t).expect("report serialises"));
+                    }
+                    for s in &run.sorting {
+                        println!("{}", serde_json::to_string(s).expect("report serialises"));
+                    }
+                } else {
+                    print!("{}", table::bounces_table(run));
                 }
             }
         }

@@ -63,6 +63,11 @@ impl PathScene {
             PathScene::Spheres => cornell_box::spheres_gltf(),
         }
     }
+
+    /// The scene as raystage imports it from its glTF, the file Mitsuba reads.
+    pub fn scene(self) -> Result<Scene, String> {
+        raystage_gltf_scene(&self.gltf())
+    }
 }
 
 /// What to measure.

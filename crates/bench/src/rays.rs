@@ -82,12 +82,16 @@ pub struct PrimaryHit {
     pub normal: [f32; 3],
 }
 
-/// Cosine-distributed bounce rays from the primary hits, in pixel order, skipping misses: the
-/// origin is the hit point pushed 1e-4 along the normal turned towards the camera.
-pub fn bounce(primary: &[Ray], hits: &[Option<PrimaryHit>]) -> Vec<Ray> {
-    let mut rng = Xorshift64::new(999);
-    primary
-        .iter()
+/// The probe's seed of its bounce rays.
+pub const PROBE_BOUNCE_SEED: u64 = 999;
+
+/// Cosine-distributed bounce rays from the hits of `rays` (the camera rays, or any rays whose
+/// hits `hits` are), in their order, skipping misses: the origin is the hit point pushed
+/// 1e-4 along the normal turned towards where the ray came from. The random numbers come from
+/// `seed` ([`PROBE_BOUNCE_SEED`] for the probe's rays).
+pub fn bounce(rays: &[Ray], hits: &[Option<PrimaryHit>], seed: u64) -> Vec<Ray> {
+    let mut rng = Xorshift64::new(seed);
+    rays.iter()
         .zip(hits)
         .filter_map(|(ray, hit)| {
             let hit = (*hit)?;

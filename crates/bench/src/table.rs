@@ -395,3 +395,31 @@ pub fn cluster_model_table(frame: &crate::cluster_model::Frame, encodings: &[cra
     // The padding of the last column and unmarked figures would end lines in spaces.
     out.lines().map(|line| format!("{}\n", line.trim_end())).collect()
 }
+
+/// The bounce benchmark of one scene as a table: per bounce, its rays, the share that hit and
+/// raystage's walk per ray; then each system's Mrays/s on one thread in each order, with the
+/// sorting's time added in brackets, and the time to sort.
+pub fn bounces_table(run: &crate::bounces::SceneRun) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "bounces: {}, {} triangles; one ray per call on one thread (Embree: rtcIntersect1); Mrays/s tracing alone (with the sorting's time)",
+        run.scene.name(),
+        run.triangles
+    );
+    let _ = writeln!(out, "  {:<9} {:>8} {:>6} {:>7} {:>7} {:>9}", "bounce", "rays", "hits", "nodes", "leaves", "triangles");
+    for w in &run.walks {
+        let p = &w.per_ray;
+        let _ = writeln!(out, "  {:<9} {:>8} {:>5.1}% {:>7.2} {:>7.2} {:>9.2}", w.bounce, w.rays, 100.0 * w.hit_share, p.nodes, p.leaves, p.triangles);
+    }
+    for w in &run.walks {
+        let _ = writeln!(out, "  {}:", w.bounce);
+        for t in run.traces.iter().filter(|t| t.bounce == w.bounce) {
+            let with_sort = t.mrays_with_sort.map_or(String::new(), |r| format!(" ({r:.2})"));
+            let sort =
+                run.sorting.iter().find(|s| s.bounce == t.bounce && s.order == t.order).map_or(String::new(), |s| format!(", sorting {:.2} ms", s.sort_ms));
+            let _ = writeln!(out, "    {:<9} {:<18} {:>7.2}{with_sort}  {:.2}x as made{sort}", t.system, t.order, t.mrays, t.vs_as_made);
+        }
+    }
+    out
+}

@@ -32,6 +32,7 @@ mod bvh2;
 mod bvh8;
 mod isa;
 mod memory;
+pub mod morton;
 mod prepared;
 mod ray;
 mod ray_packet;

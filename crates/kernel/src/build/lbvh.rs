@@ -11,9 +11,7 @@
 use super::{PrimRef, SetBounds};
 use crate::aabb::Aabb;
 use crate::bvh2::Node2;
-
-/// Bits per axis of the Morton code.
-const BITS: u32 = 10;
+use crate::morton::{self, BITS, radix_sort};
 
 /// The Morton-order builder's working storage, kept across rebuilds (see `build::Scratch`).
 #[derive(Default)]
@@ -49,7 +47,7 @@ fn sort_by_morton_code(refs: &mut [PrimRef], centroids: &Aabb, scratch: &mut Scr
     scratch.keyed.extend(refs.iter().enumerate().map(|(i, r)| {
         let c = r.centroid2().truncate() - centroids.min;
         let q = |v: f32, s: f32| ((v * s) as u32).min((1 << BITS) - 1);
-        (interleave(q(c.x, sx)) | interleave(q(c.y, sy)) << 1 | interleave(q(c.z, sz)) << 2, i as u32)
+        (morton::code(q(c.x, sx), q(c.y, sy), q(c.z, sz)), i as u32)
     }));
     radix_sort(&mut scratch.keyed, &mut scratch.spare);
     scratch.unsorted.clear();
@@ -59,42 +57,6 @@ fn sort_by_morton_code(refs: &mut [PrimRef], centroids: &Aabb, scratch: &mut Scr
     }
     scratch.codes.clear();
     scratch.codes.extend(scratch.keyed.iter().map(|&(code, _)| code));
-}
-
-/// Spreads the low 10 bits of `v` to every third bit.
-fn interleave(v: u32) -> u32 {
-    let mut x = v & 0x3ff;
-    x = (x | x << 16) & 0x0300_00ff;
-    x = (x | x << 8) & 0x0300_f00f;
-    x = (x | x << 4) & 0x030c_30c3;
-    (x | x << 2) & 0x0924_9249
-}
-
-/// Stable least-significant-digit radix sort on the 30-bit keys, 10 bits per pass (the three
-/// digits' counts taken in one read of the keys), with `spare` as the second buffer.
-fn radix_sort<T: Copy>(items: &mut Vec<(u32, T)>, spare: &mut Vec<(u32, T)>) {
-    const DIGITS: usize = 1 << 10;
-    let digit = |key: u32, pass: usize| ((key >> (10 * pass)) & 0x3ff) as usize;
-    let mut offsets = vec![[0usize; 3]; DIGITS + 1];
-    for (key, _) in items.iter() {
-        for pass in 0..3 {
-            offsets[digit(*key, pass) + 1][pass] += 1;
-        }
-    }
-    for d in 1..offsets.len() {
-        let below = offsets[d - 1];
-        offsets[d].iter_mut().zip(below).for_each(|(o, b)| *o += b);
-    }
-    spare.clear();
-    spare.extend_from_slice(items);
-    for pass in 0..3 {
-        for item in items.iter() {
-            let slot = &mut offsets[digit(item.0, pass)][pass];
-            spare[*slot] = *item;
-            *slot += 1;
-        }
-        std::mem::swap(items, spare);
-    }
 }
 
 /// Emits the subtree over `refs` (whose codes are `codes`, sorted), starting at position
@@ -132,23 +94,6 @@ fn split_position(codes: &[u32]) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn interleave_spreads_bits() {
-        assert_eq!(interleave(0b1), 0b1);
-        assert_eq!(interleave(0b11), 0b1001);
-        assert_eq!(interleave(0x3ff), 0x0924_9249);
-    }
-
-    #[test]
-    fn radix_sort_is_a_stable_sort() {
-        let items: Vec<(u32, usize)> = (0..5000).map(|i| ((i * 7919 % 4093) as u32 & 0x3fff_ffff, i)).collect();
-        let mut expected = items.clone();
-        expected.sort_by_key(|(k, _)| *k);
-        let (mut sorted, mut spare) = (items, vec![(7, 7)]);
-        radix_sort(&mut sorted, &mut spare);
-        assert_eq!(sorted, expected);
-    }
 
     #[test]
     fn splits_where_the_highest_differing_bit_changes() {
