@@ -16,7 +16,7 @@ use std::borrow::Cow;
 use std::f32::consts::{PI, TAU};
 
 use glam::{Vec2, Vec3};
-use raystage_scene::{Frame, Image, Light, Texture, WorldTriangle};
+use raystage_scene::{Distribution, EnvironmentTables, Frame, Image, Light, Texture, WorldTriangle};
 
 use crate::material::{Materials, Slot};
 use crate::warp::{Frame3, cosine_hemisphere, power_heuristic};
@@ -463,28 +463,17 @@ struct EnvironmentMap<'f> {
     image: Cow<'f, Image>,
     /// How far the image is turned about +y, in turns (the light's degrees / 360).
     turn: f32,
-    /// Rows by their total brightness.
-    rows: Distribution,
-    /// Within each row, columns by brightness.
-    columns: Vec<Distribution>,
 }
 
 impl<'f> EnvironmentMap<'f> {
-    /// The map of `image`, or `None` if it is black everywhere. Rows in parallel: every frame
-    /// prepares its map, and an HDR image has millions of texels.
+    /// The map of `image`, or `None` if it is black everywhere.
     fn new(image: Cow<'f, Image>, rotate_degrees: f32) -> Option<EnvironmentMap<'f>> {
-        use rayon::prelude::*;
-        let (w, h) = (image.width() as usize, image.height() as usize);
-        let columns: Vec<Distribution> = (0..h)
-            .into_par_iter()
-            .map(|y| {
-                // Texels near the poles cover less solid angle.
-                let sin = (PI * (y as f32 + 0.5) / h as f32).sin();
-                Distribution::new((0..w).map(|x| luminance(image.texel(x as i64, y as i64)) * sin).collect())
-            })
-            .collect();
-        let rows = Distribution::new(columns.iter().map(|c| c.total).collect());
-        (rows.total > 0.0).then_some(EnvironmentMap { image, turn: rotate_degrees / 360.0, rows, columns })
+        (image.environment_tables().rows.total > 0.0).then_some(EnvironmentMap { image, turn: rotate_degrees / 360.0 })
+    }
+
+    /// The image's tables of texels by brightness, kept with it.
+    fn tables(&self) -> &EnvironmentTables {
+        self.image.environment_tables()
     }
 
     /// The texel `dir` looks at (unfiltered, so that lookup and sampling density agree).
@@ -503,8 +492,9 @@ impl<'f> EnvironmentMap<'f> {
 
     /// A direction by brightness, and its solid-angle density.
     fn sample(&self, u: [f32; 2]) -> Option<(Vec3, f32)> {
-        let (row, v) = self.rows.sample(u[1]);
-        let (_, uu) = self.columns[row].sample(u[0]);
+        let tables = self.tables();
+        let (row, v) = tables.rows.sample(u[1]);
+        let (_, uu) = tables.columns[row].sample(u[0]);
         let theta = v * PI;
         let phi = (uu - 0.5 - self.turn) * TAU;
         let dir = Vec3::new(theta.sin() * phi.sin(), theta.cos(), -theta.sin() * phi.cos());
@@ -518,54 +508,9 @@ impl<'f> EnvironmentMap<'f> {
         let (w, h) = (self.image.width() as f32, self.image.height() as f32);
         let sin = (PI * (y as f32 + 0.5) / h).sin();
         // Density over the unit square of (u, v), then per solid angle: dω = 2π² sin θ du dv.
-        let unit_square = self.rows.density(y) * h * self.columns[y].density(x) * w;
+        let tables = self.tables();
+        let unit_square = tables.rows.density(y) * h * tables.columns[y].density(x) * w;
         if sin <= 0.0 { 0.0 } else { unit_square / (2.0 * PI * PI * sin) }
-    }
-}
-
-/// A piecewise-constant distribution over [0, 1) with one piece per weight.
-struct Distribution {
-    /// Cumulative weights, normalised: `cdf[i]` is the probability of the pieces before `i`.
-    cdf: Vec<f32>,
-    /// The sum of the weights.
-    total: f32,
-}
-
-impl Distribution {
-    /// The distribution proportional to `weights` (uniform if they are all zero).
-    fn new(weights: Vec<f32>) -> Distribution {
-        // Summed in double precision: a list of a million triangles keeps each one's share.
-        let total: f64 = weights.iter().map(|&w| w as f64).sum();
-        let n = weights.len() as f64;
-        let mut cdf = Vec::with_capacity(weights.len() + 1);
-        let mut running = 0.0f64;
-        cdf.push(0.0);
-        for (i, &w) in weights.iter().enumerate() {
-            running += if total > 0.0 { w as f64 / total } else { 1.0 / n };
-            cdf.push(if i + 1 == weights.len() { 1.0 } else { running as f32 });
-        }
-        Distribution { cdf, total: total as f32 }
-    }
-
-    /// The probability of piece `i`.
-    fn density(&self, i: usize) -> f32 {
-        self.cdf[i + 1] - self.cdf[i]
-    }
-
-    /// The piece `u` falls in and where in the piece it falls, from 0 to 1.
-    fn pick(&self, u: f32) -> (usize, f32) {
-        let pieces = self.cdf.len() - 1;
-        let i = (self.cdf.partition_point(|&c| c <= u).max(1) - 1).min(pieces - 1);
-        let width = self.density(i);
-        let within = if width > 0.0 { ((u - self.cdf[i]) / width).clamp(0.0, 1.0) } else { 0.5 };
-        (i, within)
-    }
-
-    /// The piece `u` falls in and the point in [0, 1) it maps to.
-    fn sample(&self, u: f32) -> (usize, f32) {
-        let (i, within) = self.pick(u);
-        let pieces = (self.cdf.len() - 1) as f32;
-        (i, ((i as f32 + within) / pieces).min(1.0 - f32::EPSILON))
     }
 }
 
@@ -585,10 +530,8 @@ fn default_sky() -> Image {
     Image::new(w, h, texels).expect("a valid sky image")
 }
 
-/// The luminance of a linear-RGB colour (Rec. 709 weights).
-pub(crate) fn luminance(c: Vec3) -> f32 {
-    c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
-}
+/// The luminance of a linear-RGB colour (Rec. 709 weights), one definition for the whole renderer.
+pub(crate) use raystage_scene::luminance;
 
 #[cfg(test)]
 mod tests {
@@ -600,16 +543,6 @@ mod tests {
         assert_eq!(hit_parallelogram(Vec3::ZERO, Vec3::Y, corner, eu, ev), Some(2.0));
         assert_eq!(hit_parallelogram(Vec3::new(1.5, 0.0, 0.0), Vec3::Y, corner, eu, ev), None);
         assert_eq!(hit_parallelogram(Vec3::ZERO, -Vec3::Y, corner, eu, ev), None);
-    }
-
-    #[test]
-    fn distributions_sample_in_proportion() {
-        let d = Distribution::new(vec![1.0, 0.0, 3.0]);
-        assert_eq!(d.sample(0.1).0, 0);
-        assert_eq!(d.sample(0.3).0, 2);
-        assert!((d.density(2) - 0.75).abs() < 1e-6 && d.density(1) == 0.0);
-        let (_, x) = d.sample(0.25 + 0.375);
-        assert!((x - (2.5 / 3.0)).abs() < 1e-5, "{x}");
     }
 
     /// The environment map's sampling density integrates to one over the sphere and matches

@@ -18,6 +18,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::Cancel;
+use crate::lights::luminance;
 
 /// The tasks a frame is cut into at least, where its size allows tiles of 8 pixels a side.
 pub const MIN_TASKS: u32 = 256;
@@ -190,10 +191,6 @@ pub(crate) fn variance_of_mean(sum: Vec3, sum_sq: f32, samples: u32) -> f32 {
     ((sum_sq / n - mean * mean) * n / (n - 1.0)).max(0.0) / n
 }
 
-/// Relative luminance of linear RGB (Rec. 709).
-pub(crate) fn luminance(c: Vec3) -> f32 {
-    c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
-}
 
 /// Runs `add` over every tile of `share` of a `width × height` image, each tile a task on the
 /// current rayon pool (run it inside `ThreadPool::install` to choose the number of threads),

@@ -18,6 +18,7 @@
 mod animation;
 mod builds;
 mod camera;
+mod distribution;
 mod error;
 mod frame;
 mod ids;
@@ -36,6 +37,7 @@ mod texture;
 
 pub use animation::{AnimationChoice, AnimationInfo, Binding, Channel, Clip, Deformer, Evaluated, Interpolation, Keyframes, Local, MorphTarget, Node, Play, Pose, Rig, Skin, Target, Vertices};
 pub use camera::{Camera, CameraRays, Projection};
+pub use distribution::{Distribution, EnvironmentTables, luminance};
 pub use error::SceneError;
 pub use frame::{Frame, FrameWork, PreviewAttributes, PreviewPoint, SceneHit, SurfacePoint, WorldTriangle};
 pub use ids::{InstanceId, LightId, ObjectId, ShaderId, TextureId};

@@ -5,6 +5,7 @@ use std::sync::{Arc, OnceLock};
 use glam::Vec3;
 use rayon::prelude::*;
 
+use crate::distribution::EnvironmentTables;
 use crate::error::SceneError;
 
 /// A texture. Procedural textures are evaluated where they are needed; image textures hold
@@ -47,6 +48,9 @@ pub struct Image {
     /// Levels 1 and on, each half the size of the one before (rounded down, at least 1), down to
     /// 1×1: built the first time a lookup needs them.
     coarser: OnceLock<Vec<Level>>,
+    /// The tables that pick its texels by brightness where it lights a scene as an environment
+    /// (see [`Image::environment_tables`]): built the first time a frame needs them.
+    environment: OnceLock<EnvironmentTables>,
 }
 
 /// An image travels as its texels and coverage (level 0); the pyramid is built where it is
@@ -63,7 +67,7 @@ impl<'de> serde::Deserialize<'de> for Image {
         if base.texels.len() != base.width as usize * base.height as usize || !(base.alpha.is_empty() || base.alpha.len() == base.texels.len()) {
             return Err(serde::de::Error::custom("an image's texels do not match its size"));
         }
-        Ok(Image { base: Arc::new(base), coarser: OnceLock::new() })
+        Ok(Image { base: Arc::new(base), coarser: OnceLock::new(), environment: OnceLock::new() })
     }
 }
 
@@ -87,10 +91,12 @@ pub struct Level {
 
 impl Image {
     /// The memory its texels and coverage take, with its mip pyramid's (counted whether built
-    /// yet or not, as a budget must: any frame may build it).
+    /// yet or not, as a budget must: any frame may build it), and its environment tables' once
+    /// a frame has built them (only an image that lights a scene has them).
     pub fn memory_bytes(&self) -> u64 {
         let per_texel = if self.base.alpha.is_empty() { 12 } else { 16 };
-        pyramid_sizes(self.width(), self.height()).map(|(w, h)| w as u64 * h as u64 * per_texel).sum()
+        let pyramid: u64 = pyramid_sizes(self.width(), self.height()).map(|(w, h)| w as u64 * h as u64 * per_texel).sum();
+        pyramid + self.environment.get().map_or(0, EnvironmentTables::memory_bytes)
     }
 
     /// An image from `width × height` texels, row-major from the top row; every channel finite
@@ -106,7 +112,7 @@ impl Image {
         if let Some(index) = texels.iter().position(|t| !t.is_finite() || t.min_element() < 0.0) {
             return Err(SceneError::NotFinite { field: "texels", index });
         }
-        Ok(Image { base: Arc::new(Level { width, height, texels, alpha: Vec::new() }), coarser: OnceLock::new() })
+        Ok(Image { base: Arc::new(Level { width, height, texels, alpha: Vec::new() }), coarser: OnceLock::new(), environment: OnceLock::new() })
     }
 
     /// The same image with coverage `alpha` in [0, 1] per texel (glTF's base colour alpha, for
@@ -120,7 +126,7 @@ impl Image {
             return Err(SceneError::OutOfRange { field: "alpha", message: format!("texel {index} is not within [0, 1]") });
         }
         let Level { width, height, texels, .. } = Arc::unwrap_or_clone(self.base);
-        Ok(Image { base: Arc::new(Level { width, height, texels, alpha }), coarser: OnceLock::new() })
+        Ok(Image { base: Arc::new(Level { width, height, texels, alpha }), coarser: OnceLock::new(), environment: OnceLock::new() })
     }
 
     /// An image from encoded bytes: PNG, JPEG, Radiance HDR (`.hdr`) or OpenEXR, told apart by
@@ -227,6 +233,18 @@ impl Image {
         });
         // A 1×1 image has no coarser level: the image itself is the last.
         coarser.get(i - 1).or(coarser.last()).unwrap_or(&self.base)
+    }
+
+    /// The tables that pick its texels by the light they bring, where it lights a scene as an
+    /// equirectangular environment. Built by the first frame that needs them, on the build pool
+    /// as the pyramid is, and kept with the image: every progressive pass and every frame
+    /// prepares its lights, and built at each of them the tables of a 1024×512 image took
+    /// 14 ms a pass (40 % of a 64×64 path-traced render's hundred passes on one thread).
+    pub fn environment_tables(&self) -> &EnvironmentTables {
+        self.environment.get_or_init(|| {
+            let base = Arc::clone(&self.base);
+            crate::builds::on_build_pool(move || EnvironmentTables::of(&base)).unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+        })
     }
 }
 
