@@ -148,14 +148,14 @@ impl Pbr {
             (true, true) => o.e,
             (true, false) => dielectric_albedo(cos_o, self.alpha, self.eta),
         };
-        Energy { ggx, o, dielectric, compensation, layer, base, transmission_scale: 1.0 / kept.max(MIN_KEPT) }
+        let g1_o = smith_g1(Vec3::new(0.0, 0.0, cos_o), self.alpha);
+        Energy { ggx, o, dielectric, compensation, layer, base, transmission_scale: 1.0 / kept.max(MIN_KEPT), g1_o }
     }
 
-    /// The specular layer's reflection, BRDF × cos θi, for `wi` seen by the tables as `i`: its
-    /// GGX lobe and the multiple scattering of it.
-    fn reflection(&self, energy: &Energy, i: Seen, wo: Vec3, wi: Vec3) -> Vec3 {
-        let h = (wo + wi).normalize();
-        let single = self.layer_reflectance(wo.dot(h), energy.transmission_scale) * (ggx_d(h, self.alpha) * smith_height_correlated(wo, wi, self.alpha) * wi.z);
+    /// The specular layer's reflection, BRDF × cos θi, for `wi` seen by the tables as `i` and
+    /// the pair's `half` vector: its GGX lobe and the multiple scattering of it.
+    fn reflection(&self, energy: &Energy, i: Seen, wo: Vec3, wi: Vec3, half: &Half) -> Vec3 {
+        let single = self.layer_reflectance(wo.dot(half.h), energy.transmission_scale) * (half.d * smith_height_correlated(wo, wi, self.alpha) * wi.z);
         single + energy.compensation * energy.ggx.multiple_scattering(energy.o, i, wi.z)
     }
 
@@ -192,6 +192,24 @@ struct Energy {
     /// glass has it; not reciprocal, as refraction across a boundary is not either). 1 for a
     /// surface that transmits nothing.
     transmission_scale: f32,
+    /// Smith's masking of `wo` by the GGX microfacets, which every density of a reflection
+    /// for `wo` has.
+    g1_o: f32,
+}
+
+/// The half vector of a pair of directions on the same side and GGX's density of it: what a
+/// physically based function's reflection and the density of sampling it share, worked out
+/// once where both are wanted.
+struct Half {
+    h: Vec3,
+    d: f32,
+}
+
+impl Half {
+    fn of(wo: Vec3, wi: Vec3, alpha: f32) -> Half {
+        let h = (wo + wi).normalize();
+        Half { h, d: ggx_d(h, alpha) }
+    }
 }
 
 /// The least share of the light a transmitting boundary's single scattering is taken to keep
@@ -278,7 +296,10 @@ impl Bsdf {
             return p * lobe + (1.0 - p) * under.pdf(wo, wi);
         }
         match *self {
-            Bsdf::PhysicallyBased(p) | Bsdf::Layer(p) => self.physically_based_pdf(wo, wi, self.lobe_probabilities(wo, &p.energy(wo.z))),
+            Bsdf::PhysicallyBased(p) | Bsdf::Layer(p) => {
+                let energy = p.energy(wo.z);
+                self.physically_based_pdf(&energy, wo, wi, self.lobe_probabilities(wo, &energy))
+            }
             _ if wi.z < 0.0 => 0.0,
             Bsdf::Lambert { .. } => wi.z * std::f32::consts::FRAC_1_PI,
             Bsdf::Phong { diffuse, specular, exponent } => {
@@ -438,30 +459,60 @@ impl Bsdf {
         if wi.z < 0.0 {
             return self.transmitted(wo, wi, energy.transmission_scale);
         }
+        self.reflected_eval(energy, wo, wi, &Half::of(wo, wi, self.alpha()))
+    }
+
+    /// For [`Bsdf::PhysicallyBased`] and [`Bsdf::Layer`] (without coat or sheen), the density
+    /// of `wi` for its [`Bsdf::lobe_probabilities`], with the tables read for `wo` as `energy`.
+    fn physically_based_pdf(&self, energy: &Energy, wo: Vec3, wi: Vec3, probabilities: [f32; 3]) -> f32 {
+        if wi.z < 0.0 {
+            return self.transmission_pdf(wo, wi, probabilities[2]);
+        }
+        self.reflected_pdf(energy, wo, wi, probabilities, &Half::of(wo, wi, self.alpha()))
+    }
+
+    /// [`Bsdf::physically_based_eval`] and [`Bsdf::physically_based_pdf`] at once, the half
+    /// vector and its density worked out once for both.
+    fn physically_based_eval_pdf(&self, energy: &Energy, wo: Vec3, wi: Vec3, probabilities: [f32; 3]) -> (Vec3, f32) {
+        if wi.z < 0.0 {
+            return (self.transmitted(wo, wi, energy.transmission_scale), self.transmission_pdf(wo, wi, probabilities[2]));
+        }
+        let half = Half::of(wo, wi, self.alpha());
+        (self.reflected_eval(energy, wo, wi, &half), self.reflected_pdf(energy, wo, wi, probabilities, &half))
+    }
+
+    /// The microfacet α of [`Bsdf::PhysicallyBased`] and [`Bsdf::Layer`] (1 for the others,
+    /// which have none).
+    fn alpha(&self) -> f32 {
+        match self {
+            Bsdf::PhysicallyBased(p) | Bsdf::Layer(p) => p.alpha,
+            _ => 1.0,
+        }
+    }
+
+    /// [`Bsdf::physically_based_eval`] for `wi` above the surface, its half vector with `wo`
+    /// given.
+    fn reflected_eval(&self, energy: &Energy, wo: Vec3, wi: Vec3, half: &Half) -> Vec3 {
         match *self {
             Bsdf::PhysicallyBased(p) => {
                 let i = energy.ggx.at(wi.z);
                 let weight = (1.0 - p.metallic) * (1.0 - p.transmission);
                 let diffuse = if weight > 0.0 { p.base * p.base_through(energy, i) * (weight * std::f32::consts::FRAC_1_PI) } else { Vec3::ZERO };
-                p.reflection(energy, i, wo, wi) + diffuse * wi.z
+                p.reflection(energy, i, wo, wi, half) + diffuse * wi.z
             }
-            Bsdf::Layer(p) => p.reflection(energy, energy.ggx.at(wi.z), wo, wi),
+            Bsdf::Layer(p) => p.reflection(energy, energy.ggx.at(wi.z), wo, wi, half),
             _ => Vec3::ZERO,
         }
     }
 
-    /// For [`Bsdf::PhysicallyBased`] and [`Bsdf::Layer`] (without coat or sheen), the density
-    /// of `wi` for its [`Bsdf::lobe_probabilities`].
-    fn physically_based_pdf(&self, wo: Vec3, wi: Vec3, [specular, diffuse, transmitted]: [f32; 3]) -> f32 {
-        let (Bsdf::PhysicallyBased(Pbr { alpha, eta, thin, .. }) | Bsdf::Layer(Pbr { alpha, eta, thin, .. })) = *self else { return 0.0 };
-        if wi.z < 0.0 {
-            return self.transmission_pdf(wo, wi, transmitted);
-        }
-        let h = (wo + wi).normalize();
+    /// [`Bsdf::physically_based_pdf`] for `wi` above the surface, its half vector with `wo`
+    /// given.
+    fn reflected_pdf(&self, energy: &Energy, wo: Vec3, wi: Vec3, [specular, diffuse, transmitted]: [f32; 3], half: &Half) -> f32 {
+        let (Bsdf::PhysicallyBased(Pbr { eta, thin, .. }) | Bsdf::Layer(Pbr { eta, thin, .. })) = *self else { return 0.0 };
         // Refraction samples that meet total internal reflection at their microfacet reflect
         // off it instead.
-        let reflected = if transmitted > 0.0 && !thin && refract_about(wo, h, eta).is_none() { specular + transmitted } else { specular };
-        reflected * ggx_d(h, alpha) * smith_g1(wo, alpha) / (4.0 * wo.z) + diffuse * wi.z * std::f32::consts::FRAC_1_PI
+        let reflected = if transmitted > 0.0 && !thin && refract_about(wo, half.h, eta).is_none() { specular + transmitted } else { specular };
+        reflected * half.d * energy.g1_o / (4.0 * wo.z) + diffuse * wi.z * std::f32::consts::FRAC_1_PI
     }
 
     /// The density with which [`Bsdf::sample`] picks `wi` below the surface, for a transmission
@@ -614,7 +665,7 @@ impl Scattering {
     pub fn eval_pdf(&self, wi: Vec3) -> (Vec3, f32) {
         match &self.shared {
             Some((energy, probabilities)) if wi.z != 0.0 => {
-                (self.bsdf.physically_based_eval(energy, self.wo, wi), self.bsdf.physically_based_pdf(self.wo, wi, *probabilities))
+                self.bsdf.physically_based_eval_pdf(energy, self.wo, wi, *probabilities)
             }
             _ => (self.bsdf.eval(self.wo, wi), self.bsdf.pdf(self.wo, wi)),
         }
@@ -648,8 +699,8 @@ impl Scattering {
         } else {
             Some(cosine_hemisphere(u))
         }?;
-        let pdf = self.bsdf.physically_based_pdf(wo, wi, *probabilities);
-        (pdf > 0.0).then(|| BsdfSample { wi, weight: self.bsdf.physically_based_eval(energy, wo, wi) / pdf, pdf, transmitted: wi.z < 0.0 })
+        let (f, pdf) = self.bsdf.physically_based_eval_pdf(energy, wo, wi, *probabilities);
+        (pdf > 0.0).then(|| BsdfSample { wi, weight: f / pdf, pdf, transmitted: wi.z < 0.0 })
     }
 }
 
