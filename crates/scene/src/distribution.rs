@@ -49,6 +49,7 @@ impl Distribution {
     }
 
     /// The piece `u` falls in and where in the piece it falls, from 0 to 1.
+    #[inline]
     pub fn pick(&self, u: f32) -> (usize, f32) {
         let pieces = self.cdf.len() - 1;
         let i = (self.cdf.partition_point(|&c| c <= u).max(1) - 1).min(pieces - 1);
@@ -58,6 +59,7 @@ impl Distribution {
     }
 
     /// The piece `u` falls in and the point in [0, 1) it maps to.
+    #[inline]
     pub fn sample(&self, u: f32) -> (usize, f32) {
         let (i, within) = self.pick(u);
         let pieces = (self.cdf.len() - 1) as f32;
