@@ -501,3 +501,20 @@ async fn frames_keep_coming_while_the_camera_moves_faster_than_a_pass() {
     moving.abort();
     assert!(shown.is_ok(), "no frame came while the camera kept moving");
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_clock_set_playing_wakes_a_stream_that_waits_on_it_paused() {
+    // Setting the clock poses the scene (an edit, which wakes the stream) before it plays: a
+    // stream that finished that pose first waited on the paused clock it had seen, for good.
+    let state = AppState::new(Config::default());
+    let app = raystage_server::router(state.clone());
+    let s = animated_scene(&app).await;
+    ok(&app, "PUT", &format!("/scenes/{s}/clock"), json!({ "playing": false }), StatusCode::OK).await;
+    let slot = state.scene(s as u32).unwrap();
+    let waiting = tokio::spawn(async move { slot.clock_due().await });
+    // Long enough for the wait to start while the clock is paused.
+    tokio::time::sleep(std::time::Duration::from_millis(100)).await;
+    assert!(!waiting.is_finished(), "a paused clock is not due");
+    ok(&app, "PUT", &format!("/scenes/{s}/clock"), json!({ "playing": true }), StatusCode::OK).await;
+    tokio::time::timeout(std::time::Duration::from_secs(10), waiting).await.expect("setting the clock wakes the wait").unwrap();
+}

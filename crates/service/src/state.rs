@@ -75,6 +75,8 @@ pub struct SceneSlot {
     /// The animation clock, once the scene has been posed or its clock set (see
     /// [`crate::clock`]).
     clock: Mutex<Option<Clock>>,
+    /// Wakes what waits for a paused clock ([`SceneSlot::clock_due`]) when the clock is set.
+    clock_set: tokio::sync::Notify,
 }
 
 /// The limits on scenes' memory and what the server's scenes take together.
@@ -206,6 +208,7 @@ impl AppState {
             bytes: AtomicU64::new(bytes),
             budget,
             clock: Mutex::new(None),
+            clock_set: tokio::sync::Notify::new(),
         };
         scenes.insert(id, Arc::new(slot));
         Ok(id)
@@ -390,14 +393,18 @@ impl SceneSlot {
     fn set_clock(&self, scene: &Scene, play: Play, time: f64, change: impl FnOnce(&mut Clock)) -> ClockState {
         let duration = play.duration(&scene.animations());
         let now = Instant::now();
-        let mut clock = self.clock.lock().unwrap_or_else(|e| e.into_inner());
-        let clock = clock.get_or_insert_with(|| Clock::paused(play, f64::from(duration), time));
-        clock.play = play;
-        clock.duration = f64::from(duration);
-        // The scene's time is an f32: the clock reads what the scene was posed at.
-        clock.set(f64::from(time as f32).min(clock.duration), now);
-        change(clock);
-        clock.state(now)
+        let state = {
+            let mut clock = self.clock.lock().unwrap_or_else(|e| e.into_inner());
+            let clock = clock.get_or_insert_with(|| Clock::paused(play, f64::from(duration), time));
+            clock.play = play;
+            clock.duration = f64::from(duration);
+            // The scene's time is an f32: the clock reads what the scene was posed at.
+            clock.set(f64::from(time as f32).min(clock.duration), now);
+            change(clock);
+            clock.state(now)
+        };
+        self.clock_set.notify_waiters();
+        state
     }
 
     /// Changes the clock as `change` says: fields left out stay (a new clock starts paused at
@@ -474,14 +481,22 @@ impl SceneSlot {
         edited.map(|_| ())
     }
 
-    /// Completes when a playing clock is due to move the scene again; never, if it is not
-    /// playing. A stream whose image is finished waits for this beside the scene's edits.
+    /// Completes when a playing clock is due to move the scene again; if it is not playing,
+    /// when the clock is next set. A stream whose image is finished waits for this beside the
+    /// scene's edits.
     pub async fn clock_due(&self) {
+        // Listening before looking: a clock set playing just after the look still wakes this.
+        // (Setting the clock poses the scene first, and the edit woke the stream before the
+        // clock played: a stream that finished that pose quickly waited on a paused clock for
+        // good.)
+        let set = self.clock_set.notified();
+        tokio::pin!(set);
+        set.as_mut().enable();
         let playing = self.clock.lock().unwrap_or_else(|e| e.into_inner()).as_ref().is_some_and(|c| c.playing);
         if playing {
             tokio::time::sleep(TICK).await;
         } else {
-            std::future::pending::<()>().await;
+            set.await;
         }
     }
 
