@@ -43,9 +43,10 @@ pub const CELL_BITS: u32 = 6;
 // A key, three bits per level of the cell and three of the octant, fits the radix sort's keys.
 const _: () = assert!(3 * CELL_BITS + 3 <= 3 * morton::BITS);
 
-/// The seed of the primary hits' bounce; bounce `k` draws from `BOUNCE_SEED + k - 1`, so that
-/// no two bounces of a path reuse one sequence of random numbers.
-const BOUNCE_SEED: u64 = 999;
+/// The seed of the primary hits' bounce, the kernel benchmark's (so the first bounce draws the
+/// numbers its bounce rays draw); bounce `k` draws from `BOUNCE_SEED + k - 1`, so that no two
+/// bounces of a path reuse one sequence of random numbers.
+const BOUNCE_SEED: u64 = rays::PROBE_BOUNCE_SEED;
 
 /// A scene of the benchmark.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -401,7 +402,7 @@ fn run_scene(config: &Config, scene: BounceScene, progress: &mut impl FnMut(&str
             bounce: bounce.clone(),
             rays: rays.len(),
             hit_share: hits as f64 / n,
-            per_ray: PerRay { nodes: counts.nodes as f64 / n, leaves: counts.leaves as f64 / n, triangles: counts.triangles as f64 / n },
+            per_ray: PerRay::of(&counts),
         });
         let orders = orders(&config.batches, rays.len());
         // Per order, per system: each repetition's trace, and the order's sorting seconds.

@@ -333,6 +333,14 @@ pub struct PerRay {
     pub triangles: f64,
 }
 
+impl PerRay {
+    /// The counts of `counts` per ray walked.
+    pub fn of(counts: &WalkCounts) -> PerRay {
+        let n = counts.rays.max(1) as f64;
+        PerRay { nodes: counts.nodes as f64 / n, leaves: counts.leaves as f64 / n, triangles: counts.triangles as f64 / n }
+    }
+}
+
 impl Walks {
     /// Walks every ray of `sets` through `bvh`, counting, on the current rayon pool.
     pub fn of(bvh: &Bvh8, sets: &RaySets) -> Walks {
@@ -351,8 +359,7 @@ impl Walks {
                     a += b;
                     a
                 });
-            let n = c.rays.max(1) as f64;
-            PerRay { nodes: c.nodes as f64 / n, leaves: c.leaves as f64 / n, triangles: c.triangles as f64 / n }
+            PerRay::of(&c)
         };
         Walks { primary: per_ray(&sets.primary), incoherent: per_ray(&sets.incoherent), bounce: per_ray(&sets.bounce) }
     }

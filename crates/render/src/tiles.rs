@@ -191,7 +191,6 @@ pub(crate) fn variance_of_mean(sum: Vec3, sum_sq: f32, samples: u32) -> f32 {
     ((sum_sq / n - mean * mean) * n / (n - 1.0)).max(0.0) / n
 }
 
-
 /// Runs `add` over every tile of `share` of a `width × height` image, each tile a task on the
 /// current rayon pool (run it inside `ThreadPool::install` to choose the number of threads),
 /// giving it its own pixels of the per-pixel accumulation buffers (row-major, one entry per

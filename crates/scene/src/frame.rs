@@ -3,8 +3,8 @@
 //! then builds or refits each object's tree the first time a ray reaches it.
 
 use std::borrow::Cow;
-use std::ops::Range;
 use std::collections::HashSet;
+use std::ops::Range;
 use std::sync::Arc;
 use std::time::Instant;
 
