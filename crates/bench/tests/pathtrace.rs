@@ -9,7 +9,7 @@ fn both_scenes_are_measured_and_timed_to_every_target() {
     let dir = std::env::temp_dir().join(format!("raystage-pathtrace-test-{}", std::process::id()));
     let config = Config {
         scenes: vec![(PathScene::Room, 16), (PathScene::Spheres, 16)],
-        spp: vec![2, 8],
+        spp: vec![4, 16],
         reference_spp: 64,
         threads: 2,
         variants: vec!["scalar_rgb".into()],
@@ -21,13 +21,13 @@ fn both_scenes_are_measured_and_timed_to_every_target() {
     assert_eq!(reports.iter().map(|r| r.scene).collect::<Vec<_>>(), ["room", "spheres"]);
     for report in &reports {
         assert_eq!(report.reference, "raystage at 64 spp");
-        assert_eq!(report.points.iter().map(|p| (p.system.as_str(), p.scene, p.spp)).collect::<Vec<_>>(), [("raystage", report.scene, 2), ("raystage", report.scene, 8)]);
-        // More samples, less error; the means agree with the reference's within the noise of
-        // a few samples.
+        assert_eq!(report.points.iter().map(|p| (p.system.as_str(), p.scene, p.spp)).collect::<Vec<_>>(), [("raystage", report.scene, 4), ("raystage", report.scene, 16)]);
+        // More samples, less error; at 16 spp the means agree with the reference's within the
+        // noise (on 16×16 pixels of the room, 4-5 % standard deviation over 40 seeds, the
+        // lowest 0.87; at 2 spp 16 %, the lowest 0.73).
         assert!(report.points[1].rmse < report.points[0].rmse, "{:?}", report.points);
-        for p in &report.points {
-            assert!(p.channel_ratio.iter().all(|r| (0.8..1.25).contains(r)), "{p:?}");
-        }
+        let p = &report.points[1];
+        assert!(p.channel_ratio.iter().all(|r| (0.8..1.25).contains(r)), "{p:?}");
         let targets = report.times_to_target();
         assert_eq!(targets.iter().map(|t| t.target).collect::<Vec<_>>(), TARGETS);
         assert!(targets.iter().all(|t| t.scene == report.scene && t.system == "raystage"));
