@@ -26,7 +26,9 @@ const ROULETTE_AFTER: u32 = 5;
 /// The radiance arriving along the camera ray `ray` at shutter time `time`, whose first hit
 /// `first` is known.
 pub(crate) fn shade(t: &Tracer<'_, '_>, ray: &Ray, first: Hit<'_>, time: f32, sampler: &mut PixelSampler, rays: &mut RayCounts) -> Vec3 {
-    let mut first = Some(first);
+    // The hit of the path's current ray: the camera ray's is known; each later one is traced
+    // into this slot, so that the hit (a few hundred bytes) is not moved about at every bounce.
+    let mut found = Some(first);
     let mut ray = *ray;
     // Which counter the next ray goes to: set by the bounce that produced it.
     let mut next = Bounce::Diffuse;
@@ -36,19 +38,16 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, ray: &Ray, first: Hit<'_>, time: f32, sa
     // How the current ray was chosen, which weighs the lights it meets.
     let mut seen = Seen::Directly;
     for depth in 0..t.settings.max_depth {
-        let found = match first.take() {
-            Some(hit) => Some(hit),
-            None => {
-                let counter = match next {
-                    Bounce::Diffuse => &mut rays.diffuse,
-                    Bounce::Reflection => &mut rays.reflection,
-                    Bounce::Refraction => &mut rays.refraction,
-                };
-                t.trace(&ray, time, counter)
-            }
-        };
+        if depth > 0 {
+            let counter = match next {
+                Bounce::Diffuse => &mut rays.diffuse,
+                Bounce::Reflection => &mut rays.reflection,
+                Bounce::Refraction => &mut rays.refraction,
+            };
+            found = t.trace(&ray, time, counter);
+        }
         radiance += throughput * t.emission(&ray, found.as_ref().map(|h| h.hit.t), seen);
-        let Some(hit) = found else {
+        let Some(hit) = &found else {
             radiance += throughput * t.background(ray.dir, seen) * media.attenuation(f32::INFINITY);
             break;
         };
