@@ -118,6 +118,10 @@ pub fn render_frame(frame: &Frame<'_>, width: u32, height: u32) -> (Film, FrameS
 /// Progressive accumulation: while the scene and camera stay the same, each call adds samples to
 /// every pixel, continuing the pixels' sample sequences; after a change, [`Progressive::reset`]
 /// starts over. Keeps each pixel's mean and the variance of that mean.
+///
+/// The pixels' sample sequences are laid out for the settings' planned samples, else their
+/// `samples_per_pixel` ([`RenderSettings::laid_out_for`]): passes that bring the pixels to that
+/// count make exactly the render of that count, and samples past it are less stratified.
 #[derive(Clone, Debug)]
 pub struct Progressive {
     settings: RenderSettings,
@@ -416,7 +420,7 @@ impl TileWork {
         } else {
             rays.clear();
             for &(x, y) in &self.order {
-                let mut sampler = PixelSampler::new(x, y, s.seed, index);
+                let mut sampler = PixelSampler::new(x, y, s.seed, index, s.laid_out_for());
                 let [dx, dy] = if e.multisampling { s.filter.offset(sampler.next_2d()) } else { [0.5, 0.5] };
                 let lens = if e.depth_of_field {
                     self.counts.lens_samples += 1;
@@ -474,7 +478,7 @@ impl TileWork {
                     colour
                 } else {
                     let first = FirstHit { hit: self.hits[k], resolved: first.resolved[k - start].as_ref(), shadows: known[k - start] };
-                    let mut fresh = PixelSampler::new(x, y, s.seed, index);
+                    let mut fresh = PixelSampler::new(x, y, s.seed, index, s.laid_out_for());
                     let sampler = samplers.get_mut(k).unwrap_or(&mut fresh);
                     let time = times.get(k).copied().unwrap_or(shutter[0]);
                     sample_pixel(t, &rays[k], time, first, sampler, &mut self.counts.rays)

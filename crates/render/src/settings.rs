@@ -134,6 +134,11 @@ pub struct RenderSettings {
     pub integrator: Integrator,
     /// Samples per pixel.
     pub samples_per_pixel: u32,
+    /// Where an accumulation goes on past `samples_per_pixel` (a stream's passes), the samples
+    /// per pixel it ends at: each pixel's sample sequence is laid out for that many, and
+    /// neighbouring pixels' samples are stratified together up to it (see
+    /// docs/design/sampling.md); `None` for `samples_per_pixel`.
+    pub planned_samples: Option<u32>,
     /// Deepest recursion (Whitted, distribution) or longest path (path tracer), the path in
     /// segments with the camera ray, as Mitsuba counts them (1: emitters seen directly only).
     pub max_depth: u32,
@@ -179,6 +184,7 @@ impl Default for RenderSettings {
             height: 360,
             integrator: Integrator::EyeLight,
             samples_per_pixel: 1,
+            planned_samples: None,
             max_depth: 6,
             light_samples: 1,
             russian_roulette: true,
@@ -194,6 +200,12 @@ impl Default for RenderSettings {
 }
 
 impl RenderSettings {
+    /// The samples per pixel the pixels' sample sequences are laid out for: the planned
+    /// samples, else `samples_per_pixel`.
+    pub fn laid_out_for(&self) -> u32 {
+        self.planned_samples.unwrap_or(self.samples_per_pixel)
+    }
+
     /// Checks every value is in its range.
     pub fn validate(&self) -> Result<(), Error> {
         let check = |ok: bool, field: &'static str, message: String| if ok { Ok(()) } else { Err(Error::Setting { field, message }) };
@@ -204,6 +216,9 @@ impl RenderSettings {
             "samples_per_pixel",
             format!("{} is not in 1..={MAX_SAMPLES}", self.samples_per_pixel),
         )?;
+        if let Some(planned) = self.planned_samples {
+            check((1..=MAX_SAMPLES).contains(&planned), "planned_samples", format!("{planned} is not in 1..={MAX_SAMPLES}"))?;
+        }
         check((1..=MAX_DEPTH).contains(&self.max_depth), "max_depth", format!("{} is not in 1..={MAX_DEPTH}", self.max_depth))?;
         check(
             (1..=MAX_LIGHT_SAMPLES).contains(&self.light_samples),
@@ -391,6 +406,8 @@ mod tests {
         let bad = RenderSettings { samples_per_pixel: 0, ..RenderSettings::default() };
         assert_eq!(bad.validate().unwrap_err().to_string(), "samples_per_pixel is out of range: 0 is not in 1..=65536");
         assert!(RenderSettings { filter: Filter::Gaussian { radius: 9.0 }, ..RenderSettings::default() }.validate().is_err());
+        let planned = RenderSettings { planned_samples: Some(0), ..RenderSettings::default() };
+        assert_eq!(planned.validate().unwrap_err().to_string(), "planned_samples is out of range: 0 is not in 1..=65536");
         assert!(RenderSettings::default().validate().is_ok());
     }
 

@@ -13,15 +13,36 @@ fn bits(film: &raystage_render::Film) -> Vec<[u32; 3]> {
 
 #[test]
 fn passes_add_up_to_one_render_of_all_their_samples() {
+    // Samples are laid out for the accumulation's samples per pixel (neighbouring pixels share
+    // their sequence): passes that bring it to that count make the render of that count.
     let scene = raystage_demo::shading::cornell_room().unwrap();
     let frame = scene.frame();
     // (A first pass of one sample looks through the pixel centres, as a one-sample frame
     // does; from two samples on, samples spread over the pixel.)
-    let mut progressive = Progressive::new(settings(Integrator::Path, 1)).unwrap();
+    let mut progressive = Progressive::new(settings(Integrator::Path, 3)).unwrap();
     progressive.add(&frame, 2);
     progressive.add(&frame, 1);
     let (whole, _) = render(&frame, &settings(Integrator::Path, 3)).unwrap();
     assert_eq!(bits(&progressive.film()), bits(&whole));
+}
+
+/// A stream takes a sample per pass up to its `max_samples`: told that count, its passes lay
+/// their samples out as the render of that many does, and make that render.
+#[test]
+fn passes_planned_for_more_samples_add_up_to_the_render_of_that_many() {
+    let scene = raystage_demo::shading::cornell_room().unwrap();
+    let frame = scene.frame();
+    let (whole, _) = render(&frame, &settings(Integrator::Path, 8)).unwrap();
+    let passes = |planned: Option<u32>| {
+        let mut progressive = Progressive::new(RenderSettings { planned_samples: planned, ..settings(Integrator::Path, 1) }).unwrap();
+        for samples in [2, 1, 5] {
+            progressive.add(&frame, samples);
+        }
+        bits(&progressive.film())
+    };
+    assert_eq!(passes(Some(8)), bits(&whole));
+    // Laid out for one sample, the same passes take other samples.
+    assert_ne!(passes(None), bits(&whole));
 }
 
 #[test]

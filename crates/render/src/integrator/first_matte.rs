@@ -283,7 +283,7 @@ mod tests {
                         left += 1;
                         continue;
                     };
-                    let mut sampler = PixelSampler::new(pixels[k].0, pixels[k].1, settings.seed, 0);
+                    let mut sampler = PixelSampler::new(pixels[k].0, pixels[k].1, settings.seed, 0, settings.laid_out_for());
                     let expected = recursive::shade::<true, true, false>(&t, &rays[k], hit, 0.0, known[k], &mut sampler, &mut counts);
                     assert_eq!(colour.to_array().map(f32::to_bits), expected.to_array().map(f32::to_bits), "pixel {:?}", pixels[k]);
                     matte += 1;

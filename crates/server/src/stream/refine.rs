@@ -56,9 +56,11 @@ impl StreamSettings {
         unpresented(self) == unpresented(other)
     }
 
-    /// The render settings for `scene`, a sample per pixel.
+    /// The render settings for `scene`: a sample per pixel (each pass filters textures as a
+    /// frame of one sample does), the sample sequences laid out for the samples the stream ends
+    /// at, so that its pixels' samples are stratified up to there.
     fn render_settings(&self, scene: &Scene) -> RenderSettings {
-        RenderSettings { samples_per_pixel: 1, ..self.frame.for_scene(scene) }
+        RenderSettings { samples_per_pixel: 1, planned_samples: Some(self.max_samples), ..self.frame.for_scene(scene) }
     }
 }
 
