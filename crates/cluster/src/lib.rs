@@ -17,9 +17,9 @@
 //! - **One exchange at a time**: the messages of an edit or a pass go out and their answers
 //!   come back under one lock, so that every worker sees them in one order; renders wait for
 //!   each other here, as a cluster renders one frame at a time with all its ranks.
-//! - **Faults**: a worker that does not answer within the timeout is given up: rank 0 says so
-//!   in its log and in the error of that request, and serves alone from then on (its scenes are
-//!   whole, the workers' replicas are only copies). A worker that dies makes `mpirun` end the
+//! - **Faults**: a worker that does not answer, or take rank 0's message, within the timeout
+//!   is given up: rank 0 says so in its log and in the error of that request, and serves alone
+//!   from then on (its scenes are whole, the workers' replicas are only copies). A worker that dies makes `mpirun` end the
 //!   whole job. A worker that refuses an edit (an error where rank 0 had none) has it refused
 //!   everywhere.
 //!
@@ -52,8 +52,10 @@ pub trait Transport: Send + Sync + 'static {
     fn rank(&self) -> u32;
     /// Processes in the job, this one included.
     fn ranks(&self) -> u32;
-    /// Sends `message` to `rank` (returns once it may reuse the buffer).
-    fn send(&self, rank: u32, message: &[u8]) -> Result<(), String>;
+    /// Sends `message` to `rank`, waiting until `deadline` at most (`None`: as long as it
+    /// takes) for the transport to take it; `Ok(false)` if the deadline passed first (the
+    /// message may still arrive later, or never).
+    fn send(&self, rank: u32, message: &[u8], deadline: Option<Instant>) -> Result<bool, String>;
     /// The next message from `rank`, waiting until `deadline` at most (`None`: as long as it
     /// takes); `Ok(None)` if the deadline passed first.
     fn receive(&self, rank: u32, deadline: Option<Instant>) -> Result<Option<Vec<u8>>, String>;
@@ -93,12 +95,17 @@ impl Cluster {
         self.link.lock().unwrap_or_else(|e| e.into_inner())
     }
 
-    /// Sends `message` to every worker; gives them up on a failure. Returns the seconds taken.
+    /// Sends `message` to every worker; gives them up on a failure, or if one does not take
+    /// it in time (a worker that stopped, alive but not receiving, would otherwise hold rank 0
+    /// in its send once MPI's buffers towards it are full). Returns the seconds taken.
     fn send_all(&self, link: &mut Option<String>, message: &[u8]) -> Result<f64, String> {
         let start = Instant::now();
+        let deadline = start + self.timeout;
         for rank in 1..self.transport.ranks() {
-            if let Err(e) = self.transport.send(rank, message) {
-                return Err(self.give_up(link, format!("cannot send to rank {rank}: {e}")));
+            match self.transport.send(rank, message, Some(deadline)) {
+                Ok(true) => {}
+                Ok(false) => return Err(self.give_up(link, format!("rank {rank} did not take a message within {} s", self.timeout.as_secs_f64()))),
+                Err(e) => return Err(self.give_up(link, format!("cannot send to rank {rank}: {e}"))),
             }
         }
         Ok(start.elapsed().as_secs_f64())

@@ -7,6 +7,8 @@ use std::time::{Duration, Instant};
 use mpi::Threading;
 use mpi::environment::Universe;
 use mpi::topology::SimpleCommunicator;
+use mpi::datatype::Buffer;
+use mpi::request::StaticScope;
 use mpi::traits::*;
 
 use crate::Transport;
@@ -73,6 +75,42 @@ impl MpiTransport {
     fn world(&self) -> std::sync::MutexGuard<'_, SimpleCommunicator> {
         self.world.lock().unwrap_or_else(|e| e.into_inner())
     }
+
+    /// Sends `buffer` to `rank` without blocking, then waits for MPI to be done with it until
+    /// `deadline`; whether it was. A send still pending at the deadline is abandoned with its
+    /// buffer, which MPI may still read: the buffer is leaked, not freed (once per worker given
+    /// up, and a few hundred bytes: a pass's message).
+    fn send_until<B: Buffer + ?Sized + 'static>(&self, rank: u32, buffer: Box<B>, deadline: Instant) -> bool {
+        let buffer: &'static B = Box::leak(buffer);
+        let mut request = {
+            let world = self.world();
+            world.process_at_rank(rank as i32).immediate_send(StaticScope, buffer)
+        };
+        let mut pause = Duration::from_micros(20);
+        loop {
+            let tested = {
+                let _world = self.world();
+                request.test()
+            };
+            match tested {
+                Ok(_) => {
+                    // SAFETY: the buffer came from `Box::leak` above, and MPI, done with the
+                    // send, holds no reference to it any more: nothing else does.
+                    drop(unsafe { Box::from_raw(std::ptr::from_ref(buffer).cast_mut()) });
+                    return true;
+                }
+                Err(pending) => request = pending,
+            }
+            if Instant::now() >= deadline {
+                // SAFETY: the request is abandoned, never completed; its buffer is leaked
+                // above, so it outlives anything MPI may still do with it.
+                let _ = unsafe { request.into_raw() };
+                return false;
+            }
+            std::thread::sleep(pause);
+            pause = (pause * 2).min(Duration::from_millis(1));
+        }
+    }
 }
 
 impl Transport for MpiTransport {
@@ -84,15 +122,29 @@ impl Transport for MpiTransport {
         self.world().size() as u32
     }
 
-    /// The length first, then the bytes in pieces of at most [`PIECE`].
-    fn send(&self, rank: u32, message: &[u8]) -> Result<(), String> {
-        let world = self.world();
-        let to = world.process_at_rank(rank as i32);
-        to.send(&(message.len() as u64));
-        for piece in message.chunks(PIECE) {
-            to.send(piece);
+    /// The length first, then the bytes in pieces of at most [`PIECE`]. With a deadline each
+    /// part is sent without blocking and waited for in between sleeps, as [`Transport::receive`]
+    /// waits: a blocking send to a rank that stopped (alive, receiving nothing) may never
+    /// return once MPI's buffers towards it are full.
+    fn send(&self, rank: u32, message: &[u8], deadline: Option<Instant>) -> Result<bool, String> {
+        let Some(deadline) = deadline else {
+            let world = self.world();
+            let to = world.process_at_rank(rank as i32);
+            to.send(&(message.len() as u64));
+            for piece in message.chunks(PIECE) {
+                to.send(piece);
+            }
+            return Ok(true);
+        };
+        if !self.send_until(rank, Box::new(message.len() as u64), deadline) {
+            return Ok(false);
         }
-        Ok(())
+        for piece in message.chunks(PIECE) {
+            if !self.send_until(rank, Box::<[u8]>::from(piece), deadline) {
+                return Ok(false);
+            }
+        }
+        Ok(true)
     }
 
     fn receive(&self, rank: u32, deadline: Option<Instant>) -> Result<Option<Vec<u8>>, String> {

@@ -74,7 +74,7 @@ pub fn work(transport: &dyn Transport, config: Config, scenes: Vec<(u32, Scene, 
             Message::Verdict { .. } => return Err("a verdict came with no edit before it".into()),
             Message::Pass(pass) => {
                 let reply = worker.render(pass);
-                worker.transport.send(0, &encode(&reply))?;
+                worker.transport.send(0, &encode(&reply), None)?;
             }
         }
     }
@@ -102,7 +102,7 @@ impl Worker<'_> {
             Ok(()) => Reply::Applied,
             Err(why) => Reply::Refused(why),
         };
-        self.transport.send(0, &encode(&reply))?;
+        self.transport.send(0, &encode(&reply), None)?;
         match decode::<Message<Edit>>(&self.next()?)? {
             Message::Verdict { stands } => Ok(stands),
             _ => Err("rank 0 sent another message where a verdict was due".into()),

@@ -42,11 +42,12 @@ impl Transport for Link {
         self.ranks
     }
 
-    fn send(&self, rank: u32, message: &[u8]) -> Result<(), String> {
+    fn send(&self, rank: u32, message: &[u8], _deadline: Option<Instant>) -> Result<bool, String> {
         while self.hung.load(Ordering::Acquire) {
             std::thread::sleep(Duration::from_millis(10));
         }
-        self.to[rank as usize].send(message.to_vec()).map_err(|e| e.to_string())
+        self.to[rank as usize].send(message.to_vec()).map_err(|e| e.to_string())?;
+        Ok(true)
     }
 
     fn receive(&self, rank: u32, deadline: Option<Instant>) -> Result<Option<Vec<u8>>, String> {

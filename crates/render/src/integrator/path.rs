@@ -63,13 +63,13 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, ray: &Ray, first: Hit<'_>, time: f32, sa
             // Emitting surfaces are lights, sampled at every bounce: what a scattered ray finds
             // of them is weighed against that.
             ShadingModel::Emissive => {
-                radiance += throughput * t.surface_emission(&ray, &hit, seen);
+                radiance += throughput * t.surface_emission(&ray, hit, seen);
                 break;
             }
             // Physically based surfaces may emit, and scatter as well.
-            ShadingModel::PhysicallyBased => radiance += throughput * t.surface_emission(&ray, &hit, seen),
+            ShadingModel::PhysicallyBased => radiance += throughput * t.surface_emission(&ray, hit, seen),
             ShadingModel::AmbientOcclusion => {
-                let open = t.occlusion(&hit, time, 1, sampler, rays);
+                let open = t.occlusion(hit, time, 1, sampler, rays);
                 radiance += throughput * m.albedo * open;
                 break;
             }
@@ -80,12 +80,12 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, ray: &Ray, first: Hit<'_>, time: f32, sa
         if depth + 2 > t.settings.max_depth {
             break;
         }
-        let bsdf = media.bsdf(&hit).expect("scattering material");
+        let bsdf = media.bsdf(hit).expect("scattering material");
         let frame3 = Frame3::around(hit.surface.shading_normal);
         // Seen from `wo` once, for the light samples and the bounce alike.
         let scattering = bsdf.towards(frame3.to_local(wo));
         if !bsdf.is_specular() {
-            radiance += throughput * t.direct(&hit, &scattering, time, KnownShadows::NONE, sampler, rays);
+            radiance += throughput * t.direct(hit, &scattering, time, KnownShadows::NONE, sampler, rays);
         }
         let (u, choose) = (sampler.next_2d(), sampler.next_1d());
         let Some(s) = scattering.sample(u, choose) else { break };
@@ -105,14 +105,14 @@ pub(crate) fn shade(t: &Tracer<'_, '_>, ray: &Ray, first: Hit<'_>, time: f32, sa
         }
         let wi = frame3.to_world(s.wi);
         next = if s.transmitted {
-            media = media.crossed(&hit);
+            media = media.crossed(hit);
             Bounce::Refraction
         } else if specular {
             Bounce::Reflection
         } else {
             Bounce::Diffuse
         };
-        ray = continue_from(&hit, wi);
+        ray = continue_from(hit, wi);
     }
     radiance
 }
