@@ -77,39 +77,54 @@ impl MpiTransport {
     }
 
     /// Sends `buffer` to `rank` without blocking, then waits for MPI to be done with it until
-    /// `deadline`; whether it was. A send still pending at the deadline is abandoned with its
-    /// buffer, which MPI may still read: the buffer is leaked, not freed (once per worker given
-    /// up, and a few hundred bytes: a pass's message).
+    /// `deadline`; whether it was. The buffer is the message's copy: a send still pending at the
+    /// deadline is abandoned, and MPI may still read its buffer, which is then leaked rather
+    /// than freed (once per worker given up: the message that found it stopped, a pass's few
+    /// hundred bytes or an edit's).
     fn send_until<B: Buffer + ?Sized + 'static>(&self, rank: u32, buffer: Box<B>, deadline: Instant) -> bool {
         let buffer: &'static B = Box::leak(buffer);
-        let mut request = {
-            let world = self.world();
-            world.process_at_rank(rank as i32).immediate_send(StaticScope, buffer)
-        };
-        let mut pause = Duration::from_micros(20);
-        loop {
-            let tested = {
-                let _world = self.world();
-                request.test()
-            };
-            match tested {
-                Ok(_) => {
-                    // SAFETY: the buffer came from `Box::leak` above, and MPI, done with the
-                    // send, holds no reference to it any more: nothing else does.
-                    drop(unsafe { Box::from_raw(std::ptr::from_ref(buffer).cast_mut()) });
-                    return true;
+        let mut pending = Some(self.world().process_at_rank(rank as i32).immediate_send(StaticScope, buffer));
+        let sent = poll_until(Some(deadline), || {
+            let _world = self.world();
+            match pending.take().expect("a send is pending until it completes").test() {
+                Ok(_) => Some(()),
+                Err(request) => {
+                    pending = Some(request);
+                    None
                 }
-                Err(pending) => request = pending,
             }
-            if Instant::now() >= deadline {
+        });
+        match pending {
+            None => {
+                // SAFETY: the buffer came from `Box::leak` above, and MPI, done with the
+                // send, holds no reference to it any more: nothing else does.
+                drop(unsafe { Box::from_raw(std::ptr::from_ref(buffer).cast_mut()) });
+            }
+            Some(request) => {
                 // SAFETY: the request is abandoned, never completed; its buffer is leaked
                 // above, so it outlives anything MPI may still do with it.
                 let _ = unsafe { request.into_raw() };
-                return false;
             }
-            std::thread::sleep(pause);
-            pause = (pause * 2).min(Duration::from_millis(1));
         }
+        sent.is_some()
+    }
+}
+
+/// Calls `poll` until it gives a value or `deadline` passes (`None`: never), sleeping in
+/// between (see [`MpiTransport`] for why not in MPI): 20 µs at first, doubling up to a
+/// millisecond, so quick answers are caught quickly and a long wait costs a wake-up a
+/// millisecond.
+fn poll_until<T>(deadline: Option<Instant>, mut poll: impl FnMut() -> Option<T>) -> Option<T> {
+    let mut pause = Duration::from_micros(20);
+    loop {
+        if let Some(value) = poll() {
+            return Some(value);
+        }
+        if deadline.is_some_and(|d| Instant::now() >= d) {
+            return None;
+        }
+        std::thread::sleep(pause);
+        pause = (pause * 2).min(Duration::from_millis(1));
     }
 }
 
@@ -123,9 +138,9 @@ impl Transport for MpiTransport {
     }
 
     /// The length first, then the bytes in pieces of at most [`PIECE`]. With a deadline each
-    /// part is sent without blocking and waited for in between sleeps, as [`Transport::receive`]
-    /// waits: a blocking send to a rank that stopped (alive, receiving nothing) may never
-    /// return once MPI's buffers towards it are full.
+    /// part is sent without blocking and waited for ([`poll_until`]): a blocking send to a rank
+    /// that stopped (alive, receiving nothing) may never return once MPI's buffers towards it
+    /// are full. Without one, blocking sends (a worker's replies, which rank 0 always takes).
     fn send(&self, rank: u32, message: &[u8], deadline: Option<Instant>) -> Result<bool, String> {
         let Some(deadline) = deadline else {
             let world = self.world();
@@ -136,41 +151,24 @@ impl Transport for MpiTransport {
             }
             return Ok(true);
         };
-        if !self.send_until(rank, Box::new(message.len() as u64), deadline) {
-            return Ok(false);
-        }
-        for piece in message.chunks(PIECE) {
-            if !self.send_until(rank, Box::<[u8]>::from(piece), deadline) {
-                return Ok(false);
-            }
-        }
-        Ok(true)
+        Ok(self.send_until(rank, Box::new(message.len() as u64), deadline)
+            && message.chunks(PIECE).all(|piece| self.send_until(rank, Box::<[u8]>::from(piece), deadline)))
     }
 
     fn receive(&self, rank: u32, deadline: Option<Instant>) -> Result<Option<Vec<u8>>, String> {
-        let mut pause = Duration::from_micros(20);
-        loop {
-            {
-                let world = self.world();
-                let from = world.process_at_rank(rank as i32);
-                if from.immediate_probe().is_some() {
-                    // The pieces follow the length at once: receiving them blocks only while they
-                    // are on their way.
-                    let (length, _) = from.receive::<u64>();
-                    let mut message = Vec::with_capacity(length as usize);
-                    while message.len() < length as usize {
-                        let (piece, _) = from.receive_vec::<u8>();
-                        message.extend_from_slice(&piece);
-                    }
-                    return Ok(Some(message));
-                }
+        Ok(poll_until(deadline, || {
+            let world = self.world();
+            let from = world.process_at_rank(rank as i32);
+            from.immediate_probe()?;
+            // The pieces follow the length at once: receiving them blocks only while they are
+            // on their way.
+            let (length, _) = from.receive::<u64>();
+            let mut message = Vec::with_capacity(length as usize);
+            while message.len() < length as usize {
+                let (piece, _) = from.receive_vec::<u8>();
+                message.extend_from_slice(&piece);
             }
-            if deadline.is_some_and(|d| Instant::now() >= d) {
-                return Ok(None);
-            }
-            std::thread::sleep(pause);
-            // Quick answers are caught quickly; a long wait costs a wake-up a millisecond.
-            pause = (pause * 2).min(Duration::from_millis(1));
-        }
+            Some(message)
+        }))
     }
 }
