@@ -39,12 +39,10 @@ fn alone(args: &[&str], out: &PathBuf) -> Output {
 /// The same under `mpirun -n RANKS` with `--mpi`, one thread per rank (ranks × threads within
 /// the machine's two cores), as root where the tests run as root.
 fn ranks(n: u32, args: &[&str], out: &PathBuf) -> Output {
-    let mut command = Command::new("mpirun");
+    let mut command = common::mpirun();
     command
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
         // Tagged output comes line by line, so that two ranks' lines do not interleave.
-        .args(["--oversubscribe", "--tag-output", "-n", &n.to_string()])
+        .args(["--tag-output", "-n", &n.to_string()])
         .arg(env!("CARGO_BIN_EXE_raystage"))
         .arg("render")
         .args(args)
@@ -134,11 +132,9 @@ fn rank_pids(rank: u32, out: &std::path::Path) -> Vec<u32> {
 #[test]
 fn a_worker_killed_mid_frame_ends_the_job_with_an_error() {
     let out = out_path("killed.png");
-    let mut command = Command::new("mpirun");
+    let mut command = common::mpirun();
     command
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .args(["--oversubscribe", "--tag-output", "-n", "2"])
+        .args(["--tag-output", "-n", "2"])
         .arg(env!("CARGO_BIN_EXE_raystage"))
         // Minutes of path tracing: the worker is killed long before the frame could end.
         .args(["render", "--demo", "cornell", "--integrator", "path", "--spp", "4096", "--width", "256", "--height", "256", "--threads", "1", "--mpi", "--out"])

@@ -26,13 +26,8 @@ impl Server {
         let mut command = match ranks {
             None => Command::new(env!("CARGO_BIN_EXE_raystage")),
             Some(n) => {
-                let mut command = Command::new("mpirun");
-                command
-                    .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-                    .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-                    .env("RAYON_NUM_THREADS", "1")
-                    .args(["--oversubscribe", "-n", &n.to_string()])
-                    .arg(env!("CARGO_BIN_EXE_raystage"));
+                let mut command = common::mpirun();
+                command.env("RAYON_NUM_THREADS", "1").args(["-n", &n.to_string()]).arg(env!("CARGO_BIN_EXE_raystage"));
                 command
             }
         };
