@@ -532,6 +532,19 @@ impl Bsdf {
         transmitted * visible * i.abs() / ((i + eta * o) * (i + eta * o))
     }
 
+    /// The simplest function that scatters as this one does: a physically based function
+    /// whose every layer is off (no specular layer, f0 and f90 both 0 as glTF's
+    /// KHR_materials_specular factor 0 makes them; no metal, transmission, coat or sheen) is
+    /// its Lambertian base, which a path then shades without reading the albedo tables.
+    /// Textures only scale the factors that turn layers on, so a shader reduced so is
+    /// Lambertian at every point.
+    pub fn simplest(self) -> Bsdf {
+        match self {
+            Bsdf::PhysicallyBased(Pbr { base, metallic: 0.0, f0: Vec3::ZERO, f90: 0.0, transmission: 0.0, coat: 0.0, sheen: Vec3::ZERO, .. }) => Bsdf::Lambert { albedo: base },
+            other => other,
+        }
+    }
+
     /// Whether the function lets light through to the other side of the surface (glass, or a
     /// physically based surface with transmission).
     pub fn transmits(&self) -> bool {
@@ -851,6 +864,49 @@ mod tests {
     /// An opaque physically based surface.
     fn opaque(base: Vec3, metallic: f32, alpha: f32, f0: f32, f90: f32) -> Bsdf {
         Bsdf::PhysicallyBased(Pbr { base, metallic, alpha, f0: Vec3::splat(f0), f90, transmission: 0.0, eta: 1.0 / 1.5, thin: false, coat: 0.0, coat_alpha: 0.01, sheen: Vec3::ZERO, sheen_alpha: 0.25 })
+    }
+
+    /// A physically based function with every layer off is its Lambertian base: the reduced
+    /// function evaluates, weighs and samples as the general one does, to rounding, for
+    /// directions on both sides and at grazing angles; and any layer turned on, however
+    /// little, keeps the general function.
+    #[test]
+    fn a_function_with_every_layer_off_reduces_to_its_lambertian_base() {
+        let base = Vec3::new(0.63, 0.065, 0.05);
+        let off = Pbr { base, metallic: 0.0, alpha: 1.0, f0: Vec3::ZERO, f90: 0.0, transmission: 0.0, eta: 1.0 / 1.5, thin: false, coat: 0.0, coat_alpha: 0.01, sheen: Vec3::ZERO, sheen_alpha: 0.25 };
+        let general = Bsdf::PhysicallyBased(off);
+        let reduced = general.simplest();
+        assert!(matches!(reduced, Bsdf::Lambert { albedo } if albedo == base), "{reduced:?}");
+        let mut next = uniform_numbers();
+        let direction = |next: &mut dyn FnMut() -> f32| {
+            let (z, phi) = (2.0 * next() - 1.0, std::f32::consts::TAU * next());
+            let r = (1.0 - z * z).max(0.0).sqrt();
+            Vec3::new(r * phi.cos(), r * phi.sin(), z)
+        };
+        let close = |a: Vec3, b: Vec3| (a - b).abs().max_element() <= 1e-6 * (1.0 + b.abs().max_element());
+        for _ in 0..2000 {
+            let (wo, wi) = (direction(&mut next), direction(&mut next));
+            let (f, pdf) = general.towards(wo).eval_pdf(wi);
+            let (f_reduced, pdf_reduced) = reduced.towards(wo).eval_pdf(wi);
+            assert!(close(f_reduced, f) && (pdf_reduced - pdf).abs() <= 1e-6 * (1.0 + pdf), "wo {wo} wi {wi}: {f_reduced} {pdf_reduced} vs {f} {pdf}");
+            let u = [next(), next()];
+            let choose = next();
+            match (general.towards(wo).sample(u, choose), reduced.towards(wo).sample(u, choose)) {
+                (None, None) => {}
+                (Some(g), Some(r)) => assert!(close(r.wi, g.wi) && close(r.weight, g.weight) && (r.pdf - g.pdf).abs() <= 1e-5 * g.pdf && r.transmitted == g.transmitted, "wo {wo}: {r:?} vs {g:?}"),
+                (g, r) => panic!("wo {wo}: {r:?} vs {g:?}"),
+            }
+        }
+        for on in [
+            Pbr { metallic: 0.01, ..off },
+            Pbr { f90: 0.01, ..off },
+            Pbr { f0: Vec3::new(0.0, 0.0, 0.01), ..off },
+            Pbr { transmission: 0.01, ..off },
+            Pbr { coat: 0.01, ..off },
+            Pbr { sheen: Vec3::new(0.01, 0.0, 0.0), ..off },
+        ] {
+            assert!(matches!(Bsdf::PhysicallyBased(on).simplest(), Bsdf::PhysicallyBased(p) if p == on), "{on:?}");
+        }
     }
 
     /// The metallic × roughness corners and middle of the physically based BRDF.

@@ -438,7 +438,8 @@ impl<'f> Resolved<'f> {
                         sheen_alpha: shader.float("sheen_roughness").max(sheen::MIN_ROUGHNESS).powi(2),
                     })
                     // Entering from air, until a path says which media the boundary separates.
-                    .across(1.0 / ior),
+                    .across(1.0 / ior)
+                    .simplest(),
                 );
             }
         }

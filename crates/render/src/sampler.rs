@@ -188,7 +188,7 @@ mod tests {
         };
         let k = (0..).find(|&k| 1u64 << k >= spp as u64).unwrap();
         let cell = (0..4).map(|b| (x >> b & 1) << (2 * b) | (y >> b & 1) << (2 * b + 1)).sum::<u32>();
-        let point = cell << k | index % (1 << k);
+        let point = (cell << k) | (index % (1 << k));
         let block_seed = hash(hash(hash((x / 16) ^ hash(seed)) ^ (y / 16)) ^ (index >> k).wrapping_add(1));
         let seed = hash(block_seed ^ hash(dimension.wrapping_add(0x9e37_79b9)));
         let (x, y) = sobol(owen(point, seed));
