@@ -145,7 +145,7 @@ fn filtered(level: &Level, sampler: &Sampler, uv: Vec2) -> Vec4 {
 /// A 32-bit integer hash (the lowbias32 finaliser): well-mixed bits for decisions that must be
 /// random-looking yet repeatable (the renderer's sample sequences, BLEND's coverage coin).
 #[inline]
-pub fn hash(mut x: u32) -> u32 {
+pub const fn hash(mut x: u32) -> u32 {
     x ^= x >> 16;
     x = x.wrapping_mul(0x7feb_352d);
     x ^= x >> 15;
