@@ -19,9 +19,9 @@
 //!   each other here, as a cluster renders one frame at a time with all its ranks.
 //! - **Faults**: a worker that does not answer, or take rank 0's message, within the timeout
 //!   is given up: rank 0 says so in its log and in the error of that request, and serves alone
-//!   from then on (its scenes are whole, the workers' replicas are only copies). A worker that dies makes `mpirun` end the
-//!   whole job. A worker that refuses an edit (an error where rank 0 had none) has it refused
-//!   everywhere.
+//!   from then on (its scenes are whole, the workers' replicas are only copies). A worker that
+//!   dies makes `mpirun` end the whole job. A worker that refuses an edit (an error where rank
+//!   0 had none) has it refused everywhere.
 //!
 //! The messages travel over a [`Transport`] (MPI with the `mpi` feature, `MpiTransport`;
 //! channels between threads in the tests), encoded as CBOR: compact, and self-describing enough

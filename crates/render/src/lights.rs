@@ -414,13 +414,13 @@ impl<'f> SceneLights<'f> {
         for light in &self.lights {
             let Prepared::Environment { radiance, map } = light else { continue };
             // The texel the direction looks at, found once for its radiance and its density.
-            let texel = map.as_ref().map(|m| m.texel_of(dir));
-            let emitted = *radiance * map.as_ref().zip(texel).map_or(Vec3::ONE, |(m, (x, y))| m.image.texel(x as i64, y as i64));
+            let texel = map.as_ref().map(|m| (m, m.texel_of(dir)));
+            let emitted = *radiance * texel.map_or(Vec3::ONE, |(m, (x, y))| m.texel_radiance(x, y));
             let weight = match seen {
                 Seen::Directly => 1.0,
                 Seen::Not => 0.0,
                 Seen::Scattered { normal, pdf } => {
-                    let light_pdf = match map.as_ref().zip(texel) {
+                    let light_pdf = match texel {
                         Some((map, (x, y))) => map.texel_pdf(x, y),
                         None => dir.dot(normal).max(0.0) / PI,
                     };
@@ -480,6 +480,11 @@ impl<'f> EnvironmentMap<'f> {
     /// The texel `dir` looks at (unfiltered, so that lookup and sampling density agree).
     fn radiance(&self, dir: Vec3) -> Vec3 {
         let (x, y) = self.texel_of(dir);
+        self.texel_radiance(x, y)
+    }
+
+    /// The radiance of texel `(x, y)`.
+    fn texel_radiance(&self, x: usize, y: usize) -> Vec3 {
         self.image.texel(x as i64, y as i64)
     }
 
@@ -504,7 +509,7 @@ impl<'f> EnvironmentMap<'f> {
         let phi = (uu - 0.5 - self.turn) * TAU;
         let dir = Vec3::new(theta.sin() * phi.sin(), theta.cos(), -theta.sin() * phi.cos());
         let pdf = self.texel_pdf(column, row);
-        (pdf > 0.0).then(|| (dir, pdf, self.image.texel(column as i64, row as i64)))
+        (pdf > 0.0).then(|| (dir, pdf, self.texel_radiance(column, row)))
     }
 
     /// The solid-angle density of the directions [`sample`](Self::sample) picks in texel
