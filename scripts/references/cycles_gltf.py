@@ -32,6 +32,8 @@ repository:
       nice -n 10 ~/venv-bpy/bin/python ../scripts/references/cycles_gltf.py ${spp#*:}.gltf \\
         --out ../tests/references/ --prefix cycles_ --spp ${spp%:*} --linear-textures --front-emission
     done
+    nice -n 10 ~/venv-bpy/bin/python ../scripts/references/cycles_gltf.py emitter_backs.gltf \\
+        --out ../tests/references/ --prefix cycles_ --spp 16384
     for asset in box_animated:0.625:1.875 rigged_simple:0.5:1 animated_morph_cube:1:3; do
       for time in $(echo ${asset#*:} | tr : ' '); do
         nice -n 10 ~/venv-bpy/bin/python ../scripts/references/cycles_gltf.py ${asset%%:*}.glb \\
@@ -41,11 +43,14 @@ repository:
 
 (the Cornell box, lit by a small light, at 8,192 samples per pixel: about 3 minutes on two
 shared cores; the transmitting spheres at 8,192, 85 seconds; the others at 4,096, under 80
-seconds each; the animated assets, 160×120 at 1,024, 4 to 13 seconds each).
+seconds each; the double-sided emitter at 16,384, 35 seconds; the animated assets, 160×120 at
+1,024, 4 to 13 seconds each).
 
 Three differences of convention between Cycles and raystage (and Mitsuba) are taken out by
 options, which the checked-in references use: `--front-emission` (Cycles' emitters shine from
-both sides), `--linear-textures` (Cycles filters 8-bit sRGB texels before decoding them) and
+both sides, single-sided ones too; raystage's double-sided emitters do, its single-sided ones
+shine from the front only, as Mitsuba's area lights: the scene of a double-sided emitter,
+`emitter_backs`, is rendered without it), `--linear-textures` (Cycles filters 8-bit sRGB texels before decoding them) and
 `--backface-culling` (Cycles shows the backs of glTF's single-sided materials).
 
 Nothing here models a BSDF: the reference is what the importer and Cycles make of the file.
@@ -196,8 +201,8 @@ def linear_textures(bpy):
 
 
 def front_emission(bpy):
-    """Emission from the fronts of surfaces only, as raystage's emissive triangles shine (and
-    Mitsuba's area lights): Cycles' emission leaves both sides of a surface. The importer's
+    """Emission from the fronts of surfaces only, as raystage's single-sided emitters shine (and
+    Mitsuba's area lights): Cycles' emission leaves both sides of every surface. The importer's
     Principled BSDF keeps its emission; its strength is multiplied by 1 − Backfacing."""
     for material in bpy.data.materials:
         tree = material.node_tree

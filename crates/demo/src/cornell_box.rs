@@ -200,11 +200,12 @@ fn document(walls: Walls, contents: Contents) -> String {
         let [r, g, b] = surface.reflectance;
         let strength = surface.emission.into_iter().fold(0.0f32, f32::max);
         // Lambertian walls, as the measured room has them: a dielectric without its specular
-        // layer. The light reflects nothing in either room.
+        // layer. The light reflects nothing in either room, and shines down only, as the
+        // measured light does: single-sided (a double-sided emitter glows from its back too).
         let mut material = json!({
             "name": surface.name,
             "pbrMetallicRoughness": { "baseColorFactor": [r, g, b, 1.0], "metallicFactor": 0.0, "roughnessFactor": 1.0 },
-            "doubleSided": true,
+            "doubleSided": strength == 0.0,
             "extensions": { "KHR_materials_specular": { "specularFactor": 0.0 } },
         });
         if walls == Walls::RoughDielectric && strength == 0.0 {

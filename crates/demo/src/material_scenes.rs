@@ -73,6 +73,10 @@ pub enum MaterialScene {
     /// A sphere whose base colour is its `COLOR_0` (a hue that turns around the camera's axis
     /// and pales towards the middle) over a base colour factor of 1, lit as the material spheres are.
     VertexColours,
+    /// A double-sided emitting panel standing on a floor, seen from behind: glTF's back faces
+    /// are lit as the front "with normals reversed", emission included, so the panel glows on
+    /// both sides and lights the floor on both (Mitsuba's area lights are one-sided).
+    EmitterBacks,
 }
 
 impl MaterialScene {
@@ -80,22 +84,24 @@ impl MaterialScene {
     /// theirs is one it translates.
     pub const MITSUBA: [MaterialScene; 4] = [MaterialScene::Spheres, MaterialScene::NormalMapped, MaterialScene::Cutout, MaterialScene::Transmission];
     /// The scenes Blender's Cycles renders (`scripts/references/cycles_gltf.py`).
-    pub const CYCLES: [MaterialScene; 6] = [
+    pub const CYCLES: [MaterialScene; 7] = [
         MaterialScene::Spheres,
         MaterialScene::Furnace,
         MaterialScene::NormalMapped,
         MaterialScene::Cutout,
         MaterialScene::VertexColours,
         MaterialScene::Transmission,
+        MaterialScene::EmitterBacks,
     ];
     /// Every scene.
-    pub const ALL: [MaterialScene; 6] = [
+    pub const ALL: [MaterialScene; 7] = [
         MaterialScene::Spheres,
         MaterialScene::NormalMapped,
         MaterialScene::Cutout,
         MaterialScene::Transmission,
         MaterialScene::Furnace,
         MaterialScene::VertexColours,
+        MaterialScene::EmitterBacks,
     ];
 
     /// The name of the scene's files (`NAME.gltf`, `tests/references/NAME.pfm`).
@@ -107,6 +113,7 @@ impl MaterialScene {
             MaterialScene::Transmission => "transmission_spheres",
             MaterialScene::Furnace => "furnace_spheres",
             MaterialScene::VertexColours => "vertex_colours",
+            MaterialScene::EmitterBacks => "emitter_backs",
         }
     }
 
@@ -115,7 +122,7 @@ impl MaterialScene {
     pub fn size(self) -> (u32, u32) {
         match self {
             MaterialScene::Spheres | MaterialScene::Transmission => (96, 48),
-            MaterialScene::NormalMapped | MaterialScene::Cutout | MaterialScene::VertexColours => (64, 64),
+            MaterialScene::NormalMapped | MaterialScene::Cutout | MaterialScene::VertexColours | MaterialScene::EmitterBacks => (64, 64),
             MaterialScene::Furnace => (96, 72),
         }
     }
@@ -230,6 +237,18 @@ impl MaterialScene {
                 doc.mesh(&mesh.positions, &mesh.normals, &mesh.uvs, Some(&colours), &mesh.indices, material);
                 doc.light(Vec3::new(-2.5, 3.0, 4.0), Vec3::ZERO, 1.2, 30.0);
                 doc.camera(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, 2.0 * (1.0f32 / 5.0).atan(), aspect);
+            }
+            MaterialScene::EmitterBacks => {
+                let floor = doc.material(json!({
+                    "name": "floor",
+                    "pbrMetallicRoughness": { "baseColorFactor": [0.6, 0.6, 0.6, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.9 },
+                }));
+                doc.quad(6.0, 0.0, floor);
+                // Facing +z, a little above the floor; the camera sees its back from −z and the
+                // side, and the floor it lights on either side.
+                let panel = doc.emitter("panel", 4.0, true);
+                doc.square(Vec3::new(0.0, 0.6, 0.0), Vec3::Z, 0.8, panel);
+                doc.camera(Vec3::new(1.5, 1.6, -2.4), Vec3::new(0.0, 0.3, 0.3), 50f32.to_radians(), aspect);
             }
         }
         doc.finish(self.name(), self.size(), self.environment())
@@ -357,17 +376,36 @@ impl Document {
     }
 
     /// A square emitter of side `size` at `centre` facing `target`, emitting `radiance` from its
-    /// front only and reflecting nothing (a black Lambertian: `KHR_materials_specular` factor 0).
+    /// front only and reflecting nothing (a black Lambertian: `KHR_materials_specular` factor 0),
+    /// opaque from behind: Mitsuba's area light, one-sided on a black surface. In glTF that is
+    /// two single-sided squares, the emitter and a black one just behind it facing the other
+    /// way (a double-sided emitter glows from its back as well).
     fn light(&mut self, centre: Vec3, target: Vec3, size: f32, radiance: f32) {
-        let material = self.material(json!({
-            "name": "light",
+        let normal = (target - centre).normalize();
+        let emitter = self.emitter("light", radiance, false);
+        self.square(centre, normal, size, emitter);
+        let back = self.material(json!({
+            "name": "light's back",
+            "pbrMetallicRoughness": { "baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0, "roughnessFactor": 1.0 },
+            "extensions": { "KHR_materials_specular": { "specularFactor": 0.0 } },
+        }));
+        self.square(centre - normal * (size * 1e-3), -normal, size, back);
+    }
+
+    /// The material of an emitter of `radiance` that reflects nothing, glowing from both sides
+    /// if `double_sided`.
+    fn emitter(&mut self, name: &str, radiance: f32, double_sided: bool) -> usize {
+        self.material(json!({
+            "name": name,
             "pbrMetallicRoughness": { "baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0, "roughnessFactor": 1.0 },
             "emissiveFactor": [1.0, 1.0, 1.0],
-            // Opaque from behind too, as the other renderer's emitters are.
-            "doubleSided": true,
+            "doubleSided": double_sided,
             "extensions": { "KHR_materials_emissive_strength": { "emissiveStrength": radiance }, "KHR_materials_specular": { "specularFactor": 0.0 } },
-        }));
-        let normal = (target - centre).normalize();
+        }))
+    }
+
+    /// A square of side `size` at `centre` facing along unit `normal`.
+    fn square(&mut self, centre: Vec3, normal: Vec3, size: f32, material: usize) {
         let u = normal.any_orthonormal_vector() * (size / 2.0);
         let v = normal.cross(u);
         // Counter-clockwise seen from the front (where `normal` points).

@@ -325,13 +325,29 @@ impl Bvh8 {
         self.occluded_tallied(&PreparedRay::new(ray), counts)
     }
 
+    /// Whether a hit in `(tnear, tfar]` is one that `admit` counts: [`Bvh8::occluded`] where
+    /// only some hits block (the back of a single-sided surface, the holes of an alpha cut-out
+    /// do not), as Embree's occlusion filter asks. `admit` sees hits as [`Bvh8::intersect`]
+    /// reports them (distance, barycentrics, normal), in no set order, and may see several; the
+    /// walk stops at the first it counts. One walk, where finding the closest hit and walking on
+    /// past every hit that does not count would take one walk per such hit.
+    #[inline]
+    pub fn occluded_where(&self, pre: &PreparedRay, admit: impl FnMut(&Hit) -> bool) -> bool {
+        self.occluded_admitted(pre, &mut (), &mut traverse::Where(admit))
+    }
+
     #[inline]
     fn occluded_tallied(&self, pre: &PreparedRay, tally: &mut impl Tally) -> bool {
+        self.occluded_admitted(pre, tally, &mut ())
+    }
+
+    #[inline]
+    fn occluded_admitted(&self, pre: &PreparedRay, tally: &mut impl Tally, admit: &mut impl traverse::Admit) -> bool {
         match self.isa {
             // SAFETY: as in `intersect`.
             #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 => unsafe { traverse::avx2::occluded(self, pre, tally) },
-            _ => traverse::portable::occluded(self, pre, tally),
+            Isa::Avx2 => unsafe { traverse::avx2::occluded(self, pre, tally, admit) },
+            _ => traverse::portable::occluded(self, pre, tally, admit),
         }
     }
 
@@ -348,7 +364,7 @@ impl Bvh8 {
             // SAFETY: as in `intersect`.
             #[cfg(target_arch = "x86_64")]
             Isa::Avx2 if !rays.is_empty() => unsafe { traverse::avx2::occluded_packet(self, rays) },
-            _ => (0..rays.len()).filter(|&i| traverse::portable::occluded(self, &rays[i], &mut ())).fold(0, |m, i| m | 1 << i),
+            _ => (0..rays.len()).filter(|&i| traverse::portable::occluded(self, &rays[i], &mut (), &mut ())).fold(0, |m, i| m | 1 << i),
         }
     }
 

@@ -21,6 +21,26 @@ fn check_ray(tris: &Vec<[Vec3; 3]>, bvh2: &Bvh2, bvh8s: &[Bvh8], ray: &Ray) -> R
         let mut counts = WalkCounts::default();
         prop_assert_eq!(bvh.intersect_counted(ray, &mut counts), expected, "Bvh8/{} counted closest hit, ray {:?}", bvh.isa().name(), ray);
         prop_assert_eq!(bvh.occluded_counted(ray, &mut counts), expected_any, "Bvh8/{} counted any hit, ray {:?}", bvh.isa().name(), ray);
+        check_filtered(tris, bvh, ray)?;
+    }
+    Ok(())
+}
+
+/// [`Bvh8::occluded_where`] with a filter that counts front faces of two triangles in three:
+/// blocked exactly when such a hit exists, and every hit it is shown is the one brute force finds
+/// on that triangle alone, bit for bit.
+fn check_filtered(tris: &[[Vec3; 3]], bvh: &Bvh8, ray: &Ray) -> Result<(), TestCaseError> {
+    let alone = |prim: u32| brute::intersect(&[tris[prim as usize]][..], ray).map(|h| Hit { prim, ..h });
+    let counts = |h: &Hit| h.ng.dot(ray.dir) < 0.0 && !h.prim.is_multiple_of(3);
+    let expected = (0..tris.len() as u32).any(|prim| alone(prim).is_some_and(|h| counts(&h)));
+    let mut shown = Vec::new();
+    let blocked = bvh.occluded_where(&PreparedRay::new(ray), |h| {
+        shown.push(*h);
+        counts(h)
+    });
+    prop_assert_eq!(blocked, expected, "Bvh8/{} filtered any hit, ray {:?}", bvh.isa().name(), ray);
+    for h in shown {
+        prop_assert_eq!(Some(h), alone(h.prim), "Bvh8/{} filtered any hit shown, ray {:?}", bvh.isa().name(), ray);
     }
     Ok(())
 }

@@ -139,8 +139,10 @@ struct Emitter<'f> {
     corner: Vec3,
     edge_u: Vec3,
     edge_v: Vec3,
-    /// Unit normal of the side it emits from.
+    /// Unit normal of its front.
     normal: Vec3,
+    /// Whether it emits from its back as well ([`Materials::emits_behind`]).
+    two_sided: bool,
     area: f32,
     /// Its shader's emission, before a texture multiplies it: what it is picked by.
     radiance: Vec3,
@@ -150,13 +152,15 @@ struct Emitter<'f> {
 }
 
 impl<'f> Emitter<'f> {
-    /// Triangle `t` emitting `radiance` (times `texture`), or `None` if it emits nothing.
-    fn new(t: &WorldTriangle, radiance: Vec3, texture: Option<Slot<'f>>) -> Option<Emitter<'f>> {
+    /// Triangle `t` emitting `radiance` (times `texture`) from its front, and from its back too
+    /// if `two_sided`, or `None` if it emits nothing.
+    fn new(t: &WorldTriangle, radiance: Vec3, texture: Option<Slot<'f>>, two_sided: bool) -> Option<Emitter<'f>> {
         (luminance(radiance) > 0.0).then(|| Emitter {
             corner: t.corners[0],
             edge_u: t.corners[1] - t.corners[0],
             edge_v: t.corners[2] - t.corners[0],
             normal: t.front,
+            two_sided,
             area: t.area,
             radiance,
             texture: texture.map(|slot| Box::new((slot, *t))),
@@ -201,7 +205,9 @@ impl<'f> Emitters<'f> {
         let (a, b) = (std::hint::select_unpredictable(fold, 1.0 - u0, u0), std::hint::select_unpredictable(fold, 1.0 - u[1], u[1]));
         let q = e.corner + e.edge_u * a + e.edge_v * b;
         let (wi, distance) = towards(p, q)?;
-        let cos_light = e.normal.dot(-wi);
+        // The cosine on the side `p` sees.
+        let facing = e.normal.dot(-wi);
+        let cos_light = if e.two_sided { facing.abs() } else { facing };
         if cos_light <= 0.0 {
             return None;
         }
@@ -252,7 +258,7 @@ impl<'f> SceneLights<'f> {
         }
         let emitting = frame.world_triangles(
             |id, _| materials.emission(id).is_some(),
-            |t| Emitter::new(t, materials.emission(t.shader_id)?, materials.emission_texture(t.shader_id)),
+            |t| Emitter::new(t, materials.emission(t.shader_id)?, materials.emission_texture(t.shader_id), materials.emits_behind(t.shader_id)),
         );
         let emitters = Emitters::new(emitting);
         let emitters = emitters.map(|e| {
@@ -618,21 +624,35 @@ mod tests {
     /// over a point, seen by a matte and by a glossy surface. Light sampling alone, BSDF
     /// sampling alone (each ray looked up against the emitters by brute force) and the two
     /// weighed by the power heuristic, with the density [`Emitters::area_density`] gives a
-    /// hit, must estimate the same direct light, within their noise.
+    /// hit, must estimate the same direct light, within their noise. Again with the large
+    /// emitter turned to face away and emitting from its back as well (a double-sided glTF
+    /// emitter): the three still agree, and the point gets the light it got facing it.
     #[test]
     fn light_sampling_bsdf_sampling_and_mis_agree() {
+        let facing = direct_light_three_ways(false);
+        let two_sided_back = direct_light_three_ways(true);
+        for (a, b) in facing.iter().zip(&two_sided_back) {
+            assert!((a - b).abs() <= 0.02 * a, "the back of a two-sided emitter lights as its front: {a} and {b}");
+        }
+    }
+
+    /// The direct light of [`light_sampling_bsdf_sampling_and_mis_agree`] at the point, for each
+    /// BSDF, once the three estimates are shown to agree; `turned`: the large emitter faces
+    /// away from the point and is two-sided.
+    fn direct_light_three_ways(turned: bool) -> Vec<f32> {
         use crate::bsdf::Bsdf;
-        let quad = |centre: Vec3, half: f32| {
+        let quad = |centre: Vec3, half: f32, up: bool| {
             let c = [Vec3::new(-half, 0.0, -half), Vec3::new(half, 0.0, -half), Vec3::new(half, 0.0, half), Vec3::new(-half, 0.0, half)].map(|d| centre + d);
-            // Wound to face down, towards the point below.
-            [[c[0], c[1], c[2]], [c[0], c[2], c[3]]].map(|corners| {
+            // Wound to face down, towards the point below, or up, away from it.
+            let triangles = if up { [[c[0], c[2], c[1]], [c[0], c[3], c[2]]] } else { [[c[0], c[1], c[2]], [c[0], c[2], c[3]]] };
+            triangles.map(|corners| {
                 let front = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
                 WorldTriangle { corners, front: front.normalize(), area: front.length() / 2.0, shader_id: None, local: corners, uvs: [None; 2] }
             })
         };
-        let small = quad(Vec3::new(0.6, 2.0, 0.0), 0.05).map(|t| Emitter::new(&t, Vec3::splat(400.0), None).unwrap());
-        let large = quad(Vec3::new(-1.0, 2.0, 0.0), 1.5).map(|t| Emitter::new(&t, Vec3::splat(0.5), None).unwrap());
-        assert!(small.iter().all(|e| e.normal.y < 0.0));
+        let small = quad(Vec3::new(0.6, 2.0, 0.0), 0.05, false).map(|t| Emitter::new(&t, Vec3::splat(400.0), None, false).unwrap());
+        let large = quad(Vec3::new(-1.0, 2.0, 0.0), 1.5, turned).map(|t| Emitter::new(&t, Vec3::splat(0.5), None, turned).unwrap());
+        assert!(small.iter().all(|e| e.normal.y < 0.0) && large.iter().all(|e| (e.normal.y > 0.0) == turned));
         let emitters = Emitters::new(small.into_iter().chain(large).collect()).unwrap();
         let (p, frame) = (Vec3::ZERO, Frame3::around(Vec3::Y));
         // What a ray from `p` in direction `wi` meets first: the radiance, distance and cosine.
@@ -649,11 +669,13 @@ mod tests {
                     let det = uu * vv - uv * uv;
                     let a = (vv * q.dot(e.edge_u) - uv * q.dot(e.edge_v)) / det;
                     let b = (uu * q.dot(e.edge_v) - uv * q.dot(e.edge_u)) / det;
-                    (a + b <= 1.0 && e.normal.dot(-wi) > 0.0).then_some((e.radiance, t, e.normal.dot(-wi)))
+                    let cos = if e.two_sided { e.normal.dot(-wi).abs() } else { e.normal.dot(-wi) };
+                    (a + b <= 1.0 && cos > 0.0).then_some((e.radiance, t, cos))
                 })
                 .min_by(|x, y| x.1.total_cmp(&y.1))
         };
         let wo = Vec3::new(-0.5, 0.7, 0.2).normalize();
+        let mut direct = Vec::new();
         for bsdf in [Bsdf::Lambert { albedo: Vec3::splat(0.8) }, Bsdf::Glossy { reflectance: Vec3::splat(0.9), alpha: 0.15 }] {
             let n = 256;
             let (mut light, mut scattered, mut mis) = (Vec::new(), Vec::new(), Vec::new());
@@ -688,6 +710,8 @@ mod tests {
             let agree = |x: f32, ex: f32, y: f32, ey: f32| (x - y).abs() <= 4.0 * (ex * ex + ey * ey).sqrt() + 1e-3 * x.abs();
             assert!(agree(a, ea, c, ec) && agree(b, eb, c, ec) && agree(a, ea, b, eb), "{bsdf:?}: light {a} ± {ea}, BSDF {b} ± {eb}, MIS {c} ± {ec}");
             assert!(a > 0.1, "{bsdf:?}: the emitters light the point: {a}");
+            direct.push(c);
         }
+        direct
     }
 }

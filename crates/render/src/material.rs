@@ -69,6 +69,8 @@ struct Resolved<'f> {
     base: Material,
     /// Whether any of its textures is an image, whose lookups want a footprint.
     filters: bool,
+    /// Whether its surfaces emit from their backs as well ([`Materials::emits_behind`]).
+    emits_behind: bool,
     /// The textures it uses, if any: kept aside, so that the record every hit reads stays a few
     /// cache lines for the many shaders that have none.
     slots: Option<Box<Slots<'f>>>,
@@ -311,6 +313,16 @@ impl<'f> Materials<'f> {
         (emits(m.model) && m.emission.max_element() > 0.0).then_some(m.emission)
     }
 
+    /// Whether the surfaces of shader `id` emit from their backs as well as their fronts: a
+    /// physically based shader that is double-sided does, as glTF's `doubleSided` means (its back
+    /// faces are lit "with normals reversed", emission included: every glTF viewer, and Blender's
+    /// Cycles, show them glowing); an `Emissive` shader emits from its front only, an area light
+    /// as pbrt and Mitsuba make one by default. A surface emits from every side it can be seen
+    /// from, then, but for `Emissive` backs (a single-sided shader's back is not seen at all).
+    pub fn emits_behind(&self, id: Option<raystage_scene::ShaderId>) -> bool {
+        self.resolved(id).emits_behind
+    }
+
     /// The preview record of shader `id`.
     #[inline(always)]
     fn preview(&self, id: Option<raystage_scene::ShaderId>) -> &Preview {
@@ -460,6 +472,7 @@ impl<'f> Resolved<'f> {
         Resolved {
             base: m,
             filters: slots.iter().chain(&layer_slots).flatten().any(Slot::is_image),
+            emits_behind: model == ShadingModel::PhysicallyBased && shader.float("double_sided") != 0.0,
             slots: (slots.iter().any(Option::is_some) || layers.is_some()).then(|| Box::new(Slots { texture, metallic_roughness, normal, emissive, occlusion, layers })),
         }
     }
@@ -556,7 +569,7 @@ mod tests {
             occlusion_distance: 0.0,
         };
         let slot = Slot { texture: &texture, sampler: Sampler::DEFAULT };
-        let resolved = Resolved { base, filters: true, slots: Some(Box::new(Slots { metallic_roughness: Some((slot, 0.5)), ..NO_SLOTS })) };
+        let resolved = Resolved { base, filters: true, emits_behind: false, slots: Some(Box::new(Slots { metallic_roughness: Some((slot, 0.5)), ..NO_SLOTS })) };
         let at = |u: f32| match resolved.apply(Vec3::ZERO, [Some(Vec2::new(u, 0.5)), None], Some(Vec3::new(1.0, 0.5, 0.25)), [0.0; 2]).bsdf {
             Some(Bsdf::PhysicallyBased(Pbr { metallic, alpha, base, .. })) => (metallic, alpha, base),
             other => panic!("{other:?}"),
@@ -598,7 +611,7 @@ mod tests {
         ];
         let numbers = |p: Pbr| [p.base.to_array(), p.f0.to_array(), p.sheen.to_array(), [p.metallic, p.alpha, p.f90], [p.transmission, p.eta, p.coat], [p.coat_alpha, p.sheen_alpha, if p.thin { 1.0 } else { 0.0 }]].concat();
         for (k, (layers, expected)) in cases.into_iter().enumerate() {
-            let resolved = Resolved { base, filters: true, slots: Some(Box::new(Slots { layers: Some(layers), ..NO_SLOTS })) };
+            let resolved = Resolved { base, filters: true, emits_behind: false, slots: Some(Box::new(Slots { layers: Some(layers), ..NO_SLOTS })) };
             for (u, texel) in [(0.25, left), (0.75, right)] {
                 let Some(Bsdf::PhysicallyBased(got)) = resolved.apply(Vec3::ZERO, [Some(Vec2::new(u, 0.5)), None], None, [0.0; 2]).bsdf else { panic!("case {k}: a physically based BSDF") };
                 let (got, want) = (numbers(got), numbers(expected(factors, texel)));

@@ -274,19 +274,27 @@ impl<'a> Frame<'a> {
         visibility.admits(front, uvs, key)
     }
 
-    /// The closest hit of `ray` in instance `fi` (placed by `placed`, traced by `bvh`) in
-    /// `(tnear, tfar]` that counts (see [`Frame::admits`]): the tree's closest hit, and, while
-    /// a hit does not count, the closest beyond it.
-    fn closest_admitted(&self, fi: &FrameInstance<'a>, placed: &Placed, bvh: &Bvh8, ray: &Ray, tfar: f32) -> Option<raystage_kernel::Hit> {
-        let local = if placed.identity { *ray } else { placed.ray_to_object(ray) };
-        let mut segment = Ray { tfar, ..local };
+    /// The closest hit of `ray` (prepared as `world`) in instance `fi` (placed by `placed`,
+    /// traced by `bvh`) in `(tnear, tfar]`, every hit counting.
+    #[inline(always)]
+    fn closest_any(placed: &Placed, bvh: &Bvh8, ray: &Ray, world: &PreparedRay, tfar: f32) -> Option<raystage_kernel::Hit> {
+        if placed.identity { bvh.intersect_prepared(&world.with_tfar(tfar)) } else { bvh.intersect(&Ray { tfar, ..placed.ray_to_object(ray) }) }
+    }
+
+    /// The closest hit that counts (see [`Frame::admits`]) of `ray` in instance `fi` (placed by
+    /// `placed`, traced by `bvh`) in `(tnear, tfar]`, whose closest hit of all is `first`:
+    /// `first` if it counts, else, while a hit does not count, the closest beyond it. Most
+    /// closest hits count (the front of a single-sided surface), so this is a check of the hit
+    /// the plain walk found, and a walk again past it only where it does not count.
+    fn admitted_from(&self, fi: &FrameInstance<'a>, placed: &Placed, bvh: &Bvh8, ray: &Ray, first: raystage_kernel::Hit, tfar: f32) -> Option<raystage_kernel::Hit> {
+        let mut found = first;
         loop {
-            let h = bvh.intersect(&segment)?;
-            if self.admits(fi, placed, ray, &h) {
-                return Some(h);
+            if self.admits(fi, placed, ray, &found) {
+                return Some(found);
             }
             // Hits are strictly beyond `tnear`: the walk ends.
-            segment.tnear = h.t;
+            let local = if placed.identity { *ray } else { placed.ray_to_object(ray) };
+            found = bvh.intersect(&Ray { tnear: found.t, tfar, ..local })?;
         }
     }
 
@@ -320,16 +328,15 @@ impl<'a> Frame<'a> {
         let fi = &self.instances[item as usize];
         let placed = fi.placed_at(time);
         let bvh = fi.object.accel(&self.counters);
-        let found = if fi.filtered {
-            self.closest_admitted(fi, &placed, bvh, ray, tfar)
-        } else if placed.identity {
-            bvh.intersect_prepared(&world.with_tfar(tfar))
-        } else {
-            bvh.intersect(&Ray { tfar, ..placed.ray_to_object(ray) })
-        };
-        let Some(h) = found else {
+        let Some(mut h) = Frame::closest_any(&placed, bvh, ray, world, tfar) else {
             return tfar;
         };
+        if fi.filtered {
+            let Some(admitted) = self.admitted_from(fi, &placed, bvh, ray, h, tfar) else {
+                return tfar;
+            };
+            h = admitted;
+        }
         if best.is_none_or(|b| h.t < b.t || (h.t == b.t && item < b.item)) {
             *best = Some(SceneHit { t: h.t, instance: fi.id, object: fi.object_id, prim: h.prim, u: h.u, v: h.v, ng: h.ng, item });
         }
@@ -460,13 +467,12 @@ impl<'a> Frame<'a> {
             let fi = &self.instances[item as usize];
             let placed = fi.placed_at(time);
             let bvh = fi.object.accel(&self.counters);
+            let local = if placed.identity { world } else { PreparedRay::new(&placed.ray_to_object(ray)) };
             if fi.filtered {
-                // Any hit may not count: hits in order until one does.
-                self.closest_admitted(fi, &placed, bvh, ray, ray.tfar).is_some()
-            } else if placed.identity {
-                bvh.occluded_prepared(&world)
+                // Only hits that count block: one any-hit walk that asks of each.
+                bvh.occluded_where(&local, |h| self.admits(fi, &placed, ray, h))
             } else {
-                bvh.occluded(&placed.ray_to_object(ray))
+                bvh.occluded_prepared(&local)
             }
         };
         self.top.any(&world, blocks)

@@ -171,7 +171,7 @@ const PHYSICALLY_BASED_OWN: [ParamDecl; 21] = [
     ParamDecl { name: "opacity", default: ParamValue::Float(1.0), range: FRACTION, choices: ANY, doc: "Coverage (glTF's base colour alpha factor), multiplied by `base_color_texture`'s alpha; used by the `alpha_mode`s MASK and BLEND." },
     ParamDecl { name: "alpha_mode", default: ParamValue::Float(ALPHA_OPAQUE), range: [ALPHA_OPAQUE, ALPHA_BLEND], choices: &[ALPHA_OPAQUE, ALPHA_MASK, ALPHA_BLEND], doc: "glTF's alpha mode: 0 OPAQUE (coverage ignored), 1 MASK (a cut-out: where coverage is below `alpha_cutoff` the surface is not there, for camera, shadow and every other ray), 2 BLEND (a ray passes with probability 1 − coverage, so that samples average to a blend)." },
     ParamDecl { name: "alpha_cutoff", default: ParamValue::Float(0.5), range: FRACTION, choices: ANY, doc: "The coverage below which a MASK surface is cut out, in [0, 1]." },
-    ParamDecl { name: "double_sided", default: ParamValue::Float(1.0), range: FRACTION, choices: &[0.0, 1.0], doc: "1: seen from both sides; 0: single-sided (glTF's default), invisible from behind to every ray: camera rays, and shadow and bounce rays (which run from the shaded point towards the light) that meet its back pass through." },
+    ParamDecl { name: "double_sided", default: ParamValue::Float(1.0), range: FRACTION, choices: &[0.0, 1.0], doc: "1: seen from both sides, and emitting from both where it emits (glTF lights a back face as its front, emission included); 0: single-sided (glTF's default), invisible from behind to every ray: camera rays, and shadow and bounce rays (which run from the shaded point towards the light) that meet its back pass through." },
 ];
 
 /// `alpha_mode` OPAQUE: coverage is ignored.

@@ -61,6 +61,42 @@ impl Tally for WalkCounts {
     }
 }
 
+/// Which hits an any-hit walk counts: `()` every hit (the plain walk, which a leaf answers
+/// with one test of its eight triangles), [`Where`] those a caller's filter accepts (asked hit
+/// by hit).
+pub(crate) trait Admit {
+    /// Every hit counts: the leaf need not list its hits.
+    const ALL: bool;
+    /// Whether `hit` counts.
+    fn admit(&mut self, hit: &crate::ray::Hit) -> bool;
+}
+
+impl Admit for () {
+    const ALL: bool = true;
+    #[inline(always)]
+    fn admit(&mut self, _: &crate::ray::Hit) -> bool {
+        true
+    }
+}
+
+/// The hits a filter accepts.
+pub(crate) struct Where<F>(pub F);
+
+impl<F: FnMut(&crate::ray::Hit) -> bool> Admit for Where<F> {
+    const ALL: bool = false;
+    #[inline(always)]
+    fn admit(&mut self, hit: &crate::ray::Hit) -> bool {
+        (self.0)(hit)
+    }
+}
+
+/// The hit at distance `t`, barycentrics `(u, v)`, of triangle `prim` with vertices `tri`: as
+/// a closest-hit walk reports it ([`Best::offer`]).
+#[inline(always)]
+pub(crate) fn lane_hit(t: f32, prim: u32, u: f32, v: f32, tri: &[[f32; 3]; 3]) -> crate::ray::Hit {
+    crate::ray::Hit { t, prim, u, v, ng: crate::triangle::geometric_normal(&tri.map(glam::Vec3::from_array)) }
+}
+
 /// The best hit found so far during a closest-hit traversal.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Best {
@@ -82,7 +118,7 @@ impl Best {
     #[inline(always)]
     pub fn offer(&mut self, t: f32, prim: u32, u: f32, v: f32, tri: impl FnOnce() -> [[f32; 3]; 3]) {
         if crate::ray::closer(t, prim, self.t, self.prim) {
-            *self = Best { t, prim, u, v, ng: crate::triangle::geometric_normal(&tri().map(glam::Vec3::from_array)) };
+            *self = Best { t, prim, u, v, ng: lane_hit(t, prim, u, v, &tri()).ng };
         }
     }
 

@@ -1,7 +1,7 @@
 //! The portable traversal: the same algorithm as the SIMD kernels, one lane at a time. It is the
 //! fallback for CPUs without AVX2 and the readable statement of what the SIMD code computes.
 
-use super::{Best, Tally};
+use super::{Admit, Best, Tally, lane_hit};
 use crate::boxtree::BoxTree;
 use crate::bvh8::{Bvh8, TriBlock};
 use crate::wide::{EMPTY, LEAF, Node8, STACK_SIZE, WIDTH};
@@ -33,8 +33,11 @@ fn block_closest(block: &TriBlock, ray: &PreparedRay, best: &mut Best) {
     }
 }
 
-fn block_any(block: &TriBlock, ray: &PreparedRay) -> bool {
-    (0..WIDTH).any(|lane| triangle::intersect(ray, &block.lane(lane), ray.tfar).is_some())
+fn block_any<A: Admit>(block: &TriBlock, ray: &PreparedRay, admit: &mut A) -> bool {
+    (0..WIDTH).any(|lane| {
+        let tri = block.lane(lane);
+        triangle::intersect(ray, &tri, ray.tfar).is_some_and(|h| A::ALL || admit.admit(&lane_hit(h.t, block.prim[lane], h.u, h.v, &tri)))
+    })
 }
 
 /// Closest hit, near-first, each step told to `tally`.
@@ -73,8 +76,8 @@ pub(crate) fn intersect(bvh: &Bvh8, ray: &PreparedRay, tally: &mut impl Tally) -
     best.into_hit()
 }
 
-/// Any hit; stops at the first one. Each step is told to `tally`.
-pub(crate) fn occluded(bvh: &Bvh8, ray: &PreparedRay, tally: &mut impl Tally) -> bool {
+/// Any hit that `admit` counts; stops at the first one. Each step is told to `tally`.
+pub(crate) fn occluded(bvh: &Bvh8, ray: &PreparedRay, tally: &mut impl Tally, admit: &mut impl Admit) -> bool {
     let mut stack = [0u32; STACK_SIZE];
     stack[0] = bvh.root;
     let mut sp = 1;
@@ -93,7 +96,7 @@ pub(crate) fn occluded(bvh: &Bvh8, ray: &PreparedRay, tally: &mut impl Tally) ->
         } else if link != EMPTY {
             let block = &bvh.blocks[(link & !LEAF) as usize];
             tally.leaf(block);
-            if block_any(block, ray) {
+            if block_any(block, ray, admit) {
                 return true;
             }
         }

@@ -214,10 +214,11 @@ impl<'f> Tracer<'_, 'f> {
     }
 
     /// Light the surface at `hit` emits back along `ray`, as the ray was `seen` (see
-    /// [`SceneLights::surface_emission`]): emitting surfaces emit from their front only.
+    /// [`SceneLights::surface_emission`]): from its front, and from its back where its shader
+    /// emits there too ([`Materials::emits_behind`]).
     pub fn surface_emission(&self, ray: &Ray, hit: &Hit<'_>, seen: Seen) -> Vec3 {
         let m = &hit.material;
-        if !crate::material::emits(m.model) || m.emission == Vec3::ZERO || !hit.surface.front_face {
+        if !crate::material::emits(m.model) || m.emission == Vec3::ZERO || !(hit.surface.front_face || self.materials.emits_behind(hit.surface.shader_id)) {
             return Vec3::ZERO;
         }
         let length = ray.dir.length();

@@ -23,7 +23,7 @@ pub(crate) use single::{intersect, occluded};
 use std::arch::x86_64::*;
 use std::mem::MaybeUninit;
 
-use super::Best;
+use super::{Admit, Best, lane_hit};
 use crate::bvh8::{Bvh8, TriBlock};
 use crate::wide::{LEAF, Node8, WIDTH};
 use crate::prepared::PreparedRay;
@@ -173,6 +173,37 @@ fn block_distances(e: &BlockEdges, r: &LeafLanes, lanes: u32, tfar: f32) -> (u32
     (_mm256_movemask_ps(ok) as u32 & lanes, t, det)
 }
 
+/// A block's hit lanes laid out for one lane at a time: distance, and the numerators and
+/// denominator of the barycentrics.
+struct LaneHits {
+    t: [f32; WIDTH],
+    v: [f32; WIDTH],
+    w: [f32; WIDTH],
+    det: [f32; WIDTH],
+}
+
+impl LaneHits {
+    #[target_feature(enable = "avx2,fma")]
+    #[inline]
+    fn of(e: &BlockEdges, t: __m256, det: __m256) -> LaneHits {
+        let mut h = LaneHits { t: [0.0; WIDTH], v: [0.0; WIDTH], w: [0.0; WIDTH], det: [0.0; WIDTH] };
+        // SAFETY: each array holds the eight lanes stored.
+        unsafe {
+            _mm256_storeu_ps(h.t.as_mut_ptr(), t);
+            _mm256_storeu_ps(h.v.as_mut_ptr(), e.v);
+            _mm256_storeu_ps(h.w.as_mut_ptr(), e.w);
+            _mm256_storeu_ps(h.det.as_mut_ptr(), det);
+        }
+        h
+    }
+
+    /// Lane `lane`'s distance and barycentrics `(u, v)`.
+    #[inline(always)]
+    fn at(&self, lane: usize) -> (f32, f32, f32) {
+        (self.t[lane], self.v[lane] / self.det[lane], self.w[lane] / self.det[lane])
+    }
+}
+
 /// Offers every hit of the block to `best`.
 #[target_feature(enable = "avx2,fma")]
 #[inline]
@@ -181,17 +212,12 @@ fn block_closest(block: &TriBlock, ray: &PreparedRay, r: &LeafLanes, best: &mut 
     if e.inside != 0 {
         let (mut hits, t, det) = block_distances(&e, r, e.inside, best.t);
         if hits != 0 {
-            let (mut ts, mut vs, mut ws, mut dets) = ([0f32; WIDTH], [0f32; WIDTH], [0f32; WIDTH], [0f32; WIDTH]);
-            unsafe {
-                _mm256_storeu_ps(ts.as_mut_ptr(), t);
-                _mm256_storeu_ps(vs.as_mut_ptr(), e.v);
-                _mm256_storeu_ps(ws.as_mut_ptr(), e.w);
-                _mm256_storeu_ps(dets.as_mut_ptr(), det);
-            }
+            let lanes = LaneHits::of(&e, t, det);
             while hits != 0 {
                 let lane = hits.trailing_zeros() as usize;
                 hits &= hits - 1;
-                best.offer(ts[lane], block.prim[lane], vs[lane] / dets[lane], ws[lane] / dets[lane], || block.lane(lane));
+                let (t, u, v) = lanes.at(lane);
+                best.offer(t, block.prim[lane], u, v, || block.lane(lane));
             }
         }
     }
@@ -206,19 +232,36 @@ fn block_closest(block: &TriBlock, ray: &PreparedRay, r: &LeafLanes, best: &mut 
     }
 }
 
-/// Whether any lane of the block is hit.
+/// Whether any lane of the block is hit that `admit` counts (each hit as
+/// [`block_closest`] would offer it).
 #[target_feature(enable = "avx2,fma")]
 #[inline]
-fn block_any(block: &TriBlock, ray: &PreparedRay, r: &LeafLanes) -> bool {
+fn block_any<A: Admit>(block: &TriBlock, ray: &PreparedRay, r: &LeafLanes, admit: &mut A) -> bool {
     let e = block_edges(block, ray, r);
-    if e.inside != 0 && block_distances(&e, r, e.inside, ray.tfar).0 != 0 {
-        return true;
+    if e.inside != 0 {
+        let (mut hits, t, det) = block_distances(&e, r, e.inside, ray.tfar);
+        if A::ALL {
+            if hits != 0 {
+                return true;
+            }
+        } else if hits != 0 {
+            let lanes = LaneHits::of(&e, t, det);
+            while hits != 0 {
+                let lane = hits.trailing_zeros() as usize;
+                hits &= hits - 1;
+                let (t, u, v) = lanes.at(lane);
+                if admit.admit(&lane_hit(t, block.prim[lane], u, v, &block.lane(lane))) {
+                    return true;
+                }
+            }
+        }
     }
     let mut degenerate = e.degenerate;
     while degenerate != 0 {
         let lane = degenerate.trailing_zeros() as usize;
         degenerate &= degenerate - 1;
-        if triangle::intersect(ray, &block.lane(lane), ray.tfar).is_some() {
+        let tri = block.lane(lane);
+        if triangle::intersect(ray, &tri, ray.tfar).is_some_and(|h| A::ALL || admit.admit(&lane_hit(h.t, block.prim[lane], h.u, h.v, &tri))) {
             return true;
         }
     }

@@ -377,7 +377,7 @@ unsafe fn intersect_beam<const PARALLEL: bool>(bvh: &Bvh8, rays: &[PreparedRay],
 #[target_feature(enable = "avx2,fma")]
 pub(crate) unsafe fn occluded_packet(bvh: &Bvh8, rays: &[PreparedRay]) -> u32 {
     match packet_kind(rays) {
-        None => (0..rays.len()).filter(|&i| occluded_below(bvh, &rays[i], bvh.root, &mut ())).fold(0, |m, i| m | 1 << i),
+        None => (0..rays.len()).filter(|&i| occluded_below(bvh, &rays[i], bvh.root, &mut (), &mut ())).fold(0, |m, i| m | 1 << i),
         Some(false) => unsafe { occluded_beam::<false>(bvh, rays) },
         Some(true) => unsafe { occluded_beam::<true>(bvh, rays) },
     }
@@ -391,7 +391,7 @@ pub(crate) unsafe fn occluded_packet(bvh: &Bvh8, rays: &[PreparedRay]) -> u32 {
 unsafe fn occluded_beam<const PARALLEL: bool>(bvh: &Bvh8, rays: &[PreparedRay]) -> u32 {
     let finish = |link: u32, live: u32| {
         if live.count_ones() <= FEW {
-            Some(Lanes(live).filter(|&i| occluded_below(bvh, &rays[i], link, &mut ())).fold(0, |m, i| m | 1 << i))
+            Some(Lanes(live).filter(|&i| occluded_below(bvh, &rays[i], link, &mut (), &mut ())).fold(0, |m, i| m | 1 << i))
         } else if link & LEAF == 0 {
             None
         } else if link == EMPTY {
@@ -399,7 +399,7 @@ unsafe fn occluded_beam<const PARALLEL: bool>(bvh: &Bvh8, rays: &[PreparedRay]) 
         } else {
             // SAFETY: leaf links written by the collapse are valid block indices.
             let block = unsafe { bvh.blocks.get_unchecked((link & !LEAF) as usize) };
-            Some(Lanes(live).filter(|&i| block_any(block, &rays[i], &LeafLanes::new(&rays[i]))).fold(0, |m, i| m | 1 << i))
+            Some(Lanes(live).filter(|&i| block_any(block, &rays[i], &LeafLanes::new(&rays[i]), &mut ())).fold(0, |m, i| m | 1 << i))
         }
     };
     unsafe { walk_any::<PARALLEL>(&bvh.nodes, bvh.root, rays, finish) }

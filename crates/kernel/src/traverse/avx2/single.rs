@@ -8,7 +8,7 @@ use crate::bvh8::Bvh8;
 use crate::wide::{EMPTY, LEAF, STACK_SIZE};
 use crate::prepared::{PreparedRay, widen};
 use crate::ray::Hit;
-use crate::traverse::{Best, Tally};
+use crate::traverse::{Admit, Best, Tally};
 
 /// Closest hit, near-first (the Embree BVH8 single-ray scheme: one hit child is followed
 /// directly, two are ordered by one comparison, more are pushed and sorted by distance).
@@ -71,14 +71,14 @@ pub(super) fn closest_below(bvh: &Bvh8, ray: &PreparedRay, link: u32, best: Best
 /// # Safety
 /// The CPU must support AVX2 and FMA.
 #[target_feature(enable = "avx2,fma")]
-pub(crate) unsafe fn occluded(bvh: &Bvh8, ray: &PreparedRay, tally: &mut impl Tally) -> bool {
-    occluded_below(bvh, ray, bvh.root, tally)
+pub(crate) unsafe fn occluded(bvh: &Bvh8, ray: &PreparedRay, tally: &mut impl Tally, admit: &mut impl Admit) -> bool {
+    occluded_below(bvh, ray, bvh.root, tally, admit)
 }
 
-/// Whether anything in the subtree under `link` is hit, each step told to `tally`. A packet
-/// hands rays over to this when too few of them share the rest of the walk.
+/// Whether anything in the subtree under `link` is hit that `admit` counts, each step told to
+/// `tally`. A packet hands rays over to this when too few of them share the rest of the walk.
 #[target_feature(enable = "avx2,fma")]
-pub(super) fn occluded_below(bvh: &Bvh8, ray: &PreparedRay, link: u32, tally: &mut impl Tally) -> bool {
+pub(super) fn occluded_below(bvh: &Bvh8, ray: &PreparedRay, link: u32, tally: &mut impl Tally, admit: &mut impl Admit) -> bool {
     let r = BoxLanes::new(ray);
     let leaf = LeafLanes::new(ray);
     let tfar_wide = _mm256_set1_ps(widen(ray.tfar));
@@ -104,7 +104,7 @@ pub(super) fn occluded_below(bvh: &Bvh8, ray: &PreparedRay, link: u32, tally: &m
             // SAFETY: as in `intersect`.
             let block = unsafe { bvh.blocks.get_unchecked((link & !LEAF) as usize) };
             tally.leaf(block);
-            if block_any(block, ray, &leaf) {
+            if block_any(block, ray, &leaf, admit) {
                 return true;
             }
         }
