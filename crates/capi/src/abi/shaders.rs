@@ -38,7 +38,8 @@ pub extern "C" fn rtGenShaderClasses(n: RTsizei) -> RTuint {
 ///   and clearcoat_roughness (1f: a clear coat of index 1.5 over it all),
 ///   emissive (3f, radiance), normal_scale (1f),
 ///   occlusion_strength (1f), opacity (1f), alpha_mode (1f: 0 opaque, 1 mask, 2 blend),
-///   alpha_cutoff (1f), double_sided (1f: 0 or 1), and the textures base_color_texture,
+///   alpha_cutoff (1f), double_sided (1f: 1, the default, seen and emitting from both sides;
+///   0 seen and emitting from the front only), and the textures base_color_texture,
 ///   metallic_roughness_texture (blue metallic, green roughness), normal_texture,
 ///   emissive_texture, occlusion_texture, and those of glTF's extensions, each multiplying its
 ///   factor: specular_texture (alpha), specular_color_texture (colour), transmission_texture
