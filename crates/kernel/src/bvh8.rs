@@ -260,13 +260,29 @@ impl Bvh8 {
         self.intersect_tallied(&PreparedRay::new(ray), counts)
     }
 
+    /// The closest hit in `(tnear, tfar]` among those `admit` counts: [`Bvh8::intersect`]
+    /// where only some hits count (the back of a single-sided surface, the holes of an alpha
+    /// cut-out do not), as Embree's intersection filter asks. `admit` sees hits as
+    /// [`Bvh8::intersect`] reports them, only those closer than the best counted so far, in no
+    /// set order. One walk, where finding the closest hit and walking again past each that does
+    /// not count would take one walk per such hit.
+    #[inline]
+    pub fn intersect_where(&self, pre: &PreparedRay, admit: impl FnMut(&Hit) -> bool) -> Option<Hit> {
+        self.intersect_admitted(pre, &mut (), &mut traverse::Where(admit))
+    }
+
     #[inline]
     fn intersect_tallied(&self, pre: &PreparedRay, tally: &mut impl Tally) -> Option<Hit> {
+        self.intersect_admitted(pre, tally, &mut ())
+    }
+
+    #[inline]
+    fn intersect_admitted(&self, pre: &PreparedRay, tally: &mut impl Tally, admit: &mut impl traverse::Admit) -> Option<Hit> {
         match self.isa {
             // SAFETY: `isa` is only ever set to a flavour `is_supported` confirmed on this CPU.
             #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 => unsafe { traverse::avx2::intersect(self, pre, tally) },
-            _ => traverse::portable::intersect(self, pre, tally),
+            Isa::Avx2 => unsafe { traverse::avx2::intersect(self, pre, tally, admit) },
+            _ => traverse::portable::intersect(self, pre, tally, admit),
         }
     }
 
@@ -300,7 +316,7 @@ impl Bvh8 {
             Isa::Avx2 => unsafe { traverse::avx2::intersect_packet(self, rays, hits) },
             _ => {
                 for (ray, hit) in rays.iter().zip(hits.iter_mut()) {
-                    *hit = traverse::portable::intersect(self, ray, &mut ());
+                    *hit = traverse::portable::intersect(self, ray, &mut (), &mut ());
                 }
             }
         }

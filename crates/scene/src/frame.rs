@@ -274,39 +274,15 @@ impl<'a> Frame<'a> {
         visibility.admits(front, uvs, key)
     }
 
-    /// The closest hit of `ray` (prepared as `world`) in instance `fi` (placed by `placed`,
-    /// traced by `bvh`) in `(tnear, tfar]`, every hit counting.
-    #[inline(always)]
-    fn closest_any(placed: &Placed, bvh: &Bvh8, ray: &Ray, world: &PreparedRay, tfar: f32) -> Option<raystage_kernel::Hit> {
-        if placed.identity { bvh.intersect_prepared(&world.with_tfar(tfar)) } else { bvh.intersect(&Ray { tfar, ..placed.ray_to_object(ray) }) }
-    }
-
-    /// The closest hit that counts (see [`Frame::admits`]) of `ray` in instance `fi` (placed by
-    /// `placed`, traced by `bvh`) in `(tnear, tfar]`, whose closest hit of all is `first`:
-    /// `first` if it counts, else, while a hit does not count, the closest beyond it. Most
-    /// closest hits count (the front of a single-sided surface), so this is a check of the hit
-    /// the plain walk found, and a walk again past it only where it does not count.
-    fn admitted_from(&self, fi: &FrameInstance<'a>, placed: &Placed, bvh: &Bvh8, ray: &Ray, first: raystage_kernel::Hit, tfar: f32) -> Option<raystage_kernel::Hit> {
-        let mut found = first;
-        loop {
-            if self.admits(fi, placed, ray, &found) {
-                return Some(found);
-            }
-            // Hits are strictly beyond `tnear`: the walk ends.
-            let local = if placed.identity { *ray } else { placed.ray_to_object(ray) };
-            found = bvh.intersect(&Ray { tnear: found.t, tfar, ..local })?;
-        }
-    }
-
     /// Hits of a packet's `rays` that do not count (see [`Frame::admits`]), replaced by what
-    /// each ray finds beyond them, as [`Frame::intersect`] would.
+    /// [`Frame::intersect`] finds for the ray alone.
     fn admit_packet(&self, rays: &[Ray], hits: &mut [Option<SceneHit>], time: f32) {
         for (ray, hit) in rays.iter().zip(hits.iter_mut()) {
             let Some(h) = *hit else { continue };
             let fi = &self.instances[h.item as usize];
             let found = raystage_kernel::Hit { t: h.t, prim: h.prim, u: h.u, v: h.v, ng: h.ng };
             if !self.admits(fi, &fi.placed_at(time), ray, &found) {
-                *hit = self.intersect(&Ray { tnear: h.t, ..*ray }, time);
+                *hit = self.intersect(ray, time);
             }
         }
     }
@@ -328,15 +304,12 @@ impl<'a> Frame<'a> {
         let fi = &self.instances[item as usize];
         let placed = fi.placed_at(time);
         let bvh = fi.object.accel(&self.counters);
-        let Some(mut h) = Frame::closest_any(&placed, bvh, ray, world, tfar) else {
+        let local = if placed.identity { world.with_tfar(tfar) } else { PreparedRay::new(&Ray { tfar, ..placed.ray_to_object(ray) }) };
+        // Only hits that count can be the closest: one walk that asks of each candidate.
+        let found = if fi.filtered { bvh.intersect_where(&local, |h| self.admits(fi, &placed, ray, h)) } else { bvh.intersect_prepared(&local) };
+        let Some(h) = found else {
             return tfar;
         };
-        if fi.filtered {
-            let Some(admitted) = self.admitted_from(fi, &placed, bvh, ray, h, tfar) else {
-                return tfar;
-            };
-            h = admitted;
-        }
         if best.is_none_or(|b| h.t < b.t || (h.t == b.t && item < b.item)) {
             *best = Some(SceneHit { t: h.t, instance: fi.id, object: fi.object_id, prim: h.prim, u: h.u, v: h.v, ng: h.ng, item });
         }

@@ -113,12 +113,15 @@ impl Best {
         Best { t: tfar, prim: u32::MAX, u: 0.0, v: 0.0, ng: glam::Vec3::ZERO }
     }
 
-    /// Takes the candidate if it wins under the kernel's deterministic order; `tri` gives its
-    /// vertices, asked for only then.
+    /// Takes the candidate if it wins under the kernel's deterministic order and `admit`
+    /// counts it; `tri` gives its vertices, asked for only then.
     #[inline(always)]
-    pub fn offer(&mut self, t: f32, prim: u32, u: f32, v: f32, tri: impl FnOnce() -> [[f32; 3]; 3]) {
+    pub fn offer<A: Admit>(&mut self, t: f32, prim: u32, u: f32, v: f32, tri: impl FnOnce() -> [[f32; 3]; 3], admit: &mut A) {
         if crate::ray::closer(t, prim, self.t, self.prim) {
-            *self = Best { t, prim, u, v, ng: lane_hit(t, prim, u, v, &tri()).ng };
+            let hit = lane_hit(t, prim, u, v, &tri());
+            if A::ALL || admit.admit(&hit) {
+                *self = Best { t, prim, u, v, ng: hit.ng };
+            }
         }
     }
 

@@ -24,11 +24,11 @@ fn child_hits(node: &Node8, ray: &PreparedRay, tfar: f32) -> [Option<f32>; WIDTH
     })
 }
 
-fn block_closest(block: &TriBlock, ray: &PreparedRay, best: &mut Best) {
+fn block_closest(block: &TriBlock, ray: &PreparedRay, best: &mut Best, admit: &mut impl Admit) {
     for lane in 0..WIDTH {
         let tri = block.lane(lane);
         if let Some(h) = triangle::intersect(ray, &tri, best.t) {
-            best.offer(h.t, block.prim[lane], h.u, h.v, || tri);
+            best.offer(h.t, block.prim[lane], h.u, h.v, || tri, admit);
         }
     }
 }
@@ -41,7 +41,7 @@ fn block_any<A: Admit>(block: &TriBlock, ray: &PreparedRay, admit: &mut A) -> bo
 }
 
 /// Closest hit, near-first, each step told to `tally`.
-pub(crate) fn intersect(bvh: &Bvh8, ray: &PreparedRay, tally: &mut impl Tally) -> Option<Hit> {
+pub(crate) fn intersect(bvh: &Bvh8, ray: &PreparedRay, tally: &mut impl Tally, admit: &mut impl Admit) -> Option<Hit> {
     let mut best = Best::none(ray.tfar);
     let mut stack = [(0u32, 0f32); STACK_SIZE];
     let mut sp = 0;
@@ -62,7 +62,7 @@ pub(crate) fn intersect(bvh: &Bvh8, ray: &PreparedRay, tally: &mut impl Tally) -
         } else if link != EMPTY {
             let block = &bvh.blocks[(link & !LEAF) as usize];
             tally.leaf(block);
-            block_closest(block, ray, &mut best);
+            block_closest(block, ray, &mut best, admit);
         }
         while sp > 0 {
             sp -= 1;

@@ -204,10 +204,10 @@ impl LaneHits {
     }
 }
 
-/// Offers every hit of the block to `best`.
+/// Offers every hit of the block to `best`, which takes those `admit` counts.
 #[target_feature(enable = "avx2,fma")]
 #[inline]
-fn block_closest(block: &TriBlock, ray: &PreparedRay, r: &LeafLanes, best: &mut Best) {
+fn block_closest(block: &TriBlock, ray: &PreparedRay, r: &LeafLanes, best: &mut Best, admit: &mut impl Admit) {
     let e = block_edges(block, ray, r);
     if e.inside != 0 {
         let (mut hits, t, det) = block_distances(&e, r, e.inside, best.t);
@@ -217,7 +217,7 @@ fn block_closest(block: &TriBlock, ray: &PreparedRay, r: &LeafLanes, best: &mut 
                 let lane = hits.trailing_zeros() as usize;
                 hits &= hits - 1;
                 let (t, u, v) = lanes.at(lane);
-                best.offer(t, block.prim[lane], u, v, || block.lane(lane));
+                best.offer(t, block.prim[lane], u, v, || block.lane(lane), admit);
             }
         }
     }
@@ -227,7 +227,7 @@ fn block_closest(block: &TriBlock, ray: &PreparedRay, r: &LeafLanes, best: &mut 
         degenerate &= degenerate - 1;
         let tri = block.lane(lane);
         if let Some(h) = triangle::intersect(ray, &tri, best.t) {
-            best.offer(h.t, block.prim[lane], h.u, h.v, || tri);
+            best.offer(h.t, block.prim[lane], h.u, h.v, || tri, admit);
         }
     }
 }

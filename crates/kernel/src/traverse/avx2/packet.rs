@@ -292,7 +292,7 @@ pub(crate) unsafe fn intersect_packet(bvh: &Bvh8, rays: &[PreparedRay], out: &mu
     match packet_kind(rays) {
         None => {
             for (ray, hit) in rays.iter().zip(out.iter_mut()) {
-                *hit = unsafe { super::intersect(bvh, ray, &mut ()) };
+                *hit = unsafe { super::intersect(bvh, ray, &mut (), &mut ()) };
             }
         }
         Some(false) => unsafe { intersect_beam::<false>(bvh, rays, out) },
@@ -322,7 +322,7 @@ unsafe fn intersect_beam<const PARALLEL: bool>(bvh: &Bvh8, rays: &[PreparedRay],
         if live.count_ones() <= FEW {
             // Too few rays left to share the walk: they finish this subtree alone.
             for i in Lanes(live) {
-                let b = closest_below(bvh, &rays[i], e.link, state.best[i], &mut ());
+                let b = closest_below(bvh, &rays[i], e.link, state.best[i], &mut (), &mut ());
                 state.settle(i, b);
             }
         } else if e.link & LEAF == 0 {
@@ -348,7 +348,7 @@ unsafe fn intersect_beam<const PARALLEL: bool>(bvh: &Bvh8, rays: &[PreparedRay],
             let block = unsafe { bvh.blocks.get_unchecked((e.link & !LEAF) as usize) };
             for i in Lanes(live) {
                 let mut b = state.best[i];
-                block_closest(block, &rays[i], &LeafLanes::new(&rays[i]), &mut b);
+                block_closest(block, &rays[i], &LeafLanes::new(&rays[i]), &mut b, &mut ());
                 state.settle(i, b);
             }
         }

@@ -16,15 +16,15 @@ use crate::traverse::{Admit, Best, Tally};
 /// # Safety
 /// The CPU must support AVX2 and FMA.
 #[target_feature(enable = "avx2,fma")]
-pub(crate) unsafe fn intersect(bvh: &Bvh8, ray: &PreparedRay, tally: &mut impl Tally) -> Option<Hit> {
-    closest_below(bvh, ray, bvh.root, Best::none(ray.tfar), tally).into_hit()
+pub(crate) unsafe fn intersect(bvh: &Bvh8, ray: &PreparedRay, tally: &mut impl Tally, admit: &mut impl Admit) -> Option<Hit> {
+    closest_below(bvh, ray, bvh.root, Best::none(ray.tfar), tally, admit).into_hit()
 }
 
 /// The best hit in the subtree under `link`, starting from (and never worse than) `best`, each
 /// step told to `tally`. A packet hands rays over to this when too few of them share the rest
 /// of the walk.
 #[target_feature(enable = "avx2,fma")]
-pub(super) fn closest_below(bvh: &Bvh8, ray: &PreparedRay, link: u32, best: Best, tally: &mut impl Tally) -> Best {
+pub(super) fn closest_below(bvh: &Bvh8, ray: &PreparedRay, link: u32, best: Best, tally: &mut impl Tally, admit: &mut impl Admit) -> Best {
     let r = BoxLanes::new(ray);
     let leaf = LeafLanes::new(ray);
     let mut best = best;
@@ -46,7 +46,7 @@ pub(super) fn closest_below(bvh: &Bvh8, ray: &PreparedRay, link: u32, best: Best
             // SAFETY: leaf links written by the collapse are valid block indices.
             let block = unsafe { bvh.blocks.get_unchecked((link & !LEAF) as usize) };
             tally.leaf(block);
-            block_closest(block, ray, &leaf, &mut best);
+            block_closest(block, ray, &leaf, &mut best, admit);
             tfar_wide = _mm256_set1_ps(widen(best.t));
         }
         // Pop the nearest deferred child that can still hold a closer hit.
