@@ -34,6 +34,12 @@ fn a_file_and_a_demo_together_or_a_missing_file_are_errors() {
     let missing = run(&["render", "/nonexistent/scene.glb", "--out", out.to_str().unwrap()]);
     let stderr = String::from_utf8_lossy(&missing.stderr);
     assert!(!missing.status.success() && stderr.contains("cannot import /nonexistent/scene.glb"), "{stderr}");
+    // A file that is not glTF: the reason once, not once per level of the error's chain.
+    let broken = temp("broken.gltf");
+    std::fs::write(&broken, b"{\"asset\": {}}").unwrap();
+    let broken = run(&["render", broken.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&broken.stderr);
+    assert!(!broken.status.success() && stderr.matches("missing field `version`").count() == 1, "{stderr}");
 }
 
 /// A grey, fairly rough square facing +z with a small emitting triangle beside it (as

@@ -81,12 +81,29 @@ impl AnimatedAsset {
         self.wrapped(false)
     }
 
+    /// The asset as `gltfpack` re-encodes it (`scripts/references/gltfpack.sh`): its vertices
+    /// quantised to bytes and shorts (`KHR_mesh_quantization`), its nodes and meshes merged
+    /// where they can be; wrapped with the same camera, it shows what [`AnimatedAsset::glb`]
+    /// shows.
+    pub fn gltfpack_glb(self) -> Vec<u8> {
+        wrap(self.gltfpack_asset(), self.view(), true)
+    }
+
     /// The asset as published.
     fn asset(self) -> &'static [u8] {
         match self {
             AnimatedAsset::BoxAnimated => include_bytes!("../assets/animated/BoxAnimated.glb"),
             AnimatedAsset::RiggedSimple => include_bytes!("../assets/animated/RiggedSimple.glb"),
             AnimatedAsset::AnimatedMorphCube => include_bytes!("../assets/animated/AnimatedMorphCube.glb"),
+        }
+    }
+
+    /// The asset as `gltfpack` writes it.
+    fn gltfpack_asset(self) -> &'static [u8] {
+        match self {
+            AnimatedAsset::BoxAnimated => include_bytes!("../assets/animated/gltfpack/BoxAnimated.glb"),
+            AnimatedAsset::RiggedSimple => include_bytes!("../assets/animated/gltfpack/RiggedSimple.glb"),
+            AnimatedAsset::AnimatedMorphCube => include_bytes!("../assets/animated/gltfpack/AnimatedMorphCube.glb"),
         }
     }
 
@@ -107,27 +124,32 @@ impl AnimatedAsset {
     }
 
     fn wrapped(self, animated: bool) -> Vec<u8> {
-        let glb = Glb::from_slice(self.asset()).expect("the checked-in assets are binary glTF");
-        let mut doc: Value = serde_json::from_slice(&glb.json).expect("the checked-in assets hold JSON");
-        let (eye, target, yfov) = self.view();
-        let (width, height) = SIZE;
-        let cameras = doc.as_object_mut().expect("a glTF document is an object").entry("cameras").or_insert_with(|| json!([]));
-        let cameras = cameras.as_array_mut().expect("glTF's cameras are an array");
-        cameras.push(json!({ "type": "perspective", "perspective": { "yfov": yfov, "aspectRatio": width as f32 / height as f32, "znear": 0.01 } }));
-        let camera = cameras.len() - 1;
-        let nodes = doc["nodes"].as_array_mut().expect("the assets have nodes");
-        nodes.push(json!({ "name": "camera", "camera": camera, "translation": eye.to_array(), "rotation": look_at(eye, target).to_array() }));
-        let node = nodes.len() - 1;
-        let scene = doc["scene"].as_u64().unwrap_or(0) as usize;
-        let scene = &mut doc["scenes"][scene];
-        scene["nodes"].as_array_mut().expect("the assets' scenes have nodes").push(json!(node));
-        scene["extras"] = json!({ "environment": ENVIRONMENT, "image_size": [width, height] });
-        if !animated {
-            doc.as_object_mut().expect("a glTF document is an object").remove("animations");
-        }
-        let json = serde_json::to_vec(&doc).expect("JSON values serialise");
-        Glb { header: glb.header, json: Cow::Owned(json), bin: glb.bin }.to_vec().expect("a binary glTF writes to memory")
+        wrap(self.asset(), self.view(), animated)
     }
+}
+
+/// `asset` (a binary glTF) with a camera at `view` (see [`AnimatedAsset::view`]) and the scene
+/// extras, without its animations unless `animated`.
+fn wrap(asset: &[u8], (eye, target, yfov): (Vec3, Vec3, f32), animated: bool) -> Vec<u8> {
+    let glb = Glb::from_slice(asset).expect("the checked-in assets are binary glTF");
+    let mut doc: Value = serde_json::from_slice(&glb.json).expect("the checked-in assets hold JSON");
+    let (width, height) = SIZE;
+    let cameras = doc.as_object_mut().expect("a glTF document is an object").entry("cameras").or_insert_with(|| json!([]));
+    let cameras = cameras.as_array_mut().expect("glTF's cameras are an array");
+    cameras.push(json!({ "type": "perspective", "perspective": { "yfov": yfov, "aspectRatio": width as f32 / height as f32, "znear": 0.01 } }));
+    let camera = cameras.len() - 1;
+    let nodes = doc["nodes"].as_array_mut().expect("the assets have nodes");
+    nodes.push(json!({ "name": "camera", "camera": camera, "translation": eye.to_array(), "rotation": look_at(eye, target).to_array() }));
+    let node = nodes.len() - 1;
+    let scene = doc["scene"].as_u64().unwrap_or(0) as usize;
+    let scene = &mut doc["scenes"][scene];
+    scene["nodes"].as_array_mut().expect("the assets' scenes have nodes").push(json!(node));
+    scene["extras"] = json!({ "environment": ENVIRONMENT, "image_size": [width, height] });
+    if !animated {
+        doc.as_object_mut().expect("a glTF document is an object").remove("animations");
+    }
+    let json = serde_json::to_vec(&doc).expect("JSON values serialise");
+    Glb { header: glb.header, json: Cow::Owned(json), bin: glb.bin }.to_vec().expect("a binary glTF writes to memory")
 }
 
 /// Joints of [`skinned_tube`], evenly spaced up its axis.

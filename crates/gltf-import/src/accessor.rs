@@ -6,21 +6,55 @@ use gltf::accessor::{DataType, Dimensions};
 
 use crate::error::ImportError;
 
+/// How an attribute's numbers may be stored: the component types, and whether integers may be
+/// plain (read as the whole numbers they are, which a node's transform or a texture transform
+/// then scales) rather than normalised. The core specification's choices, or
+/// `KHR_mesh_quantization`'s wider ones (integers for positions and texture coordinates, bytes
+/// and shorts for directions), which files written by `gltfpack` and glTF-Transform use.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Encoding {
+    pub types: &'static [DataType],
+    pub plain_integers: bool,
+}
+
+impl Encoding {
+    /// Floats only: the core specification's positions, normals, tangents, morph targets,
+    /// times, translations and scales.
+    pub const FLOAT: Encoding = Encoding { types: &[DataType::F32], plain_integers: false };
+    /// Floats, or normalised unsigned bytes and shorts: the core specification's texture
+    /// coordinates, colours and skin weights.
+    pub const UNIT: Encoding = Encoding { types: &[DataType::F32, DataType::U8, DataType::U16], plain_integers: false };
+    /// Floats, or any normalised byte or short: the core specification's animated rotations and
+    /// morph weights.
+    pub const NORMALISED: Encoding =
+        Encoding { types: &[DataType::F32, DataType::I8, DataType::U8, DataType::I16, DataType::U16], plain_integers: false };
+    /// Floats, or any byte or short, plain or normalised: quantised positions and texture
+    /// coordinates.
+    pub const QUANTISED: Encoding =
+        Encoding { types: &[DataType::F32, DataType::I8, DataType::U8, DataType::I16, DataType::U16], plain_integers: true };
+    /// Floats, or signed bytes and shorts, plain or normalised: quantised morph displacements of
+    /// positions.
+    pub const SIGNED: Encoding = Encoding { types: &[DataType::F32, DataType::I8, DataType::I16], plain_integers: true };
+    /// Floats, or normalised signed bytes and shorts: quantised normals and tangents, and their
+    /// morph displacements.
+    pub const DIRECTION: Encoding = Encoding { types: &[DataType::F32, DataType::I8, DataType::I16], plain_integers: false };
+}
+
 /// The elements of an accessor as `f32` components, `N` per element (normalised integers are
-/// mapped to `[0, 1]` or `[-1, 1]` as the glTF specification says). `allowed` lists the
-/// component types the attribute may use.
+/// mapped to `[0, 1]` or `[-1, 1]` as the glTF specification says, plain ones kept as they are).
 pub(crate) fn read_floats<const N: usize>(
     accessor: &Accessor<'_>,
     buffers: &[Vec<u8>],
-    allowed: &[DataType],
+    encoding: Encoding,
     field: &str,
 ) -> Result<Vec<[f32; N]>, ImportError> {
-    let view = checked(accessor, buffers, N, allowed, field)?;
+    let view = checked(accessor, buffers, N, encoding.types, field)?;
     let ty = accessor.data_type();
-    if ty != DataType::F32 && !accessor.normalized() {
+    let normalized = accessor.normalized();
+    if ty != DataType::F32 && !normalized && !encoding.plain_integers {
         return Err(ImportError::invalid(field, "integer components must be normalized"));
     }
-    let values = (0..accessor.count()).map(|i| std::array::from_fn(|c| float(view.component(i, c), ty))).collect::<Vec<[f32; N]>>();
+    let values = (0..accessor.count()).map(|i| std::array::from_fn(|c| float(view.component(i, c), ty, normalized))).collect::<Vec<[f32; N]>>();
     if values.iter().flatten().any(|v| !v.is_finite()) {
         return Err(ImportError::invalid(field, "holds a number that is not finite"));
     }
@@ -99,14 +133,17 @@ fn pad(bytes: &[u8]) -> [u8; 4] {
     out
 }
 
-/// A component as a float: `f32` as it is, normalised integers scaled to their unit range.
-fn float(bytes: &[u8], ty: DataType) -> f32 {
-    match ty {
-        DataType::F32 => f32::from_le_bytes(pad(bytes)),
-        DataType::U8 => bytes[0] as f32 / 255.0,
-        DataType::I8 => (bytes[0] as i8 as f32 / 127.0).max(-1.0),
-        DataType::U16 => u16::from_le_bytes([bytes[0], bytes[1]]) as f32 / 65535.0,
-        DataType::I16 => (i16::from_le_bytes([bytes[0], bytes[1]]) as f32 / 32767.0).max(-1.0),
-        DataType::U32 => u32::from_le_bytes(pad(bytes)) as f32 / u32::MAX as f32,
-    }
+/// A component as a float: `f32` as it is, normalised integers scaled to their unit range, plain
+/// ones as the whole numbers they are.
+fn float(bytes: &[u8], ty: DataType, normalized: bool) -> f32 {
+    let (value, largest) = match ty {
+        DataType::F32 => return f32::from_le_bytes(pad(bytes)),
+        DataType::U8 => (bytes[0] as f32, 255.0),
+        DataType::I8 => (bytes[0] as i8 as f32, 127.0),
+        DataType::U16 => (u16::from_le_bytes([bytes[0], bytes[1]]) as f32, 65535.0),
+        DataType::I16 => (i16::from_le_bytes([bytes[0], bytes[1]]) as f32, 32767.0),
+        DataType::U32 => (u32::from_le_bytes(pad(bytes)) as f32, u32::MAX as f32),
+    };
+    // The most negative signed value maps to -1 as well, as the specification says.
+    if normalized { (value / largest).max(-1.0) } else { value }
 }

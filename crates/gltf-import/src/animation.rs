@@ -2,12 +2,11 @@
 //! holds the arithmetic): each channel's keyframes checked and bound to its node of the default
 //! scene, each skin's joints and inverse bind matrices.
 
-use gltf::accessor::DataType;
 use gltf::animation::{Interpolation as GltfInterpolation, Property};
 use glam::Mat4;
 use raystage_scene::{Channel, Clip, Interpolation, Keyframes, Skin, Target};
 
-use crate::accessor::read_floats;
+use crate::accessor::{Encoding, read_floats};
 use crate::error::ImportError;
 use crate::nodes::Placements;
 
@@ -45,13 +44,12 @@ pub(crate) fn read_clips(
             }
             let sampler = channel.sampler();
             let sfield = format!("animations[{}].samplers[{}]", animation.index(), sampler.index());
-            let times: Vec<f32> = read_floats::<1>(&sampler.input(), buffers, &[DataType::F32], &format!("{sfield}.input"))?.into_iter().map(|[t]| t).collect();
+            let times: Vec<f32> = read_floats::<1>(&sampler.input(), buffers, Encoding::FLOAT, &format!("{sfield}.input"))?.into_iter().map(|[t]| t).collect();
             let ofield = format!("{sfield}.output");
-            let unit = [DataType::F32, DataType::I8, DataType::U8, DataType::I16, DataType::U16];
             let values: Vec<f32> = match target {
-                Target::Translation | Target::Scale => read_floats::<3>(&sampler.output(), buffers, &[DataType::F32], &ofield)?.concat(),
-                Target::Rotation => read_floats::<4>(&sampler.output(), buffers, &unit, &ofield)?.concat(),
-                Target::Weights => read_floats::<1>(&sampler.output(), buffers, &unit, &ofield)?.concat(),
+                Target::Translation | Target::Scale => read_floats::<3>(&sampler.output(), buffers, Encoding::FLOAT, &ofield)?.concat(),
+                Target::Rotation => read_floats::<4>(&sampler.output(), buffers, Encoding::NORMALISED, &ofield)?.concat(),
+                Target::Weights => read_floats::<1>(&sampler.output(), buffers, Encoding::NORMALISED, &ofield)?.concat(),
             };
             let interpolation = match sampler.interpolation() {
                 GltfInterpolation::Step => Interpolation::Step,
@@ -95,7 +93,7 @@ pub(crate) fn read_skin(document: &gltf::Document, index: usize, buffers: &[Vec<
     let inverse_bind = match skin.inverse_bind_matrices() {
         Some(accessor) => {
             let mfield = format!("{field}.inverseBindMatrices");
-            let matrices: Vec<Mat4> = read_floats::<16>(&accessor, buffers, &[DataType::F32], &mfield)?.iter().map(Mat4::from_cols_array).collect();
+            let matrices: Vec<Mat4> = read_floats::<16>(&accessor, buffers, Encoding::FLOAT, &mfield)?.iter().map(Mat4::from_cols_array).collect();
             if matrices.len() < joints.len() {
                 return Err(ImportError::invalid(mfield, format!("has {} matrices for {} joints", matrices.len(), joints.len())));
             }

@@ -9,8 +9,10 @@ use raystage_scene::SceneError;
 #[derive(Debug, thiserror::Error)]
 pub enum ImportError {
     /// Not glTF: bad JSON, a bad GLB header, or a document that breaks the schema.
+    // Not `#[from]`, which would make the gltf error this one's source as well: a report of
+    // the chain (the command line's) then printed its message twice.
     #[error("not a valid glTF file: {0}")]
-    Syntax(#[from] gltf::Error),
+    Syntax(gltf::Error),
     /// A part of the file that cannot be read.
     #[error("{field}: {message}")]
     Invalid {
@@ -51,6 +53,12 @@ pub enum ImportError {
     /// The reader failed unexpectedly (a bug); nothing was imported.
     #[error("internal error while reading the glTF file")]
     Internal,
+}
+
+impl From<gltf::Error> for ImportError {
+    fn from(e: gltf::Error) -> ImportError {
+        ImportError::Syntax(e)
+    }
 }
 
 impl ImportError {

@@ -10,7 +10,7 @@ use raystage_scene::{
 
 use crate::error::ImportError;
 use crate::material::{MaterialShaders, ShaderSpec};
-use crate::mesh::{Budget, Deformation, read_mesh};
+use crate::mesh::{Budget, Deformation, Encodings, read_mesh};
 use crate::nodes::Placements;
 use crate::{Limits, animation, buffers, images, nodes};
 
@@ -64,7 +64,7 @@ pub struct Added {
 }
 
 pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result<Import, ImportError> {
-    let gltf = gltf::Gltf::from_slice(bytes)?;
+    let gltf = parse(bytes)?;
     for (i, m) in gltf.document.materials().enumerate() {
         if let Some(cutoff) = m.alpha_cutoff().filter(|c| !(0.0..=1.0).contains(c)) {
             return Err(ImportError::invalid(format!("materials[{i}].alphaCutoff"), format!("{cutoff} is not within [0, 1]")));
@@ -73,8 +73,9 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
     let buffers = buffers::load(&gltf.document, gltf.blob.as_deref(), base)?;
     let mut shaders = MaterialShaders::new(&gltf.document);
     let mut budget = Budget::default();
+    let encodings = Encodings::of(&gltf.document);
     let read_meshes =
-        gltf.document.meshes().map(|mesh| read_mesh(&mesh, &buffers, &mut shaders, &mut budget, limits)).collect::<Result<Vec<_>, _>>()?;
+        gltf.document.meshes().map(|mesh| read_mesh(&mesh, &buffers, encodings, &mut shaders, &mut budget, limits)).collect::<Result<Vec<_>, _>>()?;
     let (objects, deformations): (Vec<Option<Mesh>>, Vec<Deformation>) =
         read_meshes.into_iter().map(|m| m.map_or((None, Deformation::default()), |(mesh, d)| (Some(mesh), d))).unzip();
     for (k, spec) in shaders.specs.iter().enumerate() {
@@ -114,6 +115,43 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
         aspect_ratio: placed.aspect_ratio,
         notes,
     })
+}
+
+/// The extensions a file may require: those the importer reads. `KHR_animation_pointer` is
+/// read in part (its channels that move nodes and morph weights play; the rest is a note), which
+/// shows the file as its author posed it rather than not at all.
+const READ_EXTENSIONS: &[&str] = &[
+    "KHR_animation_pointer",
+    "KHR_lights_punctual",
+    "KHR_materials_clearcoat",
+    "KHR_materials_emissive_strength",
+    "KHR_materials_ior",
+    "KHR_materials_sheen",
+    "KHR_materials_specular",
+    "KHR_materials_transmission",
+    "KHR_materials_unlit",
+    "KHR_materials_volume",
+    "KHR_mesh_quantization",
+    "KHR_texture_transform",
+];
+
+/// The file parsed and checked against glTF's schema, refused if it requires an extension that
+/// the importer does not read (a compressed mesh, say, which it could not decode). The gltf
+/// crate's own check of `extensionsRequired` knows only the extensions that crate parses, and
+/// would refuse files that require ones read here (`KHR_texture_transform`, and
+/// `KHR_mesh_quantization`, which every file `gltfpack` writes requires), so the list is
+/// checked here and the rest of the document validated by the crate.
+fn parse(bytes: &[u8]) -> Result<gltf::Gltf, ImportError> {
+    let gltf::Gltf { document, blob } = gltf::Gltf::from_slice_without_validation(bytes)?;
+    let mut json = document.into_json();
+    if let Some((i, name)) = json.extensions_required.iter().enumerate().find(|(_, e)| !READ_EXTENSIONS.contains(&e.as_str())) {
+        return Err(ImportError::invalid(
+            format!("extensionsRequired[{i}]"),
+            format!("{name} is not supported: the file cannot be read without it (the extensions read are {})", READ_EXTENSIONS.join(", ")),
+        ));
+    }
+    json.extensions_required.clear();
+    Ok(gltf::Gltf { document: gltf::Document::from_json(json)?, blob })
 }
 
 /// What animates a file (see [`Import`] for each part).

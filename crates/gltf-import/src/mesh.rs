@@ -7,7 +7,7 @@ use gltf::mesh::{Mode, Semantic};
 use glam::{Vec2, Vec3, Vec4};
 use raystage_scene::{Mesh, MorphTarget, ShaderId};
 
-use crate::accessor::{read_floats, read_indices, read_uints};
+use crate::accessor::{Encoding, read_floats, read_indices, read_uints};
 use crate::error::ImportError;
 use crate::material::MaterialShaders;
 use crate::Limits;
@@ -68,12 +68,34 @@ pub(crate) struct Deformation {
     /// The morph targets.
     pub targets: Vec<MorphTarget>,
 }
+/// How a file may store each vertex attribute: as the core specification says, or with the
+/// wider choice of `KHR_mesh_quantization` where the file uses it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Encodings {
+    positions: Encoding,
+    directions: Encoding,
+    coordinates: Encoding,
+    displacements: Encoding,
+}
+
+impl Encodings {
+    /// The encodings `document` may use.
+    pub fn of(document: &gltf::Document) -> Encodings {
+        if document.extensions_used().any(|e| e == "KHR_mesh_quantization") {
+            Encodings { positions: Encoding::QUANTISED, directions: Encoding::DIRECTION, coordinates: Encoding::QUANTISED, displacements: Encoding::SIGNED }
+        } else {
+            Encodings { positions: Encoding::FLOAT, directions: Encoding::FLOAT, coordinates: Encoding::UNIT, displacements: Encoding::FLOAT }
+        }
+    }
+}
+
 /// The mesh's triangle primitives as one mesh whose `shaders` hold local shader indices (see
 /// [`MaterialShaders`]), and what deforms it; `None` if it has no triangles (only points or
 /// lines).
 pub(crate) fn read_mesh(
     mesh: &gltf::Mesh<'_>,
     buffers: &[Vec<u8>],
+    encodings: Encodings,
     shaders: &mut MaterialShaders<'_>,
     budget: &mut Budget,
     limits: &Limits,
@@ -81,7 +103,7 @@ pub(crate) fn read_mesh(
     let mut parts = Vec::new();
     for primitive in mesh.primitives() {
         let field = format!("meshes[{}].primitives[{}]", mesh.index(), primitive.index());
-        if let Some(part) = read_primitive(&primitive, buffers, shaders, budget, limits, &field)? {
+        if let Some(part) = read_primitive(&primitive, buffers, encodings, shaders, budget, limits, &field)? {
             parts.push(part);
         }
     }
@@ -102,6 +124,7 @@ pub(crate) fn read_mesh(
 fn read_primitive(
     primitive: &gltf::Primitive<'_>,
     buffers: &[Vec<u8>],
+    encodings: Encodings,
     shaders: &mut MaterialShaders<'_>,
     budget: &mut Budget,
     limits: &Limits,
@@ -116,7 +139,7 @@ fn read_primitive(
     let index_count = primitive.indices().map_or(vertex_count, |a| a.count());
     // Checked before reading, so a file cannot make the reader allocate past the limits.
     budget.take(index_count / 3, vertex_count, limits)?;
-    let positions: Vec<Vec3> = read_floats::<3>(&positions, buffers, &[DataType::F32], &pfield)?.into_iter().map(Vec3::from).collect();
+    let positions: Vec<Vec3> = read_floats::<3>(&positions, buffers, encodings.positions, &pfield)?.into_iter().map(Vec3::from).collect();
     let same_length = |name: &str, len: usize| {
         if len == positions.len() { Ok(()) } else { Err(ImportError::invalid(name, format!("has {len} elements, POSITION has {}", positions.len()))) }
     };
@@ -124,26 +147,24 @@ fn read_primitive(
     fn vertex_attribute<const N: usize, T: From<[f32; N]>>(
         found: Option<(String, gltf::Accessor<'_>)>,
         buffers: &[Vec<u8>],
-        allowed: &[DataType],
+        encoding: Encoding,
         same_length: impl Fn(&str, usize) -> Result<(), ImportError>,
     ) -> Result<Option<Vec<T>>, ImportError> {
         let Some((f, a)) = found else { return Ok(None) };
-        let values: Vec<T> = read_floats::<N>(&a, buffers, allowed, &f)?.into_iter().map(T::from).collect();
+        let values: Vec<T> = read_floats::<N>(&a, buffers, encoding, &f)?.into_iter().map(T::from).collect();
         same_length(&f, values.len())?;
         Ok(Some(values))
     }
-    let float = [DataType::F32];
-    let unit = [DataType::F32, DataType::U8, DataType::U16];
-    let normals = vertex_attribute::<3, Vec3>(attribute(Semantic::Normals), buffers, &float, same_length)?;
-    let tangents = vertex_attribute::<4, Vec4>(attribute(Semantic::Tangents), buffers, &float, same_length)?;
-    let uvs = vertex_attribute::<2, Vec2>(attribute(Semantic::TexCoords(0)), buffers, &unit, same_length)?;
-    let uvs1 = vertex_attribute::<2, Vec2>(attribute(Semantic::TexCoords(1)), buffers, &unit, same_length)?;
+    let normals = vertex_attribute::<3, Vec3>(attribute(Semantic::Normals), buffers, encodings.directions, same_length)?;
+    let tangents = vertex_attribute::<4, Vec4>(attribute(Semantic::Tangents), buffers, encodings.directions, same_length)?;
+    let uvs = vertex_attribute::<2, Vec2>(attribute(Semantic::TexCoords(0)), buffers, encodings.coordinates, same_length)?;
+    let uvs1 = vertex_attribute::<2, Vec2>(attribute(Semantic::TexCoords(1)), buffers, encodings.coordinates, same_length)?;
     let colors = match attribute(Semantic::Colors(0)) {
         Some((f, a)) => {
             let c: Vec<Vec3> = if a.dimensions() == gltf::accessor::Dimensions::Vec4 {
-                read_floats::<4>(&a, buffers, &unit, &f)?.into_iter().map(|[r, g, b, _]| Vec3::new(r, g, b)).collect()
+                read_floats::<4>(&a, buffers, Encoding::UNIT, &f)?.into_iter().map(|[r, g, b, _]| Vec3::new(r, g, b)).collect()
             } else {
-                read_floats::<3>(&a, buffers, &unit, &f)?.into_iter().map(Vec3::from).collect()
+                read_floats::<3>(&a, buffers, Encoding::UNIT, &f)?.into_iter().map(Vec3::from).collect()
             };
             same_length(&f, c.len())?;
             Some(c)
@@ -176,7 +197,7 @@ fn read_primitive(
         budget.take(0, vertex_count, limits)?;
         let joints = read_uints::<4>(&joints, buffers, &[DataType::U8, DataType::U16], &jfield)?;
         same_length(&jfield, joints.len())?;
-        let weights = read_floats::<4>(&weights, buffers, &unit, &wfield)?;
+        let weights = read_floats::<4>(&weights, buffers, Encoding::UNIT, &wfield)?;
         same_length(&wfield, weights.len())?;
         if weights.iter().flatten().any(|w| *w < 0.0) {
             return Err(ImportError::invalid(wfield, "has a negative weight"));
@@ -186,15 +207,19 @@ fn read_primitive(
     let mut targets = Vec::new();
     for (k, target) in primitive.morph_targets().enumerate() {
         let tfield = format!("{field}.targets[{k}]");
-        let mut deltas = |accessor: Option<gltf::Accessor<'_>>, name: &str| -> Result<Option<Vec<Vec3>>, ImportError> {
+        let mut deltas = |accessor: Option<gltf::Accessor<'_>>, name: &str, encoding: Encoding| -> Result<Option<Vec<Vec3>>, ImportError> {
             let Some(a) = accessor else { return Ok(None) };
             let f = format!("{tfield}.{name}");
             budget.take(0, vertex_count, limits)?;
-            let d: Vec<Vec3> = read_floats::<3>(&a, buffers, &[DataType::F32, DataType::I8, DataType::I16], &f)?.into_iter().map(Vec3::from).collect();
+            let d: Vec<Vec3> = read_floats::<3>(&a, buffers, encoding, &f)?.into_iter().map(Vec3::from).collect();
             same_length(&f, d.len())?;
             Ok(Some(d))
         };
-        targets.push([deltas(target.positions(), "POSITION")?, deltas(target.normals(), "NORMAL")?, deltas(target.tangents(), "TANGENT")?]);
+        targets.push([
+            deltas(target.positions(), "POSITION", encodings.displacements)?,
+            deltas(target.normals(), "NORMAL", encodings.directions)?,
+            deltas(target.tangents(), "TANGENT", encodings.directions)?,
+        ]);
     }
     Ok(Some(Primitive { positions, normals, uvs, uvs1, tangents, wants_tangents, colors, triangles, shader, influences, targets }))
 }

@@ -754,3 +754,83 @@ fn a_clearcoat_texture_reaches_the_pixels() {
     assert_eq!(left, Vec3::ZERO, "no coat on the left");
     assert!(right.min_element() > 0.1, "the coat's highlight on the right: {right}");
 }
+
+/// The quad of [`quad_gltf`] as `KHR_mesh_quantization` stores it: positions as plain shorts
+/// 1000 times the float ones, normals as normalised bytes, texture coordinates as normalised
+/// unsigned shorts, undone by the node's scale.
+fn quantised_quad(extensions: &[&str]) -> Value {
+    let mut bytes = Vec::new();
+    for p in [[0i16, 0, 0], [1000, 0, 0], [1000, 1000, 0], [0, 1000, 0]] {
+        p.iter().for_each(|c| bytes.extend(c.to_le_bytes()));
+        bytes.extend([0, 0]); // each element padded to 4 bytes, as glTF asks
+    }
+    for _ in 0..4 {
+        bytes.extend([0u8, 0, 127, 0]); // +z, normalised
+    }
+    for uv in [[0u16, 65535], [65535, 65535], [65535, 0], [0, 0]] {
+        uv.iter().for_each(|c| bytes.extend(c.to_le_bytes()));
+    }
+    for i in [0u16, 1, 2, 0, 2, 3] {
+        bytes.extend(i.to_le_bytes());
+    }
+    json!({
+        "asset": { "version": "2.0" },
+        "extensionsUsed": extensions,
+        "extensionsRequired": extensions,
+        "buffers": [{ "byteLength": bytes.len(), "uri": data_uri(&bytes) }],
+        "bufferViews": [
+            { "buffer": 0, "byteOffset": 0, "byteLength": 32, "byteStride": 8 },
+            { "buffer": 0, "byteOffset": 32, "byteLength": 16, "byteStride": 4 },
+            { "buffer": 0, "byteOffset": 48, "byteLength": 16 },
+            { "buffer": 0, "byteOffset": 64, "byteLength": 12 }
+        ],
+        "accessors": [
+            { "bufferView": 0, "componentType": 5122, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [1000, 1000, 0] },
+            { "bufferView": 1, "componentType": 5120, "normalized": true, "count": 4, "type": "VEC3" },
+            { "bufferView": 2, "componentType": 5123, "normalized": true, "count": 4, "type": "VEC2" },
+            { "bufferView": 3, "componentType": 5123, "count": 6, "type": "SCALAR" }
+        ],
+        "materials": red(),
+        "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2 }, "indices": 3, "material": 0 }] }],
+        "nodes": [{ "mesh": 0, "scale": [0.001, 0.001, 0.001] }],
+        "scenes": [{ "nodes": [0] }],
+        "scene": 0
+    })
+}
+
+#[test]
+fn quantised_vertices_are_read_as_the_whole_numbers_they_are() {
+    let file = import(&quantised_quad(&["KHR_mesh_quantization"])).unwrap();
+    let mut scene = Scene::new();
+    let added = file.add_to(&mut scene).unwrap();
+    let mesh = scene.mesh(added.objects[0]).unwrap();
+    assert_eq!(mesh.positions[2], Vec3::new(1000.0, 1000.0, 0.0));
+    assert_eq!(mesh.normals[0], Vec3::Z);
+    assert_eq!((mesh.uvs[0].to_array(), mesh.uvs[2].to_array()), ([0.0, 1.0], [1.0, 0.0]));
+    let placed = scene.transform(added.instances[0]).unwrap().transform_point3(mesh.positions[2]);
+    assert!(placed.abs_diff_eq(Vec3::new(1.0, 1.0, 0.0), 1e-6), "{placed}");
+
+    // Without the extension, glTF allows floats (and normalised integers for texture
+    // coordinates) only: the file is refused, naming the attribute.
+    let err = import(&quantised_quad(&[])).unwrap_err();
+    assert_eq!(err.field(), Some("meshes[0].primitives[0].attributes.POSITION"), "{err}");
+}
+
+#[test]
+fn files_may_require_the_extensions_that_are_read_and_no_others() {
+    let mut document = quad_gltf(Some(data_uri(&quad_buffer())), red(), json!([{ "mesh": 0 }]));
+    document["extensionsUsed"] = json!(["KHR_texture_transform", "KHR_materials_clearcoat"]);
+    document["extensionsRequired"] = json!(["KHR_texture_transform", "KHR_materials_clearcoat"]);
+    assert_eq!(import(&document).unwrap().triangles(), 2);
+
+    document["extensionsUsed"] = json!(["KHR_texture_transform", "KHR_draco_mesh_compression"]);
+    document["extensionsRequired"] = json!(["KHR_texture_transform", "KHR_draco_mesh_compression"]);
+    let err = refused(&document);
+    assert_eq!(err.field(), Some("extensionsRequired[1]"), "{err}");
+    assert!(err.to_string().contains("KHR_draco_mesh_compression is not supported"), "{err}");
+
+    // The rest of the document is still held to glTF's schema.
+    document["extensionsRequired"] = json!(["KHR_texture_transform"]);
+    document["meshes"][0]["primitives"][0]["material"] = json!(7);
+    assert!(matches!(refused(&document), ImportError::Syntax(_)));
+}
