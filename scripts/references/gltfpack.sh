@@ -2,9 +2,11 @@
 # Re-encodes the animated Khronos samples with gltfpack, the meshoptimizer project's glTF
 # optimiser, as web pipelines deliver glTF: positions, normals, texture coordinates and morph
 # displacements quantised to bytes and shorts (KHR_mesh_quantization, which the files then
-# require), dequantised by their nodes' transforms. The outputs are checked in beside the
-# originals (crates/demo/assets/animated/gltfpack/); tests/cycles_reference.rs holds them to the
-# Cycles references of the originals, so an independent encoder checks raystage's decoding.
+# require), dequantised by their nodes' transforms (NAME.glb); and the same compressed as well
+# (`-cc`: EXT_meshopt_compression with its octahedral, quaternion and exponential filters,
+# NAME.cc.glb). The outputs are checked in beside the originals
+# (crates/demo/assets/animated/gltfpack/); tests/cycles_reference.rs holds them to the Cycles
+# references of the originals, so an independent encoder checks raystage's decoding.
 #
 # Needs Node.js and npm; gltfpack is fetched from the npm registry at the pinned version.
 # `-af 0` keeps the animations' keyframes as they are (gltfpack resamples them at 30 Hz by
@@ -15,4 +17,5 @@ assets="$root/crates/demo/assets/animated"
 mkdir -p "$assets/gltfpack"
 for name in BoxAnimated RiggedSimple AnimatedMorphCube; do
     npx --yes gltfpack@1.3.0 -i "$assets/$name.glb" -o "$assets/gltfpack/$name.glb" -af 0
+    npx --yes gltfpack@1.3.0 -i "$assets/$name.glb" -o "$assets/gltfpack/$name.cc.glb" -af 0 -cc
 done

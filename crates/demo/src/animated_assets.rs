@@ -83,10 +83,11 @@ impl AnimatedAsset {
 
     /// The asset as `gltfpack` re-encodes it (`scripts/references/gltfpack.sh`): its vertices
     /// quantised to bytes and shorts (`KHR_mesh_quantization`), its nodes and meshes merged
-    /// where they can be; wrapped with the same camera, it shows what [`AnimatedAsset::glb`]
-    /// shows.
-    pub fn gltfpack_glb(self) -> Vec<u8> {
-        wrap(self.gltfpack_asset(), self.view(), true)
+    /// where they can be, and if `compressed`, its buffers compressed as well
+    /// (`EXT_meshopt_compression`, with its filters); wrapped with the same camera, it shows what
+    /// [`AnimatedAsset::glb`] shows.
+    pub fn gltfpack_glb(self, compressed: bool) -> Vec<u8> {
+        wrap(self.gltfpack_asset(compressed), self.view(), true)
     }
 
     /// The asset as published.
@@ -98,12 +99,15 @@ impl AnimatedAsset {
         }
     }
 
-    /// The asset as `gltfpack` writes it.
-    fn gltfpack_asset(self) -> &'static [u8] {
-        match self {
-            AnimatedAsset::BoxAnimated => include_bytes!("../assets/animated/gltfpack/BoxAnimated.glb"),
-            AnimatedAsset::RiggedSimple => include_bytes!("../assets/animated/gltfpack/RiggedSimple.glb"),
-            AnimatedAsset::AnimatedMorphCube => include_bytes!("../assets/animated/gltfpack/AnimatedMorphCube.glb"),
+    /// The asset as `gltfpack` writes it, compressed or not.
+    fn gltfpack_asset(self, compressed: bool) -> &'static [u8] {
+        match (self, compressed) {
+            (AnimatedAsset::BoxAnimated, false) => include_bytes!("../assets/animated/gltfpack/BoxAnimated.glb"),
+            (AnimatedAsset::BoxAnimated, true) => include_bytes!("../assets/animated/gltfpack/BoxAnimated.cc.glb"),
+            (AnimatedAsset::RiggedSimple, false) => include_bytes!("../assets/animated/gltfpack/RiggedSimple.glb"),
+            (AnimatedAsset::RiggedSimple, true) => include_bytes!("../assets/animated/gltfpack/RiggedSimple.cc.glb"),
+            (AnimatedAsset::AnimatedMorphCube, false) => include_bytes!("../assets/animated/gltfpack/AnimatedMorphCube.glb"),
+            (AnimatedAsset::AnimatedMorphCube, true) => include_bytes!("../assets/animated/gltfpack/AnimatedMorphCube.cc.glb"),
         }
     }
 

@@ -7,15 +7,26 @@ use base64::Engine;
 use gltf::Document;
 use gltf::buffer::Source;
 
+use crate::Limits;
+use crate::compressed;
 use crate::error::ImportError;
 
-/// The bytes of every buffer of `document`, in order, each at least as long as it declares.
-pub(crate) fn load(document: &Document, blob: Option<&[u8]>, base: Option<&Path>) -> Result<Vec<Vec<u8>>, ImportError> {
-    document
+/// The bytes of every buffer of `document`, in order, each at least as long as it declares, with
+/// the views that meshoptimizer compressed decoded into their fallback buffers (see
+/// [`compressed`]). Fallback buffers, which the file declares but does not hold, count against
+/// `limits.max_decompressed_bytes` before any is made.
+pub(crate) fn load(document: &Document, blob: Option<&[u8]>, base: Option<&Path>, limits: &Limits) -> Result<Vec<Vec<u8>>, ImportError> {
+    let fallback: Vec<bool> = document.buffers().map(|b| compressed::is_fallback(&b)).collect();
+    let decompressed = document.buffers().filter(|b| fallback[b.index()]).fold(0usize, |sum, b| sum.saturating_add(b.length()));
+    if decompressed > limits.max_decompressed_bytes {
+        return Err(ImportError::TooLarge { what: "bytes of decompressed buffers", count: decompressed, limit: limits.max_decompressed_bytes });
+    }
+    let mut buffers = document
         .buffers()
         .map(|buffer| {
             let field = format!("buffers[{}]", buffer.index());
             let data = match buffer.source() {
+                _ if fallback[buffer.index()] => vec![0; buffer.length()],
                 Source::Bin => blob.ok_or_else(|| ImportError::invalid(&field, "refers to the GLB binary chunk, but there is none"))?.to_vec(),
                 Source::Uri(uri) => from_uri(uri, base, &field)?,
             };
@@ -24,7 +35,9 @@ pub(crate) fn load(document: &Document, blob: Option<&[u8]>, base: Option<&Path>
             }
             Ok(data)
         })
-        .collect()
+        .collect::<Result<Vec<_>, _>>()?;
+    compressed::decode_views(document, &mut buffers, &fallback)?;
+    Ok(buffers)
 }
 
 /// The bytes a buffer or image URI names; `field` is the part of the file that names it.

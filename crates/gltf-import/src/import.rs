@@ -70,7 +70,7 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
             return Err(ImportError::invalid(format!("materials[{i}].alphaCutoff"), format!("{cutoff} is not within [0, 1]")));
         }
     }
-    let buffers = buffers::load(&gltf.document, gltf.blob.as_deref(), base)?;
+    let buffers = buffers::load(&gltf.document, gltf.blob.as_deref(), base, limits)?;
     let mut shaders = MaterialShaders::new(&gltf.document);
     let mut budget = Budget::default();
     let encodings = Encodings::of(&gltf.document);
@@ -121,6 +121,7 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
 /// read in part (its channels that move nodes and morph weights play; the rest is a note), which
 /// shows the file as its author posed it rather than not at all.
 const READ_EXTENSIONS: &[&str] = &[
+    "EXT_meshopt_compression",
     "KHR_animation_pointer",
     "KHR_lights_punctual",
     "KHR_materials_clearcoat",
@@ -132,6 +133,7 @@ const READ_EXTENSIONS: &[&str] = &[
     "KHR_materials_unlit",
     "KHR_materials_volume",
     "KHR_mesh_quantization",
+    "KHR_meshopt_compression",
     "KHR_texture_transform",
 ];
 

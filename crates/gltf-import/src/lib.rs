@@ -16,13 +16,18 @@
 //! [`Import::add_to`] puts it into a scene. A file that [`read`] accepted cannot fail half-way
 //! into a scene, and nothing a file contains can panic the reader.
 //!
+//! Vertices may be quantised (`KHR_mesh_quantization`) and buffers compressed by meshoptimizer
+//! (`EXT_meshopt_compression`, `KHR_meshopt_compression`), as `gltfpack` writes files.
+//!
 //! Not in here: `KHR_materials_volume`'s thickness texture and the clearcoat's normal texture,
 //! texture coordinate sets beyond the second, `KHR_animation_pointer`, animated cameras and
-//! lights, points and lines.
+//! lights, points and lines, Draco-compressed meshes and Basis or WebP textures (a file that
+//! requires them is refused, naming the extension).
 
 mod accessor;
 mod animation;
 mod buffers;
+mod compressed;
 mod error;
 mod images;
 mod import;
@@ -54,6 +59,10 @@ pub struct Limits {
     /// Most bytes all the file's images may take decoded together, counted as
     /// `max_image_bytes` is, before any is decoded.
     pub max_images_bytes: usize,
+    /// Most bytes the buffers that a file's compressed views decode into may take together
+    /// (`EXT_meshopt_compression`'s fallback buffers), counted from their declared sizes before
+    /// any is made: a few kilobytes of compressed zeros could otherwise declare gigabytes.
+    pub max_decompressed_bytes: usize,
     /// Longest the file's images may take to decode: none is started past it (they are decoded
     /// in parallel), and the import fails.
     pub max_decode_seconds: std::time::Duration,
@@ -62,7 +71,7 @@ pub struct Limits {
 impl Default for Limits {
     /// Four million triangles and vertices, a million instances, images of 8192 texels a side
     /// (a GiB decoded: the side's limit is the one that holds by default), 16 GiB of images
-    /// together, ten minutes of decoding.
+    /// together, 4 GiB of decompressed buffers, ten minutes of decoding.
     fn default() -> Limits {
         Limits {
             max_triangles: 4_000_000,
@@ -71,6 +80,7 @@ impl Default for Limits {
             max_image_side: 8192,
             max_image_bytes: 8192 * 8192 * 16,
             max_images_bytes: 16 << 30,
+            max_decompressed_bytes: 4 << 30,
             max_decode_seconds: std::time::Duration::from_secs(600),
         }
     }

@@ -834,3 +834,98 @@ fn files_may_require_the_extensions_that_are_read_and_no_others() {
     document["meshes"][0]["primitives"][0]["material"] = json!(7);
     assert!(matches!(refused(&document), ImportError::Syntax(_)));
 }
+
+/// The animated samples as `gltfpack` writes them (`scripts/references/gltfpack.sh`), quantised
+/// and quantised and compressed, each name with both files.
+fn gltfpack_files() -> [(&'static str, &'static [u8], &'static [u8]); 3] {
+    macro_rules! pair {
+        ($name:literal) => {
+            (
+                $name,
+                include_bytes!(concat!("../../demo/assets/animated/gltfpack/", $name, ".glb")).as_slice(),
+                include_bytes!(concat!("../../demo/assets/animated/gltfpack/", $name, ".cc.glb")).as_slice(),
+            )
+        };
+    }
+    [pair!("BoxAnimated"), pair!("RiggedSimple"), pair!("AnimatedMorphCube")]
+}
+
+/// Every mesh of a file once imported into a scene, in the order of the scene's objects.
+fn meshes(bytes: &[u8]) -> Vec<raystage_scene::Mesh> {
+    let mut scene = Scene::new();
+    let added = read(bytes, None, &Limits::default()).unwrap().add_to(&mut scene).unwrap();
+    added.objects.iter().map(|&o| scene.mesh(o).unwrap().clone()).collect()
+}
+
+#[test]
+fn compressed_buffers_decode_to_the_vertices_they_hold() {
+    for (name, quantised, compressed) in gltfpack_files() {
+        let (plain, decoded) = (meshes(quantised), meshes(compressed));
+        assert_eq!(plain.len(), decoded.len(), "{name}");
+        for (p, d) in plain.iter().zip(&decoded) {
+            // gltfpack orders vertices and triangles for the codec when it compresses, and its
+            // filters are lossy: each vertex must have a twin in the other mesh, its position
+            // within a ten-thousandth of the mesh's size, its normal (octahedral filter) within
+            // a few degrees.
+            assert_eq!(p.indices.len(), d.indices.len(), "{name}");
+            let size = p.positions.iter().fold(Vec3::ZERO, |m, q| m.max(q.abs())).max_element();
+            let twin = |a: &raystage_scene::Mesh, b: &raystage_scene::Mesh| {
+                a.positions.iter().zip(&a.normals).all(|(q, n)| {
+                    b.positions.iter().zip(&b.normals).any(|(r, m)| q.distance(*r) <= 1e-4 * size && n.normalize().dot(m.normalize()) > 0.998)
+                })
+            };
+            assert!(twin(p, d) && twin(d, p), "{name}");
+        }
+    }
+}
+
+/// `bytes`, a binary glTF, with its JSON changed by `edit`.
+fn edited_glb(bytes: &[u8], edit: impl FnOnce(&mut Value)) -> Vec<u8> {
+    let file = gltf::binary::Glb::from_slice(bytes).unwrap();
+    let mut document: Value = serde_json::from_slice(&file.json).unwrap();
+    edit(&mut document);
+    glb(&document, &file.bin.unwrap())
+}
+
+#[test]
+fn broken_compressed_buffers_are_refused_with_the_part_named() {
+    let (_, _, compressed) = gltfpack_files()[0];
+    let refused_glb = |edit: &dyn Fn(&mut Value)| read(&edited_glb(compressed, |d| edit(d)), None, &Limits::default()).unwrap_err();
+    let extension = "bufferViews[0].extensions.EXT_meshopt_compression";
+
+    // Arguments meshoptimizer's decoder would assert on are checked first.
+    let err = refused_glb(&|d| d["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["byteStride"] = json!(6));
+    assert_eq!(err.field(), Some(format!("{extension}.byteStride").as_str()), "{err}");
+    let err = refused_glb(&|d| d["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["filter"] = json!("QUATERNION"));
+    assert_eq!(err.field(), Some(format!("{extension}.filter").as_str()), "{err}");
+    let err = refused_glb(&|d| d["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["mode"] = json!("ZIP"));
+    assert_eq!(err.field(), Some(format!("{extension}.mode").as_str()), "{err}");
+    // Compressed bytes that are not there, or that decode to more than the view holds.
+    let err = refused_glb(&|d| d["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["byteOffset"] = json!(1u64 << 40));
+    assert_eq!(err.field(), Some("bufferViews[0]"), "{err}");
+    let err = refused_glb(&|d| d["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["count"] = json!(100_000));
+    assert_eq!(err.field(), Some("bufferViews[0]"), "{err}");
+    // A fallback buffer larger than the limit is refused before it is made.
+    let err = refused_glb(&|d| d["buffers"][1]["byteLength"] = json!(1u64 << 40));
+    assert!(matches!(err, ImportError::TooLarge { what: "bytes of decompressed buffers", .. }), "{err}");
+}
+
+#[test]
+fn damaged_compressed_bytes_are_an_error_or_a_checked_mesh_never_a_crash() {
+    for (name, _, compressed) in gltfpack_files() {
+        let file = gltf::binary::Glb::from_slice(compressed).unwrap();
+        let document: Value = serde_json::from_slice(&file.json).unwrap();
+        let bin = file.bin.unwrap().into_owned();
+        // Every eighth byte of the compressed data in turn, flipped: each file is either
+        // refused or read with every index and number checked as any file's are.
+        for at in (0..bin.len()).step_by(8) {
+            let mut damaged = bin.clone();
+            damaged[at] ^= 0x5a;
+            match read(&glb(&document, &damaged), None, &Limits::default()) {
+                Ok(_) => {}
+                Err(ImportError::Internal) => panic!("{name}: byte {at} broke the reader"),
+                Err(_) => {}
+            }
+        }
+    }
+}

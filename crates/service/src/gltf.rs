@@ -87,9 +87,9 @@ pub struct GltfAdded {
     pub version: u64,
 }
 
-/// The importer's limits, from the server's: a file's images together may take no more than a
-/// scene may hold, checked from their headers before any is decoded, and no longer to decode
-/// than a render may run.
+/// The importer's limits, from the server's: a file's images together, and its decompressed
+/// buffers, may take no more than a scene may hold, checked before any is decoded, and no
+/// longer to decode than a render may run.
 pub fn import_limits(limits: &Limits) -> raystage_gltf_import::Limits {
     raystage_gltf_import::Limits {
         max_triangles: limits.max_triangles,
@@ -97,6 +97,7 @@ pub fn import_limits(limits: &Limits) -> raystage_gltf_import::Limits {
         max_image_side: limits.max_dimension as usize,
         max_image_bytes: limits.max_texture_bytes,
         max_images_bytes: usize::try_from(limits.max_scene_bytes.min(limits.max_total_scene_bytes)).unwrap_or(usize::MAX),
+        max_decompressed_bytes: usize::try_from(limits.max_scene_bytes.min(limits.max_total_scene_bytes)).unwrap_or(usize::MAX),
         max_decode_seconds: std::time::Duration::from_secs(limits.max_render_seconds),
         ..raystage_gltf_import::Limits::default()
     }
