@@ -52,7 +52,12 @@ version="$(sed -n 's/^version = "\(.*\)"/\1/p' "$root/Cargo.toml" | head -n 1)"
 # What Rust's standard library needs from the system when linked statically
 # (rustc --print native-static-libs).
 static_deps=(gcc_s util rt pthread m dl c)
-# A library built with the `mpi` feature (rtInitMPI) needs MPI's too.
+# A library built with the `mpi` feature (rtInitMPI) needs MPI's too, and C++'s standard
+# library: its cluster serves glTF uploads, whose compressed buffers meshoptimizer's C++
+# decoder reads.
+if readelf -d "$lib_dir/libraystage.so" 2>/dev/null | grep -q 'NEEDED.*libstdc++'; then
+    static_deps=(stdc++ "${static_deps[@]}")
+fi
 if readelf -d "$lib_dir/libraystage.so" 2>/dev/null | grep -q 'NEEDED.*libmpi'; then
     static_deps=(mpi "${static_deps[@]}")
 fi
