@@ -90,7 +90,7 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
             mesh.validate().map_err(|e| ImportError::invalid(format!("meshes[{k}]"), e.to_string()))?;
         }
     }
-    let mut placed = nodes::place(&gltf.document, limits)?;
+    let mut placed = nodes::place(&gltf.document, &buffers, encodings, limits)?;
     let mut notes = shaders.notes.clone();
     notes.append(&mut placed.notes);
     let instances: Vec<(usize, Affine3A, usize)> = std::mem::take(&mut placed.instances).into_iter().filter(|&(mesh, ..)| objects[mesh].is_some()).collect();
@@ -121,6 +121,7 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
 /// read in part (its channels that move nodes and morph weights play; the rest is a note), which
 /// shows the file as its author posed it rather than not at all.
 const READ_EXTENSIONS: &[&str] = &[
+    "EXT_mesh_gpu_instancing",
     "EXT_meshopt_compression",
     "KHR_animation_pointer",
     "KHR_lights_punctual",

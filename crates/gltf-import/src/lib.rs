@@ -17,7 +17,8 @@
 //! into a scene, and nothing a file contains can panic the reader.
 //!
 //! Vertices may be quantised (`KHR_mesh_quantization`) and buffers compressed by meshoptimizer
-//! (`EXT_meshopt_compression`, `KHR_meshopt_compression`), as `gltfpack` writes files.
+//! (`EXT_meshopt_compression`, `KHR_meshopt_compression`), as `gltfpack` writes files; a
+//! node's mesh may be repeated by `EXT_mesh_gpu_instancing`, one instance per element.
 //!
 //! Not in here: `KHR_materials_volume`'s thickness texture and the clearcoat's normal texture,
 //! texture coordinate sets beyond the second, `KHR_animation_pointer`, animated cameras and

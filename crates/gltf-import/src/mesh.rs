@@ -72,7 +72,8 @@ pub(crate) struct Deformation {
 /// wider choice of `KHR_mesh_quantization` where the file uses it.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Encodings {
-    positions: Encoding,
+    /// Positions, and the translations and scales of `EXT_mesh_gpu_instancing`.
+    pub positions: Encoding,
     directions: Encoding,
     coordinates: Encoding,
     displacements: Encoding,

@@ -1,6 +1,8 @@
 //! The node hierarchy: world transforms, and what the nodes hold (meshes become instances,
 //! `KHR_lights_punctual` lights become lights, the first perspective camera becomes the camera).
-//! The hierarchy itself is kept too, each node after its parent, for animations to move.
+//! The hierarchy itself is kept too, each node after its parent, for animations to move. A node
+//! whose mesh `EXT_mesh_gpu_instancing` repeats places one instance per element of its
+//! attributes, each as a child of the node that animations move with it.
 
 use gltf::camera::Projection;
 use gltf::khr_lights_punctual::Kind;
@@ -8,7 +10,9 @@ use gltf::scene::Transform;
 use glam::{Affine3A, Mat4, Quat, Vec3, Vec4};
 use raystage_scene::{Camera, Light, Local};
 
+use crate::accessor::{Encoding, read_floats};
 use crate::error::ImportError;
+use crate::mesh::Encodings;
 use crate::Limits;
 
 /// Most levels a node hierarchy may have: a file with more is refused whole, never imported
@@ -18,7 +22,8 @@ pub(crate) const MAX_LEVELS: usize = 256;
 /// A node of the default scene, as animations see it.
 #[derive(Debug)]
 pub(crate) struct Placed {
-    /// Its index in the file.
+    /// Its index in the file (for one of the instances `EXT_mesh_gpu_instancing` places, the
+    /// index of the node that holds the extension, its parent).
     pub index: usize,
     /// Its parent (an index into [`Placements::nodes`], before its own).
     pub parent: Option<usize>,
@@ -49,7 +54,7 @@ pub(crate) struct Placements {
 }
 
 /// Walks the default scene (or the first, or every root node if the file has no scenes).
-pub(crate) fn place(document: &gltf::Document, limits: &Limits) -> Result<Placements, ImportError> {
+pub(crate) fn place(document: &gltf::Document, buffers: &[Vec<u8>], encodings: Encodings, limits: &Limits) -> Result<Placements, ImportError> {
     let roots: Vec<gltf::Node<'_>> = match document.default_scene().or_else(|| document.scenes().next()) {
         Some(scene) => scene.nodes().collect(),
         None => {
@@ -59,7 +64,7 @@ pub(crate) fn place(document: &gltf::Document, limits: &Limits) -> Result<Placem
         }
     };
     let out = Placements { placed: vec![None; document.nodes().len()], ..Placements::default() };
-    let mut walk = Walk { out, limits };
+    let mut walk = Walk { out, document, buffers, encodings, limits };
     for root in roots {
         walk.node(&root, None, Mat4::IDENTITY, 0)?;
     }
@@ -70,6 +75,9 @@ struct Walk<'l> {
     /// Its `placed` are the nodes already placed: glTF gives a node one parent, so a node
     /// reached twice (a cycle, or a second parent) makes the file invalid.
     out: Placements,
+    document: &'l gltf::Document,
+    buffers: &'l [Vec<u8>],
+    encodings: Encodings,
     limits: &'l Limits,
 }
 
@@ -95,13 +103,16 @@ impl Walk<'_> {
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
         let affine = Affine3A::from_mat4(world);
         if let Some(mesh) = node.mesh() {
-            if is_invertible(&affine) {
-                if self.out.instances.len() >= self.limits.max_instances {
-                    return Err(ImportError::TooLarge { what: "instances", count: self.out.instances.len() + 1, limit: self.limits.max_instances });
+            match self.instancing(node, &field)? {
+                None => self.instance(mesh.index(), affine, this, &field)?,
+                Some(locals) => {
+                    for (k, local) in locals.into_iter().enumerate() {
+                        let child = self.out.nodes.len();
+                        self.out.nodes.push(Placed { index: node.index(), parent: Some(this), local, holds_view_or_light: false });
+                        let affine = Affine3A::from_mat4(world * local.matrix());
+                        self.instance(mesh.index(), affine, child, &format!("{field}.extensions.EXT_mesh_gpu_instancing, instance {k}"))?;
+                    }
                 }
-                self.out.instances.push((mesh.index(), affine, this));
-            } else {
-                self.out.notes.push(format!("{field}: a singular transform hides its mesh; left out"));
             }
         }
         if let Some(light) = node.light() {
@@ -116,6 +127,70 @@ impl Walk<'_> {
             self.node(&child, Some(this), world, depth + 1)?;
         }
         Ok(())
+    }
+
+    /// Places `mesh` where `affine` says, for the node `node` (an index into `nodes`); a
+    /// singular transform hides it, with a note.
+    fn instance(&mut self, mesh: usize, affine: Affine3A, node: usize, field: &str) -> Result<(), ImportError> {
+        if !is_invertible(&affine) {
+            self.out.notes.push(format!("{field}: a singular transform hides its mesh; left out"));
+            return Ok(());
+        }
+        if self.out.instances.len() >= self.limits.max_instances {
+            return Err(ImportError::TooLarge { what: "instances", count: self.out.instances.len() + 1, limit: self.limits.max_instances });
+        }
+        self.out.instances.push((mesh, affine, node));
+        Ok(())
+    }
+
+    /// The transforms, relative to `node`, of the instances its `EXT_mesh_gpu_instancing`
+    /// places (`TRANSLATION`, `ROTATION` and `SCALE`, each absent one the identity's), if it
+    /// has the extension; their number is checked against the instance limit before any is
+    /// read.
+    fn instancing(&mut self, node: &gltf::Node<'_>, field: &str) -> Result<Option<Vec<Local>>, ImportError> {
+        let Some(extension) = node.extensions().and_then(|e| e.get("EXT_mesh_gpu_instancing")) else { return Ok(None) };
+        let field = format!("{field}.extensions.EXT_mesh_gpu_instancing.attributes");
+        let document = self.document;
+        let mut count = None;
+        let mut attribute = |name: &str| -> Result<Option<gltf::Accessor<'_>>, ImportError> {
+            let Some(index) = extension.get("attributes").and_then(|a| a.get(name)) else { return Ok(None) };
+            let accessor = index
+                .as_u64()
+                .and_then(|i| document.accessors().nth(usize::try_from(i).ok()?))
+                .ok_or_else(|| ImportError::invalid(format!("{field}.{name}"), "names no accessor"))?;
+            match count {
+                Some(n) if n != accessor.count() => {
+                    return Err(ImportError::invalid(format!("{field}.{name}"), format!("has {} elements, the other attributes {n}", accessor.count())));
+                }
+                _ => count = Some(accessor.count()),
+            }
+            Ok(Some(accessor))
+        };
+        let (translation, rotation, scale) = (attribute("TRANSLATION")?, attribute("ROTATION")?, attribute("SCALE")?);
+        let count = count.ok_or_else(|| ImportError::invalid(&field, "has none of TRANSLATION, ROTATION and SCALE"))?;
+        if self.out.instances.len().saturating_add(count) > self.limits.max_instances {
+            return Err(ImportError::TooLarge { what: "instances", count: self.out.instances.len().saturating_add(count), limit: self.limits.max_instances });
+        }
+        let read = |accessor: Option<gltf::Accessor<'_>>, encoding: Encoding, name: &str, default: [f32; 4]| -> Result<Vec<[f32; 4]>, ImportError> {
+            let f = format!("{field}.{name}");
+            Ok(match accessor {
+                None => vec![default; count],
+                Some(a) if name == "ROTATION" => read_floats::<4>(&a, self.buffers, encoding, &f)?,
+                Some(a) => read_floats::<3>(&a, self.buffers, encoding, &f)?.into_iter().map(|[x, y, z]| [x, y, z, 0.0]).collect(),
+            })
+        };
+        let translations = read(translation, self.encodings.positions, "TRANSLATION", [0.0; 4])?;
+        let rotations = read(rotation, Encoding::NORMALISED, "ROTATION", [0.0, 0.0, 0.0, 1.0])?;
+        let scales = read(scale, self.encodings.positions, "SCALE", [1.0; 4])?;
+        Ok(Some(
+            (0..count)
+                .map(|i| Local::Trs {
+                    translation: Vec4::from(translations[i]).truncate(),
+                    rotation: Quat::from_vec4(Vec4::from(rotations[i]).normalize_or(Vec4::W)),
+                    scale: Vec4::from(scales[i]).truncate(),
+                })
+                .collect(),
+        ))
     }
 
     /// The camera looks down the node's −z axis with its +y up.

@@ -126,6 +126,20 @@ fn step_and_cubic_spline_samplers_are_read() {
 }
 
 #[test]
+fn an_animated_node_moves_every_instance_its_gpu_instancing_places() {
+    // The node slides 2 along x over a second; it places the quad twice, 5 apart.
+    let extra = [0.0, 1.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 0.0, 5.0, 0.0, 0.0];
+    let nodes = json!([{ "mesh": 0, "extensions": { "EXT_mesh_gpu_instancing": { "attributes": { "TRANSLATION": 4 } } } }]);
+    let animations = json!([{ "channels": [{ "sampler": 0, "target": { "node": 0, "path": "translation" } }], "samplers": [{ "input": 2, "output": 3 }] }]);
+    let bytes = document(&extra, &[(0, 2, "SCALAR"), (2, 2, "VEC3"), (8, 2, "VEC3")], quad_mesh(), nodes, animations);
+    let (mut scene, added) = scene_of(&bytes);
+    assert_eq!(added.instances.len(), 2);
+    scene.pose(Play::Clip(0), 0.5).unwrap();
+    let at = |scene: &Scene, k: usize| scene.transform(added.instances[k]).unwrap().translation;
+    assert_eq!((at(&scene, 0), at(&scene, 1)), (Vec3::new(1.0, 0.0, 0.0).into(), Vec3::new(6.0, 0.0, 0.0).into()));
+}
+
+#[test]
 fn a_morph_target_moves_the_vertices_by_its_weight() {
     // Target 0 lifts vertex 2 by 1 in z; its weight goes from 0 to 1 over 2 s.
     let mut extra = vec![0.0, 2.0, 0.0, 1.0];

@@ -929,3 +929,98 @@ fn damaged_compressed_bytes_are_an_error_or_a_checked_mesh_never_a_crash() {
         }
     }
 }
+
+/// The quad placed three times by one node's `EXT_mesh_gpu_instancing` (moved, turned,
+/// scaled), under a parent that moves them all; and the same placements as three child nodes.
+fn instanced_quads(instancing: bool) -> Value {
+    let translations = [[0.0f32, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 3.0, -1.0]];
+    let half = std::f32::consts::FRAC_1_SQRT_2;
+    let rotations = [[0.0f32, 0.0, 0.0, 1.0], [0.0, half, 0.0, half], [0.0, 0.0, 0.0, 1.0]];
+    let scales = [[1.0f32, 1.0, 1.0], [1.0, 1.0, 1.0], [2.0, 0.5, 1.0]];
+    let mut bytes = quad_buffer();
+    for values in [translations.concat(), rotations.concat(), scales.concat()] {
+        values.iter().for_each(|v| bytes.extend(v.to_le_bytes()));
+    }
+    let mut document = quad_gltf(Some(data_uri(&bytes)), red(), json!([]));
+    document["buffers"][0]["byteLength"] = json!(bytes.len());
+    if instancing {
+        let views = document["bufferViews"].as_array_mut().unwrap();
+        views.extend([json!({ "buffer": 0, "byteOffset": 60, "byteLength": 36 }), json!({ "buffer": 0, "byteOffset": 96, "byteLength": 48 }), json!({ "buffer": 0, "byteOffset": 144, "byteLength": 36 })]);
+        let accessors = document["accessors"].as_array_mut().unwrap();
+        accessors.extend([
+            json!({ "bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC3" }),
+            json!({ "bufferView": 3, "componentType": 5126, "count": 3, "type": "VEC4" }),
+            json!({ "bufferView": 4, "componentType": 5126, "count": 3, "type": "VEC3" }),
+        ]);
+        document["extensionsUsed"] = json!(["EXT_mesh_gpu_instancing"]);
+        document["nodes"] = json!([
+            { "translation": [10, 0, 0], "children": [1] },
+            { "mesh": 0, "extensions": { "EXT_mesh_gpu_instancing": { "attributes": { "TRANSLATION": 2, "ROTATION": 3, "SCALE": 4 } } } }
+        ]);
+    } else {
+        let children: Vec<Value> =
+            (0..3).map(|k| json!({ "mesh": 0, "translation": translations[k], "rotation": rotations[k], "scale": scales[k] })).collect();
+        let mut nodes = vec![json!({ "translation": [10, 0, 0], "children": [1, 2, 3] })];
+        nodes.extend(children);
+        document["nodes"] = json!(nodes);
+    }
+    document
+}
+
+/// The world transforms of a scene's instances.
+fn transforms(scene: &Scene) -> Vec<Affine3A> {
+    scene.instances().map(|(_, _, t)| t).collect()
+}
+
+#[test]
+fn a_mesh_repeated_by_gpu_instancing_is_placed_as_child_nodes_would_place_it() {
+    let (mut instanced, mut nodes) = (Scene::new(), Scene::new());
+    import(&instanced_quads(true)).unwrap().add_to(&mut instanced).unwrap();
+    import(&instanced_quads(false)).unwrap().add_to(&mut nodes).unwrap();
+    let (instanced, nodes) = (transforms(&instanced), transforms(&nodes));
+    assert_eq!(instanced.len(), 3);
+    for (a, b) in instanced.iter().zip(&nodes) {
+        assert!(a.abs_diff_eq(*b, 1e-6), "{a:?} against {b:?}");
+    }
+    // The second instance is turned a quarter about y and moved, under the parent's move.
+    assert!(instanced[1].transform_point3(Vec3::X).abs_diff_eq(Vec3::new(12.0, 0.0, -1.0), 1e-6));
+
+    // Attributes of different lengths, or none at all, are refused naming the part.
+    let mut document = instanced_quads(true);
+    document["accessors"][3]["count"] = json!(2);
+    assert_eq!(refused(&document).field(), Some("nodes[1].extensions.EXT_mesh_gpu_instancing.attributes.ROTATION"));
+    document["nodes"][1]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"] = json!({});
+    assert_eq!(refused(&document).field(), Some("nodes[1].extensions.EXT_mesh_gpu_instancing.attributes"));
+    // The instances count against the limit before their transforms are read.
+    let limits = Limits { max_instances: 2, ..Limits::default() };
+    let err = read(&serde_json::to_vec(&instanced_quads(true)).unwrap(), None, &limits).unwrap_err();
+    assert!(matches!(err, ImportError::TooLarge { what: "instances", count: 3, limit: 2 }), "{err}");
+}
+
+/// The grove (`scripts/references/grove.py`: one tree placed by 24 nodes on a ground quad)
+/// rendered from its camera with the eye-light shading, the file as written or as `gltfpack -mi`
+/// gathers its trees into one node that `EXT_mesh_gpu_instancing` repeats.
+fn grove(bytes: &[u8]) -> Vec<Vec3> {
+    let scene = read(bytes, None, &Limits::default()).unwrap().into_scene().unwrap();
+    let settings = raystage_render::RenderSettings { width: 96, height: 64, integrator: raystage_render::Integrator::EyeLight, ..Default::default() };
+    let (film, _) = raystage_render::render(&scene.frame(), &settings).unwrap();
+    film.pixels().to_vec()
+}
+
+#[test]
+fn the_grove_that_gltfpack_instances_renders_as_its_nodes() {
+    let nodes = grove(include_bytes!("../../demo/assets/instanced/grove.gltf"));
+    let packed = include_bytes!("../../demo/assets/instanced/grove.instanced.glb");
+    let instanced = grove(packed);
+    let differ = |a: &[Vec3]| nodes.iter().zip(a).filter(|(p, q)| (**p - **q).abs().max_element() > 0.02).count();
+    // gltfpack quantises the tree (14-bit positions, 8-bit normals): a few pixels on the trees'
+    // outlines may change sides.
+    assert!(differ(&instanced) <= 20, "{} of {} pixels differ", differ(&instanced), nodes.len());
+    // Read as if the extension were not there (the one node's mesh once, where the
+    // extension's first element is not), the grove is gone.
+    let without = edited_glb(packed, |d| {
+        d["nodes"].as_array_mut().unwrap().iter_mut().for_each(|n| drop(n.as_object_mut().unwrap().remove("extensions")));
+        d["extensionsRequired"] = json!(["KHR_mesh_quantization"]);
+    });
+    assert!(differ(&grove(&without)) > 500, "{} pixels differ without the extension", differ(&grove(&without)));
+}

@@ -205,7 +205,8 @@ pub enum Local {
 }
 
 impl Local {
-    fn matrix(&self) -> Mat4 {
+    /// The transform as a matrix.
+    pub fn matrix(&self) -> Mat4 {
         match *self {
             Local::Matrix(m) => m,
             Local::Trs { translation, rotation, scale } => Mat4::from_scale_rotation_translation(scale, rotation, translation),
