@@ -338,7 +338,7 @@ async fn environment_image(server: &Server, scene: u32, path: &std::path::Path, 
     }
     let mut bytes = Vec::new();
     tokio::io::AsyncReadExt::read_to_end(&mut tokio::io::AsyncReadExt::take(file, MAX_ENVIRONMENT_FILE), &mut bytes).await.map_err(|e| Error::Http(e.to_string()))?;
-    // The server reads the format from the bytes (PNG, JPEG or Radiance HDR).
+    // The server reads the format from the bytes (PNG, JPEG, WebP or Radiance HDR).
     #[derive(serde::Deserialize)]
     struct Created {
         id: u32,

@@ -123,6 +123,7 @@ pub(crate) fn read(bytes: &[u8], base: Option<&Path>, limits: &Limits) -> Result
 const READ_EXTENSIONS: &[&str] = &[
     "EXT_mesh_gpu_instancing",
     "EXT_meshopt_compression",
+    "EXT_texture_webp",
     "KHR_animation_pointer",
     "KHR_lights_punctual",
     "KHR_materials_clearcoat",
@@ -154,7 +155,27 @@ fn parse(bytes: &[u8]) -> Result<gltf::Gltf, ImportError> {
         ));
     }
     json.extensions_required.clear();
+    prefer_webp(&mut json)?;
     Ok(gltf::Gltf { document: gltf::Document::from_json(json)?, blob })
+}
+
+/// Points every texture that has a WebP image (`EXT_texture_webp`) at it: the importer decodes
+/// WebP, and the file's `source`, where it has one, is a fallback for viewers that cannot (and
+/// may be absent, which glTF's schema then allows).
+fn prefer_webp(json: &mut gltf::json::Root) -> Result<(), ImportError> {
+    let images = json.images.len();
+    for (i, texture) in json.textures.iter_mut().enumerate() {
+        let Some(webp) = texture.extensions.as_ref().and_then(|e| e.others.get("EXT_texture_webp")) else { continue };
+        let field = format!("textures[{i}].extensions.EXT_texture_webp.source");
+        let source = webp
+            .get("source")
+            .and_then(serde_json::Value::as_u64)
+            .and_then(|s| u32::try_from(s).ok())
+            .filter(|&s| (s as usize) < images)
+            .ok_or_else(|| ImportError::invalid(&field, format!("must name one of the file's {images} images")))?;
+        texture.source = gltf::json::Index::new(source);
+    }
+    Ok(())
 }
 
 /// What animates a file (see [`Import`] for each part).

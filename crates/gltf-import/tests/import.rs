@@ -1024,3 +1024,41 @@ fn the_grove_that_gltfpack_instances_renders_as_its_nodes() {
     });
     assert!(differ(&grove(&without)) > 500, "{} pixels differ without the extension", differ(&grove(&without)));
 }
+
+#[test]
+fn a_webp_image_is_preferred_to_its_fallback_and_decoded_texel_for_texel() {
+    // scripts/references/webp.py: libwebp's lossless encoding of these sRGB colours.
+    let palette: [[[u8; 3]; 4]; 2] =
+        [[[255, 0, 0], [0, 255, 0], [0, 0, 255], [255, 255, 255]], [[0, 0, 0], [128, 64, 32], [17, 200, 99], [250, 128, 7]]];
+    let webp = include_bytes!("data/palette.webp");
+    let uri = |mime: &str, bytes: &[u8]| json!({ "uri": format!("data:{mime};base64,{}", base64::engine::general_purpose::STANDARD.encode(bytes)) });
+    let mut document = textured_quad(uri("image/png", &red_blue_png()), 0, &[]);
+    document["images"].as_array_mut().unwrap().push(uri("image/webp", webp));
+    document["extensionsUsed"] = json!(["EXT_texture_webp"]);
+    document["textures"][0]["extensions"] = json!({ "EXT_texture_webp": { "source": 1 } });
+    let texels = |document: &Value| {
+        let mut scene = Scene::new();
+        let added = import(document).unwrap().add_to(&mut scene).unwrap();
+        let Texture::Image(image) = scene.texture(added.textures[0]).unwrap() else { panic!("an image texture") };
+        (0..image.height()).flat_map(|y| (0..image.width()).map(move |x| (x, y))).map(|(x, y)| image.texel(i64::from(x), i64::from(y))).collect::<Vec<Vec3>>()
+    };
+    // The base colour is sRGB: each texel is its colour in linear light.
+    let expected: Vec<Vec3> = palette.iter().flatten().map(|c| Vec3::from_array(c.map(|v| srgb_to_linear(v as f32 / 255.0)))).collect();
+    let decoded = texels(&document);
+    assert_eq!(decoded.len(), 8, "the WebP image, not the 2 x 1 fallback");
+    for (d, e) in decoded.iter().zip(&expected) {
+        assert!(d.abs_diff_eq(*e, 1e-5), "{d} against {e}");
+    }
+    // A texture whose only image is the WebP one (glTF then allows no `source`).
+    document["extensionsRequired"] = json!(["EXT_texture_webp"]);
+    document["textures"][0].as_object_mut().unwrap().remove("source");
+    assert_eq!(texels(&document), decoded);
+    // An extension that names no image is refused, naming it.
+    document["textures"][0]["extensions"]["EXT_texture_webp"]["source"] = json!(2);
+    assert_eq!(refused(&document).field(), Some("textures[0].extensions.EXT_texture_webp.source"));
+}
+
+/// The sRGB transfer function's inverse.
+fn srgb_to_linear(v: f32) -> f32 {
+    if v <= 0.04045 { v / 12.92 } else { ((v + 0.055) / 1.055).powf(2.4) }
+}

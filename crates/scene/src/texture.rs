@@ -129,7 +129,7 @@ impl Image {
         Ok(Image { base: Arc::new(Level { width, height, texels, alpha }), coarser: OnceLock::new(), environment: OnceLock::new() })
     }
 
-    /// An image from encoded bytes: PNG, JPEG, Radiance HDR (`.hdr`) or OpenEXR, told apart by
+    /// An image from encoded bytes: PNG, JPEG, WebP, Radiance HDR (`.hdr`) or OpenEXR, told apart by
     /// their first bytes. Integer channels are sRGB-encoded, as these files store them, and are
     /// decoded to linear light; floating-point channels (HDR, EXR) are linear already. Grey images become
     /// grey texels; an alpha channel is kept as the image's coverage (linear, as stored).

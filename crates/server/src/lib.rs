@@ -1,7 +1,7 @@
 //! # raystage-server
 //!
 //! raystage's HTTP/JSON API (axum on tokio): scenes and their objects, instances, shaders,
-//! textures (procedural, or uploaded PNG, JPEG and Radiance HDR images), lights and camera as
+//! textures (procedural, or uploaded PNG, JPEG, WebP and Radiance HDR images), lights and camera as
 //! resources, batches of edits that apply all or nothing, glTF uploads, PNG frames, picking,
 //! and a WebSocket stream of progressively refined frames. The OpenAPI description is
 //! generated from the handlers ([`openapi`]); `api/openapi.json` is a copy and `api/stream.md`

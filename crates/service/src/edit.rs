@@ -28,7 +28,7 @@ pub enum Edit {
     Image {
         /// The texture replaced, if any.
         texture: Option<u32>,
-        /// The file (PNG, JPEG or Radiance HDR).
+        /// The file (PNG, JPEG, WebP or Radiance HDR).
         file: Blob,
         /// The file decoded, where the request decoded it already (not sent: each rank
         /// decodes its own).

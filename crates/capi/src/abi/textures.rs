@@ -79,7 +79,7 @@ pub unsafe extern "C" fn rtTexImage2D(
     })
 }
 
-/// Gives the bound texture the image in the file at `path`: PNG, JPEG or Radiance HDR
+/// Gives the bound texture the image in the file at `path`: PNG, JPEG, WebP or Radiance HDR
 /// (`.hdr`), told apart by their contents. PNG and JPEG values are sRGB-encoded and decoded to
 /// linear light; HDR values are linear. A file that cannot be read records `RT_IO_ERROR`; one
 /// that is not such an image, or is wider or taller than `RT_MAX_TEXTURE_SIZE`,

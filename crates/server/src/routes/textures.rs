@@ -1,5 +1,5 @@
 //! `/scenes/{scene}/textures`: textures for shaders' texture parameters and environment maps.
-//! A body is a procedural texture as JSON, or the bytes of a PNG, JPEG or Radiance HDR file,
+//! A body is a procedural texture as JSON, or the bytes of a PNG, JPEG, WebP or Radiance HDR file,
 //! told apart by its content type. JSON edits run through [`raystage_service::model::Command`] as batch commands
 //! do; image uploads are decoded off the reactor and edit the scene directly.
 
@@ -15,13 +15,13 @@ use crate::error::{ApiError, ApiResult, ErrorBody};
 use crate::extract::{JsonBody, RawBody, Target};
 
 /// Content types of image bodies: the file's own bytes, whose format is read from them.
-const IMAGE_TYPES: [&str; 4] = ["image/png", "image/jpeg", "image/vnd.radiance", "application/octet-stream"];
+const IMAGE_TYPES: [&str; 5] = ["image/png", "image/jpeg", "image/webp", "image/vnd.radiance", "application/octet-stream"];
 
 /// A texture body: a procedural texture, or an image file decoded.
 pub(crate) enum TextureBody {
     /// JSON: a checker or noise texture.
     Procedural(TextureSpec),
-    /// A PNG, JPEG or Radiance HDR file: its bytes, and decoded to linear RGB.
+    /// A PNG, JPEG, WebP or Radiance HDR file: its bytes, and decoded to linear RGB.
     Image(Vec<u8>, Image),
 }
 
@@ -70,15 +70,16 @@ pub(crate) async fn list(target: Target) -> ApiResult<Json<Vec<TextureInfo>>> {
 }
 
 /// Adds a texture: a procedural one described as JSON, or an image sent as the bytes of a PNG,
-/// JPEG or Radiance HDR file (`image/png`, `image/jpeg`, `image/vnd.radiance` or
-/// `application/octet-stream`; integer channels are taken as sRGB and decoded to linear light,
-/// HDR stays linear).
+/// JPEG, WebP or Radiance HDR file (`image/png`, `image/jpeg`, `image/webp`,
+/// `image/vnd.radiance` or `application/octet-stream`; integer channels are taken as sRGB and
+/// decoded to linear light, HDR stays linear).
 #[utoipa::path(post, path = "/scenes/{scene}/textures", tag = "textures",
     params(("scene" = u32, Path, description = "The scene's id")),
     request_body(content(
         (TextureSpec = "application/json"),
         (raystage_service::model::Binary = "image/png"),
         (raystage_service::model::Binary = "image/jpeg"),
+        (raystage_service::model::Binary = "image/webp"),
         (raystage_service::model::Binary = "image/vnd.radiance"),
         (raystage_service::model::Binary = "application/octet-stream"),
     )),
@@ -121,6 +122,7 @@ pub(crate) async fn get(target: Target) -> ApiResult<Json<TextureInfo>> {
         (TextureSpec = "application/json"),
         (raystage_service::model::Binary = "image/png"),
         (raystage_service::model::Binary = "image/jpeg"),
+        (raystage_service::model::Binary = "image/webp"),
         (raystage_service::model::Binary = "image/vnd.radiance"),
         (raystage_service::model::Binary = "application/octet-stream"),
     )),

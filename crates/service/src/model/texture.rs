@@ -1,6 +1,6 @@
 //! Textures in JSON. Procedural textures (checker, noise) are described by their kind, two
 //! colours and a scale, and can be made by JSON bodies and batch commands; image textures come
-//! as the bytes of a PNG, JPEG or Radiance HDR file, and are described by their size only.
+//! as the bytes of a PNG, JPEG, WebP or Radiance HDR file, and are described by their size only.
 
 use glam::Vec3;
 use raystage_scene::{Image, Texture};
@@ -124,7 +124,7 @@ impl TextureInfo {
 /// Bytes a decoded texel may take: three colour channels and coverage, as `f32`.
 const TEXEL_BYTES: u64 = 4 * 4;
 
-/// Decodes a PNG, JPEG or Radiance HDR file: 422 if it cannot be read, 413 if it is wider or
+/// Decodes a PNG, JPEG, WebP or Radiance HDR file: 422 if it cannot be read, 413 if it is wider or
 /// taller than the limit on image sizes or would take more memory than the texture budget
 /// (both checked from its header, before it is decoded).
 pub fn decode_image(bytes: &[u8], limits: &Limits) -> Result<Image> {
