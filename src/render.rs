@@ -399,6 +399,9 @@ fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Resul
     let share = ranks.share();
     let (film, frame, mean_samples) = pool.install(|| render_with_progress(&scene, &settings, share)).context("bad render settings")?;
     let triangles = scene.object_ids().map(|id| scene.mesh(id).map_or(0, |m| m.indices.len())).sum();
+    // Where instances repeat objects (a forest of one tree), the triangles they place as well.
+    let placed: usize = scene.instances().map(|(_, object, _)| scene.mesh(object).map_or(0, |m| m.indices.len())).sum();
+    let repeated = if placed > triangles { format!(", {placed} placed by {} instances", scene.instances().count()) } else { String::new() };
     let Some((film, frame, mean_samples)) = ranks.gather(film, frame, mean_samples)? else {
         return Ok(RenderReport { triangles, threads: pool.current_num_threads(), frame, setup_seconds });
     };
@@ -429,11 +432,12 @@ fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Resul
     }
     writeln!(
         log,
-        "{}x{} {} ({} triangles), {} at {} spp [{}]{}: {:.3} s on {} {} (lazy BVH builds {:.3} s of it), {} rays ({} primary, {} shadow) at {:.1} Mrays/s -> {}",
+        "{}x{} {} ({} triangles{}), {} at {} spp [{}]{}: {:.3} s on {} {} (lazy BVH builds {:.3} s of it), {} rays ({} primary, {} shadow) at {:.1} Mrays/s -> {}",
         settings.width,
         settings.height,
         job.scene.name(),
         triangles,
+        repeated,
         settings.integrator.name(),
         settings.samples_per_pixel,
         frame.effects.names().join(", "),

@@ -24,6 +24,20 @@ fn renders_a_gltf_file_framed_by_an_automatic_camera() {
 }
 
 #[test]
+fn the_summary_counts_the_triangles_that_instances_repeat() {
+    // The grove as gltfpack -mi writes it: one tree repeated 24 times by EXT_mesh_gpu_instancing.
+    let file = concat!(env!("CARGO_MANIFEST_DIR"), "/crates/demo/assets/instanced/grove.instanced.glb");
+    let out = temp("grove.png");
+    let output = Command::new(env!("CARGO_BIN_EXE_raystage"))
+        .args(["render", file, "--out", out.to_str().unwrap(), "--width", "32", "--height", "32", "--spp", "1"])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "stdout: {stdout}\nstderr: {}", String::from_utf8_lossy(&output.stderr));
+    assert!(stdout.contains("grove.instanced.glb (34 triangles, 770 placed by 25 instances), "), "{stdout}");
+}
+
+#[test]
 fn a_file_and_a_demo_together_or_a_missing_file_are_errors() {
     let out = temp("never.png");
     let run = |args: &[&str]| Command::new(env!("CARGO_BIN_EXE_raystage")).args(args).output().unwrap();
