@@ -147,7 +147,7 @@ impl Walk<'_> {
     /// places (`TRANSLATION`, `ROTATION` and `SCALE`, each absent one the identity's), if it
     /// has the extension; their number is checked against the instance limit before any is
     /// read.
-    fn instancing(&mut self, node: &gltf::Node<'_>, field: &str) -> Result<Option<Vec<Local>>, ImportError> {
+    fn instancing(&self, node: &gltf::Node<'_>, field: &str) -> Result<Option<Vec<Local>>, ImportError> {
         let Some(extension) = node.extensions().and_then(|e| e.get("EXT_mesh_gpu_instancing")) else { return Ok(None) };
         let field = format!("{field}.extensions.EXT_mesh_gpu_instancing.attributes");
         let document = self.document;
