@@ -399,9 +399,6 @@ fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Resul
     let share = ranks.share();
     let (film, frame, mean_samples) = pool.install(|| render_with_progress(&scene, &settings, share)).context("bad render settings")?;
     let triangles = scene.object_ids().map(|id| scene.mesh(id).map_or(0, |m| m.indices.len())).sum();
-    // Where instances repeat objects (a forest of one tree), the triangles they place as well.
-    let placed: usize = scene.instances().map(|(_, object, _)| scene.mesh(object).map_or(0, |m| m.indices.len())).sum();
-    let repeated = if placed > triangles { format!(", {placed} placed by {} instances", scene.instances().count()) } else { String::new() };
     let Some((film, frame, mean_samples)) = ranks.gather(film, frame, mean_samples)? else {
         return Ok(RenderReport { triangles, threads: pool.current_num_threads(), frame, setup_seconds });
     };
@@ -421,6 +418,9 @@ fn render_on(job: &RenderJob, log: &mut impl Write, ranks: &impl Ranks) -> Resul
     }
 
     let report = RenderReport { triangles, threads: pool.current_num_threads(), frame, setup_seconds };
+    // Where instances repeat objects (a forest of one tree), the triangles they place as well.
+    let (instances, placed) = scene.instances().fold((0, 0), |(n, sum), (_, object, _)| (n + 1, sum + scene.mesh(object).map_or(0, |m| m.indices.len())));
+    let repeated = if placed > triangles { format!(", {placed} placed by {instances} instances") } else { String::new() };
     if frame.default_lights {
         writeln!(log, "note: nothing in the scene gives light: the default sky lights it (--no-default-lights turns it off)")?;
     }

@@ -35,8 +35,8 @@ impl Encoding {
     /// Floats, or signed bytes and shorts, plain or normalised: quantised morph displacements of
     /// positions.
     pub const SIGNED: Encoding = Encoding { types: &[DataType::F32, DataType::I8, DataType::I16], plain_integers: true };
-    /// Floats, or normalised signed bytes and shorts: quantised normals and tangents, and their
-    /// morph displacements.
+    /// Floats, or normalised signed bytes and shorts: quantised normals and tangents, morph
+    /// displacements of normals and tangents, and (without the extension) of positions.
     pub const DIRECTION: Encoding = Encoding { types: &[DataType::F32, DataType::I8, DataType::I16], plain_integers: false };
 }
 

@@ -76,6 +76,9 @@ pub(crate) struct Encodings {
     pub positions: Encoding,
     directions: Encoding,
     coordinates: Encoding,
+    /// Morph displacements of positions. (Those of normals and tangents are always
+    /// [`Encoding::DIRECTION`]: floats or normalised signed integers, read so before the
+    /// extension was, and what it allows.)
     displacements: Encoding,
 }
 
@@ -85,7 +88,7 @@ impl Encodings {
         if document.extensions_used().any(|e| e == "KHR_mesh_quantization") {
             Encodings { positions: Encoding::QUANTISED, directions: Encoding::DIRECTION, coordinates: Encoding::QUANTISED, displacements: Encoding::SIGNED }
         } else {
-            Encodings { positions: Encoding::FLOAT, directions: Encoding::FLOAT, coordinates: Encoding::UNIT, displacements: Encoding::FLOAT }
+            Encodings { positions: Encoding::FLOAT, directions: Encoding::FLOAT, coordinates: Encoding::UNIT, displacements: Encoding::DIRECTION }
         }
     }
 }
@@ -218,8 +221,8 @@ fn read_primitive(
         };
         targets.push([
             deltas(target.positions(), "POSITION", encodings.displacements)?,
-            deltas(target.normals(), "NORMAL", encodings.directions)?,
-            deltas(target.tangents(), "TANGENT", encodings.directions)?,
+            deltas(target.normals(), "NORMAL", Encoding::DIRECTION)?,
+            deltas(target.tangents(), "TANGENT", Encoding::DIRECTION)?,
         ]);
     }
     Ok(Some(Primitive { positions, normals, uvs, uvs1, tangents, wants_tangents, colors, triangles, shader, influences, targets }))
